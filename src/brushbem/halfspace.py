@@ -1,0 +1,191 @@
+"""The elastic half-space as a linear operator: pressure -> surface deflection.
+
+Convention (the one used everywhere in brushbem): the normal pressure ``p`` is
+positive when compressive; the surface deflection ``u`` is positive into the
+half-space.  A square domain of N x N square elements of size h carries a
+pressure that is uniform on each element (thesis sec. 3.1).  The deflection at
+the centre of element (i, j) is
+
+    u[i, j] = sum_{i', j'} K[i - i', j - j'] * p[i', j'],
+
+with K the Love influence coefficient of a uniformly loaded square (thesis
+eq. 3.5), evaluated here in the equivalent ``asinh`` form, which keeps full
+relative accuracy far from the element where the literal logarithm form loses
+about 5e-9.
+
+The convolution is non-periodic: kernel and pressure are zero-padded to
+2m x 2m (m the side of the window being convolved), the kernel in wrap-around
+order (offsets 0..m-1, then -(m-1)..-1; index m unused), multiplied in the
+real-FFT domain and the first m x m block of the inverse transform is kept.
+Because the convolution is translation invariant, the same operator serves any
+sub-window of the domain: a window of m1 x m2 elements needs only the kernel
+spectrum of size 2m1 x 2m2, which is computed once and cached.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import backend
+
+__all__ = ["influence_coefficients", "HalfSpace"]
+
+
+def _x_asinh_y_over_abs_x(x, y, xp):
+    """``x * asinh(y / |x|)`` with its limit 0 at ``x = 0``."""
+    safe = xp.where(x == 0, 1.0, xp.abs(x))
+    return xp.where(x == 0, 0.0, x * xp.asinh(y / safe))
+
+
+def influence_coefficients(x, y, element_size: float, contact_modulus: float, xp=np):
+    """Deflection at (x, y) due to unit pressure on a square element centred at the origin.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Position of the observation point relative to the element centre,
+        in units of length (broadcastable).
+    element_size : float
+        Side h of the square element, in units of length.
+    contact_modulus : float
+        E*, in units of stress.
+    xp : namespace
+        Array namespace of the result.
+
+    Returns
+    -------
+    ndarray
+        Deflection per unit pressure, in units of length / stress
+        (thesis eq. 3.5; Johnson, Contact Mechanics, eq. 3.25).
+    """
+    half = 0.5 * element_size
+
+    def primitive(a, b):
+        # Double primitive of 1/sqrt(a^2 + b^2), valid in all four quadrants:
+        # d^2/(da db) [a asinh(b/|a|) + b asinh(a/|b|)] = 1/sqrt(a^2 + b^2).
+        return _x_asinh_y_over_abs_x(a, b, xp) + _x_asinh_y_over_abs_x(b, a, xp)
+
+    x = xp.asarray(x, dtype=xp.float64)
+    y = xp.asarray(y, dtype=xp.float64)
+    total = (
+        primitive(x + half, y + half)
+        - primitive(x + half, y - half)
+        - primitive(x - half, y + half)
+        + primitive(x - half, y - half)
+    )
+    return total / (math.pi * contact_modulus)
+
+
+@dataclass(eq=False)
+class HalfSpace:
+    """Non-periodic FFT convolution with the Love kernel on an N x N grid.
+
+    Parameters
+    ----------
+    elements : int
+        N, elements per side of the domain.
+    element_size : float
+        h = L / N, in units of length.
+    contact_modulus : float
+        E*, in units of stress.
+    xp : namespace, optional
+        Array namespace of the operator (NumPy by default; CuPy for the GPU).
+    """
+
+    elements: int
+    element_size: float
+    contact_modulus: float
+    xp: object = np
+    _spectra: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        if self.elements < 1:
+            raise ValueError(f"elements = {self.elements} must be a positive integer")
+        for name in ("element_size", "contact_modulus"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} = {value} must be finite and > 0")
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.elements, self.elements)
+
+    def diagonal(self) -> float:
+        """Self-influence K[0, 0] (deflection of an element under its own unit pressure)."""
+        value = influence_coefficients(0.0, 0.0, self.element_size, self.contact_modulus, np)
+        return float(value)
+
+    def kernel(self, rows: int, cols: int):
+        """Influence coefficients for offsets 0..rows-1 by 0..cols-1, shape (rows, cols)."""
+        xp = self.xp
+        h = self.element_size
+        i = xp.arange(rows, dtype=xp.float64)[:, None] * h
+        j = xp.arange(cols, dtype=xp.float64)[None, :] * h
+        return influence_coefficients(i, j, h, self.contact_modulus, xp)
+
+    def padded_kernel(self, rows: int, cols: int):
+        """Kernel on the 2rows x 2cols grid in wrap-around order (index rows/cols unused)."""
+        xp = self.xp
+        base = self.kernel(rows, cols)
+        padded = xp.zeros((2 * rows, 2 * cols), dtype=xp.float64)
+        # Offsets 0..m-1 at indices 0..m-1 and -(m-1)..-1 at indices m+1..2m-1;
+        # K is even in both offsets, so the negative half is the mirror image.
+        row_index = xp.concat([xp.arange(rows), xp.arange(rows - 1, 0, -1)])
+        col_index = xp.concat([xp.arange(cols), xp.arange(cols - 1, 0, -1)])
+        rows_at = xp.concat([xp.arange(rows), xp.arange(rows + 1, 2 * rows)])
+        cols_at = xp.concat([xp.arange(cols), xp.arange(cols + 1, 2 * cols)])
+        padded[rows_at[:, None], cols_at[None, :]] = base[row_index[:, None], col_index[None, :]]
+        return padded
+
+    def spectrum(self, rows: int, cols: int):
+        """Real spectrum of the padded kernel for a rows x cols window (cached).
+
+        The padded kernel is even, so its DFT is real: only the real part is
+        stored and the product with the pressure spectrum costs half as much.
+        """
+        key = (rows, cols)
+        cached = self._spectra.get(key)
+        if cached is None:
+            if rows > self.elements or cols > self.elements:
+                raise ValueError(f"window {rows}x{cols} exceeds the {self.elements}x{self.elements} domain")
+            transformed = backend.rfft2(self.xp, self.padded_kernel(rows, cols), (2 * rows, 2 * cols))
+            cached = self.xp.real(transformed).copy()
+            self._spectra[key] = cached
+        return cached
+
+    def apply(self, pressure, spectrum=None):
+        """Surface deflection in the window of ``pressure``.
+
+        Parameters
+        ----------
+        pressure : ndarray, shape (m1, m2), m1, m2 <= N
+            Normal pressure on the elements of a window of the domain,
+            compressive positive, in units of stress.  Outside the window the
+            pressure is zero.
+        spectrum : ndarray, optional
+            A precomputed spectrum to use instead of the kernel's (for the
+            discriminant-matrix operator that adds spring terms to it).
+
+        Returns
+        -------
+        ndarray, shape (m1, m2)
+            Deflection into the half-space, in units of length.
+        """
+        rows, cols = pressure.shape[-2:]
+        if spectrum is None:
+            spectrum = self.spectrum(rows, cols)
+        padded_shape = (2 * rows, 2 * cols)
+        product = backend.rfft2(self.xp, pressure, padded_shape)
+        product *= spectrum
+        return backend.irfft2(self.xp, product, padded_shape)[..., :rows, :cols]
+
+    def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
+        """The dense (rows*cols)^2 influence matrix, for tests on small grids."""
+        h = self.element_size
+        ii, jj = np.meshgrid(np.arange(rows), np.arange(cols), indexing="ij")
+        di = (ii.ravel()[:, None] - ii.ravel()[None, :]) * h
+        dj = (jj.ravel()[:, None] - jj.ravel()[None, :]) * h
+        return influence_coefficients(di, dj, h, self.contact_modulus, np)

@@ -1,0 +1,182 @@
+"""The coupled operator A = K + sum_l (h^2 / k_l) P_l^T P_l on a window of the grid.
+
+For an element i in the contact set S belonging to pillar n (DESIGN.md sec. 2)
+
+    (K p)_i + sum_l (h^2 / k_l) * sum_{j in S, c_l(j) = c_l(i)} p_j = d - height_i,
+
+the first term the half-space deflection, the second the deflection of the
+springs of every level above the element (thesis eq. 3.11, 6.12, 6.17).  A is
+symmetric positive definite on S.  The spring sums are computed either by
+segment sums over the element-to-cluster incidence (``coupling="segments"``,
+exact for any layout, O(n)) or, as in the thesis, by the convolution with the
+discriminant matrix Pi_l folded into the kernel spectrum
+(``coupling="discriminant"``, eq. 3.13-3.17 and 6.14-6.18), which is exact
+only while every Pi_l covers a whole cluster and no part of another one; the
+constructor checks that condition and refuses layouts that violate it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from . import backend
+from .halfspace import HalfSpace
+from .structure import Indenter, SpringLevel
+
+__all__ = ["ContactOperator", "discriminant_half_width", "Window"]
+
+
+@dataclass(frozen=True)
+class Window:
+    """A rectangular block of the grid: rows [r0, r1) and columns [c0, c1)."""
+
+    r0: int
+    r1: int
+    c0: int
+    c1: int
+
+    @classmethod
+    def full(cls, n: int) -> "Window":
+        return cls(0, n, 0, n)
+
+    @property
+    def slices(self) -> tuple[slice, slice]:
+        return (slice(self.r0, self.r1), slice(self.c0, self.c1))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.r1 - self.r0, self.c1 - self.c0)
+
+    def contains(self, mask: np.ndarray) -> bool:
+        """Whether every True element of the full-grid ``mask`` lies inside the window."""
+        inside = np.zeros(mask.shape, dtype=bool)
+        inside[self.slices] = True
+        return not np.any(mask & ~inside)
+
+
+def discriminant_half_width(labels: np.ndarray) -> int:
+    """Half-width w (in elements) of the square discriminant matrix for ``labels``.
+
+    The box of side 2w + 1 centred on any element of a cluster must cover the
+    whole cluster (w >= D - 1, D the largest cluster extent in elements) and no
+    element of another cluster (thesis eq. 3.14-3.15).  Returns the smallest
+    valid w, or raises ValueError saying which condition fails.
+    """
+    present = labels >= 0
+    if not present.any():
+        return 0
+    objects = ndimage.find_objects(np.where(present, labels + 1, 0))
+    extent = max(max(s[0].stop - s[0].start, s[1].stop - s[1].start) for s in objects if s is not None)
+    width = extent - 1
+    size = 2 * width + 1
+    # Largest and smallest label within the box around every element: a box
+    # that reaches another cluster sees two different labels.
+    big = np.iinfo(np.int64).max
+    highest = ndimage.maximum_filter(np.where(present, labels, -1), size=size, mode="constant", cval=-1)
+    lowest = ndimage.minimum_filter(np.where(present, labels, big), size=size, mode="constant", cval=big)
+    clash = present & ((highest != labels) | (lowest != labels))
+    if clash.any():
+        raise ValueError(
+            "the discriminant matrix cannot be used for this layout: a box of half-width "
+            f"w = {width} elements (needed to cover the largest cluster, {extent} elements wide) "
+            "reaches another cluster (thesis eq. 3.14-3.15: Pi must be larger than every footprint "
+            "and smaller than every gap); use coupling = \"segments\""
+        )
+    return width
+
+
+class ContactOperator:
+    """A restricted to a window: ``apply(p, mask) = mask * (K p + springs(p))``.
+
+    Parameters
+    ----------
+    halfspace : HalfSpace
+        The half-space operator of the whole grid.
+    indenter : Indenter
+        The rasterised indenter (pillars, springs).
+    window : Window
+        The block of the grid the operator acts on.  Pressure outside the
+        window is zero.
+    coupling : {"segments", "discriminant"}
+        How the spring sums are computed (module docstring).
+    """
+
+    def __init__(self, halfspace: HalfSpace, indenter: Indenter, window: Window, coupling: str = "segments"):
+        if coupling not in ("segments", "discriminant"):
+            raise ValueError(f"coupling = {coupling!r} must be 'segments' or 'discriminant'")
+        self.halfspace = halfspace
+        self.indenter = indenter
+        self.window = window
+        self.coupling = coupling
+        xp = halfspace.xp
+        self.xp = xp
+        h2 = halfspace.element_size**2
+        self._levels = []  # (compliance h^2/k, flat labels with -1 -> dummy, n_clusters)
+        rows, cols = window.shape
+        spectrum = None
+        for level in indenter.elastic_levels:
+            labels = indenter.element_clusters(level)
+            compliance = h2 / level.stiffness
+            if coupling == "discriminant":
+                width = discriminant_half_width(labels)
+                if spectrum is None:
+                    spectrum = xp.asarray(halfspace.spectrum(rows, cols)).copy()
+                spectrum = spectrum + compliance * self._box_spectrum(rows, cols, width)
+            window_labels = labels[window.slices]
+            n = level.n_clusters
+            flat = np.where(window_labels >= 0, window_labels, n).ravel()
+            self._levels.append((compliance, xp.asarray(flat), n, level))
+        self._spectrum = spectrum
+
+    def _box_spectrum(self, rows: int, cols: int, width: int):
+        """Spectrum of the padded discriminant matrix (ones for |offset| <= width)."""
+        xp = self.xp
+        padded = np.zeros((2 * rows, 2 * cols))
+        wr = min(width, rows - 1)
+        wc = min(width, cols - 1)
+        row_idx = np.r_[0 : wr + 1, 2 * rows - wr : 2 * rows]
+        col_idx = np.r_[0 : wc + 1, 2 * cols - wc : 2 * cols]
+        padded[np.ix_(row_idx, col_idx)] = 1.0
+        return xp.real(backend.rfft2(xp, xp.asarray(padded), (2 * rows, 2 * cols)))
+
+    @property
+    def has_springs(self) -> bool:
+        return bool(self._levels)
+
+    def halfspace_deflection(self, pressure):
+        """K p on the window, in units of length."""
+        return self.halfspace.apply(pressure)
+
+    def cluster_forces(self, pressure):
+        """Force carried by every cluster of every elastic level: list of arrays h^2 sum p."""
+        xp = self.xp
+        h2 = self.halfspace.element_size**2
+        flat = xp.reshape(pressure, (-1,))
+        return [h2 * backend.segment_sum(xp, labels, flat, n + 1)[:n] for _, labels, n, _ in self._levels]
+
+    def spring_deflection(self, pressure):
+        """Total spring deflection above every element of the window, in units of length."""
+        xp = self.xp
+        total = xp.zeros(pressure.shape, dtype=pressure.dtype)
+        flat = xp.reshape(pressure, (-1,))
+        for compliance, labels, n, _ in self._levels:
+            sums = backend.segment_sum(xp, labels, flat, n + 1)
+            sums[n] = 0.0
+            total = total + compliance * xp.reshape(sums[labels], pressure.shape)
+        return total
+
+    def deflection(self, pressure):
+        """(K + springs) p on the window, unmasked."""
+        if self._spectrum is not None:
+            return self.halfspace.apply(pressure, spectrum=self._spectrum)
+        result = self.halfspace.apply(pressure)
+        if self._levels:
+            result = result + self.spring_deflection(pressure)
+        return result
+
+    def apply(self, pressure, mask):
+        """A_S p: the deflection of the contact elements, zero elsewhere."""
+        return self.deflection(pressure) * mask

@@ -1,0 +1,729 @@
+"""Load paths as generators: press, then pull off until complete separation.
+
+``pull_off(problem, path)`` yields one ``State`` per recorded equilibrium::
+
+    for state in pull_off(problem, path):
+        print(state.displacement, state.force)
+
+Two methods:
+
+* ``"fixed"`` - the thesis's displacement steps: press to the preload (by
+  displacement, or by force with a final secant refinement), then retract by
+  ``step`` until the contact set is empty.  Each step is an equilibrium with
+  the detachment/attachment loop, warm-started from the previous one.
+* ``"events"`` - exact event-driven path.  For a fixed contact set S the
+  solution is affine in d, p(d) = p(d0) + (d - d0) a with a = A_S^-1 1, and the
+  penetration outside S is affine too; the path jumps to the displacement at
+  which the next element reaches the critical stress or touches, records that
+  state (an equilibrium on the threshold), lets the element leave or join and
+  follows the cascade at the same d.  There is no step-size error: the force
+  extremum is found exactly up to the solver tolerance.  Elements whose event
+  displacements agree within the solver's accuracy are treated together.
+
+Both work on a window of the grid that holds the contact set with a margin
+(the half-space convolution is translation invariant), and check penetration on
+the whole grid after every equilibrium, enlarging the window when the contact
+grows beyond it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft
+
+from .halfspace import HalfSpace
+from .operator import ContactOperator, Window
+from .results import Curve, Snapshot
+from .solver import Equilibrium, conjugate_gradient, critical_stress, equilibrium, penetration, polonsky_keer
+from .structure import Grid, Indenter
+
+__all__ = ["ContactProblem", "LoadPath", "State", "pull_off", "PullOffRecord", "record_pull_off", "NotConvergedError"]
+
+
+class NotConvergedError(RuntimeError):
+    """A solve did not converge; the path stops and the record says why."""
+
+
+@dataclass(frozen=True)
+class ContactProblem:
+    """An indenter on springs against an elastic half-space.
+
+    Parameters
+    ----------
+    grid : Grid
+    indenter : Indenter
+    contact_modulus : float
+        E*, in units of stress.
+    work_of_adhesion : float
+        dgamma, energy per unit area (0: no adhesion).
+    coupling : {"segments", "discriminant"}
+        How the spring sums are evaluated (see ``brushbem.operator``).
+    """
+
+    grid: Grid
+    indenter: Indenter
+    contact_modulus: float
+    work_of_adhesion: float
+    coupling: str = "segments"
+    xp: object = np
+
+    def __post_init__(self):
+        if not (math.isfinite(self.contact_modulus) and self.contact_modulus > 0):
+            raise ValueError(f"contact_modulus = {self.contact_modulus} must be finite and > 0")
+        if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion >= 0):
+            raise ValueError(f"work_of_adhesion = {self.work_of_adhesion} must be finite and >= 0")
+
+    @property
+    def critical_stress(self) -> float:
+        """Sigma_c of the mesh (eq. 2.14); 0 without adhesion."""
+        return critical_stress(self.contact_modulus, self.work_of_adhesion, self.grid.element_size)
+
+
+@dataclass(frozen=True)
+class LoadPath:
+    """How the indenter is pressed and pulled off.
+
+    Parameters
+    ----------
+    method : {"events", "fixed"}
+    preload_displacement, preload_force : float or None
+        Exactly one: press to this base displacement, or until this force.
+    step : float
+        Displacement step of the "fixed" method, in units of length.
+    max_steps : int
+        Bound on the recorded states of each branch (a path that needs more is
+        reported as not converged).
+    tolerance : float
+        Relative residual of every CG solve.
+    max_iterations : int
+        Bound on the iterations of one CG solve.
+    window_margin : float
+        Margin of the working window around the contact, as a fraction of its
+        size (at least 4 elements).
+    """
+
+    method: str = "events"
+    preload_displacement: float | None = None
+    preload_force: float | None = None
+    step: float = 1e-4
+    max_steps: int = 200000
+    tolerance: float = 1e-8
+    max_iterations: int = 20000
+    window_margin: float = 0.25
+
+    def __post_init__(self):
+        if self.method not in ("events", "fixed"):
+            raise ValueError(f"protocol.method = {self.method!r} must be 'events' or 'fixed'")
+        if (self.preload_displacement is None) == (self.preload_force is None):
+            raise ValueError("exactly one of protocol.preload_displacement and protocol.preload_force is required")
+        for name in ("preload_displacement", "preload_force"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise ValueError(f"protocol.{name} = {value} must be finite and > 0")
+        if not (math.isfinite(self.step) and self.step > 0):
+            raise ValueError(f"protocol.step = {self.step} must be finite and > 0")
+
+
+@dataclass(frozen=True)
+class State:
+    """One recorded equilibrium of the load path.
+
+    Attributes
+    ----------
+    displacement : float
+        Base displacement d.
+    force : float
+        F = h^2 sum p, compressive positive.
+    contact_area : float
+        h^2 times the number of contact elements.
+    attached_pillars : int
+    loading : bool
+        True while pressing, False while pulling off.
+    kind : str
+        "equilibrium" (after any cascade), "event" (a state on the threshold
+        of the next event, before elements leave or join) or "separated".
+    trial_force : float
+        Force of the fixed-set solution at this d before the cascade (equal to
+        ``force`` when nothing changed); the path passes through it.
+    cg_iterations, n_solves : int
+        Spent to reach this state.
+    converged : bool
+    reason : str
+    pressure : ndarray, shape (N, N)
+    contact : ndarray of bool, shape (N, N)
+    """
+
+    displacement: float
+    force: float
+    contact_area: float
+    attached_pillars: int
+    loading: bool
+    kind: str
+    trial_force: float
+    cg_iterations: int
+    n_solves: int
+    converged: bool
+    reason: str
+    pressure: object
+    contact: object
+
+
+class _Tracker:
+    """Full-grid state, the working window and its operator."""
+
+    def __init__(self, problem: ContactProblem, path: LoadPath):
+        self.problem = problem
+        self.path = path
+        xp = problem.xp
+        self.xp = xp
+        grid = problem.grid
+        n = grid.elements
+        self.h2 = grid.element_size**2
+        self.halfspace = HalfSpace(n, grid.element_size, problem.contact_modulus, xp=xp)
+        indenter = problem.indenter
+        self.height = xp.asarray(indenter.height)
+        self.footprint = xp.isfinite(self.height)
+        self.pillar = xp.asarray(indenter.pillar)
+        self.n_pillars = indenter.n_pillars
+        self.critical = problem.critical_stress
+        self.pressure = xp.zeros((n, n), dtype=xp.float64)
+        self.contact = xp.zeros((n, n), dtype=xp.bool)
+        self.unit = None  # a = A_S^-1 1 on the window (warm start for the next one)
+        self.window: Window | None = None
+        self.operator: ContactOperator | None = None
+        fp = np.asarray(indenter.footprint)
+        rows = np.flatnonzero(fp.any(axis=1))
+        cols = np.flatnonzero(fp.any(axis=0))
+        self.footprint_box = (rows[0], rows[-1] + 1, cols[0], cols[-1] + 1)
+
+    # -- window -------------------------------------------------------------
+    def _box_of(self, mask) -> tuple[int, int, int, int]:
+        m = np.asarray(mask)
+        rows = np.flatnonzero(m.any(axis=1))
+        cols = np.flatnonzero(m.any(axis=0))
+        return rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+
+    def ensure_window(self, needed) -> None:
+        """Make the working window cover ``needed`` (full-grid bool) with a margin."""
+        n = self.problem.grid.elements
+        if self.window is not None and self.window.contains(np.asarray(needed)):
+            return
+        if not bool(np.asarray(needed).any()):
+            needed = self.footprint
+        r0, r1, c0, c1 = self._box_of(needed)
+        fr0, fr1, fc0, fc1 = self.footprint_box
+
+        def widen(lo, hi, flo, fhi):
+            size = hi - lo
+            margin = max(4, int(math.ceil(self.path.window_margin * size)))
+            lo, hi = max(lo - margin, flo, 0), min(hi + margin, fhi, n)
+            # Round the side up to a fast FFT length (of the padded 2m transform).
+            target = min(scipy.fft.next_fast_len(2 * (hi - lo), real=True) // 2, n)
+            while hi - lo < target:
+                if hi < n:
+                    hi += 1
+                if hi - lo < target and lo > 0:
+                    lo -= 1
+            return lo, hi
+
+        r0, r1 = widen(r0, r1, fr0, fr1)
+        c0, c1 = widen(c0, c1, fc0, fc1)
+        self.window = Window(int(r0), int(r1), int(c0), int(c1))
+        self.operator = ContactOperator(self.halfspace, self.problem.indenter, self.window, self.problem.coupling)
+        self.unit = None
+
+    @property
+    def covers_footprint(self) -> bool:
+        fr0, fr1, fc0, fc1 = self.footprint_box
+        w = self.window
+        return w.r0 <= fr0 and w.r1 >= fr1 and w.c0 <= fc0 and w.c1 >= fc1
+
+    def view(self, array):
+        return array[self.window.slices]
+
+    # -- solves -------------------------------------------------------------
+    def solve(self, displacement: float, force_detach=None, force_attach=None) -> Equilibrium:
+        """Equilibrium at d from the current state; enlarges the window as needed."""
+        xp = self.xp
+        needed = self.contact | (self.footprint & (self.height < displacement))
+        if force_attach is not None:
+            needed = needed | force_attach
+        self.ensure_window(needed)
+        iterations = solves = 0
+        trial = None
+        while True:
+            sl = self.window.slices
+            height = self.height[sl]
+            if self.critical == 0.0 and force_detach is None and force_attach is None and solves == 0:
+                eq = polonsky_keer(
+                    self.operator, height, displacement, self.pressure[sl],
+                    self.path.tolerance, self.path.max_iterations,
+                )
+            else:
+                eq = equilibrium(
+                    self.operator, height, displacement, self.contact[sl], self.pressure[sl], self.critical,
+                    tolerance=self.path.tolerance, max_iterations=self.path.max_iterations,
+                    force_detach=None if force_detach is None else force_detach[sl],
+                    force_attach=None if force_attach is None else force_attach[sl],
+                )
+            iterations += eq.cg_iterations
+            solves += eq.n_solves
+            if trial is None:
+                trial = eq.trial_force_sum
+            force_detach = force_attach = None
+            self.pressure = xp.zeros_like(self.pressure)
+            self.pressure[sl] = eq.pressure
+            self.contact = xp.zeros_like(self.contact)
+            self.contact[sl] = eq.contact
+            if not eq.converged:
+                break
+            if self.covers_footprint:
+                break
+            # Penetration outside the window: the contact grew beyond it.
+            outside = self._outside_penetration(displacement)
+            if not bool(xp.any(outside)):
+                break
+            self.ensure_window(self.contact | outside)
+            force_attach = outside
+        self.unit = None
+        return Equilibrium(
+            displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
+            trial, eq.detached, eq.attached,
+        )
+
+    def _outside_penetration(self, displacement: float):
+        xp = self.xp
+        full = ContactOperator(self.halfspace, self.problem.indenter, Window.full(self.problem.grid.elements))
+        reach = penetration(full, self.height, displacement, self.pressure)
+        inside = xp.zeros_like(self.contact)
+        inside[self.window.slices] = True
+        slack = 10.0 * self.path.tolerance * max(abs(displacement), 1e-300)
+        return self.footprint & ~self.contact & ~inside & (reach > slack)
+
+    def unit_response(self):
+        """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
+        xp = self.xp
+        sl = self.window.slices
+        contact = self.contact[sl]
+        ones = xp.where(contact, 1.0, 0.0)
+        result = conjugate_gradient(
+            lambda x: self.operator.apply(x, contact),
+            ones,
+            contact,
+            initial=self.unit,
+            tolerance=self.path.tolerance,
+            max_iterations=self.path.max_iterations,
+            xp=xp,
+        )
+        self.unit = result.solution if result.converged else None
+        return result
+
+    # -- records ------------------------------------------------------------
+    def force(self, pressure=None) -> float:
+        p = self.pressure if pressure is None else pressure
+        return self.h2 * float(self.xp.sum(p))
+
+    def attached_pillars(self, contact=None) -> int:
+        c = self.contact if contact is None else contact
+        labels = self.pillar[c]
+        if labels.size == 0:
+            return 0
+        return int(np.unique(np.asarray(labels)).size)
+
+    def state(self, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
+              pressure=None, contact=None) -> State:
+        p = self.pressure if pressure is None else pressure
+        c = self.contact if contact is None else contact
+        return State(
+            displacement=float(displacement),
+            force=self.force(p),
+            contact_area=self.h2 * int(self.xp.sum(c)),
+            attached_pillars=self.attached_pillars(c),
+            loading=loading,
+            kind=kind,
+            trial_force=float(trial_force),
+            cg_iterations=int(iterations),
+            n_solves=int(solves),
+            converged=bool(converged),
+            reason=reason,
+            pressure=p,
+            contact=c,
+        )
+
+
+def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
+    """Yield the states of a press-and-pull-off (module docstring).
+
+    The last state has ``kind == "separated"`` when the indenter came off, or
+    ``converged == False`` with the reason when a solve failed or the step
+    budget ran out.
+    """
+    tracker = _Tracker(problem, path)
+    if path.method == "fixed":
+        yield from _fixed(tracker, path)
+    else:
+        yield from _events(tracker, path)
+
+
+def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
+    trial = tracker.h2 * eq.trial_force_sum
+    return tracker.state(eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged, eq.reason)
+
+
+def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
+    step = path.step
+    d = 0.0
+    count = 0
+    # Loading.
+    if path.preload_displacement is not None:
+        n_steps = max(1, math.ceil(path.preload_displacement / step - 1e-9))
+        for k in range(1, n_steps + 1):
+            d = min(k * step, path.preload_displacement)
+            eq = tracker.solve(d)
+            state = _eq_state(tracker, eq, True)
+            yield state
+            if not eq.converged:
+                return
+    else:
+        target = path.preload_force
+        previous = (0.0, 0.0)
+        while True:
+            count += 1
+            if count > path.max_steps:
+                yield _budget_exhausted(tracker, d, True, path)
+                return
+            d += step
+            saved = (tracker.pressure, tracker.contact)
+            eq = tracker.solve(d)
+            force = tracker.force()
+            if not eq.converged:
+                yield _eq_state(tracker, eq, True)
+                return
+            if force >= target:
+                # Secant/bisection between the last two steps on a copy of the
+                # previous state, so the history of the contact set is kept.
+                lo, f_lo = previous
+                hi, f_hi = d, force
+                for _ in range(60):
+                    trial_d = lo + (target - f_lo) * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+                    trial_d = min(max(trial_d, lo + 1e-3 * (hi - lo)), hi - 1e-3 * (hi - lo))
+                    tracker.pressure, tracker.contact = saved
+                    eq = tracker.solve(trial_d)
+                    f = tracker.force()
+                    if abs(f - target) <= 1e-6 * target or not eq.converged:
+                        break
+                    if f < target:
+                        lo, f_lo = trial_d, f
+                    else:
+                        hi, f_hi = trial_d, f
+                d = trial_d
+                yield _eq_state(tracker, eq, True)
+                break
+            yield _eq_state(tracker, eq, True)
+            previous = (d, force)
+    # Unloading.
+    d_max = d
+    for k in range(1, path.max_steps + 1):
+        d = d_max - k * step
+        eq = tracker.solve(d)
+        if not eq.converged:
+            yield _eq_state(tracker, eq, False)
+            return
+        if not bool(tracker.xp.any(tracker.contact)):
+            yield tracker.state(d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
+                                eq.n_solves, True, "complete separation")
+            return
+        yield _eq_state(tracker, eq, False)
+    yield _budget_exhausted(tracker, d, False, path)
+
+
+def _budget_exhausted(tracker, d, loading, path) -> State:
+    return tracker.state(d, loading, "equilibrium", tracker.force(), 0, 0, False,
+                         f"protocol.max_steps = {path.max_steps} reached before the end of the branch")
+
+
+def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
+    xp = tracker.xp
+    d = 0.0
+    # Loading: from first touch to the preload.
+    loading = True
+    for _ in range(path.max_steps):
+        outcome = yield from _event_step(tracker, path, d, +1)
+        if outcome is None:
+            return
+        d, done = outcome
+        if done:
+            break
+    else:
+        yield _budget_exhausted(tracker, d, True, path)
+        return
+    # Unloading: until the contact set is empty.
+    loading = False
+    for _ in range(path.max_steps):
+        outcome = yield from _event_step(tracker, path, d, -1)
+        if outcome is None:
+            return
+        d, done = outcome
+        if done:
+            return
+    yield _budget_exhausted(tracker, d, loading, path)
+
+
+def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
+    """Advance to the next event in ``direction`` (+1 press, -1 pull); yield its states.
+
+    Returns (d, branch_finished), or None when the path must stop.
+    """
+    xp = tracker.xp
+    loading = direction > 0
+    critical = tracker.critical
+    tol = path.tolerance
+    has_contact = bool(xp.any(tracker.contact))
+    candidates: list[tuple[float, str, object]] = []  # (distance along direction, kind, mask)
+    if loading and path.preload_displacement is not None:
+        candidates.append((path.preload_displacement - d, "target", None))
+    if not has_contact:
+        if not loading:
+            yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
+            return d, True
+        # First touch: the lowest footprint elements.
+        lowest = float(xp.min(xp.where(tracker.footprint, tracker.height, xp.inf)))
+        distance = max(lowest - d, 0.0)
+        first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
+        if path.preload_displacement is not None and path.preload_displacement <= lowest:
+            raise ValueError("protocol.preload_displacement does not reach the indenter's lowest point")
+        new_d = d + distance
+        eq = tracker.solve(new_d, force_attach=first)
+        state = _eq_state(tracker, eq, True)
+        yield state
+        if not eq.converged:
+            return None
+        return new_d, _target_reached(tracker, path, new_d)
+    tracker.ensure_window(tracker.contact)
+    sl = tracker.window.slices
+    result = tracker.unit_response()
+    if not result.converged:
+        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
+                            f"unit response: {result.reason}")
+        return None
+    a = result.solution
+    contact = tracker.contact[sl]
+    pressure = tracker.pressure[sl]
+    s = float(direction)
+    # Detachment: p_i + t s a_i = -Sigma_c for t >= 0 (elements whose tension grows).
+    rate = s * a
+    grows = contact & (rate < 0)
+    t_detach = xp.where(grows, (pressure + critical) / xp.where(grows, -rate, 1.0), xp.inf)
+    t_detach = xp.where(t_detach < 0, 0.0, t_detach)
+    # Attachment: penetration pen_j + t s slope_j = 0 from below.
+    height = tracker.height[sl]
+    footprint = tracker.footprint[sl]
+    reach = penetration(tracker.operator, height, d, pressure)
+    slope = -(tracker.operator.halfspace_deflection(a) + (tracker.operator.spring_deflection(a) if tracker.operator.has_springs else 0.0))
+    slope = 1.0 + slope
+    closing = footprint & ~contact & (s * slope > 0)
+    t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
+    t_attach = xp.where(t_attach < 0, 0.0, t_attach)
+    t_det = float(xp.min(t_detach)) if bool(xp.any(grows)) else math.inf
+    t_att = float(xp.min(t_attach)) if bool(xp.any(closing)) else math.inf
+    candidates.append((t_det, "detach", None))
+    candidates.append((t_att, "attach", None))
+    if loading and path.preload_force is not None:
+        force_rate = tracker.h2 * float(xp.sum(a))
+        if force_rate > 0:
+            candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
+    t = min(c[0] for c in candidates)
+    if not math.isfinite(t):
+        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
+                            "no event ahead on this branch (the contact neither grows nor shrinks)")
+        return None
+    t = max(t, 0.0)
+    new_d = d + s * t
+    new_pressure = xp.zeros_like(tracker.pressure)
+    new_pressure[sl] = (pressure + (s * t) * a) * contact
+    target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
+    tie = 100.0 * tol * (abs(d) + t) + 1e-300
+    if target_hit and t + tie < min(t_det, t_att):
+        tracker.pressure = new_pressure
+        state = tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1,
+                              True, "preload reached")
+        yield state
+        return new_d, True
+    # A state on the threshold of the event (still an equilibrium), then the cascade.
+    yield tracker.state(new_d, loading, "event", tracker.force(new_pressure), result.iterations, 1, True,
+                        "event", pressure=new_pressure)
+    n = tracker.problem.grid.elements
+    leave = xp.zeros((n, n), dtype=xp.bool)
+    join = xp.zeros((n, n), dtype=xp.bool)
+    if t_det <= t + tie:
+        leave[sl] = grows & (t_detach <= t + tie)
+    if t_att <= t + tie:
+        join[sl] = closing & (t_attach <= t + tie)
+    tracker.pressure = new_pressure
+    eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
+    if not eq.converged:
+        yield _eq_state(tracker, eq, loading)
+        return None
+    if not bool(xp.any(tracker.contact)) and not loading:
+        yield tracker.state(new_d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
+                            eq.n_solves, True, "complete separation")
+        return new_d, True
+    yield _eq_state(tracker, eq, loading)
+    return new_d, loading and _target_reached(tracker, path, new_d)
+
+
+def _target_reached(tracker, path, d) -> bool:
+    if path.preload_displacement is not None:
+        return d >= path.preload_displacement * (1 - 1e-12)
+    return tracker.force() >= path.preload_force * (1 - 1e-9)
+
+
+# -- recording ------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PullOffRecord:
+    """The curve, the snapshots and the summary numbers of one pull-off."""
+
+    curve: Curve
+    snapshots: tuple[Snapshot, ...]
+    summary: dict
+
+
+def record_pull_off(
+    problem: ContactProblem,
+    path: LoadPath,
+    progress: Callable[[float, str], None] | None = None,
+) -> PullOffRecord:
+    """Run ``pull_off`` and collect the curve, snapshots and summary.
+
+    Summary fields: adhesive_force (-min F on the pull-off, >= 0),
+    pull_off_displacement, separation_displacement (last d with contact),
+    work_of_separation (work against the tensile force from the zero-force
+    crossing of the unloading branch to separation, along the path, cascades
+    vertical), preload_force, max_displacement, converged, reason, n_solves,
+    n_cg_iterations, n_states, wall_time_s.
+    """
+    from .backend import to_numpy
+
+    start = time.perf_counter()
+    rows: list[State] = []
+    path_points: list[tuple[float, float, bool]] = []  # (d, F, loading) along the path, cascades included
+    snapshots: dict[str, Snapshot] = {}
+    last_contact_state: State | None = None
+    best: State | None = None
+    converged = True
+    reason = "complete separation"
+    n_solves = n_iterations = 0
+    max_area = 0.0
+    separated = False
+    for state in pull_off(problem, path):
+        n_solves += state.n_solves
+        n_iterations += state.cg_iterations
+        if not state.converged:
+            converged = False
+            reason = state.reason
+        if state.kind == "separated":
+            separated = True
+            path_points.append((state.displacement, state.trial_force, False))
+            path_points.append((state.displacement, 0.0, False))
+            rows.append(state)
+            break
+        if state.trial_force != state.force:
+            path_points.append((state.displacement, state.trial_force, state.loading))
+        path_points.append((state.displacement, state.force, state.loading))
+        rows.append(state)
+        if state.loading:
+            snapshots["max_preload"] = _snapshot("max_preload", state, to_numpy)
+        elif state.contact_area > 0:
+            last_contact_state = state
+            if best is None or state.force < best.force:
+                best = state
+        max_area = max(max_area, state.contact_area)
+        if progress is not None:
+            if state.loading:
+                target = path.preload_displacement
+                fraction = 0.3 * (state.displacement / target if target else min(state.force / path.preload_force, 1))
+            else:
+                fraction = 0.3 + 0.7 * (1.0 - state.contact_area / max_area if max_area else 1.0)
+            progress(min(max(fraction, 0.0), 1.0), f"d = {state.displacement:.4g}, F = {state.force:.4g}")
+        if not state.converged:
+            break
+    if not separated and converged:
+        converged = False
+        reason = "the path ended before complete separation"
+    if best is not None:
+        snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy)
+    if last_contact_state is not None:
+        snapshots["before_separation"] = _snapshot("before_separation", last_contact_state, to_numpy)
+    curve = Curve(
+        displacement=np.array([s.displacement for s in rows]),
+        force=np.array([s.force if s.kind != "separated" else 0.0 for s in rows]),
+        contact_area=np.array([s.contact_area for s in rows]),
+        cg_iterations=np.array([s.cg_iterations for s in rows], dtype=np.int64),
+        converged=np.array([s.converged for s in rows], dtype=bool),
+        loading=np.array([s.loading for s in rows], dtype=bool),
+        attached_pillars=np.array([s.attached_pillars for s in rows], dtype=np.int64),
+    )
+    loading_states = [s for s in rows if s.loading]
+    # The unloading path starts at the end of the loading branch.
+    start_point = [(loading_states[-1].displacement, loading_states[-1].force)] if loading_states else []
+    unloading = start_point + [(d, f) for d, f, load in path_points if not load]
+    summary = {
+        "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
+        "pull_off_displacement": best.displacement if best is not None else None,
+        "separation_displacement": last_contact_state.displacement if last_contact_state is not None else None,
+        "work_of_separation": work_of_separation(unloading),
+        "preload_force": loading_states[-1].force if loading_states else 0.0,
+        "max_displacement": loading_states[-1].displacement if loading_states else 0.0,
+        "converged": bool(converged),
+        "reason": reason,
+        "n_solves": int(n_solves),
+        "n_cg_iterations": int(n_iterations),
+        "n_states": len(rows),
+        "wall_time_s": time.perf_counter() - start,
+    }
+    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary)
+
+
+def _snapshot(name: str, state: State, to_numpy) -> Snapshot:
+    return Snapshot(
+        name=name,
+        displacement=state.displacement,
+        force=state.force,
+        pressure=np.array(to_numpy(state.pressure)),
+        contact=np.array(to_numpy(state.contact)),
+    )
+
+
+def work_of_separation(points: list[tuple[float, float]]) -> float:
+    """Work against the tensile force along an unloading path (d decreasing).
+
+    ``points`` is the path (d, F) in order, cascades as vertical segments.
+    Integration starts at the first zero crossing of F and ends at the last
+    point; each segment is linear (exact for the event-driven path).
+    """
+    if len(points) < 2:
+        return 0.0
+    d = np.array([p[0] for p in points])
+    f = np.array([p[1] for p in points])
+    start = None
+    for k in range(len(f)):
+        if f[k] <= 0:
+            start = k
+            break
+    if start is None:
+        return 0.0
+    work = 0.0
+    if start > 0 and f[start - 1] > 0:
+        # Zero crossing inside the segment (start-1, start).
+        d0 = d[start - 1] + (d[start] - d[start - 1]) * f[start - 1] / (f[start - 1] - f[start])
+        work += 0.5 * (0.0 - f[start]) * (d0 - d[start])
+    for k in range(start, len(f) - 1):
+        work += 0.5 * (-(f[k]) - f[k + 1]) * (d[k] - d[k + 1])
+    return float(work)

@@ -1,0 +1,350 @@
+"""Solvers: conjugate gradients on a contact set, and the adhesive equilibrium.
+
+``conjugate_gradient`` solves A_S p = rhs on a fixed contact set S (A symmetric
+positive definite on S), warm-started, and returns a frozen ``SolveResult``.
+
+``equilibrium`` finds the state at a fixed base displacement d with the
+Pohrt-Popov detachment criterion (thesis sec. 2.2.2, 3.4): solve on S; detach
+every element whose tension exceeds the critical stress
+Sigma_c = sqrt(E* dgamma / (0.473201 h)) (eq. 2.14); attach every footprint
+element that the tip penetrates; repeat until S is stable.  Detachment rule:
+all violators of one solve leave together (the thesis's rule, "exclude those
+elements ... whose tensile stress are larger than Sigma_c"); the rule changes
+the post-peak tail of very soft brushes, not the peak.
+
+Without adhesion (dgamma = 0) the problem is a convex linear complementarity
+problem with a unique solution; ``polonsky_keer`` solves it in one constrained
+CG loop (Polonsky & Keer 1999), which is much cheaper than the active-set
+loop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .operator import ContactOperator
+
+__all__ = ["SolveResult", "Equilibrium", "conjugate_gradient", "polonsky_keer", "equilibrium", "critical_stress"]
+
+#: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
+ELEMENT_ENERGY_COEFFICIENT = 0.473201
+
+
+def critical_stress(contact_modulus: float, work_of_adhesion: float, element_size: float) -> float:
+    """Sigma_c = sqrt(E* dgamma / (0.473201 h)), thesis eq. 2.14, in units of stress."""
+    return math.sqrt(contact_modulus * work_of_adhesion / (ELEMENT_ENERGY_COEFFICIENT * element_size))
+
+
+@dataclass(frozen=True)
+class SolveResult:
+    """Outcome of one linear solve.
+
+    Attributes
+    ----------
+    solution : ndarray
+        The pressure (zero outside the set), in units of stress.
+    converged : bool
+    reason : str
+        Why the iteration stopped.
+    iterations : int
+    residual : float
+        Final relative residual ||rhs - A x|| / ||rhs|| on the set.
+    residual_history : tuple of float
+        Relative residual after every iteration (first entry: initial guess).
+    """
+
+    solution: object
+    converged: bool
+    reason: str
+    iterations: int
+    residual: float
+    residual_history: tuple[float, ...]
+
+
+def _dot(xp, a, b) -> float:
+    return float(xp.sum(a * b))
+
+
+def conjugate_gradient(
+    apply,
+    rhs,
+    mask,
+    initial=None,
+    tolerance: float = 1e-8,
+    max_iterations: int = 10000,
+    preconditioner=None,
+    xp=None,
+) -> SolveResult:
+    """Preconditioned CG for ``apply(x) = rhs`` on the elements where ``mask`` is True.
+
+    Parameters
+    ----------
+    apply : callable
+        ``apply(x) -> A_S x`` for x zero outside the mask; must return zero
+        outside the mask.
+    rhs : ndarray
+        Right-hand side (only the masked entries matter).
+    mask : ndarray of bool
+        The set S.
+    initial : ndarray, optional
+        Warm start (restricted to the mask).
+    tolerance : float
+        Target relative residual.
+    max_iterations : int
+    preconditioner : callable, optional
+        ``preconditioner(r) -> M^-1 r``, symmetric positive definite on S.
+    """
+    if xp is None:
+        from .backend import namespace
+
+        xp = namespace(rhs)
+    maskf = xp.astype(mask, rhs.dtype)
+    rhs = rhs * maskf
+    rhs_norm = math.sqrt(_dot(xp, rhs, rhs))
+    if rhs_norm == 0.0:
+        return SolveResult(xp.zeros_like(rhs), True, "zero right-hand side", 0, 0.0, (0.0,))
+    x = xp.zeros_like(rhs) if initial is None else initial * maskf
+    residual = rhs - apply(x) if initial is not None else rhs
+    relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
+    history = [relative]
+    if relative <= tolerance:
+        return SolveResult(x, True, "initial guess within tolerance", 0, relative, tuple(history))
+    z = residual if preconditioner is None else preconditioner(residual) * maskf
+    direction = z
+    rz = _dot(xp, residual, z)
+    for iteration in range(1, max_iterations + 1):
+        a_direction = apply(direction)
+        curvature = _dot(xp, direction, a_direction)
+        if not (curvature > 0.0) or not math.isfinite(curvature):
+            reason = (
+                "the operator is not positive definite on the contact set"
+                if math.isfinite(curvature)
+                else "non-finite values in the iteration"
+            )
+            return SolveResult(x, False, reason, iteration, relative, tuple(history))
+        step = rz / curvature
+        x = x + step * direction
+        residual = residual - step * a_direction
+        relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
+        history.append(relative)
+        if not math.isfinite(relative):
+            return SolveResult(x, False, "non-finite residual", iteration, relative, tuple(history))
+        if relative <= tolerance:
+            return SolveResult(x, True, "relative residual below tolerance", iteration, relative, tuple(history))
+        z = residual if preconditioner is None else preconditioner(residual) * maskf
+        rz_next = _dot(xp, residual, z)
+        direction = z + (rz_next / rz) * direction
+        rz = rz_next
+    return SolveResult(
+        x, False, f"no convergence in {max_iterations} iterations", max_iterations, relative, tuple(history)
+    )
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """The state at one base displacement (on the operator's window).
+
+    Attributes
+    ----------
+    displacement : float
+        Base displacement d.
+    pressure : ndarray
+        Pressure on the window, compressive positive.
+    contact : ndarray of bool
+        Contact set on the window.
+    converged : bool
+    reason : str
+    cg_iterations : int
+        CG iterations spent, all solves together.
+    n_solves : int
+    trial_force_sum : float
+        Sum of the pressure of the first solve, before any detachment (the
+        fixed-set force the path passes through before a cascade).
+    detached, attached : int
+        Elements that left and joined S.
+    """
+
+    displacement: float
+    pressure: object
+    contact: object
+    converged: bool
+    reason: str
+    cg_iterations: int
+    n_solves: int
+    trial_force_sum: float
+    detached: int
+    attached: int
+
+
+def penetration(operator: ContactOperator, height, displacement: float, pressure):
+    """How far the tip reaches into the deformed half-space (> 0: penetrates), on the window."""
+    deflection = operator.halfspace_deflection(pressure)
+    if operator.has_springs:
+        deflection = deflection + operator.spring_deflection(pressure)
+    return displacement - height - deflection
+
+
+def equilibrium(
+    operator: ContactOperator,
+    height,
+    displacement: float,
+    contact,
+    pressure,
+    critical: float,
+    tolerance: float = 1e-8,
+    max_iterations: int = 10000,
+    max_rounds: int = 100000,
+    preconditioner=None,
+    force_detach=None,
+    force_attach=None,
+) -> Equilibrium:
+    """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
+
+    Parameters
+    ----------
+    operator : ContactOperator
+    height : ndarray
+        Tip heights on the operator's window (inf outside the footprints).
+    displacement : float
+        d, in units of length.
+    contact : ndarray of bool
+        Contact set to start from (history).
+    pressure : ndarray
+        Warm start.
+    critical : float
+        Sigma_c; 0 means no adhesion (elements leave when p < 0).
+    force_detach, force_attach : ndarray of bool, optional
+        Elements that leave / join S before the first solve (the event that
+        the event-driven path has reached exactly).
+    """
+    xp = operator.xp
+    footprint = xp.isfinite(height)
+    contact = contact & footprint
+    detached = attached = 0
+    if force_detach is not None:
+        detached += int(xp.sum(contact & force_detach))
+        contact = contact & ~force_detach
+    if force_attach is not None:
+        joining = force_attach & footprint & ~contact
+        attached += int(xp.sum(joining))
+        contact = contact | joining
+    target = xp.where(footprint, displacement - height, 0.0)
+    pressure = pressure * contact
+    iterations = solves = 0
+    trial = None
+    # Penetration tolerance: the solve's accuracy in units of length.
+    scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
+    slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
+    for _ in range(max_rounds):
+        if bool(xp.any(contact)):
+            result = conjugate_gradient(
+                lambda x: operator.apply(x, contact),
+                target,
+                contact,
+                initial=pressure,
+                tolerance=tolerance,
+                max_iterations=max_iterations,
+                preconditioner=preconditioner,
+                xp=xp,
+            )
+            iterations += result.iterations
+            solves += 1
+            pressure = result.solution
+            if not result.converged:
+                return Equilibrium(
+                    displacement, pressure, contact, False, result.reason, iterations, solves,
+                    trial if trial is not None else float(xp.sum(pressure)), detached, attached,
+                )
+        else:
+            pressure = xp.zeros_like(target)
+        if trial is None:
+            trial = float(xp.sum(pressure))
+        leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
+        n_leaving = int(xp.sum(leaving))
+        if n_leaving:
+            contact = contact & ~leaving
+            pressure = pressure * contact
+            detached += n_leaving
+            continue
+        joining = footprint & ~contact & (penetration(operator, height, displacement, pressure) > slack)
+        n_joining = int(xp.sum(joining))
+        if n_joining:
+            contact = contact | joining
+            attached += n_joining
+            continue
+        return Equilibrium(
+            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached, attached
+        )
+    return Equilibrium(
+        displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",
+        iterations, solves, trial if trial is not None else 0.0, detached, attached,
+    )
+
+
+def polonsky_keer(
+    operator: ContactOperator,
+    height,
+    displacement: float,
+    pressure,
+    tolerance: float = 1e-8,
+    max_iterations: int = 10000,
+) -> Equilibrium:
+    """Non-adhesive contact at base displacement d by constrained CG (Polonsky & Keer 1999).
+
+    Minimises 1/2 p.A p - p.(d - height) subject to p >= 0 on the footprint.
+    The contact set is the set where p > 0; elements with p = 0 and a negative
+    gap join it inside the iteration (the conjugacy is then reset).  The
+    stopping test is the relative residual of the gap on the contact set plus
+    the absence of penetration outside it.
+    """
+    xp = operator.xp
+    footprint = xp.isfinite(height)
+    target = xp.where(footprint, displacement - height, 0.0)
+    if not bool(xp.any(target > 0)):
+        zeros = xp.zeros_like(target)
+        return Equilibrium(displacement, zeros, zeros > 0, True, "no penetration", 0, 1, 0.0, 0, 0)
+    pressure = xp.where(footprint & (pressure > 0), pressure, 0.0)
+    if not bool(xp.any(pressure > 0)):
+        # Start from the rigid-punch-like guess: a small uniform pressure where the tip penetrates.
+        pressure = xp.where(target > 0, 1.0, 0.0) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+    target_norm = math.sqrt(float(xp.sum(target[target > 0] ** 2)))
+    direction = xp.zeros_like(pressure)
+    g_old = 1.0
+    reset = True
+    relative = math.inf
+    for iteration in range(1, max_iterations + 1):
+        contact = pressure > 0
+        gap = operator.deflection(pressure) - target  # > 0: separated, < 0: penetrating
+        gap_c = xp.where(contact, gap, 0.0)
+        g_norm2 = float(xp.sum(gap_c * gap_c))
+        relative = math.sqrt(g_norm2) / target_norm
+        outside_penetration = bool(xp.any(footprint & ~contact & (gap < -tolerance * target_norm)))
+        if relative <= tolerance and not outside_penetration and iteration > 1:
+            return Equilibrium(
+                displacement, pressure, contact, True, "relative gap residual below tolerance",
+                iteration - 1, 1, float(xp.sum(pressure)), 0, 0,
+            )
+        direction = gap_c + (0.0 if reset else g_norm2 / g_old) * direction
+        direction = xp.where(contact, direction, 0.0)
+        g_old = g_norm2
+        response = operator.apply(direction, contact)
+        denominator = float(xp.sum(direction * response))
+        if not (denominator > 0):
+            return Equilibrium(
+                displacement, pressure, contact, False, "search direction lost positivity",
+                iteration, 1, float(xp.sum(pressure)), 0, 0,
+            )
+        step = float(xp.sum(gap_c * direction)) / denominator
+        pressure = pressure - step * direction
+        pressure = xp.where(pressure > 0, pressure, 0.0)
+        overlap = footprint & (pressure <= 0) & (gap < 0)
+        if bool(xp.any(overlap)):
+            reset = True
+            pressure = pressure - xp.where(overlap, step * gap, 0.0)
+        else:
+            reset = False
+    return Equilibrium(
+        displacement, pressure, pressure > 0, False, f"no convergence in {max_iterations} iterations",
+        max_iterations, 1, float(xp.sum(pressure)), 0, 0,
+    )
