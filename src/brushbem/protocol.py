@@ -290,7 +290,6 @@ class _Tracker:
                 break
             self.ensure_window(self.contact | outside)
             force_attach = outside
-        self.unit = None
         return Equilibrium(
             displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
             trial, eq.detached, eq.attached,

@@ -1,0 +1,129 @@
+"""Command line: ``brushbem run`` and ``brushbem validate``.
+
+Each command is a thin shell over library functions: `brushbem.config` loads
+and validates, `brushbem.case.run_case` computes, `brushbem.io` and
+`brushbem.plot` write.  Exit status: 0 success, 2 invalid configuration,
+3 the run finished but some solve did not converge (results still written).
+"""
+
+from __future__ import annotations
+
+import numbers
+from pathlib import Path
+from typing import Any
+
+import click
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from brushbem import __version__
+from brushbem.config import ConfigError, RunConfig, load_config
+
+__all__ = ["main"]
+
+EXIT_INVALID_CONFIG = 2
+EXIT_NOT_CONVERGED = 3
+
+
+def _load_or_exit(config_path: Path) -> RunConfig:
+    """Load a configuration; on any problem print them all and exit with status 2."""
+    try:
+        return load_config(config_path)
+    except ConfigError as error:
+        click.echo(f"invalid configuration {config_path}:", err=True)
+        for problem in error.problems:
+            click.echo(f"  {problem}", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+
+
+def _number(value: Any) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, numbers.Real):
+        return f"{float(value):.6g}"
+    return str(value)
+
+
+def _summary_table(summary: dict[str, Any]) -> Table:
+    """The headline numbers of a run, theory ratios included."""
+    table = Table(title="pull-off summary", show_header=False)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = [
+        ("adhesive force", "adhesive_force"),
+        ("pull-off displacement", "pull_off_displacement"),
+        ("work of separation", "work_of_separation"),
+    ]
+    for label, key in rows:
+        table.add_row(label, _number(summary.get(key, "—")))
+    for key, value in (summary.get("theory") or {}).items():
+        # Only scalar ratios and values belong in a one-screen table.
+        if isinstance(value, (numbers.Real, str)):
+            table.add_row(f"theory: {key}", _number(value))
+    table.add_row("converged", _number(summary.get("converged", "—")))
+    table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
+    return table
+
+
+@click.group()
+@click.version_option(__version__, prog_name="brushbem")
+def main() -> None:
+    """Adhesive pull-off of punches, spheres and brushes on an elastic half-space."""
+
+
+@main.command()
+@click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+    help="Folder for summary.json, result.nc and pulloff.png (created if absent).",
+)
+@click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
+def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
+    """Run the pull-off in CONFIG; write the results into --out."""
+    config = _load_or_exit(config_path)
+
+    # Imported here so that `validate` and `--help` stay fast and do not need
+    # the numerics.
+    from brushbem import case as case_module
+    from brushbem.io import write_case
+    from brushbem.plot import plot_pull_off
+
+    stderr = Console(stderr=True)
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeElapsedColumn(),
+        console=stderr,
+        transient=True,
+        disable=quiet,
+    ) as progress:
+        task = progress.add_task("pull-off", total=1.0)
+
+        def report(fraction: float, message: str) -> None:
+            progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
+
+        result, reference = case_module.run_case(config, progress=report)
+
+    write_case(result, out_dir, config=config)
+    plot_pull_off(result, out_dir / "pulloff.png", reference)
+
+    if not quiet:
+        Console().print(_summary_table(result.summary))
+        click.echo(f"results written to {out_dir}")
+    if not result.summary.get("converged", False):
+        click.echo(
+            f"warning: some solves did not converge; results written to {out_dir} "
+            "but they are not trustworthy",
+            err=True,
+        )
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+@main.command()
+@click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
+def validate(config_path: Path) -> None:
+    """Check CONFIG: print "ok", or every problem (exit status 2)."""
+    _load_or_exit(config_path)
+    click.echo("ok")

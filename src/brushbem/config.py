@@ -1,0 +1,662 @@
+"""Validated run configuration: the TOML file a user writes, checked at the edge.
+
+A run is described by one TOML file with the tables ``[halfspace]``, ``[grid]``,
+``[indenter]``, ``[protocol]`` and (optionally) ``[solver]``.  Every number is
+dimensional, in whatever consistent units the user chooses (length, stress,
+force = stress x length^2, stiffness = force / length).
+
+Sign convention (the same everywhere in brushbem): the base displacement ``d``
+is positive when the indenter presses into the half-space; pressure and force
+are positive when compressive.
+
+The numerics never see these models' validation logic: they receive the frozen,
+already-checked values.  Validation reports *every* problem of a file at once,
+one line per problem, each naming the dotted key, the value found and what is
+allowed, so that a user fixes a file in one pass instead of one error per run.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import NoneType, UnionType
+from typing import Any, Literal, Union, get_args, get_origin
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+__all__ = [
+    "ConfigError",
+    "HalfSpaceConfig",
+    "GridConfig",
+    "IndenterConfig",
+    "ProtocolConfig",
+    "SolverConfig",
+    "RunConfig",
+    "load_config",
+    "parse_config",
+    "config_to_dict",
+    "to_json_safe",
+]
+
+# Strict: a TOML ``size = "1.0"`` or ``elements = true`` is a mistake to report,
+# not a value to coerce.  Frozen: the numerics may cache on a config safely.
+_MODEL_CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+# Longest value representation echoed back in a problem line; random or
+# pasted input can be arbitrarily long and the line must stay readable.
+_MAX_SHOWN = 60
+
+
+class ConfigError(ValueError):
+    """A run configuration that cannot be used.
+
+    Parameters
+    ----------
+    problems : list of str
+        One human-readable line per problem, each of the form
+        ``"`dotted.key`: value — what is allowed"``.
+    """
+
+    def __init__(self, problems: list[str]) -> None:
+        self.problems = list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+@dataclass(frozen=True)
+class _Problem:
+    """One problem found by a rule that a single field's constraints cannot express.
+
+    ``key`` is relative to the model that found it (``""`` for the model
+    itself); the formatter prefixes the location of that model.
+    """
+
+    key: str
+    value: str
+    allowed: str
+
+
+def _show(value: Any) -> str:
+    """Short representation of a user value for a problem line."""
+    # repr gives "nan", "inf", "0.003" for floats: what the user wrote in TOML.
+    text = repr(value)
+    if len(text) > _MAX_SHOWN:
+        text = text[: _MAX_SHOWN - 3] + "..."
+    return text
+
+
+def _rules_error(problems: list[_Problem]) -> PydanticCustomError:
+    """Wrap rule problems so that they travel through pydantic's error list."""
+    return PydanticCustomError(
+        "config_rules",
+        "{summary}",
+        {"problems": problems, "summary": "; ".join(p.allowed for p in problems)},
+    )
+
+
+class HalfSpaceConfig(BaseModel):
+    """The elastic half-space.
+
+    Give either ``contact_modulus`` (E*) or both ``youngs_modulus`` and
+    ``poisson_ratio``; the numerics use only E*, see `effective_modulus`.
+
+    Attributes
+    ----------
+    contact_modulus : float or None
+        E*, in units of stress.
+    youngs_modulus : float or None
+        Young's modulus E of the half-space, in units of stress.
+    poisson_ratio : float or None
+        Poisson's ratio nu of the half-space, dimensionless, in [0, 0.5).
+    work_of_adhesion : float
+        Delta gamma, in units of energy per area (stress x length); 0 means no
+        adhesion.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    contact_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
+    youngs_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
+    poisson_ratio: float | None = Field(None, ge=0, lt=0.5, allow_inf_nan=False)
+    work_of_adhesion: float = Field(0.0, ge=0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _one_modulus(self) -> HalfSpaceConfig:
+        by_contact = self.contact_modulus is not None
+        by_young = self.youngs_modulus is not None or self.poisson_ratio is not None
+        complete_young = self.youngs_modulus is not None and self.poisson_ratio is not None
+        if by_contact == by_young or (by_young and not complete_young):
+            given = ", ".join(
+                f"{name} = {_show(getattr(self, name))}"
+                for name in ("contact_modulus", "youngs_modulus", "poisson_ratio")
+            )
+            raise _rules_error([
+                _Problem(
+                    "",
+                    given,
+                    "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio",
+                )
+            ])
+        return self
+
+    @property
+    def effective_modulus(self) -> float:
+        """E* = E / (1 - nu^2), in units of stress."""
+        if self.contact_modulus is not None:
+            return self.contact_modulus
+        # The validator guarantees both are set when contact_modulus is not.
+        assert self.youngs_modulus is not None and self.poisson_ratio is not None
+        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+
+
+class GridConfig(BaseModel):
+    """The square computational domain.
+
+    Attributes
+    ----------
+    size : float
+        Side L of the square domain, in units of length.
+    elements : int
+        Number N of elements along each side (N x N elements in all).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    size: float = Field(gt=0, allow_inf_nan=False)
+    elements: int = Field(ge=8, le=8192)
+
+    @property
+    def element_size(self) -> float:
+        """h = L / N, in units of length."""
+        return self.size / self.elements
+
+
+# Which optional keys each indenter shape needs.  Every key listed for some
+# shape is required by that shape and rejected by the others, so a stray key is
+# never silently ignored.  A new shape adds its fields to IndenterConfig and one
+# entry here.
+_SHAPE_KEYS: dict[str, tuple[str, ...]] = {
+    "flat_punch": ("radius",),
+    "sphere": ("radius",),
+    "height_map": ("file",),
+}
+
+
+class IndenterConfig(BaseModel):
+    """The indenter and the spring that carries it.
+
+    Attributes
+    ----------
+    shape : {"flat_punch", "sphere", "height_map"}
+        Flat cylindrical punch, paraboloid ``z = r^2 / (2 R)``, or a profile
+        read from a file.
+    radius : float or None
+        Punch radius, or the sphere's radius of curvature R, in units of length.
+        Required for ``flat_punch`` and ``sphere``.
+    stiffness : float
+        Spring stiffness k between the base and the indenter, in units of
+        force / length; ``inf`` is a rigid connection.
+    file : str or None
+        ``.npy`` file of an N x N array of tip heights z (units of length; rows
+        y, columns x; N = grid.elements).  Relative paths are resolved against
+        the configuration file's folder; after validation the path is absolute.
+        Required for ``height_map``.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    shape: Literal["flat_punch", "sphere", "height_map"]
+    radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    stiffness: float = Field(math.inf, gt=0)
+    file: str | None = None
+
+    @field_validator("stiffness", mode="before")
+    @classmethod
+    def _inf_string(cls, value: Any) -> Any:
+        # `config_to_dict` writes infinity as the string "inf" (JSON has no
+        # infinity); accept it back so a recorded config re-parses.
+        if isinstance(value, str) and value == "inf":
+            return math.inf
+        return value
+
+    @field_validator("file")
+    @classmethod
+    def _resolve_and_check_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:
+            return None
+        base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
+        try:
+            path = (base_dir / value).resolve()
+            found = path.is_file()
+        except (OSError, ValueError) as exc:  # e.g. an embedded NUL or a name too long
+            raise ValueError(f"not a usable path ({exc})") from None
+        if not found:
+            raise ValueError(f"file not found (looked for {path})")
+        _check_height_map(path)
+        return str(path)
+
+    @model_validator(mode="after")
+    def _keys_for_shape(self) -> IndenterConfig:
+        needed = set(_SHAPE_KEYS[self.shape])
+        problems = []
+        for key in sorted({k for keys in _SHAPE_KEYS.values() for k in keys}):
+            value = getattr(self, key)
+            if key in needed and value is None:
+                problems.append(_Problem(key, "missing", f"required when shape = {self.shape!r}"))
+            elif key not in needed and value is not None:
+                users = " or ".join(repr(s) for s, keys in _SHAPE_KEYS.items() if key in keys)
+                problems.append(
+                    _Problem(key, _show(value), f"only used when shape = {users}; remove it")
+                )
+        if problems:
+            raise _rules_error(problems)
+        return self
+
+
+def _check_height_map(path: Path) -> None:
+    """Check that ``path`` holds a square 2-D array of finite real numbers.
+
+    Raises
+    ------
+    ValueError
+        With a message saying what is wrong.
+    """
+    try:
+        heights = np.load(path, allow_pickle=False)
+    except Exception as exc:  # any unreadable file is a configuration problem
+        raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
+    if not isinstance(heights, np.ndarray) or heights.dtype.kind not in "fiu":
+        raise ValueError("must hold an array of real numbers")
+    if heights.ndim != 2 or heights.shape[0] != heights.shape[1]:
+        raise ValueError(f"must hold a square N x N array, found shape {heights.shape}")
+    if not np.all(np.isfinite(heights)):
+        raise ValueError("must hold finite heights (found nan or inf)")
+
+
+def _height_map_shape(path: str) -> tuple[int, ...]:
+    """Shape of a validated ``.npy`` file, from its header only (no data read)."""
+    return np.load(path, mmap_mode="r", allow_pickle=False).shape
+
+
+class ProtocolConfig(BaseModel):
+    """The pull-off load path: press to a preload, then retract until separation.
+
+    Attributes
+    ----------
+    method : {"events", "fixed"}
+        ``"events"`` jumps exactly from one contact change to the next;
+        ``"fixed"`` moves the base by constant steps (the thesis's method).
+    preload_displacement : float or None
+        Press until the base displacement reaches this value, units of length.
+    preload_force : float or None
+        Press until the compressive force reaches this value, units of force.
+        Exactly one of the two preloads is given.
+    step : float
+        Displacement step of ``"fixed"``, in units of length.
+    max_steps : int
+        Upper bound on recorded equilibria; a run that needs more stops and
+        reports not converged.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    method: Literal["events", "fixed"] = "events"
+    preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
+    preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
+    step: float = Field(1e-4, gt=0, allow_inf_nan=False)
+    max_steps: int = Field(200_000, gt=0)
+
+    @model_validator(mode="after")
+    def _one_preload(self) -> ProtocolConfig:
+        if (self.preload_displacement is None) == (self.preload_force is None):
+            given = (
+                f"preload_displacement = {_show(self.preload_displacement)}, "
+                f"preload_force = {_show(self.preload_force)}"
+            )
+            raise _rules_error([
+                _Problem("", given, "give exactly one of preload_displacement or preload_force")
+            ])
+        return self
+
+
+class SolverConfig(BaseModel):
+    """Inner linear solver (preconditioned conjugate gradients).
+
+    Attributes
+    ----------
+    tolerance : float
+        Relative residual at which a solve counts as converged, dimensionless.
+    max_iterations : int
+        Iterations allowed per solve before it is reported as not converged.
+    coupling : {"segments", "discriminant"}
+        How the spring sums enter the operator: segment sums over the
+        element-to-pillar incidence (exact for any layout), or the thesis's
+        discriminant-matrix convolution (eq. 3.13-3.17; refused where its size
+        condition does not hold).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    tolerance: float = Field(1e-8, gt=0, lt=1e-2, allow_inf_nan=False)
+    max_iterations: int = Field(20_000, gt=0)
+    coupling: Literal["segments", "discriminant"] = "segments"
+
+
+class RunConfig(BaseModel):
+    """One run: half-space, grid, indenter, load path and solver settings."""
+
+    model_config = _MODEL_CONFIG
+
+    halfspace: HalfSpaceConfig
+    grid: GridConfig
+    indenter: IndenterConfig
+    protocol: ProtocolConfig
+    solver: SolverConfig = SolverConfig()
+
+    @model_validator(mode="after")
+    def _consistent(self) -> RunConfig:
+        problems = _cross_section_problems(self.grid, self.indenter)
+        if problems:
+            raise _rules_error(problems)
+        return self
+
+
+def _cross_section_problems(
+    grid: GridConfig | None, indenter: IndenterConfig | None
+) -> list[_Problem]:
+    """Rules between sections; each runs only if the sections it needs validated.
+
+    Keys of the returned problems are absolute (``"indenter.radius"``).
+    """
+    if grid is None or indenter is None:
+        return []
+    problems = []
+    h = grid.element_size
+    if indenter.shape == "flat_punch" and indenter.radius is not None:
+        radius = indenter.radius
+        # With fewer than 2 elements in radius the rasterised footprint is a
+        # handful of elements and no longer approximates a circular punch.
+        if radius < 2 * h:
+            problems.append(
+                _Problem(
+                    "indenter.radius",
+                    _show(radius),
+                    f"under 2 elements (h = {h:g}); the punch needs at least 2 elements in radius",
+                )
+            )
+        if 2 * radius > grid.size:
+            problems.append(
+                _Problem(
+                    "indenter.radius",
+                    _show(radius),
+                    f"the punch (diameter {2 * radius:g}) is larger than the domain "
+                    f"(grid.size = {grid.size:g})",
+                )
+            )
+    if indenter.shape == "height_map" and indenter.file is not None:
+        shape = _height_map_shape(indenter.file)
+        if shape != (grid.elements, grid.elements):
+            problems.append(
+                _Problem(
+                    "indenter.file",
+                    _show(indenter.file),
+                    f"holds a {shape[0]} x {shape[1]} array; grid.elements = {grid.elements} "
+                    f"needs {grid.elements} x {grid.elements}",
+                )
+            )
+    return problems
+
+
+_SECTIONS: dict[str, type[BaseModel]] = {
+    "halfspace": HalfSpaceConfig,
+    "grid": GridConfig,
+    "indenter": IndenterConfig,
+    "protocol": ProtocolConfig,
+    "solver": SolverConfig,
+}
+
+
+def _dotted(loc: tuple[Any, ...]) -> str:
+    return ".".join(str(part) for part in loc if part != "")
+
+
+def _field_at(model: type[BaseModel], loc: tuple[Any, ...]) -> Any:
+    """The pydantic FieldInfo at ``loc`` below ``model``, or None."""
+    field = None
+    current: Any = model
+    for part in loc:
+        if not (isinstance(current, type) and issubclass(current, BaseModel)):
+            return None
+        field = current.model_fields.get(part) if isinstance(part, str) else None
+        if field is None:
+            return None
+        current = field.annotation
+    return field
+
+
+def _describe_allowed(field: Any) -> str:
+    """What a field accepts, derived from its type and constraints."""
+    annotation = field.annotation
+    if get_origin(annotation) in (Union, UnionType):
+        members = [a for a in get_args(annotation) if a is not NoneType]
+        annotation = members[0] if len(members) == 1 else annotation
+    finite = any(getattr(m, "allow_inf_nan", None) is False for m in field.metadata)
+    if get_origin(annotation) is Literal:
+        return "one of " + ", ".join(repr(a) for a in get_args(annotation))
+    if annotation is int:
+        kind = "an integer"
+    elif annotation is float:
+        kind = "a finite number" if finite else "a number"
+    elif annotation is str:
+        kind = "a string"
+    elif isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return "a table with keys " + ", ".join(annotation.model_fields)
+    else:
+        kind = "a value"
+    # Field(gt=..., le=...) stores one annotated-types object per bound, each
+    # with an attribute named after the bound.
+    low = high = None
+    for m in field.metadata:
+        if getattr(m, "gt", None) is not None:
+            low = f"> {m.gt:g}", "(", m.gt
+        elif getattr(m, "ge", None) is not None:
+            low = f">= {m.ge:g}", "[", m.ge
+        elif getattr(m, "lt", None) is not None:
+            high = f"< {m.lt:g}", ")", m.lt
+        elif getattr(m, "le", None) is not None:
+            high = f"<= {m.le:g}", "]", m.le
+    if low and high:
+        text = f"{kind} in {low[1]}{low[2]:g}, {high[2]:g}{high[1]}"
+    elif low or high:
+        text = f"{kind} {(low or high)[0]}"
+    else:
+        text = kind
+    if annotation is float and not finite:
+        text += " or inf"
+    return text
+
+
+def _problem_lines(
+    error: ValidationError, model: type[BaseModel], prefix: tuple[str, ...]
+) -> list[str]:
+    """One line per pydantic error, ``"`dotted.key`: value — what is allowed"``."""
+    lines = []
+    for item in error.errors(include_url=False):
+        loc = tuple(item["loc"])
+        kind = item["type"]
+        if kind == "config_rules":
+            for problem in item["ctx"]["problems"]:
+                key = _dotted(prefix + loc + (problem.key,))
+                lines.append(f"`{key}`: {problem.value} — {problem.allowed}")
+            continue
+        key = _dotted(prefix + loc)
+        field = _field_at(model, loc)
+        if kind == "extra_forbidden":
+            parent = _field_at(model, loc[:-1]) if len(loc) > 1 else None
+            owner = parent.annotation if parent is not None else model
+            known = ", ".join(owner.model_fields) if hasattr(owner, "model_fields") else ""
+            lines.append(f"`{key}`: {_show(item['input'])} — unknown key (allowed: {known})")
+        elif kind == "missing":
+            allowed = _describe_allowed(field) if field is not None else "a value"
+            lines.append(f"`{key}`: missing — required, {allowed}")
+        elif kind == "value_error":
+            # Raised by our own field validators: their message is the explanation.
+            lines.append(f"`{key}`: {_show(item['input'])} — {item['ctx']['error']}")
+        elif kind == "model_type" and not loc:
+            # The whole section is not a table (e.g. ``grid = 5``).
+            allowed = "a table with keys " + ", ".join(model.model_fields)
+            lines.append(f"`{key}`: {_show(item['input'])} — must be {allowed}")
+        elif field is not None:
+            lines.append(f"`{key}`: {_show(item['input'])} — must be {_describe_allowed(field)}")
+        else:
+            lines.append(f"`{key}`: {_show(item['input'])} — {item['msg']}")
+    return lines
+
+
+def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None) -> RunConfig:
+    """Validate a configuration mapping (a parsed TOML document).
+
+    Parameters
+    ----------
+    mapping : mapping
+        The document: tables ``halfspace``, ``grid``, ``indenter``,
+        ``protocol`` and optionally ``solver``.
+    base_dir : path, optional
+        Folder against which relative file names (``indenter.file``) are
+        resolved; the current directory if not given.
+
+    Returns
+    -------
+    RunConfig
+
+    Raises
+    ------
+    ConfigError
+        Listing every problem found: each section is validated on its own, and
+        the rules between sections run on every section that validated, so one
+        pass reports them all.
+    """
+    if not isinstance(mapping, Mapping):
+        raise ConfigError([f"``: {_show(mapping)} — must be a table of sections"])
+    context = {"base_dir": Path(base_dir) if base_dir is not None else Path.cwd()}
+    problems: list[str] = []
+    for key in mapping:
+        if key not in _SECTIONS:
+            problems.append(
+                f"`{key}`: {_show(mapping[key])} — unknown key (allowed: {', '.join(_SECTIONS)})"
+            )
+    sections: dict[str, BaseModel] = {}
+    for name, model in _SECTIONS.items():
+        if name not in mapping:
+            if RunConfig.model_fields[name].is_required():
+                keys = ", ".join(model.model_fields)
+                problems.append(f"`{name}`: missing — required table with keys {keys}")
+            continue
+        try:
+            sections[name] = model.model_validate(mapping[name], context=context)
+        except ValidationError as exc:
+            problems.extend(_problem_lines(exc, model, (name,)))
+    if problems:
+        for problem in _cross_section_problems(sections.get("grid"), sections.get("indenter")):
+            problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
+        raise ConfigError(problems)
+    try:
+        # The sections are already validated instances: this runs only the
+        # rules between sections.
+        return RunConfig.model_validate(sections)
+    except ValidationError as exc:
+        raise ConfigError(_problem_lines(exc, RunConfig, ())) from None
+
+
+def load_config(path: str | Path) -> RunConfig:
+    """Read and validate a TOML run configuration.
+
+    Parameters
+    ----------
+    path : path
+        The TOML file.  Relative file names inside it are resolved against its
+        folder.
+
+    Returns
+    -------
+    RunConfig
+
+    Raises
+    ------
+    ConfigError
+        If the file is missing or unreadable, is not valid TOML, or any value
+        is not allowed (every problem listed).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ConfigError([f"`{path}`: file not found"]) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError([f"`{path}`: cannot be read ({exc})"]) from None
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError([f"`{path}`: not valid TOML ({exc})"]) from None
+    return parse_config(document, base_dir=path.resolve().parent)
+
+
+def to_json_safe(value: Any) -> Any:
+    """Convert to plain JSON data; non-finite floats become strings.
+
+    JSON has no infinity or NaN, and ``null`` would read as "missing", so
+    ``inf``, ``-inf`` and ``nan`` become ``"inf"``, ``"-inf"`` and ``"nan"``.
+    NumPy scalars and arrays become Python numbers and lists.
+
+    Parameters
+    ----------
+    value : any
+        Nested dicts, lists, tuples, numbers, strings, booleans, None, NumPy
+        scalars or arrays.
+
+    Returns
+    -------
+    any
+        The same structure with JSON-representable leaves only.
+    """
+    if isinstance(value, Mapping):
+        return {str(key): to_json_safe(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_json_safe(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return to_json_safe(value.tolist())
+    if isinstance(value, np.generic):
+        return to_json_safe(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    return value
+
+
+def config_to_dict(config: RunConfig) -> dict[str, Any]:
+    """The resolved configuration as plain JSON-able data.
+
+    Defaults are filled in, ``indenter.file`` is absolute, and an infinite
+    value (a rigid ``stiffness``) is written as the string ``"inf"``.  The
+    result re-parses with `parse_config` to an equal `RunConfig`.
+
+    Parameters
+    ----------
+    config : RunConfig
+
+    Returns
+    -------
+    dict
+    """
+    return to_json_safe(config.model_dump(mode="python"))

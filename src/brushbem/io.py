@@ -1,0 +1,203 @@
+"""Result files of one case: ``summary.json`` and ``result.nc``.
+
+``summary.json``
+    The `CaseResult.summary` mapping, indented JSON.  JSON has no infinity or
+    NaN; such values are written as the strings ``"inf"``, ``"-inf"``,
+    ``"nan"`` (never ``null``, which would read as "missing").
+
+``result.nc`` (NetCDF-4 through h5netcdf)
+    The load path along dimension ``step`` (``displacement``, ``force``,
+    ``contact_area``, ``cg_iterations``, ``converged``, ``loading``,
+    ``attached_pillars``) and, per snapshot ``<name>``, ``pressure_<name>``
+    (float) and ``contact_<name>`` (int8, 1 = in contact) on dimensions
+    ``(y, x)``; coordinates are element centres in units of length, centred on
+    the domain: x_i = (i + 1/2) h - L/2.  Each snapshot variable carries the
+    base displacement and the force of that moment as the attributes
+    ``displacement`` and ``force``.  Global attributes record provenance:
+    ``brushbem_version``, ``config`` (the resolved configuration as JSON),
+    ``seeds``, ``backend``, ``summary`` (JSON), and every entry of
+    `CaseResult.attributes`.
+
+Every file is written to a temporary file in the output folder and moved into
+place with `os.replace`, so a reader never sees a half-written file and an
+interrupted run leaves the previous result intact.
+
+Sign convention: d > 0 presses into the half-space; pressure and force are
+positive when compressive.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from brushbem import __version__
+from brushbem.config import RunConfig, config_to_dict, to_json_safe
+from brushbem.results import CaseResult
+
+__all__ = ["SUMMARY_FILE", "DATASET_FILE", "atomic_path", "write_case", "read_case"]
+
+SUMMARY_FILE = "summary.json"
+DATASET_FILE = "result.nc"
+
+
+@contextlib.contextmanager
+def atomic_path(target: str | Path) -> Iterator[Path]:
+    """Give a temporary path beside ``target``; move it onto ``target`` on success.
+
+    The temporary file lives in the same folder so that `os.replace` is an
+    atomic rename on the same file system.  On an exception it is removed and
+    ``target`` is left as it was.
+
+    Parameters
+    ----------
+    target : path
+        The file finally written.
+
+    Yields
+    ------
+    Path
+        Where the caller writes the complete content.
+    """
+    target = Path(target)
+    handle, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    os.close(handle)
+    temporary = Path(name)
+    try:
+        yield temporary
+        # mkstemp creates the file private (0600); results are ordinary files.
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, target)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+
+
+def _json(value: Any, indent: int | None = None) -> str:
+    # allow_nan=False: a non-finite number that slipped through is a bug to see.
+    return json.dumps(to_json_safe(value), indent=indent, allow_nan=False)
+
+
+def _netcdf_attribute(value: Any) -> str | int | float | np.ndarray:
+    """A value NetCDF can store as an attribute; structured values become JSON."""
+    if isinstance(value, (bool, np.bool_)):
+        # NetCDF has no boolean attribute type.
+        return int(value)
+    if isinstance(value, (str, int, float, np.integer, np.floating)):
+        return value
+    return _json(value)
+
+
+def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
+    curve = result.curve
+    h = float(result.element_size)
+    variables: dict[str, xr.Variable] = {
+        "displacement": xr.Variable(
+            "step", np.asarray(curve.displacement, dtype=float),
+            {"long_name": "base displacement d (presses > 0)", "units": "length"},
+        ),
+        "force": xr.Variable(
+            "step", np.asarray(curve.force, dtype=float),
+            {"long_name": "normal force F (compressive > 0)", "units": "force"},
+        ),
+        "contact_area": xr.Variable(
+            "step", np.asarray(curve.contact_area, dtype=float),
+            {"long_name": "contact area h^2 x elements in contact", "units": "length^2"},
+        ),
+        "cg_iterations": xr.Variable(
+            "step", np.asarray(curve.cg_iterations, dtype=np.int64),
+            {"long_name": "conjugate-gradient iterations spent on this row"},
+        ),
+        "converged": xr.Variable(
+            "step", np.asarray(curve.converged, dtype=bool),
+            {"long_name": "every solve behind this row converged"},
+        ),
+        "loading": xr.Variable(
+            "step", np.asarray(curve.loading, dtype=bool),
+            {"long_name": "row belongs to the loading branch (False: unloading)"},
+        ),
+        "attached_pillars": xr.Variable(
+            "step", np.asarray(curve.attached_pillars, dtype=np.int64),
+            {"long_name": "pillars with at least one element in contact"},
+        ),
+    }
+    coords: dict[str, xr.Variable] = {}
+    if result.snapshots:
+        n = result.snapshots[0].pressure.shape[0]
+        length = n * h
+        centres = (np.arange(n) + 0.5) * h - length / 2
+        coords = {
+            "x": xr.Variable("x", centres, {"long_name": "element centre x", "units": "length"}),
+            "y": xr.Variable("y", centres, {"long_name": "element centre y", "units": "length"}),
+        }
+    for snapshot in result.snapshots:
+        moment = {"displacement": float(snapshot.displacement), "force": float(snapshot.force)}
+        variables[f"pressure_{snapshot.name}"] = xr.Variable(
+            ("y", "x"), np.asarray(snapshot.pressure, dtype=float),
+            {"long_name": f"pressure at {snapshot.name} (compressive > 0)", "units": "stress",
+             **moment},
+        )
+        variables[f"contact_{snapshot.name}"] = xr.Variable(
+            ("y", "x"), np.asarray(snapshot.contact, dtype=np.int8),
+            {"long_name": f"contact set at {snapshot.name} (1 = in contact)", **moment},
+        )
+    attributes: dict[str, Any] = {
+        "brushbem_version": __version__,
+        # JSON null: not recorded by the caller (not "no seeds" or "no config").
+        "config": "null",
+        "seeds": "null",
+        "backend": "unknown",
+        "summary": result.summary,
+    }
+    attributes.update(result.attributes)
+    if config is not None:
+        attributes["config"] = config_to_dict(config)
+    attrs = {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
+    """Write ``summary.json`` and ``result.nc`` of one case into ``out_dir``.
+
+    Parameters
+    ----------
+    result : CaseResult
+        The run to record.
+    out_dir : path
+        Output folder; created if absent.  Existing files of the same names are
+        replaced atomically.
+    config : RunConfig, optional
+        The resolved configuration, recorded in the ``config`` attribute.  If
+        not given, ``result.attributes["config"]`` is used when present.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with atomic_path(out_dir / SUMMARY_FILE) as temporary:
+        temporary.write_text(_json(result.summary, indent=2) + "\n", encoding="utf-8")
+    dataset = _dataset(result, config)
+    with atomic_path(out_dir / DATASET_FILE) as temporary:
+        dataset.to_netcdf(temporary, engine="h5netcdf")
+
+
+def read_case(out_dir: str | Path) -> xr.Dataset:
+    """Read the ``result.nc`` of a case folder into memory.
+
+    Parameters
+    ----------
+    out_dir : path
+        A folder written by `write_case`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Fully loaded; the file is closed on return.
+    """
+    return xr.load_dataset(Path(out_dir) / DATASET_FILE, engine="h5netcdf")

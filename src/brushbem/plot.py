@@ -1,0 +1,99 @@
+"""Figures of a pull-off.
+
+Figures are drawn on a `matplotlib.figure.Figure` with an explicit Agg canvas,
+never through pyplot: importing this module selects no backend and opens no
+window, so it is safe in scripts, workers and tests.
+
+Sign convention: d > 0 presses into the half-space, F > 0 is compressive; the
+adhesive force is the magnitude of the most tensile (minimum) force.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from brushbem.io import atomic_path
+from brushbem.results import CaseResult
+
+__all__ = ["plot_pull_off"]
+
+_LOADING_COLOUR = "tab:blue"
+_UNLOADING_COLOUR = "tab:red"
+_REFERENCE_COLOUR = "0.2"
+
+
+def plot_pull_off(
+    result: CaseResult,
+    path: str | Path,
+    reference: Mapping[str, Any] | None = None,
+) -> None:
+    """Draw force against base displacement and save it as a PNG.
+
+    The loading branch and the unloading (pull-off) branch are drawn in
+    different colours and the adhesive-force point (the minimum force) is
+    marked.
+
+    Parameters
+    ----------
+    result : CaseResult
+        The run; its ``curve`` is drawn (displacement in units of length,
+        force in units of force, compressive positive).
+    path : path
+        The PNG file, replaced atomically.
+    reference : mapping, optional
+        A closed-form curve drawn dashed: ``displacement`` and ``force``
+        (array-like of equal length, same units as the curve) and ``label``
+        (str).
+    """
+    curve = result.curve
+    displacement = np.asarray(curve.displacement, dtype=float)
+    force = np.asarray(curve.force, dtype=float)
+    loading = np.asarray(curve.loading, dtype=bool)
+
+    figure = Figure(figsize=(6.4, 4.8), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    axes.axhline(0.0, color="0.7", linewidth=0.8)
+
+    if reference is not None:
+        axes.plot(
+            np.asarray(reference["displacement"], dtype=float),
+            np.asarray(reference["force"], dtype=float),
+            linestyle="--",
+            color=_REFERENCE_COLOUR,
+            linewidth=1.2,
+            label=str(reference.get("label", "reference")),
+        )
+    if np.any(loading):
+        axes.plot(displacement[loading], force[loading], color=_LOADING_COLOUR, label="loading")
+    unloading = np.flatnonzero(~loading)
+    if unloading.size:
+        # Start the unloading line at the turning point so the branches join.
+        start = max(int(unloading[0]) - 1, 0)
+        rows = np.concatenate([[start], unloading]) if start < unloading[0] else unloading
+        axes.plot(displacement[rows], force[rows], color=_UNLOADING_COLOUR, label="unloading")
+    if force.size:
+        weakest = int(np.argmin(force))
+        axes.plot(
+            displacement[weakest],
+            force[weakest],
+            marker="o",
+            linestyle="none",
+            color="black",
+            label=f"adhesive force $F_A$ = {-force[weakest]:.4g}",
+        )
+
+    axes.set_xlabel("d (presses > 0)")
+    axes.set_ylabel("F (compressive > 0)")
+    axes.grid(True, linewidth=0.4, alpha=0.5)
+    if axes.get_legend_handles_labels()[0]:
+        axes.legend(loc="best", fontsize="small")
+
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=150)
