@@ -1,0 +1,144 @@
+"""The nested-loop method of thesis chapter 2, kept as an independent check.
+
+A single rigid pillar hangs on a spring of stiffness k.  At base displacement d
+the pillar tip sits at u0 = d - dl, dl the spring's deflection.  The outer loop
+corrects dl until the spring force k dl equals the contact force h^2 sum p of
+the rigid indentation at u0 (thesis sec. 2.2.1, Fig. 2-2, secant corrections);
+then elements beyond the critical tension detach, penetrating ones attach, and
+the balance is found again, until the contact set is stable (Fig. 2-3).
+
+It solves the same equations as the coupled operator A = K + (h^2/k) P^T P
+(``brushbem.operator``), by a different route; tests compare the two.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .operator import ContactOperator
+from .solver import conjugate_gradient
+
+__all__ = ["NestedLoopResult", "nested_loop_equilibrium"]
+
+
+@dataclass(frozen=True)
+class NestedLoopResult:
+    """Equilibrium found by the nested loop.
+
+    Attributes
+    ----------
+    pressure, contact : ndarray
+        On the operator's window.
+    spring_deflection : float
+        dl, in units of length.
+    converged : bool
+    reason : str
+    balance_iterations : int
+        Outer (position-correction) iterations, all rounds together.
+    cg_iterations : int
+    """
+
+    pressure: object
+    contact: object
+    spring_deflection: float
+    converged: bool
+    reason: str
+    balance_iterations: int
+    cg_iterations: int
+
+
+def nested_loop_equilibrium(
+    rigid_operator: ContactOperator,
+    height,
+    displacement: float,
+    stiffness: float,
+    contact,
+    pressure,
+    critical: float,
+    tolerance: float = 1e-10,
+    max_balance: int = 200,
+    max_rounds: int = 10000,
+) -> NestedLoopResult:
+    """Equilibrium of one pillar on a spring by position correction.
+
+    Parameters
+    ----------
+    rigid_operator : ContactOperator
+        The half-space operator without springs (a rigid indenter's).
+    height : ndarray
+        Tip heights on the operator's window (inf outside the footprint).
+    displacement : float
+        Base displacement d.
+    stiffness : float
+        Spring stiffness k (finite, > 0).
+    contact, pressure : ndarray
+        Starting contact set and pressure (history).
+    critical : float
+        Sigma_c (0: no adhesion).
+    tolerance : float
+        Relative tolerance of the force balance and of every CG solve.
+    """
+    if rigid_operator.has_springs:
+        raise ValueError("nested_loop_equilibrium needs the rigid (spring-free) operator")
+    if not (math.isfinite(stiffness) and stiffness > 0):
+        raise ValueError(f"stiffness = {stiffness} must be finite and > 0")
+    xp = rigid_operator.xp
+    h2 = rigid_operator.halfspace.element_size ** 2
+    footprint = xp.isfinite(height)
+    contact = contact & footprint
+    pressure = pressure * contact
+    deflection = h2 * float(xp.sum(pressure)) / stiffness
+    balance = cg_total = 0
+
+    def rigid_solve(tip, contact, guess):
+        rhs = xp.where(contact, tip - height, 0.0)
+        return conjugate_gradient(lambda x: rigid_operator.apply(x, contact), rhs, contact, initial=guess,
+                                  tolerance=tolerance, max_iterations=20000, xp=xp)
+
+    for _ in range(max_rounds):
+        if bool(xp.any(contact)):
+            # Secant iteration on the force mismatch r(dl) = h^2 sum p(d - dl) - k dl.
+            previous = None
+            for _inner in range(max_balance):
+                result = rigid_solve(displacement - deflection, contact, pressure)
+                cg_total += result.iterations
+                balance += 1
+                if not result.converged:
+                    return NestedLoopResult(result.solution, contact, deflection, False, result.reason, balance, cg_total)
+                pressure = result.solution
+                force = h2 * float(xp.sum(pressure))
+                mismatch = force - stiffness * deflection
+                # Force scale: the larger of the two forces, or the spring force over
+                # one element size when both vanish (d = 0 on a flat punch).
+                length = max(abs(displacement), rigid_operator.halfspace.element_size)
+                scale = max(abs(force), stiffness * abs(deflection), stiffness * length)
+                if abs(mismatch) <= 100 * tolerance * scale:
+                    break
+                if previous is None:
+                    step = mismatch / stiffness  # first correction: move the pillar by the force error / k
+                else:
+                    slope = (mismatch - previous[1]) / (deflection - previous[0])
+                    step = -mismatch / slope
+                previous = (deflection, mismatch)
+                deflection = deflection + step
+            else:
+                return NestedLoopResult(pressure, contact, deflection, False,
+                                        f"force balance not reached in {max_balance} corrections", balance, cg_total)
+        else:
+            pressure = xp.zeros_like(height)
+            deflection = 0.0
+        leaving = contact & ((pressure < -critical) if critical > 0 else (pressure < 0))
+        if bool(xp.any(leaving)):
+            contact = contact & ~leaving
+            pressure = pressure * contact
+            continue
+        tip = displacement - deflection
+        reach = tip - height - rigid_operator.halfspace_deflection(pressure)
+        slack = 10 * tolerance * max(abs(displacement), 1e-300)
+        joining = footprint & ~contact & (reach > slack)
+        if bool(xp.any(joining)):
+            contact = contact | joining
+            continue
+        return NestedLoopResult(pressure, contact, deflection, True, "contact set stable", balance, cg_total)
+    return NestedLoopResult(pressure, contact, deflection, False, "contact set did not stabilise", balance, cg_total)
