@@ -39,7 +39,15 @@ import scipy.fft
 from .halfspace import HalfSpace
 from .operator import ContactOperator, Window
 from .results import Curve, Snapshot
-from .solver import Equilibrium, conjugate_gradient, critical_stress, equilibrium, penetration, polonsky_keer
+from .solver import (
+    Equilibrium,
+    conjugate_gradient,
+    critical_stress,
+    equilibrium,
+    laplacian_preconditioner,
+    penetration,
+    polonsky_keer,
+)
 from .structure import Grid, Indenter
 
 __all__ = ["ContactProblem", "LoadPath", "State", "pull_off", "PullOffRecord", "record_pull_off", "NotConvergedError"]
@@ -209,14 +217,28 @@ class _Tracker:
         return rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
 
     def ensure_window(self, needed) -> None:
-        """Make the working window cover ``needed`` (full-grid bool) with a margin."""
+        """Make the working window cover ``needed`` (full-grid bool) with a margin.
+
+        The window is rebuilt when ``needed`` comes within 2 elements of its
+        edge (attachments there must be predicted inside the window) and when
+        it is more than twice as wide as the contact needs (after the contact
+        shrank), so every FFT stays as small as the contact allows.
+        """
         n = self.problem.grid.elements
-        if self.window is not None and self.window.contains(np.asarray(needed)):
-            return
-        if not bool(np.asarray(needed).any()):
-            needed = self.footprint
+        needed = np.asarray(needed)
+        if not bool(needed.any()):
+            needed = np.asarray(self.footprint)
         r0, r1, c0, c1 = self._box_of(needed)
         fr0, fr1, fc0, fc1 = self.footprint_box
+        if self.window is not None:
+            w = self.window
+            inside = (
+                (w.r0 <= max(r0 - 2, fr0, 0)) and (w.r1 >= min(r1 + 2, fr1, n))
+                and (w.c0 <= max(c0 - 2, fc0, 0)) and (w.c1 >= min(c1 + 2, fc1, n))
+            )
+            oversized = (w.r1 - w.r0) > 2 * (r1 - r0) + 16 or (w.c1 - w.c0) > 2 * (c1 - c0) + 16
+            if inside and not oversized:
+                return
 
         def widen(lo, hi, flo, fhi):
             size = hi - lo
@@ -236,6 +258,14 @@ class _Tracker:
         self.window = Window(int(r0), int(r1), int(c0), int(c1))
         self.operator = ContactOperator(self.halfspace, self.problem.indenter, self.window, self.problem.coupling)
         self.unit = None
+        outside = np.asarray(self.footprint).copy()
+        outside[self.window.slices] = False
+        heights = np.asarray(self.height)[outside]
+        self._outside_lowest = float(heights.min()) if heights.size else math.inf
+        # Distance from the window edge to the nearest outside element, at least one element.
+        self._outside_distance = self.problem.grid.element_size * max(1, min(
+            r0 - 0 if r0 > 0 else n, n - r1 if r1 < n else n, c0 if c0 > 0 else n, n - c1 if c1 < n else n,
+        ))
 
     @property
     def covers_footprint(self) -> bool:
@@ -250,7 +280,10 @@ class _Tracker:
     def solve(self, displacement: float, force_detach=None, force_attach=None) -> Equilibrium:
         """Equilibrium at d from the current state; enlarges the window as needed."""
         xp = self.xp
-        needed = self.contact | (self.footprint & (self.height < displacement))
+        needed = self.contact
+        if self.critical == 0.0 or not bool(xp.any(self.contact)):
+            # A cold or non-adhesive start attaches every overlapping element first.
+            needed = needed | (self.footprint & (self.height < displacement))
         if force_attach is not None:
             needed = needed | force_attach
         self.ensure_window(needed)
@@ -282,7 +315,7 @@ class _Tracker:
             self.contact[sl] = eq.contact
             if not eq.converged:
                 break
-            if self.covers_footprint:
+            if self.covers_footprint or self._outside_safe(displacement):
                 break
             # Penetration outside the window: the contact grew beyond it.
             outside = self._outside_penetration(displacement)
@@ -294,6 +327,21 @@ class _Tracker:
             displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
             trial, eq.detached, eq.attached,
         )
+
+    def _outside_safe(self, displacement: float) -> bool:
+        """A cheap proof that no element outside the window can penetrate.
+
+        Outside the window the tip is at least ``_outside_lowest`` high.  The
+        half-space surface there is lifted by tension inside the window by at
+        most T / (pi E* r), T the total tensile force and r the distance to the
+        window (the point-load bound of the kernel), and a spring in tension
+        lowers the tip by at most |F|/k.
+        """
+        xp = self.xp
+        tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
+        lift = tension / (math.pi * self.problem.contact_modulus * 0.5 * self._outside_distance)
+        stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
+        return self._outside_lowest > displacement + lift + stretch
 
     def _outside_penetration(self, displacement: float):
         xp = self.xp
@@ -317,6 +365,7 @@ class _Tracker:
             initial=self.unit,
             tolerance=self.path.tolerance,
             max_iterations=self.path.max_iterations,
+            preconditioner=laplacian_preconditioner(contact),
             xp=xp,
         )
         self.unit = result.solution if result.converged else None

@@ -25,7 +25,18 @@ from dataclasses import dataclass
 
 from .operator import ContactOperator
 
-__all__ = ["SolveResult", "Equilibrium", "conjugate_gradient", "polonsky_keer", "equilibrium", "critical_stress"]
+__all__ = [
+    "SolveResult",
+    "Equilibrium",
+    "conjugate_gradient",
+    "polonsky_keer",
+    "equilibrium",
+    "critical_stress",
+    "laplacian_preconditioner",
+]
+
+#: Shift of the Laplacian preconditioner, in units of 1/h^2 (see laplacian_preconditioner).
+PRECONDITIONER_SHIFT = 0.3
 
 #: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
 ELEMENT_ENERGY_COEFFICIENT = 0.473201
@@ -141,6 +152,31 @@ def conjugate_gradient(
     )
 
 
+def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
+    """M^-1 = P_S (shift I - Delta_h) P_S: a shifted 5-point Laplacian on the contact set.
+
+    The half-space operator has the symbol 1/(E* |xi|), so its inverse behaves
+    like |xi|; ``shift + |xi|^2`` (in element units) follows it at the scale
+    where the two meet and, restricted to S with zero values outside
+    (symmetric positive definite), brings the condition number of K_S from
+    O(D/h) down to about O(sqrt(D/h)), D the size of the contact.  It costs a
+    few array passes, far less than one FFT pair, and cut the CG iterations
+    2-3 fold on contacts 20-160 elements wide (``benchmarks/preconditioner.py``).
+    The constant factor of M does not matter to CG.
+    """
+
+    def apply(residual):
+        z = residual * mask
+        out = (4.0 + shift) * z
+        out[1:, :] -= z[:-1, :]
+        out[:-1, :] -= z[1:, :]
+        out[:, 1:] -= z[:, :-1]
+        out[:, :-1] -= z[:, 1:]
+        return out
+
+    return apply
+
+
 @dataclass(frozen=True)
 class Equilibrium:
     """The state at one base displacement (on the operator's window).
@@ -245,7 +281,7 @@ def equilibrium(
                 initial=pressure,
                 tolerance=tolerance,
                 max_iterations=max_iterations,
-                preconditioner=preconditioner,
+                preconditioner=laplacian_preconditioner(contact) if preconditioner is None else preconditioner,
                 xp=xp,
             )
             iterations += result.iterations
