@@ -50,7 +50,7 @@ from .solver import (
 )
 from .structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "State", "pull_off", "PullOffRecord", "record_pull_off", "NotConvergedError"]
+__all__ = ["ContactProblem", "LoadPath", "State", "indent", "pull_off", "PullOffRecord", "record_pull_off", "NotConvergedError"]
 
 
 class NotConvergedError(RuntimeError):
@@ -181,6 +181,19 @@ class State:
     contact: object
 
 
+def _fast_window(size: int) -> int:
+    """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5."""
+    m = size
+    while True:
+        length = 2 * m
+        for factor in (2, 3, 5):
+            while length % factor == 0:
+                length //= factor
+        if length == 1:
+            return m
+        m += 1
+
+
 class _Tracker:
     """Full-grid state, the working window and its operator."""
 
@@ -216,7 +229,7 @@ class _Tracker:
         cols = np.flatnonzero(m.any(axis=0))
         return rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
 
-    def ensure_window(self, needed) -> None:
+    def ensure_window(self, needed, margin_fraction: float | None = None) -> None:
         """Make the working window cover ``needed`` (full-grid bool) with a margin.
 
         The window is rebuilt when ``needed`` comes within 2 elements of its
@@ -242,10 +255,10 @@ class _Tracker:
 
         def widen(lo, hi, flo, fhi):
             size = hi - lo
-            margin = max(4, int(math.ceil(self.path.window_margin * size)))
+            fraction = self.path.window_margin if margin_fraction is None else margin_fraction
+            margin = max(4, int(math.ceil(fraction * size)))
             lo, hi = max(lo - margin, flo, 0), min(hi + margin, fhi, n)
-            # Round the side up to a fast FFT length (of the padded 2m transform).
-            target = min(scipy.fft.next_fast_len(2 * (hi - lo), real=True) // 2, n)
+            target = min(_fast_window(hi - lo), n)
             while hi - lo < target:
                 if hi < n:
                     hi += 1
@@ -281,12 +294,15 @@ class _Tracker:
         """Equilibrium at d from the current state; enlarges the window as needed."""
         xp = self.xp
         needed = self.contact
+        margin = None
         if self.critical == 0.0 or not bool(xp.any(self.contact)):
-            # A cold or non-adhesive start attaches every overlapping element first.
+            # A cold or non-adhesive start attaches every overlapping element
+            # first; the contact then only shrinks, so a thin margin suffices.
             needed = needed | (self.footprint & (self.height < displacement))
+            margin = 0.02
         if force_attach is not None:
             needed = needed | force_attach
-        self.ensure_window(needed)
+        self.ensure_window(needed, margin)
         iterations = solves = 0
         trial = None
         while True:
@@ -402,6 +418,21 @@ class _Tracker:
             pressure=p,
             contact=c,
         )
+
+
+def indent(problem: ContactProblem, displacement: float, tolerance: float = 1e-8,
+           max_iterations: int = 20000) -> State:
+    """Equilibrium at one base displacement, pressed from no contact in one step.
+
+    The thesis's way of applying a preload ("pressed by a general
+    displacement d"); without adhesion it is the unique solution of the
+    contact problem (Polonsky-Keer).
+    """
+    path = LoadPath(method="fixed", preload_displacement=max(displacement, 1e-300), tolerance=tolerance,
+                    max_iterations=max_iterations)
+    tracker = _Tracker(problem, path)
+    eq = tracker.solve(displacement)
+    return _eq_state(tracker, eq, True)
 
 
 def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
