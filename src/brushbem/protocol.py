@@ -275,10 +275,7 @@ class _Tracker:
         outside[self.window.slices] = False
         heights = np.asarray(self.height)[outside]
         self._outside_lowest = float(heights.min()) if heights.size else math.inf
-        # Distance from the window edge to the nearest outside element, at least one element.
-        self._outside_distance = self.problem.grid.element_size * max(1, min(
-            r0 - 0 if r0 > 0 else n, n - r1 if r1 < n else n, c0 if c0 > 0 else n, n - c1 if c1 < n else n,
-        ))
+
 
     @property
     def covers_footprint(self) -> bool:
@@ -354,8 +351,16 @@ class _Tracker:
         lowers the tip by at most |F|/k.
         """
         xp = self.xp
+        if self._outside_lowest == math.inf:
+            return True
         tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
-        lift = tension / (math.pi * self.problem.contact_modulus * 0.5 * self._outside_distance)
+        lift = 0.0
+        if tension > 0:
+            # Distance from the contact's bounding box to the nearest element outside the window.
+            r0, r1, c0, c1 = self._box_of(self.contact)
+            w = self.window
+            gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
+            lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
         stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
         return self._outside_lowest > displacement + lift + stretch
 
