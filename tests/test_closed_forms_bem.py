@@ -232,7 +232,8 @@ def test_punch_on_spring_force_and_work_of_separation():
 
     * The spring does not change the pull-off force (eq. 2.17): it only shifts
       the base.  The contact set history is identical, so the forces agree to
-      the solver accuracy (measured 5e-7 relative); 1 % is the brief's bound.
+      the solver accuracy (measured <= 1.2e-6 relative, the CG tolerance 1e-8
+      amplified by the soft spring mode); 1 % is the bound asked for.
     * Work of separation, from the zero-force crossing of the unloading branch
       (zero indentation) to separation: 2 pi dgamma a^2 (1 + 1/k~)
       (eq. 2.18-2.19).  Measured errors 0.61 %, 0.81 %, 1.30 % for k~ = 0.05,

@@ -74,7 +74,8 @@ def discriminant_half_width(labels: np.ndarray) -> int:
     size = 2 * width + 1
     # Largest and smallest label within the box around every element: a box
     # that reaches another cluster sees two different labels.
-    big = np.iinfo(np.int64).max
+    # The sentinel must survive ndimage's float64 arithmetic: one past the largest label.
+    big = int(labels.max()) + 1
     highest = ndimage.maximum_filter(np.where(present, labels, -1), size=size, mode="constant", cval=-1)
     lowest = ndimage.minimum_filter(np.where(present, labels, big), size=size, mode="constant", cval=big)
     clash = present & ((highest != labels) | (lowest != labels))
