@@ -24,7 +24,7 @@ from scipy import ndimage
 
 from . import backend
 from .halfspace import HalfSpace
-from .structure import Indenter, SpringLevel
+from .structure import Indenter
 
 __all__ = ["ContactOperator", "discriminant_half_width", "Window"]
 

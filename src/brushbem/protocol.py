@@ -34,7 +34,6 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft
 
 from .halfspace import HalfSpace
 from .operator import ContactOperator, Window
@@ -283,9 +282,6 @@ class _Tracker:
         w = self.window
         return w.r0 <= fr0 and w.r1 >= fr1 and w.c0 <= fc0 and w.c1 >= fc1
 
-    def view(self, array):
-        return array[self.window.slices]
-
     # -- solves -------------------------------------------------------------
     def solve(self, displacement: float, force_detach=None, force_attach=None) -> Equilibrium:
         """Equilibrium at d from the current state; enlarges the window as needed."""
@@ -532,10 +528,8 @@ def _budget_exhausted(tracker, d, loading, path) -> State:
 
 
 def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
-    xp = tracker.xp
     d = 0.0
     # Loading: from first touch to the preload.
-    loading = True
     for _ in range(path.max_steps):
         outcome = yield from _event_step(tracker, path, d, +1)
         if outcome is None:
@@ -547,7 +541,6 @@ def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
         yield _budget_exhausted(tracker, d, True, path)
         return
     # Unloading: until the contact set is empty.
-    loading = False
     for _ in range(path.max_steps):
         outcome = yield from _event_step(tracker, path, d, -1)
         if outcome is None:
@@ -555,7 +548,7 @@ def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
         d, done = outcome
         if done:
             return
-    yield _budget_exhausted(tracker, d, loading, path)
+    yield _budget_exhausted(tracker, d, False, path)
 
 
 def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
