@@ -13,9 +13,9 @@ from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, record_pull_off
 from .results import CaseResult
-from .structure import Grid, Indenter, flat_punch, height_map, sphere
+from .structure import Grid, Indenter, build_brush, flat_punch, height_map, sphere
 
-__all__ = ["build_problem", "build_path", "run_case", "theory_for"]
+__all__ = ["build_indenter", "build_problem", "build_path", "run_case", "theory_for", "brush_scales"]
 
 
 def build_indenter(config: RunConfig) -> Indenter:
@@ -28,6 +28,8 @@ def build_indenter(config: RunConfig) -> Indenter:
         return sphere(grid, spec.radius, spec.stiffness)
     if spec.shape == "height_map":
         return height_map(grid, np.load(spec.file, allow_pickle=False), spec.stiffness)
+    if spec.shape == "brush":
+        return build_brush(config.grid, spec, config.halfspace)
     raise ValueError(f"indenter.shape = {spec.shape!r} is not known")
 
 
@@ -73,6 +75,8 @@ def theory_for(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[s
     stiffness = levels[0].stiffness if levels else math.inf
     out: dict[str, Any] = {}
     reference = None
+    if shape == "brush" and dgamma > 0:
+        return _brush_theory(problem, summary)
     if dgamma <= 0 or shape not in ("flat_punch", "sphere"):
         return out, None
     if shape == "flat_punch":
@@ -131,6 +135,90 @@ def theory_for(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[s
     return out, reference
 
 
+def brush_scales(problem: ContactProblem) -> dict[str, Any]:
+    """The thesis's force, displacement and stiffness scales of a brush (ch. 4-7).
+
+    Areas are those of the rasterised footprints (what the computation sees):
+    A = real area, A0 = apparent area of the placement region, phi = A / A0.
+
+    * ``compact_punch_force``: Kendall's force of one punch of area A (eq. 4.11).
+    * ``rigid_brush_force``: F_c = sqrt(8 pi E* dgamma phi (sqrt(A0/pi))^3) (eq. 4.5, 5.3, 6.23).
+    * ``ideal_sharing_force``: N F_K, the sum of the pillars' Kendall forces,
+      each at the radius of its rasterised footprint (eq. 7.4 with the area
+      seen by the mesh).
+    * ``rigid_brush_displacement``: |d_c| = sqrt(2 pi phi dgamma sqrt(A0/pi) / E*)
+      (eq. 4.12, 5.4, 7.5), a magnitude as in the thesis.
+    * ``stiffness_scale``: E* L, L = grid.size (eq. 4.13, 5.5, 6.24, 7.6).
+    """
+    indenter = problem.indenter
+    info = indenter.description
+    modulus, dgamma = problem.contact_modulus, problem.work_of_adhesion
+    h2 = problem.grid.element_size**2
+    phi = min(info["filling_factor"], 1.0)
+    radii = np.sqrt(np.asarray(info["pillar_elements"], dtype=float) * h2 / math.pi)
+    return {
+        "compact_punch_force": float(theory.compact_punch_force(modulus, dgamma, info["real_area"])),
+        "rigid_brush_force": float(theory.rigid_brush_force(modulus, dgamma, phi, info["apparent_area"])),
+        "ideal_sharing_force": float(np.sum(theory.kendall_force(modulus, dgamma, radii))),
+        "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(modulus, dgamma, phi, info["apparent_area"]))),
+        "stiffness_scale": modulus * problem.grid.size,
+        "filling_factor": phi,
+    }
+
+
+def _brush_theory(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[str, Any], dict | None]:
+    """Theory and the thesis's normalisations of a brush; fills ``summary["normalized"]``."""
+    indenter = problem.indenter
+    info = indenter.description
+    scales = brush_scales(problem)
+    n = info["n_pillars"]
+    stiffnesses = [level.stiffness for level in indenter.levels] or [math.inf]
+    ratios = [k / scales["stiffness_scale"] for k in stiffnesses]
+    force = summary.get("adhesive_force") or 0.0
+    d_c = scales["rigid_brush_displacement"]
+
+    def ratio(value, scale):
+        return None if value is None or not scale else value / scale
+
+    normalized = {
+        "force_by_compact_punch": ratio(force, scales["compact_punch_force"]),
+        "force_by_rigid_brush": ratio(force, scales["rigid_brush_force"]),
+        "force_by_ideal_sharing": ratio(force, scales["ideal_sharing_force"]),
+        "displacement_by_rigid_brush": ratio(summary.get("pull_off_displacement"), d_c),
+        "separation_displacement_by_rigid_brush": ratio(summary.get("separation_displacement"), d_c),
+        "max_displacement_by_rigid_brush": ratio(summary.get("max_displacement"), d_c),
+        "preload_by_rigid_brush": ratio(summary.get("preload_force"), scales["rigid_brush_force"]),
+        "preload_by_compact_punch": ratio(summary.get("preload_force"), scales["compact_punch_force"]),
+        "roughness_by_rigid_brush": ratio(info["roughness"], d_c),
+        "stiffness_ratio": ratios[0],
+        "level_stiffness_ratios": ratios,
+        "filling_factor": info["filling_factor"],
+        "pillars": n,
+        "attached_pillars_at_pull_off": summary.get("attached_pillars_at_pull_off"),
+        "profile_amplification": info["profile_amplification"],
+    }
+    clusters = info["level_clusters"]
+    if clusters:
+        counts = [float(c * c) for c in clusters]
+        normalized["equivalent_single_level_stiffness_ratio"] = theory.equivalent_single_level_stiffness(
+            ratios, counts)
+    summary["normalized"] = normalized
+    out = {
+        "model": "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)",
+        "compact_punch_force": scales["compact_punch_force"],
+        "rigid_brush_force": scales["rigid_brush_force"],
+        "ideal_sharing_force": scales["ideal_sharing_force"],
+        "rigid_brush_displacement": -d_c,
+        "rigid_brush_enhancement": float(theory.rigid_brush_enhancement(scales["filling_factor"])),
+        "soft_brush_enhancement": float(theory.soft_brush_enhancement(n)),
+        "ratios": {
+            "adhesive_force_by_rigid_brush": normalized["force_by_rigid_brush"],
+            "adhesive_force_by_ideal_sharing": normalized["force_by_ideal_sharing"],
+        },
+    }
+    return out, None
+
+
 def run_case(
     config: RunConfig,
     *,
@@ -153,11 +241,22 @@ def run_case(
         "seeds": [],
         "backend": backend_name(problem.xp),
     }
+    pillars = dict(record.pillars)
+    info = problem.indenter.description
+    if info.get("shape") == "brush":
+        pillars.update({
+            "y": np.asarray(info["centres"])[:, 0],
+            "x": np.asarray(info["centres"])[:, 1],
+            "offset": np.asarray(info["offsets"]),
+            "elements": np.asarray(info["pillar_elements"]),
+        })
+        attributes["seeds"] = [info["seed"]]
     result = CaseResult(
         curve=record.curve,
         snapshots=record.snapshots,
         summary=summary,
         attributes=attributes,
         element_size=problem.grid.element_size,
+        pillars=pillars,
     )
     return result, reference

@@ -42,6 +42,9 @@ __all__ = [
     "HalfSpaceConfig",
     "GridConfig",
     "IndenterConfig",
+    "RoughnessConfig",
+    "ProfileConfig",
+    "LevelConfig",
     "ProtocolConfig",
     "SolverConfig",
     "RunConfig",
@@ -191,7 +194,106 @@ _SHAPE_KEYS: dict[str, tuple[str, ...]] = {
     "flat_punch": ("radius",),
     "sphere": ("radius",),
     "height_map": ("file",),
+    "brush": ("layout", "pillar_radius"),
 }
+
+# Keys a shape accepts but does not require (rejected by the other shapes).
+_SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
+    "flat_punch": (),
+    "sphere": (),
+    "height_map": (),
+    "brush": (
+        "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
+        "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels",
+    ),
+}
+
+# Keys of a brush that belong to one layout only.
+_LAYOUT_KEYS: dict[str, tuple[str, ...]] = {
+    "square": ("pillars_per_side",),
+    "random": ("pillar_count",),
+}
+_LAYOUT_OPTIONAL: dict[str, tuple[str, ...]] = {
+    "square": ("spacing", "levels"),
+    "random": ("min_gap",),
+}
+
+
+def _inf_from_string(value: Any) -> Any:
+    # `config_to_dict` writes infinity as the string "inf" (JSON has no
+    # infinity); accept it back so a recorded config re-parses.
+    if isinstance(value, str) and value == "inf":
+        return math.inf
+    return value
+
+
+class RoughnessConfig(BaseModel):
+    """Gaussian pillar lengths (thesis eq. 5.1).
+
+    Attributes
+    ----------
+    sigma : float
+        Standard deviation of the pillar lengths, in units of length; 0 = flat.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    sigma: float = Field(ge=0, allow_inf_nan=False)
+
+
+class ProfileConfig(BaseModel):
+    """Concave macroscopic profile S_p = h~ S_c (thesis eq. 7.1-7.3).
+
+    Attributes
+    ----------
+    amplification : float
+        h~, dimensionless; 0 = flat.
+    reference_stress : float or None
+        Uniform stress p_c of S_c that makes h~ dimensionless, in units of
+        stress.  Default: one pillar's Kendall mean stress F_K / (pi r^2)
+        (`brushbem.theory.concave_reference_stress`).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    amplification: float = Field(ge=0, allow_inf_nan=False)
+    reference_stress: float | None = Field(None, gt=0, allow_inf_nan=False)
+
+
+class LevelConfig(BaseModel):
+    """One hierarchy level above the pillars (thesis ch. 6).
+
+    Attributes
+    ----------
+    cluster : int
+        n: n x n units of the level below form one unit of this level.
+    stiffness_ratio : float or None
+        k~ = k / (E* L) of this level's springs (L = grid.size).
+    stiffness : float or None
+        k of this level's springs, in units of force / length; inf = rigid.
+        Exactly one of the two.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    cluster: int = Field(ge=1, le=4096)
+    stiffness_ratio: float | None = Field(None, gt=0)
+    stiffness: float | None = Field(None, gt=0)
+
+    @field_validator("stiffness", "stiffness_ratio", mode="before")
+    @classmethod
+    def _inf_string(cls, value: Any) -> Any:
+        return _inf_from_string(value)
+
+    @model_validator(mode="after")
+    def _one_stiffness(self) -> LevelConfig:
+        if (self.stiffness is None) == (self.stiffness_ratio is None):
+            raise _rules_error([_Problem(
+                "stiffness_ratio",
+                f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = {_show(self.stiffness)}",
+                "give exactly one of stiffness_ratio and stiffness (inf = rigid)",
+            )])
+        return self
 
 
 class IndenterConfig(BaseModel):
@@ -213,23 +315,80 @@ class IndenterConfig(BaseModel):
         y, columns x; N = grid.elements).  Relative paths are resolved against
         the configuration file's folder; after validation the path is absolute.
         Required for ``height_map``.
+
+    Brush keys (``shape = "brush"``, thesis ch. 3-7; k~ = k / (E* L) with L = grid.size)
+        layout : ``"square"`` (regular lattice, ``pillars_per_side``, optional
+        ``spacing``, default region_size / pillars_per_side) or ``"random"``
+        (``pillar_count`` non-overlapping positions, optional ``min_gap``
+        between pillar edges, default 2 h); region : ``"square"`` (default) or
+        ``"circle"``, where pillars are placed, of side / diameter
+        ``region_size`` (default grid.size), whose area is the apparent area
+        A0; pillar_radius; stiffness_ratio or stiffness (exactly one, the
+        pillars' own springs); seed (random layout and roughness, default 0);
+        ``[indenter.roughness] sigma``; ``[indenter.profile] amplification``
+        (and optionally ``reference_stress``); lengths_file (``.npy`` of one
+        extra length per pillar); ``[[indenter.levels]]`` ``cluster`` and
+        ``stiffness_ratio`` or ``stiffness``, bottom-up (square layout only).
     """
 
     model_config = _MODEL_CONFIG
 
-    shape: Literal["flat_punch", "sphere", "height_map"]
+    shape: Literal["flat_punch", "sphere", "height_map", "brush"]
     radius: float | None = Field(None, gt=0, allow_inf_nan=False)
     stiffness: float = Field(math.inf, gt=0)
     file: str | None = None
+    layout: Literal["square", "random"] | None = None
+    region: Literal["square", "circle"] | None = None
+    region_size: float | None = Field(None, gt=0, allow_inf_nan=False)
+    pillars_per_side: int | None = Field(None, ge=1, le=4096)
+    spacing: float | None = Field(None, gt=0, allow_inf_nan=False)
+    pillar_count: int | None = Field(None, ge=1, le=1_000_000)
+    min_gap: float | None = Field(None, ge=0, allow_inf_nan=False)
+    pillar_radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    stiffness_ratio: float | None = Field(None, gt=0)
+    seed: int | None = Field(None, ge=0, le=2**63 - 1)
+    roughness: RoughnessConfig | None = None
+    profile: ProfileConfig | None = None
+    lengths_file: str | None = None
+    levels: tuple[LevelConfig, ...] | None = None
 
-    @field_validator("stiffness", mode="before")
+    @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod
     def _inf_string(cls, value: Any) -> Any:
-        # `config_to_dict` writes infinity as the string "inf" (JSON has no
-        # infinity); accept it back so a recorded config re-parses.
-        if isinstance(value, str) and value == "inf":
-            return math.inf
-        return value
+        return _inf_from_string(value)
+
+    @field_validator("levels", mode="before")
+    @classmethod
+    def _levels_list(cls, value: Any) -> Any:
+        # TOML arrays of tables arrive as lists; the frozen model stores a tuple.
+        return tuple(value) if isinstance(value, list) else value
+
+    @field_validator("lengths_file")
+    @classmethod
+    def _resolve_lengths_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:
+            return None
+        base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
+        try:
+            path = (base_dir / value).resolve()
+            found = path.is_file()
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"not a usable path ({exc})") from None
+        if not found:
+            raise ValueError(f"file not found (looked for {path})")
+        try:
+            lengths = np.load(path, allow_pickle=False)
+        except Exception as exc:  # any unreadable file is a configuration problem
+            raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
+        if not isinstance(lengths, np.ndarray) or lengths.dtype.kind not in "fiu" or lengths.ndim != 1:
+            raise ValueError("must hold a 1-D array of pillar lengths (one per pillar)")
+        if not np.all(np.isfinite(lengths)):
+            raise ValueError("must hold finite lengths (found nan or inf)")
+        return str(path)
+
+    @property
+    def is_brush(self) -> bool:
+        return self.shape == "brush"
 
     @field_validator("file")
     @classmethod
@@ -250,19 +409,54 @@ class IndenterConfig(BaseModel):
     @model_validator(mode="after")
     def _keys_for_shape(self) -> IndenterConfig:
         needed = set(_SHAPE_KEYS[self.shape])
+        allowed = needed | set(_SHAPE_OPTIONAL[self.shape])
+        every = {k for keys in (*_SHAPE_KEYS.values(), *_SHAPE_OPTIONAL.values()) for k in keys}
         problems = []
-        for key in sorted({k for keys in _SHAPE_KEYS.values() for k in keys}):
+        for key in sorted(every):
             value = getattr(self, key)
             if key in needed and value is None:
                 problems.append(_Problem(key, "missing", f"required when shape = {self.shape!r}"))
-            elif key not in needed and value is not None:
-                users = " or ".join(repr(s) for s, keys in _SHAPE_KEYS.items() if key in keys)
+            elif key not in allowed and value is not None:
+                users = " or ".join(
+                    repr(s) for s in _SHAPE_KEYS if key in _SHAPE_KEYS[s] or key in _SHAPE_OPTIONAL[s]
+                )
                 problems.append(
                     _Problem(key, _show(value), f"only used when shape = {users}; remove it")
                 )
+        if self.is_brush:
+            problems.extend(self._brush_problems())
         if problems:
             raise _rules_error(problems)
         return self
+
+    def _brush_problems(self) -> list[_Problem]:
+        problems = []
+        if self.layout is not None:
+            needed = set(_LAYOUT_KEYS[self.layout])
+            allowed = needed | set(_LAYOUT_OPTIONAL[self.layout])
+            for key in sorted({k for keys in (*_LAYOUT_KEYS.values(), *_LAYOUT_OPTIONAL.values()) for k in keys}):
+                value = getattr(self, key)
+                if key in needed and value is None:
+                    problems.append(_Problem(key, "missing", f"required when layout = {self.layout!r}"))
+                elif key not in allowed and value is not None:
+                    users = " or ".join(
+                        repr(s) for s in _LAYOUT_KEYS if key in _LAYOUT_KEYS[s] or key in _LAYOUT_OPTIONAL[s]
+                    )
+                    problems.append(_Problem(key, _show(value), f"only used when layout = {users}; remove it"))
+        if ("stiffness" in self.model_fields_set) == (self.stiffness_ratio is not None):
+            problems.append(_Problem(
+                "stiffness_ratio",
+                f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = "
+                f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'missing'}",
+                "give exactly one of stiffness_ratio (k / (E* L)) and stiffness (inf = rigid)",
+            ))
+        return problems
+
+    def pillar_stiffness(self, contact_modulus: float, size: float) -> float:
+        """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L)."""
+        if self.stiffness_ratio is not None:
+            return self.stiffness_ratio * contact_modulus * size
+        return self.stiffness
 
 
 def _check_height_map(path: Path) -> None:
@@ -367,14 +561,14 @@ class RunConfig(BaseModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> RunConfig:
-        problems = _cross_section_problems(self.grid, self.indenter)
+        problems = _cross_section_problems(self.grid, self.indenter, self.halfspace)
         if problems:
             raise _rules_error(problems)
         return self
 
 
 def _cross_section_problems(
-    grid: GridConfig | None, indenter: IndenterConfig | None
+    grid: GridConfig | None, indenter: IndenterConfig | None, halfspace: HalfSpaceConfig | None = None
 ) -> list[_Problem]:
     """Rules between sections; each runs only if the sections it needs validated.
 
@@ -405,6 +599,8 @@ def _cross_section_problems(
                     f"(grid.size = {grid.size:g})",
                 )
             )
+    if indenter.is_brush and halfspace is not None:
+        problems.extend(_brush_structure_problems(grid, indenter, halfspace))
     if indenter.shape == "height_map" and indenter.file is not None:
         shape = _height_map_shape(indenter.file)
         if shape != (grid.elements, grid.elements):
@@ -417,6 +613,19 @@ def _cross_section_problems(
                 )
             )
     return problems
+
+
+def _brush_structure_problems(
+    grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig
+) -> list[_Problem]:
+    """Build the brush once: overlapping, sub-resolved or untileable layouts are config errors."""
+    from .structure import StructureError, build_brush
+
+    try:
+        build_brush(grid, indenter, halfspace)
+    except StructureError as exc:
+        return [_Problem(f"indenter.{exc.key}", _show(exc.value), exc.allowed)]
+    return []
 
 
 _SECTIONS: dict[str, type[BaseModel]] = {
@@ -569,7 +778,9 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
         except ValidationError as exc:
             problems.extend(_problem_lines(exc, model, (name,)))
     if problems:
-        for problem in _cross_section_problems(sections.get("grid"), sections.get("indenter")):
+        for problem in _cross_section_problems(
+            sections.get("grid"), sections.get("indenter"), sections.get("halfspace")
+        ):
             problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
         raise ConfigError(problems)
     try:
@@ -659,4 +870,19 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
     -------
     dict
     """
-    return to_json_safe(config.model_dump(mode="python"))
+    data = config.model_dump(mode="python")
+    indenter = data["indenter"]
+    # Keys a shape does not use are dropped, and the default rigid
+    # `stiffness` is not written beside a `stiffness_ratio` (exactly one of
+    # them may be given), so the result re-parses to an equal config.
+    for key in [k for k, v in indenter.items() if v is None]:
+        del indenter[key]
+    if indenter.get("stiffness_ratio") is not None:
+        indenter.pop("stiffness", None)
+    for level in indenter.get("levels") or ():
+        for key in [k for k, v in level.items() if v is None]:
+            del level[key]
+    for table in ("roughness", "profile"):
+        if isinstance(indenter.get(table), dict):
+            indenter[table] = {k: v for k, v in indenter[table].items() if v is not None}
+    return to_json_safe(data)

@@ -13,7 +13,12 @@
     ``(y, x)``; coordinates are element centres in units of length, centred on
     the domain: x_i = (i + 1/2) h - L/2.  Each snapshot variable carries the
     base displacement and the force of that moment as the attributes
-    ``displacement`` and ``force``.  Global attributes record provenance:
+    ``displacement`` and ``force``.  Per pillar (dimension ``pillar``):
+    ``pillar_x``, ``pillar_y``, ``pillar_offset``, ``pillar_elements``,
+    ``pillar_separation_displacement``, ``pillar_max_tension`` and, per
+    snapshot, ``pillar_force_<name>``; ``cross_section_adhesive_force`` is the
+    pressure along the element row through the centre at the adhesive-force
+    moment (thesis Fig. 7-4).  Global attributes record provenance:
     ``brushbem_version``, ``config`` (the resolved configuration as JSON),
     ``seeds``, ``backend``, ``summary`` (JSON), and every entry of
     `CaseResult.attributes`.
@@ -96,6 +101,17 @@ def _netcdf_attribute(value: Any) -> str | int | float | np.ndarray:
     return _json(value)
 
 
+_PILLAR_ATTRS: dict[str, dict[str, str]] = {
+    "x": {"long_name": "pillar centre x", "units": "length"},
+    "y": {"long_name": "pillar centre y", "units": "length"},
+    "offset": {"long_name": "pillar length offset g (0: longest pillar)", "units": "length"},
+    "elements": {"long_name": "elements in the rasterised pillar footprint"},
+    "separation_displacement": {"long_name": "last base displacement with contact on the pull-off "
+                                             "(nan: never in contact)", "units": "length"},
+    "max_tension": {"long_name": "largest tensile force carried on the pull-off (>= 0)", "units": "force"},
+}
+
+
 def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
     curve = result.curve
     h = float(result.element_size)
@@ -138,8 +154,34 @@ def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
             "x": xr.Variable("x", centres, {"long_name": "element centre x", "units": "length"}),
             "y": xr.Variable("y", centres, {"long_name": "element centre y", "units": "length"}),
         }
+    n_pillars = 0
+    for snapshot in result.snapshots:
+        if snapshot.pillar_force is not None:
+            n_pillars = len(snapshot.pillar_force)
+    for name, values in result.pillars.items():
+        n_pillars = len(values)
+    if n_pillars:
+        coords["pillar"] = xr.Variable("pillar", np.arange(n_pillars), {"long_name": "pillar index"})
+        for name, values in result.pillars.items():
+            variables[f"pillar_{name}"] = xr.Variable("pillar", np.asarray(values), _PILLAR_ATTRS.get(name, {}))
     for snapshot in result.snapshots:
         moment = {"displacement": float(snapshot.displacement), "force": float(snapshot.force)}
+        if snapshot.pillar_force is not None:
+            variables[f"pillar_force_{snapshot.name}"] = xr.Variable(
+                "pillar", np.asarray(snapshot.pillar_force, dtype=float),
+                {"long_name": f"force on every pillar at {snapshot.name} (compressive > 0)", "units": "force",
+                 **moment},
+            )
+        if snapshot.name == "adhesive_force":
+            # The stress cross-section through the centre at the critical
+            # moment (thesis Fig. 7-4): the row of elements just above y = 0.
+            row = snapshot.pressure.shape[0] // 2
+            variables["cross_section_adhesive_force"] = xr.Variable(
+                "x", np.asarray(snapshot.pressure[row], dtype=float),
+                {"long_name": "pressure along the row through the centre at the adhesive-force moment "
+                              "(compressive > 0)", "units": "stress",
+                 "y": float((row + 0.5) * h - snapshot.pressure.shape[0] * h / 2), **moment},
+            )
         variables[f"pressure_{snapshot.name}"] = xr.Variable(
             ("y", "x"), np.asarray(snapshot.pressure, dtype=float),
             {"long_name": f"pressure at {snapshot.name} (compressive > 0)", "units": "stress",

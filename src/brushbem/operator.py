@@ -131,6 +131,8 @@ class ContactOperator:
             flat = np.where(window_labels >= 0, window_labels, n).ravel()
             self._levels.append((compliance, xp.asarray(flat), n, level))
         self._spectrum = spectrum
+        #: Pillar index of every window element (-1 outside the footprints).
+        self.pillar_labels = indenter.pillar[window.slices]
 
     def _box_spectrum(self, rows: int, cols: int, width: int):
         """Spectrum of the padded discriminant matrix (ones for |offset| <= width)."""
@@ -146,6 +148,11 @@ class ContactOperator:
     @property
     def has_springs(self) -> bool:
         return bool(self._levels)
+
+    @property
+    def spring_levels(self) -> list[tuple[float, np.ndarray]]:
+        """``(h^2 / k_l, cluster of every pillar)`` of every elastic level, bottom-up."""
+        return [(compliance, level.cluster) for compliance, _, _, level in self._levels]
 
     def halfspace_deflection(self, pressure):
         """K p on the window, in units of length."""

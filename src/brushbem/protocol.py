@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,7 +43,7 @@ from .solver import (
     conjugate_gradient,
     critical_stress,
     equilibrium,
-    laplacian_preconditioner,
+    contact_preconditioner,
     penetration,
     polonsky_keer,
 )
@@ -382,7 +382,7 @@ class _Tracker:
             initial=self.unit,
             tolerance=self.path.tolerance,
             max_iterations=self.path.max_iterations,
-            preconditioner=laplacian_preconditioner(contact),
+            preconditioner=contact_preconditioner(self.operator, contact),
             xp=xp,
         )
         self.unit = result.solution if result.converged else None
@@ -670,6 +670,7 @@ class PullOffRecord:
     curve: Curve
     snapshots: tuple[Snapshot, ...]
     summary: dict
+    pillars: dict = field(default_factory=dict)
 
 
 def record_pull_off(
@@ -689,6 +690,22 @@ def record_pull_off(
     from .backend import to_numpy
 
     start = time.perf_counter()
+    labels = np.asarray(to_numpy(problem.indenter.pillar)).ravel()
+    n_pillars = problem.indenter.n_pillars
+    h2 = problem.grid.element_size**2
+    last_attached_d = np.full(n_pillars, np.nan)
+    max_tension = np.zeros(n_pillars)
+
+    def pillar_forces(state: State) -> tuple[np.ndarray, np.ndarray]:
+        contact = np.flatnonzero(np.asarray(to_numpy(state.contact)).ravel())
+        pressure = np.asarray(to_numpy(state.pressure)).ravel()[contact]
+        force = h2 * np.bincount(labels[contact], weights=pressure, minlength=n_pillars)
+        attached = np.bincount(labels[contact], minlength=n_pillars) > 0
+        return force, attached
+
+    attached_at_preload = 0
+    half_taken = False
+    zero_taken = False
     rows: list[State] = []
     path_points: list[tuple[float, float, bool]] = []  # (d, F, loading) along the path, cascades included
     snapshots: dict[str, Snapshot] = {}
@@ -716,11 +733,21 @@ def record_pull_off(
         path_points.append((state.displacement, state.force, state.loading))
         rows.append(state)
         if state.loading:
-            snapshots["max_preload"] = _snapshot("max_preload", state, to_numpy)
+            snapshots["max_preload"] = _snapshot("max_preload", state, to_numpy, pillar_forces)
+            attached_at_preload = state.attached_pillars
         elif state.contact_area > 0:
             last_contact_state = state
+            forces, attached = pillar_forces(state)
+            last_attached_d[attached] = state.displacement
+            np.maximum(max_tension, -forces, out=max_tension)
             if best is None or state.force < best.force:
                 best = state
+            if not zero_taken and state.force <= 0:
+                snapshots["zero_force"] = _snapshot("zero_force", state, to_numpy, pillar_forces)
+                zero_taken = True
+            if not half_taken and n_pillars > 1 and 2 * state.attached_pillars <= attached_at_preload:
+                snapshots["half_detached"] = _snapshot("half_detached", state, to_numpy, pillar_forces)
+                half_taken = True
         max_area = max(max_area, state.contact_area)
         if progress is not None:
             if state.loading:
@@ -735,9 +762,11 @@ def record_pull_off(
         converged = False
         reason = "the path ended before complete separation"
     if best is not None:
-        snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy)
+        snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy, pillar_forces)
     if last_contact_state is not None:
-        snapshots["before_separation"] = _snapshot("before_separation", last_contact_state, to_numpy)
+        snapshots["before_separation"] = _snapshot("before_separation", last_contact_state, to_numpy, pillar_forces)
+    order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
+    snapshots = {name: snapshots[name] for name in order if name in snapshots}
     curve = Curve(
         displacement=np.array([s.displacement for s in rows]),
         force=np.array([s.force if s.kind != "separated" else 0.0 for s in rows]),
@@ -762,19 +791,23 @@ def record_pull_off(
         "reason": reason,
         "n_solves": int(n_solves),
         "n_cg_iterations": int(n_iterations),
+        "mean_cg_iterations_per_solve": n_iterations / n_solves if n_solves else 0.0,
+        "attached_pillars_at_pull_off": best.attached_pillars if best is not None else 0,
         "n_states": len(rows),
         "wall_time_s": time.perf_counter() - start,
     }
-    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary)
+    pillars = {"separation_displacement": last_attached_d, "max_tension": max_tension}
+    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary, pillars=pillars)
 
 
-def _snapshot(name: str, state: State, to_numpy) -> Snapshot:
+def _snapshot(name: str, state: State, to_numpy, pillar_forces) -> Snapshot:
     return Snapshot(
         name=name,
         displacement=state.displacement,
         force=state.force,
         pressure=np.array(to_numpy(state.pressure)),
         contact=np.array(to_numpy(state.contact)),
+        pillar_force=pillar_forces(state)[0],
     )
 
 

@@ -22,7 +22,10 @@ class Snapshot:
     Attributes
     ----------
     name : str
-        ``"max_preload"``, ``"adhesive_force"`` or ``"before_separation"``.
+        ``"max_preload"``, ``"zero_force"`` (first unloading state with
+        F <= 0), ``"adhesive_force"``, ``"half_detached"`` (first state with at
+        most half of the pillars attached that were attached at the end of
+        loading) or ``"before_separation"``.
     displacement : float
         Base displacement d at that moment, in units of length.
     force : float
@@ -31,6 +34,9 @@ class Snapshot:
         Normal pressure on every element, compressive positive, in units of stress.
     contact : ndarray of bool, shape (N, N)
         The contact set.
+    pillar_force : ndarray of float, shape (M,), optional
+        Force carried by every pillar (h^2 sum of its pressure), compressive
+        positive.
     """
 
     name: str
@@ -38,6 +44,7 @@ class Snapshot:
     force: float
     pressure: np.ndarray
     contact: np.ndarray
+    pillar_force: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -88,6 +95,11 @@ class CaseResult:
         Provenance written as NetCDF attributes (version, resolved config, seeds).
     element_size : float
         h, in units of length.
+    pillars : dict of str to ndarray
+        Per-pillar arrays of length M (``x``, ``y``: centre; ``offset``: length
+        offset g; ``elements``: rasterised footprint; ``separation_displacement``:
+        last d with contact on the pull-off; ``max_tension``: the largest
+        tensile force the pillar carried on the pull-off, >= 0).
     """
 
     curve: Curve
@@ -95,3 +107,4 @@ class CaseResult:
     summary: dict[str, Any]
     attributes: dict[str, Any] = field(default_factory=dict)
     element_size: float = 1.0
+    pillars: dict[str, np.ndarray] = field(default_factory=dict)

@@ -22,7 +22,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Grid", "SpringLevel", "Indenter", "flat_punch", "sphere", "height_map"]
+__all__ = [
+    "Grid", "SpringLevel", "Indenter", "flat_punch", "sphere", "height_map",
+    "StructureError", "Level", "Profile", "brush", "square_lattice", "random_positions",
+    "rasterise_pillars", "hierarchy_clusters", "build_brush",
+]
 
 
 @dataclass(frozen=True)
@@ -198,4 +202,371 @@ def height_map(grid: Grid, heights: np.ndarray, stiffness: float = math.inf) -> 
         pillar=pillar,
         levels=_single_spring(stiffness),
         description={"shape": "height_map"},
+    )
+
+
+# -- brushes ---------------------------------------------------------------------
+
+# A pillar narrower than this (in elements, radius) is a handful of elements
+# whose rasterised area and edge stress no longer approximate a cylinder; the
+# same bound as for the compact punch.
+MIN_PILLAR_RADIUS_ELEMENTS = 2.0
+
+
+class StructureError(ValueError):
+    """A structure that cannot be built as asked: names the key, the value and what is allowed."""
+
+    def __init__(self, key: str, value: object, allowed: str):
+        self.key = key
+        self.value = value
+        self.allowed = allowed
+        super().__init__(f"indenter.{key} = {value!r}: {allowed}")
+
+
+@dataclass(frozen=True)
+class Level:
+    """One hierarchy level above the pillars: ``cluster`` x ``cluster`` units of the level below."""
+
+    cluster: int
+    stiffness: float
+
+
+@dataclass(frozen=True)
+class Profile:
+    """Concave macroscopic profile S_p = h~ S_c (thesis eq. 7.1-7.3).
+
+    ``reference_stress`` is the uniform stress p_c that makes h~ dimensionless;
+    None means one pillar's Kendall mean stress F_K / (pi r^2)
+    (:func:`brushbem.theory.concave_reference_stress`).
+    """
+
+    amplification: float
+    reference_stress: float | None = None
+
+
+def square_lattice(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, np.ndarray]:
+    """Centres of an n x n square lattice centred on the origin, and the lattice indices.
+
+    Returns ``(centres (n*n, 2), index (n*n, 2))`` with rows y, x in lattice order.
+    """
+    n = int(pillars_per_side)
+    offsets = (np.arange(n) - 0.5 * (n - 1)) * spacing
+    iy, ix = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    index = np.stack([iy.ravel(), ix.ravel()], axis=1)
+    centres = np.stack([offsets[index[:, 0]], offsets[index[:, 1]]], axis=1)
+    return centres, index
+
+
+def random_positions(
+    count: int, radius: float, min_gap: float, region: str, region_size: float, rng: np.random.Generator,
+    max_attempts_per_pillar: int = 2000,
+) -> np.ndarray:
+    """Non-overlapping pillar centres by random sequential addition (seeded).
+
+    Every pillar lies wholly inside the region (a square of side
+    ``region_size`` or a circle of that diameter, centred on the origin) and
+    every two centres are at least ``2 radius + min_gap`` apart.  Candidates
+    are drawn uniformly in batches; a layout that cannot be completed within
+    ``max_attempts_per_pillar * count`` draws raises StructureError (the
+    jamming limit of random sequential addition is a filling factor of about
+    0.55, far above the thesis's 0.12).
+    """
+    half = 0.5 * region_size - radius
+    if half <= 0:
+        raise StructureError("pillar_radius", radius, f"must be smaller than half the region ({0.5 * region_size:g})")
+    distance2 = (2.0 * radius + min_gap) ** 2
+    placed = np.empty((count, 2))
+    n = 0
+    drawn = 0
+    budget = max_attempts_per_pillar * count
+    while n < count:
+        if drawn >= budget:
+            raise StructureError(
+                "pillar_count", count,
+                f"only {n} pillars of radius {radius:g} with gap {min_gap:g} fit at random in this region "
+                f"after {drawn} draws; reduce pillar_count, pillar_radius or min_gap",
+            )
+        batch = rng.uniform(-half, half, size=(256, 2))
+        drawn += len(batch)
+        if region == "circle":
+            batch = batch[np.einsum("ij,ij->i", batch, batch) <= half * half]
+        for candidate in batch:
+            if n and np.min(np.sum((placed[:n] - candidate) ** 2, axis=1)) < distance2:
+                continue
+            placed[n] = candidate
+            n += 1
+            if n == count:
+                break
+    return placed
+
+
+def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndarray:
+    """Label every element whose centre lies inside a pillar's circle (-1 elsewhere).
+
+    Raises StructureError if a pillar is under ``MIN_PILLAR_RADIUS_ELEMENTS`` in
+    radius, reaches outside the domain, or shares an element with another.
+    """
+    h = grid.element_size
+    if radius < MIN_PILLAR_RADIUS_ELEMENTS * h:
+        raise StructureError(
+            "pillar_radius", radius,
+            f"is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = {h:g}); a pillar needs at least "
+            f"{MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
+        )
+    half = 0.5 * grid.size
+    if np.any(np.abs(centres) + radius > half * (1 + 1e-12)):
+        raise StructureError("pillar_radius", radius, "pillars reach outside the domain (grid.size)")
+    n = grid.elements
+    x = grid.centres()
+    labels = np.full((n, n), -1, dtype=np.int64)
+    reach = int(math.ceil(radius / h)) + 1
+    for k, (cy, cx) in enumerate(centres):
+        i0 = max(int(math.floor((cy + half) / h)) - reach, 0)
+        j0 = max(int(math.floor((cx + half) / h)) - reach, 0)
+        rows = slice(i0, min(i0 + 2 * reach + 1, n))
+        cols = slice(j0, min(j0 + 2 * reach + 1, n))
+        inside = (x[rows, None] - cy) ** 2 + (x[None, cols] - cx) ** 2 <= radius * radius
+        block = labels[rows, cols]
+        if np.any(block[inside] >= 0):
+            raise StructureError("pillar_radius", radius, "pillars overlap; reduce pillar_radius or increase spacing")
+        block[inside] = k
+    return labels
+
+
+def hierarchy_clusters(index: np.ndarray, pillars_per_side: int, clusters: tuple[int, ...]) -> list[np.ndarray]:
+    """Cluster maps of the levels above the pillars for a square lattice.
+
+    Level l groups ``clusters[l] x clusters[l]`` units of level l-1 (level 0:
+    the pillars).  ``index`` holds the lattice (row, column) of every pillar.
+    The product of the cluster sizes must divide ``pillars_per_side`` so that
+    the clusters tile the lattice.
+    """
+    block = 1
+    maps = []
+    for level, size in enumerate(clusters, start=2):
+        block *= int(size)
+        if pillars_per_side % block:
+            raise StructureError(
+                "levels", list(clusters),
+                f"level {level} groups {block} x {block} pillars, which does not tile the "
+                f"{pillars_per_side} x {pillars_per_side} lattice (pillars_per_side must be a multiple of "
+                f"the product of the cluster sizes)",
+            )
+        per_side = pillars_per_side // block
+        key = (index[:, 0] // block) * per_side + index[:, 1] // block
+        maps.append(np.unique(key, return_inverse=True)[1].astype(np.int64))
+    return maps
+
+
+def brush(
+    grid: Grid,
+    *,
+    layout: str,
+    pillar_radius: float,
+    contact_modulus: float,
+    work_of_adhesion: float,
+    stiffness: float = math.inf,
+    region: str = "square",
+    region_size: float | None = None,
+    pillars_per_side: int | None = None,
+    spacing: float | None = None,
+    pillar_count: int | None = None,
+    min_gap: float | None = None,
+    seed: int = 0,
+    roughness: float = 0.0,
+    profile: Profile | None = None,
+    lengths: np.ndarray | None = None,
+    levels: tuple[Level, ...] = (),
+) -> Indenter:
+    """A brush of flat-ended cylindrical pillars on springs (thesis ch. 3-7).
+
+    Parameters
+    ----------
+    grid : Grid
+    layout : {"square", "random"}
+        Regular n x n lattice of pitch ``spacing`` centred on the domain, or
+        ``pillar_count`` random non-overlapping positions (seeded).
+    pillar_radius : float
+        Radius r of every pillar, units of length (>= 2 elements).
+    contact_modulus, work_of_adhesion : float
+        E* and dgamma: they set the reference stress of the concave profile.
+    stiffness : float
+        k of every pillar's own spring (level 1); inf = rigid.
+    region : {"square", "circle"}
+        Where pillars are placed: a square of side ``region_size`` or a circle
+        of that diameter, centred on the domain.  Its area is the apparent area
+        A0 of the brush; for the lattice only the pillars whose centres lie in
+        the circle are kept.
+    region_size : float, optional
+        Default: the domain side L.
+    pillars_per_side, spacing : square layout
+        Default spacing: region_size / pillars_per_side (the lattice fills the
+        region, one pillar per cell).
+    pillar_count, min_gap : random layout
+        Number of pillars and the smallest edge-to-edge gap (default 2 h).
+    seed : int
+        Seeds the random layout and the roughness through independent child
+        streams of ``numpy.random.SeedSequence(seed)``: changing sigma rescales
+        the same realisation, and the same seed gives the same roughness for a
+        random and a regular layout.
+    roughness : float
+        Standard deviation sigma of the Gaussian pillar lengths (eq. 5.1).
+    profile : Profile, optional
+        Concave profile (eq. 7.3) centred on the domain; its radius R is the
+        distance of the outermost pillar centre.
+    lengths : array of M floats, optional
+        Explicit extra pillar lengths (units of length), added to the above.
+    levels : tuple of Level
+        Hierarchy above the pillars, bottom-up (square layout only).
+
+    The pillar length is the sum of the three contributions; the offsets are
+    g_n = max(length) - length_n >= 0, so the longest pillar touches first.
+    """
+    if layout not in ("square", "random"):
+        raise StructureError("layout", layout, "must be 'square' or 'random'")
+    if region not in ("square", "circle"):
+        raise StructureError("region", region, "must be 'square' or 'circle'")
+    h = grid.element_size
+    size = grid.size if region_size is None else float(region_size)
+    if not (0 < size <= grid.size * (1 + 1e-12)):
+        raise StructureError("region_size", region_size, f"must be in (0, grid.size = {grid.size:g}]")
+    layout_seed, roughness_seed = np.random.SeedSequence(int(seed)).spawn(2)
+    index = None
+    if layout == "square":
+        if pillars_per_side is None or pillars_per_side < 1:
+            raise StructureError("pillars_per_side", pillars_per_side, "must be an integer >= 1")
+        pitch = size / pillars_per_side if spacing is None else float(spacing)
+        if not pitch > 2 * pillar_radius:
+            raise StructureError(
+                "spacing" if spacing is not None else "pillar_radius", spacing if spacing is not None else pillar_radius,
+                f"pillars overlap: the spacing {pitch:g} must exceed the pillar diameter {2 * pillar_radius:g}",
+            )
+        if pillars_per_side * pitch > size * (1 + 1e-9):
+            raise StructureError(
+                "spacing", pitch,
+                f"{pillars_per_side} pillars at spacing {pitch:g} span {pillars_per_side * pitch:g}, "
+                f"more than region_size = {size:g}",
+            )
+        centres, index = square_lattice(pillars_per_side, pitch)
+        if region == "circle":
+            keep = np.hypot(centres[:, 0], centres[:, 1]) + pillar_radius <= 0.5 * size * (1 + 1e-12)
+            if not keep.any():
+                raise StructureError("pillar_radius", pillar_radius, "no pillar fits inside the circular region")
+            centres, index = centres[keep], index[keep]
+    else:
+        if levels:
+            raise StructureError("levels", [lv.cluster for lv in levels], "a hierarchy needs layout = 'square'")
+        if pillar_count is None or pillar_count < 1:
+            raise StructureError("pillar_count", pillar_count, "must be an integer >= 1")
+        gap = 2.0 * h if min_gap is None else float(min_gap)
+        if gap < 0:
+            raise StructureError("min_gap", min_gap, "must be >= 0")
+        centres = random_positions(pillar_count, pillar_radius, gap, region, size, np.random.default_rng(layout_seed))
+    labels = rasterise_pillars(grid, centres, pillar_radius)
+    n_pillars = len(centres)
+    counts = np.bincount(labels[labels >= 0], minlength=n_pillars)
+
+    # Pillar lengths: roughness + concave profile + explicit lengths.
+    length = np.zeros(n_pillars)
+    if roughness < 0 or not math.isfinite(roughness):
+        raise StructureError("roughness.sigma", roughness, "must be finite and >= 0")
+    if roughness > 0:
+        length += roughness * np.random.default_rng(roughness_seed).standard_normal(n_pillars)
+    radial = np.hypot(centres[:, 0], centres[:, 1])
+    reference_stress = None
+    profile_radius = None
+    if profile is not None and profile.amplification > 0:
+        from . import theory
+
+        reference_stress = profile.reference_stress
+        if reference_stress is None:
+            if not work_of_adhesion > 0:
+                raise StructureError(
+                    "profile.amplification", profile.amplification,
+                    "the default reference stress needs halfspace.work_of_adhesion > 0 "
+                    "(or give profile.reference_stress)",
+                )
+            reference_stress = float(theory.concave_reference_stress(contact_modulus, work_of_adhesion, pillar_radius))
+        profile_radius = float(radial.max()) if radial.max() > 0 else float(pillar_radius)
+        length -= np.asarray(theory.concave_offsets(
+            radial, profile_radius, profile.amplification, contact_modulus, reference_stress))
+    if lengths is not None:
+        lengths = np.asarray(lengths, dtype=float).ravel()
+        if lengths.shape != (n_pillars,) or not np.all(np.isfinite(lengths)):
+            raise StructureError("lengths_file", f"{lengths.shape[0]} values",
+                                 f"must hold {n_pillars} finite pillar lengths (one per pillar)")
+        length += lengths
+    offsets = length.max() - length
+
+    height = np.where(labels >= 0, offsets[np.maximum(labels, 0)], np.inf)
+    spring_levels = [SpringLevel(float(stiffness), np.arange(n_pillars, dtype=np.int64))]
+    if levels:
+        maps = hierarchy_clusters(index, int(pillars_per_side), tuple(lv.cluster for lv in levels))
+        for lv, cluster in zip(levels, maps):
+            if not lv.stiffness > 0:
+                raise StructureError("levels.stiffness", lv.stiffness, "must be > 0 (inf = rigid)")
+            spring_levels.append(SpringLevel(float(lv.stiffness), cluster))
+    apparent_area = size * size if region == "square" else math.pi * size * size / 4.0
+    real_area = float(counts.sum()) * h * h
+    description = {
+        "shape": "brush",
+        "layout": layout,
+        "region": region,
+        "region_size": size,
+        "n_pillars": n_pillars,
+        "pillar_radius": float(pillar_radius),
+        "apparent_area": apparent_area,
+        "real_area": real_area,
+        "filling_factor": real_area / apparent_area,
+        "nominal_filling_factor": n_pillars * math.pi * pillar_radius**2 / apparent_area,
+        "pillar_elements": counts,
+        "centres": centres,
+        "offsets": offsets,
+        "roughness": float(roughness),
+        "seed": int(seed),
+        "profile_amplification": float(profile.amplification) if profile is not None else 0.0,
+        "profile_reference_stress": reference_stress,
+        "profile_radius": profile_radius,
+        "level_clusters": [lv.cluster for lv in levels],
+    }
+    return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
+
+
+def build_brush(grid_config, indenter_config, halfspace_config) -> Indenter:
+    """The brush of a validated configuration (``shape = "brush"``).
+
+    Takes the config sections (duck-typed: ``GridConfig``, ``IndenterConfig``,
+    ``HalfSpaceConfig``) and converts the stiffness ratios k~ = k / (E* L),
+    L = grid.size, to stiffnesses.
+    """
+    spec = indenter_config
+    grid = Grid(grid_config.size, grid_config.elements)
+    modulus = halfspace_config.effective_modulus
+    scale = modulus * grid.size
+    levels = tuple(
+        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale)
+        for lv in (spec.levels or ())
+    )
+    lengths = np.load(spec.lengths_file, allow_pickle=False) if spec.lengths_file else None
+    profile = None
+    if spec.profile is not None:
+        profile = Profile(spec.profile.amplification, spec.profile.reference_stress)
+    return brush(
+        grid,
+        layout=spec.layout,
+        pillar_radius=spec.pillar_radius,
+        contact_modulus=modulus,
+        work_of_adhesion=halfspace_config.work_of_adhesion,
+        stiffness=spec.pillar_stiffness(modulus, grid.size),
+        region=spec.region or "square",
+        region_size=spec.region_size,
+        pillars_per_side=spec.pillars_per_side,
+        spacing=spec.spacing,
+        pillar_count=spec.pillar_count,
+        min_gap=spec.min_gap,
+        seed=spec.seed or 0,
+        roughness=spec.roughness.sigma if spec.roughness is not None else 0.0,
+        profile=profile,
+        lengths=lengths,
+        levels=levels,
     )
