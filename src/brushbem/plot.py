@@ -37,7 +37,8 @@ def plot_pull_off(
 
     The loading branch and the unloading (pull-off) branch are drawn in
     different colours and the adhesive-force point (the minimum force) is
-    marked.
+    marked.  Beside the curve: the pressure on the contact set at the
+    adhesive-force moment (the detachment pattern).
 
     Parameters
     ----------
@@ -56,9 +57,14 @@ def plot_pull_off(
     force = np.asarray(curve.force, dtype=float)
     loading = np.asarray(curve.loading, dtype=bool)
 
-    figure = Figure(figsize=(6.4, 4.8), layout="constrained")
+    pattern = next((snap for snap in result.snapshots if snap.name == "adhesive_force"), None)
+    figure = Figure(figsize=(11.0, 4.8) if pattern is not None else (6.4, 4.8), layout="constrained")
     FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
+    if pattern is not None:
+        axes, map_axes = figure.subplots(1, 2, width_ratios=[1.35, 1.0])
+        _draw_pattern(map_axes, pattern, float(result.element_size))
+    else:
+        axes = figure.add_subplot()
     axes.axhline(0.0, color="0.7", linewidth=0.8)
 
     if reference is not None:
@@ -97,3 +103,22 @@ def plot_pull_off(
 
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=150)
+
+
+def _draw_pattern(axes, snapshot, element_size: float) -> None:
+    """The pressure on the contact set at the adhesive-force moment (grey: not in contact)."""
+    pressure = np.asarray(snapshot.pressure, dtype=float)
+    contact = np.asarray(snapshot.contact, dtype=bool)
+    n = pressure.shape[0]
+    half = 0.5 * n * element_size
+    shown = np.ma.masked_where(~contact, pressure)
+    limit = float(np.max(np.abs(pressure[contact]))) if contact.any() else 1.0
+    axes.set_facecolor("0.85")
+    image = axes.imshow(
+        shown, origin="lower", extent=(-half, half, -half, half), cmap="RdBu_r",
+        vmin=-limit, vmax=limit, interpolation="nearest",
+    )
+    axes.figure.colorbar(image, ax=axes, shrink=0.8, label="p (compressive > 0)")
+    axes.set_title(f"contact at the adhesive force (d = {snapshot.displacement:.4g})", fontsize="small")
+    axes.set_xlabel("x")
+    axes.set_ylabel("y")
