@@ -433,3 +433,30 @@ def test_executor_options_are_exclusive_and_dask_is_optional(tmp_path, monkeypat
     result = CliRunner().invoke(main, ["sweep", str(path), "--out", out, "--dask"])
     assert result.exit_code == 1 and "pip install 'brushbem[distributed]'" in result.output
     assert not (tmp_path / "out").exists()
+
+
+def test_inline_base_table_and_api_from_a_file(tmp_path):
+    inline = "\n".join(
+        line.replace("[", "[base.", 1) if line.startswith("[") else line
+        for line in BASE_TOML.splitlines()
+    )
+    path = tmp_path / "inline.toml"
+    path.write_text('mode = "zip"\n[sweep]\n"grid.elements" = [32, 40]\n"indenter.radius" = [0.2, 0.3]\n'
+                    + inline + "\n")
+    sweep = sweep_module.load_sweep(path)
+    assert sweep.base_file is None and sweep.source == path
+    assert [(c.config.grid.elements, c.config.indenter.radius) for c in sweep.cases] == [(32, 0.2), (40, 0.3)]
+    with ThreadPoolExecutor(2) as pool:
+        run = run_sweep(path, tmp_path / "out", pool)
+    assert run.complete and run.counts == {"finished": 2}
+
+
+def test_one_driver_per_folder(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    with (
+        ThreadPoolExecutor(1) as pool,
+        sweep_module._exclusive(out),
+        pytest.raises(RuntimeError, match="another sweep"),
+    ):
+        run_sweep(spec(sweep={"indenter.radius": [0.2]}), out, pool)
