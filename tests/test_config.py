@@ -74,12 +74,19 @@ def test_examples_are_valid(path):
     assert isinstance(load_config(path), RunConfig)
 
 
-def test_default_example_is_the_jkr_sphere_on_a_spring():
+def test_default_example_is_the_16x16_brush():
     config = load_config(EXAMPLES / "default.toml")
+    assert config.indenter.shape == "brush"
+    assert config.indenter.pillars_per_side == 16
+    assert config.indenter.stiffness_ratio == 0.455
+    assert config.grid.elements == 256
+
+
+def test_sphere_example_is_the_jkr_sphere_on_a_spring():
+    config = load_config(EXAMPLES / "sphere_spring.toml")
     assert config.indenter.shape == "sphere"
     assert config.indenter.radius == 1.0
     assert config.indenter.stiffness == 0.5
-    assert config.grid.elements == 256
     assert config.halfspace.work_of_adhesion == 1e-3
 
 

@@ -1,13 +1,16 @@
-"""Command line: ``brushbem run`` and ``brushbem validate``.
+"""Command line: ``brushbem run``, ``brushbem sweep`` and ``brushbem validate``.
 
 Each command is a thin shell over library functions: `brushbem.config` loads
 and validates, `brushbem.case.run_case` computes, `brushbem.io` and
 `brushbem.plot` write.  Exit status: 0 success, 2 invalid configuration,
-3 the run finished but some solve did not converge (results still written).
+3 the run finished but some solve did not converge (results still written);
+for ``sweep``, 3 also when some case failed or is still missing, 130 when
+interrupted (a rerun computes the missing cases).
 """
 
 from __future__ import annotations
 
+import contextlib
 import numbers
 from pathlib import Path
 from typing import Any
@@ -24,6 +27,7 @@ __all__ = ["main"]
 
 EXIT_INVALID_CONFIG = 2
 EXIT_NOT_CONVERGED = 3
+EXIT_INTERRUPTED = 130
 
 
 def _load_or_exit(config_path: Path) -> RunConfig:
@@ -127,3 +131,95 @@ def validate(config_path: Path) -> None:
     """Check CONFIG: print "ok", or every problem (exit status 2)."""
     _load_or_exit(config_path)
     click.echo("ok")
+
+
+@main.command()
+@click.argument("sweep_path", metavar="SWEEP", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+    help="Folder for sweep.json, cases/ and summary.parquet (created if absent; "
+    "cases already there are not recomputed).",
+)
+@click.option(
+    "--workers", type=click.IntRange(min=1), default=None,
+    help="Local worker processes, or the workers of --dask's cluster [default: number of cores].",
+)
+@click.option("--dask", "use_dask", is_flag=True, help="Run on a new dask.distributed LocalCluster.")
+@click.option("--scheduler", metavar="ADDRESS", default=None,
+              help="Run on the dask.distributed scheduler at ADDRESS (e.g. tcp://host:8786).")
+@click.option("--scheduler-file", type=click.Path(path_type=Path, dir_okay=False), default=None,
+              help="Run on the dask.distributed scheduler described by this file.")
+@click.option("--retry-failed", is_flag=True,
+              help="Recompute cases recorded as failed (by default a rerun keeps them).")
+@click.option("--dry-run", is_flag=True, help="Validate and list the cases; compute nothing.")
+@click.option("--quiet", is_flag=True, help="No progress output.")
+def sweep(
+    sweep_path: Path,
+    out_dir: Path,
+    workers: int | None,
+    use_dask: bool,
+    scheduler: str | None,
+    scheduler_file: Path | None,
+    retry_failed: bool,
+    dry_run: bool,
+    quiet: bool,
+) -> None:
+    """Run every case of the sweep in SWEEP; resume what is missing in --out."""
+    from brushbem import sweep as sweep_module
+
+    if sum((use_dask, scheduler is not None, scheduler_file is not None)) > 1:
+        raise click.UsageError("give at most one of --dask, --scheduler, --scheduler-file")
+    if workers is not None and (scheduler is not None or scheduler_file is not None):
+        raise click.UsageError("--workers sizes a local pool or --dask's cluster; "
+                               "a running scheduler has its own workers")
+    try:
+        study = sweep_module.load_sweep(sweep_path)
+    except sweep_module.SweepError as error:
+        click.echo(f"invalid sweep {sweep_path}:", err=True)
+        for problem in error.problems:
+            click.echo(f"  {problem}", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    for warning in study.warnings:
+        click.echo(f"warning: {warning}", err=True)
+    if dry_run:
+        table = Table(title=f"{len(study.cases)} cases")
+        for column in ("case", "realization", "seed", *study.keys):
+            table.add_column(column, no_wrap=column == "case")
+        for case in study.cases:
+            table.add_row(case.case_id, str(case.realization),
+                          f"{case.seed}{'' if case.seed_applied else '*'}",
+                          *(_number(case.values[key]) for key in study.keys))
+        Console().print(table)
+        if not all(case.seed_applied for case in study.cases):
+            click.echo("* recorded only: the indenter of this case takes no seed")
+        return
+
+    with contextlib.ExitStack() as stack:
+        executor = None
+        if use_dask or scheduler is not None or scheduler_file is not None:
+            try:
+                executor = stack.enter_context(sweep_module.dask_client(
+                    address=scheduler, scheduler_file=scheduler_file, workers=workers,
+                ))
+            except ImportError as exc:
+                raise click.ClickException(str(exc)) from None
+        try:
+            outcome = sweep_module.run_sweep(
+                study, out_dir, executor, workers=workers, retry_failed=retry_failed,
+                progress=not quiet,
+            )
+        except KeyboardInterrupt:
+            click.echo(f"interrupted; rerun to compute the missing cases in {out_dir}", err=True)
+            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
+        except RuntimeError as exc:  # another sweep runs in the same folder
+            raise click.ClickException(str(exc)) from None
+
+    counts = ", ".join(f"{n} {status}" for status, n in sorted(outcome.counts.items()))
+    if not quiet:
+        click.echo(
+            f"{len(study.cases)} cases ({counts}); computed {len(outcome.computed)}, "
+            f"kept {len(outcome.skipped)}; summary in {out_dir / sweep_module.SUMMARY_FILE}"
+        )
+    if not outcome.complete:
+        click.echo(f"warning: not every case finished ({counts})", err=True)
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED)

@@ -48,7 +48,15 @@ from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict, to_json_safe
 from brushbem.results import CaseResult
 
-__all__ = ["SUMMARY_FILE", "DATASET_FILE", "atomic_path", "write_case", "read_case"]
+__all__ = [
+    "DATASET_FILE",
+    "SUMMARY_FILE",
+    "atomic_path",
+    "netcdf_attributes",
+    "read_case",
+    "write_case",
+    "write_dataset",
+]
 
 SUMMARY_FILE = "summary.json"
 DATASET_FILE = "result.nc"
@@ -110,6 +118,22 @@ _PILLAR_ATTRS: dict[str, dict[str, str]] = {
                                              "(nan: never in contact)", "units": "length"},
     "max_tension": {"long_name": "largest tensile force carried on the pull-off (>= 0)", "units": "force"},
 }
+
+
+def netcdf_attributes(attributes: dict[str, Any]) -> dict[str, Any]:
+    """Attributes NetCDF can store: strings and numbers kept, the rest as JSON.
+
+    Parameters
+    ----------
+    attributes : dict
+        Any provenance values (nested dicts and lists become JSON strings,
+        booleans integers, since NetCDF has neither).
+
+    Returns
+    -------
+    dict
+    """
+    return {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
 
 
 def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
@@ -202,8 +226,29 @@ def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
     attributes.update(result.attributes)
     if config is not None:
         attributes["config"] = config_to_dict(config)
-    attrs = {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
-    return xr.Dataset(variables, coords=coords, attrs=attrs)
+    return xr.Dataset(variables, coords=coords, attrs=netcdf_attributes(attributes))
+
+
+def write_dataset(
+    result: CaseResult, target: str | Path, *, config: RunConfig | None = None
+) -> None:
+    """Write the ``result.nc`` content of one case to the file ``target``, atomically.
+
+    The same layout as `write_case`'s ``result.nc``, under any file name: a
+    parameter sweep keeps one such file per case (``cases/<case-id>.nc``).
+
+    Parameters
+    ----------
+    result : CaseResult
+        The run to record; its ``attributes`` become global attributes.
+    target : path
+        The file written; its folder must exist.
+    config : RunConfig, optional
+        The resolved configuration, recorded in the ``config`` attribute.
+    """
+    dataset = _dataset(result, config)
+    with atomic_path(target) as temporary:
+        dataset.to_netcdf(temporary, engine="h5netcdf")
 
 
 def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
@@ -224,9 +269,7 @@ def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | N
     out_dir.mkdir(parents=True, exist_ok=True)
     with atomic_path(out_dir / SUMMARY_FILE) as temporary:
         temporary.write_text(_json(result.summary, indent=2) + "\n", encoding="utf-8")
-    dataset = _dataset(result, config)
-    with atomic_path(out_dir / DATASET_FILE) as temporary:
-        dataset.to_netcdf(temporary, engine="h5netcdf")
+    write_dataset(result, out_dir / DATASET_FILE, config=config)
 
 
 def read_case(out_dir: str | Path) -> xr.Dataset:
