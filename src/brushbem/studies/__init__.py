@@ -1,0 +1,109 @@
+"""The thesis's studies (chapters 2-7), each reproducible by one command.
+
+A study is a named set of *parts*; each part is an ordinary sweep file shipped
+in ``brushbem/studies/sweeps/`` (``<study>.<part>.toml`` and its coarse twin
+``<study>.<part>.quick.toml``) that users can copy and edit, run with
+`brushbem.sweep.run_sweep` into ``DIR/<part>/``.  The study then draws its
+figures from the stored results (``DIR/figures/*.png``), in the thesis's axes,
+scales and normalisations, with its closed-form lines and the numbers the
+thesis states marked.
+
+Every study module in this package defines ``STUDY = Study(...)``; the registry
+`STUDIES` collects them by name.
+
+    brushbem study NAME --out DIR [--quick]
+    brushbem figure DIR          # redraw from stored results
+    brushbem report DIR          # one self-contained HTML file
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+__all__ = ["Study", "ThesisNumber", "STUDIES", "sweep_file", "SWEEPS_DIR"]
+
+#: Where the shipped sweep files live.
+SWEEPS_DIR = Path(__file__).resolve().parent / "sweeps"
+
+
+@dataclass(frozen=True)
+class ThesisNumber:
+    """A number the thesis states, and how to compute ours from a study's results.
+
+    Attributes
+    ----------
+    quantity : str
+        What it is, e.g. "F~_A of 16 x 16 pillars at k~ = 0.455".
+    where : str
+        Where the thesis states it, e.g. "Fig. 4-3 a, text p. 43".
+    thesis : float
+        The thesis's value.
+    compute : callable
+        ``compute(results) -> float`` with ``results`` the part name ->
+        summary DataFrame mapping (as `brushbem.sweep.load_summary` returns).
+    """
+
+    quantity: str
+    where: str
+    thesis: float
+    compute: Callable[[Mapping[str, pd.DataFrame]], float]
+
+
+@dataclass(frozen=True)
+class Study:
+    """One study of the thesis.
+
+    Attributes
+    ----------
+    name : str
+        Command-line name, e.g. ``"punch_spring"``.
+    title : str
+        One line, naming the thesis figures / table it reproduces.
+    figures : tuple of str
+        Thesis figure numbers, e.g. ``("2-4", "2-5", "2-6")``.
+    parts : tuple of str
+        Names of its sweeps; part ``p`` is ``sweeps/<name>.<p>.toml`` (and
+        ``.quick.toml``), run into ``DIR/<p>/``.
+    draw : callable
+        ``draw(results, figures_dir) -> list[Path]``: writes the figures (PNG,
+        atomically) from ``results`` (part -> summary DataFrame; the case files
+        are in ``DIR/<part>/cases/`` for curves and snapshots, reachable as
+        ``results.attrs``-free paths via the ``case_file`` column).
+    numbers : tuple of ThesisNumber
+        The numbers the thesis states that this study reproduces.
+    """
+
+    name: str
+    title: str
+    figures: tuple[str, ...]
+    parts: tuple[str, ...]
+    draw: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]]
+    numbers: tuple[ThesisNumber, ...] = ()
+    notes: str = ""
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def sweep_file(study: str, part: str, quick: bool) -> Path:
+    """The shipped sweep file of one part of a study."""
+    return SWEEPS_DIR / f"{study}.{part}{'.quick' if quick else ''}.toml"
+
+
+def _discover() -> dict[str, Study]:
+    found: dict[str, Study] = {}
+    for module in pkgutil.iter_modules(__path__):
+        if module.name.startswith("_"):
+            continue
+        study = getattr(importlib.import_module(f"{__name__}.{module.name}"), "STUDY", None)
+        if isinstance(study, Study):
+            found[study.name] = study
+    return dict(sorted(found.items()))
+
+
+STUDIES: dict[str, Study] = _discover()
