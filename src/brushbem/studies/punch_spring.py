@@ -1,0 +1,123 @@
+"""Flat punch on a spring (thesis sec. 2.3.1, Figures 2-4, 2-5, 2-6).
+
+A punch of radius r = 0.3 L on a spring of stiffness k, k~ = k / (2 E* r)
+(eq. 2.16) from 0.01 to 100 and rigid, pressed to the same base displacement
+and pulled off.  Forces by Kendall's F_K, displacements by d_K (eq. 2.15), the
+work of separation by the rigid punch's w_K = 2 pi dgamma r^2 with eq. 2.19,
+w~ = 1 + 1/k~.  Radii are the rasterised footprint's equivalent radius
+sqrt(A/pi) (the ``theory.equivalent_radius`` column).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from brushbem import theory
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._common import (case_config, column, finished, mark, new_figure, open_case, safe,
+                                      save)
+
+PART = "stiffness"
+
+
+def _frame(results):
+    frame = finished(results, PART)
+    if len(frame):
+        k = column(frame, "indenter.stiffness")
+        kt = np.where(np.isfinite(k), column(frame, "theory.normalized_stiffness"), math.inf)
+        # w~ = w / w_K; theory.work_of_separation is w_K (1 + 1/k~) (eq. 2.18-2.19).
+        w_k = column(frame, "theory.work_of_separation") / (1 + 1 / kt)
+        frame = frame.assign(k_tilde=kt, w_tilde=column(frame, "work_of_separation") / w_k)
+    return frame
+
+
+def _w_tilde_at(results, k_tilde: float) -> float:
+    frame = _frame(results)
+    row = frame.iloc[int(np.argmin(np.abs(np.log(frame.k_tilde) - math.log(k_tilde))))]
+    return float(row.w_tilde)
+
+
+def _separation_ratio(results, k_tilde: float) -> float:
+    """|separation displacement| at k~ over the rigid punch's (thesis: 67 at k~ = 0.01)."""
+    frame = _frame(results)
+    rigid = frame[~np.isfinite(frame.k_tilde)]
+    soft = frame.iloc[int(np.argmin(np.abs(np.log(frame.k_tilde) - math.log(k_tilde))))]
+    return abs(float(soft.separation_displacement)) / abs(float(rigid.separation_displacement.iloc[0]))
+
+
+def draw(results, figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    frame = _frame(results)
+    out = []
+    # Fig. 2-4 and 2-5: curves.
+    fig4, ax4 = new_figure()
+    fig5, ax5 = new_figure()
+    ax4, ax5 = ax4[0, 0], ax5[0, 0]
+    for _, row in frame.sort_values("k_tilde").iterrows():
+        ds = open_case(row, PART, figures_dir)
+        if ds is None:
+            continue
+        cfg = case_config(ds)
+        modulus = cfg["halfspace"]["contact_modulus"]
+        dgamma = cfg["halfspace"]["work_of_adhesion"]
+        r = float(row["theory.equivalent_radius"])
+        fk = theory.kendall_force(modulus, dgamma, r)
+        dk = theory.kendall_displacement(modulus, dgamma, r)
+        label = "rigid" if not np.isfinite(row.k_tilde) else f"k~ = {row.k_tilde:.3g}"
+        d = ds["displacement"].values / dk
+        f = ds["force"].values / fk
+        a = np.sqrt(ds["contact_area"].values / math.pi) / r
+        line, = ax4.plot(d, f, label=label)
+        ax5.plot(a, f, color=line.get_color(), label=label)
+        ax5.plot([a[0]], [f[ds["loading"].values][-1] if ds["loading"].values.any() else f[0]],
+                 marker="^", color=line.get_color(), linestyle="none")
+    ax4.axhline(-1.0, color="k", linestyle="--", lw=0.8, label="Kendall F_A (eq. 2.4)")
+    ax4.set(xlabel="d~ = d / d_K", ylabel="F~ = F / F_K", title="Fig. 2-4: flat punch on a spring")
+    ax5.set(xlabel="a~ = a / r", ylabel="F~ = F / F_K", title="Fig. 2-5: force vs contact radius")
+    for ax in (ax4, ax5):
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    out += [save(fig4, figures_dir / "fig2-4_punch_curves.png"), save(fig5, figures_dir / "fig2-5_punch_radius.png")]
+    # Fig. 2-6: work of separation vs k~.
+    fig6, ax6 = new_figure()
+    ax6 = ax6[0, 0]
+    kk = np.logspace(-2.2, 2.2, 200)
+    ax6.plot(kk, 1 + 1 / kk, "k-", label="eq. 2.19: 1 + 1/k~")
+    soft = frame[np.isfinite(frame.k_tilde)] if len(frame) else frame
+    if len(soft):
+        ax6.plot(soft.k_tilde, soft.w_tilde, "o", label="BEM")
+    rigid = frame[~np.isfinite(frame.k_tilde)] if len(frame) else frame
+    if len(rigid):
+        ax6.axhline(float(rigid.w_tilde.iloc[0]), color="gray", linestyle=":", label="BEM rigid")
+    for k, w in ((0.3, 4.26), (1.5, 1.64)):
+        mark(ax6, k, w, None)
+    ax6.plot([], [], "r*", label="thesis text: 4.26 (k~=0.3), 1.64 (k~=1.5)")
+    ax6.set(xscale="log", yscale="log", xlabel="k~ = k / (2 E* r)", ylabel="w~ = w / w_K",
+            title="Fig. 2-6: work of separation")
+    ax6.legend(fontsize=7)
+    ax6.grid(alpha=0.3, which="both")
+    out.append(save(fig6, figures_dir / "fig2-6_punch_work.png"))
+    return out
+
+
+NUMBERS = (
+    ThesisNumber("w~ of a punch at k~ = 0.3", "sec. 2.3.1.2, Fig. 2-6", 4.26, safe(lambda r: _w_tilde_at(r, 0.3))),
+    ThesisNumber("w~ of a punch at k~ = 1.5", "sec. 2.3.1.2, Fig. 2-6", 1.64, safe(lambda r: _w_tilde_at(r, 1.5))),
+    ThesisNumber("w~ of a punch at k~ = 0.015 (thesis: 'over 65')", "sec. 2.3.1.2, Fig. 2-6", 65.0,
+                 safe(lambda r: _w_tilde_at(r, 0.015))),
+    ThesisNumber("separation displacement at k~ = 0.01 over the rigid punch's", "sec. 2.3.1.1, Fig. 2-4", 67.0,
+                 safe(lambda r: _separation_ratio(r, 0.01))),
+)
+
+STUDY = Study(
+    name="punch_spring",
+    title="Flat punch on a spring: pull-off curves, contact radius, work of separation (Fig. 2-4 to 2-6)",
+    figures=("2-4", "2-5", "2-6"),
+    parts=(PART,),
+    draw=draw,
+    numbers=NUMBERS,
+    notes="r = 0.3 L, E* = 1, dgamma = 1e-3; k~ = k/(2 E* r) with r the rasterised equivalent radius.",
+)

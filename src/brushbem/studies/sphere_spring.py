@@ -1,0 +1,126 @@
+"""Sphere on a spring (thesis sec. 2.3.2, Figures 2-7, 2-8, 2-9).
+
+A paraboloid of radius R = 1 (E* = 1, dgamma = 1e-3, L = 1) on a spring of
+stiffness k, pressed to the same preload *force* (so every stiffness starts
+from the same contact area, as the thesis regulates it) and pulled off.
+Curves in JKR units (eq. 2.20-2.21): F / F_JKR, d / |d_JKR|, a / a_JKR;
+the work of separation over the rigid sphere's against
+k_bar = k / (E* a_nor) (eq. 2.36) with eq. 2.37-2.39 (w_bar_l below
+k_bar = 1.7, w_bar_h above, as the thesis fits Fig. 2-9).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from brushbem import theory
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._common import case_config, column, finished, mark, new_figure, open_case, safe, save
+
+PART = "stiffness"
+
+
+def _frame(results):
+    frame = finished(results, PART)
+    if len(frame):
+        k = column(frame, "indenter.stiffness")
+        kbar = np.where(np.isfinite(k), column(frame, "theory.normalized_stiffness"), math.inf)
+        # theory.work_of_separation = w_rigid * w_bar(k_bar) (eq. 2.37-2.39).
+        w_bar = column(frame, "theory.ratios.work_of_separation") * np.asarray(theory.sphere_spring_work(kbar))
+        f_jkr = column(frame, "theory.adhesive_force")
+        frame = frame.assign(k_bar=kbar, w_bar=w_bar, force_ratio=column(frame, "adhesive_force") / f_jkr)
+    return frame
+
+
+def _softest_force_ratio(results) -> float:
+    frame = _frame(results)
+    return float(frame.sort_values("k_bar").force_ratio.iloc[0])
+
+
+def _rigid_force_ratio(results) -> float:
+    frame = _frame(results)
+    return float(frame[~np.isfinite(frame.k_bar)].force_ratio.iloc[0])
+
+
+def draw(results, figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    frame = _frame(results)
+    fig7, ax7 = new_figure()
+    fig8, ax8 = new_figure()
+    ax7, ax8 = ax7[0, 0], ax8[0, 0]
+    a_tilde_nor = None
+    for _, row in (frame.sort_values("k_bar").iterrows() if len(frame) else ()):
+        ds = open_case(row, PART, figures_dir)
+        if ds is None:
+            continue
+        cfg = case_config(ds)
+        modulus = cfg["halfspace"]["contact_modulus"]
+        dgamma = cfg["halfspace"]["work_of_adhesion"]
+        radius = cfg["indenter"]["radius"]
+        f_jkr = theory.jkr_pull_off_force(dgamma, radius)
+        d_jkr = abs(theory.jkr_pull_off_displacement(modulus, dgamma, radius))
+        a_jkr = theory.jkr_pull_off_radius(modulus, dgamma, radius)
+        a_tilde_nor = (modulus, dgamma, radius)
+        k = float(row["indenter.stiffness"]) if "indenter.stiffness" in row else math.inf
+        k_tilde = k / (modulus * a_jkr)
+        label = "rigid" if not math.isfinite(k) else f"k~ = {k_tilde:.2g} (k_bar = {row.k_bar:.2g})"
+        f = ds["force"].values / f_jkr
+        ax7.plot(ds["displacement"].values / d_jkr, f, label=label)
+        ax8.plot(np.sqrt(ds["contact_area"].values / math.pi) / a_jkr, f, label=label)
+    if a_tilde_nor is not None:
+        modulus, dgamma, radius = a_tilde_nor
+        a = np.linspace(theory.jkr_separation_radius(modulus, dgamma, radius), 2.2 * theory.jkr_pull_off_radius(
+            modulus, dgamma, radius), 300)
+        f = theory.jkr_force_from_radius(a, modulus, dgamma, radius) / theory.jkr_pull_off_force(dgamma, radius)
+        d = theory.jkr_displacement_from_radius(a, modulus, dgamma, radius) / abs(
+            theory.jkr_pull_off_displacement(modulus, dgamma, radius))
+        ax7.plot(d, f, "k--", label="JKR rigid (eq. 2.22)")
+        ax8.plot(a / theory.jkr_pull_off_radius(modulus, dgamma, radius), f, "k--", label="JKR rigid")
+        a_s = theory.jkr_separation_radius(modulus, dgamma, radius) / theory.jkr_pull_off_radius(modulus, dgamma, radius)
+        mark(ax8, a_s, -5 / 9, "thesis: F~(a_s) = -5/9 (point D)")
+    ax7.set(xlabel="d~ = d / |d_JKR|", ylabel="F~ = F / F_JKR", title="Fig. 2-7: sphere on a spring")
+    ax8.set(xlabel="a~ = a / a_JKR", ylabel="F~ = F / F_JKR", title="Fig. 2-8: force vs contact radius")
+    for ax in (ax7, ax8):
+        ax.legend(fontsize=6)
+        ax.grid(alpha=0.3)
+    out = [save(fig7, figures_dir / "fig2-7_sphere_curves.png"), save(fig8, figures_dir / "fig2-8_sphere_radius.png")]
+    fig9, ax9 = new_figure()
+    ax9 = ax9[0, 0]
+    kk = np.logspace(-1, 2, 300)
+    ax9.plot(kk, theory.sphere_spring_work_high(kk), "k:", lw=0.8, label="eq. 2.38 (w_bar_h)")
+    ax9.plot(kk, theory.sphere_spring_work_low(kk), "k-.", lw=0.8, label="eq. 2.39 (w_bar_l)")
+    ax9.plot(kk, theory.sphere_spring_work(kk), "k-", label="thesis fit: l below k_bar = 1.7, h above")
+    if len(frame):
+        soft = frame[np.isfinite(frame.k_bar)]
+        ax9.plot(soft.k_bar, soft.w_bar, "o", label="BEM")
+        rigid = frame[~np.isfinite(frame.k_bar)]
+        if len(rigid):
+            ax9.axhline(float(rigid.w_bar.iloc[0]), color="gray", linestyle=":", label="BEM rigid")
+    ax9.axvline(1.7, color="red", lw=0.6, label="thesis switch k_bar = 1.7")
+    ax9.set(xscale="log", yscale="log", xlabel="k_bar = k / (E* a_nor)", ylabel="w_bar = w / w_rigid",
+            title="Fig. 2-9: work of separation")
+    ax9.legend(fontsize=7)
+    ax9.grid(alpha=0.3, which="both")
+    out.append(save(fig9, figures_dir / "fig2-9_sphere_work.png"))
+    return out
+
+
+NUMBERS = (
+    ThesisNumber("F_A / F_JKR of the softest sphere ('adhesive force is the same for all stiffness')",
+                 "sec. 2.3.2.1, Fig. 2-7", 1.0, safe(_softest_force_ratio)),
+    ThesisNumber("F_A / F_JKR of the rigid sphere (eq. 2.20a)", "sec. 2.3.2.1, eq. 2.20a", 1.0,
+                 safe(_rigid_force_ratio)),
+)
+
+STUDY = Study(
+    name="sphere_spring",
+    title="Sphere on a spring: pull-off curves, contact radius, work of separation (Fig. 2-7 to 2-9)",
+    figures=("2-7", "2-8", "2-9"),
+    parts=(PART,),
+    draw=draw,
+    numbers=NUMBERS,
+    notes="R = 1, E* = 1, dgamma = 1e-3, L = 1, preload force 0.005 for every stiffness.",
+)
