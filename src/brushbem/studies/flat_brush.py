@@ -1,0 +1,237 @@
+"""Flat brushes of pillars on springs (thesis ch. 4, Figures 4-3 to 4-7).
+
+Pillars of one radius on a square region L x L (L = grid.size = 1, E* = 1,
+dgamma = 1e-4), filling factor phi ~ 0.12 (radius = sqrt(phi / (pi n)) L),
+pressed to d = 0.002 and pulled off.  Forces by the Kendall force of a compact
+punch of the same real area (eq. 4.11, ``normalized.force_by_compact_punch``),
+displacements by the rigid brush's d_c (eq. 4.12), k~ = k / (E* L) (eq. 4.13),
+work by W_K = 2 pi dgamma a0^2 = 2 dgamma A (eq. 4.14-4.15).
+
+Parts: ``curves`` (16 x 16 at k~ = 0.455, 0.005, 0.001 with contact
+snapshots, Fig. 4-3), ``regular`` (n x n lattices, Fig. 4-4 a, 4-5, 4-7 a),
+``random`` (random layouts, Fig. 4-4 b, 4-7 b), ``phi`` (plateau force for
+several filling factors, Fig. 4-6).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._common import case_config, column, finished, mark, new_figure, open_case, safe, save
+
+SNAPSHOTS = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
+FA = "normalized.force_by_compact_punch"
+
+
+def _frame(results, part):
+    frame = finished(results, part)
+    if len(frame):
+        frame = frame.assign(
+            k_tilde=column(frame, "normalized.stiffness_ratio"),
+            n=column(frame, "normalized.pillars"),
+            phi=column(frame, "normalized.filling_factor"),
+            F=column(frame, FA),
+        )
+    return frame
+
+
+def _work_tilde(frame, results_part, figures_dir) -> np.ndarray:
+    """W~ = W / (2 dgamma A), A = phi A0 (A0 = L^2: the shipped sweeps use the whole domain)."""
+    if not len(frame):
+        return np.array([])
+    ds = open_case(frame.iloc[0], results_part, figures_dir)
+    dgamma, size = 1.0e-4, 1.0
+    if ds is not None:
+        cfg = case_config(ds)
+        dgamma, size = cfg["halfspace"]["work_of_adhesion"], cfg["grid"]["size"]
+    return column(frame, "work_of_separation") / (2 * dgamma * frame.phi.to_numpy() * size**2)
+
+
+def _plateau(frame):
+    """F~_A at the smallest k~ of every pillar count: (N, F~, phi)."""
+    if not len(frame):
+        return np.array([]), np.array([]), np.array([])
+    rows = frame.loc[frame.groupby("n").k_tilde.idxmin()].sort_values("n")
+    return rows.n.to_numpy(), rows.F.to_numpy(), rows.phi.to_numpy()
+
+
+def _draw_curves(results, figures_dir):
+    frame = _frame(results, "curves")
+    rows = frame.sort_values("k_tilde", ascending=False) if len(frame) else frame
+    nrows = max(len(rows), 1)
+    fig = new_figure(1 + len(SNAPSHOTS), nrows, width=2.6, height=2.6)[0]
+    fig.clf()
+    axes = fig.subplots(nrows, 1 + len(SNAPSHOTS), squeeze=False)
+    for i, (_, row) in enumerate(rows.iterrows()):
+        ds = open_case(row, "curves", figures_dir)
+        ax = axes[i, 0]
+        if ds is None:
+            continue
+        f_scale = float(row.adhesive_force) / float(row.F)
+        d_scale = float(row.pull_off_displacement) / float(row["normalized.displacement_by_rigid_brush"])
+        ax.plot(ds.displacement.values / d_scale, ds.force.values / f_scale, lw=1)
+        for j, name in enumerate(SNAPSHOTS):
+            var = f"contact_{name}"
+            sub = axes[i, j + 1]
+            sub.set_xticks([])
+            sub.set_yticks([])
+            if var in ds:
+                snap = ds[var]
+                sub.imshow(snap.values, cmap="Greys", origin="lower", vmin=0, vmax=1, interpolation="nearest")
+                d, f = snap.attrs.get("displacement"), snap.attrs.get("force")
+                if d is not None and f is not None:
+                    ax.plot([d / d_scale], [f / f_scale], "o", ms=4)
+                    ax.annotate(str(j + 1), (d / d_scale, f / f_scale), fontsize=7)
+            sub.set_title(f"{j + 1}: {name}", fontsize=7)
+        phi = float(row.phi)
+        ax.axhline(-phi ** -0.25, color="k", ls="--", lw=0.7, label="-phi^-1/4 (eq. 4.9)")
+        if abs(row.k_tilde - 0.455) < 1e-3:
+            ax.axhline(-1.8, color="red", ls=":", lw=0.8)
+            mark(ax, float(row.pull_off_displacement) / d_scale, -1.8, "thesis F~_A ~ 1.8")
+        ax.set_title(f"k~ = {row.k_tilde:.3g}, N = {int(row.n)}", fontsize=8)
+        ax.set_xlabel("d~ (eq. 4.12)", fontsize=7)
+        ax.set_ylabel("F~ (eq. 4.11)", fontsize=7)
+        ax.legend(fontsize=6)
+    fig.suptitle("Fig. 4-3: 16 x 16 brush, pull-off and contact at the marked stages")
+    return save(fig, Path(figures_dir) / "fig4-3_brush_curves.png")
+
+
+def _draw_force_vs_stiffness(results, figures_dir):
+    fig, axes = new_figure(2, 1, width=5, height=4)
+    for ax, part, label in ((axes[0, 0], "regular", "(a) regular"), (axes[0, 1], "random", "(b) random")):
+        frame = _frame(results, part)
+        for n, group in (frame.groupby("n") if len(frame) else ()):
+            g = group.sort_values("k_tilde")
+            line, = ax.plot(g.k_tilde, g.F, "o-", ms=3, label=f"N = {int(n)}")
+            ax.axhline(n**0.25, color=line.get_color(), ls=":", lw=0.7)
+        if len(frame):
+            phi = float(np.nanmean(frame.phi))
+            ax.axhline(phi ** -0.25, color="k", ls="--", label=f"phi^-1/4 = {phi ** -0.25:.2f} (eq. 4.9)")
+        ax.set(xscale="log", xlabel="k~ = k / (E* L)", ylabel="F~_A (eq. 4.11)", title=f"Fig. 4-4 {label}")
+        ax.legend(fontsize=6, title="dotted: N^1/4 (eq. 4.10)", title_fontsize=6)
+        ax.grid(alpha=0.3, which="both")
+    mark(axes[0, 0], 10.0, 1.7, "thesis: k~ > 1 ~ phi^-1/4 = 1.7")
+    return save(fig, Path(figures_dir) / "fig4-4_force_vs_stiffness.png")
+
+
+def _draw_plateau(results, figures_dir):
+    fig, axes = new_figure()
+    ax = axes[0, 0]
+    nn = np.logspace(0.5, 3.6, 50)
+    ax.plot(nn, nn**0.25, "k-", label="N^1/4 (eq. 4.10)")
+    ax.plot(nn, nn**0.25 / 1.25, "k:", label="thesis: 1.2-1.3 x below")
+    for part, marker in (("regular", "o"), ("random", "s")):
+        n, f, _ = _plateau(_frame(results, part))
+        if len(n):
+            ax.plot(n, f, marker, label=f"BEM {part}, smallest k~")
+    mark(ax, 2304, 6.0, "thesis: x6 at N = 2304")
+    ax.set(xscale="log", yscale="log", xlabel="N", ylabel="F~_A at the plateau", title="Fig. 4-5")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both")
+    return save(fig, Path(figures_dir) / "fig4-5_plateau.png")
+
+
+def _draw_phi(results, figures_dir):
+    fig, axes = new_figure()
+    ax = axes[0, 0]
+    frame = _frame(results, "phi")
+    nn = np.logspace(0.5, 3.6, 50)
+    ax.plot(nn, nn**0.25, "k-", label="N^1/4 (eq. 4.10)")
+    if len(frame):
+        frame = frame.assign(phi_set=column(frame, "phi_nominal") if "phi_nominal" in frame else
+                             np.round(frame.phi, 2))
+        for phi, group in frame.groupby(np.round(frame.phi, 2)):
+            g = group.sort_values("n")
+            ax.plot(g.n, g.F, "o-", label=f"phi = {phi:.2f}")
+    ax.set(xscale="log", yscale="log", xlabel="N", ylabel="F~_A at the plateau", title="Fig. 4-6: filling factor")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both")
+    return save(fig, Path(figures_dir) / "fig4-6_filling_factor.png")
+
+
+def _draw_work(results, figures_dir):
+    fig, axes = new_figure(2, 1, width=5, height=4)
+    for ax, part, label in ((axes[0, 0], "regular", "(a) regular"), (axes[0, 1], "random", "(b) random")):
+        frame = _frame(results, part)
+        if len(frame):
+            frame = frame.assign(W=_work_tilde(frame, part, figures_dir))
+            kk = np.logspace(np.log10(np.nanmin(frame.k_tilde)), np.log10(np.nanmax(frame.k_tilde)), 50)
+            for n, group in frame.groupby("n"):
+                g = group.sort_values("k_tilde")
+                line, = ax.plot(g.k_tilde, g.W, "o-", ms=3, label=f"N = {int(n)}")
+                phi = float(np.nanmean(g.phi))
+                ax.plot(kk, n**-0.5 * phi**0.5 / kk, ls="--", lw=0.7, color=line.get_color())
+        ax.axhline(1.0, color="k", ls=":", lw=0.7, label="rigid compact punch")
+        ax.set(xscale="log", yscale="log", xlabel="k~", ylabel="W~ = W / W_K (eq. 4.15)", title=f"Fig. 4-7 {label}")
+        ax.legend(fontsize=6, title="dashed: eq. 4.18", title_fontsize=6)
+        ax.grid(alpha=0.3, which="both")
+    return save(fig, Path(figures_dir) / "fig4-7_work.png")
+
+
+def draw(results, figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    return [f(results, figures_dir) for f in (_draw_curves, _draw_force_vs_stiffness, _draw_plateau, _draw_phi,
+                                              _draw_work)]
+
+
+def _curve_force(results, k_tilde):
+    frame = _frame(results, "curves")
+    return float(frame.F.iloc[int(np.argmin(np.abs(np.log(frame.k_tilde / k_tilde))))])
+
+
+def _rigid_limit(results):
+    frame = _frame(results, "regular")
+    return float(np.nanmean(frame.phi)) ** -0.25
+
+
+def _stiff_force(results):
+    frame = _frame(results, "regular")
+    return float(frame[frame.k_tilde == frame.k_tilde.max()].F.mean())
+
+
+def _plateau_amplitude(results):
+    n, f, _ = _plateau(_frame(results, "regular"))
+    return float(np.mean(n**0.25 / f))
+
+
+def _largest_plateau(results):
+    n, f, _ = _plateau(_frame(results, "regular"))
+    return float(f[-1])
+
+
+def _work_418(results, figures_dir=None):
+    """W~ k~ / (N^-1/2 phi^1/2) at the smallest k~ (eq. 4.18 predicts ~1), mean over N."""
+    frame = _frame(results, "regular")
+    rows = frame.loc[frame.groupby("n").k_tilde.idxmin()]
+    w = column(rows, "work_of_separation") / (2 * 1.0e-4 * rows.phi.to_numpy())
+    return float(np.mean(w * rows.k_tilde / (rows.n**-0.5 * rows.phi**0.5)))
+
+
+NUMBERS = (
+    ThesisNumber("F~_A of 16 x 16 pillars at k~ = 0.455", "sec. 4.3, Fig. 4-3 a", 1.8,
+                 safe(lambda r: _curve_force(r, 0.455))),
+    ThesisNumber("rigid-brush limit phi^-1/4 at phi ~ 0.12 (as rasterised)", "sec. 4.3, eq. 4.9", 1.7,
+                 safe(_rigid_limit)),
+    ThesisNumber("F~_A at the stiffest k~ (k~ > 1: 'very slightly larger than' phi^-1/4)", "sec. 4.3, Fig. 4-4",
+                 1.7, safe(_stiff_force)),
+    ThesisNumber("N^1/4 / F~_A at the plateau (thesis: 1.2 to 1.3)", "sec. 4.3, Fig. 4-5", 1.25,
+                 safe(_plateau_amplitude)),
+    ThesisNumber("plateau F~_A of the largest regular brush (thesis: x6 at N = 2304; quick: N = 64)",
+                 "sec. 4.3, Fig. 4-4 a", 6.0, safe(_largest_plateau)),
+    ThesisNumber("W~ k~ / (N^-1/2 phi^1/2) at the smallest k~ (eq. 4.18 'coincides')", "sec. 4.3, Fig. 4-7",
+                 1.0, safe(_work_418)),
+)
+
+STUDY = Study(
+    name="flat_brush",
+    title="Flat brushes: pull-off with contact snapshots, F~_A and W~ vs k~, plateau vs N^1/4, phi (Fig. 4-3 to 4-7)",
+    figures=("4-3", "4-4", "4-5", "4-6", "4-7"),
+    parts=("curves", "regular", "random", "phi"),
+    draw=draw,
+    numbers=NUMBERS,
+    notes="E* = 1, dgamma = 1e-4, L = 1, preload d = 0.002; phi ~ 0.12 except part phi.",
+)
