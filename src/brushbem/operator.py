@@ -133,6 +133,14 @@ class ContactOperator:
         self._spectrum = spectrum
         #: Pillar index of every window element (-1 outside the footprints).
         self.pillar_labels = indenter.pillar[window.slices]
+        # The spring sums only ever see pressure on the footprints: gather
+        # those elements once (far fewer than the window's for a sparse brush).
+        footprint = np.flatnonzero(self.pillar_labels.ravel() >= 0)
+        self._footprint_index = xp.asarray(footprint)
+        self._footprint_levels = [
+            (compliance, xp.asarray(np.asarray(backend.to_numpy(flat))[footprint]), n)
+            for compliance, flat, n, _ in self._levels
+        ]
 
     def _box_spectrum(self, rows: int, cols: int, width: int):
         """Spectrum of the padded discriminant matrix (ones for |offset| <= width)."""
@@ -162,19 +170,23 @@ class ContactOperator:
         """Force carried by every cluster of every elastic level: list of arrays h^2 sum p."""
         xp = self.xp
         h2 = self.halfspace.element_size**2
-        flat = xp.reshape(pressure, (-1,))
-        return [h2 * backend.segment_sum(xp, labels, flat, n + 1)[:n] for _, labels, n, _ in self._levels]
+        values = xp.reshape(pressure, (-1,))[self._footprint_index]
+        return [h2 * backend.segment_sum(xp, labels, values, n) for _, labels, n in self._footprint_levels]
 
     def spring_deflection(self, pressure):
-        """Total spring deflection above every element of the window, in units of length."""
+        """Total spring deflection above every element of the window, in units of length.
+
+        Zero outside the footprints; pressure outside the footprints is ignored
+        (it is zero in every state of the solver).
+        """
         xp = self.xp
-        total = xp.zeros(pressure.shape, dtype=pressure.dtype)
-        flat = xp.reshape(pressure, (-1,))
-        for compliance, labels, n, _ in self._levels:
-            sums = backend.segment_sum(xp, labels, flat, n + 1)
-            sums[n] = 0.0
-            total = total + compliance * xp.reshape(sums[labels], pressure.shape)
-        return total
+        values = xp.reshape(pressure, (-1,))[self._footprint_index]
+        on_footprint = xp.zeros(values.shape, dtype=pressure.dtype)
+        for compliance, labels, n in self._footprint_levels:
+            on_footprint = on_footprint + compliance * backend.segment_sum(xp, labels, values, n)[labels]
+        total = xp.zeros(pressure.size, dtype=pressure.dtype)
+        total[self._footprint_index] = on_footprint
+        return xp.reshape(total, pressure.shape)
 
     def deflection(self, pressure):
         """(K + springs) p on the window, unmasked."""

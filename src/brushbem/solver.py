@@ -186,8 +186,9 @@ def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
 
 def _cut_laplacian(labels, shift: float):
     """``z -> (4 + shift) z - sum of the 4 neighbours with the same label``: block diagonal per pillar."""
-    same_rows = (labels[1:, :] == labels[:-1, :]) & (labels[1:, :] >= 0)
-    same_cols = (labels[:, 1:] == labels[:, :-1]) & (labels[:, 1:] >= 0)
+    # Float weights: multiplying by a bool array would convert it on every call.
+    same_rows = ((labels[1:, :] == labels[:-1, :]) & (labels[1:, :] >= 0)) * 1.0
+    same_cols = ((labels[:, 1:] == labels[:, :-1]) & (labels[:, 1:] >= 0)) * 1.0
 
     def apply(z):
         out = (4.0 + shift) * z
@@ -232,7 +233,10 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
     laplacian = _cut_laplacian(xp.asarray(labels_np), shift)
     maskf = xp.asarray(mask_np.astype(float))
     flat_labels = np.where(mask_np, labels_np, n_pillars).ravel()
-    flat_labels_xp = xp.asarray(flat_labels)
+    # Sums over the pillars only need the elements of S.
+    in_contact = np.flatnonzero(mask_np.ravel())
+    contact_index = xp.asarray(in_contact)
+    contact_labels = xp.asarray(flat_labels[in_contact])
     counts = np.bincount(flat_labels, minlength=n_pillars + 1)[:n_pillars]
     diag_l = np.bincount(flat_labels, weights=np.asarray(backend.to_numpy(laplacian(maskf))).ravel(),
                          minlength=n_pillars + 1)[:n_pillars]
@@ -267,11 +271,11 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
     def apply(residual):
         z = alpha_elements * laplacian(residual * maskf)
         sums = np.asarray(backend.to_numpy(
-            backend.segment_sum(xp, flat_labels_xp, xp.reshape(z, (-1,)), n_pillars + 1)))[:n_pillars]
-        y = coarse_solve(incidence_t @ sums)
-        per_pillar = np.append(incidence @ y, 0.0)
-        spread = xp.asarray(per_pillar[flat_labels].reshape(mask_np.shape))
-        return z - alpha_elements * laplacian(spread)
+            backend.segment_sum(xp, contact_labels, xp.reshape(z, (-1,))[contact_index], n_pillars)))
+        y = xp.asarray(incidence @ coarse_solve(incidence_t @ sums))
+        spread = xp.zeros(z.size, dtype=z.dtype)
+        spread[contact_index] = y[contact_labels]
+        return z - alpha_elements * laplacian(xp.reshape(spread, z.shape))
 
     return apply
 
