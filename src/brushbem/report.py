@@ -270,6 +270,7 @@ tr.case-missing td{background:#eee;color:#666}
 .ok{color:#070}.na{color:#a00}
 figure{display:inline-block;margin:.5em}figure img{max-width:640px;border:1px solid #ddd}
 figcaption{font-size:.8em;color:#555}code{font-size:.9em}
+.scroll{overflow-x:auto}table.summary td:first-child{white-space:nowrap}
 """
 
 _TABLE_COLUMNS = ("case_id",)
@@ -309,8 +310,8 @@ def _summary_table(frame: pd.DataFrame, swept: Sequence[str], hashes: Mapping[st
         digest = hashes.get(str(row.get("case_id")), "")
         cells += f"<td><code title=\"{_e(digest)}\">{_e(digest[:16])}</code></td>"
         body.append(f'<tr class="{_e(css)}" data-case="{_e(row.get("case_id", ""))}">{cells}</tr>')
-    return (f'<table class="summary"><thead><tr>{head}</tr></thead>'
-            f"<tbody>{''.join(body)}</tbody></table>")
+    return (f'<div class="scroll"><table class="summary"><thead><tr>{head}</tr></thead>'
+            f"<tbody>{''.join(body)}</tbody></table></div>")
 
 
 def _problems(frame: pd.DataFrame, label: str = "") -> list[str]:
