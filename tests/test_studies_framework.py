@@ -19,8 +19,8 @@ import pytest
 from click.testing import CliRunner
 
 import brushbem.case
-import brushbem.studies as studies
 import brushbem.sweep as sweep_module
+from brushbem import studies
 from brushbem.cli import main
 from brushbem.report import config_hash, draw_figures, write_report
 from brushbem.studies import Study, ThesisNumber, finished, run_study

@@ -34,8 +34,8 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = [
-    "REPORT_FILE",
     "MAX_CURVES",
+    "REPORT_FILE",
     "config_hash",
     "draw_figures",
     "draw_sweep_figures",
@@ -294,7 +294,7 @@ def _cell(value: Any) -> str:
 
 def _table_columns(frame: pd.DataFrame, swept: Sequence[str]) -> list[str]:
     normalized = [c for c in frame.columns
-                  if c.startswith("normalized.") or c.startswith("theory.ratios.")]
+                  if c.startswith(("normalized.", "theory.ratios."))]
     wanted = [*_TABLE_COLUMNS, *swept, *_TAIL_COLUMNS, *normalized, *_END_COLUMNS]
     return [c for c in dict.fromkeys(wanted) if c in frame.columns]
 
@@ -449,7 +449,7 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
                                                        for v in f["brushbem_version"].dropna()})) or "—",
         "backends (cases)": ", ".join(sorted({str(v) for f in frames.values() if "backend" in f.columns
                                               for v in f["backend"].dropna()})) or "—",
-        "written": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "written": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "folder": str(out_dir.resolve()),
         "seeds": ", ".join(map(str, seeds)) or "—",
     }

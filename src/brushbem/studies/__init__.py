@@ -123,7 +123,7 @@ def finished(frame: pd.DataFrame) -> pd.DataFrame:
 
 # Execution and redrawing (imported here, after `Study` and `sweep_file`, which
 # they use; they look up `STUDIES` and `sweep_file` at call time).
-from brushbem.studies._framework import (  # noqa: E402
+from brushbem.studies._framework import (
     STUDY_FILE,
     StudyError,
     StudyRun,

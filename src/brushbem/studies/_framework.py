@@ -28,8 +28,8 @@ if TYPE_CHECKING:
     from brushbem.sweep import SweepRun
 
 __all__ = [
-    "STUDY_FILE",
     "FIGURES_DIR",
+    "STUDY_FILE",
     "StudyError",
     "StudyRun",
     "draw_study",
@@ -49,7 +49,7 @@ class StudyError(LookupError):
 
 
 def _registry() -> Mapping[str, Study]:
-    import brushbem.studies as studies  # at call time: tests replace the registry
+    from brushbem import studies  # at call time: tests replace the registry
 
     return studies.STUDIES
 
@@ -199,7 +199,7 @@ def run_study(
     """
     import traceback
 
-    import brushbem.studies as studies
+    from brushbem import studies
     from brushbem.sweep import run_sweep
 
     study = get_study(name)
