@@ -1,4 +1,4 @@
-"""Command line: ``brushbem run``, ``brushbem sweep`` and ``brushbem validate``.
+"""Command line: ``brushbem run``, ``sweep``, ``validate``, ``study``, ``figure``, ``report``.
 
 Each command is a thin shell over library functions: `brushbem.config` loads
 and validates, `brushbem.case.run_case` computes, `brushbem.io` and
@@ -68,6 +68,59 @@ def _summary_table(summary: dict[str, Any]) -> Table:
     table.add_row("converged", _number(summary.get("converged", "—")))
     table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
     return table
+
+
+def _check_executor_options(
+    workers: int | None, use_dask: bool, scheduler: str | None, scheduler_file: Path | None,
+) -> None:
+    """Reject contradictory ``--workers/--dask/--scheduler/--scheduler-file`` (a usage error)."""
+    if sum((use_dask, scheduler is not None, scheduler_file is not None)) > 1:
+        raise click.UsageError("give at most one of --dask, --scheduler, --scheduler-file")
+    if workers is not None and (scheduler is not None or scheduler_file is not None):
+        raise click.UsageError("--workers sizes a local pool or --dask's cluster; "
+                               "a running scheduler has its own workers")
+
+
+def _executor(
+    stack: contextlib.ExitStack,
+    workers: int | None,
+    use_dask: bool,
+    scheduler: str | None,
+    scheduler_file: Path | None,
+) -> Any:
+    """The dask client the options ask for (closed with ``stack``), or None for a local pool."""
+    from brushbem import sweep as sweep_module
+
+    if not (use_dask or scheduler is not None or scheduler_file is not None):
+        return None
+    try:
+        return stack.enter_context(sweep_module.dask_client(
+            address=scheduler, scheduler_file=scheduler_file, workers=workers,
+        ))
+    except ImportError as exc:
+        raise click.ClickException(str(exc)) from None
+
+
+def _executor_options(function: Any) -> Any:
+    """The ``--workers/--dask/--scheduler/--scheduler-file/--retry-failed`` options."""
+    options = [
+        click.option(
+            "--workers", type=click.IntRange(min=1), default=None,
+            help="Local worker processes, or the workers of --dask's cluster "
+            "[default: number of cores].",
+        ),
+        click.option("--dask", "use_dask", is_flag=True,
+                     help="Run on a new dask.distributed LocalCluster."),
+        click.option("--scheduler", metavar="ADDRESS", default=None,
+                     help="Run on the dask.distributed scheduler at ADDRESS (e.g. tcp://host:8786)."),
+        click.option("--scheduler-file", type=click.Path(path_type=Path, dir_okay=False), default=None,
+                     help="Run on the dask.distributed scheduler described by this file."),
+        click.option("--retry-failed", is_flag=True,
+                     help="Recompute cases recorded as failed (by default a rerun keeps them)."),
+    ]
+    for option in reversed(options):
+        function = option(function)
+    return function
 
 
 @click.group()
@@ -167,11 +220,7 @@ def sweep(
     """Run every case of the sweep in SWEEP; resume what is missing in --out."""
     from brushbem import sweep as sweep_module
 
-    if sum((use_dask, scheduler is not None, scheduler_file is not None)) > 1:
-        raise click.UsageError("give at most one of --dask, --scheduler, --scheduler-file")
-    if workers is not None and (scheduler is not None or scheduler_file is not None):
-        raise click.UsageError("--workers sizes a local pool or --dask's cluster; "
-                               "a running scheduler has its own workers")
+    _check_executor_options(workers, use_dask, scheduler, scheduler_file)
     try:
         study = sweep_module.load_sweep(sweep_path)
     except sweep_module.SweepError as error:
@@ -195,14 +244,7 @@ def sweep(
         return
 
     with contextlib.ExitStack() as stack:
-        executor = None
-        if use_dask or scheduler is not None or scheduler_file is not None:
-            try:
-                executor = stack.enter_context(sweep_module.dask_client(
-                    address=scheduler, scheduler_file=scheduler_file, workers=workers,
-                ))
-            except ImportError as exc:
-                raise click.ClickException(str(exc)) from None
+        executor = _executor(stack, workers, use_dask, scheduler, scheduler_file)
         try:
             outcome = sweep_module.run_sweep(
                 study, out_dir, executor, workers=workers, retry_failed=retry_failed,
@@ -223,3 +265,123 @@ def sweep(
     if not outcome.complete:
         click.echo(f"warning: not every case finished ({counts})", err=True)
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+def _list_studies() -> None:
+    from brushbem import studies
+
+    table = Table(title=f"{len(studies.STUDIES)} studies")
+    for column in ("study", "title", "thesis figures", "parts"):
+        table.add_column(column)
+    for study in studies.STUDIES.values():
+        table.add_row(study.name, study.title, ", ".join(study.figures), ", ".join(study.parts))
+    Console().print(table)
+
+
+@main.command()
+@click.argument("name", required=False)
+@click.option(
+    "--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=None,
+    help="Folder for study.json, one sweep folder per part and figures/ (created if absent; "
+    "cases already there are not recomputed).",
+)
+@click.option("--quick", is_flag=True, help="Run the coarse sweep files (a quick check, not the thesis's grids).")
+@click.option("--list", "list_studies", is_flag=True, help="List the studies and exit.")
+@_executor_options
+@click.option("--quiet", is_flag=True, help="No progress output.")
+def study(
+    name: str | None,
+    out_dir: Path | None,
+    quick: bool,
+    list_studies: bool,
+    workers: int | None,
+    use_dask: bool,
+    scheduler: str | None,
+    scheduler_file: Path | None,
+    retry_failed: bool,
+    quiet: bool,
+) -> None:
+    """Run the thesis study NAME into --out and draw its figures (``--list``: the studies)."""
+    from brushbem import studies
+    from brushbem import sweep as sweep_module
+
+    if list_studies:
+        _list_studies()
+        return
+    if name is None or out_dir is None:
+        raise click.UsageError("give a study NAME and --out DIR (or --list)")
+    try:
+        studies.get_study(name)
+    except studies.StudyError as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    _check_executor_options(workers, use_dask, scheduler, scheduler_file)
+
+    with contextlib.ExitStack() as stack:
+        executor = _executor(stack, workers, use_dask, scheduler, scheduler_file)
+        try:
+            outcome = studies.run_study(
+                name, out_dir, quick=quick, executor=executor, workers=workers,
+                retry_failed=retry_failed, progress=not quiet,
+            )
+        except sweep_module.SweepError as error:
+            click.echo(f"invalid sweep file of study {name}:", err=True)
+            for problem in error.problems:
+                click.echo(f"  {problem}", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except studies.StudyError as error:
+            click.echo(str(error), err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except KeyboardInterrupt:
+            click.echo(f"interrupted; rerun to compute the missing cases in {out_dir}", err=True)
+            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
+        except RuntimeError as exc:  # another sweep runs in the same folder
+            raise click.ClickException(str(exc)) from None
+
+    incomplete = []
+    for part, run_ in outcome.parts.items():
+        counts = ", ".join(f"{n} {status}" for status, n in sorted(run_.counts.items()))
+        if not quiet:
+            click.echo(f"{part}: {counts}; computed {len(run_.computed)}, kept {len(run_.skipped)}")
+        if not run_.complete:
+            incomplete.append(f"{part} ({counts})")
+    if outcome.draw_error:
+        click.echo(f"warning: drawing the figures failed: {outcome.draw_error}", err=True)
+    elif not quiet:
+        click.echo(f"{len(outcome.figures)} figures in {out_dir / 'figures'}")
+    if incomplete:
+        click.echo(f"warning: not every case finished: {'; '.join(incomplete)}", err=True)
+    if incomplete or outcome.draw_error:
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+@main.command()
+@click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
+def figure(out_dir: Path) -> None:
+    """Redraw the figures of the study or sweep in DIR from its stored results (no computing)."""
+    from brushbem import studies
+    from brushbem.report import draw_figures
+
+    try:
+        paths = draw_figures(out_dir)
+    except (FileNotFoundError, studies.StudyError) as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    for path in paths:
+        click.echo(str(path))
+
+
+@main.command()
+@click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
+@click.option("--redraw", is_flag=True, help="Redraw the figures even if DIR/figures has some.")
+def report(out_dir: Path, redraw: bool) -> None:
+    """Write DIR/report.html: figures, summary table, thesis numbers, provenance (one file)."""
+    from brushbem import studies
+    from brushbem.report import write_report
+
+    try:
+        path = write_report(out_dir, redraw=redraw)
+    except (FileNotFoundError, studies.StudyError) as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    click.echo(str(path))

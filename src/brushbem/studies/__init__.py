@@ -27,7 +27,21 @@ from typing import Any
 
 import pandas as pd
 
-__all__ = ["Study", "ThesisNumber", "STUDIES", "sweep_file", "SWEEPS_DIR"]
+__all__ = [
+    "STUDIES",
+    "STUDY_FILE",
+    "SWEEPS_DIR",
+    "Study",
+    "StudyError",
+    "StudyRun",
+    "ThesisNumber",
+    "draw_study",
+    "finished",
+    "get_study",
+    "load_results",
+    "run_study",
+    "sweep_file",
+]
 
 #: Where the shipped sweep files live.
 SWEEPS_DIR = Path(__file__).resolve().parent / "sweeps"
@@ -93,6 +107,31 @@ class Study:
 def sweep_file(study: str, part: str, quick: bool) -> Path:
     """The shipped sweep file of one part of a study."""
     return SWEEPS_DIR / f"{study}.{part}{'.quick' if quick else ''}.toml"
+
+
+def finished(frame: pd.DataFrame) -> pd.DataFrame:
+    """The rows of a summary whose case finished (converged); the others are dropped.
+
+    A study's ``draw`` must tolerate failed, unconverged and missing cases (a
+    study whose run was interrupted or partly failed is still drawn from what
+    finished): filter with this before plotting.
+    """
+    if "status" not in frame.columns:
+        return frame.iloc[0:0]
+    return frame[frame["status"] == "finished"]
+
+
+# Execution and redrawing (imported here, after `Study` and `sweep_file`, which
+# they use; they look up `STUDIES` and `sweep_file` at call time).
+from brushbem.studies._framework import (
+    STUDY_FILE,
+    StudyError,
+    StudyRun,
+    draw_study,
+    get_study,
+    load_results,
+    run_study,
+)
 
 
 def _discover() -> dict[str, Study]:

@@ -1,0 +1,232 @@
+"""Running a study into a folder, and redrawing its figures from what is stored.
+
+Layout of ``run_study(name, DIR)``::
+
+    DIR/study.json            study name, quick flag, parts, brushbem version
+    DIR/<part>/               one sweep per part (`brushbem.sweep.run_sweep`)
+    DIR/figures/*.png         drawn by the study's ``draw``
+
+Running again computes only the cases still missing (the sweeps resume), then
+redraws.  `draw_study` redraws from the stored results without computing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Mapping
+from concurrent.futures import Executor
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from brushbem import __version__
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from brushbem.studies import Study
+    from brushbem.sweep import SweepRun
+
+__all__ = [
+    "FIGURES_DIR",
+    "STUDY_FILE",
+    "StudyError",
+    "StudyRun",
+    "draw_study",
+    "get_study",
+    "load_results",
+    "run_study",
+]
+
+#: The record of a study run, in its output folder.
+STUDY_FILE = "study.json"
+#: Where figures are drawn, inside a study's (or a sweep's) output folder.
+FIGURES_DIR = "figures"
+
+
+class StudyError(LookupError):
+    """An unknown study, or a folder that holds no study run."""
+
+
+def _registry() -> Mapping[str, Study]:
+    from brushbem import studies  # at call time: tests replace the registry
+
+    return studies.STUDIES
+
+
+def get_study(name: str) -> Study:
+    """The registered study called ``name``.
+
+    Raises
+    ------
+    StudyError
+        If there is none; the message lists the known names.
+    """
+    registry = _registry()
+    try:
+        return registry[name]
+    except KeyError:
+        known = ", ".join(registry) or "(none registered)"
+        raise StudyError(f"unknown study {name!r}; known studies: {known}") from None
+
+
+@dataclasses.dataclass(frozen=True)
+class StudyRun:
+    """What one call of `run_study` did.
+
+    Attributes
+    ----------
+    study : str
+    out_dir : Path
+    parts : dict
+        Part name -> the `brushbem.sweep.SweepRun` of its sweep.
+    figures : list of Path
+        The figures drawn.
+    draw_error : str
+        Empty, or the exception that stopped the drawing (the results stay).
+    """
+
+    study: str
+    out_dir: Path
+    parts: dict[str, SweepRun]
+    figures: list[Path]
+    draw_error: str = ""
+
+    @property
+    def complete(self) -> bool:
+        """Every case of every part finished (converged) and the figures were drawn."""
+        return all(run.complete for run in self.parts.values()) and not self.draw_error
+
+
+def _write_json(path: Path, value: Any) -> None:
+    from brushbem.io import atomic_path
+
+    with atomic_path(path) as temporary:
+        temporary.write_text(json.dumps(value, indent=1) + "\n", encoding="utf-8")
+
+
+def read_study_record(out_dir: str | Path) -> dict[str, Any]:
+    """The ``study.json`` of a study run folder.
+
+    Raises
+    ------
+    StudyError
+        If the folder holds no ``study.json``.
+    """
+    path = Path(out_dir) / STUDY_FILE
+    if not path.is_file():
+        raise StudyError(f"{out_dir} holds no {STUDY_FILE}: not a study run folder")
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def load_results(out_dir: str | Path, parts: tuple[str, ...] | None = None) -> dict[str, pd.DataFrame]:
+    """Part name -> summary DataFrame of a study run folder, for the study's ``draw``.
+
+    Each summary gets a ``case_file`` column (the path of the case's NetCDF
+    file, for curves and snapshots; it may not exist for a missing case).  A
+    part never started is an empty DataFrame with that column and ``status``.
+    """
+    import pandas as pd
+
+    from brushbem.sweep import CASES_DIR, SWEEP_FILE, load_summary
+
+    out_dir = Path(out_dir)
+    if parts is None:
+        parts = tuple(read_study_record(out_dir)["parts"])
+    results: dict[str, pd.DataFrame] = {}
+    for part in parts:
+        folder = out_dir / part
+        if not (folder / SWEEP_FILE).is_file():
+            results[part] = pd.DataFrame(columns=["case_id", "status", "case_file"])
+            continue
+        frame = load_summary(folder)
+        frame["case_file"] = [str(folder / CASES_DIR / f"{case_id}.nc") for case_id in frame["case_id"]]
+        results[part] = frame
+    return results
+
+
+def draw_study(out_dir: str | Path) -> list[Path]:
+    """Redraw a study's figures from the results stored in ``out_dir`` (nothing is computed).
+
+    Returns
+    -------
+    list of Path
+        The figures written, in ``out_dir/figures/``.
+    """
+    out_dir = Path(out_dir)
+    record = read_study_record(out_dir)
+    study = get_study(record["study"])
+    results = load_results(out_dir, tuple(record.get("parts", study.parts)))
+    figures_dir = out_dir / FIGURES_DIR
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    return [Path(path) for path in (study.draw(results, figures_dir) or [])]
+
+
+def run_study(
+    name: str,
+    out_dir: str | Path,
+    quick: bool = False,
+    executor: Executor | Any | None = None,
+    *,
+    workers: int | None = None,
+    retry_failed: bool = False,
+    progress: bool = False,
+    draw: bool = True,
+) -> StudyRun:
+    """Run every part of a study into ``out_dir`` (resuming what is there), then draw it.
+
+    Parameters
+    ----------
+    name : str
+        A name in `brushbem.studies.STUDIES`.
+    out_dir : path
+        Created if absent; part ``p`` runs into ``out_dir/p``.
+    quick : bool
+        Run the coarse ``.quick.toml`` sweep files (minutes instead of hours).
+    executor, workers, retry_failed, progress
+        As for `brushbem.sweep.run_sweep`.
+    draw : bool
+        Draw the figures afterwards (from whatever finished).  An exception of
+        the study's ``draw`` is recorded in `StudyRun.draw_error`, not raised:
+        the computed results are never lost to a plotting bug.
+
+    Raises
+    ------
+    StudyError
+        Unknown study, or a sweep file of a part is missing.
+    brushbem.sweep.SweepError
+        A part's sweep file is invalid.
+    """
+    import traceback
+
+    from brushbem import studies
+    from brushbem.sweep import run_sweep
+
+    study = get_study(name)
+    out_dir = Path(out_dir)
+    files = {part: studies.sweep_file(study.name, part, quick) for part in study.parts}
+    absent = [str(path) for path in files.values() if not Path(path).is_file()]
+    if absent:
+        raise StudyError(f"study {study.name!r}: missing sweep file(s): {', '.join(absent)}")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    _write_json(out_dir / STUDY_FILE, {
+        "study": study.name,
+        "title": study.title,
+        "figures": list(study.figures),
+        "quick": bool(quick),
+        "parts": list(study.parts),
+        "sweep_files": {part: str(path) for part, path in files.items()},
+        "brushbem_version": __version__,
+    })
+    runs: dict[str, SweepRun] = {}
+    for part, path in files.items():
+        runs[part] = run_sweep(path, out_dir / part, executor, workers=workers,
+                               retry_failed=retry_failed, progress=progress)
+    figures: list[Path] = []
+    draw_error = ""
+    if draw:
+        try:
+            figures = draw_study(out_dir)
+        except Exception as exc:  # noqa: BLE001 - results are kept; the error is reported
+            draw_error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+    return StudyRun(study=study.name, out_dir=out_dir, parts=runs, figures=figures, draw_error=draw_error)

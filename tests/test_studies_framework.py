@@ -1,0 +1,311 @@
+"""Studies framework: run_study, resume, redraw without computing, HTML report, headless Chromium.
+
+A tiny fake study is registered for the tests: two parts of flat punches on a
+32 x 32 grid (a few milliseconds per case); one case of part ``b`` raises.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+import brushbem.case
+import brushbem.sweep as sweep_module
+from brushbem import studies
+from brushbem.cli import main
+from brushbem.report import config_hash, draw_figures, write_report
+from brushbem.studies import Study, ThesisNumber, finished, run_study
+
+BASE_TOML = """\
+[base.halfspace]
+contact_modulus = 1.0
+work_of_adhesion = 1e-3
+
+[base.grid]
+size = 1.0
+elements = 32
+
+[base.indenter]
+shape = "flat_punch"
+radius = 0.25
+stiffness = 0.15
+
+[base.protocol]
+preload_displacement = 0.01
+"""
+
+#: The radius whose case raises (see the ``failing_case`` fixture).
+BAD_RADIUS = 0.2
+
+
+def _draw(results, figures_dir: Path) -> list[Path]:
+    """The fake study's figure: adhesive force against radius, finished cases of both parts."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from brushbem.io import atomic_path
+
+    figure = Figure()
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    for part, frame in results.items():
+        rows = finished(frame)
+        axes.plot(rows["indenter.radius"], rows["adhesive_force"], "o-", label=part)
+    axes.legend()
+    path = figures_dir / "force_vs_radius.png"
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png")
+    return [path]
+
+
+def _force_of_first(results) -> float:
+    return float(finished(results["a"])["adhesive_force"].iloc[0])
+
+
+def _broken(results) -> float:
+    raise KeyError("no such part <z>")
+
+
+FAKE = Study(
+    name="fake",
+    title="Fake study <for tests> & friends",
+    figures=("9-9",),
+    parts=("a", "b"),
+    draw=_draw,
+    numbers=(
+        ThesisNumber("F_A of the first punch", "Fig. 9-9", 0.005, _force_of_first),
+        ThesisNumber("a number that fails <b>", "p. 0", 1.0, _broken),
+    ),
+    notes="A study for the tests.",
+)
+
+
+@pytest.fixture
+def fake_study(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Register the fake study; its sweep files live in ``tmp_path/sweeps``."""
+    sweeps = tmp_path / "sweeps"
+    sweeps.mkdir()
+    for quick, radii in ((False, [0.1, 0.25]), (True, [0.25])):
+        suffix = ".quick" if quick else ""
+        (sweeps / f"fake.a{suffix}.toml").write_text(
+            BASE_TOML + f'\n[sweep]\n"indenter.radius" = {radii}\n')
+        (sweeps / f"fake.b{suffix}.toml").write_text(
+            BASE_TOML + f'\n[sweep]\n"indenter.radius" = [0.15, {BAD_RADIUS}]\n')
+    monkeypatch.setattr(studies, "STUDIES", {"fake": FAKE})
+    monkeypatch.setattr(
+        studies, "sweep_file",
+        lambda study, part, quick: sweeps / f"{study}.{part}{'.quick' if quick else ''}.toml",
+    )
+    return sweeps
+
+
+@pytest.fixture
+def calls(monkeypatch: pytest.MonkeyPatch) -> list[float]:
+    """Count the runs; the case of radius `BAD_RADIUS` raises."""
+    real = brushbem.case.run_case
+    seen: list[float] = []
+
+    def counting(config, **kwargs):
+        seen.append(config.indenter.radius)
+        if config.indenter.radius == BAD_RADIUS:
+            raise RuntimeError("deliberate failure <script>alert(1)</script>")
+        return real(config, **kwargs)
+
+    monkeypatch.setattr(brushbem.case, "run_case", counting)
+    return seen
+
+
+@pytest.fixture
+def study_dir(tmp_path: Path, fake_study: Path, calls: list[float]) -> Path:
+    out = tmp_path / "out"
+    with ThreadPoolExecutor(1) as pool:
+        outcome = run_study("fake", out, executor=pool)
+    assert not outcome.complete  # one case failed
+    assert outcome.draw_error == ""
+    return out
+
+
+def _no_computing(monkeypatch: pytest.MonkeyPatch) -> None:
+    def refuse(*args, **kwargs):
+        raise AssertionError("nothing may be computed here")
+
+    monkeypatch.setattr(brushbem.case, "run_case", refuse)
+
+
+def test_finished_filters_status() -> None:
+    frame = pd.DataFrame({"status": ["finished", "failed", "unconverged", "missing"], "x": [1, 2, 3, 4]})
+    assert finished(frame)["x"].tolist() == [1]
+    assert finished(pd.DataFrame()).empty
+
+
+def test_run_study_layout_and_resume(study_dir: Path, calls: list[float]) -> None:
+    record = json.loads((study_dir / "study.json").read_text())
+    assert record["study"] == "fake" and record["quick"] is False
+    assert record["parts"] == ["a", "b"] and record["brushbem_version"]
+    for part in ("a", "b"):
+        assert (study_dir / part / "sweep.json").is_file()
+        assert len(list((study_dir / part / "cases").glob("*.nc"))) == 2
+    assert (study_dir / "figures" / "force_vs_radius.png").stat().st_size > 0
+    assert sorted(calls) == [0.1, 0.15, BAD_RADIUS, 0.25]
+
+    # A rerun computes nothing (the failed case is kept) ...
+    calls.clear()
+    with ThreadPoolExecutor(1) as pool:
+        again = run_study("fake", study_dir, executor=pool)
+    assert calls == []
+    assert again.parts["b"].skipped and not again.parts["b"].computed
+    # ... unless failed cases are retried.
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", study_dir, executor=pool, retry_failed=True)
+    assert calls == [BAD_RADIUS]
+
+
+def test_quick_runs_the_quick_files(tmp_path: Path, fake_study: Path, calls: list[float]) -> None:
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", tmp_path / "q", quick=True, executor=pool)
+    assert json.loads((tmp_path / "q" / "study.json").read_text())["quick"] is True
+    assert len(list((tmp_path / "q" / "a" / "cases").glob("*.nc"))) == 1
+
+
+def test_unknown_study(tmp_path: Path, fake_study: Path) -> None:
+    with pytest.raises(studies.StudyError, match="known studies: fake"):
+        run_study("nope", tmp_path / "x")
+    result = CliRunner().invoke(main, ["study", "nope", "--out", str(tmp_path / "x")])
+    assert result.exit_code == 2
+    assert "known studies: fake" in result.output
+
+
+def test_cli_study_list_and_exit_status(
+    tmp_path: Path, fake_study: Path, calls: list[float], monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    runner = CliRunner()
+    listed = runner.invoke(main, ["study", "--list"])
+    assert listed.exit_code == 0, listed.output
+    assert "fake" in listed.output and "9-9" in listed.output
+    # One case fails: exit status 3, the figures are still drawn.  Threads, not
+    # processes, run the cases here, so that the patched run_case is seen.
+    monkeypatch.setattr(sweep_module, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
+    result = runner.invoke(main, ["study", "fake", "--out", str(tmp_path / "o"), "--workers", "1",
+                                  "--quiet"])
+    assert result.exit_code == 3, result.output
+    assert "not every case finished" in result.output
+    assert (tmp_path / "o" / "figures" / "force_vs_radius.png").is_file()
+
+
+def test_figure_redraws_without_computing(study_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    figure = study_dir / "figures" / "force_vs_radius.png"
+    figure.unlink()
+    _no_computing(monkeypatch)
+    result = CliRunner().invoke(main, ["figure", str(study_dir)])
+    assert result.exit_code == 0, result.output
+    assert figure.stat().st_size > 0
+
+
+def test_figure_of_a_plain_sweep(study_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    _no_computing(monkeypatch)
+    paths = draw_figures(study_dir / "a")
+    names = {path.name for path in paths}
+    assert names == {"adhesive_force_vs_indenter.radius.png", "pulloff_curves.png"}
+    assert all(path.stat().st_size > 0 for path in paths)
+    result = CliRunner().invoke(main, ["figure", str(study_dir / "nothing-here")])
+    assert result.exit_code != 0
+
+
+def _report(study_dir: Path) -> str:
+    return write_report(study_dir).read_text(encoding="utf-8")
+
+
+def test_report_contents(study_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    shutil.rmtree(study_dir / "figures")  # the report draws absent figures
+    _no_computing(monkeypatch)
+    result = CliRunner().invoke(main, ["report", str(study_dir)])
+    assert result.exit_code == 0, result.output
+    text = (study_dir / "report.html").read_text(encoding="utf-8")
+
+    # Self-contained: embedded images, no external resource.
+    assert re.search(r'<img [^>]*src="data:image/png;base64,[A-Za-z0-9+/=]{100,}"', text)
+    assert not re.search(r'(src|href)="(https?:)?//', text)
+    # Escaped text: the study title, the failure's reason.
+    assert "Fake study &lt;for tests&gt; &amp; friends" in text
+    assert "<script>" not in text and "&lt;script&gt;" in text
+    # The table: one row per case, the failed one highlighted and listed at the top.
+    assert text.count('<tr class="case case-finished"') == 3
+    assert text.count('<tr class="case case-failed"') == 1
+    problems = text[text.index('id="problems"'):text.index("<h2>")]
+    assert "failed" in problems and "deliberate failure" in problems
+    # Thesis numbers: one computed with its deviation, one "n/a" with the reason.
+    summary = pd.read_parquet(study_dir / "a" / "summary.parquet")
+    ours = float(finished(summary)["adhesive_force"].iloc[0])
+    assert f"{ours:.6g}" in text
+    assert f"{100 * (ours - 0.005) / 0.005:+.2f} %" in text
+    assert "n/a (KeyError" in text and "no such part &lt;z&gt;" in text
+    # Provenance: version, seeds, machine, timings, configuration hashes.
+    for needle in ("brushbem version", "numpy", "scipy", "python", "cpu_count",
+                   "total wall time of the cases", str(int(summary["seed"].iloc[0]))):
+        assert needle in text, needle
+    import xarray as xr
+
+    case_file = next((study_dir / "a" / "cases").glob("*.nc"))
+    with xr.open_dataset(case_file, engine="h5netcdf") as dataset:
+        digest = config_hash(dataset.attrs["config"])
+    assert len(digest) == 64 and digest in text
+
+
+def test_report_of_a_plain_sweep(study_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    _no_computing(monkeypatch)
+    text = _report(study_dir / "b")
+    assert "data:image/png;base64," in text
+    assert text.count('class="case case-failed"') == 1
+    assert "Thesis numbers" not in text
+
+
+# --------------------------------------------------------------------------- headless Chromium
+
+CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
+
+
+def _chromium() -> str:
+    for name in CHROMIUM_NAMES:
+        found = shutil.which(name)
+        if found:
+            return found
+    message = (f"no headless browser on PATH (tried {', '.join(CHROMIUM_NAMES)}); "
+               "`make test` installs Debian's chromium when run as root")
+    if os.environ.get("CI"):
+        pytest.fail(message)
+    pytest.skip(message)
+
+
+def _browser(binary: str, *arguments: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [binary, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+         f"--user-data-dir={cwd / 'chromium-profile'}", *arguments],
+        capture_output=True, text=True, timeout=120, cwd=cwd, check=False,
+    )
+
+
+def test_report_renders_in_headless_chromium(study_dir: Path, tmp_path: Path) -> None:
+    binary = _chromium()
+    report = write_report(study_dir)
+    dumped = _browser(binary, "--dump-dom", report.resolve().as_uri(), cwd=tmp_path)
+    assert dumped.returncode == 0, dumped.stderr[-2000:]
+    dom = dumped.stdout
+    assert len(re.findall(r'<tr class="case case-\w+"', dom)) == 4
+    assert 'class="case case-failed"' in dom
+    assert re.search(r'<img [^>]*src="data:image/png;base64,', dom)
+
+    screenshot = tmp_path / "report.png"
+    shot = _browser(binary, f"--screenshot={screenshot}", "--window-size=1280,2000",
+                    report.resolve().as_uri(), cwd=tmp_path)
+    assert shot.returncode == 0, shot.stderr[-2000:]
+    assert screenshot.is_file() and screenshot.stat().st_size > 1000
+    assert screenshot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
