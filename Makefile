@@ -26,7 +26,7 @@ run: $(VENV)/.installed
 
 # The report test renders report.html in headless Chromium: install Debian's
 # chromium when no such browser is on PATH (as root, with apt-get), else warn
-# (the test is then skipped, or fails when CI is set).
+# (the test is then skipped, or fails when BRUSHBEM_REQUIRE_CHROMIUM is set).
 test: $(VENV)/.installed-test chromium
 	$(VENV)/bin/python -m pytest -q
 
@@ -40,7 +40,7 @@ chromium:
 	  || echo "warning: could not install chromium; the headless report test will be skipped" >&2; \
 	else \
 	  echo "warning: no chromium on PATH and cannot apt-get install it (not root or no apt-get);" \
-	    "the headless report test will be skipped (it fails when CI is set)" >&2; \
+	    "the headless report test will be skipped (it fails when BRUSHBEM_REQUIRE_CHROMIUM is set)" >&2; \
 	fi
 
 clean:

