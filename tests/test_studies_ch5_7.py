@@ -82,11 +82,11 @@ def test_hierarchy(hierarchy):
     keq = three["normalized.equivalent_single_level_stiffness_ratio"].mean()
     assert math.isclose(keq, expected, rel_tol=1e-2) or math.isclose(
         keq, 1.0 / (16 / 2e-2 + 4 / 9e-3 + 1 / 1e-3), rel_tol=2e-2)
-    # a hierarchy softens the structure: the three-level brush adheres at least as well as
-    # the one-level one at the rough, small-preload point (5 % slack for the coarse grid)
-    one = finished(results, "one")
-    pick = lambda f: f[(f[SIGMA] == f[SIGMA].max()) & (f[PRELOAD] == f[PRELOAD].min())][FA].mean()  # noqa: E731
-    assert pick(three) >= 0.95 * pick(one) - 0.02
+    # roughness lowers the adhesion of the three-level brush at small preload too
+    # (sigma~ = 1.6 vs 0.04, F~_P = 1): pillars of a rough brush touch late and few
+    small = three[three[PRELOAD] == three[PRELOAD].min()]
+    by_sigma = small.groupby(SIGMA)[FA].mean().sort_index()
+    assert by_sigma.iloc[-1] < by_sigma.iloc[0]
 
 
 def test_concave(concave):

@@ -35,6 +35,24 @@ def _with_phi(frame: pd.DataFrame) -> pd.DataFrame:
     return frame
 
 
+def _cross_section(path: Path):
+    """x and the pressure along the element row through the most loaded pillar row
+    (``cross_section_adhesive_force`` runs through the centre, which can fall between
+    lattice rows), at the adhesive-force moment; None when unreadable."""
+    try:
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            x = np.asarray(ds["x"].values, float)
+            if "pressure_adhesive_force" in ds:
+                p = np.asarray(ds["pressure_adhesive_force"].values, float)
+                row = int(np.argmax(np.sum(np.clip(-p, 0, None), axis=1)))
+                return x, p[row]
+            return x, np.asarray(ds["cross_section_adhesive_force"].values, float)
+    except Exception:  # noqa: BLE001 - a missing case is drawn as empty
+        return None
+
+
 def maxima(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     """The largest F~_A over h~ and where it lies, per group."""
     if not has(frame, FIS, H):
@@ -79,12 +97,12 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     fig, ax = figure(2, 1)
     for a_, h in zip(ax[0], (0.0, 0.04)):
         sub = curves[(curves[REGION] == "circle") & np.isclose(curves[H], h)] if has(curves, REGION, H) else curves
-        data = read_curve(case_path(figures_dir, "curves", sub.iloc[0]["case_id"], sub.iloc[0])) if len(sub) else None
-        if data is None or data[4] is None:
+        data = _cross_section(case_path(figures_dir, "curves", sub.iloc[0]["case_id"], sub.iloc[0])) if len(sub) else None
+        if data is None:
             empty_note(a_)
         else:
             sc = float(sub.iloc[0]["critical_stress"])
-            a_.plot(data[3], -data[4] / sc, lw=1)
+            a_.plot(data[0], -data[1] / sc, lw=1)
             a_.axhline(1.0, ls="--", color="tab:red", lw=0.8, label="Σ_c")
             a_.legend(fontsize=7)
         a_.set(xlabel="x / L", ylabel="tensile stress / Σ_c", title=f"Fig. 7-4: h~ = {h:g}")

@@ -20,7 +20,7 @@ from brushbem.studies._ch5_7 import (
     FA, FP, K, PRELOAD, SIG, SIGMA, adhesion_coefficients, case_path, empty_note, figure, finished,
     fit_eq58, has, mean_std, read_curve, save,
 )
-from brushbem.theory import adhesion_coefficient, critical_roughness
+from brushbem.theory import adhesion_coefficient
 
 #: Table 1 of the thesis: k~ -> (alpha, sigma~_c); beta = alpha / sigma~_c (its row is lost in the text but 0.035).
 TABLE_1 = {
@@ -134,7 +134,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         row = table[np.isclose(table["stiffness_ratio"], k)]
         if len(row) and math.isfinite(row["alpha"].iloc[0]):
             s = np.geomspace(max(g["sigma"].min(), 1e-3), max(g["sigma"].max(), 1e-3) * 1.5, 100)
-            c = adhesion_coefficient(s, row["alpha"].iloc[0], row["beta"].iloc[0])
+            c = row["alpha"].iloc[0] / s - row["beta"].iloc[0]  # eq. 5.8 (beta may come out < 0 on few points)
             ax[0, 0].plot(s, c, "--", color=line.get_color(), lw=1)
             ax[0, 1].loglog(s, np.clip(c, 1e-4, None), "--", color=line.get_color(), lw=1)
     for k, (alpha, sc) in TABLE_1.items():
