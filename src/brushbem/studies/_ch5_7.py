@@ -1,0 +1,146 @@
+"""Shared helpers of the chapter 5-7 studies (rough, hierarchical and concave brushes)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from brushbem.io import atomic_path
+
+FA = "normalized.force_by_rigid_brush"
+FP = "normalized.preload_by_rigid_brush"
+SIG = "normalized.roughness_by_rigid_brush"
+K = "indenter.stiffness_ratio"
+SIGMA = "indenter.roughness.sigma"
+PRELOAD = "protocol.preload_force"
+FIS = "normalized.force_by_ideal_sharing"
+H = "indenter.profile.amplification"
+REGION = "indenter.region"
+RADIUS = "indenter.pillar_radius"
+
+
+def finished(results: Mapping[str, pd.DataFrame], part: str) -> pd.DataFrame:
+    """The finished cases of one part (an empty frame when the part is missing)."""
+    frame = results.get(part)
+    if frame is None or len(frame) == 0 or "status" not in frame:
+        return pd.DataFrame()
+    return frame[frame["status"] == "finished"].copy()
+
+
+def figure(ncols: int = 1, nrows: int = 1, size=(5.2, 4.0)):
+    fig = Figure(figsize=(size[0] * ncols, size[1] * nrows), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    return fig, axes
+
+
+def save(fig: Figure, path: Path, written: list[Path]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path) as temporary:
+        fig.savefig(temporary, format="png", dpi=110)
+    written.append(path)
+
+
+def empty_note(ax, text: str = "no finished cases") -> None:
+    ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", color="0.4")
+
+
+def has(frame: pd.DataFrame, *columns: str) -> bool:
+    return len(frame) > 0 and all(c in frame.columns for c in columns)
+
+
+def mean_std(frame: pd.DataFrame, keys: list[str], value: str, x: str | None = None) -> pd.DataFrame:
+    """Mean and standard deviation of ``value`` (and the mean of ``x``) over realizations."""
+    agg = {"mean": (value, "mean"), "std": (value, "std"), "count": (value, "size")}
+    if x is not None:
+        agg["x"] = (x, "mean")
+    out = frame.groupby(keys, dropna=False).agg(**agg).reset_index()
+    out["std"] = out["std"].fillna(0.0)
+    return out
+
+
+def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
+    """c = F~_A / F~_P in the linear region: at the smallest preload of each group (eq. 5.6).
+
+    Returns one row per group with ``c`` (mean over realizations), ``sigma`` (sigma~) and
+    ``plateau`` (the largest mean F~_A over the preloads).
+    """
+    if not has(frame, FA, FP, PRELOAD):
+        return pd.DataFrame(columns=[*keys, "c", "sigma", "plateau"])
+    rows = []
+    for key, group in frame.groupby(keys, dropna=False):
+        key = key if isinstance(key, tuple) else (key,)
+        smallest = group[group[PRELOAD] == group[PRELOAD].min()]
+        c = float((smallest[FA] / smallest[FP]).mean())
+        plateau = float(group.groupby(PRELOAD)[FA].mean().max())
+        sigma = float(group[SIG].mean()) if SIG in group else math.nan
+        rows.append({**dict(zip(keys, key)), "c": c, "sigma": sigma, "plateau": plateau})
+    return pd.DataFrame(rows)
+
+
+def fit_eq58(sigma: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+    """alpha, beta of eq. 5.8, c = alpha / sigma~ - beta, by scipy.optimize.curve_fit.
+
+    Only points with sigma~ > 0 and c > 0 (the adhering side) enter; NaN when
+    fewer than two remain or the fit fails.
+    """
+    from scipy.optimize import curve_fit
+
+    sigma, c = np.asarray(sigma, float), np.asarray(c, float)
+    ok = np.isfinite(sigma) & np.isfinite(c) & (sigma > 0) & (c > 0)
+    if ok.sum() < 2:
+        return math.nan, math.nan
+    try:
+        (alpha, beta), _ = curve_fit(lambda s, a, b: a / s - b, sigma[ok], c[ok], p0=(0.1, 0.03))
+    except Exception:  # noqa: BLE001 - a failed fit is reported as NaN
+        return math.nan, math.nan
+    return float(alpha), float(beta)
+
+
+def case_path(figures_dir: Path, part: str, case_id: str, row: pd.Series | None = None) -> Path:
+    """The case file of a case: ``DIR/<part>/cases/<case_id>.nc`` (DIR = figures_dir's parent)."""
+    if row is not None and "case_file" in row and isinstance(row["case_file"], str):
+        return Path(row["case_file"])
+    return Path(figures_dir).parent / part / "cases" / f"{case_id}.nc"
+
+
+def read_curve(path: Path):
+    """(displacement, force, contact_area, cross-section x, cross-section pressure) or None."""
+    try:
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            ds.load()
+            d = np.asarray(ds["displacement"].values, float)
+            f = np.asarray(ds["force"].values, float)
+            a = np.asarray(ds["contact_area"].values, float) if "contact_area" in ds else None
+            cs = np.asarray(ds["cross_section_adhesive_force"].values, float) if "cross_section_adhesive_force" in ds else None
+            x = np.asarray(ds["x"].values, float) if "x" in ds.coords or "x" in ds else None
+        return d, f, a, x, cs
+    except Exception:  # noqa: BLE001 - a missing or unreadable case is skipped
+        return None
+
+
+def value(frame: pd.DataFrame, column: str, where: Mapping[str, object], how: str = "mean") -> float:
+    """Mean (or max) of ``column`` over the rows matching ``where`` (floats compared relatively); NaN if none."""
+    if not has(frame, column):
+        return math.nan
+    mask = np.ones(len(frame), bool)
+    for key, want in where.items():
+        if key not in frame:
+            return math.nan
+        col = frame[key]
+        if isinstance(want, str):
+            mask &= (col == want).to_numpy()
+        else:
+            mask &= np.isclose(col.astype(float).to_numpy(), float(want), rtol=1e-3, atol=0.0)
+    sel = frame.loc[mask, column]
+    if len(sel) == 0:
+        return math.nan
+    return float(sel.max() if how == "max" else sel.mean())

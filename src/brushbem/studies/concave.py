@@ -1,0 +1,205 @@
+"""Chapter 7: concave brushes approaching equal load sharing (Fig. 7-3 to 7-7).
+
+Parts: ``curves`` (k~ = 0.1, phi = 0.06, h~ = 0, 0.04, 0.8, square and circle:
+Fig. 7-3, 7-4), ``amplification`` (k~ = 6e-4, phi = 0.06 and 0.15, square and
+circle: Fig. 7-5) and ``stiffness`` (circle, several k~: Fig. 7-6, 7-7).
+Forces by N F_K (eq. 7.4, ``normalized.force_by_ideal_sharing``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._ch5_7 import (
+    FIS, H, K, RADIUS, REGION, case_path, empty_note, figure, finished, has, read_curve, save, value,
+)
+
+PHI = "phi"
+DISP = "normalized.displacement_by_rigid_brush"
+
+
+def _with_phi(frame: pd.DataFrame) -> pd.DataFrame:
+    """Adds the nominal filling factor: the shipped sweeps use phi = 0.06 and 0.15, and the
+    pillar radius grows with phi, so the smaller swept radius is 0.06 and the larger 0.15."""
+    if not has(frame, RADIUS):
+        return frame
+    frame = frame.copy()
+    radii = sorted(frame[RADIUS].astype(float).unique())
+    frame[PHI] = [0.06 if np.isclose(r, radii[0]) else 0.15 for r in frame[RADIUS].astype(float)]
+    return frame
+
+
+def _cross_section(path: Path):
+    """x and the pressure along the element row through the most loaded pillar row
+    (``cross_section_adhesive_force`` runs through the centre, which can fall between
+    lattice rows), at the adhesive-force moment; None when unreadable."""
+    try:
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            x = np.asarray(ds["x"].values, float)
+            if "pressure_adhesive_force" in ds:
+                p = np.asarray(ds["pressure_adhesive_force"].values, float)
+                row = int(np.argmax(np.sum(np.clip(-p, 0, None), axis=1)))
+                return x, p[row]
+            return x, np.asarray(ds["cross_section_adhesive_force"].values, float)
+    except Exception:  # noqa: BLE001 - a missing case is drawn as empty
+        return None
+
+
+def maxima(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
+    """The largest F~_A over h~ and where it lies, per group."""
+    if not has(frame, FIS, H):
+        return pd.DataFrame(columns=[*keys, "max", "h_at_max"])
+    rows = []
+    for key, g in frame.groupby(keys):
+        key = key if isinstance(key, tuple) else (key,)
+        m = g.groupby(H)[FIS].mean()
+        rows.append({**dict(zip(keys, key)), "max": float(m.max()), "h_at_max": float(m.idxmax())})
+    return pd.DataFrame(rows)
+
+
+def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    written: list[Path] = []
+    curves = finished(results, "curves")
+    # Fig. 7-3: curves
+    fig, ax = figure(1, 1, size=(6.0, 4.2))
+    drawn = 0
+    if has(curves, "case_id", H, REGION):
+        for _, row in curves.sort_values([H, REGION]).iterrows():
+            data = read_curve(case_path(figures_dir, "curves", row["case_id"], row))
+            if data is None:
+                continue
+            d, f = data[0], data[1]
+            ideal = row["adhesive_force"] / row[FIS] if row[FIS] else math.nan
+            dc = abs(row["pull_off_displacement"] / row[DISP]) if DISP in row and row[DISP] else 1.0
+            ax[0, 0].plot(d / dc, f / ideal, lw=1, ls="-" if row[REGION] == "circle" else "--",
+                          label=f"h~ = {row[H]:g}, {row[REGION]}")
+            drawn += 1
+    for y, lab in ((-0.65, "thesis h~=0: 0.65"), (-0.95, "thesis h~=0.04: 0.95")):
+        ax[0, 0].axhline(y, ls=":", color="0.6", lw=0.8)
+        ax[0, 0].text(0.02, y, lab, fontsize=7, color="0.4", transform=ax[0, 0].get_yaxis_transform())
+    ax[0, 0].set(xlabel="d~ (eq. 7.5)", ylabel="F~ = F / (N F_K)", title="Fig. 7-3: k~ = 0.1, φ = 0.06", ylim=(-1.2, 2.2))
+    if drawn:
+        ax[0, 0].legend(fontsize=7)
+    else:
+        empty_note(ax[0, 0])
+    save(fig, figures_dir / "fig7-3_curves.png", written)
+
+    # Fig. 7-4: cross sections at the critical moment, circle form, h~ = 0 and 0.04
+    fig, ax = figure(2, 1)
+    for a_, h in zip(ax[0], (0.0, 0.04)):
+        sub = curves[(curves[REGION] == "circle") & np.isclose(curves[H], h)] if has(curves, REGION, H) else curves
+        data = _cross_section(case_path(figures_dir, "curves", sub.iloc[0]["case_id"], sub.iloc[0])) if len(sub) else None
+        if data is None:
+            empty_note(a_)
+        else:
+            sc = float(sub.iloc[0]["critical_stress"])
+            a_.plot(data[0], -data[1] / sc, lw=1)
+            a_.axhline(1.0, ls="--", color="tab:red", lw=0.8, label="Σ_c")
+            a_.legend(fontsize=7)
+        a_.set(xlabel="x / L", ylabel="tensile stress / Σ_c", title=f"Fig. 7-4: h~ = {h:g}")
+    save(fig, figures_dir / "fig7-4_cross_section.png", written)
+
+    # Fig. 7-5: F~_A vs h~, square/circle, phi = 0.06 / 0.15
+    amp = _with_phi(finished(results, "amplification"))
+    fig, ax = figure(1, 1, size=(6.0, 4.2))
+    if has(amp, H, FIS, REGION, PHI):
+        for (phi, reg), g in amp.groupby([PHI, REGION]):
+            m = g.groupby(H)[FIS].mean()
+            ax[0, 0].plot(m.index, m.to_numpy(), "o-" if reg == "circle" else "s--", ms=3, label=f"φ = {phi:g}, {reg}")
+        ax[0, 0].legend(fontsize=7)
+    else:
+        empty_note(ax[0, 0])
+    ax[0, 0].plot([0.16], [0.88], "k*", ms=10, label="thesis max φ = 0.15")
+    ax[0, 0].plot([0.5], [0.95], "kP", ms=9, label="thesis max φ = 0.06")
+    ax[0, 0].set(xlabel="h~", ylabel="F~_A = F_A / (N F_K)", title="Fig. 7-5: k~ = 6e-4 (stars: thesis maxima)")
+    save(fig, figures_dir / "fig7-5_amplification.png", written)
+
+    # Fig. 7-6: circle, per phi, F~_A vs h~ for each k~; Fig. 7-7: maximum vs k~
+    stiff = _with_phi(finished(results, "stiffness"))
+    phis = sorted(stiff[PHI].unique()) if has(stiff, PHI) else []
+    fig, ax = figure(max(1, len(phis)), 1)
+    for a_, phi in zip(ax[0], phis):
+        for k, g in stiff[stiff[PHI] == phi].groupby(K):
+            m = g.groupby(H)[FIS].mean()
+            a_.plot(m.index, m.to_numpy(), "o-", ms=3, label=f"k~ = {k:g}")
+        if np.isclose(phi, 0.06):
+            a_.plot([0.04, 0.05], [0.94, 0.77], "k*", ms=9, label="thesis k~ = 10")
+        a_.set(xlabel="h~", ylabel="F~_A", xscale="symlog", title=f"Fig. 7-6: circle, φ = {phi:g}")
+        a_.legend(fontsize=6)
+    if not phis:
+        empty_note(ax[0, 0])
+    save(fig, figures_dir / "fig7-6_stiffness.png", written)
+    fig, ax = figure(1, 1)
+    mx = maxima(stiff, [PHI, K]) if phis else pd.DataFrame()
+    for phi, g in (mx.groupby(PHI) if len(mx) else []):
+        g = g.sort_values(K)
+        ax[0, 0].semilogx(g[K], g["max"], "o-", label=f"φ = {phi:g}")
+    ax[0, 0].set(xlabel="k~", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
+    if len(mx):
+        ax[0, 0].legend(fontsize=7)
+    else:
+        empty_note(ax[0, 0])
+    save(fig, figures_dir / "fig7-7_maximum.png", written)
+    return written
+
+
+def _curve_value(h: float, region: str | None = None):
+    def compute(results):
+        where = {H: h}
+        if region:
+            where[REGION] = region
+        return value(finished(results, "curves"), FIS, where)
+    return compute
+
+
+def _max_of(part: str, phi: float, what: str, region: str = "circle", k: float | None = None):
+    def compute(results):
+        frame = _with_phi(finished(results, part))
+        if not has(frame, PHI, REGION):
+            return math.nan
+        frame = frame[np.isclose(frame[PHI], phi) & (frame[REGION] == region)]
+        if k is not None:
+            frame = frame[np.isclose(frame[K], k)]
+        mx = maxima(frame, [PHI])
+        return float(mx[what].iloc[0]) if len(mx) else math.nan
+    return compute
+
+
+def _stiff_value(k: float, h: float, phi: float = 0.06):
+    def compute(results):
+        frame = _with_phi(finished(results, "stiffness"))
+        if not has(frame, PHI):
+            return math.nan
+        return value(frame[np.isclose(frame[PHI], phi)], FIS, {K: k, H: h})
+    return compute
+
+
+STUDY = Study(
+    name="concave",
+    title="Ch. 7: concave brushes, F~_A (by N F_K, eq. 7.4) vs amplification h~, form and stiffness (Fig. 7-3 to 7-7)",
+    figures=("7-3", "7-4", "7-5", "7-6", "7-7"),
+    parts=("curves", "amplification", "stiffness"),
+    draw=draw,
+    numbers=(
+        ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, circle", "Fig. 7-3, text", 0.65, _curve_value(0.0, "circle")),
+        ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, square", "Fig. 7-3, text", 0.65, _curve_value(0.0, "square")),
+        ThesisNumber("F~_A at h~ = 0.04, k~ = 0.1, phi = 0.06, circle", "Fig. 7-3, text", 0.95, _curve_value(0.04, "circle")),
+        ThesisNumber("F~_A at h~ = 0.8, k~ = 0.1 (almost vanishes)", "Fig. 7-3, text", 0.0, _curve_value(0.8, "circle")),
+        ThesisNumber("max F~_A, phi = 0.15, k~ = 6e-4", "Fig. 7-5, text", 0.88, _max_of("amplification", 0.15, "max")),
+        ThesisNumber("h~ at max F~_A, phi = 0.15", "Fig. 7-5, text", 0.16, _max_of("amplification", 0.15, "h_at_max")),
+        ThesisNumber("max F~_A, phi = 0.06, k~ = 6e-4", "Fig. 7-5, text", 0.95, _max_of("amplification", 0.06, "max")),
+        ThesisNumber("h~ at max F~_A, phi = 0.06", "Fig. 7-5, text", 0.5, _max_of("amplification", 0.06, "h_at_max")),
+        ThesisNumber("F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06", "Fig. 7-6 a, text", 0.94, _stiff_value(10.0, 0.04)),
+        ThesisNumber("F~_A at k~ = 10, h~ = 0.05, circle, phi = 0.06", "Fig. 7-6 a, text", 0.77, _stiff_value(10.0, 0.05)),
+    ),
+    notes="Pressed to 2 N F_K rather than to 'complete contact'; phi is the nominal square-lattice value.",
+)

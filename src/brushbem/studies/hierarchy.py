@@ -1,0 +1,189 @@
+"""Chapter 6: hierarchical (1-, 2-, 3-level) rough brushes (Fig. 6-4 to 6-8).
+
+Parts: ``one``, ``two``, ``three`` (sigma~ x F~_P over realisations, k~1 = 1e-3,
+k~2 = 9e-3, k~3 = 2e-2, eq. 6.25-6.26), ``equivalent`` (a single level at
+k~1' of eq. 6.28), ``stiffness_one`` and ``stiffness_three`` (plateau vs k~1).
+Our hierarchy clusters n x n units of one uniform lattice.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._ch5_7 import (
+    FA, FP, K, PRELOAD, SIG, SIGMA, adhesion_coefficients, case_path, empty_note, figure, finished,
+    has, mean_std, read_curve, save,
+)
+from brushbem.theory import equivalent_single_level_stiffness
+
+LEVELS = ("one", "two", "three")
+KEQ = "normalized.equivalent_single_level_stiffness_ratio"
+
+
+def effective_stiffness(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    """Fig. 6-7 b: the single-level k~1' whose plateau F~_A equals the three-level one, per sigma~.
+
+    Interpolates the single-level plateau (part ``stiffness_one``) in log k~ at each
+    roughness; NaN where the three-level force lies outside the single-level range.
+    """
+    three = adhesion_coefficients(finished(results, "three"), [SIGMA])
+    one = finished(results, "stiffness_one")
+    rows = []
+    if not len(three) or not has(one, K, SIGMA, FA):
+        return pd.DataFrame(columns=["sigma", "plateau_three", "effective_stiffness"])
+    for _, r in three.iterrows():
+        g = one[np.isclose(one[SIGMA], r[SIGMA], rtol=1e-6)].groupby(K)[FA].mean().sort_index()
+        keff = math.nan
+        if len(g) >= 2:
+            lk, f = np.log10(g.index.to_numpy(float)), g.to_numpy()
+            for i in range(len(f) - 1):  # plateau falls with k~: find the bracketing pair
+                lo, hi = sorted((f[i], f[i + 1]))
+                if lo <= r["plateau"] <= hi and f[i] != f[i + 1]:
+                    keff = 10 ** (lk[i] + (r["plateau"] - f[i]) * (lk[i + 1] - lk[i]) / (f[i + 1] - f[i]))
+                    break
+        rows.append({"sigma": r["sigma"], "plateau_three": r["plateau"], "effective_stiffness": keff})
+    return pd.DataFrame(rows)
+
+
+def _eq628_value(results):
+    three = finished(results, "three")
+    if has(three, KEQ):
+        return float(three[KEQ].mean())
+    return math.nan
+
+
+def _plateau(part: str, sigma_tilde: float, preload: float | None = None):
+    def compute(results):
+        frame = finished(results, part)
+        if not has(frame, FA, SIG, PRELOAD):
+            return math.nan
+        s = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))][SIGMA]
+        frame = frame[np.isclose(frame[SIGMA], s)]
+        means = frame.groupby(PRELOAD).agg(fa=(FA, "mean"), fp=(FP, "mean"))
+        if preload is None:
+            return float(means["fa"].max())
+        return float(means.iloc[np.argmin(np.abs(means["fp"] - preload))]["fa"])
+    return compute
+
+
+def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    written: list[Path] = []
+    colours = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green", "equivalent": "tab:red"}
+    # Fig. 6-4: curves at the smallest and largest preload, for each roughness
+    frames = {p: finished(results, p) for p in LEVELS}
+    sigmas = sorted(frames["three"][SIGMA].unique()) if has(frames["three"], SIGMA) else []
+    fig, ax = figure(2, max(1, len(sigmas)), size=(4.3, 3.0))
+    for i, s in enumerate(sigmas):
+        for j, which in enumerate(("min", "max")):
+            a_ = ax[i, j]
+            for part, frame in frames.items():
+                if not has(frame, SIGMA, PRELOAD, "case_id"):
+                    continue
+                sub = frame[np.isclose(frame[SIGMA], s) & (frame["realization"] == frame["realization"].min())]
+                if not len(sub):
+                    continue
+                row = sub.loc[sub[PRELOAD].idxmin() if which == "min" else sub[PRELOAD].idxmax()]
+                data = read_curve(case_path(figures_dir, part, row["case_id"], row))
+                if data is None:
+                    continue
+                fc = row["adhesive_force"] / row[FA] if row[FA] else 1.0
+                dc = row[SIGMA] / row[SIG] if row[SIG] else 1.0
+                a_.plot(data[0] / dc, data[1] / fc, lw=1, color=colours[part], label=f"{part} level")
+            a_.set(xlabel="d~", ylabel="F~", title=f"σ~ = {s / (sub[SIGMA] / sub[SIG]).mean() if len(sub) else s:.2f}, {which} preload")
+            a_.legend(fontsize=6)
+    if not sigmas:
+        empty_note(ax[0, 0])
+    fig.suptitle("Fig. 6-4: pull-off of one-, two- and three-level structures")
+    save(fig, figures_dir / "fig6-4_curves.png", written)
+
+    # Fig. 6-5: F~_A vs F~_P for each structure
+    fig, ax = figure(3, 1, size=(4.3, 3.4))
+    for a_, part in zip(ax[0], LEVELS):
+        frame = frames[part]
+        if has(frame, SIGMA, PRELOAD, FA, FP):
+            for s, g in frame.groupby(SIGMA):
+                m = mean_std(g, [PRELOAD], FA, x=FP).sort_values("x")
+                a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1,
+                            label=f"σ~ = {g[SIG].mean():.2f}")
+            a_.legend(fontsize=6)
+        else:
+            empty_note(a_)
+        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"Fig. 6-5: {part} level")
+    save(fig, figures_dir / "fig6-5_preload.png", written)
+
+    # Fig. 6-6: c (log-log) and plateau vs sigma~
+    fig, ax = figure(2, 1)
+    for part in LEVELS:
+        coeff = adhesion_coefficients(frames[part], [SIGMA])
+        if len(coeff):
+            coeff = coeff.sort_values("sigma")
+            ax[0, 0].loglog(coeff["sigma"], coeff["c"].clip(lower=1e-4), "o-", color=colours[part], label=part)
+            ax[0, 1].plot(coeff["sigma"], coeff["plateau"], "o-", color=colours[part], label=part)
+    ax[0, 0].set(xlabel="σ~", ylabel="c = F~_A / F~_P", title="Fig. 6-6 a")
+    ax[0, 1].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 6-6 b")
+    for a_ in ax[0]:
+        a_.legend(fontsize=7)
+    save(fig, figures_dir / "fig6-6_coefficient_plateau.png", written)
+
+    # Fig. 6-7: equivalent single level (a) and effective k1' vs sigma~ (b)
+    fig, ax = figure(2, 1)
+    for part in ("three", "equivalent"):
+        coeff = adhesion_coefficients(finished(results, part), [SIGMA])
+        if len(coeff):
+            coeff = coeff.sort_values("sigma")
+            ax[0, 0].plot(coeff["sigma"], coeff["plateau"], "o-", color=colours[part],
+                          label="three-level" if part == "three" else "equivalent single level (eq. 6.28)")
+    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 6-7 a")
+    ax[0, 0].legend(fontsize=7)
+    eff = effective_stiffness(results)
+    if len(eff):
+        ax[0, 1].semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="fitted k~1'")
+    keq = _eq628_value(results)
+    if math.isfinite(keq):
+        ax[0, 1].axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
+    ax[0, 1].axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
+    ax[0, 1].axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4")
+    ax[0, 1].set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
+    ax[0, 1].legend(fontsize=7)
+    save(fig, figures_dir / "fig6-7_equivalent.png", written)
+
+    # Fig. 6-8 a: plateau vs sigma~ for several k1, one and three levels
+    fig, ax = figure(1, 1)
+    for part, style in (("stiffness_one", "--"), ("stiffness_three", "-")):
+        frame = finished(results, part)
+        if not has(frame, K, SIGMA, FA):
+            continue
+        for k, g in frame.groupby(K):
+            m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
+            ax[0, 0].plot(m["s"], m["fa"], style, marker="o", ms=3,
+                          label=f"{'1' if part.endswith('one') else '3'} level, k~1 = {k:g}")
+    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)", title="Fig. 6-8 a: influence of k~1")
+    ax[0, 0].legend(fontsize=6)
+    save(fig, figures_dir / "fig6-8_stiffness.png", written)
+    return written
+
+
+STUDY = Study(
+    name="hierarchy",
+    title="Ch. 6: one-, two- and three-level rough brushes, equivalent single-level stiffness eq. 6.28 (Fig. 6-4 to 6-8)",
+    figures=("6-4", "6-5", "6-6", "6-7", "6-8"),
+    parts=("one", "two", "three", "equivalent", "stiffness_one", "stiffness_three"),
+    draw=draw,
+    numbers=(
+        ThesisNumber("equivalent single-level stiffness k~1' (eq. 6.28)", "text after eq. 6.28", 0.4e-4, _eq628_value),
+        ThesisNumber("k~2 = k~1/phi1 (eq. 6.26)", "eq. 6.26", 9e-3,
+                     lambda r: 1e-3 / 0.12),
+        ThesisNumber("k~3 = k~2/phi2 (eq. 6.26)", "eq. 6.26", 2e-2, lambda r: 1e-3 / 0.12 / 0.45),
+        ThesisNumber("three-level F~_A at sigma~ = 1.6, small preload", "Fig. 6-4 e, text", 0.4,
+                     _plateau("three", 1.6, preload=1.0)),
+    ),
+    notes="Fig. 6-8 b (varying k3 alone) is not part of the shipped sweeps.",
+)
+_ = equivalent_single_level_stiffness  # the closed form behind normalized.equivalent_single_level_stiffness_ratio

@@ -1,0 +1,233 @@
+"""Chapter 5: rough brushes of pillars on springs (Fig. 5-2 to 5-7, Table 1).
+
+Parts: ``curves`` (Fig. 5-2: k~ = 10, F~_P = 6.5, nine roughnesses) and
+``preload`` (k~ x sigma~ x F~_P over realisations: Fig. 5-3 to 5-7 and Table 1).
+Forces and preloads by F_c (eq. 5.3), roughness by d_c (eq. 5.4-5.5).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from brushbem.io import atomic_path
+from brushbem.studies import Study, ThesisNumber
+from brushbem.studies._ch5_7 import (
+    FA, FP, K, PRELOAD, SIG, SIGMA, adhesion_coefficients, case_path, empty_note, figure, finished,
+    fit_eq58, has, mean_std, read_curve, save,
+)
+from brushbem.theory import adhesion_coefficient
+
+#: Table 1 of the thesis: k~ -> (alpha, sigma~_c); beta = alpha / sigma~_c (its row is lost in the text but 0.035).
+TABLE_1 = {
+    0.55: (0.11, 3.67), 0.1: (0.15, 4.29), 0.055: (0.18, 5.14), 0.02: (0.28, 5.6), 0.01: (0.44, 5.5),
+    0.008: (0.59, 6.56), 0.004: (0.91, 9.1), 0.002: (1.7, 15.45), 0.001: (3.32, 22.13),
+}
+
+
+def table_1(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
+    """Our Table 1: alpha, beta (eq. 5.8 fitted by curve_fit) and sigma~_c = alpha/beta per k~."""
+    coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
+    rows = []
+    for k, group in (coeff.groupby(K) if len(coeff) else []):
+        alpha, beta = fit_eq58(group["sigma"].to_numpy(), group["c"].to_numpy())
+        sc = alpha / beta if beta and beta > 0 and math.isfinite(alpha) else math.nan
+        rows.append({"stiffness_ratio": float(k), "alpha": alpha, "beta": beta, "critical_roughness": sc})
+    return pd.DataFrame(rows, columns=["stiffness_ratio", "alpha", "beta", "critical_roughness"])
+
+
+def _table_value(column: str, k: float):
+    def compute(results):
+        t = table_1(results)
+        hit = t[np.isclose(t["stiffness_ratio"], k, rtol=1e-6)] if len(t) else t
+        return float(hit[column].iloc[0]) if len(hit) else math.nan
+    return compute
+
+
+def _plateau(k: float, sigma_tilde: float):
+    def compute(results):
+        coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
+        if not len(coeff):
+            return math.nan
+        sel = coeff[np.isclose(coeff[K], k, rtol=1e-6)]
+        if not len(sel):
+            return math.nan
+        return float(sel.iloc[np.argmin(np.abs(sel["sigma"] - sigma_tilde))]["plateau"])
+    return compute
+
+
+def _coefficient(k: float, sigma_tilde: float):
+    def compute(results):
+        coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
+        sel = coeff[np.isclose(coeff[K], k, rtol=1e-6)] if len(coeff) else coeff
+        if not len(sel):
+            return math.nan
+        return float(sel.iloc[np.argmin(np.abs(sel["sigma"] - sigma_tilde))]["c"])
+    return compute
+
+
+def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    figures_dir = Path(figures_dir)
+    written: list[Path] = []
+    # Fig. 5-2: curves
+    curves = finished(results, "curves")
+    fig, ax = figure(2, 1)
+    drawn = 0
+    if has(curves, "case_id", SIG):
+        for _, row in curves.sort_values(SIG).iterrows():
+            data = read_curve(case_path(figures_dir, "curves", row["case_id"], row))
+            if data is None:
+                continue
+            d, f, a, _, _ = data
+            fc = row["adhesive_force"] / row[FA] if row[FA] else math.nan
+            dc = row[SIGMA] / row[SIG] if row[SIG] else math.nan
+            label = f"σ~ = {row[SIG]:.2f}"
+            ax[0, 0].plot(d / dc if math.isfinite(dc) else d, f / fc, lw=1, label=label)
+            if a is not None:
+                ax[0, 1].plot(a / np.nanmax(a), f / fc, lw=1, label=label)
+            drawn += 1
+    ax[0, 0].set(xlabel="d~ = d / d_c", ylabel="F~ = F / F_c", title="Fig. 5-2 a: k~ = 10, F~_P ≈ 6.5")
+    ax[0, 1].set(xlabel="A / A_max", ylabel="F~", title="Fig. 5-2 b")
+    for a_ in ax[0]:
+        a_.axhline(-1, ls=":", color="0.5")
+        a_.axhline(0, color="0.8", lw=0.5)
+    if drawn:
+        ax[0, 0].legend(fontsize=7)
+        ax[0, 0].set_xlim(-3, None)
+    else:
+        empty_note(ax[0, 0])
+    save(fig, figures_dir / "fig5-2_curves.png", written)
+
+    pre = finished(results, "preload")
+    # Fig. 5-3 / 5-4: F~_A vs F~_P per k~, mean +- std over realisations
+    ks = sorted(pre[K].unique(), reverse=True) if has(pre, K, FA, FP, PRELOAD, SIGMA) else []
+    ncols = max(1, min(3, len(ks)))
+    nrows = max(1, math.ceil(len(ks) / ncols))
+    fig, ax = figure(ncols, nrows, size=(4.3, 3.4))
+    for i, k in enumerate(ks):
+        a_ = ax.flat[i]
+        sub = pre[pre[K] == k]
+        for s, g in sub.groupby(SIGMA):
+            m = mean_std(g, [PRELOAD], FA, x=FP).sort_values("x")
+            a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1,
+                        label=f"σ~ = {g[SIG].mean():.2f}")
+        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"k~ = {k:g}")
+        a_.axhline(1, ls=":", color="0.5")
+        a_.legend(fontsize=6)
+    if not ks:
+        empty_note(ax[0, 0])
+    fig.suptitle("Fig. 5-3 / 5-4: adhesive force vs preload (mean ± std over realisations)")
+    save(fig, figures_dir / "fig5-3_5-4_preload.png", written)
+
+    # Fig. 5-5: c vs sigma~ with eq. 5.8 fit; Table 1
+    coeff = adhesion_coefficients(pre, [K, SIGMA])
+    table = table_1(results)
+    fig, ax = figure(2, 1)
+    for k, g in (coeff.groupby(K) if len(coeff) else []):
+        g = g.sort_values("sigma")
+        line = ax[0, 0].plot(g["sigma"], g["c"], "o", ms=4, label=f"k~ = {k:g}")[0]
+        ax[0, 1].loglog(g["sigma"], g["c"].clip(lower=1e-4), "o", ms=4, color=line.get_color())
+        row = table[np.isclose(table["stiffness_ratio"], k)]
+        if len(row) and math.isfinite(row["alpha"].iloc[0]):
+            s = np.geomspace(max(g["sigma"].min(), 1e-3), max(g["sigma"].max(), 1e-3) * 1.5, 100)
+            c = row["alpha"].iloc[0] / s - row["beta"].iloc[0]  # eq. 5.8 (beta may come out < 0 on few points)
+            ax[0, 0].plot(s, c, "--", color=line.get_color(), lw=1)
+            ax[0, 1].loglog(s, np.clip(c, 1e-4, None), "--", color=line.get_color(), lw=1)
+    for k, (alpha, sc) in TABLE_1.items():
+        s = np.geomspace(0.01, sc, 60)
+        ax[0, 1].loglog(s, np.clip(adhesion_coefficient(s, alpha, alpha / sc), 1e-4, None), ":", color="0.6", lw=0.7)
+    ax[0, 0].set(xlabel="σ~", ylabel="c = F~_A / F~_P", title="Fig. 5-5 a (dashed: eq. 5.8 fit)")
+    ax[0, 1].set(xlabel="σ~", ylabel="c", title="Fig. 5-5 b (dotted: thesis Table 1)")
+    if len(coeff):
+        ax[0, 0].legend(fontsize=7)
+    else:
+        empty_note(ax[0, 0])
+    save(fig, figures_dir / "fig5-5_adhesion_coefficient.png", written)
+
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    with atomic_path(figures_dir / "table1.csv") as temporary:
+        out = table.copy()
+        out["thesis_alpha"] = [TABLE_1.get(_nearest(k), (math.nan, math.nan))[0] for k in out["stiffness_ratio"]]
+        out["thesis_critical_roughness"] = [TABLE_1.get(_nearest(k), (math.nan, math.nan))[1] for k in out["stiffness_ratio"]]
+        out.to_csv(temporary, index=False)
+    fig, ax = figure(1, 1)
+    tk = sorted(TABLE_1)
+    ax[0, 0].semilogx(tk, [TABLE_1[k][1] for k in tk], "s--", color="0.5", label="thesis σ~_c (Table 1)")
+    ax[0, 0].semilogx(tk, [TABLE_1[k][0] * 10 for k in tk], "^:", color="0.7", label="thesis 10 α")
+    if len(table):
+        ax[0, 0].semilogx(table["stiffness_ratio"], table["critical_roughness"], "o-", label="ours σ~_c = α/β")
+        ax[0, 0].semilogx(table["stiffness_ratio"], 10 * table["alpha"], "v-", label="ours 10 α")
+    ax[0, 0].set(xlabel="k~", ylabel="σ~_c, 10 α", title="Table 1: α, β, σ~_c vs k~")
+    ax[0, 0].legend(fontsize=7)
+    save(fig, figures_dir / "table1.png", written)
+
+    # Fig. 5-6: plateau vs sigma~ (a) and k~ (b)
+    fig, ax = figure(2, 1)
+    for k, g in (coeff.groupby(K) if len(coeff) else []):
+        g = g.sort_values("sigma")
+        ax[0, 0].plot(g["sigma"], g["plateau"], "o-", ms=3, label=f"k~ = {k:g}")
+    for s, g in (coeff.groupby(SIGMA) if len(coeff) else []):
+        g = g.sort_values(K)
+        ax[0, 1].semilogx(g[K], g["plateau"], "o-", ms=3, label=f"σ~ = {g['sigma'].mean():.2f}")
+    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 5-6 a")
+    ax[0, 1].set(xlabel="k~", ylabel="F~_A (plateau)", title="Fig. 5-6 b")
+    for a_ in ax[0]:
+        a_.axhline(1, ls=":", color="0.5")
+        if len(coeff):
+            a_.legend(fontsize=6)
+    save(fig, figures_dir / "fig5-6_plateau.png", written)
+
+    # Fig. 5-7: combined map
+    fig, ax = figure(1, 1)
+    if len(coeff) and coeff[K].nunique() > 1 and coeff[SIGMA].nunique() > 1:
+        grid = coeff.pivot_table(index=SIGMA, columns=K, values="plateau")
+        sig = coeff.groupby(SIGMA)["sigma"].mean().reindex(grid.index).to_numpy()
+        mesh = ax[0, 0].pcolormesh(np.log10(grid.columns.to_numpy(float)), sig, grid.to_numpy(), shading="nearest")
+        fig.colorbar(mesh, ax=ax[0, 0], label="F~_A (plateau)")
+    else:
+        empty_note(ax[0, 0], "needs several k~ and σ~")
+    ax[0, 0].set(xlabel="log10 k~", ylabel="σ~", title="Fig. 5-7: combined influence")
+    save(fig, figures_dir / "fig5-7_map.png", written)
+    return written
+
+
+def _nearest(k: float) -> float:
+    keys = np.array(sorted(TABLE_1))
+    if k >= 0.55:
+        return 0.55
+    j = int(np.argmin(np.abs(np.log(keys) - math.log(k))))
+    return float(keys[j]) if np.isclose(keys[j], k, rtol=1e-3) else math.nan
+
+
+NUMBERS = [
+    ThesisNumber(f"alpha of eq. 5.8 at k~ = {k:g}", "Table 1", a, _table_value("alpha", 10.0 if k == 0.55 else k))
+    for k, (a, _) in TABLE_1.items()
+] + [
+    ThesisNumber(f"sigma~_c = alpha/beta at k~ = {k:g}", "Table 1", sc, _table_value("critical_roughness", 10.0 if k == 0.55 else k))
+    for k, (_, sc) in TABLE_1.items()
+] + [
+    ThesisNumber("beta of eq. 5.8 at k~ = 0.055", "Table 1", 0.035, _table_value("beta", 0.055)),
+    ThesisNumber("critical roughness of the rigid case (k~ = 10)", "text p. 5.2 (after eq. 5.8)", 3.67,
+                 _table_value("critical_roughness", 10.0)),
+    ThesisNumber("c at sigma~ = 0.01, k~ = 0.001", "text before Fig. 5-5", 204.0, _coefficient(0.001, 0.01)),
+    ThesisNumber("c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10)", "text before Fig. 5-5", 8.0, _coefficient(10.0, 0.01)),
+    ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 0.07", "Fig. 5-4 a, text", 1.0, _plateau(1.0, 0.07)),
+    ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ -> 0", "Fig. 5-4 d, text", 2.0, _plateau(0.001, 0.01)),
+    ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ = 2.1", "Fig. 5-4 d, text", 1.5, _plateau(0.001, 2.1)),
+    ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 2.1 (almost vanishes)", "Fig. 5-4 a, text", 0.0, _plateau(1.0, 2.1)),
+]
+
+STUDY = Study(
+    name="rough_brush",
+    title="Ch. 5: rough brushes on springs, F~_A vs preload, adhesion coefficient (eq. 5.8), Table 1 (Fig. 5-2 to 5-7)",
+    figures=("5-2", "5-3", "5-4", "5-5", "5-6", "5-7", "Table 1"),
+    parts=("curves", "preload"),
+    draw=draw,
+    numbers=tuple(NUMBERS),
+    notes="c is F~_A/F~_P at the smallest preload of each (k~, sigma~); the plateau is the largest mean F~_A over "
+          "the preloads. The k~ >= 0.55 column of Table 1 is compared with our k~ = 10.",
+)
