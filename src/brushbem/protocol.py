@@ -28,6 +28,7 @@ grows beyond it.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Iterator
@@ -360,6 +361,27 @@ class _Tracker:
         stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
         return self._outside_lowest > displacement + lift + stretch
 
+    def outside_reach_displacement(self) -> float:
+        """The smallest base displacement at which an element outside the window could touch.
+
+        The same bound as `_outside_safe`, solved for d at the current
+        tension: outside the window the tip is at least ``_outside_lowest``
+        high, the surface there is lifted by at most T / (pi E* r) and a spring
+        in tension lowers the tip by at most T / k.
+        """
+        xp = self.xp
+        if self._outside_lowest == math.inf:
+            return math.inf
+        tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
+        lift = 0.0
+        if tension > 0:
+            r0, r1, c0, c1 = self._box_of(self.contact)
+            w = self.window
+            gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
+            lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
+        stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
+        return self._outside_lowest - lift - stretch
+
     def _outside_penetration(self, displacement: float):
         xp = self.xp
         full = ContactOperator(self.halfspace, self.problem.indenter, Window.full(self.problem.grid.elements))
@@ -582,6 +604,10 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
             return None
         return new_d, _target_reached(tracker, path, new_d)
     tracker.ensure_window(tracker.contact)
+    if loading and not tracker.covers_footprint and tracker.outside_reach_displacement() <= d:
+        # An element outside the window may already be within reach (the
+        # bound is conservative): work on the whole footprint from here on.
+        tracker.ensure_window(tracker.contact | tracker.footprint)
     sl = tracker.window.slices
     result = tracker.unit_response()
     if not result.converged:
@@ -614,6 +640,13 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
         force_rate = tracker.h2 * float(xp.sum(a))
         if force_rate > 0:
             candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
+    if loading and not tracker.covers_footprint:
+        # Footprint elements outside the window (other pillars, asperities)
+        # are not in the affine prediction: stop where one of them could
+        # first touch, enlarge the window there and predict again.
+        reach_at = tracker.outside_reach_displacement()
+        if reach_at < math.inf:
+            candidates.append((max(reach_at - d, 0.0), "outside", None))
     t = min(c[0] for c in candidates)
     if not math.isfinite(t):
         yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
@@ -625,6 +658,20 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
     new_pressure[sl] = (pressure + (s * t) * a) * contact
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
     tie = 100.0 * tol * (abs(d) + t) + 1e-300
+    outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
+    if outside_hit and t + tie < min(t_det, t_att):
+        # Move to the bound along the exact affine path (a valid equilibrium:
+        # nothing detaches or attaches before it), then widen the window to
+        # every footprint element the load path may still reach and go on.
+        tracker.pressure = new_pressure
+        reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), tracker.problem.grid.element_size)
+        before = tracker.window
+        tracker.ensure_window(tracker.contact | (tracker.footprint & (tracker.height <= reach)))
+        if tracker.window == before or tracker.outside_reach_displacement() <= new_d:
+            tracker.ensure_window(tracker.contact | tracker.footprint)
+        yield tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1, True,
+                            "window enlarged")
+        return new_d, _target_reached(tracker, path, new_d)
     if target_hit and t + tie < min(t_det, t_att):
         tracker.pressure = new_pressure
         state = tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1,
@@ -726,12 +773,14 @@ def record_pull_off(
             separated = True
             path_points.append((state.displacement, state.trial_force, False))
             path_points.append((state.displacement, 0.0, False))
-            rows.append(state)
+            rows.append(dataclasses.replace(state, pressure=None, contact=None))
             break
         if state.trial_force != state.force:
             path_points.append((state.displacement, state.trial_force, state.loading))
         path_points.append((state.displacement, state.force, state.loading))
-        rows.append(state)
+        # The curve needs the scalars only; the arrays of every state would
+        # add up to gigabytes on long event paths (snapshots keep their own).
+        rows.append(dataclasses.replace(state, pressure=None, contact=None))
         if state.loading:
             snapshots["max_preload"] = _snapshot("max_preload", state, to_numpy, pillar_forces)
             attached_at_preload = state.attached_pillars
