@@ -267,7 +267,7 @@ th{background:#f0f0f0}
 tr.case-failed td{background:#fdd}tr.case-unconverged td{background:#ffe9bf}
 tr.case-missing td{background:#eee;color:#666}
 .problems{border:2px solid #c00;background:#fff4f4;padding:.5em 1em}
-.ok{color:#070}.na{color:#a00}
+.ok{color:#070}.na{color:#a00}.far{color:#b60}
 figure{display:inline-block;margin:.5em}figure img{max-width:640px;border:1px solid #ddd}
 figcaption{font-size:.8em;color:#555}code{font-size:.9em}
 .scroll{overflow-x:auto}table.summary td:first-child{white-space:nowrap}
@@ -344,7 +344,8 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             deviation = (ours - number.thesis) / number.thesis if number.thesis else math.nan
             ours_text = f"{ours:.6g}"
             deviation_text = f"{100.0 * deviation:+.2f} %" if math.isfinite(deviation) else "n/a"
-            css = "ok"
+            # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md.
+            css = "ok" if math.isfinite(deviation) and abs(deviation) <= 0.05 else "far"
         except Exception as exc:  # noqa: BLE001 - a number that cannot be computed is shown, not fatal
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"
         rows.append(f"<tr><td>{_e(number.quantity)}</td><td>{_e(number.where)}</td>"
