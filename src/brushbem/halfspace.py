@@ -179,10 +179,7 @@ class HalfSpace:
         rows, cols = pressure.shape[-2:]
         if spectrum is None:
             spectrum = self.spectrum(rows, cols)
-        padded_shape = (2 * rows, 2 * cols)
-        product = backend.rfft2(self.xp, pressure, padded_shape)
-        product *= spectrum
-        return backend.irfft2(self.xp, product, padded_shape)[..., :rows, :cols]
+        return backend.padded_convolution(self.xp, pressure, spectrum)
 
     def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
         """The dense (rows*cols)^2 influence matrix, for tests on small grids."""
