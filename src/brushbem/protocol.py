@@ -28,6 +28,7 @@ grows beyond it.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Iterator
@@ -36,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .halfspace import HalfSpace
-from .operator import ContactOperator, Window
+from .operator import ContactOperator, Window, fast_size
 from .results import Curve, Snapshot
 from .solver import (
     Equilibrium,
@@ -180,19 +181,6 @@ class State:
     contact: object
 
 
-def _fast_window(size: int) -> int:
-    """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5."""
-    m = size
-    while True:
-        length = 2 * m
-        for factor in (2, 3, 5):
-            while length % factor == 0:
-                length //= factor
-        if length == 1:
-            return m
-        m += 1
-
-
 class _Tracker:
     """Full-grid state, the working window and its operator."""
 
@@ -257,7 +245,7 @@ class _Tracker:
             fraction = self.path.window_margin if margin_fraction is None else margin_fraction
             margin = max(4, int(math.ceil(fraction * size)))
             lo, hi = max(lo - margin, flo, 0), min(hi + margin, fhi, n)
-            target = min(_fast_window(hi - lo), n)
+            target = min(fast_size(hi - lo), n)
             while hi - lo < target:
                 if hi < n:
                     hi += 1
@@ -374,18 +362,23 @@ class _Tracker:
         xp = self.xp
         sl = self.window.slices
         contact = self.contact[sl]
-        ones = xp.where(contact, 1.0, 0.0)
+        block, operator = self.operator.sub_operator(contact)
+        block_contact = contact[block]
+        ones = xp.where(block_contact, 1.0, 0.0)
         result = conjugate_gradient(
-            lambda x: self.operator.apply(x, contact),
+            lambda x: operator.apply(x, block_contact),
             ones,
-            contact,
-            initial=self.unit,
+            block_contact,
+            initial=None if self.unit is None else self.unit[block],
             tolerance=self.path.tolerance,
             max_iterations=self.path.max_iterations,
-            preconditioner=laplacian_preconditioner(contact),
+            preconditioner=laplacian_preconditioner(block_contact),
             xp=xp,
         )
-        self.unit = result.solution if result.converged else None
+        solution = xp.zeros(contact.shape, dtype=ones.dtype)
+        solution[block] = result.solution
+        result = dataclasses.replace(result, solution=solution)
+        self.unit = solution if result.converged else None
         return result
 
     # -- records ------------------------------------------------------------

@@ -250,6 +250,10 @@ def equilibrium(
         Warm start.
     critical : float
         Sigma_c; 0 means no adhesion (elements leave when p < 0).
+    preconditioner : callable, optional
+        M^-1 on the window's arrays, instead of the Laplacian preconditioner
+        (the solves then run on the whole window rather than on the block
+        around S).
     force_detach, force_attach : ndarray of bool, optional
         Elements that leave / join S before the first solve (the event that
         the event-driven path has reached exactly).
@@ -274,19 +278,27 @@ def equilibrium(
     slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
     for _ in range(max_rounds):
         if bool(xp.any(contact)):
+            # The solve only needs the deflection on S: run it on the block
+            # around S (a caller's preconditioner works on the whole window).
+            if preconditioner is None:
+                block, block_operator = operator.sub_operator(contact)
+            else:
+                block, block_operator = operator.window.slices_local, operator
+            block_contact = contact[block]
             result = conjugate_gradient(
-                lambda x: operator.apply(x, contact),
-                target,
-                contact,
-                initial=pressure,
+                lambda x: block_operator.apply(x, block_contact),
+                target[block],
+                block_contact,
+                initial=pressure[block],
                 tolerance=tolerance,
                 max_iterations=max_iterations,
-                preconditioner=laplacian_preconditioner(contact) if preconditioner is None else preconditioner,
+                preconditioner=laplacian_preconditioner(block_contact) if preconditioner is None else preconditioner,
                 xp=xp,
             )
             iterations += result.iterations
             solves += 1
-            pressure = result.solution
+            pressure = xp.zeros_like(target)
+            pressure[block] = result.solution
             if not result.converged:
                 return Equilibrium(
                     displacement, pressure, contact, False, result.reason, iterations, solves,
