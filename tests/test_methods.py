@@ -401,6 +401,43 @@ def test_event_path_is_linear_between_events(case):
         assert segments >= 10  # many rings detach one event at a time
 
 
+@pytest.mark.parametrize(
+    ("method", "steps", "margin", "elements"),
+    [("events", 1, 0.25, 80), ("events", 1, 0.0, 80), ("fixed", 10, 0.0, 80), ("fixed", 3, 0.0, 160)],
+)
+def test_no_state_penetrates_outside_the_window(method, steps, margin, elements):
+    """Every equilibrium of a sphere pull-off is admissible on the whole grid.
+
+    The path works on a window; after every equilibrium it proves with a bound
+    that nothing outside the window penetrates, or else enlarges the window,
+    or else checks the penetration on the full grid and attaches what it
+    finds.  Here the penetration of every recorded equilibrium is recomputed
+    on the full grid: outside the contact it must not exceed the equilibrium's
+    own join slack (10 x tolerance x length scale).  The domain is 3 x wider
+    than the contact; the thin window margins and the coarse fixed steps make
+    the contact outgrow its window (the last case finds 48 penetrating
+    elements outside it on the full grid).
+    """
+    grid = Grid(1.2, elements)
+    problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
+    preload = 1.5 * A_JKR**2 / SPHERE_RADIUS
+    path = LoadPath(method=method, preload_displacement=preload, step=preload / steps, window_margin=margin)
+    n = grid.elements
+    operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), problem.indenter, Window.full(n))
+    footprint = np.isfinite(problem.indenter.height)
+    checked = 0
+    for state in pull_off(problem, path):
+        assert state.converged, state.reason
+        if state.kind != "equilibrium":
+            continue
+        reach = state.displacement - problem.indenter.height - operator.deflection(state.pressure)
+        slack = 10 * path.tolerance * max(abs(state.displacement), float(np.max(np.abs(np.where(
+            footprint, state.displacement - problem.indenter.height, 0.0)))))
+        assert not np.any(footprint & ~state.contact & (reach > slack)), state.displacement
+        checked += 1
+    assert checked >= 5
+
+
 # ---------------------------------------------------------------------------
 # Preload by force
 # ---------------------------------------------------------------------------

@@ -201,7 +201,7 @@ class _Tracker:
         self.critical = problem.critical_stress
         self.pressure = xp.zeros((n, n), dtype=xp.float64)
         self.contact = xp.zeros((n, n), dtype=xp.bool)
-        self.unit = None  # a = A_S^-1 1 on the window (warm start for the next one)
+        self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
         self.window: Window | None = None
         self.operator: ContactOperator | None = None
         fp = np.asarray(indenter.footprint)
@@ -240,6 +240,14 @@ class _Tracker:
             if inside and not oversized:
                 return
 
+        self._install_window(self._window_around(needed, margin_fraction))
+
+    def _window_around(self, needed, margin_fraction: float | None = None) -> Window:
+        """The window that holds ``needed`` (full-grid bool, not empty) with the margin, in fast sizes."""
+        n = self.problem.grid.elements
+        r0, r1, c0, c1 = self._box_of(needed)
+        fr0, fr1, fc0, fc1 = self.footprint_box
+
         def widen(lo, hi, flo, fhi):
             size = hi - lo
             fraction = self.path.window_margin if margin_fraction is None else margin_fraction
@@ -255,14 +263,22 @@ class _Tracker:
 
         r0, r1 = widen(r0, r1, fr0, fr1)
         c0, c1 = widen(c0, c1, fc0, fc1)
-        self.window = Window(int(r0), int(r1), int(c0), int(c1))
-        self.operator = ContactOperator(self.halfspace, self.problem.indenter, self.window, self.problem.coupling)
-        self.unit = None
-        outside = np.asarray(self.footprint).copy()
-        outside[self.window.slices] = False
-        heights = np.asarray(self.height)[outside]
-        self._outside_lowest = float(heights.min()) if heights.size else math.inf
+        return Window(int(r0), int(r1), int(c0), int(c1))
 
+    def _lowest_outside(self, window: Window) -> float:
+        """Lowest tip height on the footprint outside ``window`` (inf if none)."""
+        outside = np.asarray(self.footprint).copy()
+        outside[window.slices] = False
+        heights = np.asarray(self.height)[outside]
+        return float(heights.min()) if heights.size else math.inf
+
+    def _install_window(self, window: Window) -> None:
+        self.window = window
+        levels = None if self.operator is None else self.operator._level_data
+        self.operator = ContactOperator(
+            self.halfspace, self.problem.indenter, window, self.problem.coupling, _levels=levels
+        )
+        self._outside_lowest = self._lowest_outside(window)
 
     @property
     def covers_footprint(self) -> bool:
@@ -286,6 +302,7 @@ class _Tracker:
         self.ensure_window(needed, margin)
         iterations = solves = 0
         trial = None
+        enlarged = False
         while True:
             sl = self.window.slices
             height = self.height[sl]
@@ -314,6 +331,20 @@ class _Tracker:
                 break
             if self.covers_footprint or self._outside_safe(displacement):
                 break
+            if not enlarged:
+                # The contact has grown close to the window's edge, where the
+                # bound cannot exclude penetration.  A window rebuilt around
+                # the contact with the usual margin usually restores the
+                # bound; the equilibrium is then re-checked on it (a warm
+                # start at the solution: one residual and one penetration on
+                # the window), far cheaper than the full-grid penetration.
+                enlarged = True
+                candidate = self._window_around(self.contact)
+                if candidate != self.window and self._outside_safe(
+                    displacement, candidate, self._lowest_outside(candidate)
+                ):
+                    self._install_window(candidate)
+                    continue
             # Penetration outside the window: the contact grew beyond it.
             outside = self._outside_penetration(displacement)
             if not bool(xp.any(outside)):
@@ -325,28 +356,30 @@ class _Tracker:
             trial, eq.detached, eq.attached,
         )
 
-    def _outside_safe(self, displacement: float) -> bool:
+    def _outside_safe(self, displacement: float, window: Window | None = None, lowest: float | None = None) -> bool:
         """A cheap proof that no element outside the window can penetrate.
 
         Outside the window the tip is at least ``_outside_lowest`` high.  The
         half-space surface there is lifted by tension inside the window by at
         most T / (pi E* r), T the total tensile force and r the distance to the
         window (the point-load bound of the kernel), and a spring in tension
-        lowers the tip by at most |F|/k.
+        lowers the tip by at most |F|/k.  ``window`` and ``lowest`` evaluate
+        the bound for another window (holding the contact) instead.
         """
         xp = self.xp
-        if self._outside_lowest == math.inf:
+        w = self.window if window is None else window
+        lowest = self._outside_lowest if lowest is None else lowest
+        if lowest == math.inf:
             return True
         tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
         lift = 0.0
         if tension > 0:
             # Distance from the contact's bounding box to the nearest element outside the window.
             r0, r1, c0, c1 = self._box_of(self.contact)
-            w = self.window
             gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
             lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
         stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
-        return self._outside_lowest > displacement + lift + stretch
+        return lowest > displacement + lift + stretch
 
     def _outside_penetration(self, displacement: float):
         xp = self.xp
@@ -369,7 +402,7 @@ class _Tracker:
             lambda x: operator.apply(x, block_contact),
             ones,
             block_contact,
-            initial=None if self.unit is None else self.unit[block],
+            initial=None if self.unit is None else self.unit[sl][block],
             tolerance=self.path.tolerance,
             max_iterations=self.path.max_iterations,
             preconditioner=laplacian_preconditioner(block_contact),
@@ -378,7 +411,11 @@ class _Tracker:
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution
         result = dataclasses.replace(result, solution=solution)
-        self.unit = solution if result.converged else None
+        if result.converged:
+            self.unit = xp.zeros_like(self.pressure)
+            self.unit[sl] = solution
+        else:
+            self.unit = None
         return result
 
     # -- records ------------------------------------------------------------
