@@ -47,6 +47,7 @@ from .solver import (
     laplacian_preconditioner,
     penetration,
     polonsky_keer,
+    tip_deflection,
 )
 from .structure import Grid, Indenter
 
@@ -202,6 +203,9 @@ class _Tracker:
         self.pressure = xp.zeros((n, n), dtype=xp.float64)
         self.contact = xp.zeros((n, n), dtype=xp.bool)
         self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
+        # (pressure array, window, tip deflection on that window): the deflection
+        # of self.pressure when it is known without another transform.
+        self._known_deflection: tuple | None = None
         self.window: Window | None = None
         self.operator: ContactOperator | None = None
         fp = np.asarray(indenter.footprint)
@@ -351,10 +355,21 @@ class _Tracker:
                 break
             self.ensure_window(self.contact | outside)
             force_attach = outside
+        # The last equilibrium ran on the current window.
+        self._known_deflection = None if eq.deflection is None else (self.pressure, self.window, eq.deflection)
         return Equilibrium(
             displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
-            trial, eq.detached, eq.attached,
+            trial, eq.detached, eq.attached, eq.deflection,
         )
+
+    def deflection(self):
+        """Tip deflection (half-space + springs) of the current pressure on the window."""
+        known = self._known_deflection
+        if known is not None and known[0] is self.pressure and known[1] == self.window:
+            return known[2]
+        deflection = tip_deflection(self.operator, self.pressure[self.window.slices])
+        self._known_deflection = (self.pressure, self.window, deflection)
+        return deflection
 
     def _outside_safe(self, displacement: float, window: Window | None = None, lowest: float | None = None) -> bool:
         """A cheap proof that no element outside the window can penetrate.
@@ -630,9 +645,8 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
     # Attachment: penetration pen_j + t s slope_j = 0 from below.
     height = tracker.height[sl]
     footprint = tracker.footprint[sl]
-    reach = penetration(tracker.operator, height, d, pressure)
-    slope = -(tracker.operator.halfspace_deflection(a) + (tracker.operator.spring_deflection(a) if tracker.operator.has_springs else 0.0))
-    slope = 1.0 + slope
+    reach = d - height - tracker.deflection()  # known from the last equilibrium's join check
+    slope = 1.0 - tip_deflection(tracker.operator, a)
     closing = footprint & ~contact & (s * slope > 0)
     t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
     t_attach = xp.where(t_attach < 0, 0.0, t_attach)

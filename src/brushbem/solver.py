@@ -74,7 +74,8 @@ class SolveResult:
 
 
 def _dot(xp, a, b) -> float:
-    return float(xp.sum(a * b))
+    # A matrix product of the flattened arrays: no temporary, unlike sum(a * b).
+    return float(xp.reshape(a, (-1,)) @ xp.reshape(b, (-1,)))
 
 
 def conjugate_gradient(
@@ -121,9 +122,11 @@ def conjugate_gradient(
     history = [relative]
     if relative <= tolerance:
         return SolveResult(x, True, "initial guess within tolerance", 0, relative, tuple(history))
-    z = residual if preconditioner is None else preconditioner(residual) * maskf
-    direction = z
-    rz = _dot(xp, residual, z)
+    # x, residual and direction are private arrays from here on (residual may
+    # be the masked copy of rhs) and are updated in place: fewer temporaries
+    # matter on the small blocks the solves run on.
+    direction = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
+    rz = _dot(xp, residual, direction)
     for iteration in range(1, max_iterations + 1):
         a_direction = apply(direction)
         curvature = _dot(xp, direction, a_direction)
@@ -135,17 +138,18 @@ def conjugate_gradient(
             )
             return SolveResult(x, False, reason, iteration, relative, tuple(history))
         step = rz / curvature
-        x = x + step * direction
-        residual = residual - step * a_direction
+        x += step * direction
+        residual -= step * a_direction
         relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
         history.append(relative)
         if not math.isfinite(relative):
             return SolveResult(x, False, "non-finite residual", iteration, relative, tuple(history))
         if relative <= tolerance:
             return SolveResult(x, True, "relative residual below tolerance", iteration, relative, tuple(history))
-        z = residual if preconditioner is None else preconditioner(residual) * maskf
+        z = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
         rz_next = _dot(xp, residual, z)
-        direction = z + (rz_next / rz) * direction
+        direction *= rz_next / rz
+        direction += z
         rz = rz_next
     return SolveResult(
         x, False, f"no convergence in {max_iterations} iterations", max_iterations, relative, tuple(history)
@@ -199,6 +203,10 @@ class Equilibrium:
         fixed-set force the path passes through before a cascade).
     detached, attached : int
         Elements that left and joined S.
+    deflection : ndarray or None
+        ``tip_deflection`` (K p + springs) on the window for the returned pressure, when the
+        solver computed it anyway (the final join check of ``equilibrium``),
+        so that callers need not transform the pressure again.
     """
 
     displacement: float
@@ -211,14 +219,20 @@ class Equilibrium:
     trial_force_sum: float
     detached: int
     attached: int
+    deflection: object = None
+
+
+def tip_deflection(operator: ContactOperator, pressure):
+    """Half-space deflection plus spring deflection of ``pressure`` on the window (unmasked)."""
+    deflection = operator.halfspace_deflection(pressure)
+    if operator.has_springs:
+        deflection = deflection + operator.spring_deflection(pressure)
+    return deflection
 
 
 def penetration(operator: ContactOperator, height, displacement: float, pressure):
     """How far the tip reaches into the deformed half-space (> 0: penetrates), on the window."""
-    deflection = operator.halfspace_deflection(pressure)
-    if operator.has_springs:
-        deflection = deflection + operator.spring_deflection(pressure)
-    return displacement - height - deflection
+    return displacement - height - tip_deflection(operator, pressure)
 
 
 def equilibrium(
@@ -315,14 +329,16 @@ def equilibrium(
             pressure = pressure * contact
             detached += n_leaving
             continue
-        joining = footprint & ~contact & (penetration(operator, height, displacement, pressure) > slack)
+        deflection = tip_deflection(operator, pressure)
+        joining = footprint & ~contact & (displacement - height - deflection > slack)
         n_joining = int(xp.sum(joining))
         if n_joining:
             contact = contact | joining
             attached += n_joining
             continue
         return Equilibrium(
-            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached, attached
+            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached,
+            attached, deflection,
         )
     return Equilibrium(
         displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",
