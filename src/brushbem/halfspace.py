@@ -158,6 +158,24 @@ class HalfSpace:
             self._spectra[key] = cached
         return cached
 
+    def mirrored_kernel(self, rows: int, cols: int):
+        """K for offsets -(rows-1)..rows-1 by -(cols-1)..cols-1, shape (2rows-1, 2cols-1) (cached).
+
+        The deflection on a rows x cols window of a unit pressure on element
+        (r, c) of the window is the view ``[rows-1-r : 2rows-1-r, cols-1-c :
+        2cols-1-c]``: a direct sum for a few loaded elements, without a
+        transform.
+        """
+        key = ("mirrored", rows, cols)
+        cached = self._spectra.get(key)
+        if cached is None:
+            xp = self.xp
+            base = self.kernel(rows, cols)
+            cached = xp.concat([xp.flip(base[1:, :], axis=0), base], axis=0)
+            cached = xp.concat([xp.flip(cached[:, 1:], axis=1), cached], axis=1)
+            self._spectra[key] = cached
+        return cached
+
     def apply(self, pressure, spectrum=None):
         """Surface deflection in the window of ``pressure``.
 

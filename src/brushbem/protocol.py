@@ -41,6 +41,7 @@ from .operator import ContactOperator, Window, fast_size
 from .results import Curve, Snapshot
 from .solver import (
     Equilibrium,
+    _dot,
     conjugate_gradient,
     critical_stress,
     equilibrium,
@@ -203,9 +204,14 @@ class _Tracker:
         self.pressure = xp.zeros((n, n), dtype=xp.float64)
         self.contact = xp.zeros((n, n), dtype=xp.bool)
         self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
-        # (pressure array, window, tip deflection on that window): the deflection
-        # of self.pressure when it is known without another transform.
+        # Deflections known without another transform, each as (array, window,
+        # tip deflection of the array on that window): of self.pressure, and of
+        # self.unit.
         self._known_deflection: tuple | None = None
+        self._unit_deflection: tuple | None = None
+        # (contact array, window, dp, K dp): how the last cascade changed the
+        # pressure beyond the affine prediction, for the next unit response.
+        self._pressure_change: tuple | None = None
         self.window: Window | None = None
         self.operator: ContactOperator | None = None
         fp = np.asarray(indenter.footprint)
@@ -321,6 +327,7 @@ class _Tracker:
                     tolerance=self.path.tolerance, max_iterations=self.path.max_iterations,
                     force_detach=None if force_detach is None else force_detach[sl],
                     force_attach=None if force_attach is None else force_attach[sl],
+                    deflection=self.known_deflection(),
                 )
             iterations += eq.cg_iterations
             solves += eq.n_solves
@@ -331,6 +338,7 @@ class _Tracker:
             self.pressure[sl] = eq.pressure
             self.contact = xp.zeros_like(self.contact)
             self.contact[sl] = eq.contact
+            self._known_deflection = None if eq.deflection is None else (self.pressure, self.window, eq.deflection)
             if not eq.converged:
                 break
             if self.covers_footprint or self._outside_safe(displacement):
@@ -355,21 +363,62 @@ class _Tracker:
                 break
             self.ensure_window(self.contact | outside)
             force_attach = outside
-        # The last equilibrium ran on the current window.
-        self._known_deflection = None if eq.deflection is None else (self.pressure, self.window, eq.deflection)
         return Equilibrium(
             displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
             trial, eq.detached, eq.attached, eq.deflection,
         )
 
-    def deflection(self):
-        """Tip deflection (half-space + springs) of the current pressure on the window."""
+    def known_deflection(self):
+        """Tip deflection of the current pressure on the window if known, else None."""
         known = self._known_deflection
         if known is not None and known[0] is self.pressure and known[1] == self.window:
             return known[2]
-        deflection = tip_deflection(self.operator, self.pressure[self.window.slices])
-        self._known_deflection = (self.pressure, self.window, deflection)
+        return None
+
+    def deflection(self):
+        """Tip deflection (half-space + springs) of the current pressure on the window."""
+        deflection = self.known_deflection()
+        if deflection is None:
+            deflection = tip_deflection(self.operator, self.pressure[self.window.slices])
+            self._known_deflection = (self.pressure, self.window, deflection)
         return deflection
+
+    def set_pressure(self, pressure, deflection=None) -> None:
+        """Replace the pressure (full grid), with its tip deflection on the window if known."""
+        self.pressure = pressure
+        self._known_deflection = None if deflection is None else (pressure, self.window, deflection)
+
+    def unit_deflection(self):
+        """Tip deflection of the unit response on the window (transformed once per response)."""
+        known = self._unit_deflection
+        if known is not None and known[0] is self.unit and known[1] == self.window:
+            return known[2]
+        deflection = tip_deflection(self.operator, self.unit[self.window.slices])
+        self._unit_deflection = (self.unit, self.window, deflection)
+        return deflection
+
+    def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
+        """Remember dp = p - predicted on the contact and K dp, after a cascade at fixed d.
+
+        ``predicted`` is the affine prediction the cascade started from (full
+        grid) and ``predicted_deflection`` its tip deflection on ``window``.
+        For a single element k leaving S the new unit response is exactly
+        a|S' + (a_k / p_k) dp (both corrections are A_S'^-1 A_S'k times a
+        scalar), so dp is the natural second direction of the next unit
+        response's starting guess (``unit_response``).
+        """
+        self._pressure_change = None
+        deflection = self.known_deflection()
+        if deflection is None or window != self.window:
+            return
+        sl = window.slices
+        contact = self.contact[sl]
+        before = predicted[sl]
+        change = self.pressure[sl] - before * contact
+        if not bool(self.xp.any(change != 0)):
+            return
+        dropped = self.operator.element_deflection(before, ~contact)
+        self._pressure_change = (self.contact, window, change, deflection - predicted_deflection + dropped)
 
     def _outside_safe(self, displacement: float, window: Window | None = None, lowest: float | None = None) -> bool:
         """A cheap proof that no element outside the window can penetrate.
@@ -413,15 +462,17 @@ class _Tracker:
         block, operator = self.operator.sub_operator(contact)
         block_contact = contact[block]
         ones = xp.where(block_contact, 1.0, 0.0)
+        initial, product = self._unit_guess(contact)
         result = conjugate_gradient(
             lambda x: operator.apply(x, block_contact),
             ones,
             block_contact,
-            initial=None if self.unit is None else self.unit[sl][block],
+            initial=None if initial is None else initial[block],
             tolerance=self.path.tolerance,
             max_iterations=self.path.max_iterations,
             preconditioner=laplacian_preconditioner(block_contact),
             xp=xp,
+            initial_product=None if product is None else product[block],
         )
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution
@@ -432,6 +483,42 @@ class _Tracker:
         else:
             self.unit = None
         return result
+
+    def _unit_guess(self, contact):
+        """Starting guess for A_S^-1 1 on the window and its deflection (None where unknown).
+
+        The previous response restricted to S, its deflection kept in step by
+        dropping the elements that left (no transform for a few of them).
+        After a cascade the guess is the Galerkin (energy-optimal) combination
+        of that and the cascade's pressure change dp (``record_pressure_change``),
+        exact for a single element leaving; the 2 x 2 system uses the known
+        deflections only.
+        """
+        if self.unit is None:
+            return None, None
+        sl = self.window.slices
+        previous = self.unit[sl]
+        guess = previous * contact
+        known = self._unit_deflection
+        if known is None or known[0] is not self.unit or known[1] != self.window:
+            return guess, None
+        product = known[2] - self.operator.element_deflection(previous, ~contact)
+        change = self._pressure_change
+        if change is None or change[0] is not self.contact or change[1] != self.window:
+            return guess, product
+        xp = self.xp
+        dp, dp_product = change[2], change[3]
+        g11 = _dot(xp, guess, product)
+        g12 = 0.5 * (_dot(xp, guess, dp_product) + _dot(xp, dp, product))
+        g22 = _dot(xp, dp, dp_product)
+        f1 = float(xp.sum(guess))
+        f2 = float(xp.sum(dp))
+        determinant = g11 * g22 - g12 * g12
+        if not (g11 > 0 and g22 > 0 and determinant > 1e-12 * g11 * g22):
+            return guess, product
+        c1 = (f1 * g22 - f2 * g12) / determinant
+        c2 = (g11 * f2 - g12 * f1) / determinant
+        return c1 * guess + c2 * dp, c1 * product + c2 * dp_product
 
     # -- records ------------------------------------------------------------
     def force(self, pressure=None) -> float:
@@ -645,8 +732,10 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
     # Attachment: penetration pen_j + t s slope_j = 0 from below.
     height = tracker.height[sl]
     footprint = tracker.footprint[sl]
-    reach = d - height - tracker.deflection()  # known from the last equilibrium's join check
-    slope = 1.0 - tip_deflection(tracker.operator, a)
+    deflection = tracker.deflection()  # known from the last equilibrium's join check
+    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
+    reach = d - height - deflection
+    slope = 1.0 - unit_deflection
     closing = footprint & ~contact & (s * slope > 0)
     t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
     t_attach = xp.where(t_attach < 0, 0.0, t_attach)
@@ -667,10 +756,12 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
     new_d = d + s * t
     new_pressure = xp.zeros_like(tracker.pressure)
     new_pressure[sl] = (pressure + (s * t) * a) * contact
+    # Both vanish outside S, so the deflection is affine too (no transform).
+    new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
     tie = 100.0 * tol * (abs(d) + t) + 1e-300
     if target_hit and t + tie < min(t_det, t_att):
-        tracker.pressure = new_pressure
+        tracker.set_pressure(new_pressure, new_deflection)
         state = tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1,
                               True, "preload reached")
         yield state
@@ -685,11 +776,14 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
         leave[sl] = grows & (t_detach <= t + tie)
     if t_att <= t + tie:
         join[sl] = closing & (t_attach <= t + tie)
-    tracker.pressure = new_pressure
+    tracker.set_pressure(new_pressure, new_deflection)
+    window = tracker.window
     eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
     if not eq.converged:
         yield _eq_state(tracker, eq, loading)
         return None
+    if eq.cg_iterations:
+        tracker.record_pressure_change(new_pressure, new_deflection, window)
     if not bool(xp.any(tracker.contact)) and not loading:
         yield tracker.state(new_d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
                             eq.n_solves, True, "complete separation")
