@@ -250,6 +250,117 @@ def test_equilibrium_on_the_block_agrees_with_the_whole_window():
     assert float(np.max(np.abs(block.pressure - whole.pressure))) <= 1e-8 * scale
 
 
+@pytest.mark.parametrize("count", [1, 5, 40])
+def test_element_deflection_matches_the_transform(count):
+    """Summed kernels of a few loaded elements = the FFT deflection (measured ~2e-16 relative).
+
+    Forty elements take the transform path (more than FEW_ELEMENTS); springs
+    on, so the segment sums are included both ways.
+    """
+    indenter = _two_square_pillars(width=4, gap=6, n=32)
+    operator = ContactOperator(HalfSpace(32, 1.0 / 32, E_STAR), indenter, Window(2, 30, 1, 31))
+    rng = np.random.default_rng(count)
+    values = rng.standard_normal(operator.window.shape)
+    mask = np.zeros(operator.window.shape, dtype=bool)
+    mask.flat[rng.choice(mask.size, count, replace=False)] = True
+    expected = operator.tip_deflection(values * mask)
+    got = operator.element_deflection(values, mask)
+    assert float(np.max(np.abs(got - expected))) <= 1e-12 * float(np.max(np.abs(expected)))
+
+
+def test_conjugate_gradient_initial_product_saves_the_first_apply():
+    """A known A x0 replaces the first apply and gives the same iterates."""
+    grid = _sphere_grid(40)
+    n = grid.elements
+    operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), sphere(grid, SPHERE_RADIUS), Window.full(n))
+    mask = grid.radius_squared() < (0.5 * A_JKR) ** 2
+    rhs = np.where(mask, 1.0, 0.0)
+    initial = np.where(mask, 3.0, 0.0)
+    calls = []
+
+    def apply(x):
+        calls.append(1)
+        return operator.apply(x, mask)
+
+    plain = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10)
+    n_plain = len(calls)
+    calls.clear()
+    known = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10,
+                               initial_product=operator.deflection(initial))
+    assert len(calls) == n_plain - 1
+    assert known.iterations == plain.iterations
+    assert np.allclose(known.solution, plain.solution, rtol=0, atol=1e-12 * np.max(np.abs(plain.solution)))
+
+
+def test_equilibrium_with_a_known_deflection_agrees():
+    """equilibrium(deflection=K p) with forced leaves and joins = equilibrium without it."""
+    grid = _sphere_grid(40)
+    indenter = sphere(grid, SPHERE_RADIUS)
+    operator = ContactOperator(HalfSpace(grid.elements, grid.element_size, E_STAR), indenter,
+                               Window.full(grid.elements))
+    sigma_c = critical_stress(E_STAR, DGAMMA, grid.element_size)
+    zeros = np.zeros((grid.elements, grid.elements))
+    d = 0.3 * A_JKR**2 / SPHERE_RADIUS
+    start = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c)
+    assert start.converged and start.deflection is not None
+    # Force out the most tensile element and its mirror images, force in a ring element.
+    tension = np.where(start.contact, start.pressure, np.inf)
+    leave = start.contact & (tension <= tension.min() * (1 - 1e-9))
+    gap = np.where(np.isfinite(indenter.height) & ~start.contact, indenter.height, np.inf)
+    join = gap <= gap.min() * (1 + 1e-9)
+    for d_new in (d, 0.9 * d):
+        kwargs = dict(force_detach=leave, force_attach=join, tolerance=1e-10)
+        plain = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c, **kwargs)
+        known = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c,
+                            deflection=start.deflection, **kwargs)
+        assert plain.converged and known.converged
+        assert np.array_equal(plain.contact, known.contact)
+        scale = float(np.max(np.abs(plain.pressure)))
+        assert float(np.max(np.abs(plain.pressure - known.pressure))) <= 1e-8 * scale
+        deflection = operator.tip_deflection(known.pressure)
+        assert float(np.max(np.abs(known.deflection - deflection))) <= 1e-12 * float(np.max(np.abs(deflection)))
+
+
+def test_unit_response_guess_is_exact_after_one_element_leaves():
+    """After one element k leaves at fixed d, a' = a|S' + (a_k / p_k) dp exactly.
+
+    Both corrections are A_S'^-1 A_S'k times a scalar, so the Galerkin guess
+    of the next unit response on span{a|S', dp} must equal A_S'^-1 1 to the
+    solver tolerance (1e-11 here; measured 1.5e-10 of max |a|, bound 1e-7),
+    while a|S' alone is off by 6.5e-2.
+    """
+    from brushbem.protocol import _Tracker
+
+    grid = _sphere_grid(40)
+    problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
+    tracker = _Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
+    d = 0.5 * A_JKR**2 / SPHERE_RADIUS
+    tracker.solve(d)
+    tracker.ensure_window(tracker.contact)
+    assert tracker.unit_response().converged
+    tracker.unit_deflection()
+    before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.window
+    # The least tensile element: once out, its neighbour's tension stays below
+    # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
+    tension = np.where(tracker.contact & (tracker.pressure < 0), tracker.pressure, -np.inf)
+    leave = np.zeros_like(tracker.contact)
+    leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
+    count = int(tracker.contact.sum())
+    tracker.solve(d, force_detach=leave)
+    assert int(tracker.contact.sum()) == count - 1 and tracker.window == window
+    tracker.record_pressure_change(before, before_deflection, window)
+    contact = tracker.contact[window.slices]
+    guess, product = tracker._unit_guess(contact)
+    exact = _direct_solve(problem, tracker.contact, 1.0 + problem.indenter.height)[window.slices]
+    restricted = tracker.unit[window.slices] * contact
+    scale = float(np.max(np.abs(exact)))
+    assert float(np.max(np.abs(guess - exact))) <= 1e-7 * scale
+    assert float(np.max(np.abs(restricted - exact))) >= 1e-3 * scale
+    n = grid.elements
+    full = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), problem.indenter, window)
+    assert np.allclose(product, full.tip_deflection(guess), rtol=0, atol=1e-12 * float(np.max(np.abs(product))))
+
+
 def test_discriminant_and_segments_give_the_same_pull_off():
     """Whole pull-offs with both couplings (punch on a spring, both protocols).
 
