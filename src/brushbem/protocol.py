@@ -434,11 +434,16 @@ class _Tracker:
         lowest = self._outside_lowest if lowest is None else lowest
         if lowest == math.inf:
             return True
-        tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
+        # The pressure and the contact vanish outside the current window.
+        current = self.window.slices
+        pressure = self.pressure[current]
+        tension = -self.h2 * float(xp.sum(xp.where(pressure < 0, pressure, 0.0)))
         lift = 0.0
         if tension > 0:
             # Distance from the contact's bounding box to the nearest element outside the window.
-            r0, r1, c0, c1 = self._box_of(self.contact)
+            r0, r1, c0, c1 = self._box_of(self.contact[current])
+            r0, r1 = r0 + self.window.r0, r1 + self.window.r0
+            c0, c1 = c0 + self.window.c0, c1 + self.window.c0
             gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
             lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
         stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
@@ -529,6 +534,8 @@ class _Tracker:
 
     def attached_pillars(self, contact=None) -> int:
         c = self.contact if contact is None else contact
+        if self.n_pillars == 1:
+            return int(bool(self.xp.any(c)))
         labels = self.pillar[c]
         if labels.size == 0:
             return 0
