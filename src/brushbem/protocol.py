@@ -846,10 +846,14 @@ def record_pull_off(
     from .backend import to_numpy
 
     start = time.perf_counter()
+    # The states without their arrays: keeping every State would keep two
+    # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
+    # and a page fault for every fresh page of every new array).
     rows: list[State] = []
     path_points: list[tuple[float, float, bool]] = []  # (d, F, loading) along the path, cascades included
     snapshots: dict[str, Snapshot] = {}
     last_contact_state: State | None = None
+    last_loading_state: State | None = None
     best: State | None = None
     converged = True
     reason = "complete separation"
@@ -866,14 +870,14 @@ def record_pull_off(
             separated = True
             path_points.append((state.displacement, state.trial_force, False))
             path_points.append((state.displacement, 0.0, False))
-            rows.append(state)
+            rows.append(dataclasses.replace(state, pressure=None, contact=None))
             break
         if state.trial_force != state.force:
             path_points.append((state.displacement, state.trial_force, state.loading))
         path_points.append((state.displacement, state.force, state.loading))
-        rows.append(state)
+        rows.append(dataclasses.replace(state, pressure=None, contact=None))
         if state.loading:
-            snapshots["max_preload"] = _snapshot("max_preload", state, to_numpy)
+            last_loading_state = state
         elif state.contact_area > 0:
             last_contact_state = state
             if best is None or state.force < best.force:
@@ -891,6 +895,8 @@ def record_pull_off(
     if not separated and converged:
         converged = False
         reason = "the path ended before complete separation"
+    if last_loading_state is not None:
+        snapshots["max_preload"] = _snapshot("max_preload", last_loading_state, to_numpy)
     if best is not None:
         snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy)
     if last_contact_state is not None:
