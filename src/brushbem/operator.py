@@ -303,5 +303,9 @@ class ContactOperator:
         return result
 
     def apply(self, pressure, mask):
-        """A_S p: the deflection of the contact elements, zero elsewhere."""
+        """A_S p: the deflection of the contact elements, zero elsewhere.
+
+        ``mask`` is the set S as bool, or as its 0/1 float copy (cheaper to
+        multiply by, for the solvers that apply A_S many times).
+        """
         return self.deflection(pressure) * mask

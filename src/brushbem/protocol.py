@@ -478,7 +478,7 @@ class _Tracker:
         ones = xp.where(block_contact, 1.0, 0.0)
         initial, product = self._unit_guess(contact)
         result = conjugate_gradient(
-            lambda x: operator.apply(x, block_contact),
+            lambda x: operator.apply(x, ones),
             ones,
             block_contact,
             initial=None if initial is None else initial[block],

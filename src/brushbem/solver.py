@@ -182,8 +182,11 @@ def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
     The constant factor of M does not matter to CG.
     """
 
+    # A 0/1 float mask: multiplying by it is twice as fast as by a bool array.
+    maskf = mask * 1.0
+
     def apply(residual):
-        z = residual * mask
+        z = residual * maskf
         out = (4.0 + shift) * z
         out[1:, :] -= z[:-1, :]
         out[:-1, :] -= z[1:, :]
@@ -320,8 +323,9 @@ def equilibrium(
             else:
                 block, block_operator = operator.window.slices_local, operator
             block_contact = contact[block]
+            weights = xp.astype(block_contact, xp.float64)  # 0/1: a cheaper mask to multiply by
             result = conjugate_gradient(
-                lambda x: block_operator.apply(x, block_contact),
+                lambda x: block_operator.apply(x, weights),
                 target[block],
                 block_contact,
                 initial=pressure[block],
