@@ -21,6 +21,7 @@ __all__ = [
     "rfft2",
     "irfft2",
     "padded_convolution",
+    "smooth_length",
     "segment_sum",
     "to_numpy",
     "backend_name",
@@ -79,10 +80,11 @@ def irfft2(xp, spectrum, shape: tuple[int, int]):
     return xp.fft.irfft2(spectrum, s=shape)
 
 
-def padded_convolution(xp, array, spectrum):
-    """Non-periodic convolution of ``array`` (..., m1, m2) by a real 2m1 x (m2 + 1) half spectrum.
+def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None = None):
+    """Non-periodic convolution of ``array`` (..., m1, m2) by a real L1 x (L2 // 2 + 1) half spectrum.
 
-    Equal to ``irfft2(rfft2(array, (2m1, 2m2)) * spectrum)[..., :m1, :m2]``,
+    ``padded_shape`` = (L1, L2), at least (m1, m2); (2m1, 2m2) by default.
+    Equal to ``irfft2(rfft2(array, (L1, L2)) * spectrum)[..., :m1, :m2]``,
     but done axis by axis so that the zero padding is never transformed: the
     real transform along the rows runs on the m1 non-zero rows only, and the
     inverse real transform along the rows only on the m1 rows that are kept.
@@ -91,16 +93,30 @@ def padded_convolution(xp, array, spectrum):
     elements (scipy's pocketfft, 2-core machine).
     """
     rows, cols = array.shape[-2:]
+    long_rows, long_cols = (2 * rows, 2 * cols) if padded_shape is None else padded_shape
     if is_numpy_namespace(xp):
-        workers = fft_workers(4 * rows * cols)
-        product = scipy.fft.rfft(array, n=2 * cols, axis=-1, workers=workers)
-        product = scipy.fft.fft(product, n=2 * rows, axis=-2, workers=workers, overwrite_x=True)
+        workers = fft_workers(long_rows * long_cols)
+        product = scipy.fft.rfft(array, n=long_cols, axis=-1, workers=workers)
+        product = scipy.fft.fft(product, n=long_rows, axis=-2, workers=workers, overwrite_x=True)
         product *= spectrum
         product = scipy.fft.ifft(product, axis=-2, workers=workers, overwrite_x=True)[..., :rows, :]
-        return scipy.fft.irfft(product, n=2 * cols, axis=-1, workers=workers)[..., :cols]
-    product = xp.fft.rfft2(array, s=(2 * rows, 2 * cols))
+        return scipy.fft.irfft(product, n=long_cols, axis=-1, workers=workers)[..., :cols]
+    product = xp.fft.rfft2(array, s=(long_rows, long_cols))
     product *= spectrum
-    return xp.fft.irfft2(product, s=(2 * rows, 2 * cols))[..., :rows, :cols]
+    return xp.fft.irfft2(product, s=(long_rows, long_cols))[..., :rows, :cols]
+
+
+def smooth_length(size: int) -> int:
+    """Smallest n >= size with no prime factor above 5 (a fast FFT length)."""
+    n = max(int(size), 1)
+    while True:
+        rest = n
+        for factor in (2, 3, 5):
+            while rest % factor == 0:
+                rest //= factor
+        if rest == 1:
+            return n
+        n += 1
 
 
 def segment_sum(xp, labels, weights, count: int):

@@ -83,6 +83,17 @@ def fast_size(size: int) -> int:
         m += 1
 
 
+def _support(xp, values) -> tuple[int, int, int, int] | None:
+    """Bounding box (r0, r1, c0, c1) of the non-zero entries of a 2-D array (None: all zero)."""
+    loaded = values != 0
+    rows = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded, axis=1))))
+    if rows.size == 0:
+        return None
+    r0, r1 = int(rows[0]), int(rows[-1]) + 1
+    cols = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded[r0:r1, :], axis=0))))
+    return r0, r1, int(cols[0]), int(cols[-1]) + 1
+
+
 def _fast_block(lo: int, hi: int, limit: int) -> tuple[int, int]:
     """[lo', hi') within [0, limit) that holds [lo, hi) and has a fast size (or is all of [0, limit))."""
     size = fast_size(hi - lo)
@@ -262,7 +273,7 @@ class ContactOperator:
         (``deflection`` folds the springs into the spectrum for the
         discriminant coupling; on the footprint the two agree to round-off).
         """
-        deflection = self.halfspace.apply(pressure)
+        deflection = self.halfspace.apply(pressure, support=_support(self.xp, pressure))
         if self._levels:
             deflection = deflection + self.spring_deflection(pressure)
         return deflection
