@@ -229,8 +229,9 @@ class _Tracker:
     def _box_of(self, mask) -> tuple[int, int, int, int]:
         m = np.asarray(mask)
         rows = np.flatnonzero(m.any(axis=1))
-        cols = np.flatnonzero(m.any(axis=0))
-        return rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+        r0, r1 = rows[0], rows[-1] + 1
+        cols = np.flatnonzero(m[r0:r1].any(axis=0))  # only the rows that hold the mask
+        return r0, r1, cols[0], cols[-1] + 1
 
     def ensure_window(self, needed, margin_fraction: float | None = None) -> None:
         """Make the working window cover ``needed`` (full-grid bool) with a margin.
@@ -538,14 +539,19 @@ class _Tracker:
         return c1 * guess + c2 * dp, c1 * product + c2 * dp_product
 
     # -- records ------------------------------------------------------------
+    def _on_window(self, array):
+        """``array`` (full grid) restricted to the window, where every pressure
+        and contact set of the path lies (the window always holds the contact)."""
+        return array if self.window is None else array[self.window.slices]
+
     def force(self, pressure=None) -> float:
         p = self.pressure if pressure is None else pressure
-        return self.h2 * float(self.xp.sum(p))
+        return self.h2 * float(self.xp.sum(self._on_window(p)))
 
     def attached_pillars(self, contact=None) -> int:
         c = self.contact if contact is None else contact
         if self.n_pillars == 1:
-            return int(bool(self.xp.any(c)))
+            return int(bool(self.xp.any(self._on_window(c))))
         labels = self.pillar[c]
         if labels.size == 0:
             return 0
@@ -558,7 +564,7 @@ class _Tracker:
         return State(
             displacement=float(displacement),
             force=self.force(p),
-            contact_area=self.h2 * int(self.xp.sum(c)),
+            contact_area=self.h2 * int(self.xp.sum(self._on_window(c))),
             attached_pillars=self.attached_pillars(c),
             loading=loading,
             kind=kind,
