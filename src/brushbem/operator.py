@@ -192,6 +192,10 @@ class ContactOperator:
             self._levels.append((compliance, xp.asarray(flat), n, level))
         self._spectrum = spectrum
 
+    def for_window(self, window: Window) -> "ContactOperator":
+        """The same operator on another window (the springs' labels and widths are shared)."""
+        return ContactOperator(self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data)
+
     def sub_operator(self, mask) -> tuple[tuple[slice, slice], "ContactOperator"]:
         """The operator on the smallest FFT-friendly block of the window that holds ``mask``.
 
@@ -225,7 +229,7 @@ class ContactOperator:
         if operator is None:
             if len(self._sub_operators) >= _SUB_OPERATOR_CACHE:
                 self._sub_operators.clear()
-            operator = ContactOperator(self.halfspace, self.indenter, block, self.coupling, _levels=self._level_data)
+            operator = self.for_window(block)
             self._sub_operators[block] = operator
         return (slice(r0, r1), slice(c0, c1)), operator
 

@@ -21,9 +21,14 @@ Two methods:
   displacements agree within the solver's accuracy are treated together.
 
 Both work on a window of the grid that holds the contact set with a margin
-(the half-space convolution is translation invariant), and check penetration on
-the whole grid after every equilibrium, enlarging the window when the contact
-grows beyond it.
+(the half-space convolution is translation invariant).  After every
+equilibrium a bound proves that nothing outside the window penetrates; when it
+cannot, the window is rebuilt around the contact and, if the bound still fails,
+the penetration is checked on the whole grid and the window enlarged to take in
+what touches.  The CG solves run on the block of the window around the contact
+set (``ContactOperator.sub_operator``).  The event path also keeps the
+deflections of the pressure and of A_S^-1 1 on the window in step (both are
+affine between events), so that an event transforms only the new A_S^-1 1.
 """
 
 from __future__ import annotations
@@ -294,10 +299,10 @@ class _Tracker:
 
     def _install_window(self, window: Window) -> None:
         self.window = window
-        levels = None if self.operator is None else self.operator._level_data
-        self.operator = ContactOperator(
-            self.halfspace, self.problem.indenter, window, self.problem.coupling, _levels=levels
-        )
+        if self.operator is None:
+            self.operator = ContactOperator(self.halfspace, self.problem.indenter, window, self.problem.coupling)
+        else:
+            self.operator = self.operator.for_window(window)
         self._outside_lowest = self._lowest_outside(window)
 
     @property
@@ -523,6 +528,7 @@ class _Tracker:
             return guess, product
         xp = self.xp
         dp, dp_product = change[2], change[3]
+
         def inner(a, b) -> float:  # both vanish outside S, so this is the inner product on S
             return float(xp.sum(a * b))
 
