@@ -260,17 +260,21 @@ class _Tracker:
                 and (w.c0 <= max(c0 - 2, fc0, 0)) and (w.c1 >= min(c1 + 2, fc1, n))
             )
             if inside:
-                rows, cols = self._window_around(needed, margin_fraction).shape
+                rows, cols = self._window_for_box((r0, r1, c0, c1), margin_fraction).shape
                 oversized = (w.r1 - w.r0) > _OVERSIZED * rows + 8 or (w.c1 - w.c0) > _OVERSIZED * cols + 8
                 if not oversized:
                     return
 
-        self._install_window(self._window_around(needed, margin_fraction))
+        self._install_window(self._window_for_box((r0, r1, c0, c1), margin_fraction))
 
     def _window_around(self, needed, margin_fraction: float | None = None) -> Window:
         """The window that holds ``needed`` (full-grid bool, not empty) with the margin, in fast sizes."""
+        return self._window_for_box(self._box_of(needed), margin_fraction)
+
+    def _window_for_box(self, box, margin_fraction: float | None = None) -> Window:
+        """The window around the box (r0, r1, c0, c1) with the margin, in fast sizes."""
         n = self.problem.grid.elements
-        r0, r1, c0, c1 = self._box_of(needed)
+        r0, r1, c0, c1 = box
         fr0, fr1, fc0, fc1 = self.footprint_box
 
         def widen(lo, hi, flo, fhi):
