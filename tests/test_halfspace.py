@@ -342,3 +342,23 @@ def test_invalid_parameters_are_refused():
     for args in [(0, 1.0, 1.0), (4, 0.0, 1.0), (4, 1.0, -1.0), (4, math.inf, 1.0), (4, 1.0, math.nan)]:
         with pytest.raises(ValueError):
             HalfSpace(*args)
+
+
+@pytest.mark.parametrize(
+    ("window", "support"),
+    [
+        ((150, 150), (25, 125, 25, 125)),  # centred: period ~ m + extent instead of 2m
+        ((151, 140), (30, 119, 10, 130)),
+        ((120, 90), (50, 60, 40, 50)),  # small support, odd periods
+        ((9, 7), (2, 5, 1, 6)),
+        ((64, 64), (0, 64, 0, 64)),  # whole window: falls back to 2m
+    ],
+)
+def test_support_aware_period_gives_the_same_deflection(window, support):
+    """apply(p, support=box) on the shorter wrapped period equals the 2m-padded product."""
+    halfspace = HalfSpace(256, 1.0 / 256, 1.0)
+    r0, r1, c0, c1 = support
+    pressure = np.zeros(window)
+    pressure[r0:r1, c0:c1] = np.random.default_rng(r1 * c1).standard_normal((r1 - r0, c1 - c0))
+    expected = halfspace.apply(pressure)
+    assert _relative_max(halfspace.apply(pressure, support=support), expected) < ROUND_OFF

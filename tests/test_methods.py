@@ -24,7 +24,7 @@ from brushbem.halfspace import HalfSpace
 from brushbem.nested import nested_loop_equilibrium
 from brushbem.operator import ContactOperator, Window, discriminant_half_width
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
-from brushbem.solver import conjugate_gradient, critical_stress, equilibrium
+from brushbem.solver import conjugate_gradient, critical_stress, equilibrium, laplacian_preconditioner
 from brushbem.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
 
 E_STAR = 1.0
@@ -200,6 +200,167 @@ def test_discriminant_apply_equals_segment_sums_on_a_punch():
         assert _apply_difference(n, grid.element_size, indenter) < 1e-10
 
 
+@pytest.mark.parametrize("coupling", ["segments", "discriminant"])
+@pytest.mark.parametrize("springs", [False, True])
+def test_sub_operator_applies_like_the_window_on_the_set(coupling, springs):
+    """A_S on the block around S equals A_S on the whole window (measured ~1e-16 relative).
+
+    The block is a different FFT size at a different offset, so this checks the
+    translation invariance, the block's placement and the springs' labels.
+    """
+    indenter = _two_square_pillars(width=4, gap=6, n=32)
+    if not springs:
+        indenter = Indenter(height=indenter.height, pillar=indenter.pillar, levels=())
+    halfspace = HalfSpace(32, 1.0 / 32, E_STAR)
+    window = Window(2, 30, 1, 31)
+    operator = ContactOperator(halfspace, indenter, window, coupling=coupling)
+    rng = np.random.default_rng(5)
+    mask = np.asarray(indenter.footprint)[window.slices] & (rng.random(window.shape) < 0.7)
+    pressure = rng.standard_normal(window.shape) * mask
+    expected = operator.apply(pressure, mask)
+    block, sub = operator.sub_operator(mask)
+    assert sub is not operator and sub.window.shape[0] < window.shape[0]
+    outside = mask.copy()
+    outside[block] = False
+    assert not outside.any()  # the block holds the whole set
+    got = np.zeros_like(expected)
+    got[block] = sub.apply(pressure[block], mask[block])
+    assert float(np.max(np.abs(got - expected))) <= 1e-12 * float(np.max(np.abs(expected)))
+    assert operator.sub_operator(mask)[1] is sub  # cached
+
+
+def test_equilibrium_on_the_block_agrees_with_the_whole_window():
+    """The block solves reproduce the whole-window solves to the solver tolerance."""
+    grid = _sphere_grid(40)
+    indenter = sphere(grid, SPHERE_RADIUS)
+    halfspace = HalfSpace(grid.elements, grid.element_size, E_STAR)
+    operator = ContactOperator(halfspace, indenter, Window.full(grid.elements))
+    sigma_c = critical_stress(E_STAR, DGAMMA, grid.element_size)
+    zeros = np.zeros((grid.elements, grid.elements))
+    d = 0.3 * A_JKR**2 / SPHERE_RADIUS
+    block = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c, tolerance=1e-11)
+    # A caller's preconditioner makes equilibrium solve on the whole window; the
+    # Laplacian with an all-true mask is the same M^-1 on every contact set.
+    everywhere = laplacian_preconditioner(np.ones((grid.elements, grid.elements), dtype=bool))
+    whole = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c, tolerance=1e-11,
+                        preconditioner=everywhere)
+    assert block.converged and whole.converged
+    assert np.array_equal(block.contact, whole.contact)
+    scale = float(np.max(np.abs(whole.pressure)))
+    assert float(np.max(np.abs(block.pressure - whole.pressure))) <= 1e-8 * scale
+
+
+@pytest.mark.parametrize("count", [1, 5, 40])
+def test_element_deflection_matches_the_transform(count):
+    """Summed kernels of a few loaded elements = the FFT deflection (measured ~2e-16 relative).
+
+    Forty elements take the transform path (more than FEW_ELEMENTS); springs
+    on, so the segment sums are included both ways.
+    """
+    indenter = _two_square_pillars(width=4, gap=6, n=32)
+    operator = ContactOperator(HalfSpace(32, 1.0 / 32, E_STAR), indenter, Window(2, 30, 1, 31))
+    rng = np.random.default_rng(count)
+    values = rng.standard_normal(operator.window.shape)
+    mask = np.zeros(operator.window.shape, dtype=bool)
+    mask.flat[rng.choice(mask.size, count, replace=False)] = True
+    expected = operator.tip_deflection(values * mask)
+    got = operator.element_deflection(values, mask)
+    assert float(np.max(np.abs(got - expected))) <= 1e-12 * float(np.max(np.abs(expected)))
+
+
+def test_conjugate_gradient_initial_product_saves_the_first_apply():
+    """A known A x0 replaces the first apply and gives the same iterates."""
+    grid = _sphere_grid(40)
+    n = grid.elements
+    operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), sphere(grid, SPHERE_RADIUS), Window.full(n))
+    mask = grid.radius_squared() < (0.5 * A_JKR) ** 2
+    rhs = np.where(mask, 1.0, 0.0)
+    initial = np.where(mask, 3.0, 0.0)
+    calls = []
+
+    def apply(x):
+        calls.append(1)
+        return operator.apply(x, mask)
+
+    plain = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10)
+    n_plain = len(calls)
+    calls.clear()
+    known = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10,
+                               initial_product=operator.deflection(initial))
+    assert len(calls) == n_plain - 1
+    assert known.iterations == plain.iterations
+    assert np.allclose(known.solution, plain.solution, rtol=0, atol=1e-12 * np.max(np.abs(plain.solution)))
+
+
+def test_equilibrium_with_a_known_deflection_agrees():
+    """equilibrium(deflection=K p) with forced leaves and joins = equilibrium without it."""
+    grid = _sphere_grid(40)
+    indenter = sphere(grid, SPHERE_RADIUS)
+    operator = ContactOperator(HalfSpace(grid.elements, grid.element_size, E_STAR), indenter,
+                               Window.full(grid.elements))
+    sigma_c = critical_stress(E_STAR, DGAMMA, grid.element_size)
+    zeros = np.zeros((grid.elements, grid.elements))
+    d = 0.3 * A_JKR**2 / SPHERE_RADIUS
+    start = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c)
+    assert start.converged and start.deflection is not None
+    # Force out the most tensile element and its mirror images, force in a ring element.
+    tension = np.where(start.contact, start.pressure, np.inf)
+    leave = start.contact & (tension <= tension.min() * (1 - 1e-9))
+    gap = np.where(np.isfinite(indenter.height) & ~start.contact, indenter.height, np.inf)
+    join = gap <= gap.min() * (1 + 1e-9)
+    for d_new in (d, 0.9 * d):
+        kwargs = dict(force_detach=leave, force_attach=join, tolerance=1e-10)
+        plain = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c, **kwargs)
+        known = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c,
+                            deflection=start.deflection, **kwargs)
+        assert plain.converged and known.converged
+        assert np.array_equal(plain.contact, known.contact)
+        scale = float(np.max(np.abs(plain.pressure)))
+        assert float(np.max(np.abs(plain.pressure - known.pressure))) <= 1e-8 * scale
+        deflection = operator.tip_deflection(known.pressure)
+        assert float(np.max(np.abs(known.deflection - deflection))) <= 1e-12 * float(np.max(np.abs(deflection)))
+
+
+def test_unit_response_guess_is_exact_after_one_element_leaves():
+    """After one element k leaves at fixed d, a' = a|S' + (a_k / p_k) dp exactly.
+
+    Both corrections are A_S'^-1 A_S'k times a scalar, so the Galerkin guess
+    of the next unit response on span{a|S', dp} must equal A_S'^-1 1 to the
+    solver tolerance (1e-11 here; measured 1.5e-10 of max |a|, bound 1e-7),
+    while a|S' alone is off by 6.5e-2.
+    """
+    from brushbem.protocol import _Tracker
+
+    grid = _sphere_grid(40)
+    problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
+    tracker = _Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
+    d = 0.5 * A_JKR**2 / SPHERE_RADIUS
+    tracker.solve(d)
+    tracker.ensure_window(tracker.contact)
+    assert tracker.unit_response().converged
+    tracker.unit_deflection()
+    before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.window
+    # The least tensile element: once out, its neighbour's tension stays below
+    # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
+    tension = np.where(tracker.contact & (tracker.pressure < 0), tracker.pressure, -np.inf)
+    leave = np.zeros_like(tracker.contact)
+    leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
+    count = int(tracker.contact.sum())
+    tracker.solve(d, force_detach=leave)
+    assert int(tracker.contact.sum()) == count - 1 and tracker.window == window
+    tracker.record_pressure_change(before, before_deflection, window)
+    contact = tracker.contact[window.slices]
+    guess, product = tracker._unit_guess(contact)
+    exact = _direct_solve(problem, tracker.contact, 1.0 + problem.indenter.height)[window.slices]
+    restricted = tracker.unit[window.slices] * contact
+    scale = float(np.max(np.abs(exact)))
+    assert float(np.max(np.abs(guess - exact))) <= 1e-7 * scale
+    assert float(np.max(np.abs(restricted - exact))) >= 1e-3 * scale
+    n = grid.elements
+    full = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), problem.indenter, window)
+    assert np.allclose(product, full.tip_deflection(guess), rtol=0, atol=1e-12 * float(np.max(np.abs(product))))
+
+
 def test_discriminant_and_segments_give_the_same_pull_off():
     """Whole pull-offs with both couplings (punch on a spring, both protocols).
 
@@ -349,6 +510,43 @@ def test_event_path_is_linear_between_events(case):
     assert segments >= 1 and thresholds >= 1
     if case == "sphere":
         assert segments >= 10  # many rings detach one event at a time
+
+
+@pytest.mark.parametrize(
+    ("method", "steps", "margin", "elements"),
+    [("events", 1, 0.25, 80), ("events", 1, 0.0, 80), ("fixed", 10, 0.0, 80), ("fixed", 3, 0.0, 160)],
+)
+def test_no_state_penetrates_outside_the_window(method, steps, margin, elements):
+    """Every equilibrium of a sphere pull-off is admissible on the whole grid.
+
+    The path works on a window; after every equilibrium it proves with a bound
+    that nothing outside the window penetrates, or else enlarges the window,
+    or else checks the penetration on the full grid and attaches what it
+    finds.  Here the penetration of every recorded equilibrium is recomputed
+    on the full grid: outside the contact it must not exceed the equilibrium's
+    own join slack (10 x tolerance x length scale).  The domain is 3 x wider
+    than the contact; the thin window margins and the coarse fixed steps make
+    the contact outgrow its window (the last case finds 48 penetrating
+    elements outside it on the full grid).
+    """
+    grid = Grid(1.2, elements)
+    problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
+    preload = 1.5 * A_JKR**2 / SPHERE_RADIUS
+    path = LoadPath(method=method, preload_displacement=preload, step=preload / steps, window_margin=margin)
+    n = grid.elements
+    operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), problem.indenter, Window.full(n))
+    footprint = np.isfinite(problem.indenter.height)
+    checked = 0
+    for state in pull_off(problem, path):
+        assert state.converged, state.reason
+        if state.kind != "equilibrium":
+            continue
+        reach = state.displacement - problem.indenter.height - operator.deflection(state.pressure)
+        slack = 10 * path.tolerance * max(abs(state.displacement), float(np.max(np.abs(np.where(
+            footprint, state.displacement - problem.indenter.height, 0.0)))))
+        assert not np.any(footprint & ~state.contact & (reach > slack)), state.displacement
+        checked += 1
+    assert checked >= 5
 
 
 # ---------------------------------------------------------------------------

@@ -16,15 +16,39 @@ import numpy as np
 import scipy.fft
 from array_api_compat import array_namespace, is_numpy_namespace
 
-__all__ = ["namespace", "rfft2", "irfft2", "segment_sum", "to_numpy", "backend_name", "fft_workers"]
+__all__ = [
+    "namespace",
+    "rfft2",
+    "irfft2",
+    "padded_convolution",
+    "smooth_length",
+    "segment_sum",
+    "to_numpy",
+    "backend_name",
+    "fft_workers",
+]
+
+#: Padded transforms with fewer points than this run on one thread: below it the
+#: thread hand-off costs about as much as it saves (measured on a 2-core machine,
+#: where two workers were no faster than one for 80 x 80 - 300 x 300 transforms).
+_THREADED_MIN_POINTS = 512 * 512
+
+_cpu_count = os.cpu_count() or 1
 
 
-def fft_workers() -> int:
-    """Number of threads scipy.fft may use (``BRUSHBEM_FFT_WORKERS``, default: all cores)."""
+def fft_workers(points: int | None = None) -> int:
+    """Number of threads scipy.fft may use (``BRUSHBEM_FFT_WORKERS``, default: all cores).
+
+    With ``points`` (the size of the transform), the default is one thread for
+    transforms smaller than 512 x 512, where threading does not pay; an
+    explicit ``BRUSHBEM_FFT_WORKERS`` always wins.
+    """
     value = os.environ.get("BRUSHBEM_FFT_WORKERS")
     if value:
         return max(1, int(value))
-    return os.cpu_count() or 1
+    if points is not None and points < _THREADED_MIN_POINTS:
+        return 1
+    return _cpu_count
 
 
 def namespace(*arrays: Any):
@@ -54,6 +78,45 @@ def irfft2(xp, spectrum, shape: tuple[int, int]):
     if is_numpy_namespace(xp):
         return scipy.fft.irfft2(spectrum, s=shape, workers=fft_workers())
     return xp.fft.irfft2(spectrum, s=shape)
+
+
+def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None = None):
+    """Non-periodic convolution of ``array`` (..., m1, m2) by a real L1 x (L2 // 2 + 1) half spectrum.
+
+    ``padded_shape`` = (L1, L2), at least (m1, m2); (2m1, 2m2) by default.
+    Equal to ``irfft2(rfft2(array, (L1, L2)) * spectrum)[..., :m1, :m2]``,
+    but done axis by axis so that the zero padding is never transformed: the
+    real transform along the rows runs on the m1 non-zero rows only, and the
+    inverse real transform along the rows only on the m1 rows that are kept.
+    That skips a quarter of the butterflies and the padded copy; it measured
+    1.2-2x faster than the two-dimensional calls for windows of 40-256
+    elements (scipy's pocketfft, 2-core machine).
+    """
+    rows, cols = array.shape[-2:]
+    long_rows, long_cols = (2 * rows, 2 * cols) if padded_shape is None else padded_shape
+    if is_numpy_namespace(xp):
+        workers = fft_workers(long_rows * long_cols)
+        product = scipy.fft.rfft(array, n=long_cols, axis=-1, workers=workers)
+        product = scipy.fft.fft(product, n=long_rows, axis=-2, workers=workers, overwrite_x=True)
+        product *= spectrum
+        product = scipy.fft.ifft(product, axis=-2, workers=workers, overwrite_x=True)[..., :rows, :]
+        return scipy.fft.irfft(product, n=long_cols, axis=-1, workers=workers)[..., :cols]
+    product = xp.fft.rfft2(array, s=(long_rows, long_cols))
+    product *= spectrum
+    return xp.fft.irfft2(product, s=(long_rows, long_cols))[..., :rows, :cols]
+
+
+def smooth_length(size: int) -> int:
+    """Smallest n >= size with no prime factor above 5 (a fast FFT length)."""
+    n = max(int(size), 1)
+    while True:
+        rest = n
+        for factor in (2, 3, 5):
+            while rest % factor == 0:
+                rest //= factor
+        if rest == 1:
+            return n
+        n += 1
 
 
 def segment_sum(xp, labels, weights, count: int):

@@ -158,7 +158,46 @@ class HalfSpace:
             self._spectra[key] = cached
         return cached
 
-    def apply(self, pressure, spectrum=None):
+    def wrapped_spectrum(self, long_rows: int, long_cols: int):
+        """Real half spectrum of the kernel wrapped onto an L1 x L2 torus (cached).
+
+        Offset o sits at o mod L for |o| <= L // 2, so the circular
+        convolution of a pressure on [b0, b1) is the non-periodic one on the
+        outputs [0, m) as long as L >= m and L >= 2 max(b1 - 1, m - 1 - b0):
+        a pressure in the middle of the window needs a period of only about
+        m plus its own extent, not 2m (``apply(..., support=...)``).
+        """
+        key = ("wrapped", long_rows, long_cols)
+        cached = self._spectra.get(key)
+        if cached is None:
+            xp = self.xp
+            base = self.kernel(long_rows // 2 + 1, long_cols // 2 + 1)
+            row_offset = xp.minimum(xp.arange(long_rows), long_rows - xp.arange(long_rows))
+            col_offset = xp.minimum(xp.arange(long_cols), long_cols - xp.arange(long_cols))
+            wrapped = base[row_offset[:, None], col_offset[None, :]]
+            cached = xp.real(backend.rfft2(xp, wrapped, (long_rows, long_cols))).copy()
+            self._spectra[key] = cached
+        return cached
+
+    def mirrored_kernel(self, rows: int, cols: int):
+        """K for offsets -(rows-1)..rows-1 by -(cols-1)..cols-1, shape (2rows-1, 2cols-1) (cached).
+
+        The deflection on a rows x cols window of a unit pressure on element
+        (r, c) of the window is the view ``[rows-1-r : 2rows-1-r, cols-1-c :
+        2cols-1-c]``: a direct sum for a few loaded elements, without a
+        transform.
+        """
+        key = ("mirrored", rows, cols)
+        cached = self._spectra.get(key)
+        if cached is None:
+            xp = self.xp
+            base = self.kernel(rows, cols)
+            cached = xp.concat([xp.flip(base[1:, :], axis=0), base], axis=0)
+            cached = xp.concat([xp.flip(cached[:, 1:], axis=1), cached], axis=1)
+            self._spectra[key] = cached
+        return cached
+
+    def apply(self, pressure, spectrum=None, support: tuple[int, int, int, int] | None = None):
         """Surface deflection in the window of ``pressure``.
 
         Parameters
@@ -170,6 +209,10 @@ class HalfSpace:
         spectrum : ndarray, optional
             A precomputed spectrum to use instead of the kernel's (for the
             discriminant-matrix operator that adds spring terms to it).
+        support : (r0, r1, c0, c1), optional
+            A box of the window outside which the pressure vanishes.  When it
+            lies well inside the window the transforms use the shorter period
+            of ``wrapped_spectrum`` (same result, up to round-off).
 
         Returns
         -------
@@ -177,12 +220,17 @@ class HalfSpace:
             Deflection into the half-space, in units of length.
         """
         rows, cols = pressure.shape[-2:]
+        if spectrum is None and support is not None:
+            r0, r1, c0, c1 = support
+            long_rows = backend.smooth_length(max(rows, 2 * max(r1 - 1, rows - 1 - r0)))
+            long_cols = backend.smooth_length(max(cols, 2 * max(c1 - 1, cols - 1 - c0)))
+            if long_rows * long_cols < 0.9 * (4 * rows * cols):
+                return backend.padded_convolution(
+                    self.xp, pressure, self.wrapped_spectrum(long_rows, long_cols), (long_rows, long_cols)
+                )
         if spectrum is None:
             spectrum = self.spectrum(rows, cols)
-        padded_shape = (2 * rows, 2 * cols)
-        product = backend.rfft2(self.xp, pressure, padded_shape)
-        product *= spectrum
-        return backend.irfft2(self.xp, product, padded_shape)[..., :rows, :cols]
+        return backend.padded_convolution(self.xp, pressure, spectrum)
 
     def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
         """The dense (rows*cols)^2 influence matrix, for tests on small grids."""

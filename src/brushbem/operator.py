@@ -26,7 +26,7 @@ from . import backend
 from .halfspace import HalfSpace
 from .structure import Indenter
 
-__all__ = ["ContactOperator", "discriminant_half_width", "Window"]
+__all__ = ["ContactOperator", "discriminant_half_width", "fast_size", "Window"]
 
 
 @dataclass(frozen=True)
@@ -50,11 +50,57 @@ class Window:
     def shape(self) -> tuple[int, int]:
         return (self.r1 - self.r0, self.c1 - self.c0)
 
+    @property
+    def slices_local(self) -> tuple[slice, slice]:
+        """The whole window, as slices of an array of the window's shape."""
+        return (slice(0, self.r1 - self.r0), slice(0, self.c1 - self.c0))
+
     def contains(self, mask: np.ndarray) -> bool:
         """Whether every True element of the full-grid ``mask`` lies inside the window."""
         inside = np.zeros(mask.shape, dtype=bool)
         inside[self.slices] = True
         return not np.any(mask & ~inside)
+
+
+#: Most loaded elements for which ``element_deflection`` sums kernels instead of
+#: transforming (one kernel pass costs ~1/30 of an FFT pair on a 100 x 100 window).
+FEW_ELEMENTS = 16
+
+#: Sub-operators kept per window operator (a block per contact extent seen recently).
+_SUB_OPERATOR_CACHE = 64
+
+
+def fast_size(size: int) -> int:
+    """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5."""
+    m = size
+    while True:
+        length = 2 * m
+        for factor in (2, 3, 5):
+            while length % factor == 0:
+                length //= factor
+        if length == 1:
+            return m
+        m += 1
+
+
+def _support(xp, values) -> tuple[int, int, int, int] | None:
+    """Bounding box (r0, r1, c0, c1) of the non-zero entries of a 2-D array (None: all zero)."""
+    loaded = values != 0
+    rows = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded, axis=1))))
+    if rows.size == 0:
+        return None
+    r0, r1 = int(rows[0]), int(rows[-1]) + 1
+    cols = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded[r0:r1, :], axis=0))))
+    return r0, r1, int(cols[0]), int(cols[-1]) + 1
+
+
+def _fast_block(lo: int, hi: int, limit: int) -> tuple[int, int]:
+    """[lo', hi') within [0, limit) that holds [lo, hi) and has a fast size (or is all of [0, limit))."""
+    size = fast_size(hi - lo)
+    if size >= limit:
+        return 0, limit
+    hi = min(lo + size, limit)
+    return hi - size, hi
 
 
 def discriminant_half_width(labels: np.ndarray) -> int:
@@ -105,7 +151,14 @@ class ContactOperator:
         How the spring sums are computed (module docstring).
     """
 
-    def __init__(self, halfspace: HalfSpace, indenter: Indenter, window: Window, coupling: str = "segments"):
+    def __init__(
+        self,
+        halfspace: HalfSpace,
+        indenter: Indenter,
+        window: Window,
+        coupling: str = "segments",
+        _levels: list | None = None,
+    ):
         if coupling not in ("segments", "discriminant"):
             raise ValueError(f"coupling = {coupling!r} must be 'segments' or 'discriminant'")
         self.halfspace = halfspace
@@ -115,14 +168,21 @@ class ContactOperator:
         xp = halfspace.xp
         self.xp = xp
         h2 = halfspace.element_size**2
-        self._levels = []  # (compliance h^2/k, flat labels with -1 -> dummy, n_clusters)
+        if _levels is None:
+            # Per elastic level: (compliance h^2/k, full-grid cluster labels,
+            # discriminant half-width or None).  Shared with the sub-operators.
+            _levels = []
+            for level in indenter.elastic_levels:
+                labels = indenter.element_clusters(level)
+                width = discriminant_half_width(labels) if coupling == "discriminant" else None
+                _levels.append((h2 / level.stiffness, labels, width, level))
+        self._level_data = _levels
+        self._levels = []  # (compliance h^2/k, flat labels with -1 -> dummy, n_clusters, level)
+        self._sub_operators: dict[Window, ContactOperator] = {}
         rows, cols = window.shape
         spectrum = None
-        for level in indenter.elastic_levels:
-            labels = indenter.element_clusters(level)
-            compliance = h2 / level.stiffness
+        for compliance, labels, width, level in _levels:
             if coupling == "discriminant":
-                width = discriminant_half_width(labels)
                 if spectrum is None:
                     spectrum = xp.asarray(halfspace.spectrum(rows, cols)).copy()
                 spectrum = spectrum + compliance * self._box_spectrum(rows, cols, width)
@@ -141,6 +201,47 @@ class ContactOperator:
             (compliance, xp.asarray(np.asarray(backend.to_numpy(flat))[footprint]), n)
             for compliance, flat, n, _ in self._levels
         ]
+
+    def for_window(self, window: Window) -> "ContactOperator":
+        """The same operator on another window (the springs' labels and widths are shared)."""
+        return ContactOperator(self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data)
+
+    def sub_operator(self, mask) -> tuple[tuple[slice, slice], "ContactOperator"]:
+        """The operator on the smallest FFT-friendly block of the window that holds ``mask``.
+
+        A_S x for x supported on S only needs the deflection on S, so the
+        padded convolution can run on a block around S instead of the whole
+        window: with the block side b, the FFTs are 2b long instead of 2m.
+        The working window carries a margin around the contact (for the
+        attachment predictions and the outside-penetration bound), so the
+        block is typically 20-50 % smaller in area; the result is the same
+        (the kernel is translation invariant and the springs only couple
+        elements of S).  Returns the block's slices relative to the window and
+        its operator (cached by block).
+
+        Parameters
+        ----------
+        mask : ndarray of bool, the window's shape
+            The set the solve works on (not empty).
+        """
+        m = np.asarray(backend.to_numpy(mask))
+        rows = np.flatnonzero(m.any(axis=1))
+        cols = np.flatnonzero(m.any(axis=0))
+        if rows.size == 0:
+            return self.window.slices_local, self
+        w_rows, w_cols = self.window.shape
+        r0, r1 = _fast_block(int(rows[0]), int(rows[-1]) + 1, w_rows)
+        c0, c1 = _fast_block(int(cols[0]), int(cols[-1]) + 1, w_cols)
+        if (r1 - r0, c1 - c0) == (w_rows, w_cols):
+            return self.window.slices_local, self
+        block = Window(self.window.r0 + r0, self.window.r0 + r1, self.window.c0 + c0, self.window.c0 + c1)
+        operator = self._sub_operators.get(block)
+        if operator is None:
+            if len(self._sub_operators) >= _SUB_OPERATOR_CACHE:
+                self._sub_operators.clear()
+            operator = self.for_window(block)
+            self._sub_operators[block] = operator
+        return (slice(r0, r1), slice(c0, c1)), operator
 
     def _box_spectrum(self, rows: int, cols: int, width: int):
         """Spectrum of the padded discriminant matrix (ones for |offset| <= width)."""
@@ -188,6 +289,44 @@ class ContactOperator:
         total[self._footprint_index] = on_footprint
         return xp.reshape(total, pressure.shape)
 
+    def tip_deflection(self, pressure):
+        """K p plus the spring deflection (segment sums) on the window, unmasked.
+
+        The deflection that the penetration d - height - u is measured with
+        (``deflection`` folds the springs into the spectrum for the
+        discriminant coupling; on the footprint the two agree to round-off).
+        """
+        deflection = self.halfspace.apply(pressure, support=_support(self.xp, pressure))
+        if self._levels:
+            deflection = deflection + self.spring_deflection(pressure)
+        return deflection
+
+    def element_deflection(self, values, mask):
+        """``tip_deflection(values * mask)`` for a pressure on a few elements.
+
+        Up to ``FEW_ELEMENTS`` loaded elements, the deflection is the sum of
+        their shifted kernels (``HalfSpace.mirrored_kernel``), a few array
+        passes instead of an FFT pair; otherwise it is transformed.  Used to
+        keep a known deflection in step when a few elements leave the contact
+        (their pressure is dropped).
+        """
+        xp = self.xp
+        loaded = mask & (values != 0)
+        rows_at, cols_at = (np.asarray(backend.to_numpy(i)) for i in xp.nonzero(loaded))
+        if rows_at.size > FEW_ELEMENTS:
+            return self.tip_deflection(values * loaded)
+        rows, cols = self.window.shape
+        deflection = xp.zeros((rows, cols), dtype=xp.float64)
+        if rows_at.size == 0:
+            return deflection
+        table = self.halfspace.mirrored_kernel(rows, cols)
+        weights = np.asarray(backend.to_numpy(values[loaded]))
+        for r, c, w in zip(rows_at.tolist(), cols_at.tolist(), weights.tolist()):
+            deflection += w * table[rows - 1 - r : 2 * rows - 1 - r, cols - 1 - c : 2 * cols - 1 - c]
+        if self._levels:
+            deflection = deflection + self.spring_deflection(values * loaded)
+        return deflection
+
     def deflection(self, pressure):
         """(K + springs) p on the window, unmasked."""
         if self._spectrum is not None:
@@ -198,5 +337,9 @@ class ContactOperator:
         return result
 
     def apply(self, pressure, mask):
-        """A_S p: the deflection of the contact elements, zero elsewhere."""
+        """A_S p: the deflection of the contact elements, zero elsewhere.
+
+        ``mask`` is the set S as bool, or as its 0/1 float copy (cheaper to
+        multiply by, for the solvers that apply A_S many times).
+        """
         return self.deflection(pressure) * mask

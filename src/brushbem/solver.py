@@ -45,6 +45,9 @@ __all__ = [
 #: Shift of the Laplacian preconditioner, in units of 1/h^2 (see laplacian_preconditioner).
 PRECONDITIONER_SHIFT = 0.3
 
+#: SolveResult.reason when the warm start already met the tolerance (solution = initial on the mask).
+WARM_START_WITHIN_TOLERANCE = "initial guess within tolerance"
+
 #: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
 ELEMENT_ENERGY_COEFFICIENT = 0.473201
 
@@ -81,6 +84,8 @@ class SolveResult:
 
 
 def _dot(xp, a, b) -> float:
+    # Not a matrix product: BLAS threads its dot products of this size, which
+    # was 5x slower in total on a busy 2-core machine and not reproducible.
     return float(xp.sum(a * b))
 
 
@@ -93,6 +98,7 @@ def conjugate_gradient(
     max_iterations: int = 10000,
     preconditioner=None,
     xp=None,
+    initial_product=None,
 ) -> SolveResult:
     """Preconditioned CG for ``apply(x) = rhs`` on the elements where ``mask`` is True.
 
@@ -112,6 +118,9 @@ def conjugate_gradient(
     max_iterations : int
     preconditioner : callable, optional
         ``preconditioner(r) -> M^-1 r``, symmetric positive definite on S.
+    initial_product : ndarray, optional
+        The operator applied to ``initial`` (only its masked entries are
+        used), when the caller knows it: saves the first ``apply``.
     """
     if xp is None:
         from .backend import namespace
@@ -123,14 +132,21 @@ def conjugate_gradient(
     if rhs_norm == 0.0:
         return SolveResult(xp.zeros_like(rhs), True, "zero right-hand side", 0, 0.0, (0.0,))
     x = xp.zeros_like(rhs) if initial is None else initial * maskf
-    residual = rhs - apply(x) if initial is not None else rhs
+    if initial is None:
+        residual = rhs
+    elif initial_product is not None:
+        residual = rhs - initial_product * maskf
+    else:
+        residual = rhs - apply(x)
     relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
     history = [relative]
     if relative <= tolerance:
-        return SolveResult(x, True, "initial guess within tolerance", 0, relative, tuple(history))
-    z = residual if preconditioner is None else preconditioner(residual) * maskf
-    direction = z
-    rz = _dot(xp, residual, z)
+        return SolveResult(x, True, WARM_START_WITHIN_TOLERANCE, 0, relative, tuple(history))
+    # x, residual and direction are private arrays from here on (residual may
+    # be the masked copy of rhs) and are updated in place: fewer temporaries
+    # matter on the small blocks the solves run on.
+    direction = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
+    rz = _dot(xp, residual, direction)
     for iteration in range(1, max_iterations + 1):
         a_direction = apply(direction)
         curvature = _dot(xp, direction, a_direction)
@@ -142,17 +158,18 @@ def conjugate_gradient(
             )
             return SolveResult(x, False, reason, iteration, relative, tuple(history))
         step = rz / curvature
-        x = x + step * direction
-        residual = residual - step * a_direction
+        x += step * direction
+        residual -= step * a_direction
         relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
         history.append(relative)
         if not math.isfinite(relative):
             return SolveResult(x, False, "non-finite residual", iteration, relative, tuple(history))
         if relative <= tolerance:
             return SolveResult(x, True, "relative residual below tolerance", iteration, relative, tuple(history))
-        z = residual if preconditioner is None else preconditioner(residual) * maskf
+        z = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
         rz_next = _dot(xp, residual, z)
-        direction = z + (rz_next / rz) * direction
+        direction *= rz_next / rz
+        direction += z
         rz = rz_next
     return SolveResult(
         x, False, f"no convergence in {max_iterations} iterations", max_iterations, relative, tuple(history)
@@ -172,8 +189,11 @@ def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
     The constant factor of M does not matter to CG.
     """
 
+    # A 0/1 float mask: multiplying by it is twice as fast as by a bool array.
+    maskf = mask * 1.0
+
     def apply(residual):
-        z = residual * mask
+        z = residual * maskf
         out = (4.0 + shift) * z
         out[1:, :] -= z[:-1, :]
         out[:-1, :] -= z[1:, :]
@@ -309,6 +329,10 @@ class Equilibrium:
         fixed-set force the path passes through before a cascade).
     detached, attached : int
         Elements that left and joined S.
+    deflection : ndarray or None
+        ``tip_deflection`` (K p + springs) on the window for the returned pressure, when the
+        solver computed it anyway (the final join check of ``equilibrium``),
+        so that callers need not transform the pressure again.
     """
 
     displacement: float
@@ -321,14 +345,17 @@ class Equilibrium:
     trial_force_sum: float
     detached: int
     attached: int
+    deflection: object = None
+
+
+def tip_deflection(operator: ContactOperator, pressure):
+    """Half-space deflection plus spring deflection of ``pressure`` on the window (unmasked)."""
+    return operator.tip_deflection(pressure)
 
 
 def penetration(operator: ContactOperator, height, displacement: float, pressure):
     """How far the tip reaches into the deformed half-space (> 0: penetrates), on the window."""
-    deflection = operator.halfspace_deflection(pressure)
-    if operator.has_springs:
-        deflection = deflection + operator.spring_deflection(pressure)
-    return displacement - height - deflection
+    return displacement - height - tip_deflection(operator, pressure)
 
 
 def equilibrium(
@@ -344,6 +371,7 @@ def equilibrium(
     preconditioner=None,
     force_detach=None,
     force_attach=None,
+    deflection=None,
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
 
@@ -360,9 +388,20 @@ def equilibrium(
         Warm start.
     critical : float
         Sigma_c; 0 means no adhesion (elements leave when p < 0).
+    preconditioner : callable, optional
+        M^-1 on the window's arrays, instead of the Laplacian preconditioner
+        (the solves then run on the whole window rather than on the block
+        around S).
     force_detach, force_attach : ndarray of bool, optional
         Elements that leave / join S before the first solve (the event that
         the event-driven path has reached exactly).
+    deflection : ndarray, optional
+        ``operator.tip_deflection(pressure)``, when the caller knows it (the
+        event-driven path does: the state is affine between events).  It is
+        kept in step while nothing is solved: the first solve starts without
+        applying the operator, and when that solve finds the warm start
+        within tolerance (an attachment exactly at the touching point does
+        not change the pressure) the join check needs no transform either.
     """
     xp = operator.xp
     footprint = xp.isfinite(height)
@@ -376,6 +415,9 @@ def equilibrium(
         attached += int(xp.sum(joining))
         contact = contact | joining
     target = xp.where(footprint, displacement - height, 0.0)
+    if deflection is not None:
+        # The pressure outside the new set (elements forced to leave) is dropped.
+        deflection = deflection - operator.element_deflection(pressure, ~contact)
     pressure = pressure * contact
     iterations = solves = 0
     trial = None
@@ -384,19 +426,31 @@ def equilibrium(
     slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
     for _ in range(max_rounds):
         if bool(xp.any(contact)):
+            # The solve only needs the deflection on S: run it on the block
+            # around S (a caller's preconditioner works on the whole window).
+            if preconditioner is None:
+                block, block_operator = operator.sub_operator(contact)
+            else:
+                block, block_operator = operator.window.slices_local, operator
+            block_contact = contact[block]
+            weights = xp.astype(block_contact, xp.float64)  # 0/1: a cheaper mask to multiply by
             result = conjugate_gradient(
-                lambda x: operator.apply(x, contact),
-                target,
-                contact,
-                initial=pressure,
+                lambda x: block_operator.apply(x, weights),
+                target[block],
+                block_contact,
+                initial=pressure[block],
                 tolerance=tolerance,
                 max_iterations=max_iterations,
-                preconditioner=contact_preconditioner(operator, contact) if preconditioner is None else preconditioner,
+                preconditioner=contact_preconditioner(block_operator, block_contact) if preconditioner is None else preconditioner,
                 xp=xp,
+                initial_product=None if deflection is None else deflection[block],
             )
             iterations += result.iterations
             solves += 1
-            pressure = result.solution
+            if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
+                deflection = None  # the pressure moved
+            pressure = xp.zeros_like(target)
+            pressure[block] = result.solution
             if not result.converged:
                 return Equilibrium(
                     displacement, pressure, contact, False, result.reason, iterations, solves,
@@ -410,17 +464,22 @@ def equilibrium(
         n_leaving = int(xp.sum(leaving))
         if n_leaving:
             contact = contact & ~leaving
+            if deflection is not None:
+                deflection = deflection - operator.element_deflection(pressure, leaving)
             pressure = pressure * contact
             detached += n_leaving
             continue
-        joining = footprint & ~contact & (penetration(operator, height, displacement, pressure) > slack)
+        if deflection is None:
+            deflection = tip_deflection(operator, pressure)
+        joining = footprint & ~contact & (displacement - height - deflection > slack)
         n_joining = int(xp.sum(joining))
         if n_joining:
             contact = contact | joining
             attached += n_joining
             continue
         return Equilibrium(
-            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached, attached
+            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached,
+            attached, deflection,
         )
     return Equilibrium(
         displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",
