@@ -61,11 +61,30 @@ def _summary_table(summary: dict[str, Any]) -> Table:
     ]
     for label, key in rows:
         table.add_row(label, _number(summary.get(key, "—")))
-    for key, value in (summary.get("theory") or {}).items():
-        # Only scalar ratios and values belong in a one-screen table.
-        if isinstance(value, (numbers.Real, str)):
-            table.add_row(f"theory: {key}", _number(value))
+    normalized = summary.get("normalized")
+    if normalized:
+        # A brush: the thesis's dimensionless numbers say more than the scales.
+        labels = (
+            ("F_A / F_K compact punch (eq. 4.11)", "force_by_compact_punch"),
+            ("F_A / F_c rigid brush (eq. 5.3)", "force_by_rigid_brush"),
+            ("F_A / N F_K ideal sharing (eq. 7.4)", "force_by_ideal_sharing"),
+            ("d_A / d_c (eq. 4.12)", "displacement_by_rigid_brush"),
+            ("k~ = k / (E* L)", "stiffness_ratio"),
+            ("filling factor (rasterised)", "filling_factor"),
+            ("pillars attached at F_A", "attached_pillars_at_pull_off"),
+        )
+        for label, key in labels:
+            if normalized.get(key) is not None:
+                table.add_row(label, _number(normalized[key]))
+        table.add_row("phi^-1/4 (rigid limit, eq. 4.9)", _number((summary.get("theory") or {}).get(
+            "rigid_brush_enhancement", "—")))
+    else:
+        for key, value in (summary.get("theory") or {}).items():
+            # Only scalar ratios and values belong in a one-screen table.
+            if isinstance(value, (numbers.Real, str)):
+                table.add_row(f"theory: {key}", _number(value))
     table.add_row("converged", _number(summary.get("converged", "—")))
+    table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
     table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
     return table
 
