@@ -444,3 +444,19 @@ def test_events_reach_pillars_outside_the_first_window():
     assert events.curve.attached_pillars.max() == fixed.curve.attached_pillars.max() > 20
     # Fixed steps miss the exact extremum by O(step): measured 6e-4.
     assert events.summary["adhesive_force"] == pytest.approx(fixed.summary["adhesive_force"], rel=3e-3)
+
+
+def test_sparse_and_stencil_spring_preconditioners_agree(monkeypatch):
+    """The CPU path (sparse B on S) and the array-namespace path (stencils) are the same M^-1."""
+    from brushbem import backend, solver
+
+    indenter = _brush(pillars_per_side=8, pillar_radius=3 * GRID.element_size, stiffness=1e-4,
+                      levels=(Level(2, 1e-3), Level(2, 1e-2)))
+    operator = _operator(indenter)
+    rng = np.random.default_rng(5)
+    mask = indenter.footprint & (rng.random(indenter.pillar.shape) < 0.7)
+    residual = rng.standard_normal(mask.shape) * mask
+    sparse_path = solver.spring_preconditioner(operator, mask)(residual)
+    monkeypatch.setattr(backend, "is_numpy_namespace", lambda xp: False)
+    stencil_path = solver.spring_preconditioner(operator, mask)(residual)
+    np.testing.assert_allclose(sparse_path * mask, stencil_path * mask, rtol=0, atol=1e-13 * np.abs(stencil_path).max())
