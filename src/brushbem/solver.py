@@ -49,11 +49,12 @@ PRECONDITIONER_SHIFT = 0.3
 WARM_START_WITHIN_TOLERANCE = "initial guess within tolerance"
 
 #: Relative residual of the screening solves inside a detachment cascade (see `equilibrium`).
-CASCADE_TOLERANCE = 1e-6
+CASCADE_TOLERANCE = 1e-5
 
-#: Relative margin beyond Sigma_c for detaching on a screening solve: a pressure
-#: error of 1e-3 Sigma_c is ~100 times what a 1e-6 residual leaves on these contacts.
-CASCADE_MARGIN = 1e-3
+#: Relative margin beyond Sigma_c for detaching on a screening solve.  The
+#: screening pressure error measured at most 1.0e-3 Sigma_c (16 x 16 rough brush,
+#: JKR sphere and punch pull-offs; ``tests/test_brush.py``), ten times below it.
+CASCADE_MARGIN = 1e-2
 
 #: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
 ELEMENT_ENERGY_COEFFICIENT = 0.473201
