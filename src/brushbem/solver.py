@@ -466,12 +466,15 @@ def equilibrium(
     # Penetration tolerance: the solve's accuracy in units of length.
     scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
     slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
-    # Cascade screening: after elements left, the next rounds only decide who
-    # leaves next, so they are solved to CASCADE_TOLERANCE and detach only
-    # elements beyond Sigma_c by a margin far above that solve's error; once
-    # such a round finds nobody to detach, the set is solved again to the full
-    # tolerance and checked with the exact criterion before it is accepted.
+    # Cascade screening: once a cascade has gone on for two rounds, the next
+    # rounds only decide who leaves next, so they are solved to
+    # CASCADE_TOLERANCE and detach only elements beyond Sigma_c by a margin
+    # far above that solve's error; once such a round finds nobody to detach,
+    # the set is solved again to the full tolerance and checked with the
+    # exact criterion before it is accepted.  (Short cascades, one or two
+    # rounds as on a sphere, stay tight: screening would add a solve there.)
     tight = True
+    detach_rounds = 0
     loose_tolerance = max(tolerance, CASCADE_TOLERANCE)
     for _ in range(max_rounds):
         if bool(xp.any(contact)):
@@ -521,7 +524,8 @@ def equilibrium(
                 deflection = deflection - operator.element_deflection(pressure, leaving)
             pressure = pressure * contact
             detached += n_leaving
-            tight = critical == 0 or loose_tolerance == tolerance
+            detach_rounds += 1
+            tight = critical == 0 or loose_tolerance == tolerance or detach_rounds < 2
             continue
         if not tight:
             tight = True
