@@ -35,8 +35,8 @@ chromium:
 	  || command -v google-chrome >/dev/null 2>&1; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
 	  echo "installing chromium (headless report test)"; \
-	  (apt-get install -y --no-install-recommends chromium \
-	   || (apt-get update && apt-get install -y --no-install-recommends chromium)) \
+	  (timeout 600 apt-get install -y --no-install-recommends chromium \
+	   || (timeout 300 apt-get update && timeout 600 apt-get install -y --no-install-recommends chromium)) \
 	  || echo "warning: could not install chromium; the headless report test will be skipped" >&2; \
 	else \
 	  echo "warning: no chromium on PATH and cannot apt-get install it (not root or no apt-get);" \
