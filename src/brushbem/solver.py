@@ -48,14 +48,6 @@ PRECONDITIONER_SHIFT = 0.3
 #: SolveResult.reason when the warm start already met the tolerance (solution = initial on the mask).
 WARM_START_WITHIN_TOLERANCE = "initial guess within tolerance"
 
-#: Relative residual of the screening solves inside a detachment cascade (see `equilibrium`).
-CASCADE_TOLERANCE = 1e-5
-
-#: Relative margin beyond Sigma_c for detaching on a screening solve.  The
-#: screening pressure error measured at most 1.0e-3 Sigma_c (16 x 16 rough brush,
-#: JKR sphere and punch pull-offs; ``tests/test_brush.py``), ten times below it.
-CASCADE_MARGIN = 1e-2
-
 #: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
 ELEMENT_ENERGY_COEFFICIENT = 0.473201
 
@@ -466,16 +458,6 @@ def equilibrium(
     # Penetration tolerance: the solve's accuracy in units of length.
     scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
     slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
-    # Cascade screening: once a cascade has gone on for two rounds, the next
-    # rounds only decide who leaves next, so they are solved to
-    # CASCADE_TOLERANCE and detach only elements beyond Sigma_c by a margin
-    # far above that solve's error; once such a round finds nobody to detach,
-    # the set is solved again to the full tolerance and checked with the
-    # exact criterion before it is accepted.  (Short cascades, one or two
-    # rounds as on a sphere, stay tight: screening would add a solve there.)
-    tight = True
-    detach_rounds = 0
-    loose_tolerance = max(tolerance, CASCADE_TOLERANCE)
     for _ in range(max_rounds):
         if bool(xp.any(contact)):
             # The solve only needs the deflection on S: run it on the block
@@ -491,7 +473,7 @@ def equilibrium(
                 target[block],
                 block_contact,
                 initial=pressure[block],
-                tolerance=tolerance if tight else loose_tolerance,
+                tolerance=tolerance,
                 max_iterations=max_iterations,
                 preconditioner=contact_preconditioner(block_operator, block_contact) if preconditioner is None else preconditioner,
                 xp=xp,
@@ -512,11 +494,7 @@ def equilibrium(
             pressure = xp.zeros_like(target)
         if trial is None:
             trial = float(xp.sum(pressure))
-        if critical > 0:
-            threshold = critical * (1.0 if tight else 1.0 + CASCADE_MARGIN)
-            leaving = contact & (pressure < -threshold)
-        else:
-            leaving = contact & (pressure < 0)
+        leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
         n_leaving = int(xp.sum(leaving))
         if n_leaving:
             contact = contact & ~leaving
@@ -524,11 +502,6 @@ def equilibrium(
                 deflection = deflection - operator.element_deflection(pressure, leaving)
             pressure = pressure * contact
             detached += n_leaving
-            detach_rounds += 1
-            tight = critical == 0 or loose_tolerance == tolerance or detach_rounds < 2
-            continue
-        if not tight:
-            tight = True
             continue
         if deflection is None:
             deflection = tip_deflection(operator, pressure)
