@@ -7,42 +7,28 @@ mesh.
 
 from __future__ import annotations
 
-import concurrent.futures
+
 import math
 
 import numpy as np
 import pytest
+from conftest import run_quick_study
 
-from brushbem.studies import STUDIES, sweep_file
-from brushbem.sweep import load_summary, run_sweep
-
-
-def _run(study_name, tmp_path_factory):
-    study = STUDIES[study_name]
-    out = tmp_path_factory.mktemp(study_name)
-    results = {}
-    for part in study.parts:
-        path = sweep_file(study.name, part, quick=True)
-        assert path.exists() and sweep_file(study.name, part, quick=False).exists()
-        run_sweep(path, out / part, executor=concurrent.futures.ThreadPoolExecutor(1))
-        results[part] = load_summary(out / part)
-    figures = study.draw(results, out / "figures")
-    return study, results, figures
 
 
 @pytest.fixture(scope="module")
 def punch(tmp_path_factory):
-    return _run("punch_spring", tmp_path_factory)
+    return run_quick_study("punch_spring", tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
 def sphere(tmp_path_factory):
-    return _run("sphere_spring", tmp_path_factory)
+    return run_quick_study("sphere_spring", tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
 def brush(tmp_path_factory):
-    return _run("flat_brush", tmp_path_factory)
+    return run_quick_study("flat_brush", tmp_path_factory)
 
 
 @pytest.mark.parametrize("name", ["punch", "sphere", "brush"])

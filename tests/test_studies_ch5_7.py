@@ -3,44 +3,30 @@ few physics facts hold on the coarse grids (tolerances justified inline)."""
 
 from __future__ import annotations
 
-import concurrent.futures
+
 import math
 
 import numpy as np
 import pytest
+from conftest import run_quick_study
 
-from brushbem.studies import STUDIES, sweep_file
 from brushbem.studies._ch5_7 import FA, FIS, H, K, PRELOAD, REGION, SIGMA, finished
-from brushbem.sweep import load_summary, run_sweep
 from brushbem.theory import equivalent_single_level_stiffness
-
-
-def _run(name, tmp_path_factory):
-    study = STUDIES[name]
-    out = tmp_path_factory.mktemp(name)
-    results = {}
-    for part in study.parts:
-        path = sweep_file(name, part, quick=True)
-        assert path.exists() and sweep_file(name, part, quick=False).exists()
-        run_sweep(path, out / part, executor=concurrent.futures.ThreadPoolExecutor(1))
-        results[part] = load_summary(out / part)
-    written = study.draw(results, out / "figures")
-    return study, results, written
 
 
 @pytest.fixture(scope="module")
 def rough(tmp_path_factory):
-    return _run("rough_brush", tmp_path_factory)
+    return run_quick_study("rough_brush", tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
 def hierarchy(tmp_path_factory):
-    return _run("hierarchy", tmp_path_factory)
+    return run_quick_study("hierarchy", tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
 def concave(tmp_path_factory):
-    return _run("concave", tmp_path_factory)
+    return run_quick_study("concave", tmp_path_factory)
 
 
 def _common(study, results, written):

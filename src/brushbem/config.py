@@ -219,6 +219,19 @@ _LAYOUT_OPTIONAL: dict[str, tuple[str, ...]] = {
 }
 
 
+def _existing_file(value: str, info: ValidationInfo) -> Path:
+    """``value`` resolved against the configuration's folder; ValueError if it is not a file."""
+    base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
+    try:
+        path = (base_dir / value).resolve()
+        found = path.is_file()
+    except (OSError, ValueError) as exc:  # e.g. an embedded NUL or a name too long
+        raise ValueError(f"not a usable path ({exc})") from None
+    if not found:
+        raise ValueError(f"file not found (looked for {path})")
+    return path
+
+
 def _inf_from_string(value: Any) -> Any:
     # `config_to_dict` writes infinity as the string "inf" (JSON has no
     # infinity); accept it back so a recorded config re-parses.
@@ -368,14 +381,7 @@ class IndenterConfig(BaseModel):
     def _resolve_lengths_file(cls, value: str | None, info: ValidationInfo) -> str | None:
         if value is None:
             return None
-        base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
-        try:
-            path = (base_dir / value).resolve()
-            found = path.is_file()
-        except (OSError, ValueError) as exc:
-            raise ValueError(f"not a usable path ({exc})") from None
-        if not found:
-            raise ValueError(f"file not found (looked for {path})")
+        path = _existing_file(value, info)
         try:
             lengths = np.load(path, allow_pickle=False)
         except Exception as exc:  # any unreadable file is a configuration problem
@@ -395,14 +401,7 @@ class IndenterConfig(BaseModel):
     def _resolve_and_check_file(cls, value: str | None, info: ValidationInfo) -> str | None:
         if value is None:
             return None
-        base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
-        try:
-            path = (base_dir / value).resolve()
-            found = path.is_file()
-        except (OSError, ValueError) as exc:  # e.g. an embedded NUL or a name too long
-            raise ValueError(f"not a usable path ({exc})") from None
-        if not found:
-            raise ValueError(f"file not found (looked for {path})")
+        path = _existing_file(value, info)
         _check_height_map(path)
         return str(path)
 

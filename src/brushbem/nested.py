@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .operator import ContactOperator
 from .solver import conjugate_gradient
 
@@ -78,70 +80,21 @@ def nested_loop_equilibrium(
         Sigma_c (0: no adhesion).
     tolerance : float
         Relative tolerance of the force balance and of every CG solve.
+
+    This is `nested_loop_brush_equilibrium` with one pillar: the same secant
+    corrections of the pillar position, started by a Newton step with the
+    punch stiffness of the contact.
     """
-    if rigid_operator.has_springs:
-        raise ValueError("nested_loop_equilibrium needs the rigid (spring-free) operator")
-    if not (math.isfinite(stiffness) and stiffness > 0):
-        raise ValueError(f"stiffness = {stiffness} must be finite and > 0")
     xp = rigid_operator.xp
-    h2 = rigid_operator.halfspace.element_size ** 2
-    footprint = xp.isfinite(height)
-    contact = contact & footprint
-    pressure = pressure * contact
-    deflection = h2 * float(xp.sum(pressure)) / stiffness
-    balance = cg_total = 0
-
-    def rigid_solve(tip, contact, guess):
-        rhs = xp.where(contact, tip - height, 0.0)
-        return conjugate_gradient(lambda x: rigid_operator.apply(x, contact), rhs, contact, initial=guess,
-                                  tolerance=tolerance, max_iterations=20000, xp=xp)
-
-    for _ in range(max_rounds):
-        if bool(xp.any(contact)):
-            # Secant iteration on the force mismatch r(dl) = h^2 sum p(d - dl) - k dl.
-            previous = None
-            for _inner in range(max_balance):
-                result = rigid_solve(displacement - deflection, contact, pressure)
-                cg_total += result.iterations
-                balance += 1
-                if not result.converged:
-                    return NestedLoopResult(result.solution, contact, deflection, False, result.reason, balance, cg_total)
-                pressure = result.solution
-                force = h2 * float(xp.sum(pressure))
-                mismatch = force - stiffness * deflection
-                # Force scale: the larger of the two forces, or the spring force over
-                # one element size when both vanish (d = 0 on a flat punch).
-                length = max(abs(displacement), rigid_operator.halfspace.element_size)
-                scale = max(abs(force), stiffness * abs(deflection), stiffness * length)
-                if abs(mismatch) <= 100 * tolerance * scale:
-                    break
-                if previous is None:
-                    step = mismatch / stiffness  # first correction: move the pillar by the force error / k
-                else:
-                    slope = (mismatch - previous[1]) / (deflection - previous[0])
-                    step = -mismatch / slope
-                previous = (deflection, mismatch)
-                deflection = deflection + step
-            else:
-                return NestedLoopResult(pressure, contact, deflection, False,
-                                        f"force balance not reached in {max_balance} corrections", balance, cg_total)
-        else:
-            pressure = xp.zeros_like(height)
-            deflection = 0.0
-        leaving = contact & ((pressure < -critical) if critical > 0 else (pressure < 0))
-        if bool(xp.any(leaving)):
-            contact = contact & ~leaving
-            pressure = pressure * contact
-            continue
-        tip = displacement - deflection
-        reach = tip - height - rigid_operator.halfspace_deflection(pressure)
-        slack = 10 * tolerance * max(abs(displacement), 1e-300)
-        joining = footprint & ~contact & (reach > slack)
-        if bool(xp.any(joining)):
-            contact = contact | joining
-            continue
-        return NestedLoopResult(pressure, contact, deflection, True, "contact set stable", balance, cg_total)
-    return NestedLoopResult(pressure, contact, deflection, False, "contact set did not stabilise", balance, cg_total)
+    one_pillar = xp.where(xp.isfinite(height), 0, -1)
+    result = nested_loop_brush_equilibrium(
+        rigid_operator, one_pillar, height, displacement, stiffness, contact, pressure, critical,
+        tolerance=tolerance, max_balance=max_balance, max_rounds=max_rounds,
+    )
+    return NestedLoopResult(
+        result.pressure, result.contact, float(result.spring_deflection[0]), result.converged, result.reason,
+        result.balance_iterations, result.cg_iterations,
+    )
 
 
 @dataclass(frozen=True)
@@ -204,10 +157,8 @@ def nested_loop_brush_equilibrium(
     displacement, stiffness, contact, pressure, critical, tolerance
         As for `nested_loop_equilibrium`; ``stiffness`` is every pillar's k.
     """
-    import numpy as np
-
     if rigid_operator.has_springs:
-        raise ValueError("nested_loop_brush_equilibrium needs the rigid (spring-free) operator")
+        raise ValueError("the nested loop needs the rigid (spring-free) operator")
     if not (math.isfinite(stiffness) and stiffness > 0):
         raise ValueError(f"stiffness = {stiffness} must be finite and > 0")
     xp = rigid_operator.xp

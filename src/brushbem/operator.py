@@ -71,16 +71,11 @@ _SUB_OPERATOR_CACHE = 64
 
 
 def fast_size(size: int) -> int:
-    """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5."""
-    m = size
-    while True:
-        length = 2 * m
-        for factor in (2, 3, 5):
-            while length % factor == 0:
-                length //= factor
-        if length == 1:
-            return m
-        m += 1
+    """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5.
+
+    2m is 5-smooth exactly when m is, so this is `backend.smooth_length`.
+    """
+    return backend.smooth_length(size)
 
 
 def _support(xp, values) -> tuple[int, int, int, int] | None:
