@@ -362,3 +362,29 @@ def test_support_aware_period_gives_the_same_deflection(window, support):
     pressure[r0:r1, c0:c1] = np.random.default_rng(r1 * c1).standard_normal((r1 - r0, c1 - c0))
     expected = halfspace.apply(pressure)
     assert _relative_max(halfspace.apply(pressure, support=support), expected) < ROUND_OFF
+
+
+def test_row_pruned_convolution_equals_the_full_one():
+    """padded_convolution_rows on the loaded rows = padded_convolution kept on those rows."""
+    from brushbem import backend
+
+    rng = np.random.default_rng(0)
+    halfspace = HalfSpace(40, 0.025, 1.0)
+    pressure = np.zeros((24, 30))
+    rows = np.array([1, 2, 7, 15, 16, 23])
+    pressure[rows] = rng.standard_normal((rows.size, 30))
+    spectrum = halfspace.spectrum(24, 30)
+    full = backend.padded_convolution(np, pressure, spectrum)
+    pruned = backend.padded_convolution_rows(np, pressure[rows], rows, spectrum, (48, 60))
+    np.testing.assert_allclose(pruned, full[rows], rtol=0, atol=1e-13 * np.abs(full).max())
+
+
+def test_block_inverse_is_the_inverse_of_the_dense_block():
+    halfspace = HalfSpace(32, 1.0 / 32, 2.0)
+    offsets = np.array([[0, 1], [0, 2], [1, 0], [1, 1], [1, 2], [1, 3], [2, 1], [2, 2], [3, 2]])
+    dense = halfspace.dense_matrix(4, 4)
+    flat = offsets[:, 0] * 4 + offsets[:, 1]
+    block = dense[np.ix_(flat, flat)]
+    inverse = halfspace.block_inverse(offsets)
+    np.testing.assert_allclose(inverse @ block, np.eye(len(offsets)), rtol=0, atol=1e-10)
+    assert halfspace.block_inverse(offsets.copy()) is inverse  # cached by shape

@@ -26,6 +26,7 @@ __all__ = [
     "to_numpy",
     "backend_name",
     "fft_workers",
+    "padded_convolution_rows",
 ]
 
 #: Padded transforms with fewer points than this run on one thread: below it the
@@ -104,6 +105,36 @@ def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None
     product = xp.fft.rfft2(array, s=(long_rows, long_cols))
     product *= spectrum
     return xp.fft.irfft2(product, s=(long_rows, long_cols))[..., :rows, :cols]
+
+
+def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: tuple[int, int]):
+    """`padded_convolution` of an array that vanishes outside the rows ``row_index``, kept on those rows.
+
+    ``rows_values`` (k, m2) holds rows ``row_index`` (k sorted indices into the
+    window's m1 rows) of the pressure; the rest of the window is zero.  Returns
+    the deflection on the same rows, (k, m2).  The real transforms along the
+    rows run on the k rows only, forward and back; only the transforms along
+    the columns see every padded row.  For a brush, whose pillars cover a
+    third of the rows of their window, that skips about two thirds of the
+    real-transform work of ``padded_convolution`` and the padded copies.
+    """
+    long_rows, long_cols = padded_shape
+    cols = rows_values.shape[-1]
+    if is_numpy_namespace(xp):
+        workers = fft_workers(long_rows * long_cols)
+        rows_spectrum = scipy.fft.rfft(rows_values, n=long_cols, axis=-1, workers=workers)
+        product = np.zeros((long_rows, rows_spectrum.shape[-1]), dtype=rows_spectrum.dtype)
+        product[row_index] = rows_spectrum
+        product = scipy.fft.fft(product, axis=-2, workers=workers, overwrite_x=True)
+        product *= spectrum
+        product = scipy.fft.ifft(product, axis=-2, workers=workers, overwrite_x=True)
+        return scipy.fft.irfft(product[row_index], n=long_cols, axis=-1, workers=workers)[..., :cols]
+    rows_spectrum = xp.fft.rfft(rows_values, n=long_cols, axis=-1)
+    product = xp.zeros((long_rows, rows_spectrum.shape[-1]), dtype=rows_spectrum.dtype)
+    product[row_index, :] = rows_spectrum
+    product = xp.fft.fft(product, axis=-2) * spectrum
+    product = xp.fft.ifft(product, axis=-2)
+    return xp.fft.irfft(product[row_index, :], n=long_cols, axis=-1)[..., :cols]
 
 
 def smooth_length(size: int) -> int:

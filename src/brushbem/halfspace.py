@@ -32,7 +32,10 @@ import numpy as np
 
 from . import backend
 
-__all__ = ["influence_coefficients", "HalfSpace"]
+__all__ = ["influence_coefficients", "HalfSpace", "BLOCK_CACHE_BYTES"]
+
+#: Host memory kept for the inverses of small K blocks (``HalfSpace.block_inverse``).
+BLOCK_CACHE_BYTES = 256 * 2**20
 
 
 def _x_asinh_y_over_abs_x(x, y, xp):
@@ -102,6 +105,7 @@ class HalfSpace:
     contact_modulus: float
     xp: object = np
     _spectra: dict = field(default_factory=dict, repr=False)
+    _blocks: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         if self.elements < 1:
@@ -231,6 +235,34 @@ class HalfSpace:
         if spectrum is None:
             spectrum = self.spectrum(rows, cols)
         return backend.padded_convolution(self.xp, pressure, spectrum)
+
+    def block_inverse(self, offsets: np.ndarray) -> np.ndarray:
+        """Inverse of K restricted to the elements at ``offsets`` (k x 2 ints, row-major order); cached.
+
+        K between two elements depends only on their offset, so every set of
+        elements of the same shape has the same block: the pillars of a
+        regular brush share one inverse, and detaching the same edge elements
+        from many pillars adds only a few.  The cache keeps at most
+        ``BLOCK_CACHE_BYTES`` of inverses (host memory, float64).
+        """
+        offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+        key = offsets.tobytes()
+        cached = self._blocks.get(key)
+        if cached is None:
+            span = offsets.max(axis=0) - offsets.min(axis=0) + 1
+            table = np.asarray(backend.to_numpy(self.kernel(int(span[0]), int(span[1]))))
+            di = np.abs(offsets[:, None, 0] - offsets[None, :, 0])
+            dj = np.abs(offsets[:, None, 1] - offsets[None, :, 1])
+            block = table[di, dj]
+            # K is symmetric positive definite, so is every principal block.
+            factor = np.linalg.cholesky(block)
+            inverse_factor = np.linalg.inv(factor)
+            cached = inverse_factor.T @ inverse_factor
+            total = sum(b.nbytes for b in self._blocks.values())
+            if total + cached.nbytes > BLOCK_CACHE_BYTES:
+                self._blocks.clear()
+            self._blocks[key] = cached
+        return cached
 
     def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
         """The dense (rows*cols)^2 influence matrix, for tests on small grids."""

@@ -49,9 +49,9 @@ from .solver import (
     conjugate_gradient,
     critical_stress,
     equilibrium,
-    contact_preconditioner,
     penetration,
     polonsky_keer,
+    solve_on_set,
     tip_deflection,
 )
 from .structure import Grid, Indenter
@@ -508,16 +508,11 @@ class _Tracker:
         block_contact = contact[block]
         ones = xp.where(block_contact, 1.0, 0.0)
         initial, product = self._unit_guess(contact)
-        result = conjugate_gradient(
-            lambda x: operator.apply(x, ones),
-            ones,
-            block_contact,
+        result = solve_on_set(
+            operator, block_contact, ones,
             initial=None if initial is None else initial[block],
-            tolerance=self.path.tolerance,
-            max_iterations=self.path.max_iterations,
-            preconditioner=contact_preconditioner(operator, block_contact),
-            xp=xp,
             initial_product=None if product is None else product[block],
+            tolerance=self.path.tolerance, max_iterations=self.path.max_iterations,
         )
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution

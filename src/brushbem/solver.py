@@ -20,15 +20,17 @@ loop.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
 from . import backend
-from .operator import ContactOperator
+from .operator import ContactOperator, ContactSystem
 
 __all__ = [
     "SolveResult",
@@ -40,7 +42,12 @@ __all__ = [
     "laplacian_preconditioner",
     "spring_preconditioner",
     "contact_preconditioner",
+    "pillar_block_preconditioner",
+    "solve_on_set",
 ]
+
+#: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.
+BLOCK_LIMIT = 256
 
 #: Shift of the Laplacian preconditioner, in units of 1/h^2 (see laplacian_preconditioner).
 PRECONDITIONER_SHIFT = 0.3
@@ -341,6 +348,162 @@ def contact_preconditioner(operator: ContactOperator, mask):
     return laplacian_preconditioner(mask)
 
 
+def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LIMIT):
+    """Two-level preconditioner for A_S on the pillars of a brush (vectors on S), or None.
+
+    A_S = K_S + Z H_s Z^T, Z the element-to-pillar incidence on S and H_s the
+    spring compliances (h^2/k_l for every pair of pillars under the same unit
+    of level l).  It is approximated by
+
+        M = B + Z (H_s + G) Z^T,
+
+    B = blockdiag(K_n) the exact half-space blocks of the pillars' contact
+    elements (inverted once per shape, ``HalfSpace.block_inverse``) and G the
+    far-field coupling of the pillars as point loads, G_mn = h^2 / (pi E* r_mn)
+    between their footprint centroids.  By the Woodbury identity
+
+        M^-1 = B^-1 - B^-1 Z X Z^T B^-1,  X = T^-1 - T^-1 (T^-1 + H)^-1 T^-1,
+
+    with T = Z^T B^-1 Z = diag(1^T K_n^-1 1) (each pillar's exact mean-mode
+    stiffness) and H = H_s + G, so a solve with the dense pillar matrix
+    T^-1 + H (the brush as interacting punches on springs) is all the
+    coarse work.  M^-1 is SPD exactly when T^-1 + H is; where the point-load
+    coupling makes it indefinite (pillars much closer than their size) G is
+    dropped, which leaves the exact blocks and the springs.  Within a pillar
+    the preconditioner is exact, between pillars it keeps the interaction of
+    their mean modes, so the CG iterations no longer depend on the pillar
+    stiffness nor much on the number of pillars (tests/test_brush.py and
+    ``benchmarks/preconditioner.py``).
+
+    Returns None when an element of S lies off the pillars or a pillar's
+    contact has more than ``max_block`` elements (a large punch or sphere:
+    the blocks would cost more than they save).
+    """
+    labels = system.pillars
+    if system.size == 0 or bool(np.any(labels < 0)):
+        return None
+    order = np.argsort(labels, kind="stable")  # by pillar, row-major within each
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+    counts = np.diff(np.r_[starts, sorted_labels.size])
+    if int(counts.max()) > max_block:
+        return None
+    operator = system.operator
+    halfspace = operator.halfspace
+    active = sorted_labels[starts]
+    rows = system.element_rows[order]
+    cols = system.element_cols[order]
+    # Pillars whose contacts have the same shape share one inverse block.
+    groups: dict[bytes, list[int]] = {}
+    shapes: dict[bytes, np.ndarray] = {}
+    for position, (start, count) in enumerate(zip(starts.tolist(), counts.tolist())):
+        r = rows[start : start + count]
+        c = cols[start : start + count]
+        offsets = np.stack([r - r.min(), c - c.min()], axis=1)
+        key = offsets.tobytes()
+        members = groups.get(key)
+        if members is None:
+            groups[key] = [position]
+            shapes[key] = offsets
+        else:
+            members.append(position)
+    blocks = []  # (element indices on S (members x k), members, inverse, inverse @ 1)
+    stiffness = np.empty(active.size)
+    for key, members in groups.items():
+        inverse = halfspace.block_inverse(shapes[key])
+        members = np.asarray(members)
+        k = inverse.shape[0]
+        elements = order[starts[members][:, None] + np.arange(k)[None, :]]
+        row_sums = inverse.sum(axis=1)
+        stiffness[members] = row_sums.sum()
+        blocks.append((elements, members, inverse, row_sums))
+
+    # Coarse matrix T^-1 + H on the pillars in contact.
+    h = halfspace.element_size
+    springs = np.zeros((active.size, active.size))
+    for compliance, cluster in operator.spring_levels:
+        units = np.asarray(cluster)[active]
+        springs += compliance * (units[:, None] == units[None, :])
+    centres = operator.pillar_centres()[active]
+    distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
+    np.fill_diagonal(distance, np.inf)
+    coupling = h * h / (math.pi * halfspace.contact_modulus * distance)
+    coarse = None
+    for candidate in (springs + coupling, springs):
+        try:
+            coarse = scipy.linalg.cho_factor(candidate + np.diag(1.0 / stiffness), lower=True)
+            break
+        except np.linalg.LinAlgError:
+            continue
+    xp = system.xp
+
+    def apply(residual):
+        r = np.asarray(backend.to_numpy(residual))
+        z = np.empty_like(r)
+        sums = np.empty(active.size)
+        for elements, members, inverse, _ in blocks:
+            local = r[elements] @ inverse  # inverse is symmetric
+            z[elements] = local
+            sums[members] = local.sum(axis=1)
+        if coarse is not None:
+            scaled = sums / stiffness
+            correction = scaled - scipy.linalg.cho_solve(coarse, scaled) / stiffness
+            for elements, members, _, row_sums in blocks:
+                z[elements] -= correction[members][:, None] * row_sums[None, :]
+        return xp.asarray(z)
+
+    return apply
+
+
+def _blocks_fit(operator: ContactOperator, mask, max_block: int = BLOCK_LIMIT) -> bool:
+    """Whether S lies on the pillars with at most ``max_block`` elements on each (a cheap test)."""
+    labels = np.asarray(backend.to_numpy(operator.pillar_labels))[np.asarray(backend.to_numpy(mask), dtype=bool)]
+    if labels.size == 0 or bool(np.any(labels < 0)):
+        return False
+    return int(np.bincount(labels).max()) <= max_block
+
+
+def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
+                 tolerance: float = 1e-8, max_iterations: int = 10000) -> SolveResult:
+    """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
+
+    Where S lies on pillars of at most ``BLOCK_LIMIT`` elements each (a
+    brush), the CG runs on the |S| values of S (`ContactSystem`) with
+    `pillar_block_preconditioner`; otherwise on the window's arrays with
+    `contact_preconditioner` (a large punch or sphere, whose contact fills
+    its block anyway).  ``rhs``, ``initial`` and ``initial_product`` (A
+    applied to ``initial``, if known) are window-shaped; so is the solution.
+    """
+    xp = operator.xp
+    if _blocks_fit(operator, mask):
+        system = operator.system(mask)
+        preconditioner = pillar_block_preconditioner(system)
+        result = conjugate_gradient(
+            system.apply,
+            system.gather(rhs),
+            xp.ones(system.size, dtype=xp.bool),
+            initial=None if initial is None else system.gather(initial),
+            tolerance=tolerance,
+            max_iterations=max_iterations,
+            preconditioner=preconditioner,
+            xp=xp,
+            initial_product=None if initial_product is None else system.gather(initial_product),
+        )
+        return dataclasses.replace(result, solution=system.scatter(result.solution))
+    weights = xp.astype(mask, xp.float64)  # 0/1: a cheaper mask to multiply by
+    return conjugate_gradient(
+        lambda x: operator.apply(x, weights),
+        rhs,
+        mask,
+        initial=initial,
+        tolerance=tolerance,
+        max_iterations=max_iterations,
+        preconditioner=contact_preconditioner(operator, mask),
+        xp=xp,
+        initial_product=initial_product,
+    )
+
+
 @dataclass(frozen=True)
 class Equilibrium:
     """The state at one base displacement (on the operator's window).
@@ -467,18 +630,24 @@ def equilibrium(
             else:
                 block, block_operator = operator.window.slices_local, operator
             block_contact = contact[block]
-            weights = xp.astype(block_contact, xp.float64)  # 0/1: a cheaper mask to multiply by
-            result = conjugate_gradient(
-                lambda x: block_operator.apply(x, weights),
-                target[block],
-                block_contact,
-                initial=pressure[block],
-                tolerance=tolerance,
-                max_iterations=max_iterations,
-                preconditioner=contact_preconditioner(block_operator, block_contact) if preconditioner is None else preconditioner,
-                xp=xp,
-                initial_product=None if deflection is None else deflection[block],
-            )
+            if preconditioner is None:
+                result = solve_on_set(
+                    block_operator, block_contact, target[block], pressure[block],
+                    None if deflection is None else deflection[block], tolerance, max_iterations,
+                )
+            else:
+                weights = xp.astype(block_contact, xp.float64)  # 0/1: a cheaper mask to multiply by
+                result = conjugate_gradient(
+                    lambda x: block_operator.apply(x, weights),
+                    target[block],
+                    block_contact,
+                    initial=pressure[block],
+                    tolerance=tolerance,
+                    max_iterations=max_iterations,
+                    preconditioner=preconditioner,
+                    xp=xp,
+                    initial_product=None if deflection is None else deflection[block],
+                )
             iterations += result.iterations
             solves += 1
             if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
