@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 
 from . import backend
 
@@ -106,6 +107,7 @@ class HalfSpace:
     xp: object = np
     _spectra: dict = field(default_factory=dict, repr=False)
     _blocks: dict = field(default_factory=dict, repr=False)
+    _block_bytes: int = field(default=0, repr=False)
 
     def __post_init__(self):
         if self.elements < 1:
@@ -236,33 +238,56 @@ class HalfSpace:
             spectrum = self.spectrum(rows, cols)
         return backend.padded_convolution(self.xp, pressure, spectrum)
 
-    def block_inverse(self, offsets: np.ndarray) -> np.ndarray:
+    def block_inverse(self, offsets: np.ndarray, parent: tuple | None = None) -> np.ndarray:
         """Inverse of K restricted to the elements at ``offsets`` (k x 2 ints, row-major order); cached.
 
         K between two elements depends only on their offset, so every set of
         elements of the same shape has the same block: the pillars of a
         regular brush share one inverse, and detaching the same edge elements
-        from many pillars adds only a few.  The cache keeps at most
-        ``BLOCK_CACHE_BYTES`` of inverses (host memory, float64).
+        from many pillars adds only a few.  ``parent`` = (offsets P, inverse
+        of K_P), in the same frame as ``offsets``, with ``offsets`` a subset of
+        P: the inverse is then the Schur complement of the elements that left,
+        K_E^-1 = B_EE - B_ED B_DD^-1 B_DE with B = K_P^-1, which costs
+        O(|P|^2 |D|) instead of a fresh O(|E|^3) inversion (a pillar that loses
+        a few edge elements).  The cache keeps at most ``BLOCK_CACHE_BYTES`` of
+        inverses (host memory, float64).
         """
         offsets = np.ascontiguousarray(offsets, dtype=np.int64)
-        key = offsets.tobytes()
+        key = (offsets - offsets.min(axis=0)).tobytes()
         cached = self._blocks.get(key)
-        if cached is None:
+        if cached is not None:
+            return cached
+        inverse = None
+        if parent is not None:
+            parent_offsets, parent_inverse = parent
+            width = int(max(parent_offsets[:, 1].max(), offsets[:, 1].max())) + 1
+            parent_flat = parent_offsets[:, 0] * width + parent_offsets[:, 1]
+            flat = offsets[:, 0] * width + offsets[:, 1]
+            position = np.searchsorted(parent_flat, flat)  # both in row-major order
+            if np.all(position < parent_flat.size) and np.array_equal(parent_flat[np.minimum(position, parent_flat.size - 1)], flat):
+                gone = np.setdiff1d(np.arange(parent_flat.size), position, assume_unique=True)
+                kept = parent_inverse[np.ix_(position, position)]
+                if gone.size == 0:
+                    inverse = kept
+                elif gone.size < position.size:
+                    cross = parent_inverse[np.ix_(position, gone)]
+                    inverse = kept - cross @ np.linalg.solve(parent_inverse[np.ix_(gone, gone)], cross.T)
+                    inverse = 0.5 * (inverse + inverse.T)
+        if inverse is None:
             span = offsets.max(axis=0) - offsets.min(axis=0) + 1
             table = np.asarray(backend.to_numpy(self.kernel(int(span[0]), int(span[1]))))
             di = np.abs(offsets[:, None, 0] - offsets[None, :, 0])
             dj = np.abs(offsets[:, None, 1] - offsets[None, :, 1])
-            block = table[di, dj]
             # K is symmetric positive definite, so is every principal block.
-            factor = np.linalg.cholesky(block)
-            inverse_factor = np.linalg.inv(factor)
-            cached = inverse_factor.T @ inverse_factor
-            total = sum(b.nbytes for b in self._blocks.values())
-            if total + cached.nbytes > BLOCK_CACHE_BYTES:
-                self._blocks.clear()
-            self._blocks[key] = cached
-        return cached
+            factor = np.linalg.cholesky(table[di, dj])
+            inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(factor.shape[0]), lower=True)
+            inverse = inverse_factor.T @ inverse_factor
+        if self._block_bytes + inverse.nbytes > BLOCK_CACHE_BYTES:
+            self._blocks.clear()
+            self._block_bytes = 0
+        self._blocks[key] = inverse
+        self._block_bytes += inverse.nbytes
+        return inverse
 
     def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
         """The dense (rows*cols)^2 influence matrix, for tests on small grids."""

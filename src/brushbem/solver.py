@@ -49,6 +49,9 @@ __all__ = [
 #: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.
 BLOCK_LIMIT = 256
 
+#: Random odd multipliers and offsets of the shape signature of a pillar's contact (fixed seed).
+_HASH_WEIGHTS = np.random.default_rng(20261121).integers(1, 2**63, size=(2, BLOCK_LIMIT + 1), dtype=np.uint64) | np.uint64(1)
+
 #: Shift of the Laplacian preconditioner, in units of 1/h^2 (see laplacian_preconditioner).
 PRECONDITIONER_SHIFT = 0.3
 
@@ -393,48 +396,59 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     active = sorted_labels[starts]
     rows = system.element_rows[order]
     cols = system.element_cols[order]
-    # Pillars whose contacts have the same shape share one inverse block.
-    groups: dict[bytes, list[int]] = {}
-    shapes: dict[bytes, np.ndarray] = {}
-    for position, (start, count) in enumerate(zip(starts.tolist(), counts.tolist())):
-        r = rows[start : start + count]
-        c = cols[start : start + count]
-        offsets = np.stack([r - r.min(), c - c.min()], axis=1)
-        key = offsets.tobytes()
-        members = groups.get(key)
-        if members is None:
-            groups[key] = [position]
-            shapes[key] = offsets
-        else:
-            members.append(position)
+    # Pillars whose contacts have the same shape share one inverse block.  The
+    # shapes are told apart by a hash of their element offsets (checked
+    # exactly within every group), without a Python loop over the pillars.
+    segment = np.repeat(np.arange(active.size), counts)
+    rel_rows = rows - np.minimum.reduceat(rows, starts)[segment]
+    rel_cols = cols - np.minimum.reduceat(cols, starts)[segment]
+    codes = rel_rows * (2 * BLOCK_LIMIT + 1) + rel_cols  # a contact of <= BLOCK_LIMIT elements spans fewer
+    rank = np.arange(rows.size) - starts[segment]
+    with np.errstate(over="ignore"):
+        mixed = codes.astype(np.uint64) * _HASH_WEIGHTS[0][rank] + _HASH_WEIGHTS[1][rank]
+        signature = np.add.reduceat(mixed, starts) + counts.astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)
+    unique, group_of = np.unique(signature, return_inverse=True)
+    by_group = np.argsort(group_of, kind="stable")
+    group_starts = np.flatnonzero(np.r_[True, group_of[by_group][1:] != group_of[by_group][:-1]])
+    group_members = np.split(by_group, group_starts[1:])
     blocks = []  # (element indices on S (members x k), members, inverse, inverse @ 1)
     stiffness = np.empty(active.size)
-    for key, members in groups.items():
-        inverse = halfspace.block_inverse(shapes[key])
-        members = np.asarray(members)
-        k = inverse.shape[0]
-        elements = order[starts[members][:, None] + np.arange(k)[None, :]]
+    # Each pillar's last block (grid coordinates, inverse) and its signature:
+    # a pillar that lost a few elements since is downdated from it
+    # (HalfSpace.block_inverse).
+    shared = operator._shared
+    previous = shared.setdefault("pillar_blocks", {})
+    last = shared.setdefault("pillar_signature", np.zeros(operator.indenter.n_pillars, dtype=np.uint64))
+    r0, c0 = operator.window.r0, operator.window.c0
+    pending = list(group_members)
+    while pending:
+        members = pending.pop()
+        k = int(counts[members[0]])
+        at = starts[members][:, None] + np.arange(k)[None, :] if bool(np.all(counts[members] == k)) else None
+        same = None if at is None else np.all(codes[at] == codes[at[0]], axis=1)
+        if same is None or not bool(np.all(same)):  # a hash collision: split the group
+            exact: dict[bytes, list[int]] = {}
+            for member in members.tolist():
+                start = int(starts[member])
+                exact.setdefault(codes[start : start + int(counts[member])].tobytes(), []).append(member)
+            pending.extend(np.asarray(m) for m in exact.values())
+            continue
+        elements = order[at]
+        first = int(starts[members[0]])
+        where = np.stack([rows[first : first + k] + r0, cols[first : first + k] + c0], axis=1)
+        inverse = halfspace.block_inverse(where, parent=previous.get(int(active[members[0]])))
+        pillars = active[members]
+        changed = members[last[pillars] != signature[members]]
+        for member in changed.tolist():
+            start = int(starts[member])
+            previous[int(active[member])] = (
+                np.stack([rows[start : start + k] + r0, cols[start : start + k] + c0], axis=1), inverse
+            )
+        last[pillars] = signature[members]
         row_sums = inverse.sum(axis=1)
         stiffness[members] = row_sums.sum()
         blocks.append((elements, members, inverse, row_sums))
-
-    # Coarse matrix T^-1 + H on the pillars in contact.
-    h = halfspace.element_size
-    springs = np.zeros((active.size, active.size))
-    for compliance, cluster in operator.spring_levels:
-        units = np.asarray(cluster)[active]
-        springs += compliance * (units[:, None] == units[None, :])
-    centres = operator.pillar_centres()[active]
-    distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
-    np.fill_diagonal(distance, np.inf)
-    coupling = h * h / (math.pi * halfspace.contact_modulus * distance)
-    coarse = None
-    for candidate in (springs + coupling, springs):
-        try:
-            coarse = scipy.linalg.cho_factor(candidate + np.diag(1.0 / stiffness), lower=True)
-            break
-        except np.linalg.LinAlgError:
-            continue
+    coarse = _coarse_factor(operator, active, stiffness)
     xp = system.xp
 
     def apply(residual):
@@ -446,13 +460,67 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
             z[elements] = local
             sums[members] = local.sum(axis=1)
         if coarse is not None:
-            scaled = sums / stiffness
-            correction = scaled - scipy.linalg.cho_solve(coarse, scaled) / stiffness
+            factor, positions, reference, size = coarse
+            scaled = np.zeros(size)
+            scaled[positions] = sums / reference
+            correction = sums / reference - scipy.linalg.cho_solve(factor, scaled)[positions] / reference
             for elements, members, _, row_sums in blocks:
                 z[elements] -= correction[members][:, None] * row_sums[None, :]
         return xp.asarray(z)
 
     return apply
+
+
+#: A coarse factorisation is kept while at most this fraction of its pillars
+#: (and at least 2) have lost more than ``_COARSE_DRIFT`` of their stiffness.
+_COARSE_STALE = 0.02
+_COARSE_DRIFT = 0.3
+
+
+def _coarse_factor(operator: ContactOperator, active, stiffness):
+    """Cholesky factor of T^-1 + H on the pillars ``active`` for `pillar_block_preconditioner`.
+
+    Returns (factor, positions of ``active`` in the factored set, T used, size)
+    or None.  The factorisation (dense, O(n^3) for n pillars) is reused from
+    an earlier contact set while the pillars are a subset of its pillars and
+    none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
+    T0^-1 then still satisfies X0 < T0^-1 <= T^-1 on any subset, which keeps
+    M^-1 positive definite, and only its accuracy on the pillars that lost
+    contact suffers.  A new one is made when more than ``_COARSE_STALE`` of
+    the pillars lost over ``_COARSE_DRIFT`` of their stiffness.
+    """
+    cached = operator._shared.get("coarse")
+    if cached is not None:
+        factor, pillars, reference = cached
+        positions = np.searchsorted(pillars, active)
+        inside = positions < pillars.size
+        if bool(np.all(inside)) and np.array_equal(pillars[positions], active):
+            base = reference[positions]
+            if bool(np.all(stiffness <= base * (1 + 1e-9))):
+                stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
+                if stale <= max(2, _COARSE_STALE * pillars.size):
+                    return factor, positions, base, pillars.size
+    halfspace = operator.halfspace
+    h = halfspace.element_size
+    matrix = np.zeros((active.size, active.size))
+    for compliance, cluster in operator.spring_levels:
+        units = np.asarray(cluster)[active]
+        matrix += compliance * (units[:, None] == units[None, :])
+    springs_only = matrix.copy()
+    centres = operator.pillar_centres()[active]
+    distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
+    np.fill_diagonal(distance, np.inf)
+    matrix += h * h / (math.pi * halfspace.contact_modulus * distance)
+    for candidate in (matrix, springs_only):
+        candidate[np.diag_indices(active.size)] += 1.0 / stiffness
+        try:
+            factor = scipy.linalg.cho_factor(candidate, lower=True, overwrite_a=True)
+        except np.linalg.LinAlgError:
+            continue
+        pillars = np.array(active)
+        operator._shared["coarse"] = (factor, pillars, stiffness.copy())
+        return factor, np.arange(active.size), stiffness, active.size
+    return None
 
 
 def _blocks_fit(operator: ContactOperator, mask, max_block: int = BLOCK_LIMIT) -> bool:
