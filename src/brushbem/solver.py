@@ -49,6 +49,9 @@ __all__ = [
 #: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.
 BLOCK_LIMIT = 256
 
+#: Most pillars for the pillar-block path (its coarse matrices are dense: 2 x 8 n^2 bytes, 85 MB at 2304).
+MAX_BLOCK_PILLARS = 3000
+
 #: Random odd multipliers and offsets of the shape signature of a pillar's contact (fixed seed).
 _HASH_WEIGHTS = np.random.default_rng(20261121).integers(1, 2**63, size=(2, BLOCK_LIMIT + 1), dtype=np.uint64) | np.uint64(1)
 
@@ -463,7 +466,7 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
             factor, positions, reference, size = coarse
             scaled = np.zeros(size)
             scaled[positions] = sums / reference
-            correction = sums / reference - scipy.linalg.cho_solve(factor, scaled)[positions] / reference
+            correction = sums / reference - scipy.linalg.cho_solve(factor, scaled, check_finite=False)[positions] / reference
             for elements, members, _, row_sums in blocks:
                 z[elements] -= correction[members][:, None] * row_sums[None, :]
         return xp.asarray(z)
@@ -475,6 +478,8 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
 #: (and at least 2) have lost more than ``_COARSE_DRIFT`` of their stiffness.
 _COARSE_STALE = 0.02
 _COARSE_DRIFT = 0.3
+#: Fewer pillars than this are refactorised for every contact set (a few ms).
+_COARSE_REUSE_MIN = 1024
 
 
 def _coarse_factor(operator: ContactOperator, active, stiffness):
@@ -482,8 +487,9 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
 
     Returns (factor, positions of ``active`` in the factored set, T used, size)
     or None.  The factorisation (dense, O(n^3) for n pillars) is reused from
-    an earlier contact set while the pillars are a subset of its pillars and
-    none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
+    an earlier contact set (with at least ``_COARSE_REUSE_MIN`` pillars;
+    smaller ones are refactorised every time) while the pillars are a subset
+    of its pillars and none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
     T0^-1 then still satisfies X0 < T0^-1 <= T^-1 on any subset, which keeps
     M^-1 positive definite, and only its accuracy on the pillars that lost
     contact suffers.  A new one is made when more than ``_COARSE_STALE`` of
@@ -494,23 +500,29 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         factor, pillars, reference = cached
         positions = np.searchsorted(pillars, active)
         inside = positions < pillars.size
-        if bool(np.all(inside)) and np.array_equal(pillars[positions], active):
+        if pillars.size >= _COARSE_REUSE_MIN and bool(np.all(inside)) and np.array_equal(pillars[positions], active):
             base = reference[positions]
             if bool(np.all(stiffness <= base * (1 + 1e-9))):
                 stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
                 if stale <= max(2, _COARSE_STALE * pillars.size):
                     return factor, positions, base, pillars.size
-    halfspace = operator.halfspace
-    h = halfspace.element_size
-    matrix = np.zeros((active.size, active.size))
-    for compliance, cluster in operator.spring_levels:
-        units = np.asarray(cluster)[active]
-        matrix += compliance * (units[:, None] == units[None, :])
-    springs_only = matrix.copy()
-    centres = operator.pillar_centres()[active]
-    distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
-    np.fill_diagonal(distance, np.inf)
-    matrix += h * h / (math.pi * halfspace.contact_modulus * distance)
+    coupling = operator._shared.get("pillar_coupling")
+    if coupling is None:
+        # H over all pillars (fixed): springs of every level and the point-load coupling.
+        halfspace = operator.halfspace
+        h = halfspace.element_size
+        n = operator.indenter.n_pillars
+        springs = np.zeros((n, n))
+        for compliance, cluster in operator.spring_levels:
+            units = np.asarray(cluster)
+            springs += compliance * (units[:, None] == units[None, :])
+        centres = operator.pillar_centres()
+        distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
+        np.fill_diagonal(distance, np.inf)
+        coupling = (springs + h * h / (math.pi * halfspace.contact_modulus * distance), springs)
+        operator._shared["pillar_coupling"] = coupling
+    selection = np.ix_(active, active)
+    matrix, springs_only = coupling[0][selection], coupling[1][selection]
     for candidate in (matrix, springs_only):
         candidate[np.diag_indices(active.size)] += 1.0 / stiffness
         try:
@@ -525,6 +537,8 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
 
 def _blocks_fit(operator: ContactOperator, mask, max_block: int = BLOCK_LIMIT) -> bool:
     """Whether S lies on the pillars with at most ``max_block`` elements on each (a cheap test)."""
+    if operator.indenter.n_pillars > MAX_BLOCK_PILLARS:
+        return False
     labels = np.asarray(backend.to_numpy(operator.pillar_labels))[np.asarray(backend.to_numpy(mask), dtype=bool)]
     if labels.size == 0 or bool(np.any(labels < 0)):
         return False
@@ -536,7 +550,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
 
     Where S lies on pillars of at most ``BLOCK_LIMIT`` elements each (a
-    brush), the CG runs on the |S| values of S (`ContactSystem`) with
+    brush of at most ``MAX_BLOCK_PILLARS`` pillars), the CG runs on the |S| values of S (`ContactSystem`) with
     `pillar_block_preconditioner`; otherwise on the window's arrays with
     `contact_preconditioner` (a large punch or sphere, whose contact fills
     its block anyway).  ``rhs``, ``initial`` and ``initial_product`` (A
