@@ -537,7 +537,10 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
 
 def _blocks_fit(operator: ContactOperator, mask, max_block: int = BLOCK_LIMIT) -> bool:
     """Whether S lies on the pillars with at most ``max_block`` elements on each (a cheap test)."""
-    if operator.indenter.n_pillars > MAX_BLOCK_PILLARS:
+    if not 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS:
+        # One body (a punch, a sphere): its contact changes shape at every
+        # event, so a fresh block inverse per event costs more than the
+        # Laplacian-type preconditioners' extra iterations.
         return False
     labels = np.asarray(backend.to_numpy(operator.pillar_labels))[np.asarray(backend.to_numpy(mask), dtype=bool)]
     if labels.size == 0 or bool(np.any(labels < 0)):
@@ -550,7 +553,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
 
     Where S lies on pillars of at most ``BLOCK_LIMIT`` elements each (a
-    brush of at most ``MAX_BLOCK_PILLARS`` pillars), the CG runs on the |S| values of S (`ContactSystem`) with
+    brush of 2 to ``MAX_BLOCK_PILLARS`` pillars), the CG runs on the |S| values of S (`ContactSystem`) with
     `pillar_block_preconditioner`; otherwise on the window's arrays with
     `contact_preconditioner` (a large punch or sphere, whose contact fills
     its block anyway).  ``rhs``, ``initial`` and ``initial_product`` (A
