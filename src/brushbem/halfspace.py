@@ -263,8 +263,8 @@ class HalfSpace:
             width = int(max(parent_offsets[:, 1].max(), offsets[:, 1].max())) + 1
             parent_flat = parent_offsets[:, 0] * width + parent_offsets[:, 1]
             flat = offsets[:, 0] * width + offsets[:, 1]
-            position = np.searchsorted(parent_flat, flat)  # both in row-major order
-            if np.all(position < parent_flat.size) and np.array_equal(parent_flat[np.minimum(position, parent_flat.size - 1)], flat):
+            if bool(np.all(np.isin(flat, parent_flat))):
+                position = np.searchsorted(parent_flat, flat)  # both in row-major order
                 gone = np.setdiff1d(np.arange(parent_flat.size), position, assume_unique=True)
                 kept = parent_inverse[np.ix_(position, position)]
                 if gone.size == 0:

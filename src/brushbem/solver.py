@@ -410,7 +410,7 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     with np.errstate(over="ignore"):
         mixed = codes.astype(np.uint64) * _HASH_WEIGHTS[0][rank] + _HASH_WEIGHTS[1][rank]
         signature = np.add.reduceat(mixed, starts) + counts.astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)
-    unique, group_of = np.unique(signature, return_inverse=True)
+    _, group_of = np.unique(signature, return_inverse=True)
     by_group = np.argsort(group_of, kind="stable")
     group_starts = np.flatnonzero(np.r_[True, group_of[by_group][1:] != group_of[by_group][:-1]])
     group_members = np.split(by_group, group_starts[1:])
@@ -423,6 +423,11 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     previous = shared.setdefault("pillar_blocks", {})
     last = shared.setdefault("pillar_signature", np.zeros(operator.indenter.n_pillars, dtype=np.uint64))
     r0, c0 = operator.window.r0, operator.window.c0
+
+    def grid_offsets(member: int, k: int):
+        start = int(starts[member])
+        return np.stack([rows[start : start + k] + r0, cols[start : start + k] + c0], axis=1)
+
     pending = list(group_members)
     while pending:
         members = pending.pop()
@@ -437,16 +442,10 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
             pending.extend(np.asarray(m) for m in exact.values())
             continue
         elements = order[at]
-        first = int(starts[members[0]])
-        where = np.stack([rows[first : first + k] + r0, cols[first : first + k] + c0], axis=1)
-        inverse = halfspace.block_inverse(where, parent=previous.get(int(active[members[0]])))
+        inverse = halfspace.block_inverse(grid_offsets(members[0], k), parent=previous.get(int(active[members[0]])))
         pillars = active[members]
-        changed = members[last[pillars] != signature[members]]
-        for member in changed.tolist():
-            start = int(starts[member])
-            previous[int(active[member])] = (
-                np.stack([rows[start : start + k] + r0, cols[start : start + k] + c0], axis=1), inverse
-            )
+        for member in members[last[pillars] != signature[members]].tolist():
+            previous[int(active[member])] = (grid_offsets(member, k), inverse)
         last[pillars] = signature[members]
         row_sums = inverse.sum(axis=1)
         stiffness[members] = row_sums.sum()
@@ -535,46 +534,37 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
     return None
 
 
-def _blocks_fit(operator: ContactOperator, mask, max_block: int = BLOCK_LIMIT) -> bool:
-    """Whether S lies on the pillars with at most ``max_block`` elements on each (a cheap test)."""
-    if not 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS:
-        # One body (a punch, a sphere): its contact changes shape at every
-        # event, so a fresh block inverse per event costs more than the
-        # Laplacian-type preconditioners' extra iterations.
-        return False
-    labels = np.asarray(backend.to_numpy(operator.pillar_labels))[np.asarray(backend.to_numpy(mask), dtype=bool)]
-    if labels.size == 0 or bool(np.any(labels < 0)):
-        return False
-    return int(np.bincount(labels).max()) <= max_block
-
-
 def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
-                 tolerance: float = 1e-8, max_iterations: int = 10000) -> SolveResult:
+                 tolerance: float = 1e-8, max_iterations: int = 10000, preconditioner=None) -> SolveResult:
     """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
 
-    Where S lies on pillars of at most ``BLOCK_LIMIT`` elements each (a
-    brush of 2 to ``MAX_BLOCK_PILLARS`` pillars), the CG runs on the |S| values of S (`ContactSystem`) with
-    `pillar_block_preconditioner`; otherwise on the window's arrays with
-    `contact_preconditioner` (a large punch or sphere, whose contact fills
-    its block anyway).  ``rhs``, ``initial`` and ``initial_product`` (A
-    applied to ``initial``, if known) are window-shaped; so is the solution.
+    On a brush of 2 to ``MAX_BLOCK_PILLARS`` pillars whose contacts have at
+    most ``BLOCK_LIMIT`` elements each, the CG runs on the |S| values of S
+    (`ContactSystem`) with `pillar_block_preconditioner`; otherwise on the
+    window's arrays with ``preconditioner`` (M^-1 on window arrays) or, by
+    default, `contact_preconditioner`.  A single body (a punch, a sphere)
+    always takes the window path: its contact changes shape at every event,
+    and a fresh block inverse per event costs more than the extra iterations.
+    ``rhs``, ``initial`` and ``initial_product`` (A applied to ``initial``,
+    if known) are window-shaped; so is the solution.
     """
     xp = operator.xp
-    if _blocks_fit(operator, mask):
+    if preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS:
         system = operator.system(mask)
-        preconditioner = pillar_block_preconditioner(system)
-        result = conjugate_gradient(
-            system.apply,
-            system.gather(rhs),
-            xp.ones(system.size, dtype=xp.bool),
-            initial=None if initial is None else system.gather(initial),
-            tolerance=tolerance,
-            max_iterations=max_iterations,
-            preconditioner=preconditioner,
-            xp=xp,
-            initial_product=None if initial_product is None else system.gather(initial_product),
-        )
-        return dataclasses.replace(result, solution=system.scatter(result.solution))
+        blocked = pillar_block_preconditioner(system)
+        if blocked is not None:
+            result = conjugate_gradient(
+                system.apply,
+                system.gather(rhs),
+                xp.ones(system.size, dtype=xp.bool),
+                initial=None if initial is None else system.gather(initial),
+                tolerance=tolerance,
+                max_iterations=max_iterations,
+                preconditioner=blocked,
+                xp=xp,
+                initial_product=None if initial_product is None else system.gather(initial_product),
+            )
+            return dataclasses.replace(result, solution=system.scatter(result.solution))
     weights = xp.astype(mask, xp.float64)  # 0/1: a cheaper mask to multiply by
     return conjugate_gradient(
         lambda x: operator.apply(x, weights),
@@ -583,7 +573,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
         initial=initial,
         tolerance=tolerance,
         max_iterations=max_iterations,
-        preconditioner=contact_preconditioner(operator, mask),
+        preconditioner=contact_preconditioner(operator, mask) if preconditioner is None else preconditioner,
         xp=xp,
         initial_product=initial_product,
     )
@@ -715,24 +705,10 @@ def equilibrium(
             else:
                 block, block_operator = operator.window.slices_local, operator
             block_contact = contact[block]
-            if preconditioner is None:
-                result = solve_on_set(
-                    block_operator, block_contact, target[block], pressure[block],
-                    None if deflection is None else deflection[block], tolerance, max_iterations,
-                )
-            else:
-                weights = xp.astype(block_contact, xp.float64)  # 0/1: a cheaper mask to multiply by
-                result = conjugate_gradient(
-                    lambda x: block_operator.apply(x, weights),
-                    target[block],
-                    block_contact,
-                    initial=pressure[block],
-                    tolerance=tolerance,
-                    max_iterations=max_iterations,
-                    preconditioner=preconditioner,
-                    xp=xp,
-                    initial_product=None if deflection is None else deflection[block],
-                )
+            result = solve_on_set(
+                block_operator, block_contact, target[block], pressure[block],
+                None if deflection is None else deflection[block], tolerance, max_iterations, preconditioner,
+            )
             iterations += result.iterations
             solves += 1
             if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
