@@ -141,6 +141,7 @@ def test_youngs_modulus_and_poisson_ratio_give_contact_modulus():
         ("solver.tolerance", 0.0),
         ("solver.tolerance", 0.1),
         ("solver.max_iterations", 0),
+        ("solver.cascade", "fast"),
     ],
 )
 def test_bad_value_is_named_with_its_value(dotted, value):
@@ -357,7 +358,7 @@ _KEYS = {
     "grid": ["size", "elements"],
     "indenter": ["shape", "radius", "stiffness", "file"],
     "protocol": ["method", "preload_displacement", "preload_force", "step", "max_steps"],
-    "solver": ["tolerance", "max_iterations"],
+    "solver": ["tolerance", "max_iterations", "coupling", "cascade"],
 }
 
 _values = st.one_of(
@@ -366,7 +367,7 @@ _values = st.one_of(
     st.integers(min_value=-(2**70), max_value=2**70),
     st.sampled_from([8, 16, 64, 128, 8192]),
     st.text(max_size=20),
-    st.sampled_from(["flat_punch", "sphere", "height_map", "events", "fixed", "inf", "."]),
+    st.sampled_from(["flat_punch", "sphere", "height_map", "events", "fixed", "inf", ".", "local", "global"]),
     st.booleans(),
     st.none(),
     st.lists(st.integers(), max_size=3),

@@ -56,6 +56,7 @@ def build_path(config: RunConfig) -> LoadPath:
         max_steps=p.max_steps,
         tolerance=config.solver.tolerance,
         max_iterations=config.solver.max_iterations,
+        cascade=config.solver.cascade,
     )
 
 

@@ -538,6 +538,10 @@ class SolverConfig(BaseModel):
         element-to-pillar incidence (exact for any layout), or the thesis's
         discriminant-matrix convolution (eq. 3.13-3.17; refused where its size
         condition does not hold).
+    cascade : {"local", "global"}
+        How a brush's detachment cascade at fixed d runs: the pillars that
+        peel solved on their own between global solves ("local"), or a global
+        solve for every round (the thesis's loop, "global").
     """
 
     model_config = _MODEL_CONFIG
@@ -545,6 +549,7 @@ class SolverConfig(BaseModel):
     tolerance: float = Field(1e-8, gt=0, lt=1e-2, allow_inf_nan=False)
     max_iterations: int = Field(20_000, gt=0)
     coupling: Literal["segments", "discriminant"] = "segments"
+    cascade: Literal["local", "global"] = "local"
 
 
 class RunConfig(BaseModel):

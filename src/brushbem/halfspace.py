@@ -274,12 +274,8 @@ class HalfSpace:
                     inverse = kept - cross @ np.linalg.solve(parent_inverse[np.ix_(gone, gone)], cross.T)
                     inverse = 0.5 * (inverse + inverse.T)
         if inverse is None:
-            span = offsets.max(axis=0) - offsets.min(axis=0) + 1
-            table = np.asarray(backend.to_numpy(self.kernel(int(span[0]), int(span[1]))))
-            di = np.abs(offsets[:, None, 0] - offsets[None, :, 0])
-            dj = np.abs(offsets[:, None, 1] - offsets[None, :, 1])
             # K is symmetric positive definite, so is every principal block.
-            factor = np.linalg.cholesky(table[di, dj])
+            factor = np.linalg.cholesky(self.block_matrix(offsets))
             inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(factor.shape[0]), lower=True)
             inverse = inverse_factor.T @ inverse_factor
         if self._block_bytes + inverse.nbytes > BLOCK_CACHE_BYTES:
@@ -288,6 +284,15 @@ class HalfSpace:
         self._blocks[key] = inverse
         self._block_bytes += inverse.nbytes
         return inverse
+
+    def block_matrix(self, offsets: np.ndarray) -> np.ndarray:
+        """K restricted to the elements at ``offsets`` (k x 2 ints): the dense k x k block (host, float64)."""
+        offsets = np.asarray(offsets, dtype=np.int64)
+        span = offsets.max(axis=0) - offsets.min(axis=0) + 1
+        table = np.asarray(backend.to_numpy(self.kernel(int(span[0]), int(span[1]))))
+        di = np.abs(offsets[:, None, 0] - offsets[None, :, 0])
+        dj = np.abs(offsets[:, None, 1] - offsets[None, :, 1])
+        return table[di, dj]
 
     def dense_matrix(self, rows: int, cols: int) -> np.ndarray:
         """The dense (rows*cols)^2 influence matrix, for tests on small grids."""

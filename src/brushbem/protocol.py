@@ -119,6 +119,8 @@ class LoadPath:
     window_margin : float
         Margin of the working window around the contact, as a fraction of its
         size (at least 4 elements).
+    cascade : {"local", "global"}
+        How the detachment rounds of a brush run (``solver.equilibrium``).
     """
 
     method: str = "events"
@@ -129,10 +131,13 @@ class LoadPath:
     tolerance: float = 1e-8
     max_iterations: int = 20000
     window_margin: float = 0.25
+    cascade: str = "local"
 
     def __post_init__(self):
         if self.method not in ("events", "fixed"):
             raise ValueError(f"protocol.method = {self.method!r} must be 'events' or 'fixed'")
+        if self.cascade not in ("local", "global"):
+            raise ValueError(f"solver.cascade = {self.cascade!r} must be 'local' or 'global'")
         if (self.preload_displacement is None) == (self.preload_force is None):
             raise ValueError("exactly one of protocol.preload_displacement and protocol.preload_force is required")
         for name in ("preload_displacement", "preload_force"):
@@ -347,6 +352,7 @@ class _Tracker:
                     force_detach=None if force_detach is None else force_detach[sl],
                     force_attach=None if force_attach is None else force_attach[sl],
                     deflection=self.known_deflection(),
+                    cascade=self.path.cascade,
                 )
             iterations += eq.cg_iterations
             solves += eq.n_solves

@@ -44,6 +44,7 @@ __all__ = [
     "contact_preconditioner",
     "pillar_block_preconditioner",
     "solve_on_set",
+    "local_cascade",
 ]
 
 #: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.
@@ -579,6 +580,76 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     )
 
 
+def local_cascade(operator: ContactOperator, contact, pressure, leaving, critical: float,
+                  max_block: int = BLOCK_LIMIT):
+    """Detachment rounds on the pillars that lose elements, each pillar solved on its own.
+
+    The state (``pressure`` on ``contact``, window arrays) is an equilibrium
+    and ``leaving`` the elements that must leave.  Every pillar P that loses
+    one keeps the deflection that the rest of the structure causes on it
+    fixed: its new pressure q solves
+
+        A_PP|S' q = (A_PP p_P)|S',   A_PP = K_PP + (sum_l h^2 / k_l) 1 1^T,
+
+    on its remaining contact S' (the springs of every level above P load all
+    of P's elements alike), exactly, with the pillar's half-space block
+    (``HalfSpace.block_inverse``, shared by pillars of the same contact shape)
+    and the Sherman-Morrison formula for the springs.  Elements of P whose
+    tension then exceeds ``critical`` leave too, until P is stable.  The rest
+    of the structure is not touched; the caller's next global solve adds the
+    change of the far field.  A soft pillar that starts to peel thus peels in
+    a few dense solves of its own size, instead of one global solve per ring
+    of elements.
+
+    Returns (contact, pressure, number of elements that left) or None where
+    it does not apply: an element of ``leaving`` off the pillars, or a
+    pillar contact of more than ``max_block`` elements.
+    """
+    xp = operator.xp
+    labels = np.asarray(backend.to_numpy(operator.pillar_labels))
+    in_contact = np.asarray(backend.to_numpy(contact), dtype=bool)
+    leave = np.asarray(backend.to_numpy(leaving), dtype=bool) & in_contact
+    hit = np.unique(labels[leave])
+    if hit.size == 0 or hit[0] < 0:
+        return None
+    rows, cols = np.nonzero(in_contact & np.isin(labels, hit))  # row-major
+    by_pillar = np.argsort(labels[rows, cols], kind="stable")
+    rows, cols = rows[by_pillar], cols[by_pillar]
+    counts = np.bincount(np.searchsorted(hit, labels[rows, cols]), minlength=hit.size)
+    if int(counts.max()) > max_block:
+        return None
+    halfspace = operator.halfspace
+    compliance = sum(c for c, _ in operator.spring_levels)
+    values = np.array(backend.to_numpy(pressure), dtype=np.float64)
+    new_contact = in_contact.copy()
+    origin = np.array([operator.window.r0, operator.window.c0])
+    detached = 0
+    for start, count in zip(np.r_[0, np.cumsum(counts)[:-1]].tolist(), counts.tolist()):
+        r, c = rows[start : start + count], cols[start : start + count]
+        offsets = np.stack([r, c], axis=1) + origin
+        p = values[r, c]
+        b = halfspace.block_matrix(offsets) @ p + compliance * p.sum()
+        keep = ~leave[r, c]
+        parent = (offsets, halfspace.block_inverse(offsets))
+        q = np.zeros(count)
+        while bool(np.any(keep)):
+            sub = offsets[keep]
+            inverse = halfspace.block_inverse(sub, parent=parent)
+            y = inverse @ b[keep]
+            z = inverse.sum(axis=1)
+            q = np.zeros(count)
+            q[keep] = y - z * (compliance * y.sum() / (1.0 + compliance * z.sum()))
+            tense = keep & ((q < -critical) if critical > 0 else (q < 0))
+            if not bool(np.any(tense)):
+                break
+            parent = (sub, inverse)
+            keep &= ~tense
+        values[r, c] = np.where(keep, q, 0.0)
+        new_contact[r, c] = keep
+        detached += int(count - np.count_nonzero(keep))
+    return xp.asarray(new_contact), xp.asarray(values), detached
+
+
 @dataclass(frozen=True)
 class Equilibrium:
     """The state at one base displacement (on the operator's window).
@@ -644,6 +715,7 @@ def equilibrium(
     force_detach=None,
     force_attach=None,
     deflection=None,
+    cascade: str = "local",
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
 
@@ -674,11 +746,32 @@ def equilibrium(
         applying the operator, and when that solve finds the warm start
         within tolerance (an attachment exactly at the touching point does
         not change the pressure) the join check needs no transform either.
+    cascade : {"local", "global"}
+        How the detachment rounds of a brush run.  "global": every round is a
+        solve on the whole contact set (the thesis's loop).  "local" (on
+        structures of two or more pillars; the others always run "global"):
+        the pillars that lose elements peel in rounds of their own
+        (`local_cascade`), with the rest of the structure held, and a global
+        solve then adds the far field and checks every element again.  Both
+        end in a state where no element exceeds the criterion and none
+        penetrates; they may differ in which elements a cascade takes along
+        when one is within the far field's change of the threshold.
     """
+    if cascade not in ("local", "global"):
+        raise ValueError(f"cascade = {cascade!r} must be 'local' or 'global'")
     xp = operator.xp
     footprint = xp.isfinite(height)
     contact = contact & footprint
     detached = attached = 0
+    local = cascade == "local" and preconditioner is None and operator.indenter.n_pillars >= 2
+    if force_detach is not None and local and bool(xp.any(contact & force_detach)):
+        # The caller's state is an equilibrium: the cascade starts on the pillars.
+        cascaded = local_cascade(operator, contact, pressure * contact, force_detach, critical)
+        if cascaded is not None:
+            contact, pressure, n_left = cascaded
+            detached += n_left
+            force_detach = None
+            deflection = None
     if force_detach is not None:
         detached += int(xp.sum(contact & force_detach))
         contact = contact & ~force_detach
@@ -726,6 +819,13 @@ def equilibrium(
             trial = float(xp.sum(pressure))
         leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
         n_leaving = int(xp.sum(leaving))
+        if n_leaving and local:
+            cascaded = local_cascade(operator, contact, pressure, leaving, critical)
+            if cascaded is not None:
+                contact, pressure, n_left = cascaded
+                detached += n_left
+                deflection = None
+                continue
         if n_leaving:
             contact = contact & ~leaving
             if deflection is not None:
