@@ -86,3 +86,16 @@ def test_concave(concave):
     assert f(0.8, "circle") < f(0.0, "circle")
     # h~ = 0 is the flat brush: its profile adds nothing
     assert (curves[np.isclose(curves[H], 0.0)]["normalized.profile_amplification"] == 0.0).all()
+
+
+def test_eq58_fit_recovers_alpha_and_beta():
+    from brushbem.studies._ch5_7 import fit_eq58
+
+    sigma = np.array([0.02, 0.05, 0.1, 0.2, -0.1])
+    c = 0.12 / sigma - 0.04
+    c[-1] = np.nan  # a detached point is left out
+    alpha, beta = fit_eq58(sigma, c)
+    assert alpha == pytest.approx(0.12, rel=1e-12) and beta == pytest.approx(0.04, rel=1e-12)
+    # Two points determine the line; one does not.
+    assert fit_eq58(sigma[:2], c[:2]) == pytest.approx((0.12, 0.04), rel=1e-12)
+    assert all(math.isnan(v) for v in fit_eq58(sigma[:1], c[:1]))

@@ -85,21 +85,19 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
 
 
 def fit_eq58(sigma: np.ndarray, c: np.ndarray) -> tuple[float, float]:
-    """alpha, beta of eq. 5.8, c = alpha / sigma~ - beta, by scipy.optimize.curve_fit.
+    """alpha, beta of eq. 5.8, c = alpha / sigma~ - beta, by linear least squares.
 
-    Only points with sigma~ > 0 and c > 0 (the adhering side) enter; NaN when
-    fewer than two remain or the fit fails.
+    The model is linear in (alpha, beta), so the fit is ``numpy.linalg.lstsq``
+    on the columns 1/sigma~ and -1 (exact through two points).  Only points
+    with sigma~ > 0 and c > 0 (the adhering side) enter; NaN when fewer than
+    two distinct sigma~ remain.
     """
-    from scipy.optimize import curve_fit
-
     sigma, c = np.asarray(sigma, float), np.asarray(c, float)
     ok = np.isfinite(sigma) & np.isfinite(c) & (sigma > 0) & (c > 0)
-    if ok.sum() < 2:
+    if np.unique(sigma[ok]).size < 2:
         return math.nan, math.nan
-    try:
-        (alpha, beta), _ = curve_fit(lambda s, a, b: a / s - b, sigma[ok], c[ok], p0=(0.1, 0.03))
-    except Exception:  # noqa: BLE001 - a failed fit is reported as NaN
-        return math.nan, math.nan
+    design = np.stack([1.0 / sigma[ok], -np.ones(int(ok.sum()))], axis=1)
+    (alpha, beta), *_ = np.linalg.lstsq(design, c[ok], rcond=None)
     return float(alpha), float(beta)
 
 
