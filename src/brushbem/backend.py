@@ -71,14 +71,14 @@ def rfft2(xp, array, shape: tuple[int, int]):
     """2-D real FFT of ``array`` zero-padded to ``shape`` (last two axes)."""
     if is_numpy_namespace(xp):
         return scipy.fft.rfft2(array, s=shape, workers=fft_workers())
-    return xp.fft.rfft2(array, s=shape)
+    return xp.fft.rfftn(array, s=shape, axes=(-2, -1))
 
 
 def irfft2(xp, spectrum, shape: tuple[int, int]):
     """Inverse of :func:`rfft2` to real arrays of ``shape`` (last two axes)."""
     if is_numpy_namespace(xp):
         return scipy.fft.irfft2(spectrum, s=shape, workers=fft_workers())
-    return xp.fft.irfft2(spectrum, s=shape)
+    return xp.fft.irfftn(spectrum, s=shape, axes=(-2, -1))
 
 
 def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None = None):
@@ -102,9 +102,9 @@ def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None
         product *= spectrum
         product = scipy.fft.ifft(product, axis=-2, workers=workers, overwrite_x=True)[..., :rows, :]
         return scipy.fft.irfft(product, n=long_cols, axis=-1, workers=workers)[..., :cols]
-    product = xp.fft.rfft2(array, s=(long_rows, long_cols))
+    product = xp.fft.rfftn(array, s=(long_rows, long_cols), axes=(-2, -1))
     product *= spectrum
-    return xp.fft.irfft2(product, s=(long_rows, long_cols))[..., :rows, :cols]
+    return xp.fft.irfftn(product, s=(long_rows, long_cols), axes=(-2, -1))[..., :rows, :cols]
 
 
 def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: tuple[int, int]):
@@ -161,7 +161,15 @@ def segment_sum(xp, labels, weights, count: int):
         return xp.zeros(0, dtype=weights.dtype)
     if is_numpy_namespace(xp):
         return np.bincount(labels, weights=weights, minlength=count)
-    return xp.bincount(labels, weights=weights, minlength=count)
+    if hasattr(xp, "bincount"):  # CuPy, PyTorch
+        return xp.bincount(labels, weights=weights, minlength=count)
+    # The array API standard has no bincount: differences of the cumulative
+    # sum over the labels sorted, at the boundaries of every label's run.
+    order = xp.argsort(labels, stable=True)
+    sorted_labels = xp.take(labels, order)
+    sums = xp.cumulative_sum(xp.take(weights, order), include_initial=True)
+    bounds = xp.searchsorted(sorted_labels, xp.arange(count + 1, dtype=sorted_labels.dtype))
+    return xp.take(sums, bounds[1:]) - xp.take(sums, bounds[:-1])
 
 
 def to_numpy(array) -> np.ndarray:

@@ -138,15 +138,12 @@ class HalfSpace:
         """Kernel on the 2rows x 2cols grid in wrap-around order (index rows/cols unused)."""
         xp = self.xp
         base = self.kernel(rows, cols)
-        padded = xp.zeros((2 * rows, 2 * cols), dtype=xp.float64)
-        # Offsets 0..m-1 at indices 0..m-1 and -(m-1)..-1 at indices m+1..2m-1;
-        # K is even in both offsets, so the negative half is the mirror image.
-        row_index = xp.concat([xp.arange(rows), xp.arange(rows - 1, 0, -1)])
-        col_index = xp.concat([xp.arange(cols), xp.arange(cols - 1, 0, -1)])
-        rows_at = xp.concat([xp.arange(rows), xp.arange(rows + 1, 2 * rows)])
-        cols_at = xp.concat([xp.arange(cols), xp.arange(cols + 1, 2 * cols)])
-        padded[rows_at[:, None], cols_at[None, :]] = base[row_index[:, None], col_index[None, :]]
-        return padded
+        # Offsets 0..m-1 at indices 0..m-1, zero at m and -(m-1)..-1 at indices
+        # m+1..2m-1; K is even in both offsets, so the negative half is the
+        # mirror image.
+        padded = xp.concat([base, xp.zeros((1, cols), dtype=base.dtype), xp.flip(base[1:, :], axis=0)], axis=0)
+        zero_column = xp.zeros((2 * rows, 1), dtype=base.dtype)
+        return xp.concat([padded, zero_column, xp.flip(padded[:, 1:], axis=1)], axis=1)
 
     def spectrum(self, rows: int, cols: int):
         """Real spectrum of the padded kernel for a rows x cols window (cached).
@@ -160,7 +157,7 @@ class HalfSpace:
             if rows > self.elements or cols > self.elements:
                 raise ValueError(f"window {rows}x{cols} exceeds the {self.elements}x{self.elements} domain")
             transformed = backend.rfft2(self.xp, self.padded_kernel(rows, cols), (2 * rows, 2 * cols))
-            cached = self.xp.real(transformed).copy()
+            cached = self.xp.asarray(self.xp.real(transformed), copy=True)
             self._spectra[key] = cached
         return cached
 
@@ -181,7 +178,7 @@ class HalfSpace:
             row_offset = xp.minimum(xp.arange(long_rows), long_rows - xp.arange(long_rows))
             col_offset = xp.minimum(xp.arange(long_cols), long_cols - xp.arange(long_cols))
             wrapped = base[row_offset[:, None], col_offset[None, :]]
-            cached = xp.real(backend.rfft2(xp, wrapped, (long_rows, long_cols))).copy()
+            cached = xp.asarray(xp.real(backend.rfft2(xp, wrapped, (long_rows, long_cols))), copy=True)
             self._spectra[key] = cached
         return cached
 

@@ -169,7 +169,7 @@ def nested_loop_brush_equilibrium(
     flat = np.where(labels >= 0, labels, n_pillars).ravel()
     footprint = xp.isfinite(height)
     contact = contact & footprint
-    pressure = pressure * contact
+    pressure = xp.where(contact, pressure, 0.0)
 
     def forces(p):
         return h2 * np.bincount(flat, weights=np.asarray(p).ravel(), minlength=n_pillars + 1)[:n_pillars]
@@ -219,7 +219,7 @@ def nested_loop_brush_equilibrium(
         leaving = contact & ((pressure < -critical) if critical > 0 else (pressure < 0))
         if bool(xp.any(leaving)):
             contact = contact & ~leaving
-            pressure = pressure * contact
+            pressure = xp.where(contact, pressure, 0.0)
             continue
         tip = displacement - deflection[np.maximum(labels, 0)]
         reach = tip - height - rigid_operator.halfspace_deflection(pressure)

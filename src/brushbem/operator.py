@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from array_api_compat import is_numpy_namespace
+
 from . import backend
 from .halfspace import HalfSpace
 from .structure import Indenter
@@ -182,7 +184,7 @@ class ContactOperator:
         for compliance, labels, width, level in _levels:
             if coupling == "discriminant":
                 if spectrum is None:
-                    spectrum = xp.asarray(halfspace.spectrum(rows, cols)).copy()
+                    spectrum = xp.asarray(halfspace.spectrum(rows, cols), copy=True)
                 spectrum = spectrum + compliance * self._box_spectrum(rows, cols, width)
             window_labels = labels[window.slices]
             n = level.n_clusters
@@ -299,6 +301,17 @@ class ContactOperator:
         (it is zero in every state of the solver).
         """
         xp = self.xp
+        if not is_numpy_namespace(xp):
+            # Gathers only (the array API standard has no scatter): sums per
+            # cluster over the window, the off-footprint dummy cluster n set
+            # to zero, read back through the labels.
+            values = xp.reshape(pressure, (-1,))
+            total = xp.zeros(values.shape, dtype=pressure.dtype)
+            for compliance, flat, n, _ in self._levels:
+                sums = backend.segment_sum(xp, flat, values, n + 1)
+                sums = xp.where(xp.arange(n + 1) < n, sums, 0.0)
+                total = total + compliance * xp.take(sums, flat)
+            return xp.reshape(total, pressure.shape)
         values = xp.reshape(pressure, (-1,))[self._footprint_index]
         on_footprint = xp.zeros(values.shape, dtype=pressure.dtype)
         for compliance, labels, n in self._footprint_levels:
@@ -332,7 +345,7 @@ class ContactOperator:
         loaded = mask & (values != 0)
         rows_at, cols_at = (np.asarray(backend.to_numpy(i)) for i in xp.nonzero(loaded))
         if rows_at.size > FEW_ELEMENTS:
-            return self.tip_deflection(values * loaded)
+            return self.tip_deflection(xp.where(loaded, values, 0.0))
         rows, cols = self.window.shape
         deflection = xp.zeros((rows, cols), dtype=xp.float64)
         if rows_at.size == 0:
@@ -342,7 +355,7 @@ class ContactOperator:
         for r, c, w in zip(rows_at.tolist(), cols_at.tolist(), weights.tolist()):
             deflection += w * table[rows - 1 - r : 2 * rows - 1 - r, cols - 1 - c : 2 * cols - 1 - c]
         if self._levels:
-            deflection = deflection + self.spring_deflection(values * loaded)
+            deflection = deflection + self.spring_deflection(xp.where(loaded, values, 0.0))
         return deflection
 
     def deflection(self, pressure):
@@ -360,7 +373,7 @@ class ContactOperator:
         ``mask`` is the set S as bool, or as its 0/1 float copy (cheaper to
         multiply by, for the solvers that apply A_S many times).
         """
-        return self.deflection(pressure) * mask
+        return self.deflection(pressure) * mask if mask.dtype != self.xp.bool else self.xp.where(mask, self.deflection(pressure), 0.0)
 
 
 class ContactSystem:

@@ -439,7 +439,7 @@ class _Tracker:
         sl = window.slices
         contact = self.contact[sl]
         before = predicted[sl]
-        change = self.pressure[sl] - before * contact
+        change = self.pressure[sl] - self.xp.where(contact, before, 0.0)
         if not bool(self.xp.any(change != 0)):
             return
         dropped = self.operator.element_deflection(before, ~contact)
@@ -512,7 +512,7 @@ class _Tracker:
         contact = self.contact[sl]
         block, operator = self.operator.sub_operator(contact)
         block_contact = contact[block]
-        ones = xp.where(block_contact, 1.0, 0.0)
+        ones = xp.astype(block_contact, xp.float64)
         initial, product = self._unit_guess(contact)
         result = solve_on_set(
             operator, block_contact, ones,
@@ -544,7 +544,7 @@ class _Tracker:
             return None, None
         sl = self.window.slices
         previous = self.unit[sl]
-        guess = previous * contact
+        guess = self.xp.where(contact, previous, 0.0)
         known = self._unit_deflection
         if known is None or known[0] is not self.unit or known[1] != self.window:
             return guess, None
@@ -596,7 +596,7 @@ class _Tracker:
         return State(
             displacement=float(displacement),
             force=self.force(p),
-            contact_area=self.h2 * int(self.xp.sum(self._on_window(c))),
+            contact_area=self.h2 * int(self.xp.count_nonzero(self._on_window(c))),
             attached_pillars=self.attached_pillars(c),
             loading=loading,
             kind=kind,
@@ -823,7 +823,7 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
     t = max(t, 0.0)
     new_d = d + s * t
     new_pressure = xp.zeros_like(tracker.pressure)
-    new_pressure[sl] = (pressure + (s * t) * a) * contact
+    new_pressure[sl] = xp.where(contact, pressure + (s * t) * a, 0.0)
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)

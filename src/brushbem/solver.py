@@ -204,7 +204,8 @@ def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
     """
 
     # A 0/1 float mask: multiplying by it is twice as fast as by a bool array.
-    maskf = mask * 1.0
+    xp = backend.namespace(mask)
+    maskf = xp.astype(mask, xp.float64)
 
     def apply(residual):
         z = residual * maskf
@@ -221,8 +222,9 @@ def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
 def _cut_laplacian(labels, shift: float):
     """``z -> (4 + shift) z - sum of the 4 neighbours with the same label``: block diagonal per pillar."""
     # Float weights: multiplying by a bool array would convert it on every call.
-    same_rows = ((labels[1:, :] == labels[:-1, :]) & (labels[1:, :] >= 0)) * 1.0
-    same_cols = ((labels[:, 1:] == labels[:, :-1]) & (labels[:, 1:] >= 0)) * 1.0
+    xp = backend.namespace(labels)
+    same_rows = xp.astype((labels[1:, :] == labels[:-1, :]) & (labels[1:, :] >= 0), xp.float64)
+    same_cols = xp.astype((labels[:, 1:] == labels[:, :-1]) & (labels[:, 1:] >= 0), xp.float64)
 
     def apply(z):
         out = (4.0 + shift) * z
@@ -271,6 +273,7 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
     in_contact = np.flatnonzero(mask_np.ravel())
     contact_index = xp.asarray(in_contact)
     contact_labels = xp.asarray(flat_labels[in_contact])
+    window_labels = xp.asarray(flat_labels)
     counts = np.bincount(flat_labels, minlength=n_pillars + 1)[:n_pillars]
     diag_l = np.bincount(flat_labels, weights=np.asarray(backend.to_numpy(laplacian(maskf))).ravel(),
                          minlength=n_pillars + 1)[:n_pillars]
@@ -340,9 +343,8 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
         z = alpha_elements * laplacian(residual * maskf)
         sums = np.asarray(backend.to_numpy(
             backend.segment_sum(xp, contact_labels, xp.reshape(z, (-1,))[contact_index], n_pillars)))
-        y = xp.asarray(incidence @ coarse_solve(incidence_t @ sums))
-        spread = xp.zeros(z.size, dtype=z.dtype)
-        spread[contact_index] = y[contact_labels]
+        y = xp.asarray(np.append(incidence @ coarse_solve(incidence_t @ sums), 0.0))
+        spread = xp.take(y, window_labels)  # a gather: zero off S (the dummy pillar)
         return z - alpha_elements * laplacian(xp.reshape(spread, z.shape))
 
     return apply
@@ -546,11 +548,15 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     default, `contact_preconditioner`.  A single body (a punch, a sphere)
     always takes the window path: its contact changes shape at every event,
     and a fresh block inverse per event costs more than the extra iterations.
+    So does every array namespace other than NumPy (a GPU): the pillar blocks
+    are dense host matrices, and the window path keeps every iteration on
+    the device.
     ``rhs``, ``initial`` and ``initial_product`` (A applied to ``initial``,
     if known) are window-shaped; so is the solution.
     """
     xp = operator.xp
-    if preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS:
+    if (preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS
+            and backend.is_numpy_namespace(xp)):
         system = operator.system(mask)
         blocked = pillar_block_preconditioner(system)
         if blocked is not None:
@@ -766,24 +772,24 @@ def equilibrium(
     local = cascade == "local" and preconditioner is None and operator.indenter.n_pillars >= 2
     if force_detach is not None and local and bool(xp.any(contact & force_detach)):
         # The caller's state is an equilibrium: the cascade starts on the pillars.
-        cascaded = local_cascade(operator, contact, pressure * contact, force_detach, critical)
+        cascaded = local_cascade(operator, contact, xp.where(contact, pressure, 0.0), force_detach, critical)
         if cascaded is not None:
             contact, pressure, n_left = cascaded
             detached += n_left
             force_detach = None
             deflection = None
     if force_detach is not None:
-        detached += int(xp.sum(contact & force_detach))
+        detached += int(xp.count_nonzero(contact & force_detach))
         contact = contact & ~force_detach
     if force_attach is not None:
         joining = force_attach & footprint & ~contact
-        attached += int(xp.sum(joining))
+        attached += int(xp.count_nonzero(joining))
         contact = contact | joining
     target = xp.where(footprint, displacement - height, 0.0)
     if deflection is not None:
         # The pressure outside the new set (elements forced to leave) is dropped.
         deflection = deflection - operator.element_deflection(pressure, ~contact)
-    pressure = pressure * contact
+    pressure = xp.where(contact, pressure, 0.0)
     iterations = solves = 0
     trial = None
     # Penetration tolerance: the solve's accuracy in units of length.
@@ -818,7 +824,7 @@ def equilibrium(
         if trial is None:
             trial = float(xp.sum(pressure))
         leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
-        n_leaving = int(xp.sum(leaving))
+        n_leaving = int(xp.count_nonzero(leaving))
         if n_leaving and local:
             cascaded = local_cascade(operator, contact, pressure, leaving, critical)
             if cascaded is not None:
@@ -830,13 +836,13 @@ def equilibrium(
             contact = contact & ~leaving
             if deflection is not None:
                 deflection = deflection - operator.element_deflection(pressure, leaving)
-            pressure = pressure * contact
+            pressure = xp.where(contact, pressure, 0.0)
             detached += n_leaving
             continue
         if deflection is None:
             deflection = tip_deflection(operator, pressure)
         joining = footprint & ~contact & (displacement - height - deflection > slack)
-        n_joining = int(xp.sum(joining))
+        n_joining = int(xp.count_nonzero(joining))
         if n_joining:
             contact = contact | joining
             attached += n_joining
@@ -876,7 +882,7 @@ def polonsky_keer(
     pressure = xp.where(footprint & (pressure > 0), pressure, 0.0)
     if not bool(xp.any(pressure > 0)):
         # Start from the rigid-punch-like guess: a small uniform pressure where the tip penetrates.
-        pressure = xp.where(target > 0, 1.0, 0.0) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+        pressure = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
     target_norm = math.sqrt(float(xp.sum(target[target > 0] ** 2)))
     direction = xp.zeros_like(pressure)
     # The deflection is tracked, not recomputed: one FFT pair per iteration for
