@@ -674,8 +674,9 @@ class Equilibrium:
         CG iterations spent, all solves together.
     n_solves : int
     trial_force_sum : float
-        Sum of the pressure of the first solve, before any detachment (the
-        fixed-set force the path passes through before a cascade).
+        Sum of the pressure of the first global solve (the fixed-set force
+        the path passes through before a cascade; after the local rounds of
+        `local_cascade` where the cascade starts on the pillars).
     detached, attached : int
         Elements that left and joined S.
     deflection : ndarray or None
