@@ -24,7 +24,12 @@ from brushbem.halfspace import HalfSpace
 from brushbem.nested import nested_loop_equilibrium
 from brushbem.operator import ContactOperator, Window, discriminant_half_width
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
-from brushbem.solver import conjugate_gradient, critical_stress, equilibrium, laplacian_preconditioner
+from brushbem.solver import (
+    conjugate_gradient,
+    critical_stress,
+    equilibrium,
+    laplacian_preconditioner,
+)
 from brushbem.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
 
 E_STAR = 1.0

@@ -7,13 +7,11 @@ mesh.
 
 from __future__ import annotations
 
-
 import math
 
 import numpy as np
 import pytest
 from conftest import run_quick_study
-
 
 
 @pytest.fixture(scope="module")

@@ -3,14 +3,13 @@ few physics facts hold on the coarse grids (tolerances justified inline)."""
 
 from __future__ import annotations
 
-
 import math
 
 import numpy as np
 import pytest
 from conftest import run_quick_study
 
-from brushbem.studies._ch5_7 import FA, FIS, H, K, PRELOAD, REGION, SIGMA, finished
+from brushbem.studies._ch5_7 import FA, FIS, PRELOAD, REGION, SIGMA, H, K, finished
 from brushbem.theory import equivalent_single_level_stiffness
 
 
@@ -79,7 +78,7 @@ def test_concave(concave):
     study, results, written = concave
     _common(study, results, written)
     curves = finished(results, "curves")
-    f = lambda h, reg: curves[np.isclose(curves[H], h) & (curves[REGION] == reg)][FIS].mean()  # noqa: E731
+    f = lambda h, reg: curves[np.isclose(curves[H], h) & (curves[REGION] == reg)][FIS].mean()
     # ideal equal sharing bounds the force (eq. 7.4): F~_A <= 1 (2 % for rasterisation)
     assert (curves[FIS] <= 1.02).all()
     # a strongly concave brush (h~ = 0.8) adheres far less than the flat one

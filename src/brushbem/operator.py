@@ -20,9 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
-
 from array_api_compat import is_numpy_namespace
+from scipy import ndimage
 
 from . import backend
 from .halfspace import HalfSpace
@@ -41,7 +40,7 @@ class Window:
     c1: int
 
     @classmethod
-    def full(cls, n: int) -> "Window":
+    def full(cls, n: int) -> Window:
         return cls(0, n, 0, n)
 
     @property
@@ -202,13 +201,13 @@ class ContactOperator:
             for compliance, flat, n, _ in self._levels
         ]
 
-    def for_window(self, window: Window) -> "ContactOperator":
+    def for_window(self, window: Window) -> ContactOperator:
         """The same operator on another window (the springs' labels and widths are shared)."""
         return ContactOperator(
             self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data, _shared=self._shared
         )
 
-    def sub_operator(self, mask) -> tuple[tuple[slice, slice], "ContactOperator"]:
+    def sub_operator(self, mask) -> tuple[tuple[slice, slice], ContactOperator]:
         """The operator on the smallest FFT-friendly block of the window that holds ``mask``.
 
         A_S x for x supported on S only needs the deflection on S, so the
@@ -270,7 +269,7 @@ class ContactOperator:
             self._shared["pillar_centres"] = centres
         return centres
 
-    def system(self, mask) -> "ContactSystem":
+    def system(self, mask) -> ContactSystem:
         """A_S on the elements of ``mask`` (the window's shape), as a `ContactSystem`."""
         return ContactSystem(self, mask)
 

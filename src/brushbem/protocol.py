@@ -46,7 +46,6 @@ from .operator import ContactOperator, Window, fast_size
 from .results import Curve, Snapshot
 from .solver import (
     Equilibrium,
-    conjugate_gradient,
     critical_stress,
     equilibrium,
     penetration,

@@ -17,7 +17,19 @@ import pandas as pd
 
 from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._ch5_7 import (
-    FIS, H, K, RADIUS, REGION, case_path, empty_note, figure, finished, has, read_curve, save, value,
+    FIS,
+    RADIUS,
+    REGION,
+    H,
+    K,
+    case_path,
+    empty_note,
+    figure,
+    finished,
+    has,
+    read_curve,
+    save,
+    value,
 )
 
 PHI = "phi"
@@ -49,7 +61,7 @@ def _cross_section(path: Path):
                 row = int(np.argmax(np.sum(np.clip(-p, 0, None), axis=1)))
                 return x, p[row]
             return x, np.asarray(ds["cross_section_adhesive_force"].values, float)
-    except Exception:  # noqa: BLE001 - a missing case is drawn as empty
+    except Exception:
         return None
 
 
@@ -79,7 +91,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
                 continue
             d, f = data[0], data[1]
             ideal = row["adhesive_force"] / row[FIS] if row[FIS] else math.nan
-            dc = abs(row["pull_off_displacement"] / row[DISP]) if DISP in row and row[DISP] else 1.0
+            dc = abs(row["pull_off_displacement"] / row[DISP]) if row.get(DISP) else 1.0
             ax[0, 0].plot(d / dc, f / ideal, lw=1, ls="-" if row[REGION] == "circle" else "--",
                           label=f"h~ = {row[H]:g}, {row[REGION]}")
             drawn += 1

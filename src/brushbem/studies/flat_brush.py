@@ -20,7 +20,16 @@ from pathlib import Path
 import numpy as np
 
 from brushbem.studies import Study, ThesisNumber
-from brushbem.studies._common import case_config, column, finished, mark, new_figure, open_case, safe, save
+from brushbem.studies._common import (
+    case_config,
+    column,
+    finished,
+    mark,
+    new_figure,
+    open_case,
+    safe,
+    save,
+)
 
 SNAPSHOTS = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
 FA = "normalized.force_by_compact_punch"

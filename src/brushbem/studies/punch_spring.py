@@ -17,8 +17,16 @@ import numpy as np
 
 from brushbem import theory
 from brushbem.studies import Study, ThesisNumber
-from brushbem.studies._common import (case_config, column, finished, mark, new_figure, open_case, safe,
-                                      save)
+from brushbem.studies._common import (
+    case_config,
+    column,
+    finished,
+    mark,
+    new_figure,
+    open_case,
+    safe,
+    save,
+)
 
 PART = "stiffness"
 

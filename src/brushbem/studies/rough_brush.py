@@ -17,8 +17,22 @@ import pandas as pd
 from brushbem.io import atomic_path
 from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._ch5_7 import (
-    FA, FP, K, PRELOAD, SIG, SIGMA, adhesion_coefficients, case_path, empty_note, figure, finished,
-    fit_eq58, has, mean_std, read_curve, save,
+    FA,
+    FP,
+    PRELOAD,
+    SIG,
+    SIGMA,
+    K,
+    adhesion_coefficients,
+    case_path,
+    empty_note,
+    figure,
+    finished,
+    fit_eq58,
+    has,
+    mean_std,
+    read_curve,
+    save,
 )
 from brushbem.theory import adhesion_coefficient
 
