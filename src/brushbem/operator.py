@@ -372,7 +372,10 @@ class ContactOperator:
         ``mask`` is the set S as bool, or as its 0/1 float copy (cheaper to
         multiply by, for the solvers that apply A_S many times).
         """
-        return self.deflection(pressure) * mask if mask.dtype != self.xp.bool else self.xp.where(mask, self.deflection(pressure), 0.0)
+        xp = self.xp
+        if mask.dtype == xp.bool:
+            mask = xp.astype(mask, xp.float64)  # the array API has no bool * float
+        return self.deflection(pressure) * mask
 
 
 class ContactSystem:
