@@ -121,7 +121,7 @@ def read_curve(path: Path):
             cs = np.asarray(ds["cross_section_adhesive_force"].values, float) if "cross_section_adhesive_force" in ds else None
             x = np.asarray(ds["x"].values, float) if "x" in ds.coords or "x" in ds else None
         return d, f, a, x, cs
-    except Exception:
+    except (OSError, KeyError, ValueError):  # missing, unreadable or incomplete case file
         return None
 
 

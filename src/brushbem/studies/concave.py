@@ -61,7 +61,7 @@ def _cross_section(path: Path):
                 row = int(np.argmax(np.sum(np.clip(-p, 0, None), axis=1)))
                 return x, p[row]
             return x, np.asarray(ds["cross_section_adhesive_force"].values, float)
-    except Exception:
+    except (OSError, KeyError, ValueError):  # missing, unreadable or incomplete case file
         return None
 
 
