@@ -689,3 +689,28 @@ def test_domain_size_does_not_change_the_sphere_pull_off():
         results.append(summary)
     for key in ("adhesive_force", "work_of_separation", "pull_off_displacement"):
         assert results[1][key] == pytest.approx(results[0][key], rel=1e-6), key
+
+
+@pytest.mark.parametrize("method", ["events", "fixed"])
+@pytest.mark.parametrize("shape, stiffness", [("punch", math.inf), ("punch", 0.15), ("sphere", math.inf), ("sphere", 0.15)])
+def test_no_adhesion_separates_cleanly_at_the_touching_point(method, shape, stiffness):
+    """Without adhesion (dgamma = 0) the load comes off along the loading line and
+    the contact ends where the force reaches zero: d = 0 for a flat punch (every
+    element reaches p = 0 at once), d = lowest tip height for a sphere.  The
+    work of separation (against a tensile force) is zero, and the unloading
+    must end in a few events, not creep towards d = 0 by rounding errors.
+    """
+    grid = Grid(1.0, 64)
+    indenter = flat_punch(grid, 0.25, stiffness=stiffness) if shape == "punch" else sphere(grid, 1.0, stiffness=stiffness)
+    problem = ContactProblem(grid, indenter, 1.0, 0.0)
+    path = LoadPath(method=method, preload_displacement=0.01, step=5e-4, max_steps=2000)
+    summary = record_pull_off(problem, path).summary
+    assert summary["converged"], summary["reason"]
+    assert summary["reason"] == "complete separation"
+    lowest = float(np.min(np.where(np.isfinite(indenter.height), indenter.height, np.inf)))
+    # The last state with contact is at most one step (fixed) above the touching point.
+    reach = 5e-4 if method == "fixed" else 1e-9
+    assert lowest - 1e-12 <= summary["separation_displacement"] <= lowest + reach + 1e-12
+    assert abs(summary["work_of_separation"]) <= 1e-12 * summary["preload_force"] * 0.01
+    if method == "events" and shape == "punch":
+        assert summary["n_states"] <= 6

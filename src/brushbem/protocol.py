@@ -228,6 +228,7 @@ class _Tracker:
         # pressure beyond the affine prediction, for the next unit response.
         self._pressure_change: tuple | None = None
         self.window: Window | None = None
+        self.length_scale = 0.0  # the largest |d| reached: the path's length scale
         self.operator: ContactOperator | None = None
         fp = np.asarray(indenter.footprint)
         rows = np.flatnonzero(fp.any(axis=1))
@@ -333,6 +334,7 @@ class _Tracker:
         if force_attach is not None:
             needed = needed | force_attach
         self.ensure_window(needed, margin)
+        self.length_scale = max(self.length_scale, abs(displacement))
         iterations = solves = 0
         trial = None
         enlarged = False
@@ -352,6 +354,7 @@ class _Tracker:
                     force_attach=None if force_attach is None else force_attach[sl],
                     deflection=self.known_deflection(),
                     cascade=self.path.cascade,
+                    length_scale=self.length_scale,
                 )
             iterations += eq.cg_iterations
             solves += eq.n_solves
@@ -592,6 +595,7 @@ class _Tracker:
               pressure=None, contact=None) -> State:
         p = self.pressure if pressure is None else pressure
         c = self.contact if contact is None else contact
+        self.length_scale = max(self.length_scale, abs(float(displacement)))
         return State(
             displacement=float(displacement),
             force=self.force(p),

@@ -723,6 +723,7 @@ def equilibrium(
     force_attach=None,
     deflection=None,
     cascade: str = "local",
+    length_scale: float = 0.0,
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
 
@@ -763,6 +764,13 @@ def equilibrium(
         end in a state where no element exceeds the criterion and none
         penetrates; they may differ in which elements a cascade takes along
         when one is within the far field's change of the threshold.
+    length_scale : float
+        The load path's displacement scale (the largest |d| so far), in
+        units of length.  An element joins S when it penetrates by more than
+        the solve's accuracy in length, ``10 * tolerance`` times the largest
+        of this, |d| and the largest |d - height|; near d = 0 (a flat tip
+        pulled back to its zero without adhesion) |d| alone would let
+        rounding errors of the pressure keep the contact forever.
     """
     if cascade not in ("local", "global"):
         raise ValueError(f"cascade = {cascade!r} must be 'local' or 'global'")
@@ -795,7 +803,7 @@ def equilibrium(
     trial = None
     # Penetration tolerance: the solve's accuracy in units of length.
     scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
-    slack = 10.0 * tolerance * max(scale, abs(displacement), 1e-300)
+    slack = 10.0 * tolerance * max(scale, abs(displacement), length_scale, 1e-300)
     for _ in range(max_rounds):
         if bool(xp.any(contact)):
             # The solve only needs the deflection on S: run it on the block
@@ -895,6 +903,13 @@ def polonsky_keer(
     relative = math.inf
     for iteration in range(1, max_iterations + 1):
         contact = pressure > 0
+        if not bool(xp.any(contact)):
+            # A step projected every pressure to zero (a warm start far too
+            # high): start again from the guess, which loads the penetration.
+            pressure = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+            deflection = operator.deflection(pressure)
+            reset = True
+            contact = pressure > 0
         gap = deflection - target  # > 0: separated, < 0: penetrating
         gap_c = xp.where(contact, gap, 0.0)
         g_norm2 = float(xp.sum(gap_c * gap_c))
@@ -905,6 +920,17 @@ def polonsky_keer(
                 displacement, pressure, contact, True, "relative gap residual below tolerance",
                 iteration - 1, 1, float(xp.sum(pressure)), 0, 0,
             )
+        if relative <= tolerance and outside_penetration:
+            # S is solved but elements outside it penetrate: the gradient on
+            # S vanishes, so no search direction would reach them.  They join
+            # with the pressure that closes their own gap (the diagonal), and
+            # the iteration restarts on the larger set.
+            joining = footprint & ~contact & (gap < -tolerance * target_norm)
+            change = xp.where(joining, -gap / operator.halfspace.diagonal(), 0.0)
+            pressure = pressure + change
+            deflection = deflection + operator.deflection(change)
+            reset = True
+            continue
         # Preconditioned direction (Vollebregt 2014): z = M^-1 gap on S.
         z = laplacian_preconditioner(contact)(gap_c)
         rz = float(xp.sum(gap_c * z))
