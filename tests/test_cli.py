@@ -73,6 +73,7 @@ def fake_result(converged: bool = True, n: int = 8) -> CaseResult:
         "preload_force": 0.02,
         "max_displacement": 0.01,
         "converged": converged,
+        "reason": "complete separation" if converged else "no convergence in 20000 iterations",
         "n_solves": rows,
         "n_cg_iterations": int(curve.cg_iterations.sum()),
         "wall_time_s": 0.01,
@@ -283,8 +284,19 @@ def test_not_converged_writes_results_and_exits_3(tmp_path, fake_run_case):
     result = invoke("run", str(path), "--out", str(out))
     assert result.exit_code == 3, result.output
     assert "did not converge" in result.output
+    reason = json.loads((out / "summary.json").read_text())["reason"]
+    assert reason and reason in result.output, result.output  # the reason is said, not only written
     assert (out / "summary.json").exists() and (out / "result.nc").exists()
     assert json.loads((out / "summary.json").read_text())["converged"] is False
+
+
+def test_out_that_cannot_be_created_exits_2_before_running(tmp_path, fake_run_case):
+    path = write(tmp_path, VALID_TOML)
+    blocker = tmp_path / "afile"
+    blocker.write_text("")
+    result = invoke("run", str(path), "--out", str(blocker / "sub"))
+    assert_clean_failure(result, "--out", "cannot create the output folder")
+    assert not fake_run_case.calls  # refused before the computation
 
 
 def test_python_dash_m_brushbem(tmp_path):

@@ -199,6 +199,43 @@ def test_sphere_may_be_larger_than_the_domain():
     assert parse_config(document).indenter.radius == 100.0
 
 
+
+@pytest.mark.parametrize("elements, lowest", [(32, 1.0 / 32**2 / 4), (33, 0.0)])
+def test_sphere_preload_must_reach_the_lowest_element(elements, lowest):
+    """On an even grid the sphere's apex lies on a node, so its lowest elements
+    stand h^2 / (4R) above it; a preload displacement at or below that height
+    never touches (the run would record no contact), so it is a config error."""
+    document = valid_document()
+    document["grid"]["elements"] = elements
+    document["indenter"] = {"shape": "sphere", "radius": 1.0}
+    document["protocol"] = {"preload_displacement": 1e-4, "method": "fixed"}
+    if lowest < 1e-4:
+        assert isinstance(parse_config(document), RunConfig)
+        return
+    problems = problems_of(document)
+    assert len(problems) == 1, problems
+    assert problems[0].startswith("`protocol.preload_displacement`: 0.0001 — must be > 0.000244141"), problems
+
+
+def test_discriminant_coupling_refused_where_its_size_condition_fails():
+    """Eq. 3.14-3.15: the discriminant box must cover a cluster and reach no other.
+    Clusters of 2 x 2 pillars 1/8 apart do not satisfy it, so `solver.coupling`
+    is named before anything runs; the same brush with segment sums is valid."""
+    document = valid_document()
+    document["indenter"] = {
+        "shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 8,
+        "pillar_radius": 0.02, "stiffness_ratio": 0.455,
+        "levels": [{"cluster": 2, "stiffness_ratio": 0.1}],
+    }
+    document["halfspace"]["work_of_adhesion"] = 1e-4
+    document["protocol"] = {"preload_displacement": 0.002}
+    document["solver"] = {"coupling": "discriminant"}
+    problems = problems_of(document)
+    assert len(problems) == 1, problems
+    assert problems[0].startswith("`solver.coupling`: 'discriminant' — the discriminant matrix cannot be used"), problems
+    document["solver"] = {"coupling": "segments"}
+    assert isinstance(parse_config(document), RunConfig)
+
 @pytest.mark.parametrize("shape", ["flat_punch", "sphere"])
 def test_radius_required(shape):
     document = valid_document()

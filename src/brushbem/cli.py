@@ -158,6 +158,11 @@ def main() -> None:
 def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
     """Run the pull-off in CONFIG; write the results into --out."""
     config = _load_or_exit(config_path)
+    try:  # before the computation, so that a bad --out does not lose it
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: cannot create the output folder ({exc.strerror or exc})", err=True)
+        raise click.exceptions.Exit(2) from None
 
     # Imported here so that `validate` and `--help` stay fast and do not need
     # the numerics.
@@ -190,8 +195,8 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
         click.echo(f"results written to {out_dir}")
     if not result.summary.get("converged", False):
         click.echo(
-            f"warning: some solves did not converge; results written to {out_dir} "
-            "but they are not trustworthy",
+            f"warning: the pull-off did not converge ({result.summary.get('reason', 'no reason given')}); "
+            f"results written to {out_dir} but they are not trustworthy",
             err=True,
         )
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)

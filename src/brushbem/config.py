@@ -566,9 +566,41 @@ class RunConfig(BaseModel):
     @model_validator(mode="after")
     def _consistent(self) -> RunConfig:
         problems = _cross_section_problems(self.grid, self.indenter, self.halfspace)
+        if not problems:
+            problems = _rasterised_problems(self)
         if problems:
             raise _rules_error(problems)
         return self
+
+
+def _rasterised_problems(config: RunConfig) -> list[_Problem]:
+    """Rules on the rasterised indenter: the preload must reach it, the coupling must apply to it."""
+    from .case import build_indenter
+    from .operator import discriminant_half_width
+    from .structure import StructureError
+
+    try:
+        indenter = build_indenter(config)
+    except (StructureError, ValueError, OSError):
+        return []  # reported by the rules above
+    problems = []
+    preload = config.protocol.preload_displacement
+    heights = np.asarray(indenter.height)
+    lowest = float(np.min(heights[np.isfinite(heights)]))
+    if preload is not None and preload <= lowest:
+        problems.append(_Problem(
+            "protocol.preload_displacement", _show(preload),
+            f"must be > {lowest:.6g}, the height of the indenter's lowest element on this grid "
+            "(where it first touches); a smaller preload never reaches the surface",
+        ))
+    if config.solver.coupling == "discriminant":
+        for level in indenter.elastic_levels:
+            try:
+                discriminant_half_width(np.asarray(indenter.element_clusters(level)))
+            except ValueError as exc:
+                problems.append(_Problem("solver.coupling", _show(config.solver.coupling), str(exc)))
+                break
+    return problems
 
 
 def _cross_section_problems(

@@ -636,6 +636,13 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     budget ran out.
     """
     tracker = _Tracker(problem, path)
+    if path.preload_displacement is not None:
+        lowest = float(tracker.xp.min(tracker.xp.where(tracker.footprint, tracker.height, tracker.xp.inf)))
+        if path.preload_displacement <= lowest:
+            raise ValueError(
+                f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
+                "the height of the indenter's lowest element (where it first touches)"
+            )
     if path.method == "fixed":
         yield from _fixed(tracker, path)
     else:
@@ -764,8 +771,6 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
         lowest = float(xp.min(xp.where(tracker.footprint, tracker.height, xp.inf)))
         distance = max(lowest - d, 0.0)
         first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
-        if path.preload_displacement is not None and path.preload_displacement <= lowest:
-            raise ValueError("protocol.preload_displacement does not reach the indenter's lowest point")
         new_d = d + distance
         eq = tracker.solve(new_d, force_attach=first)
         state = _eq_state(tracker, eq, True)
