@@ -228,6 +228,58 @@ def test_jkr_sphere_pull_off_force_convergence():
     assert abs(errors[-1]) < 0.05, message
 
 
+def _sphere_work_errors(size, sizes, stiffness=math.inf, **preload):
+    """(a_JKR/h, F_A/F_JKR - 1, w/w_theory - 1) of a sphere R = 1 pulled off by events."""
+    radius = 1.0
+    a_jkr = theory.jkr_pull_off_radius(E_STAR, DGAMMA, radius)
+    a_m = theory.sphere_preload_contact_radius(E_STAR, radius, stiffness, **preload)
+    work = theory.sphere_spring_work_of_separation(E_STAR, DGAMMA, radius, stiffness, preload_radius=a_m)
+    rows = []
+    for n in sizes:
+        grid = Grid(size, n)
+        problem = ContactProblem(grid, sphere(grid, radius, stiffness), E_STAR, DGAMMA)
+        summary = record_pull_off(problem, LoadPath(method="events", **preload)).summary
+        assert summary["converged"], summary["reason"]
+        rows.append((a_jkr / grid.element_size, summary["adhesive_force"] / theory.jkr_pull_off_force(DGAMMA, radius) - 1.0,
+                     summary["work_of_separation"] / work - 1.0))
+    return a_m / a_jkr, rows
+
+
+@pytest.mark.parametrize(
+    "case, size, sizes, stiffness, preload, bound",
+    [
+        # Preload contact 1.09 a_JKR < a_o = 1.59 a_JKR: the force crosses zero on the
+        # fixed-contact line.  Measured w errors 17.6, 8.7, 5.0 % at a_JKR/h = 10, 20, 40.
+        ("rigid, below B", 0.5, (33, 66, 132), math.inf, {"preload_displacement": 0.0277}, 0.06),
+        # Preload contact 1.80 a_JKR > a_o: the unloading passes B (eq. 2.27 as printed).
+        # Measured 17.3, 9.1 % at a_JKR/h = 10, 20 (4.8 % at 40, 17 s: not run here).
+        ("rigid, beyond B", 0.8, (53, 105), math.inf, {"preload_displacement": 0.075}, 0.10),
+        # k_bar = 5 (end at D, eq. 2.38), preload force 0.0075 (a_m = 1.17 a_JKR).
+        # Measured 21.9, 13.4 % (8.2 % at a_JKR/h = 40).
+        ("k_bar = 5", 0.5, (33, 66), 5.0 * 0.11624474, {"preload_force": 0.0075}, 0.15),
+    ],
+)
+def test_sphere_work_of_separation_converges_to_theory(case, size, sizes, stiffness, preload, bound):
+    """The work from the zero-force crossing to separation tends to the closed form of its path.
+
+    The closed form is eq. 2.27 / 2.38 counted from where the unloading crosses
+    F = 0: B where the preload pressed the contact beyond a_o, the
+    fixed-contact line below it (`theory.sphere_spring_work_from_preload`,
+    checked by quadrature in test_theory.py).  The error is first order, like
+    the force's (about 1.2-2 times the force error: w carries F_A over the
+    whole branch and F_A^2 / 2k on a spring), so the bounds are what
+    first-order convergence from the measured errors allows at the finest
+    grid run, and the error must fall at every refinement.
+    """
+    a_ratio, rows = _sphere_work_errors(size, sizes, stiffness, **preload)
+    message = f"{case} (a_m = {a_ratio:.2f} a_JKR): " + ", ".join(
+        f"a_JKR/h = {q:.1f}: F {ef:+.2%}, w {ew:+.2%}" for q, ef, ew in rows)
+    print("\nSphere work of separation,", message)
+    errors = [abs(r[2]) for r in rows]
+    assert all(e1 > e2 for e1, e2 in zip(errors[:-1], errors[1:])), message
+    assert errors[-1] < bound, message
+
+
 # ---------------------------------------------------------------------------
 # Flat punch on a spring (thesis sec. 2.3.1)
 # ---------------------------------------------------------------------------

@@ -40,11 +40,13 @@ def test_quick_study_draws_every_figure(name, request):
 
 
 def test_punch_work_follows_eq_2_19(punch):
-    """w~ / (1 + 1/k~) within 12 % at N = 64 (r = 19 h).
+    """w~ / (1 + 1/k~) within 6 % at N = 64 (r = 19 h), for every stiffness and the rigid punch.
 
-    The mesh criterion of Pohrt-Popov gives F_A a few % above Kendall at 19
-    elements per radius; the spring part of w ~ F_A^2 / 2k doubles that error
-    for soft springs, hence 12 % rather than a few %.
+    Measured 3.8 % (k~ = 0.01, 0.015), 3.9 % (0.3), 4.2 % (1.5), 4.4 % (rigid):
+    the Pohrt-Popov criterion gives F_A and d_A a few % above Kendall at 19
+    elements per radius, and both parts of w (the punch's F d / 2 and the
+    spring's F^2 / 2k) carry about that error, so it barely depends on k~.
+    6 % leaves first-order room over 4.4 % (the a/h = 32 BEM test holds 2 %).
     """
     _, results, _ = punch
     frame = results["stiffness"]
@@ -52,7 +54,7 @@ def test_punch_work_follows_eq_2_19(punch):
     ratio = frame["theory.ratios.work_of_separation"].astype(float)
     finite = np.isfinite(k_tilde)
     assert finite.sum() >= 3
-    assert np.all(np.abs(ratio[finite] - 1) < 0.12)
+    assert np.all(np.abs(ratio - 1) < 0.06), dict(zip(k_tilde, ratio))
     # The same F_A for every stiffness (Fig. 2-5: detachment only at the pull-off force).
     force = frame["adhesive_force"].astype(float)
     assert force.max() / force.min() < 1.01
@@ -78,3 +80,27 @@ def test_brush_numbers(brush):
     assert (soft["normalized.force_by_compact_punch"].to_numpy() > stiff["normalized.force_by_compact_punch"].max()).all()
     n = soft["normalized.pillars"].to_numpy(dtype=float)
     assert (soft["normalized.force_by_compact_punch"].to_numpy() <= n**0.25 * 1.02).all()
+
+
+def test_sphere_work_follows_eq_2_38_beyond_b(sphere):
+    """Stiff springs and the rigid sphere: w / w_theory (eq. 2.27, 2.38) at a_JKR = 9.7 h.
+
+    The study presses every case to a contact radius of 1.86 a_JKR, beyond the
+    zero-force radius a_o = 1.59 a_JKR, so the unloading passes point B, where
+    the thesis starts counting (the summary says so in
+    ``theory.work_counted_from``).  At a_JKR/h = 10 the BEM's work is above
+    theory, measured 17 % (rigid) and 26 % (k_bar = 4): the force is 14 %
+    above, and the spring's F^2 / 2k doubles that share (see
+    test_sphere_work_of_separation_converges_to_theory for the convergence).
+    So the ratio must lie in (1, 1.35); counted from the wrong point (a
+    preload short of B) it was 0.75.
+    """
+    _, results, _ = sphere
+    frame = results["stiffness"]
+    k_bar = frame["theory.normalized_stiffness"].astype(float).fillna(np.inf)
+    ratio = frame["theory.ratios.work_of_separation"].astype(float)
+    start = frame["theory.work_counted_from"].astype(str)
+    assert start.str.startswith("B").all(), set(start)
+    stiff = k_bar >= 1.7
+    assert stiff.sum() >= 2
+    assert np.all((ratio[stiff] > 1.0) & (ratio[stiff] < 1.35)), dict(zip(k_bar, ratio))

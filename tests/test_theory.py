@@ -723,3 +723,60 @@ def test_infinite_stiffness_means_rigid():
     assert theory.normalized_punch_stiffness(math.inf, E_STAR, RADIUS) == math.inf
     assert theory.sphere_spring_energy_normalized(1.0, math.inf) == theory.sphere_spring_energy_normalized(1.0, 1e300)
     assert theory.soft_brush_work_normalized(16, 0.1, math.inf) == 0.0
+
+
+@pytest.mark.parametrize("kbar", [math.inf, 5.0, 2.0])
+@pytest.mark.parametrize("a_over_ajkr", [1.02, 1.3, 1.587, 2.0])
+def test_sphere_work_from_preload_equals_the_integral_along_the_path(kbar, a_over_ajkr):
+    """Independent check of the path-aware work (energy differences) by quadrature of -F dd.
+
+    Path from a preload contact radius a_m: unloading at fixed contact (a punch
+    of radius a_m, compliance 1/(2 E* a_m) + 1/k) from the JKR point of a_m ...
+    or, for a_m > a_o, from B ... then along the JKR curve (eq. 2.22) to D.
+    The work counts from the zero-force crossing, so the fixed line contributes
+    the triangle F_1^2 (1/(2E*a_m) + 1/k) / 2 only when F_1 = F_JKR(a_m) < 0.
+    k_bar >= 1.7 (end at D) for every case here.  Quadrature to 1e-10.
+    """
+    modulus, dgamma, radius = 1.0, 1e-3, 1.0
+    a_nor = theory.sphere_normalization_radius(modulus, dgamma, radius)
+    stiffness = kbar * modulus * a_nor
+    a_m = a_over_ajkr * theory.jkr_pull_off_radius(modulus, dgamma, radius)
+    a_s = theory.jkr_separation_radius(modulus, dgamma, radius)
+    a_o = theory.jkr_zero_force_radius(modulus, dgamma, radius)
+    compliance_k = 0.0 if math.isinf(stiffness) else 1.0 / stiffness
+
+    def force(a):
+        return theory.jkr_force_from_radius(a, modulus, dgamma, radius)
+
+    def base_displacement_rate(a, da=1e-7):
+        def d(x):
+            return theory.jkr_displacement_from_radius(x, modulus, dgamma, radius) + force(x) * compliance_k
+        return (d(a + da) - d(a - da)) / (2 * da)
+
+    start = min(a_m, a_o)
+    # Along the JKR curve from `start` down to a_s, d decreases with a: work = int (-F) (dd/da) da.
+    branch, _ = integrate.quad(lambda a: -force(a) * base_displacement_rate(a), a_s, start, epsabs=0, epsrel=1e-10)
+    f1 = force(a_m)
+    triangle = 0.5 * f1**2 * (1.0 / (2 * modulus * a_m) + compliance_k) if f1 < 0 else 0.0
+    # w_0 (eq. 2.27) is checked against its own quadrature elsewhere in this file.
+    expected = (branch + triangle) / theory.jkr_work_of_separation(modulus, dgamma, radius)
+    got = theory.sphere_spring_work_from_preload(kbar, a_m / a_nor)
+    assert got == pytest.approx(expected, rel=1e-6)
+    # The dimensional form agrees, and beyond B it is the thesis's eq. 2.38.
+    w = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness, preload_radius=a_m)
+    assert w == pytest.approx(got * theory.jkr_work_of_separation(modulus, dgamma, radius), rel=1e-12)
+    if a_m >= a_o:
+        assert got == pytest.approx(theory.sphere_spring_work(kbar), rel=1e-12)
+
+
+@pytest.mark.parametrize("stiffness", [math.inf, 0.5, 0.05])
+def test_sphere_preload_contact_radius_is_hertz_on_the_spring(stiffness):
+    """a_m from the preload force is Hertz's; from a displacement, d = a^2/R + F/k holds at it."""
+    a = theory.sphere_preload_contact_radius(1.0, 1.0, stiffness, preload_force=0.03)
+    assert theory.hertz_force(1.0, 1.0, a * a) == pytest.approx(0.03, rel=1e-12)
+    a = theory.sphere_preload_contact_radius(1.0, 1.0, stiffness, preload_displacement=0.03)
+    force = 4.0 * a**3 / 3.0
+    spring = 0.0 if math.isinf(stiffness) else force / stiffness
+    assert a * a + spring == pytest.approx(0.03, rel=1e-12)
+    with pytest.raises(ValueError):
+        theory.sphere_preload_contact_radius(1.0, 1.0, stiffness)

@@ -60,14 +60,19 @@ def build_path(config: RunConfig) -> LoadPath:
     )
 
 
-def theory_for(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[str, Any], dict | None]:
+def theory_for(problem: ContactProblem, summary: dict[str, Any],
+               path: LoadPath | None = None) -> tuple[dict[str, Any], dict | None]:
     """Closed-form values for this case and the ratios of the computed ones to them.
 
     A flat punch is compared with Kendall (eq. 2.4) at the radius of the
     rasterised footprint's area, sqrt(A/pi), and, on a spring, with the work
     of separation of eq. 2.18-2.19; a sphere with JKR (eq. 2.20) and, on a
-    spring, the work of eq. 2.37-2.39.  Returns the ``theory`` object of
-    ``summary.json`` and a reference curve for the figure (or None).
+    spring, the work of eq. 2.37-2.39.  The sphere's work counts from the
+    zero-force crossing of the unloading: from B (eq. 2.27) where the
+    preload (``path``, Hertz loading) pressed the contact beyond a_o, from
+    the fixed-contact line below it (`theory.sphere_spring_work_from_preload`).
+    Returns the ``theory`` object of ``summary.json`` and a reference curve
+    for the figure (or None).
     """
     indenter = problem.indenter
     shape = indenter.description.get("shape")
@@ -105,11 +110,24 @@ def theory_for(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[s
         force = theory.jkr_pull_off_force(dgamma, radius)
         tip = theory.jkr_pull_off_displacement(modulus, dgamma, radius)
         base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
+        preload_radius = math.inf
+        if path is not None:
+            preload_radius = theory.sphere_preload_contact_radius(
+                modulus, radius, stiffness, preload_force=path.preload_force,
+                preload_displacement=path.preload_displacement,
+            )
+            out["preload_contact_radius"] = preload_radius
+            out["zero_force_radius"] = theory.jkr_zero_force_radius(modulus, dgamma, radius)
+            out["work_counted_from"] = (
+                "B, the zero-force point of the JKR curve (eq. 2.27)"
+                if preload_radius >= out["zero_force_radius"]
+                else "the zero-force crossing of the fixed-contact unloading line (the preload contact "
+                "radius is below a_o, so the unloading does not pass B)"
+            )
+        work = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness,
+                                                       preload_radius=preload_radius)
         if math.isfinite(stiffness):
-            work = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness)
             out["normalized_stiffness"] = theory.sphere_normalized_stiffness(stiffness, modulus, dgamma, radius)
-        else:
-            work = theory.jkr_work_of_separation(modulus, dgamma, radius)
         out.update({
             "model": "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.39)",
             "adhesive_force": force,
@@ -235,7 +253,7 @@ def run_case(
     record = record_pull_off(problem, path, progress=progress)
     summary = dict(record.summary)
     summary["critical_stress"] = problem.critical_stress
-    summary["theory"], reference = theory_for(problem, summary)
+    summary["theory"], reference = theory_for(problem, summary, path)
     attributes = {
         "brushbem_version": __version__,
         "config": config_to_dict(config),

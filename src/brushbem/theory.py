@@ -102,6 +102,8 @@ __all__ = [
     "sphere_spring_work_low",
     "sphere_spring_work",
     "sphere_spring_work_of_separation",
+    "sphere_spring_work_from_preload",
+    "sphere_preload_contact_radius",
     # brushes
     "rigid_brush_force",
     "rigid_brush_displacement",
@@ -1171,11 +1173,105 @@ def sphere_spring_work(normalized_stiffness, switch=SPHERE_WORK_SWITCH):
     return _out(np.where(kbar < threshold, low, high))
 
 
-def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, stiffness, switch=SPHERE_WORK_SWITCH):
-    """Work of separation of a JKR sphere on a spring, from zero load (B) to separation.
+def sphere_spring_work_from_preload(normalized_stiffness, normalized_preload_radius, switch=SPHERE_WORK_SWITCH):
+    """Normalised work of separation when the unloading starts from contact radius ``a_bar_m``.
+
+    The thesis counts the work from point B of the JKR curve (zero force,
+    ``a_bar_o = 3**(2/3)``), which the unloading passes only when the preload
+    pressed the contact beyond a_o.  A smaller preload contact a_m (the
+    loading branch of the model is Hertz's: elements join where the tip
+    touches) is first unloaded at fixed contact radius, like a punch of
+    radius a_m, until the edge meets the Griffith condition on the JKR curve
+    at a_m; the force crosses zero on that line, at d = a_m^2 / (3R), where
+    eq. 2.23 gives the total energy ``E* 4/45 a_m^5 / R^2 - pi dgamma a_m^2``,
+    in units of U_nor ``4/45 a_bar_m**5 - 2 a_bar_m**2`` (equal to eq. 2.37's
+    U_bar(a_bar_o) at a_bar_m = a_bar_o).  Both stretches are free of
+    dissipation, so the work from the zero crossing to the end is the
+    difference of total energies:
+
+        w_bar = (U_bar_sp(min(a_bar_m, a_bar_end)) - U_bar_start) / (U_bar(a_bar_s) - U_bar(a_bar_o)),
+        U_bar_start = 4/45 a_z**5 - 2 a_z**2,  a_z = min(a_bar_m, a_bar_o),
+
+    with the end at D (a_bar_s, eq. 2.38) or, below ``switch``, at C
+    (a_bar_c, eq. 2.39); a contact that never grew past the end radius comes
+    off where the fixed-contact line meets the JKR curve.  For
+    ``a_bar_m >= a_bar_o`` this is :func:`sphere_spring_work`.
+
+    Parameters
+    ----------
+    normalized_stiffness : float or array_like
+        k_bar (:func:`sphere_normalized_stiffness`), dimensionless; ``0 < k_bar <= inf``.
+    normalized_preload_radius : float or array_like
+        a_bar_m = a_m / a_nor, the largest contact radius of the loading; positive (inf: beyond B).
+    switch : float, optional
+        k_bar below which the end is C (eq. 2.39), dimensionless; default 1.7.
+
+    Returns
+    -------
+    float or ndarray
+        w_bar, the work over the rigid sphere's work from B (eq. 2.27), dimensionless.
+    """
+    kbar = _positive("normalized_stiffness", normalized_stiffness, allow_inf=True)
+    a_m = _positive("normalized_preload_radius", normalized_preload_radius, allow_inf=True)
+    threshold = _positive("switch", switch, allow_inf=True)
+    end = np.minimum(a_m, np.where(kbar < threshold, SPHERE_ABAR_PULL_OFF, SPHERE_ABAR_SEPARATION))
+    a_z = np.minimum(a_m, SPHERE_ABAR_ZERO_FORCE)
+    start = 4.0 / 45.0 * a_z**5 - 2.0 * a_z**2
+    numerator = np.asarray(sphere_spring_energy_normalized(end, kbar)) - start
+    return _out(numerator / _sphere_rigid_work_normalized())
+
+
+def sphere_preload_contact_radius(contact_modulus, radius, stiffness, preload_force=None, preload_displacement=None):
+    """Contact radius at the end of the loading of a sphere on a spring (Hertz, eq. 2.22 with dgamma = 0).
+
+    Elements join where the tip touches, so the loading branch is Hertz's:
+    ``F = 4 E* a^3 / (3 R)`` at a base displacement ``d = a^2 / R + F / k``.
+    Give exactly one of ``preload_force`` and ``preload_displacement``.
+
+    Parameters
+    ----------
+    contact_modulus : float
+        Contact modulus E*, in units of stress; positive.
+    radius : float
+        Radius of curvature R of the tip, in units of length; positive.
+    stiffness : float
+        Spring stiffness k, in units of force per length; ``0 < k <= inf``.
+    preload_force, preload_displacement : float, optional
+        The preload, in units of force or of length; positive.
+
+    Returns
+    -------
+    float
+        a_m, in units of length.
+    """
+    modulus = float(_positive("contact_modulus", contact_modulus))
+    r = float(_positive("radius", radius))
+    k = float(_positive("stiffness", stiffness, allow_inf=True))
+    if (preload_force is None) == (preload_displacement is None):
+        raise ValueError("give exactly one of preload_force and preload_displacement")
+    if preload_force is not None:
+        force = float(_positive("preload_force", preload_force))
+        return float(np.cbrt(3.0 * force * r / (4.0 * modulus)))
+    d = float(_positive("preload_displacement", preload_displacement))
+    a_rigid = math.sqrt(d * r)
+    if not math.isfinite(k):
+        return a_rigid
+
+    def excess(a: float) -> float:
+        return a * a / r + 4.0 * modulus * a**3 / (3.0 * r * k) - d
+
+    return float(optimize.brentq(excess, 0.0, a_rigid, xtol=1e-15 * a_rigid, rtol=1e-14))
+
+
+def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, stiffness, switch=SPHERE_WORK_SWITCH,
+                                     preload_radius=math.inf):
+    """Work of separation of a JKR sphere on a spring, from zero load to separation.
 
     ``w = w_bar(k_bar) * (U_tot(a_s) - U_tot(a_o))`` (eq. 2.27, 2.30-2.31, 2.38-2.39),
-    with the branch chosen as in :func:`sphere_spring_work`.
+    with the branch chosen as in :func:`sphere_spring_work` and, where the
+    preload contact radius is below a_o (point B), counted from the zero
+    crossing of the fixed-contact unloading line
+    (:func:`sphere_spring_work_from_preload`).
 
     Parameters
     ----------
@@ -1189,6 +1285,9 @@ def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, 
         Spring stiffness k, in units of force per length; ``0 < k <= inf``.
     switch : float, optional
         k_bar below which eq. 2.39 is used, dimensionless; default 1.7.
+    preload_radius : float or array_like, optional
+        Largest contact radius of the loading (:func:`sphere_preload_contact_radius`),
+        in units of length; default inf (beyond B, the thesis's case).
 
     Returns
     -------
@@ -1197,7 +1296,9 @@ def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, 
     """
     kbar = np.asarray(sphere_normalized_stiffness(stiffness, contact_modulus, work_of_adhesion, radius))
     u_nor = np.asarray(sphere_normalization_energy(contact_modulus, work_of_adhesion, radius))
-    w_bar = np.asarray(sphere_spring_work(kbar, switch))
+    a_m = np.asarray(_positive("preload_radius", preload_radius, allow_inf=True)) / np.asarray(
+        sphere_normalization_radius(contact_modulus, work_of_adhesion, radius))
+    w_bar = np.asarray(sphere_spring_work_from_preload(kbar, a_m, switch))
     return _out(w_bar * _sphere_rigid_work_normalized() * u_nor)
 
 

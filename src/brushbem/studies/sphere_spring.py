@@ -131,5 +131,5 @@ STUDY = Study(
     parts=(PART,),
     draw=draw,
     numbers=NUMBERS,
-    notes="R = 1, E* = 1, dgamma = 1e-3, L = 1, preload force 0.005 for every stiffness.",
+    notes="R = 1, E* = 1, dgamma = 1e-3, L = 1, preload force 0.03 for every stiffness (contact radius 1.86 a_JKR, beyond B).",
 )
