@@ -714,3 +714,14 @@ def test_no_adhesion_separates_cleanly_at_the_touching_point(method, shape, stif
     assert abs(summary["work_of_separation"]) <= 1e-12 * summary["preload_force"] * 0.01
     if method == "events" and shape == "punch":
         assert summary["n_states"] <= 6
+
+
+def test_fixed_loading_to_a_displacement_respects_the_step_budget():
+    """Loading by displacement in fixed steps needs ceil(preload / step) = 10 steps;
+    with max_steps = 4 the run records 4 and stops, not converged, naming max_steps."""
+    grid, _ = _punch_grid(32)
+    problem = ContactProblem(grid, flat_punch(grid, 0.25), E_STAR, DGAMMA)
+    record = record_pull_off(problem, LoadPath(method="fixed", preload_displacement=0.01, step=1e-3, max_steps=4))
+    assert record.summary["converged"] is False
+    assert "max_steps" in record.summary["reason"]
+    assert np.count_nonzero(record.curve.loading) <= 6

@@ -499,7 +499,8 @@ class ProtocolConfig(BaseModel):
     step : float
         Displacement step of ``"fixed"``, in units of length.
     max_steps : int
-        Upper bound on recorded equilibria; a run that needs more stops and
+        Most steps (events, or fixed displacement steps) on each branch,
+        loading and unloading; a branch that needs more ends the run, which
         reports not converged.
     """
 

@@ -661,13 +661,16 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     # Loading.
     if path.preload_displacement is not None:
         n_steps = max(1, math.ceil(path.preload_displacement / step - 1e-9))
-        for k in range(1, n_steps + 1):
+        for k in range(1, min(n_steps, path.max_steps) + 1):
             d = min(k * step, path.preload_displacement)
             eq = tracker.solve(d)
             state = _eq_state(tracker, eq, True)
             yield state
             if not eq.converged:
                 return
+        if n_steps > path.max_steps:
+            yield _budget_exhausted(tracker, d, True, path)
+            return
     else:
         target = path.preload_force
         previous = (0.0, 0.0)

@@ -44,7 +44,7 @@ TABLE_1 = {
 
 
 def table_1(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
-    """Our Table 1: alpha, beta (eq. 5.8 fitted by curve_fit) and sigma~_c = alpha/beta per k~."""
+    """Our Table 1: alpha, beta (eq. 5.8 fitted by linear least squares) and sigma~_c = alpha/beta per k~ (NaN where beta <= 0)."""
     coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
     rows = []
     for k, group in (coeff.groupby(K) if len(coeff) else []):
