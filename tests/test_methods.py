@@ -725,3 +725,48 @@ def test_fixed_loading_to_a_displacement_respects_the_step_budget():
     assert record.summary["converged"] is False
     assert "max_steps" in record.summary["reason"]
     assert np.count_nonzero(record.curve.loading) <= 6
+
+
+@pytest.mark.parametrize("coupling, levels", [("segments", 2), ("discriminant", 1)])
+def test_coupled_operator_equals_the_dense_matrix_and_is_spd(coupling, levels):
+    """A = K + sum_l (h^2 / k_l) P_l^T P_l built by hand, dense, on a brush.
+
+    P_l is the element-to-cluster incidence of level l (pillar level: each
+    pillar its own cluster; level 2: 2 x 2 pillars).  apply() must equal the dense product to round-off (1e-12 of
+    the result), and the dense A restricted to the footprint must be
+    symmetric and positive definite (K is, and the spring terms are Gram
+    matrices).  Compared on the footprint (apply's mask), where S lies.
+    Segment sums on a 2-level hierarchy (clusters of 2 x 2
+    pillars); the discriminant matrix on the single level, where its size
+    condition holds (4 x 4 pillars 8 elements apart; a 2 x 2 cluster of them
+    is 12 elements wide and its box would reach the next cluster).
+    """
+    from brushbem.structure import Level, brush
+
+    n = 32
+    grid = Grid(1.0, n)
+    h = grid.element_size
+    k1, k2 = 0.02, 0.005
+    indenter = brush(grid, layout="square", pillar_radius=2.2 * h, contact_modulus=E_STAR,
+                     work_of_adhesion=DGAMMA, stiffness=k1, pillars_per_side=4,
+                     levels=(Level(cluster=2, stiffness=k2),) if levels == 2 else ())
+    halfspace = HalfSpace(n, h, E_STAR)
+    operator = ContactOperator(halfspace, indenter, Window.full(n), coupling=coupling)
+    dense = halfspace.dense_matrix(n, n)
+    for level in indenter.elastic_levels:
+        labels = np.asarray(indenter.element_clusters(level)).ravel()
+        same = (labels[:, None] == labels[None, :]) & (labels[:, None] >= 0)
+        dense = dense + (h * h / level.stiffness) * same
+    assert len(indenter.elastic_levels) == levels
+    rng = np.random.default_rng(7)
+    footprint = np.isfinite(np.asarray(indenter.height)).ravel()
+    for _ in range(3):
+        x = np.where(footprint, rng.standard_normal(n * n), 0.0)
+        # A acts on S within the footprint; off it the discriminant box sum is not
+        # a spring term (and is never used), so the comparison is on the footprint.
+        expected = np.where(footprint, dense @ x, 0.0)
+        got = np.asarray(operator.apply(x.reshape(n, n), footprint.reshape(n, n).astype(float))).ravel()
+        assert np.max(np.abs(got - expected)) < 1e-12 * np.max(np.abs(expected))
+    restricted = dense[np.ix_(footprint, footprint)]
+    assert np.max(np.abs(restricted - restricted.T)) < 1e-14 * np.max(restricted)
+    assert np.linalg.eigvalsh(restricted).min() > 0.0
