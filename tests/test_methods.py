@@ -732,8 +732,9 @@ def test_coupled_operator_equals_the_dense_matrix_and_is_spd(coupling, levels):
     """A = K + sum_l (h^2 / k_l) P_l^T P_l built by hand, dense, on a brush.
 
     P_l is the element-to-cluster incidence of level l (pillar level: each
-    pillar its own cluster; level 2: 2 x 2 pillars).  apply() must equal the dense product to round-off (1e-12 of
-    the result), and the dense A restricted to the footprint must be
+    pillar its own cluster; level 2: 2 x 2 pillars).  apply() must equal
+    the dense product to round-off (1e-12 of the result), and the dense A
+    restricted to the footprint must be
     symmetric and positive definite (K is, and the spring terms are Gram
     matrices).  Compared on the footprint (apply's mask), where S lies.
     Segment sums on a 2-level hierarchy (clusters of 2 x 2
