@@ -586,8 +586,7 @@ def _rasterised_problems(config: RunConfig) -> list[_Problem]:
         return []  # reported by the rules above
     problems = []
     preload = config.protocol.preload_displacement
-    heights = np.asarray(indenter.height)
-    lowest = float(np.min(heights[np.isfinite(heights)]))
+    lowest = indenter.lowest_height
     if preload is not None and preload <= lowest:
         problems.append(_Problem(
             "protocol.preload_displacement", _show(preload),

@@ -334,7 +334,6 @@ class _Tracker:
         if force_attach is not None:
             needed = needed | force_attach
         self.ensure_window(needed, margin)
-        self.length_scale = max(self.length_scale, abs(displacement))
         iterations = solves = 0
         trial = None
         enlarged = False
@@ -637,7 +636,7 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     """
     tracker = _Tracker(problem, path)
     if path.preload_displacement is not None:
-        lowest = float(tracker.xp.min(tracker.xp.where(tracker.footprint, tracker.height, tracker.xp.inf)))
+        lowest = problem.indenter.lowest_height
         if path.preload_displacement <= lowest:
             raise ValueError(
                 f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
@@ -771,7 +770,7 @@ def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
             yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
             return d, True
         # First touch: the lowest footprint elements.
-        lowest = float(xp.min(xp.where(tracker.footprint, tracker.height, xp.inf)))
+        lowest = tracker.problem.indenter.lowest_height
         distance = max(lowest - d, 0.0)
         first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
         new_d = d + distance

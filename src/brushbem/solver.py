@@ -888,10 +888,11 @@ def polonsky_keer(
     if not bool(xp.any(target > 0)):
         zeros = xp.zeros_like(target)
         return Equilibrium(displacement, zeros, zeros > 0, True, "no penetration", 0, 1, 0.0, 0, 0)
+    # The rigid-punch-like guess: a small uniform pressure where the tip penetrates.
+    guess = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
     pressure = xp.where(footprint & (pressure > 0), pressure, 0.0)
     if not bool(xp.any(pressure > 0)):
-        # Start from the rigid-punch-like guess: a small uniform pressure where the tip penetrates.
-        pressure = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+        pressure = guess
     target_norm = math.sqrt(float(xp.sum(target[target > 0] ** 2)))
     direction = xp.zeros_like(pressure)
     # The deflection is tracked, not recomputed: one FFT pair per iteration for
@@ -906,7 +907,7 @@ def polonsky_keer(
         if not bool(xp.any(contact)):
             # A step projected every pressure to zero (a warm start far too
             # high): start again from the guess, which loads the penetration.
-            pressure = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+            pressure = guess
             deflection = operator.deflection(pressure)
             reset = True
             contact = pressure > 0

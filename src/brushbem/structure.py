@@ -135,6 +135,11 @@ class Indenter:
         return int(self.pillar.max()) + 1
 
     @property
+    def lowest_height(self) -> float:
+        """Height of the lowest element: the base displacement at which the tip first touches."""
+        return float(np.min(self.height[self.footprint]))
+
+    @property
     def elastic_levels(self) -> tuple[SpringLevel, ...]:
         """The levels with finite stiffness (the rigid ones add nothing to the operator)."""
         return tuple(level for level in self.levels if not level.rigid)
