@@ -301,6 +301,56 @@ def test_every_problem_reported_at_once():
     assert len(problems) == 4, problems
 
 
+def test_rules_between_keys_reported_beside_the_bad_values_of_their_table():
+    """A table whose value fails still has its rules between keys checked, in the same pass.
+
+    Pydantic skips a model's after-validator once one of its fields failed;
+    every rule below would otherwise appear only after the bad value is fixed.
+    """
+    document = valid_document()
+    document["halfspace"] = {"contact_modulus": math.nan, "youngs_modulus": 2.0, "poisson_ratio": 0.3}
+    document["indenter"].update(radius=-1.0, file="tip.npy")  # file: a height_map key on a punch
+    document["protocol"] = {"preload_displacement": -0.1, "preload_force": 1.0, "step": 0.0}
+    problems = problems_of(document)
+    expected = {
+        "`halfspace.contact_modulus`: nan — must be a finite number > 0",
+        "`halfspace`: contact_modulus = nan, youngs_modulus = 2.0, poisson_ratio = 0.3 — give either",
+        "`indenter.radius`: -1.0 — must be a finite number > 0",
+        "`indenter.file`: 'tip.npy' — file not found",
+        "`indenter.file`: 'tip.npy' — only used when shape = 'height_map'; remove it",
+        "`protocol.preload_displacement`: -0.1 — must be a finite number > 0",
+        "`protocol.step`: 0.0 — must be a finite number > 0",
+        "`protocol`: preload_displacement = -0.1, preload_force = 1.0 — give exactly one",
+    }
+    assert len(problems) == len(expected), problems
+    for start in expected:
+        assert sum(p.startswith(start) for p in problems) == 1, (start, problems)
+
+
+def test_rules_of_each_hierarchy_level_reported_beside_its_bad_values():
+    document = valid_document()
+    document["indenter"] = {
+        "shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.05,
+        "stiffness_ratio": 1.0,
+        "levels": [
+            {"cluster": 0, "stiffness": 1.0, "stiffness_ratio": 2.0},  # a bad value and both stiffnesses
+            {"cluster": 2},  # neither stiffness
+        ],
+    }
+    problems = problems_of(document)
+    assert sorted(p.split(" — ")[0].split(":")[0] for p in problems) == [
+        "`indenter.levels.0.cluster`", "`indenter.levels.0.stiffness_ratio`", "`indenter.levels.1.stiffness_ratio`",
+    ], problems
+    assert any(p.startswith("`indenter.levels.0.cluster`: 0 — must be an integer in [1, 4096]") for p in problems)
+
+
+def test_a_shape_that_fails_skips_only_the_rules_that_depend_on_it():
+    document = valid_document()
+    document["indenter"] = {"shape": "cube", "radius": 0.25, "stiffness": -1.0}
+    problems = problems_of(document)
+    assert [p.split(":")[0] for p in problems] == ["`indenter.shape`", "`indenter.stiffness`"], problems
+
+
 def test_height_map_resolved_relative_to_the_config_file(tmp_path):
     np.save(tmp_path / "tip.npy", np.zeros((64, 64)))
     path = tmp_path / "c.toml"

@@ -109,7 +109,30 @@ def _rules_error(problems: list[_Problem]) -> PydanticCustomError:
     )
 
 
-class HalfSpaceConfig(BaseModel):
+class _Section(BaseModel):
+    """A table of the configuration, with rules between its keys.
+
+    A rule between keys ("exactly one of ...", "the keys each shape needs")
+    is `_rule_problems`; it reads only which keys are given and the values of
+    choice keys, so `rule_problems_of_raw` can apply it to a table whose values
+    failed their own checks - pydantic skips an after-validator then, and the
+    rule's problem would otherwise surface one run later.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    def _rule_problems(self) -> list[_Problem]:
+        return []
+
+    @model_validator(mode="after")
+    def _rules(self) -> _Section:
+        problems = self._rule_problems()
+        if problems:
+            raise _rules_error(problems)
+        return self
+
+
+class HalfSpaceConfig(_Section):
     """The elastic half-space.
 
     Give either ``contact_modulus`` (E*) or both ``youngs_modulus`` and
@@ -135,8 +158,7 @@ class HalfSpaceConfig(BaseModel):
     poisson_ratio: float | None = Field(None, ge=0, lt=0.5, allow_inf_nan=False)
     work_of_adhesion: float = Field(0.0, ge=0, allow_inf_nan=False)
 
-    @model_validator(mode="after")
-    def _one_modulus(self) -> HalfSpaceConfig:
+    def _rule_problems(self) -> list[_Problem]:
         by_contact = self.contact_modulus is not None
         by_young = self.youngs_modulus is not None or self.poisson_ratio is not None
         complete_young = self.youngs_modulus is not None and self.poisson_ratio is not None
@@ -145,14 +167,8 @@ class HalfSpaceConfig(BaseModel):
                 f"{name} = {_show(getattr(self, name))}"
                 for name in ("contact_modulus", "youngs_modulus", "poisson_ratio")
             )
-            raise _rules_error([
-                _Problem(
-                    "",
-                    given,
-                    "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio",
-                )
-            ])
-        return self
+            return [_Problem("", given, "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio")]
+        return []
 
     @property
     def effective_modulus(self) -> float:
@@ -273,7 +289,7 @@ class ProfileConfig(BaseModel):
     reference_stress: float | None = Field(None, gt=0, allow_inf_nan=False)
 
 
-class LevelConfig(BaseModel):
+class LevelConfig(_Section):
     """One hierarchy level above the pillars (thesis ch. 6).
 
     Attributes
@@ -298,18 +314,17 @@ class LevelConfig(BaseModel):
     def _inf_string(cls, value: Any) -> Any:
         return _inf_from_string(value)
 
-    @model_validator(mode="after")
-    def _one_stiffness(self) -> LevelConfig:
+    def _rule_problems(self) -> list[_Problem]:
         if (self.stiffness is None) == (self.stiffness_ratio is None):
-            raise _rules_error([_Problem(
+            return [_Problem(
                 "stiffness_ratio",
                 f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = {_show(self.stiffness)}",
                 "give exactly one of stiffness_ratio and stiffness (inf = rigid)",
-            )])
-        return self
+            )]
+        return []
 
 
-class IndenterConfig(BaseModel):
+class IndenterConfig(_Section):
     """The indenter and the spring that carries it.
 
     Attributes
@@ -405,8 +420,10 @@ class IndenterConfig(BaseModel):
         _check_height_map(path)
         return str(path)
 
-    @model_validator(mode="after")
-    def _keys_for_shape(self) -> IndenterConfig:
+    def _rule_problems(self) -> list[_Problem]:
+        shape = getattr(self, "shape", None)  # absent on a failed table built from what was given
+        if not isinstance(shape, str) or shape not in _SHAPE_KEYS:  # a problem of `shape` itself
+            return []
         needed = set(_SHAPE_KEYS[self.shape])
         allowed = needed | set(_SHAPE_OPTIONAL[self.shape])
         every = {k for keys in (*_SHAPE_KEYS.values(), *_SHAPE_OPTIONAL.values()) for k in keys}
@@ -424,13 +441,11 @@ class IndenterConfig(BaseModel):
                 )
         if self.is_brush:
             problems.extend(self._brush_problems())
-        if problems:
-            raise _rules_error(problems)
-        return self
+        return problems
 
     def _brush_problems(self) -> list[_Problem]:
         problems = []
-        if self.layout is not None:
+        if isinstance(self.layout, str) and self.layout in _LAYOUT_KEYS:
             needed = set(_LAYOUT_KEYS[self.layout])
             allowed = needed | set(_LAYOUT_OPTIONAL[self.layout])
             for key in sorted({k for keys in (*_LAYOUT_KEYS.values(), *_LAYOUT_OPTIONAL.values()) for k in keys}):
@@ -483,7 +498,7 @@ def _height_map_shape(path: str) -> tuple[int, ...]:
     return np.load(path, mmap_mode="r", allow_pickle=False).shape
 
 
-class ProtocolConfig(BaseModel):
+class ProtocolConfig(_Section):
     """The pull-off load path: press to a preload, then retract until separation.
 
     Attributes
@@ -512,17 +527,14 @@ class ProtocolConfig(BaseModel):
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)
     max_steps: int = Field(200_000, gt=0)
 
-    @model_validator(mode="after")
-    def _one_preload(self) -> ProtocolConfig:
+    def _rule_problems(self) -> list[_Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):
             given = (
                 f"preload_displacement = {_show(self.preload_displacement)}, "
                 f"preload_force = {_show(self.preload_force)}"
             )
-            raise _rules_error([
-                _Problem("", given, "give exactly one of preload_displacement or preload_force")
-            ])
-        return self
+            return [_Problem("", given, "give exactly one of preload_displacement or preload_force")]
+        return []
 
 
 class SolverConfig(BaseModel):
@@ -682,6 +694,12 @@ def _field_at(model: type[BaseModel], loc: tuple[Any, ...]) -> Any:
     field = None
     current: Any = model
     for part in loc:
+        if get_origin(current) in (Union, UnionType):  # X | None
+            members = [a for a in get_args(current) if a is not NoneType]
+            current = members[0] if len(members) == 1 else current
+        if isinstance(part, int) and get_origin(current) is tuple:  # tuple[Model, ...] item
+            current = get_args(current)[0]
+            continue
         if not (isinstance(current, type) and issubclass(current, BaseModel)):
             return None
         field = current.model_fields.get(part) if isinstance(part, str) else None
@@ -770,6 +788,35 @@ def _problem_lines(
     return lines
 
 
+def _skipped_rule_lines(
+    items: list[dict[str, Any]], model: type[BaseModel], raw: Any, prefix: tuple[Any, ...]
+) -> list[str]:
+    """Problems of the rules between keys that pydantic skipped in a failed table.
+
+    ``items`` are the table's pydantic errors (locations relative to it).  If
+    any of its values failed, its after-validator did not run; its rules are
+    applied here to the keys as given, so that one pass reports them too.
+    The same holds for each ``[[indenter.levels]]`` table.
+    """
+    if not (isinstance(raw, Mapping) and isinstance(model, type) and issubclass(model, _Section)):
+        return []
+    lines = []
+    rules_ran = any(item["type"] == "config_rules" and not item["loc"] for item in items)
+    if items and not rules_ran and any(item["loc"] for item in items):
+        given = model.model_construct(**{k: v for k, v in raw.items() if k in model.model_fields})
+        for problem in given._rule_problems():
+            lines.append(f"`{_dotted(prefix + (problem.key,))}`: {problem.value} — {problem.allowed}")
+    if model is IndenterConfig and isinstance(raw.get("levels"), list):
+        for i, level in enumerate(raw["levels"]):
+            nested = [
+                {**item, "loc": tuple(item["loc"])[2:]}
+                for item in items
+                if tuple(item["loc"])[:2] == ("levels", i)
+            ]
+            lines.extend(_skipped_rule_lines(nested, LevelConfig, level, prefix + ("levels", i)))
+    return lines
+
+
 def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None) -> RunConfig:
     """Validate a configuration mapping (a parsed TOML document).
 
@@ -813,6 +860,9 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
             sections[name] = model.model_validate(mapping[name], context=context)
         except ValidationError as exc:
             problems.extend(_problem_lines(exc, model, (name,)))
+            problems.extend(
+                _skipped_rule_lines(exc.errors(include_url=False), model, mapping[name], (name,))
+            )
     if problems:
         for problem in _cross_section_problems(
             sections.get("grid"), sections.get("indenter"), sections.get("halfspace")
