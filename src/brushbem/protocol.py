@@ -34,6 +34,7 @@ affine between events), so that an event transforms only the new A_S^-1 1.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import time
 from collections.abc import Callable, Iterator
@@ -642,10 +643,21 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
                 f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
                 "the height of the indenter's lowest element (where it first touches)"
             )
-    if path.method == "fixed":
-        yield from _fixed(tracker, path)
-    else:
-        yield from _events(tracker, path)
+    states = _fixed(tracker, path) if path.method == "fixed" else _events(tracker, path)
+    preload = None
+    for state in states:
+        if state.loading:
+            preload = state
+        elif preload is not None and preload.converged and preload.contact_area == 0:
+            # Pressed to the preload without touching: no pull-off to follow.
+            states.close()
+            yield dataclasses.replace(preload, converged=False, n_solves=0, cg_iterations=0, reason=(
+                f"no contact at the end of the loading branch (d = {preload.displacement:.6g}): the "
+                f"penetration there is within the solver's tolerance (solver.tolerance = {path.tolerance:g} "
+                "of the path's length scale); raise the preload or lower solver.tolerance"
+            ))
+            return
+        yield state
 
 
 def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
@@ -686,23 +698,7 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
                 yield _eq_state(tracker, eq, True)
                 return
             if force >= target:
-                # Secant/bisection between the last two steps on a copy of the
-                # previous state, so the history of the contact set is kept.
-                lo, f_lo = previous
-                hi, f_hi = d, force
-                for _ in range(60):
-                    trial_d = lo + (target - f_lo) * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-                    trial_d = min(max(trial_d, lo + 1e-3 * (hi - lo)), hi - 1e-3 * (hi - lo))
-                    tracker.pressure, tracker.contact = saved
-                    eq = tracker.solve(trial_d)
-                    f = tracker.force()
-                    if abs(f - target) <= 1e-6 * target or not eq.converged:
-                        break
-                    if f < target:
-                        lo, f_lo = trial_d, f
-                    else:
-                        hi, f_hi = trial_d, f
-                d = trial_d
+                eq, d = _reach_force(tracker, saved, previous, (d, force, eq), target)
                 yield _eq_state(tracker, eq, True)
                 break
             yield _eq_state(tracker, eq, True)
@@ -721,6 +717,49 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
             return
         yield _eq_state(tracker, eq, False)
     yield _budget_exhausted(tracker, d, False, path)
+
+
+def _reach_force(tracker: _Tracker, saved, below, above, target: float):
+    """The smallest displacement at which the loading force reaches ``target``.
+
+    ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
+    target bracket it; every trial solves from ``saved``, the contact state at
+    ``below``, so the history of the contact set is kept.  False position,
+    with a bisection whenever a step fails to halve the bracket, ends when the
+    force at the upper end is within 1e-6 of the target, or when the bracket
+    has shrunk to rounding: then the force jumps past the target there (an
+    adhesive snap-in) and the state just past the jump is the preload.
+    Returns (equilibrium at the upper end, its displacement); the tracker
+    holds that state.
+    """
+    lo, f_lo = below
+    hi, f_hi, eq = above
+    bisect = False
+    solves = iterations = 0  # the trials' work, counted in the returned state
+    for _ in range(200):
+        if f_hi - target <= 1e-6 * target or hi - lo <= 4 * np.finfo(float).eps * abs(hi):
+            break
+        width = hi - lo
+        if bisect or f_hi == f_lo:
+            trial = 0.5 * (lo + hi)
+        else:
+            trial = lo + (target - f_lo) * width / (f_hi - f_lo)
+            trial = min(max(trial, lo + 1e-3 * width), hi - 1e-3 * width)
+        tracker.pressure, tracker.contact = saved
+        trial_eq = tracker.solve(trial)
+        solves += trial_eq.n_solves
+        iterations += trial_eq.cg_iterations
+        if not trial_eq.converged:
+            return trial_eq, trial
+        f = tracker.force()
+        if f < target:
+            lo, f_lo = trial, f
+        else:
+            hi, f_hi, eq = trial, f, trial_eq
+        bisect = hi - lo > 0.5 * width
+    tracker.pressure, tracker.contact = saved
+    eq = tracker.solve(hi)  # deterministic: the same state as the trial at hi
+    return dataclasses.replace(eq, n_solves=eq.n_solves + solves, cg_iterations=eq.cg_iterations + iterations), hi
 
 
 def _budget_exhausted(tracker, d, loading, path) -> State:
@@ -995,6 +1034,13 @@ def record_pull_off(
     if not separated and converged:
         converged = False
         reason = "the path ended before complete separation"
+    if last_contact_state is None and last_loading_state is not None and last_loading_state.contact_area > 0:
+        # The first unloading step already separated: the unloading branch
+        # starts at the preload, which is its last state with contact and the
+        # least compressive one.
+        last_contact_state = best = last_loading_state
+        _, attached = pillar_forces(last_loading_state)
+        last_attached_d[attached] = last_loading_state.displacement
     if last_loading_state is not None:
         snapshots["max_preload"] = _snapshot("max_preload", last_loading_state, to_numpy, pillar_forces)
     if best is not None:
@@ -1050,26 +1096,23 @@ def _snapshot(name: str, state: State, to_numpy, pillar_forces) -> Snapshot:
 def work_of_separation(points: list[tuple[float, float]]) -> float:
     """Work against the tensile force along an unloading path (d decreasing).
 
-    ``points`` is the path (d, F) in order, cascades as vertical segments.
-    Integration starts at the first zero crossing of F and ends at the last
-    point; each segment is linear (exact for the event-driven path).
+    ``points`` is the path (d, F) in order, cascades as vertical segments; each
+    segment is linear (exact for the event-driven path).  The work is the area
+    of the tensile part of the curve, -F dd where F < 0: it starts at the
+    first zero crossing of F and ends at separation.  Where F turns
+    compressive again on the way (a cascade that leaves compressed contacts
+    behind, as on a rough brush), that stretch is pushed by the half-space,
+    not pulled against its adhesion, and adds nothing - so the work is never
+    negative.
     """
-    if len(points) < 2:
-        return 0.0
-    d = np.array([p[0] for p in points])
-    f = np.array([p[1] for p in points])
-    start = None
-    for k in range(len(f)):
-        if f[k] <= 0:
-            start = k
-            break
-    if start is None:
-        return 0.0
     work = 0.0
-    if start > 0 and f[start - 1] > 0:
-        # Zero crossing inside the segment (start-1, start).
-        d0 = d[start - 1] + (d[start] - d[start - 1]) * f[start - 1] / (f[start - 1] - f[start])
-        work += 0.5 * (0.0 - f[start]) * (d0 - d[start])
-    for k in range(start, len(f) - 1):
-        work += 0.5 * (-(f[k]) - f[k + 1]) * (d[k] - d[k + 1])
+    for (d0, f0), (d1, f1) in itertools.pairwise(points):
+        run = d0 - d1  # >= 0 along the unloading
+        if run == 0.0 or (f0 >= 0.0 and f1 >= 0.0):
+            continue
+        if f0 <= 0.0 and f1 <= 0.0:
+            work += 0.5 * (-f0 - f1) * run
+        else:  # F changes sign inside the segment: the tensile triangle
+            tension = -min(f0, f1)
+            work += 0.5 * tension * run * tension / (abs(f0) + abs(f1))
     return float(work)
