@@ -112,7 +112,9 @@ def fake_run_case(monkeypatch):
             "force": np.array([0.0, -0.02]),
             "label": "Kendall",
         }
-        return fake_result(converged=state["converged"]), reference
+        result = fake_result(converged=state["converged"])
+        result.summary["warnings"] = list(state.get("warnings", []))
+        return result, reference
 
     monkeypatch.setattr(case_module, "run_case", run_case, raising=False)
     run_case.calls = calls  # type: ignore[attr-defined]
@@ -288,6 +290,15 @@ def test_not_converged_writes_results_and_exits_3(tmp_path, fake_run_case):
     assert reason and reason in result.output, result.output  # the reason is said, not only written
     assert (out / "summary.json").exists() and (out / "result.nc").exists()
     assert json.loads((out / "summary.json").read_text())["converged"] is False
+
+
+def test_warnings_of_a_converged_run_are_said_and_written(tmp_path, fake_run_case):
+    fake_run_case.state["warnings"] = ["the contact at the preload reaches the edge of the domain"]
+    out = tmp_path / "out"
+    result = invoke("run", str(write(tmp_path, VALID_TOML)), "--out", str(out))
+    assert result.exit_code == 0, result.output
+    assert "warning: the contact at the preload reaches the edge of the domain" in result.output
+    assert json.loads((out / "summary.json").read_text())["warnings"] == fake_run_case.state["warnings"]
 
 
 def test_out_that_cannot_be_created_exits_2_before_running(tmp_path, fake_run_case):

@@ -11,11 +11,15 @@ import numpy as np
 from . import __version__, theory
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
-from .protocol import ContactProblem, LoadPath, record_pull_off
+from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from .results import CaseResult
 from .structure import Grid, Indenter, build_brush, flat_punch, height_map, sphere
 
-__all__ = ["build_indenter", "build_problem", "build_path", "run_case", "theory_for", "brush_scales"]
+__all__ = ["build_indenter", "build_problem", "build_path", "run_case", "run_warnings", "theory_for", "brush_scales"]
+
+# A fixed-step pull-off whose tensile part spans fewer steps than this samples
+# the force minimum and the tensile area too coarsely to be read as results.
+MIN_TENSILE_STEPS = 10
 
 
 def build_indenter(config: RunConfig) -> Indenter:
@@ -238,6 +242,45 @@ def _brush_theory(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dic
     return out, None
 
 
+def run_warnings(problem: ContactProblem, path: LoadPath, record: PullOffRecord) -> list[str]:
+    """What makes a finished run's numbers questionable although every solve converged.
+
+    * The contact at the preload reaches the edge of the domain on an indenter
+      that continues beyond it (a sphere, a height map): the pressure outside
+      the domain is taken as zero, so the indenter is cut there.
+    * The fixed-step path resolved the tensile part of the pull-off by fewer
+      than `MIN_TENSILE_STEPS` steps.
+    * The preload displacement exceeds the domain size: far outside the small
+      strains of linear elasticity.
+    """
+    warnings = []
+    summary = record.summary
+    shape = problem.indenter.description.get("shape")
+    preload = next((s for s in record.snapshots if s.name == "max_preload"), None)
+    if shape in ("sphere", "height_map") and preload is not None:
+        contact = np.asarray(preload.contact)
+        if contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any():
+            warnings.append(
+                f"the contact at the preload reaches the edge of the domain (grid.size = {problem.grid.size:g}): "
+                "the indenter is cut there (no pressure outside the domain); enlarge grid.size or lower the preload"
+            )
+    curve = record.curve
+    if path.method == "fixed" and summary.get("adhesive_force", 0.0) > 0.0:
+        tensile = int(np.count_nonzero(~curve.loading & (curve.force < 0.0)))
+        if tensile < MIN_TENSILE_STEPS:
+            warnings.append(
+                f"the tensile part of the pull-off spans only {tensile} fixed steps (protocol.step = {path.step:g}): "
+                "the adhesive force and the work of separation are coarse; lower protocol.step or use "
+                'method = "events"'
+            )
+    if summary.get("max_displacement", 0.0) > problem.grid.size:
+        warnings.append(
+            f"the preload displacement {summary['max_displacement']:g} exceeds the domain size "
+            f"(grid.size = {problem.grid.size:g}): far beyond the small strains the linear half-space assumes"
+        )
+    return warnings
+
+
 def run_case(
     config: RunConfig,
     *,
@@ -254,6 +297,7 @@ def run_case(
     summary = dict(record.summary)
     summary["critical_stress"] = problem.critical_stress
     summary["theory"], reference = theory_for(problem, summary, path)
+    summary["warnings"] = run_warnings(problem, path, record)
     attributes = {
         "brushbem_version": __version__,
         "config": config_to_dict(config),

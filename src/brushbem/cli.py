@@ -193,6 +193,8 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
     if not quiet:
         Console().print(_summary_table(result.summary))
         click.echo(f"results written to {out_dir}")
+    for warning in result.summary.get("warnings", []):
+        click.echo(f"warning: {warning}", err=True)
     if not result.summary.get("converged", False):
         click.echo(
             f"warning: the pull-off did not converge ({result.summary.get('reason', 'no reason given')}); "
