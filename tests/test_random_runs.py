@@ -139,6 +139,7 @@ def test_random_configurations_run_or_are_refused(tmp_path_factory, drawn):
     result, _ = run_case(config)
     summary = result.summary
     assert isinstance(summary["converged"], bool)
+    assert all(isinstance(w, str) for w in summary["warnings"])
     event("converged" if summary["converged"] else "not converged: " + summary["reason"].split("(")[0][:60])
     if not summary["converged"]:
         assert isinstance(summary.get("reason"), str) and summary["reason"], summary
