@@ -450,6 +450,41 @@ def test_16x16_brush_force_is_near_the_rigid_estimate_for_stiff_pillars(brush_16
         assert 1.6 <= normalized["force_by_compact_punch"] <= 2.1, (ratio, normalized)
 
 
+def test_rigid_brush_force_is_resolved_at_four_elements_per_pillar_radius():
+    """A rigid 4 x 4 brush (phi = 0.12): F_A / F_c at 4, 8, 16 elements per pillar radius.
+
+    Measured F_A / F_c (F_c of eq. 4.5 on the rasterised phi): 0.937, 0.930,
+    0.924 at r/h = 4, 8, 16 - resolved to 1.3 %, the scatter of the
+    rasterised filling factor (0.124, 0.117, 0.121) that F_c is computed on.
+    So the brush results at the thesis's ~3-4 elements per radius are not a
+    discretisation artefact.  That F_A / F_c is not 1 is the lattice: eq. 4.5
+    homogenises the pillars into a punch of work phi dgamma, whereas the
+    discrete criterion lets the outer row of pillars go at its own Kendall
+    force.  At r/h = 4 the ratio grows with the pillar count (0.73, 0.94,
+    1.01, 1.05 for 2, 4, 8, 16 pillars per side) towards the thesis's
+    F~ ~ 1.8 vs phi^-1/4 = 1.7 of Fig. 4-3a (a ratio of 1.06); the bands
+    below allow 2 % for the scatter and +-10 % around the measured 0.93.
+    """
+    side, phi = 4, 0.12
+    radius = math.sqrt(phi / (side * side * math.pi))
+    ratios = []
+    for per_radius in (4, 8, 16):
+        n = round(per_radius / radius)
+        n += n % 2
+        document = {
+            "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+            "grid": {"size": 1.0, "elements": n},
+            "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": side,
+                         "pillar_radius": radius, "stiffness_ratio": math.inf},
+            "protocol": {"preload_displacement": 0.002},
+        }
+        result, _ = run_case(parse_config(document))
+        assert result.summary["converged"], result.summary["reason"]
+        ratios.append(result.summary["normalized"]["force_by_rigid_brush"])
+    assert max(ratios) / min(ratios) - 1 < 0.02, ratios
+    assert all(0.84 < r < 1.03 for r in ratios), ratios
+
+
 def test_16x16_brush_force_grows_as_pillars_soften(brush_16x16):
     forces = [brush_16x16[r].summary["normalized"]["force_by_compact_punch"] for r in (10.0, 1.0, 0.01)]
     assert forces[0] <= forces[1] * (1 + 1e-6) < forces[2]
