@@ -145,7 +145,9 @@ def test_kendall_punch_convergence():
       errors of F and d): 32 on 128 (this test): 0.28 %, 1.02 %; 32 on 129
       (centre on an element centre): 0.02 %, 0.57 %; 31.75 on 128: 1.39 %,
       1.76 %; 32.25 on 128: 1.25 %, 1.75 %; 32.5 on 128: 0.33 %, 1.44 %;
-      32.25 on 129: 0.80 %, 1.65 %.  The discrete criterion on a staircase
+      32.25 on 129: 0.80 %, 1.65 %.  A scan of 21 radii from 31.5 h to
+      32.5 h on N = 128 gives F errors of 0.24-1.44 % and d errors of
+      0.80-1.82 %, all positive.  The discrete criterion on a staircase
       edge cannot promise 1 % for every rasterisation at this resolution.
     """
     results = [_kendall_errors(n) for n in (32, 64, 128)]
