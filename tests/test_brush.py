@@ -45,8 +45,8 @@ RADIUS = 6 * GRID.element_size  # 0.0469: phi = 16 pi r^2 = 0.11
 
 
 def _brush(**kwargs) -> Indenter:
-    args = dict(layout="square", pillars_per_side=4, pillar_radius=RADIUS, contact_modulus=E_STAR,
-                work_of_adhesion=DGAMMA)
+    args = {"layout": "square", "pillars_per_side": 4, "pillar_radius": RADIUS, "contact_modulus": E_STAR,
+                "work_of_adhesion": DGAMMA}
     args.update(kwargs)
     return brush(kwargs.pop("grid", GRID), **{k: v for k, v in args.items() if k != "grid"})
 
@@ -78,7 +78,7 @@ def test_square_lattice_geometry_and_filling_factor():
 
 
 def test_random_layout_is_reproducible_and_never_overlaps():
-    kwargs = dict(layout="random", pillar_count=40, pillar_radius=3 * GRID.element_size, min_gap=0.01)
+    kwargs = {"layout": "random", "pillar_count": 40, "pillar_radius": 3 * GRID.element_size, "min_gap": 0.01}
     a, b, c = _brush(seed=5, **kwargs), _brush(seed=5, **kwargs), _brush(seed=6, **kwargs)
     np.testing.assert_array_equal(a.pillar, b.pillar)
     assert not np.array_equal(a.pillar, c.pillar)
@@ -100,7 +100,7 @@ def test_circular_region_keeps_the_pillars_inside_the_circle():
 
 def test_roughness_offsets_are_seeded_gaussian_and_scale_with_sigma():
     grid = Grid(1.0, 512)
-    kw = dict(grid=grid, pillars_per_side=32, pillar_radius=0.006, stiffness=1.0, seed=3)
+    kw = {"grid": grid, "pillars_per_side": 32, "pillar_radius": 0.006, "stiffness": 1.0, "seed": 3}
     one = _brush(roughness=1e-3, **kw).description["offsets"]
     two = _brush(roughness=2e-3, **kw).description["offsets"]
     flat = _brush(roughness=0.0, **kw).description["offsets"]
@@ -311,7 +311,7 @@ def test_pillar_blocks_cut_the_iterations_at_every_stiffness():
         blocked = conjugate_gradient(system.apply, system.gather(rhs), np.ones(system.size, dtype=bool),
                                      tolerance=1e-10, preconditioner=pillar_block_preconditioner(system))
         pc = spring_preconditioner(operator, mask) if operator.has_springs else laplacian_preconditioner(mask)
-        windowed = conjugate_gradient(lambda p: operator.apply(p, mask), rhs, mask, tolerance=1e-10,
+        windowed = conjugate_gradient(lambda p: operator.apply(p, mask), rhs, mask, tolerance=1e-10,  # noqa: B023 - called inside the loop
                                       preconditioner=pc)
         assert blocked.converged and windowed.converged
         assert 2 * blocked.iterations <= windowed.iterations, (stiffness, blocked.iterations, windowed.iterations)

@@ -23,6 +23,7 @@ staircase's; see brushbem.case.theory_for, which does the same).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -163,8 +164,8 @@ def test_kendall_punch_convergence():
         f"(orders {[round(p, 2) for p in displacement_orders]})"
     )
     print("\nKendall punch:", message)
-    assert all(abs(e1) > abs(e2) for e1, e2 in zip(force_errors[:-1], force_errors[1:])), message
-    assert all(abs(e1) > abs(e2) for e1, e2 in zip(displacement_errors[:-1], displacement_errors[1:])), message
+    assert all(abs(e1) > abs(e2) for e1, e2 in itertools.pairwise(force_errors)), message
+    assert all(abs(e1) > abs(e2) for e1, e2 in itertools.pairwise(displacement_errors)), message
     assert all(p > 0.5 for p in force_orders + displacement_orders), message
     assert ratios[-1] == pytest.approx(32, abs=0.5)
     assert abs(force_errors[-1]) < 0.01, message
@@ -225,7 +226,7 @@ def test_jkr_sphere_pull_off_force_convergence():
     assert ratios[-1] >= 40
     # The contact stayed well inside the domain and exceeded a_JKR.
     assert all(a_jkr < a < 0.8 * 0.5 * size for a in largest_contact), largest_contact
-    assert all(abs(e1) > abs(e2) for e1, e2 in zip(errors[:-1], errors[1:])), message
+    assert all(abs(e1) > abs(e2) for e1, e2 in itertools.pairwise(errors)), message
     assert all(p > 0.5 for p in orders), message
     assert abs(errors[-1]) < 0.05, message
 
@@ -278,7 +279,7 @@ def test_sphere_work_of_separation_converges_to_theory(case, size, sizes, stiffn
         f"a_JKR/h = {q:.1f}: F {ef:+.2%}, w {ew:+.2%}" for q, ef, ew in rows)
     print("\nSphere work of separation,", message)
     errors = [abs(r[2]) for r in rows]
-    assert all(e1 > e2 for e1, e2 in zip(errors[:-1], errors[1:])), message
+    assert all(e1 > e2 for e1, e2 in itertools.pairwise(errors)), message
     assert errors[-1] < bound, message
 
 

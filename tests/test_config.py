@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from pydantic import ValidationError
 
 from brushbem.config import (
     ConfigError,
@@ -65,7 +66,7 @@ def test_valid_document_parses_with_defaults():
 
 def test_models_are_frozen():
     config = parse_config(valid_document())
-    with pytest.raises(Exception):
+    with pytest.raises(ValidationError, match="frozen"):
         config.grid.size = 2.0  # type: ignore[misc]
 
 

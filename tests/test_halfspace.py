@@ -25,6 +25,7 @@ margin and is still eight decades below any modelling error we care about.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -172,8 +173,8 @@ def _adaptive_quadrature(x: float, y: float, h: float, modulus: float) -> float:
     xs = sorted({-half, half, *([x] if -half < x < half else [])})
     ys = sorted({-half, half, *([y] if -half < y < half else [])})
     total = 0.0
-    for a, b in zip(xs[:-1], xs[1:]):
-        for c, d in zip(ys[:-1], ys[1:]):
+    for a, b in itertools.pairwise(xs):
+        for c, d in itertools.pairwise(ys):
             value, _ = integrate.dblquad(
                 lambda eta, xi: 1.0 / math.hypot(x - xi, y - eta), a, b, c, d, epsabs=0.0, epsrel=1e-12
             )

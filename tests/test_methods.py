@@ -14,6 +14,7 @@ discretisation error cancels and small grids lose nothing.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -314,7 +315,7 @@ def test_equilibrium_with_a_known_deflection_agrees():
     gap = np.where(np.isfinite(indenter.height) & ~start.contact, indenter.height, np.inf)
     join = gap <= gap.min() * (1 + 1e-9)
     for d_new in (d, 0.9 * d):
-        kwargs = dict(force_detach=leave, force_attach=join, tolerance=1e-10)
+        kwargs = {"force_detach": leave, "force_attach": join, "tolerance": 1e-10}
         plain = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c, **kwargs)
         known = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c,
                             deflection=start.deflection, **kwargs)
@@ -428,9 +429,9 @@ def _assert_converging(f_events, slope, force_differences, work_differences, lab
     # noise (1e-9 relative).  It need not fall at every halving - the nearest
     # lattice point can be the same one (the punch: 4e-4, 2e-4 and 1e-4 all give
     # 1.4e-3) - so the strict decrease is asserted from the coarsest to the finest.
-    for coarse, fine in zip(force_differences[:-1], force_differences[1:]):
+    for coarse, fine in itertools.pairwise(force_differences):
         assert fine <= coarse + 1e-9 * f_events, message
-    for coarse, fine in zip(work_differences[:-1], work_differences[1:]):
+    for coarse, fine in itertools.pairwise(work_differences):
         assert fine <= coarse + 1e-8, message
     assert force_differences[-1] < 0.75 * force_differences[0], message
     assert work_differences[-1] < 0.5 * work_differences[0], message
@@ -585,7 +586,7 @@ def test_preload_by_force(method, case):
 
 
 def _soft_punch(n: int = 64):
-    grid, a = _punch_grid(n)
+    grid, _a = _punch_grid(n)
     indenter = flat_punch(grid, 0.25, 1e-4)  # k~ ~ 2e-4: a badly conditioned spring mode
     return grid, indenter
 

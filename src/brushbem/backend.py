@@ -17,16 +17,16 @@ import scipy.fft
 from array_api_compat import array_namespace, is_numpy_namespace
 
 __all__ = [
-    "namespace",
-    "rfft2",
-    "irfft2",
-    "padded_convolution",
-    "smooth_length",
-    "segment_sum",
-    "to_numpy",
     "backend_name",
     "fft_workers",
+    "irfft2",
+    "namespace",
+    "padded_convolution",
     "padded_convolution_rows",
+    "rfft2",
+    "segment_sum",
+    "smooth_length",
+    "to_numpy",
 ]
 
 #: Padded transforms with fewer points than this run on one thread: below it the

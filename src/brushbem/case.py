@@ -15,7 +15,7 @@ from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from .results import CaseResult
 from .structure import Grid, Indenter, build_brush, flat_punch, height_map, sphere
 
-__all__ = ["build_indenter", "build_problem", "build_path", "run_case", "run_warnings", "theory_for", "brush_scales"]
+__all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_warnings", "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.

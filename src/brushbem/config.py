@@ -39,18 +39,18 @@ from pydantic_core import PydanticCustomError
 
 __all__ = [
     "ConfigError",
-    "HalfSpaceConfig",
     "GridConfig",
+    "HalfSpaceConfig",
     "IndenterConfig",
-    "RoughnessConfig",
-    "ProfileConfig",
     "LevelConfig",
+    "ProfileConfig",
     "ProtocolConfig",
-    "SolverConfig",
+    "RoughnessConfig",
     "RunConfig",
+    "SolverConfig",
+    "config_to_dict",
     "load_config",
     "parse_config",
-    "config_to_dict",
     "to_json_safe",
 ]
 
@@ -399,7 +399,7 @@ class IndenterConfig(_Section):
         path = _existing_file(value, info)
         try:
             lengths = np.load(path, allow_pickle=False)
-        except Exception as exc:  # any unreadable file is a configuration problem
+        except Exception as exc:  # noqa: BLE001 - any unreadable file is a configuration problem
             raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
         if not isinstance(lengths, np.ndarray) or lengths.dtype.kind not in "fiu" or lengths.ndim != 1:
             raise ValueError("must hold a 1-D array of pillar lengths (one per pillar)")
@@ -483,7 +483,7 @@ def _check_height_map(path: Path) -> None:
     """
     try:
         heights = np.load(path, allow_pickle=False)
-    except Exception as exc:  # any unreadable file is a configuration problem
+    except Exception as exc:  # noqa: BLE001 - any unreadable file is a configuration problem
         raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
     if not isinstance(heights, np.ndarray) or heights.dtype.kind not in "fiu":
         raise ValueError("must hold an array of real numbers")

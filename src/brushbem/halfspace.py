@@ -33,7 +33,7 @@ import scipy.linalg
 
 from . import backend
 
-__all__ = ["influence_coefficients", "HalfSpace", "BLOCK_CACHE_BYTES"]
+__all__ = ["BLOCK_CACHE_BYTES", "HalfSpace", "influence_coefficients"]
 
 #: Host memory kept for the inverses of small K blocks (``HalfSpace.block_inverse``).
 BLOCK_CACHE_BYTES = 256 * 2**20

@@ -21,7 +21,7 @@ import numpy as np
 from .operator import ContactOperator
 from .solver import conjugate_gradient
 
-__all__ = ["NestedLoopResult", "nested_loop_equilibrium", "NestedBrushResult", "nested_loop_brush_equilibrium"]
+__all__ = ["NestedBrushResult", "NestedLoopResult", "nested_loop_brush_equilibrium", "nested_loop_equilibrium"]
 
 
 @dataclass(frozen=True)
@@ -182,7 +182,7 @@ def nested_loop_brush_equilibrium(
             for _inner in range(max_balance):
                 tip = displacement - deflection[np.maximum(labels, 0)]
                 rhs = xp.where(contact, tip - height, 0.0)
-                result = conjugate_gradient(lambda x: rigid_operator.apply(x, contact), rhs, contact,
+                result = conjugate_gradient(lambda x: rigid_operator.apply(x, contact), rhs, contact,  # noqa: B023 - called inside the loop
                                             initial=pressure, tolerance=tolerance, max_iterations=20000, xp=xp)
                 cg_total += result.iterations
                 balance += 1

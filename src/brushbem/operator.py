@@ -27,7 +27,7 @@ from . import backend
 from .halfspace import HalfSpace
 from .structure import Indenter
 
-__all__ = ["ContactOperator", "ContactSystem", "discriminant_half_width", "fast_size", "Window"]
+__all__ = ["ContactOperator", "ContactSystem", "Window", "discriminant_half_width", "fast_size"]
 
 
 @dataclass(frozen=True)

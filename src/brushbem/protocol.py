@@ -56,7 +56,7 @@ from .solver import (
 )
 from .structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "State", "indent", "pull_off", "PullOffRecord", "record_pull_off", "NotConvergedError"]
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "PullOffRecord", "State", "indent", "pull_off", "record_pull_off"]
 
 
 class NotConvergedError(RuntimeError):
@@ -286,7 +286,7 @@ class _Tracker:
         def widen(lo, hi, flo, fhi):
             size = hi - lo
             fraction = self.path.window_margin if margin_fraction is None else margin_fraction
-            margin = max(4, int(math.ceil(fraction * size)))
+            margin = max(4, math.ceil(fraction * size))
             lo, hi = max(lo - margin, flo, 0), min(hi + margin, fhi, n)
             target = min(fast_size(hi - lo), n)
             while hi - lo < target:

@@ -346,7 +346,7 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             deviation_text = f"{100.0 * deviation:+.2f} %" if math.isfinite(deviation) else "n/a"
             # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md.
             css = "ok" if math.isfinite(deviation) and abs(deviation) <= 0.05 else "far"
-        except Exception as exc:
+        except Exception as exc:  # noqa: BLE001 - reported, not raised
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"
         rows.append(f"<tr><td>{_e(number.quantity)}</td><td>{_e(number.where)}</td>"
                     f"<td>{_e(f'{number.thesis:.6g}')}</td><td class=\"{css}\">{_e(ours_text)}</td>"
@@ -410,7 +410,7 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
     if redraw or not any(figures_dir.glob("*.png")):
         try:
             draw_figures(out_dir)
-        except Exception as exc:
+        except Exception as exc:  # noqa: BLE001 - reported, not raised
             draw_note = f"drawing the figures failed: {type(exc).__name__}: {exc}"
     figures = sorted(figures_dir.glob("*.png"))
 

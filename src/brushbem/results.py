@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Curve", "Snapshot", "CaseResult"]
+__all__ = ["CaseResult", "Curve", "Snapshot"]
 
 
 @dataclass(frozen=True)

@@ -33,18 +33,18 @@ from . import backend
 from .operator import ContactOperator, ContactSystem
 
 __all__ = [
-    "SolveResult",
     "Equilibrium",
+    "SolveResult",
     "conjugate_gradient",
-    "polonsky_keer",
-    "equilibrium",
-    "critical_stress",
-    "laplacian_preconditioner",
-    "spring_preconditioner",
     "contact_preconditioner",
-    "pillar_block_preconditioner",
-    "solve_on_set",
+    "critical_stress",
+    "equilibrium",
+    "laplacian_preconditioner",
     "local_cascade",
+    "pillar_block_preconditioner",
+    "polonsky_keer",
+    "solve_on_set",
+    "spring_preconditioner",
 ]
 
 #: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.

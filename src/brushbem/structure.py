@@ -23,9 +23,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = [
-    "Grid", "SpringLevel", "Indenter", "flat_punch", "sphere", "height_map",
-    "StructureError", "Level", "Profile", "brush", "square_lattice", "random_positions",
-    "rasterise_pillars", "hierarchy_clusters", "build_brush",
+    "Grid",
+    "Indenter",
+    "Level",
+    "Profile",
+    "SpringLevel",
+    "StructureError",
+    "brush",
+    "build_brush",
+    "flat_punch",
+    "height_map",
+    "hierarchy_clusters",
+    "random_positions",
+    "rasterise_pillars",
+    "sphere",
+    "square_lattice",
 ]
 
 
@@ -324,10 +336,10 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     n = grid.elements
     x = grid.centres()
     labels = np.full((n, n), -1, dtype=np.int64)
-    reach = int(math.ceil(radius / h)) + 1
+    reach = math.ceil(radius / h) + 1
     for k, (cy, cx) in enumerate(centres):
-        i0 = max(int(math.floor((cy + half) / h)) - reach, 0)
-        j0 = max(int(math.floor((cx + half) / h)) - reach, 0)
+        i0 = max(math.floor((cy + half) / h) - reach, 0)
+        j0 = max(math.floor((cx + half) / h) - reach, 0)
         rows = slice(i0, min(i0 + 2 * reach + 1, n))
         cols = slice(j0, min(j0 + 2 * reach + 1, n))
         inside = (x[rows, None] - cy) ** 2 + (x[None, cols] - cx) ** 2 <= radius * radius

@@ -598,7 +598,7 @@ def compute_case(config: RunConfig) -> CaseOutcome:
     start = time.perf_counter()
     try:
         result, _reference = case_module.run_case(config)
-    except Exception as exc:
+    except Exception as exc:  # noqa: BLE001 - reported, not raised
         return CaseOutcome(
             status="failed",
             reason=f"{type(exc).__name__}: {exc}",
@@ -965,7 +965,7 @@ def run_sweep(
                             lost.append(case.case_id)
                             reporter.record(case, "missing", "a worker process died; rerun to compute it")
                             continue
-                        except Exception as exc:
+                        except Exception as exc:  # noqa: BLE001 - reported, not raised
                             outcome = CaseOutcome("failed", f"{type(exc).__name__}: {exc}", math.nan,
                                                   traceback="".join(traceback.format_exception(exc)))
                         _write_case_file(out_dir, case, outcome)

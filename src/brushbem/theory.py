@@ -53,7 +53,7 @@ from typing import Final
 import numpy as np
 from scipy import optimize, special
 
-__all__ = [
+__all__ = [  # noqa: RUF022 - grouped by thesis chapter
     # material
     "contact_modulus_from",
     # Kendall flat punch

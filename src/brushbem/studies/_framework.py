@@ -227,6 +227,6 @@ def run_study(
     if draw:
         try:
             figures = draw_study(out_dir)
-        except Exception as exc:
+        except Exception as exc:  # noqa: BLE001 - reported, not raised
             draw_error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}"
     return StudyRun(study=study.name, out_dir=out_dir, parts=runs, figures=figures, draw_error=draw_error)

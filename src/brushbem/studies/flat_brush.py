@@ -207,7 +207,7 @@ def _plateau_amplitude(results):
 
 
 def _largest_plateau(results):
-    n, f, _ = _plateau(_frame(results, "regular"))
+    _n, f, _ = _plateau(_frame(results, "regular"))
     return float(f[-1])
 
 
