@@ -191,6 +191,22 @@ def test_zip_lengths_and_key_rules():
     assert "overlaps" in text and '"a..b"' in text
 
 
+def test_key_rules_and_base_file_reported_beside_bad_spec_values(tmp_path):
+    """A bad ``realizations`` does not hide the sweep table's rules or a missing base file."""
+    problems = problems_of({
+        "base": "missing.toml", "mode": "zip", "realizations": 0,
+        "sweep": {"indenter": [{}], "indenter.radius": [0.2, 0.3]},
+    }, tmp_path)
+    text = "\n".join(problems)
+    assert len(problems) == 4, text
+    for fragment in ("`realizations`: 0", '`sweep."indenter.radius"`: overlaps `sweep."indenter"`',
+                     "different lengths", "`base`: 'missing.toml' — file not found"):
+        assert fragment in text
+    # A sweep table that itself fails is not guessed at.
+    problems = problems_of({"base": "missing.toml", "mode": "zip", "sweep": {"a": [1], "b": []}}, tmp_path)
+    assert not any("different lengths" in p for p in problems), problems
+
+
 def test_every_case_validated_before_running(tmp_path, monkeypatch):
     calls = []
     monkeypatch.setattr(brushbem.case, "run_case", lambda *a, **k: calls.append(a))

@@ -409,6 +409,20 @@ def _validate_case(
         return None, False, error.problems
 
 
+def _read_base(base: str | dict[str, Any], folder: Path) -> tuple[dict[str, Any], Path | None, Path]:
+    """The base run configuration: (document, its file or None, the folder its file names are relative to)."""
+    if not isinstance(base, str):
+        return copy.deepcopy(base), None, folder
+    base_file = (folder / base).resolve()
+    try:
+        document = tomllib.loads(base_file.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SweepError([f"`base`: {_show(base)} — file not found (looked for {base_file})"]) from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise SweepError([f"`base`: {_show(base)} — cannot be read as TOML ({exc})"]) from None
+    return document, base_file, base_file.parent
+
+
 def parse_sweep(
     document: Mapping[str, Any],
     base_dir: str | Path | None = None,
@@ -443,24 +457,24 @@ def parse_sweep(
     try:
         spec = SweepSpec.model_validate(dict(document))
     except ValidationError as error:
-        raise SweepError(_spec_problems(error)) from None
+        # The keys that did validate are still checked, so that one pass
+        # reports the sweep table's rules and a missing base file too.
+        failed = {item["loc"][0] for item in error.errors(include_url=False) if item["loc"]}
+        given = {k: v for k, v in document.items() if k in SweepSpec.model_fields and k not in failed}
+        partial = SweepSpec.model_construct(**given)
+        problems = _spec_problems(error)
+        if not failed & {"sweep", "mode"}:
+            problems += _key_problems(partial)
+        if "base" in given:
+            try:
+                _read_base(partial.base, folder)
+            except SweepError as base_error:
+                problems += base_error.problems
+        raise SweepError(problems) from None
     problems = _key_problems(spec)
     if problems:
         raise SweepError(problems)
-
-    base_file: Path | None = None
-    if isinstance(spec.base, str):
-        base_file = (folder / spec.base).resolve()
-        try:
-            base = tomllib.loads(base_file.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise SweepError([f"`base`: {_show(spec.base)} — file not found (looked for {base_file})"]) from None
-        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-            raise SweepError([f"`base`: {_show(spec.base)} — cannot be read as TOML ({exc})"]) from None
-        case_dir = base_file.parent
-    else:
-        base = copy.deepcopy(spec.base)
-        case_dir = folder
+    base, base_file, case_dir = _read_base(spec.base, folder)
 
     keys = list(spec.sweep)
     columns = [spec.sweep[key] for key in keys]
