@@ -806,14 +806,19 @@ def _skipped_rule_lines(
         given = model.model_construct(**{k: v for k, v in raw.items() if k in model.model_fields})
         for problem in given._rule_problems():
             lines.append(f"`{_dotted(prefix + (problem.key,))}`: {problem.value} — {problem.allowed}")
-    if model is IndenterConfig and isinstance(raw.get("levels"), list):
-        for i, level in enumerate(raw["levels"]):
+    for name, field in model.model_fields.items():  # lists of tables, e.g. [[indenter.levels]]
+        annotation = field.annotation
+        if get_origin(annotation) in (Union, UnionType):  # X | None
+            annotation = next(a for a in get_args(annotation) if a is not NoneType)
+        if get_origin(annotation) is not tuple or not isinstance(raw.get(name), list):
+            continue
+        for i, table in enumerate(raw[name]):
             nested = [
                 {**item, "loc": tuple(item["loc"])[2:]}
                 for item in items
-                if tuple(item["loc"])[:2] == ("levels", i)
+                if tuple(item["loc"])[:2] == (name, i)
             ]
-            lines.extend(_skipped_rule_lines(nested, LevelConfig, level, prefix + ("levels", i)))
+            lines.extend(_skipped_rule_lines(nested, get_args(annotation)[0], table, prefix + (name, i)))
     return lines
 
 

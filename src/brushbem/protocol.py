@@ -729,13 +729,14 @@ def _reach_force(tracker: _Tracker, saved, below, above, target: float):
     force at the upper end is within 1e-6 of the target, or when the bracket
     has shrunk to rounding: then the force jumps past the target there (an
     adhesive snap-in) and the state just past the jump is the preload.
-    Returns (equilibrium at the upper end, its displacement); the tracker
-    holds that state.
+    Returns (equilibrium at the upper end, with the work of every solve here
+    and of ``above``'s, its displacement); the tracker holds that state.
     """
     lo, f_lo = below
     hi, f_hi, eq = above
+    at_hi = (tracker.pressure, tracker.contact)  # the tracker holds ``above``'s state on entry
     bisect = False
-    solves = iterations = 0  # the trials' work, counted in the returned state
+    solves, iterations = eq.n_solves, eq.cg_iterations
     for _ in range(200):
         if f_hi - target <= 1e-6 * target or hi - lo <= 4 * np.finfo(float).eps * abs(hi):
             break
@@ -756,10 +757,10 @@ def _reach_force(tracker: _Tracker, saved, below, above, target: float):
             lo, f_lo = trial, f
         else:
             hi, f_hi, eq = trial, f, trial_eq
+            at_hi = (tracker.pressure, tracker.contact)
         bisect = hi - lo > 0.5 * width
-    tracker.pressure, tracker.contact = saved
-    eq = tracker.solve(hi)  # deterministic: the same state as the trial at hi
-    return dataclasses.replace(eq, n_solves=eq.n_solves + solves, cg_iterations=eq.cg_iterations + iterations), hi
+    tracker.pressure, tracker.contact = at_hi
+    return dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi
 
 
 def _budget_exhausted(tracker, d, loading, path) -> State:
