@@ -420,34 +420,48 @@ def _assert_converging(f_events, slope, force_differences, work_differences, lab
         f"|w(fixed) - w(events)| / w = {[f'{x:.2e}' for x in work_differences]}"
     )
     print("\n" + message)
+    # Agreement to the solver's accuracy: the CG tolerance 1e-8 with margin.
+    exact = 1e-6
     # Bound: a fixed step lands within one step of the extremum on the same
-    # piecewise-linear path (1e-9 F_A of slack for the CG tolerance).
+    # piecewise-linear path (1e-9 F_A of slack for the CG tolerance); where the
+    # extremum is the first detachment of its step, the step locates it exactly.
     for step, difference in zip(STEPS, force_differences):
         assert difference <= slope * step + 1e-9 * f_events, message
     # The steps are nested (each lattice contains the previous one), so a finer
-    # path can only come closer to the extremum: non-increasing, up to solver
-    # noise (1e-9 relative).  It need not fall at every halving - the nearest
-    # lattice point can be the same one (the punch: 4e-4, 2e-4 and 1e-4 all give
-    # 1.4e-3) - so the strict decrease is asserted from the coarsest to the finest.
+    # path can only come closer: non-increasing, up to solver noise.  It need
+    # not fall at every halving, so the strict decrease is asserted from the
+    # coarsest to the finest - unless the coarsest is already exact.
     for coarse, fine in itertools.pairwise(force_differences):
-        assert fine <= coarse + 1e-9 * f_events, message
+        assert fine <= coarse + exact * f_events, message
     for coarse, fine in itertools.pairwise(work_differences):
-        assert fine <= coarse + 1e-8, message
-    assert force_differences[-1] < 0.75 * force_differences[0], message
-    assert work_differences[-1] < 0.5 * work_differences[0], message
-    # And the finest fixed path is close in absolute terms: 0.5 % (measured 0.07-0.3 %).
+        assert fine <= coarse + exact, message
+    assert force_differences[-1] < max(0.75 * force_differences[0], exact * f_events), message
+    assert work_differences[-1] < max(0.5 * work_differences[0], exact), message
+    # And the finest fixed path is close in absolute terms: 0.5 %.
     assert force_differences[-1] < 5e-3 * f_events and work_differences[-1] < 5e-3, message
 
 
 def test_fixed_steps_tend_to_events_for_a_punch_on_a_spring():
-    """Punch k~ = 1.5 at a/h = 8, preload 0.002 (measured F: 1.4e-3 -> 7.0e-4, w: 8.7e-3 -> 4.4e-5)."""
+    """Punch k~ = 1.5 at a/h = 8, preload 0.002.
+
+    The punch leaves in one cascade, the first detachment of its step, which
+    the fixed path locates exactly: F_A and work equal the event path's to
+    1e-7 at every step (measured; before the detachment was located:
+    F 1.4e-3 -> 7.0e-4, w 8.7e-3 -> 4.4e-5 over the same steps).
+    """
     grid, a = _punch_grid(32)
     problem = ContactProblem(grid, flat_punch(grid, 0.25, 1.5 * 2.0 * E_STAR * a), E_STAR, DGAMMA)
     _assert_converging(*_fixed_to_events(problem, 0.002), "punch on a spring")
 
 
 def test_fixed_steps_tend_to_events_for_a_sphere():
-    """Rigid sphere at a_JKR/h ~ 10, preload 1.2 a_JKR^2/R (measured F: 1.3e-2 -> 1.5e-3, w: 1.7e-2 -> 2.7e-3)."""
+    """Rigid sphere at a_JKR/h ~ 10, preload 1.2 a_JKR^2/R.
+
+    Measured: F_A equal to 1e-8 at every step (the pull-off is the first
+    detachment of its step, located exactly), work 8e-4 at the coarsest step
+    and 4e-8 from the next on (before the detachment was located: F 1.3e-2 ->
+    1.5e-3, w 1.7e-2 -> 2.7e-3 over the same steps).
+    """
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
     _assert_converging(*_fixed_to_events(problem, 1.2 * A_JKR**2 / SPHERE_RADIUS), "sphere")

@@ -215,7 +215,7 @@ def validate(config_path: Path) -> None:
 @main.command()
 @click.argument("sweep_path", metavar="SWEEP", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
-    "--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+    "--out", "out_dir", default=None, type=click.Path(path_type=Path, file_okay=False),
     help="Folder for sweep.json, cases/ and summary.parquet (created if absent; "
     "cases already there are not recomputed).",
 )
@@ -231,29 +231,32 @@ def validate(config_path: Path) -> None:
 @click.option("--retry-failed", is_flag=True,
               help="Recompute cases recorded as failed (by default a rerun keeps them).")
 @click.option("--dry-run", is_flag=True, help="Validate and list the cases; compute nothing.")
+@click.option("--estimate", is_flag=True,
+              help="Run a few sampled cases and print the expected CPU time of the whole sweep and its "
+              "wall time on --workers; write nothing (--out is not needed).")
+@click.option("--samples", type=click.IntRange(min=1), default=3, show_default=True,
+              help="Cases that --estimate runs, spread over the sweep.")
 @click.option("--quiet", is_flag=True, help="No progress output.")
 def sweep(
     sweep_path: Path,
-    out_dir: Path,
+    out_dir: Path | None,
     workers: int | None,
     use_dask: bool,
     scheduler: str | None,
     scheduler_file: Path | None,
     retry_failed: bool,
     dry_run: bool,
+    estimate: bool,
+    samples: int,
     quiet: bool,
 ) -> None:
     """Run every case of the sweep in SWEEP; resume what is missing in --out."""
     from brushbem import sweep as sweep_module
 
     _check_executor_options(workers, use_dask, scheduler, scheduler_file)
-    try:
-        study = sweep_module.load_sweep(sweep_path)
-    except sweep_module.SweepError as error:
-        click.echo(f"invalid sweep {sweep_path}:", err=True)
-        for problem in error.problems:
-            click.echo(f"  {problem}", err=True)
-        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    if out_dir is None and not (estimate or dry_run):
+        raise click.UsageError("give --out DIR (only --estimate and --dry-run run without it)")
+    study = _load_sweep_or_exit(sweep_path, f"invalid sweep {sweep_path}:")
     for warning in study.warnings:
         click.echo(f"warning: {warning}", err=True)
     if dry_run:
@@ -267,6 +270,9 @@ def sweep(
         Console().print(table)
         if not all(case.seed_applied for case in study.cases):
             click.echo("* recorded only: the indenter of this case takes no seed")
+        return
+    if estimate:
+        _print_estimates({sweep_path.name: _estimate(study, samples, quiet)}, workers)
         return
 
     with contextlib.ExitStack() as stack:
@@ -293,6 +299,54 @@ def sweep(
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
 
 
+def _load_sweep_or_exit(path: Path, heading: str) -> Any:
+    """The validated sweep of ``path``; on problems print ``heading`` and them, and exit 2."""
+    from brushbem import sweep as sweep_module
+
+    try:
+        return sweep_module.load_sweep(path)
+    except sweep_module.SweepError as error:
+        click.echo(heading, err=True)
+        for problem in error.problems:
+            click.echo(f"  {problem}", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+
+
+def _estimate(study: Any, samples: int, quiet: bool) -> Any:
+    from brushbem.estimate import estimate_sweep
+
+    def report(message: str) -> None:
+        if not quiet:
+            click.echo(message, err=True)
+
+    return estimate_sweep(study, samples=samples, progress=report)
+
+
+def _print_estimates(estimates: dict[str, Any], workers: int | None) -> None:
+    """One row per sweep (and a total): cases, sampled seconds, CPU hours, wall hours on the workers."""
+    from brushbem.sweep import default_workers
+
+    workers = workers or default_workers()
+    table = Table(title=f"expected cost (wall time on {workers} workers)")
+    for column in ("sweep", "cases", "sampled s (each)", "CPU h", "wall h"):
+        table.add_column(column)
+    total_cpu = total_error2 = total_wall = 0.0
+    for name, estimate in estimates.items():
+        seconds = ", ".join(f"{t:.1f}" for t in estimate.seconds)
+        failed = [s for s in estimate.statuses if s != "finished"]
+        note = f" ({len(failed)} not finished)" if failed else ""
+        table.add_row(name, str(estimate.cases), seconds + note,
+                      f"{estimate.cpu_hours:.3g} ± {estimate.cpu_hours_error:.2g}",
+                      f"{estimate.wall_hours(workers):.3g}")
+        total_cpu += estimate.cpu_hours
+        total_error2 += estimate.cpu_hours_error**2
+        total_wall += estimate.wall_hours(workers)
+    if len(estimates) > 1:
+        table.add_row("total", str(sum(e.cases for e in estimates.values())), "",
+                      f"{total_cpu:.3g} ± {total_error2**0.5:.2g}", f"{total_wall:.3g}")
+    Console().print(table)
+
+
 def _list_studies() -> None:
     from brushbem import studies
 
@@ -313,6 +367,11 @@ def _list_studies() -> None:
 )
 @click.option("--quick", is_flag=True, help="Run the coarse sweep files (a quick check, not the thesis's grids).")
 @click.option("--list", "list_studies", is_flag=True, help="List the studies and exit.")
+@click.option("--estimate", is_flag=True,
+              help="Run a few sampled cases of every part and print the expected CPU time of the study "
+              "and its wall time on --workers; write nothing (--out is not needed).")
+@click.option("--samples", type=click.IntRange(min=1), default=3, show_default=True,
+              help="Cases that --estimate runs per part, spread over it.")
 @_executor_options
 @click.option("--quiet", is_flag=True, help="No progress output.")
 def study(
@@ -320,6 +379,8 @@ def study(
     out_dir: Path | None,
     quick: bool,
     list_studies: bool,
+    estimate: bool,
+    samples: int,
     workers: int | None,
     use_dask: bool,
     scheduler: str | None,
@@ -334,13 +395,21 @@ def study(
     if list_studies:
         _list_studies()
         return
-    if name is None or out_dir is None:
-        raise click.UsageError("give a study NAME and --out DIR (or --list)")
+    if name is None or (out_dir is None and not estimate):
+        raise click.UsageError("give a study NAME and --out DIR (or --list, or --estimate)")
     try:
-        studies.get_study(name)
+        found = studies.get_study(name)
     except studies.StudyError as error:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    if estimate:
+        estimates = {}
+        for part in found.parts:
+            path = studies.sweep_file(name, part, quick)
+            loaded = _load_sweep_or_exit(path, f"invalid sweep file {path.name}:")
+            estimates[part] = _estimate(loaded, samples, quiet)
+        _print_estimates(estimates, workers)
+        return
     _check_executor_options(workers, use_dask, scheduler, scheduler_file)
 
     with contextlib.ExitStack() as stack:

@@ -503,9 +503,15 @@ class ProtocolConfig(_Section):
 
     Attributes
     ----------
-    method : {"events", "fixed"}
-        ``"events"`` jumps exactly from one contact change to the next;
-        ``"fixed"`` moves the base by constant steps (the thesis's method).
+    method : {"events", "element_events", "fixed"}
+        ``"events"`` follows the exact path: it jumps from one contact
+        change to the next, and presses a brush (two or more pillars) as
+        non-adhesive contact problems, which is the same branch checked on
+        its samples (``brushbem.protocol``); ``"element_events"`` takes
+        every element event on the loading branch too (the reference, and
+        today's path of single bodies); ``"fixed"`` retracts by constant
+        steps (the thesis's method), locating the first detachment inside
+        each step.
     preload_displacement : float or None
         Press until the base displacement reaches this value, units of length.
     preload_force : float or None
@@ -521,7 +527,7 @@ class ProtocolConfig(_Section):
 
     model_config = _MODEL_CONFIG
 
-    method: Literal["events", "fixed"] = "events"
+    method: Literal["events", "element_events", "fixed"] = "events"
     preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
     preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)

@@ -5,18 +5,31 @@
     for state in pull_off(problem, path):
         print(state.displacement, state.force)
 
-Two methods:
+Three methods:
 
 * ``"fixed"`` - the thesis's displacement steps: press to the preload (by
   displacement, or by force with a final secant refinement), then retract by
   ``step`` until the contact set is empty.  Each step is an equilibrium with
-  the detachment/attachment loop, warm-started from the previous one.
-* ``"events"`` - exact event-driven path.  For a fixed contact set S the
-  solution is affine in d, p(d) = p(d0) + (d - d0) a with a = A_S^-1 1, and the
-  penetration outside S is affine too; the path jumps to the displacement at
-  which the next element reaches the critical stress or touches, records that
-  state (an equilibrium on the threshold), lets the element leave or join and
-  follows the cascade at the same d.  There is no step-size error: the force
+  the detachment/attachment loop, warm-started from the previous one.  The
+  first solve of a step is on the previous contact set, so the first
+  element to reach the criterion inside the step, and the force there, are
+  located exactly (a state of kind "event"), and the work of separation
+  takes the cascade there (`_fixed_unloading_path`).  A brush is pressed as
+  contact problems, as by ``"events"``.
+* ``"events"`` - exact event-driven path.  A brush of two or more pillars is
+  pressed as non-adhesive contact problems (`_contact_loading`: the same
+  branch, checked on its samples, in a few constrained CG solves instead of
+  one global solve per element that joins); single bodies, and the
+  unloading of every structure, go event by event.
+* ``"element_events"`` - the event-driven path with every element event on
+  the loading branch too: the reference that ``"events"`` is tested against.
+
+The event-driven path: for a fixed contact set S the solution is affine in
+d, p(d) = p(d0) + (d - d0) a with a = A_S^-1 1, and the penetration outside
+S is affine too; the path jumps to the displacement at which the next
+element reaches the critical stress or touches, records that state (an
+equilibrium on the threshold), lets the element leave or join and follows
+the cascade at the same d.  There is no step-size error: the force
   extremum is found exactly up to the solver tolerance.  Elements whose event
   displacements agree within the solver's accuracy are treated together.
 
@@ -104,7 +117,7 @@ class LoadPath:
 
     Parameters
     ----------
-    method : {"events", "fixed"}
+    method : {"events", "element_events", "fixed"}
     preload_displacement, preload_force : float or None
         Exactly one: press to this base displacement, or until this force.
     step : float
@@ -134,8 +147,8 @@ class LoadPath:
     cascade: str = "local"
 
     def __post_init__(self):
-        if self.method not in ("events", "fixed"):
-            raise ValueError(f"protocol.method = {self.method!r} must be 'events' or 'fixed'")
+        if self.method not in ("events", "element_events", "fixed"):
+            raise ValueError(f"protocol.method = {self.method!r} must be 'events', 'element_events' or 'fixed'")
         if self.cascade not in ("local", "global"):
             raise ValueError(f"solver.cascade = {self.cascade!r} must be 'local' or 'global'")
         if (self.preload_displacement is None) == (self.preload_force is None):
@@ -322,12 +335,17 @@ class _Tracker:
         return w.r0 <= fr0 and w.r1 >= fr1 and w.c0 <= fc0 and w.c1 >= fc1
 
     # -- solves -------------------------------------------------------------
-    def solve(self, displacement: float, force_detach=None, force_attach=None) -> Equilibrium:
-        """Equilibrium at d from the current state; enlarges the window as needed."""
+    def solve(self, displacement: float, force_detach=None, force_attach=None,
+              contact_problem: bool = False) -> Equilibrium:
+        """Equilibrium at d from the current state; enlarges the window as needed.
+
+        ``contact_problem``: the non-adhesive contact problem at d instead
+        (Polonsky-Keer from the current pressure), whatever the adhesion.
+        """
         xp = self.xp
         needed = self.contact
         margin = None
-        if self.critical == 0.0 or not bool(xp.any(self.contact)):
+        if contact_problem or self.critical == 0.0 or not bool(xp.any(self.contact)):
             # A cold or non-adhesive start attaches every overlapping element
             # first; the contact then only shrinks, so a thin margin suffices.
             needed = needed | (self.footprint & (self.height < displacement))
@@ -336,12 +354,13 @@ class _Tracker:
             needed = needed | force_attach
         self.ensure_window(needed, margin)
         iterations = solves = 0
-        trial = None
+        trial = trial_pressure = None
         enlarged = False
         while True:
             sl = self.window.slices
             height = self.height[sl]
-            if self.critical == 0.0 and force_detach is None and force_attach is None and solves == 0:
+            if contact_problem or (self.critical == 0.0 and force_detach is None and force_attach is None
+                                   and solves == 0):
                 eq = polonsky_keer(
                     self.operator, height, displacement, self.pressure[sl],
                     self.path.tolerance, self.path.max_iterations,
@@ -360,6 +379,9 @@ class _Tracker:
             solves += eq.n_solves
             if trial is None:
                 trial = eq.trial_force_sum
+                if eq.trial_pressure is not None:
+                    trial_pressure = xp.zeros_like(self.pressure)
+                    trial_pressure[sl] = eq.trial_pressure
             force_detach = force_attach = None
             self.pressure = xp.zeros_like(self.pressure)
             self.pressure[sl] = eq.pressure
@@ -392,7 +414,7 @@ class _Tracker:
             force_attach = outside
         return Equilibrium(
             displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
-            trial, eq.detached, eq.attached, eq.deflection,
+            trial, eq.detached, eq.attached, eq.deflection, trial_pressure,
         )
 
     def known_deflection(self):
@@ -669,11 +691,24 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     step = path.step
     d = 0.0
     count = 0
-    # Loading.
-    if path.preload_displacement is not None:
-        n_steps = max(1, math.ceil(path.preload_displacement / step - 1e-9))
+    done = False
+    if tracker.n_pillars >= 2:
+        # A brush is pressed as contact problems (`_contact_loading`): the
+        # exact loading branch, which adhesive steps approach only slowly (an
+        # element that joins overlapping may be held in tension where the
+        # exact path never lets it touch).
+        outcome = yield from _contact_loading(tracker, path)
+        if outcome is None:
+            return
+        d, done = outcome
+    # Loading (from where the contact problems stopped).
+    if done:
+        pass
+    elif path.preload_displacement is not None:
+        n_steps = max(1, math.ceil((path.preload_displacement - d) / step - 1e-9))
+        start = d
         for k in range(1, min(n_steps, path.max_steps) + 1):
-            d = min(k * step, path.preload_displacement)
+            d = min(start + k * step, path.preload_displacement)
             eq = tracker.solve(d)
             state = _eq_state(tracker, eq, True)
             yield state
@@ -684,7 +719,7 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
             return
     else:
         target = path.preload_force
-        previous = (0.0, 0.0)
+        previous = (d, tracker.force())
         while True:
             count += 1
             if count > path.max_steps:
@@ -707,16 +742,54 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     d_max = d
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
+        before = (d + step, tracker.pressure, tracker.contact)
         eq = tracker.solve(d)
         if not eq.converged:
             yield _eq_state(tracker, eq, False)
             return
+        crossing = _first_crossing(tracker, before, eq)
+        if crossing is not None:
+            yield crossing
         if not bool(tracker.xp.any(tracker.contact)):
             yield tracker.state(d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
                                 eq.n_solves, True, "complete separation")
             return
         yield _eq_state(tracker, eq, False)
     yield _budget_exhausted(tracker, d, False, path)
+
+
+def _first_crossing(tracker: _Tracker, before, eq: Equilibrium) -> State | None:
+    """The state at which the first element of a fixed step's contact set reached the criterion.
+
+    ``before`` = (d, pressure, contact) is the equilibrium the step started
+    from and ``eq`` the step's equilibrium, whose first solve
+    (``eq.trial_pressure``) is on the same contact set.  On a fixed set the
+    pressure is affine in d, so the first element to reach -Sigma_c (the
+    first event of the event path inside the step) and the force there are
+    exact: this is where the force extremum of a step lies, which the
+    step's end would miss by up to the step times the slope.  None when no
+    element left in the step.
+    """
+    xp = tracker.xp
+    if eq.detached == 0 or eq.trial_pressure is None:
+        return None
+    d0, p0, c0 = before
+    p1 = eq.trial_pressure
+    critical = tracker.critical
+    # Elements of the old set whose trial pressure is beyond the criterion.
+    over = c0 & (p1 < -critical) if critical > 0 else c0 & (p1 < 0)
+    if not bool(xp.any(over)):
+        return None
+    drop = xp.where(over, p0 - p1, 1.0)
+    fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
+    tau = min(max(float(xp.min(fraction)), 0.0), 1.0)
+    if tau >= 1.0:
+        return None
+    pressure = xp.where(c0, p0 + tau * (p1 - p0), 0.0)
+    d = d0 + tau * (eq.displacement - d0)
+    return tracker.state(d, False, "event", tracker.force(pressure), 0, 0, True,
+                         "first detachment inside the step (exact on the step's contact set)",
+                         pressure=pressure, contact=c0)
 
 
 def _reach_force(tracker: _Tracker, saved, below, above, target: float):
@@ -770,14 +843,22 @@ def _budget_exhausted(tracker, d, loading, path) -> State:
 
 def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
-    # Loading: from first touch to the preload.
+    done = False
+    if path.method == "events" and tracker.n_pillars >= 2:
+        # A brush's loading branch as contact problems (`_contact_loading`);
+        # from where that cannot be shown to hold, element events.
+        outcome = yield from _contact_loading(tracker, path)
+        if outcome is None:
+            return
+        d, done = outcome
+    # Loading: from first touch (or where the contact problems stopped) to the preload.
     for _ in range(path.max_steps):
+        if done:
+            break
         outcome = yield from _event_step(tracker, path, d, +1)
         if outcome is None:
             return
         d, done = outcome
-        if done:
-            break
     else:
         yield _budget_exhausted(tracker, d, True, path)
         return
@@ -790,6 +871,207 @@ def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
         if done:
             return
     yield _budget_exhausted(tracker, d, False, path)
+
+
+#: Displacements at which `_contact_loading` samples the loading branch besides
+#: those of the search for a preload force (evenly spaced from first touch).
+LOADING_SAMPLES = 4
+
+#: An element of an earlier sample that a later one has left counts as
+#: released when its gap there exceeds this fraction of the indentation depth
+#: (the solver's accuracy: one that just touches has a gap of rounding size).
+_RELEASE_GAP = 1e-6
+
+
+@dataclass
+class _Sample:
+    """One contact-problem solution on the loading branch (full-grid arrays)."""
+
+    displacement: float
+    force: float
+    pressure: object
+    contact: object
+    eq: Equilibrium
+
+
+def _contact_loading(tracker: _Tracker, path: LoadPath):
+    """The loading branch of a brush as non-adhesive contact problems.
+
+    While the base presses, an element joins S where the tip touches, at
+    zero pressure, and the event path's state at d is the equilibrium on
+    every element that has touched so far.  As long as no element of S
+    would have turned tensile (its neighbours' compression lifting it off
+    again), every pressure of that state is >= 0 and every gap outside >= 0:
+    it solves the non-adhesive contact problem at d, whose solution is
+    unique (a convex complementarity problem).  So the whole loading branch
+    that the event path follows element event by element (one global solve
+    per element: ~40 per pillar of 3.6 elements' radius) is the
+    Polonsky-Keer solution at the preload, in one constrained CG.
+
+    The premise is checked on the samples: every contact set must hold the
+    sets of the smaller displacements sampled before it (an element that a
+    larger displacement releases - a gap opening by more than
+    ``_RELEASE_GAP`` of the indentation depth - would have been held in
+    tension by the event path).  Samples: ``LOADING_SAMPLES`` evenly spaced
+    displacements up to a preload displacement, or the iterates of the
+    search for a preload force (false position on the piecewise linear,
+    increasing F(d); exact by interpolation once both ends of the bracket
+    have the same contact set).  Where the check fails, the branch goes on
+    from the last sample before it by element events (the states up to it
+    are the event path's).
+
+    Yields the loading states in increasing d; returns (d, preload reached)
+    or None when a solve failed.
+    """
+    xp = tracker.xp
+    problem = tracker.problem
+    lowest = problem.indenter.lowest_height
+    samples: list[_Sample] = []
+    cost = [0, 0]  # solves, iterations of the samples not yet yielded
+
+    def solve_at(d: float, start: _Sample | None) -> _Sample | None:
+        if start is None:
+            tracker.pressure = xp.zeros_like(tracker.pressure)
+            tracker.contact = xp.zeros_like(tracker.contact)
+        else:
+            tracker.pressure, tracker.contact = start.pressure, start.contact
+        tracker._known_deflection = None
+        eq = tracker.solve(d, contact_problem=True)
+        cost[0] += eq.n_solves
+        cost[1] += eq.cg_iterations
+        sample = _Sample(d, tracker.force(), tracker.pressure, tracker.contact, eq)
+        if not eq.converged:
+            return sample
+        samples.append(sample)
+        return sample
+
+    final = None
+    if path.preload_displacement is not None:
+        target = path.preload_displacement
+        previous = None
+        for j in range(1, LOADING_SAMPLES + 1):
+            d = target if j == LOADING_SAMPLES else lowest + (target - lowest) * j / LOADING_SAMPLES
+            previous = solve_at(d, previous)
+            if not previous.eq.converged:
+                yield _eq_state(tracker, previous.eq, True)
+                return None
+        final = previous
+    else:
+        final = yield from _contact_preload_force(tracker, path, solve_at, lowest)
+        if final is None:
+            return None
+
+    # The path ends at the preload: samples beyond it (the search's upper ends) are not on it.
+    samples = [sample for sample in samples if sample.displacement < final.displacement] + [final]
+    samples.sort(key=lambda sample: sample.displacement)
+    accepted = _nested_prefix(tracker, samples, lowest)
+    for k, sample in enumerate(accepted):
+        tracker.pressure, tracker.contact = sample.pressure, sample.contact
+        last = k == len(accepted) - 1
+        solves, iterations = (cost[0], cost[1]) if last else (sample.eq.n_solves, sample.eq.cg_iterations)
+        if not last:
+            cost[0] -= solves
+            cost[1] -= iterations
+        reason = "contact problem" if len(accepted) == len(samples) or not last else (
+            "contact problem; element events from here (a larger displacement releases an element)")
+        yield tracker.state(sample.displacement, True, "equilibrium", tracker.force(), iterations, solves,
+                            True, reason)
+    tracker._known_deflection = None
+    tracker.unit = None
+    end = accepted[-1]
+    if end is final or len(accepted) == len(samples):
+        return end.displacement, True
+    return end.displacement, False
+
+
+def _contact_preload_force(tracker: _Tracker, path: LoadPath, solve_at, lowest: float):
+    """The contact problem at which the loading force reaches ``path.preload_force`` (a `_Sample`).
+
+    F(d) of the non-adhesive problem is continuous, increasing and piecewise
+    linear (affine while the contact set stays).  Below the target the secant
+    of the last two points is extrapolated (F is convex where the contact
+    grows, so it reaches past the target); then the Illinois variant of
+    false position, until F is within 1e-9 of the target (the event path's
+    test) or both ends of the bracket have the same contact set - then the
+    state at the target is their exact interpolation.
+    """
+    xp = tracker.xp
+    problem = tracker.problem
+    target = path.preload_force
+    indenter = problem.indenter
+    area = float(np.count_nonzero(np.asarray(indenter.footprint))) * tracker.h2
+    # Displacement of the whole footprint as one punch on its springs in series (a first guess).
+    compliance = 1.0 / (2.0 * problem.contact_modulus * math.sqrt(area / math.pi))
+    compliance += sum(1.0 / (level.stiffness * level.n_clusters) for level in indenter.elastic_levels)
+    lo = hi = None  # samples below and above the target
+    lo_points = [(lowest, 0.0)]
+    f_lo = f_hi = 0.0  # residuals F - target at the ends, halved by the Illinois rule
+    side = 0
+    d = lowest + target * compliance
+    start = None
+    for _ in range(200):
+        sample = solve_at(d, start)
+        if not sample.eq.converged:
+            yield _eq_state(tracker, sample.eq, True)
+            return None
+        start = sample
+        residual = sample.force - target
+        if abs(residual) <= 1e-9 * target:
+            return sample
+        if residual > 0:
+            hi, f_hi = sample, residual
+            if side > 0:
+                f_lo *= 0.5
+            side = 1
+        else:
+            lo, f_lo = sample, residual
+            lo_points.append((sample.displacement, sample.force))
+            if side < 0:
+                f_hi *= 0.5
+            side = -1
+        if hi is None:
+            # Below the target: extrapolate the secant of the last two points.
+            (d0, g0), (d1, g1) = lo_points[-2], lo_points[-1]
+            step = (target - g1) * (d1 - d0) / (g1 - g0) if g1 > g0 else 2.0 * (d1 - lowest)
+            d = d1 + max(step, 1e-3 * (d1 - lowest))
+            continue
+        if lo is None:
+            d = lowest + 0.5 * (hi.displacement - lowest)
+            continue
+        if bool(xp.all(lo.contact == hi.contact)):
+            # One contact set at both ends: F and p are affine in between.
+            theta = (target - lo.force) / (hi.force - lo.force)
+            d = lo.displacement + theta * (hi.displacement - lo.displacement)
+            pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
+            tracker.pressure, tracker.contact = pressure, hi.contact
+            eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
+            return _Sample(d, tracker.force(), pressure, hi.contact, eq)
+        width = hi.displacement - lo.displacement
+        if width <= 4 * np.finfo(float).eps * abs(hi.displacement):
+            return hi
+        d = lo.displacement - f_lo * width / (f_hi - f_lo)
+    yield tracker.state(d, True, "equilibrium", tracker.force(), 0, 0, False,
+                        "the search for the preload force did not converge in 200 contact problems")
+    return None
+
+
+def _nested_prefix(tracker: _Tracker, samples: list, lowest: float) -> list:
+    """The samples (increasing d) up to the first whose contact set does not hold an earlier one's."""
+    xp = tracker.xp
+    accepted = samples[:1]
+    union = samples[0].contact
+    for sample in samples[1:]:
+        released = union & ~sample.contact
+        if bool(xp.any(released)):
+            full = ContactOperator(tracker.halfspace, tracker.problem.indenter,
+                                   Window.full(tracker.problem.grid.elements))
+            gap = -penetration(full, tracker.height, sample.displacement, sample.pressure)
+            depth = max(sample.displacement - lowest, 1e-300)
+            if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
+                break
+        accepted.append(sample)
+        union = union | sample.contact
+    return accepted
 
 
 def _event_step(tracker: _Tracker, path: LoadPath, d: float, direction: int):
@@ -1062,7 +1344,10 @@ def record_pull_off(
     loading_states = [s for s in rows if s.loading]
     # The unloading path starts at the end of the loading branch.
     start_point = [(loading_states[-1].displacement, loading_states[-1].force)] if loading_states else []
-    unloading = start_point + [(d, f) for d, f, load in path_points if not load]
+    if path.method == "fixed":
+        unloading = start_point + _fixed_unloading_path([s for s in rows if not s.loading])
+    else:
+        unloading = start_point + [(d, f) for d, f, load in path_points if not load]
     summary = {
         "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
         "pull_off_displacement": best.displacement if best is not None else None,
@@ -1092,6 +1377,42 @@ def _snapshot(name: str, state: State, to_numpy, pillar_forces) -> Snapshot:
         contact=np.array(to_numpy(state.contact)),
         pillar_force=pillar_forces(state)[0],
     )
+
+
+def _fixed_unloading_path(rows: list[State]) -> list[tuple[float, float]]:
+    """The unloading path (d, F) of fixed steps, cascades placed where they start.
+
+    A step whose first detachment was located (a ``kind == "event"`` state
+    from `_first_crossing`) follows its contact set's line exactly to that
+    point; the cascade is then taken there, as the event path does, down to
+    the line of the contact set the step ended with, which passes through the
+    step's equilibrium with the slope of the next step's first solve (the
+    same contact set: exact where nothing else happened in the step).  A
+    step that ends in separation drops to zero at its crossing.  Elsewhere
+    the path goes through every state, cascades vertical at the step's end.
+    """
+    points: list[tuple[float, float]] = []
+    crossing: State | None = None
+    for i, state in enumerate(rows):
+        if state.kind == "event":
+            crossing = state
+            points.append((state.displacement, state.force))
+            continue
+        force = 0.0 if state.kind == "separated" else state.force
+        if crossing is not None:
+            after = force
+            following = rows[i + 1] if i + 1 < len(rows) else None
+            if state.kind != "separated" and following is not None and following.displacement != state.displacement:
+                # The next step's first solve is on this step's contact set.
+                reached = following.force if following.kind == "event" else following.trial_force
+                slope = (reached - force) / (following.displacement - state.displacement)
+                after = force + slope * (crossing.displacement - state.displacement)
+            points.append((crossing.displacement, after))
+            crossing = None
+        elif state.trial_force != force:
+            points.append((state.displacement, state.trial_force))
+        points.append((state.displacement, force))
+    return points
 
 
 def work_of_separation(points: list[tuple[float, float]]) -> float:

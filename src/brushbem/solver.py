@@ -683,6 +683,10 @@ class Equilibrium:
         ``tip_deflection`` (K p + springs) on the window for the returned pressure, when the
         solver computed it anyway (the final join check of ``equilibrium``),
         so that callers need not transform the pressure again.
+    trial_pressure : ndarray or None
+        The pressure of the first global solve (on the starting contact set,
+        before any element left or joined; the sum of it is
+        ``trial_force_sum``); None where no solve ran.
     """
 
     displacement: float
@@ -696,6 +700,7 @@ class Equilibrium:
     detached: int
     attached: int
     deflection: object = None
+    trial_pressure: object = None
 
 
 def tip_deflection(operator: ContactOperator, pressure):
@@ -800,7 +805,7 @@ def equilibrium(
         deflection = deflection - operator.element_deflection(pressure, ~contact)
     pressure = xp.where(contact, pressure, 0.0)
     iterations = solves = 0
-    trial = None
+    trial = trial_pressure = None
     # Penetration tolerance: the solve's accuracy in units of length.
     scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
     slack = 10.0 * tolerance * max(scale, abs(displacement), length_scale, 1e-300)
@@ -832,6 +837,7 @@ def equilibrium(
             pressure = xp.zeros_like(target)
         if trial is None:
             trial = float(xp.sum(pressure))
+            trial_pressure = pressure
         leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
         n_leaving = int(xp.count_nonzero(leaving))
         if n_leaving and local:
@@ -858,7 +864,7 @@ def equilibrium(
             continue
         return Equilibrium(
             displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached,
-            attached, deflection,
+            attached, deflection, trial_pressure,
         )
     return Equilibrium(
         displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",

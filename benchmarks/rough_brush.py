@@ -1,0 +1,110 @@
+"""Full pull-off of the thesis's chapter-5 rough brush: the exact path against its references.
+
+A square n x n lattice of flat pillars filling the 1 x 1 domain at filling
+factor phi = 0.16 (32 x 32 pillars of 3.6 elements' radius at N = 512, the
+thesis's grid), Gaussian pillar lengths of standard deviation
+sigma = sigma~ d_c, pressed to the force F_P = F~_P F_c and pulled off to
+complete separation.  d_c and F_c are the rigid brush's pull-off
+displacement and force of this rasterised brush (``case.brush_scales``),
+E* = 1, work of adhesion 1e-4, L = 1.
+
+For every k~ x sigma~ it prints one JSON line: the median wall time of
+``--repeat`` runs of ``method = "events"`` (the default: the brush pressed
+as contact problems, retracted event by event), its solves, F_A, the work of
+separation, and, for each reference path named in ``--references`` (run
+once, in the same process), its time, the ratio of the times and the
+relative differences of F_A and the work:
+
+* ``element_events`` - every element event on both branches (the exact
+  reference; affordable at N = 256 with 16 x 16 pillars: ~1.5 min a case),
+* ``fixed`` - fixed steps of ``--fixed-step`` d_c (the shipped chapter-5
+  sweeps used d_c / 5).
+
+    python benchmarks/rough_brush.py --elements 512 --pillars-per-side 32
+    python benchmarks/rough_brush.py --elements 256 --pillars-per-side 16 \\
+        --references element_events fixed
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import time
+
+from brushbem.case import brush_scales
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.structure import Grid, brush
+
+
+def _problem(grid: Grid, per_side: int, phi: float, ratio: float, roughness: float, seed: int) -> ContactProblem:
+    indenter = brush(grid, layout="square", pillars_per_side=per_side,
+                     pillar_radius=math.sqrt(phi / math.pi) / per_side,
+                     contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=ratio * grid.size,
+                     roughness=roughness, seed=seed)
+    return ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+
+
+def _run(problem: ContactProblem, path: LoadPath) -> tuple[float, dict]:
+    start = time.perf_counter()
+    record = record_pull_off(problem, path)
+    return time.perf_counter() - start, record.summary
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", type=int, default=512)
+    parser.add_argument("--pillars-per-side", type=int, default=32)
+    parser.add_argument("--filling-factor", type=float, default=0.16)
+    parser.add_argument("--stiffness-ratios", type=float, nargs="+", default=[10, 0.1, 0.01, 0.001])
+    parser.add_argument("--sigmas", type=float, nargs="+", default=[0.1, 1.0, 2.0], help="sigma~ = sigma / d_c")
+    parser.add_argument("--preload", type=float, default=1.0, help="F~_P = F_P / F_c")
+    parser.add_argument("--seed", type=int, default=3)
+    parser.add_argument("--references", nargs="*", default=[], choices=["element_events", "fixed"])
+    parser.add_argument("--fixed-step", type=float, default=0.2, help="step of the fixed reference, in d_c")
+    parser.add_argument("--repeat", type=int, default=1)
+    args = parser.parse_args()
+    grid = Grid(1.0, args.elements)
+    n = args.pillars_per_side
+    for ratio in args.stiffness_ratios:
+        smooth = _problem(grid, n, args.filling_factor, ratio, 0.0, args.seed)
+        scales = brush_scales(smooth)
+        d_c = abs(scales["rigid_brush_displacement"])
+        f_c = scales["rigid_brush_force"]
+        for sigma in args.sigmas:
+            problem = _problem(grid, n, args.filling_factor, ratio, sigma * d_c, args.seed)
+            path = LoadPath(method="events", preload_force=args.preload * f_c, max_steps=10**7)
+            runs = [_run(problem, path) for _ in range(args.repeat)]
+            seconds = statistics.median(t for t, _ in runs)
+            summary = runs[-1][1]
+            line = {
+                "elements": args.elements,
+                "pillars": problem.indenter.n_pillars,
+                "stiffness_ratio": ratio,
+                "sigma_by_dc": sigma,
+                "preload_by_fc": args.preload,
+                "seconds": round(seconds, 2),
+                "solves": summary["n_solves"],
+                "converged": summary["converged"],
+                "adhesive_force": summary["adhesive_force"],
+                "force_by_fc": summary["adhesive_force"] / f_c,
+                "work_of_separation": summary["work_of_separation"],
+            }
+            for name in args.references:
+                method = "fixed" if name == "fixed" else "element_events"
+                reference_path = LoadPath(method=method, preload_force=args.preload * f_c, max_steps=10**7,
+                                          step=args.fixed_step * d_c)
+                t_ref, ref = _run(problem, reference_path)
+                line[name] = {
+                    "seconds": round(t_ref, 2),
+                    "solves": ref["n_solves"],
+                    "speedup": round(t_ref / seconds, 2),
+                    "adhesive_force_rel_diff": summary["adhesive_force"] / ref["adhesive_force"] - 1,
+                    "work_rel_diff": summary["work_of_separation"] / ref["work_of_separation"] - 1,
+                }
+            print(json.dumps(line), flush=True)
+
+
+if __name__ == "__main__":
+    main()
