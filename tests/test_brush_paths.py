@@ -11,13 +11,16 @@ which test the machinery, not the thesis's numbers.
 from __future__ import annotations
 
 import itertools
+import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from brushbem import protocol
-from brushbem.case import brush_scales
+from brushbem.case import brush_scales, build_path, build_problem
+from brushbem.config import load_config
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.structure import Grid, Level, Profile, brush
 
@@ -148,3 +151,20 @@ def test_fixed_steps_converge_to_the_event_path(stiffness, sigma):
     assert _observed_order(steps, f_errors) > 0.8 or max(f_errors) < 1e-6
     assert _observed_order(steps, w_errors) > 0.8
     assert w_errors[-1] < 0.02
+
+
+def test_level_brushes_keep_the_element_path():
+    """A brush of level tips touches with every element at once: one loading event, no contact problems.
+
+    The default example (16 x 16 flat pillars, k~ = 0.455, N = 256) gives
+    F~ = F_A / F_K(compact punch) = 1.8385 (eq. 4.11; the thesis's Fig. 4-3 a
+    reads about 1.8), state for state the element-event path's.
+    """
+    config = load_config(Path(__file__).resolve().parents[1] / "examples" / "default.toml")
+    problem, path = build_problem(config), build_path(config)
+    fast = record_pull_off(problem, path)
+    reference = record_pull_off(problem, dataclasses.replace(path, method="element_events"))
+    assert fast.summary["n_states"] == reference.summary["n_states"]
+    np.testing.assert_array_equal(fast.curve.force, reference.curve.force)
+    force = fast.summary["adhesive_force"] / brush_scales(problem)["compact_punch_force"]
+    assert force == pytest.approx(1.8385, abs=1e-4)

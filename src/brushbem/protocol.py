@@ -14,13 +14,14 @@ Three methods:
   first solve of a step is on the previous contact set, so the first
   element to reach the criterion inside the step, and the force there, are
   located exactly (a state of kind "event"), and the work of separation
-  takes the cascade there (`_fixed_unloading_path`).  A brush is pressed as
-  contact problems, as by ``"events"``.
-* ``"events"`` - exact event-driven path.  A brush of two or more pillars is
-  pressed as non-adhesive contact problems (`_contact_loading`: the same
-  branch, checked on its samples, in a few constrained CG solves instead of
-  one global solve per element that joins); single bodies, and the
-  unloading of every structure, go event by event.
+  takes the cascade there (`_fixed_unloading_path`).  A brush whose tips are
+  not level is pressed as contact problems, as by ``"events"``.
+* ``"events"`` - exact event-driven path.  A brush of two or more pillars
+  whose tips are not all level (rough, concave, length offsets) is pressed
+  as non-adhesive contact problems (`_contact_loading`: the same branch,
+  checked on its samples, in a few constrained CG solves instead of one
+  global solve per element that joins); single bodies, level brushes (one
+  loading event) and the unloading of every structure go event by event.
 * ``"element_events"`` - the event-driven path with every element event on
   the loading branch too: the reference that ``"events"`` is tested against.
 
@@ -692,7 +693,7 @@ def _fixed(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if tracker.n_pillars >= 2:
+    if _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -844,7 +845,7 @@ def _budget_exhausted(tracker, d, loading, path) -> State:
 def _events(tracker: _Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     done = False
-    if path.method == "events" and tracker.n_pillars >= 2:
+    if path.method == "events" and _press_as_contact_problems(tracker):
         # A brush's loading branch as contact problems (`_contact_loading`);
         # from where that cannot be shown to hold, element events.
         outcome = yield from _contact_loading(tracker, path)
@@ -892,6 +893,20 @@ class _Sample:
     pressure: object
     contact: object
     eq: Equilibrium
+
+
+def _press_as_contact_problems(tracker: _Tracker) -> bool:
+    """Whether the loading branch goes by `_contact_loading`: a brush whose tips are not all level.
+
+    A brush of level tips (no roughness, profile or length offsets) touches
+    with every footprint element at once, and its element-event loading is
+    a single event: the contact problems would only cost more.
+    """
+    if tracker.n_pillars < 2:
+        return False
+    heights = np.asarray(tracker.problem.indenter.height)[np.asarray(tracker.problem.indenter.footprint)]
+    lowest = float(heights.min())
+    return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
 
 
 def _contact_loading(tracker: _Tracker, path: LoadPath):
