@@ -10,8 +10,8 @@ which test the machinery, not the thesis's numbers.
 
 from __future__ import annotations
 
-import itertools
 import dataclasses
+import itertools
 import math
 from pathlib import Path
 
