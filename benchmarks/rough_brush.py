@@ -12,8 +12,9 @@ For every k~ x sigma~ it prints one JSON line: the median wall time of
 ``--repeat`` runs of ``method = "events"`` (the default: the brush pressed
 as contact problems, retracted event by event), its solves, F_A, the work of
 separation, and, for each reference path named in ``--references`` (run
-once, in the same process), its time, the ratio of the times and the
-relative differences of F_A and the work:
+once, in the same process), its time, the ratio of its time to the events
+path's and the relative differences of the events path's F_A and work
+against it (``events / reference - 1``):
 
 * ``element_events`` - every element event on both branches (the exact
   reference; affordable at N = 256 with 16 x 16 pillars: ~1.5 min a case),
