@@ -480,3 +480,48 @@ def report(out_dir: Path, redraw: bool) -> None:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     click.echo(str(path))
+
+
+@main.command("export-tables")
+@click.argument("study_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
+@click.option("--to", "tables_root", required=True, type=click.Path(path_type=Path, file_okay=False),
+              help="Folder of the comparison tables (e.g. docs/reproduction); DIR's study goes to a subfolder.")
+def export_tables(study_dir: Path, tables_root: Path) -> None:
+    """Write the compact tables (CSV per part, provenance.json) of the study run folder DIR."""
+    from brushbem import studies
+    from brushbem.reproduction import export_tables as export
+
+    try:
+        folder = export(study_dir, tables_root)
+    except studies.StudyError as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    click.echo(str(folder))
+
+
+@main.command("compare-thesis")
+@click.argument("tables_root", metavar="TABLES", type=click.Path(path_type=Path, file_okay=False, exists=True))
+@click.option("--out", "out_file", type=click.Path(path_type=Path, dir_okay=False), default=None,
+              help="Write the document here (default: standard output).")
+@click.option("--check", is_flag=True, help="Exit 1 if --out differs from what TABLES give (write nothing).")
+def compare_thesis(tables_root: Path, out_file: Path | None, check: bool) -> None:
+    """The thesis's numbers beside ours, computed from the tables in TABLES (Markdown)."""
+    from brushbem.io import atomic_path
+    from brushbem.reproduction import comparison_document
+
+    document = comparison_document(tables_root)
+    if check:
+        if out_file is None:
+            raise click.UsageError("--check needs --out FILE")
+        current = out_file.read_text(encoding="utf-8") if out_file.is_file() else ""
+        if current != document:
+            click.echo(f"{out_file} is not what {tables_root} give: run brushbem compare-thesis "
+                       f"{tables_root} --out {out_file}", err=True)
+            raise click.exceptions.Exit(1)
+        return
+    if out_file is None:
+        click.echo(document, nl=False)
+        return
+    with atomic_path(out_file) as temporary:
+        Path(temporary).write_text(document, encoding="utf-8")
+    click.echo(str(out_file))

@@ -1,0 +1,110 @@
+"""The comparison with the thesis is a function of committed tables.
+
+`brushbem export-tables` turns a study run folder into CSV tables with their
+provenance; `brushbem compare-thesis` computes every thesis number from them
+alone.  The committed ``docs/thesis-comparison.md`` must be what the committed
+``docs/reproduction`` tables give, byte for byte.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+from brushbem.cli import main
+from brushbem.reproduction import (
+    ComparisonRow,
+    compare,
+    comparison_document,
+    export_tables,
+    load_tables,
+    render,
+)
+from brushbem.studies import ThesisNumber, get_study, load_results, run_study
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def punch_study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study") / "punch_spring"
+    run_study("punch_spring", out, quick=True, workers=1, draw=False)
+    return out
+
+
+def test_tables_give_the_numbers_of_the_study_folder(punch_study, tmp_path):
+    folder = export_tables(punch_study, tmp_path)
+    provenance, tables = load_tables(folder)
+    assert provenance["study"] == "punch_spring" and provenance["quick"] is True
+    assert provenance["parts"]["stiffness"]["cases"] == len(tables["stiffness"])
+    assert provenance["parts"]["stiffness"]["grid"].startswith("N = 64")
+    # Every number from the CSV tables equals the number from the case files' summaries.
+    study = get_study("punch_spring")
+    results = load_results(punch_study)
+    rows, _ = compare(tmp_path)
+    assert [row.quantity for row in rows] == [number.quantity for number in study.numbers]
+    for row, number in zip(rows, study.numbers, strict=True):
+        assert row.ours == pytest.approx(float(number.compute(results)), rel=1e-12)
+    # One realisation: no standard error.
+    assert all(math.isnan(row.standard_error) for row in rows)
+
+
+def test_the_document_is_the_same_bytes_for_the_same_tables(punch_study, tmp_path):
+    export_tables(punch_study, tmp_path / "tables")
+    (tmp_path / "tables" / "notes.md").write_text("## Notes\n\nHand-written.\n")
+    first = comparison_document(tmp_path / "tables")
+    assert first == comparison_document(tmp_path / "tables")
+    assert first.rstrip().endswith("Hand-written.")
+    out = tmp_path / "comparison.md"
+    runner = CliRunner()
+    result = runner.invoke(main, ["compare-thesis", str(tmp_path / "tables"), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert out.read_text() == first
+    assert runner.invoke(main, ["compare-thesis", str(tmp_path / "tables"), "--out", str(out), "--check"]).exit_code == 0
+    out.write_text(first + "edited\n")
+    result = runner.invoke(main, ["compare-thesis", str(tmp_path / "tables"), "--out", str(out), "--check"])
+    assert result.exit_code == 1 and "is not what" in result.output
+
+
+def test_standard_error_over_realizations(tmp_path, monkeypatch):
+    """Two realisations: the number on each alone, their standard error stdev / sqrt(2)."""
+    folder = tmp_path / "fake"
+    folder.mkdir()
+    pd.DataFrame({"realization": [0, 0, 1, 1], "seed": [1, 1, 2, 2], "status": ["finished"] * 4,
+                  "value": [1.0, 3.0, 5.0, 7.0]}).to_csv(folder / "part.csv", index=False)
+    (folder / "provenance.json").write_text(json.dumps({
+        "study": "fake", "quick": False, "brushbem_version": "x", "commit": None,
+        "parts": {"part": {"cases": 4, "grid": "N = 8", "realizations": 2, "seeds": [1, 2],
+                           "statuses": {"finished": 4}, "sweep_file": "fake.part.toml", "wall_time_s": 1.0}}}))
+
+    class Fake:
+        name = "fake"
+        numbers = (ThesisNumber("mean value", "nowhere", 4.0, lambda r: r["part"]["value"].mean()),)
+
+    monkeypatch.setattr("brushbem.studies.get_study", lambda name: Fake)
+    rows, provenances = compare(tmp_path)
+    (row,) = rows
+    assert row.ours == 4.0 and row.deviation == 0.0
+    # Means per realisation 2 and 6: stdev 2.828, over sqrt(2): 2.
+    assert row.standard_error == pytest.approx(2.0)
+    assert "| mean value | nowhere | 4 | 4 | 2 | +0.0 % |" in render(rows, provenances)
+
+
+def test_a_number_that_fails_is_reported_in_its_row():
+    row = ComparisonRow("s", "q", "w", 1.0, math.nan, math.nan, 0, "KeyError: 'x'")
+    text = render([row], {"s": {"quick": True, "parts": {}}})
+    assert "n/a (KeyError: 'x')" in text
+
+
+def test_the_committed_comparison_is_what_the_committed_tables_give():
+    tables = ROOT / "docs" / "reproduction"
+    document = ROOT / "docs" / "thesis-comparison.md"
+    assert document.read_text(encoding="utf-8") == comparison_document(tables), (
+        "docs/thesis-comparison.md is out of date: run "
+        "brushbem compare-thesis docs/reproduction --out docs/thesis-comparison.md"
+    )
