@@ -920,8 +920,8 @@ def _contact_loading(tracker: _Tracker, path: LoadPath):
     it solves the non-adhesive contact problem at d, whose solution is
     unique (a convex complementarity problem).  So the whole loading branch
     that the event path follows element event by element (one global solve
-    per element: ~40 per pillar of 3.6 elements' radius) is the
-    Polonsky-Keer solution at the preload, in one constrained CG.
+    per element: ~40 per pillar of 3.6 elements' radius) is given by
+    Polonsky-Keer solutions, a few constrained CG solves in all.
 
     The premise is checked on the samples: every contact set must hold the
     sets of the smaller displacements sampled before it (an element that a
@@ -944,7 +944,7 @@ def _contact_loading(tracker: _Tracker, path: LoadPath):
     samples: list[_Sample] = []
     cost = [0, 0]  # solves, iterations of the samples not yet yielded
 
-    def solve_at(d: float, start: _Sample | None) -> _Sample | None:
+    def solve_at(d: float, start: _Sample | None) -> _Sample:
         if start is None:
             tracker.pressure = xp.zeros_like(tracker.pressure)
             tracker.contact = xp.zeros_like(tracker.contact)
