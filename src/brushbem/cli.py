@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import contextlib
 import numbers
+import signal
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +30,7 @@ __all__ = ["main"]
 EXIT_INVALID_CONFIG = 2
 EXIT_NOT_CONVERGED = 3
 EXIT_INTERRUPTED = 130
+EXIT_WRITE_FAILED = 4
 
 
 def _load_or_exit(config_path: Path) -> RunConfig:
@@ -118,6 +121,9 @@ def _executor(
         ))
     except ImportError as exc:
         raise click.ClickException(str(exc)) from None
+    except (OSError, ValueError) as exc:  # no scheduler there, an unreadable scheduler file
+        where = scheduler or scheduler_file or "a new LocalCluster"
+        raise click.ClickException(f"cannot connect to the dask scheduler {where}: {exc}") from None
 
 
 def _executor_options(function: Any) -> Any:
@@ -275,18 +281,13 @@ def sweep(
         _print_estimates({sweep_path.name: _estimate(study, samples, quiet)}, workers)
         return
 
-    with contextlib.ExitStack() as stack:
+    with _sweep_errors(out_dir), contextlib.ExitStack() as stack:
         executor = _executor(stack, workers, use_dask, scheduler, scheduler_file)
-        try:
-            outcome = sweep_module.run_sweep(
-                study, out_dir, executor, workers=workers, retry_failed=retry_failed,
-                progress=not quiet,
-            )
-        except KeyboardInterrupt:
-            click.echo(f"interrupted; rerun to compute the missing cases in {out_dir}", err=True)
-            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
-        except RuntimeError as exc:  # another sweep runs in the same folder
-            raise click.ClickException(str(exc)) from None
+        _make_out(out_dir)
+        outcome = sweep_module.run_sweep(
+            study, out_dir, executor, workers=workers, retry_failed=retry_failed,
+            progress=not quiet,
+        )
 
     counts = ", ".join(f"{n} {status}" for status, n in sorted(outcome.counts.items()))
     if not quiet:
@@ -297,6 +298,66 @@ def sweep(
     if not outcome.complete:
         click.echo(f"warning: not every case finished ({counts})", err=True)
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+#: Exit status of a sweep or study stopped by SIGTERM (after the same clean-up as Ctrl-C).
+EXIT_TERMINATED = 143
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM during a sweep or study: it stops the way Ctrl-C does."""
+
+
+def _make_out(out_dir: Path) -> None:
+    """Create a sweep's or study's ``out_dir`` before anything runs; exit 2 naming it if that fails."""
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: cannot create the output folder ({exc.strerror or exc})", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+
+
+@contextlib.contextmanager
+def _sweep_errors(out_dir: Path) -> Any:
+    """Run a sweep or study: SIGTERM handled like Ctrl-C, every outcome a message and an exit status.
+
+    Interrupted: 130 (SIGINT) or 143 (SIGTERM), every finished case kept;
+    a folder holding another sweep: 2; another driver in the folder: 1; a
+    file that cannot be written (a full disk): 4, the cases written kept.
+    """
+    from brushbem import sweep as sweep_module
+
+    def terminate(number: int, frame: Any) -> None:
+        raise _Terminated
+
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    except KeyboardInterrupt as interruption:
+        name = "terminated (SIGTERM)" if isinstance(interruption, _Terminated) else "interrupted"
+        click.echo(f"{name}; the finished cases are kept, rerun to compute the missing ones in {out_dir}",
+                   err=True)
+        status = EXIT_TERMINATED if isinstance(interruption, _Terminated) else EXIT_INTERRUPTED
+        raise click.exceptions.Exit(status) from None
+    except sweep_module.SweepFolderError as error:
+        click.echo(f"cannot run into {out_dir}:", err=True)
+        for problem in error.problems:
+            click.echo(f"  {problem}", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    except OSError as exc:
+        where = exc.filename or out_dir
+        click.echo(f"cannot write {where} ({exc.strerror or exc}); the cases written so far are kept, "
+                   "a rerun computes the rest", err=True)
+        raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+    except (click.exceptions.Exit, click.exceptions.Abort):  # RuntimeErrors too, but already said
+        raise
+    except RuntimeError as exc:  # another sweep runs in the same folder
+        raise click.ClickException(str(exc)) from None
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 def _load_sweep_or_exit(path: Path, heading: str) -> Any:
@@ -412,13 +473,16 @@ def study(
         return
     _check_executor_options(workers, use_dask, scheduler, scheduler_file)
 
-    with contextlib.ExitStack() as stack:
+    with _sweep_errors(out_dir), contextlib.ExitStack() as stack:
         executor = _executor(stack, workers, use_dask, scheduler, scheduler_file)
+        _make_out(out_dir)
         try:
             outcome = studies.run_study(
                 name, out_dir, quick=quick, executor=executor, workers=workers,
                 retry_failed=retry_failed, progress=not quiet,
             )
+        except sweep_module.SweepFolderError:
+            raise
         except sweep_module.SweepError as error:
             click.echo(f"invalid sweep file of study {name}:", err=True)
             for problem in error.problems:
@@ -427,11 +491,6 @@ def study(
         except studies.StudyError as error:
             click.echo(str(error), err=True)
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
-        except KeyboardInterrupt:
-            click.echo(f"interrupted; rerun to compute the missing cases in {out_dir}", err=True)
-            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
-        except RuntimeError as exc:  # another sweep runs in the same folder
-            raise click.ClickException(str(exc)) from None
 
     incomplete = []
     for part, run_ in outcome.parts.items():
@@ -441,7 +500,8 @@ def study(
         if not run_.complete:
             incomplete.append(f"{part} ({counts})")
     if outcome.draw_error:
-        click.echo(f"warning: drawing the figures failed: {outcome.draw_error}", err=True)
+        # The first line: the exception (its traceback is in StudyRun.draw_error for the API).
+        click.echo(f"warning: drawing the figures failed: {outcome.draw_error.splitlines()[0]}", err=True)
     elif not quiet:
         click.echo(f"{len(outcome.figures)} figures in {out_dir / 'figures'}")
     if incomplete:
@@ -454,16 +514,45 @@ def study(
 @click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
 def figure(out_dir: Path) -> None:
     """Redraw the figures of the study or sweep in DIR from its stored results (no computing)."""
-    from brushbem import studies
     from brushbem.report import draw_figures
 
-    try:
+    with _reading_results():
         paths = draw_figures(out_dir)
-    except (FileNotFoundError, studies.StudyError) as error:
-        click.echo(str(error), err=True)
-        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     for path in paths:
         click.echo(str(path))
+
+
+@contextlib.contextmanager
+def _reading_results() -> Any:
+    """Draw or report from a results folder: repairs as warnings, a folder it cannot read exits 2.
+
+    A summary rebuilt on reading is a ``warning:`` line; a folder that is no
+    study or sweep folder, or whose record cannot be read, exits 2 naming
+    it; a file that cannot be written exits 4.
+    """
+    import warnings
+
+    from brushbem import studies
+    from brushbem import sweep as sweep_module
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", sweep_module.SweepWarning)
+        try:
+            yield
+        except (FileNotFoundError, studies.StudyError) as error:
+            click.echo(str(error), err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except sweep_module.SweepFolderError as error:
+            for problem in error.problems:
+                click.echo(problem, err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except OSError as exc:
+            click.echo(f"cannot write {exc.filename or 'the output'} ({exc.strerror or exc})", err=True)
+            raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+        finally:
+            for notice in dict.fromkeys(str(w.message) for w in caught
+                                        if issubclass(w.category, sweep_module.SweepWarning)):
+                click.echo(f"warning: {notice}", err=True)
 
 
 @main.command()
@@ -471,14 +560,10 @@ def figure(out_dir: Path) -> None:
 @click.option("--redraw", is_flag=True, help="Redraw the figures even if DIR/figures has some.")
 def report(out_dir: Path, redraw: bool) -> None:
     """Write DIR/report.html: figures, summary table, thesis numbers, provenance (one file)."""
-    from brushbem import studies
     from brushbem.report import write_report
 
-    try:
+    with _reading_results():
         path = write_report(out_dir, redraw=redraw)
-    except (FileNotFoundError, studies.StudyError) as error:
-        click.echo(str(error), err=True)
-        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     click.echo(str(path))
 
 

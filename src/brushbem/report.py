@@ -4,10 +4,13 @@
 ``study.json``) is drawn by its study, a plain sweep folder (``sweep.json``) by
 `draw_sweep_figures` (adhesive force against every swept key, the pull-off
 curves overlaid).  `write_report(DIR)` writes ``DIR/report.html``: one file,
-figures embedded as PNG data URIs, the summary table with failed and
-unconverged cases highlighted, the thesis numbers of a study, and provenance
-(version, configuration hashes, seeds, machine, timings).  All text is escaped;
-nothing is loaded from outside the file.
+figures embedded as PNG data URIs, the summary table with failed,
+unconverged, missing and corrupt cases highlighted, what happened to the
+folder (`brushbem.sweep.read_incidents`: corrupt case files moved aside, cases
+lost with their workers, interrupted runs; a summary rebuilt on reading), the
+thesis numbers of a study, and provenance (version, configuration hashes,
+seeds, machine, timings).  All text is escaped; nothing is loaded from
+outside the file.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import math
 import os
 import platform
 import re
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -139,12 +143,15 @@ def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path) -> Path | Non
         file = cases_dir / f"{case_id}.nc"
         if not file.is_file():
             continue
-        with xr.open_dataset(file, engine="h5netcdf") as dataset:
-            if "force" not in dataset or "displacement" not in dataset:
-                continue
-            axes.plot(dataset["displacement"].to_numpy(), dataset["force"].to_numpy(),
-                      linewidth=0.9, label=str(case_id))
-            drawn += 1
+        try:
+            with xr.open_dataset(file, engine="h5netcdf") as dataset:
+                if "force" not in dataset or "displacement" not in dataset:
+                    continue
+                displacement, force = dataset["displacement"].to_numpy(), dataset["force"].to_numpy()
+        except Exception:  # noqa: BLE001, S112 - a file damaged since the summary was read: not drawn
+            continue
+        axes.plot(displacement, force, linewidth=0.9, label=str(case_id))
+        drawn += 1
     if not drawn:
         return None
     axes.set_xlabel("d (presses > 0)")
@@ -237,7 +244,7 @@ def _case_hashes(cases_dir: Path, case_ids: Sequence[str]) -> dict[str, str]:
                 config = dataset.attrs.get("config")
             if config:
                 hashes[str(case_id)] = config_hash(str(config))
-        except (OSError, ValueError) as exc:
+        except Exception as exc:  # noqa: BLE001 - any unreadable file is reported as such
             hashes[str(case_id)] = f"unreadable: {type(exc).__name__}"
     return hashes
 
@@ -265,7 +272,8 @@ table{border-collapse:collapse;font-size:.85em;margin:.5em 0}
 th,td{border:1px solid #ccc;padding:.2em .5em;text-align:left;vertical-align:top}
 th{background:#f0f0f0}
 tr.case-failed td{background:#fdd}tr.case-unconverged td{background:#ffe9bf}
-tr.case-missing td{background:#eee;color:#666}
+tr.case-missing td{background:#eee;color:#666}tr.case-corrupt td{background:#f4d0f4}
+.incidents{border:1px solid #b60;background:#fffaf0;padding:.5em 1em}
 .problems{border:2px solid #c00;background:#fff4f4;padding:.5em 1em}
 .ok{color:#070}.na{color:#a00}.far{color:#b60}
 figure{display:inline-block;margin:.5em}figure img{max-width:640px;border:1px solid #ddd}
@@ -380,8 +388,23 @@ def _sweep_keys(folder: Path) -> list[str]:
 
     try:
         return list(json.loads((folder / SWEEP_FILE).read_text(encoding="utf-8")).get("sweep", {}))
-    except OSError:
+    except (OSError, ValueError, AttributeError):
         return []
+
+
+def _incidents_html(incidents: Mapping[str, Sequence[Mapping[str, Any]]], notices: Sequence[str]) -> str:
+    """What happened to the folder: the incidents of every (part) folder and the notices of this reading."""
+    items = [f"<li>{_e(notice)}</li>" for notice in notices]
+    for part, entries in incidents.items():
+        for entry in entries:
+            where = f"{part}/" if part else ""
+            case = f" {where}{entry['case_id']}" if entry.get("case_id") else (f" {part}" if part else "")
+            moved = f" (moved to {where}{entry['moved_to']})" if entry.get("moved_to") else ""
+            items.append(f"<li><code>{_e(entry.get('time', ''))}</code> <b>{_e(entry['event'])}</b>"
+                         f"{_e(case)}: {_e(entry.get('detail', ''))}{_e(moved)}</li>")
+    if not items:
+        return '<p class="ok" id="incidents">Nothing went wrong in this folder.</p>'
+    return f'<div class="incidents" id="incidents"><ul>{"".join(items)}</ul></div>'
 
 
 def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
@@ -389,16 +412,32 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
 
     Figures in ``out_dir/figures`` are drawn first when there are none (or
     ``redraw``); nothing is computed.  The file is self-contained: figures
-    are PNG data URIs, the style sheet is inline.
+    are PNG data URIs, the style sheet is inline.  A `SweepWarning` of
+    reading the results (an unreadable summary rebuilt) is listed in the
+    report and issued again to the caller.
 
     Returns
     -------
     Path
         The report file (written atomically).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``out_dir`` is neither a study nor a sweep output folder.
+    brushbem.sweep.SweepFolderError
+        If a ``sweep.json`` in it cannot be read.
     """
     from brushbem.studies import STUDY_FILE, get_study, load_results
     from brushbem.studies._framework import read_study_record
-    from brushbem.sweep import CASES_DIR, SWEEP_FILE, load_summary
+    from brushbem.sweep import (
+        CASES_DIR,
+        SWEEP_FILE,
+        SweepFolderError,
+        SweepWarning,
+        load_summary,
+        read_incidents,
+    )
 
     out_dir = Path(out_dir)
     is_study = (out_dir / STUDY_FILE).is_file()
@@ -407,25 +446,32 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
                                 "not a study or sweep output folder")
     figures_dir = out_dir / _FIGURES_DIR
     draw_note = ""
-    if redraw or not any(figures_dir.glob("*.png")):
-        try:
-            draw_figures(out_dir)
-        except Exception as exc:  # noqa: BLE001 - reported, not raised
-            draw_note = f"drawing the figures failed: {type(exc).__name__}: {exc}"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SweepWarning)
+        if redraw or not any(figures_dir.glob("*.png")):
+            try:
+                draw_figures(out_dir)
+            except SweepFolderError:
+                raise
+            except Exception as exc:  # noqa: BLE001 - reported, not raised
+                draw_note = f"drawing the figures failed: {type(exc).__name__}: {exc}"
+        study = None
+        if is_study:
+            record = read_study_record(out_dir)
+            study = get_study(record["study"])
+            frames = load_results(out_dir, tuple(record.get("parts", study.parts)))
+            folders = {part: out_dir / part for part in frames}
+            title = f"brushbem study {study.name}: {study.title}"
+        else:
+            frames = {"": load_summary(out_dir)}
+            record = json.loads((out_dir / SWEEP_FILE).read_text(encoding="utf-8"))
+            folders = {"": out_dir}
+            title = f"brushbem sweep {out_dir.name}"
     figures = sorted(figures_dir.glob("*.png"))
-
-    study = None
-    if is_study:
-        record = read_study_record(out_dir)
-        study = get_study(record["study"])
-        frames = load_results(out_dir, tuple(record.get("parts", study.parts)))
-        folders = {part: out_dir / part for part in frames}
-        title = f"brushbem study {study.name}: {study.title}"
-    else:
-        record = json.loads((out_dir / SWEEP_FILE).read_text(encoding="utf-8"))
-        frames = {"": load_summary(out_dir)}
-        folders = {"": out_dir}
-        title = f"brushbem sweep {out_dir.name}"
+    notices = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, SweepWarning)))
+    for notice in notices:
+        warnings.warn(notice, SweepWarning, stacklevel=2)
+    incidents = {part: read_incidents(folder) for part, folder in folders.items()}
 
     problems: list[str] = []
     tables: list[str] = []
@@ -468,6 +514,7 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
                         f"finish:</b><ul>{''.join(problems)}</ul></div>")
     else:
         sections.append('<p class="ok" id="problems">Every case finished (converged).</p>')
+    sections.append("<h2>What happened</h2>" + _incidents_html(incidents, notices))
     if study is not None and study.notes:
         sections.append(f"<p>{_e(study.notes)}</p>")
     if study is not None:

@@ -43,14 +43,38 @@ Cases and resume
     and is *not* retried by a rerun unless asked (``retry_failed``): most
     failures are deterministic and would fail again, and a silently retried
     case hides that it failed.  A case that did not converge is a result
-    (status ``unconverged``) and is never retried.  A worker process that dies
-    (a crash, the out-of-memory killer) breaks the local pool: the cases it
-    took down are left missing and a rerun computes them.
+    (status ``unconverged``) and is never retried.  A case lost to the
+    infrastructure is not a failure of the case: a worker process that dies
+    (a crash, the out-of-memory killer) breaks the local pool, a dask worker
+    that dies again and again gives ``KilledWorker``, a lost connection
+    ``CommClosedError``; such cases are left missing and a rerun computes
+    them.  Local workers watch the driver and exit when it is gone (killed
+    with SIGKILL, say), so no orphaned worker computes on.
+
+Corrupt files and incidents
+    A case file is a result only if it opens, carries a known ``status`` and
+    its own ``case_id``, and (unless failed) its load path.  Anything else (a
+    file truncated by a full disk, emptied, overwritten) is *corrupt*: the
+    summary lists it with status ``corrupt`` and never reads it as a result,
+    and a rerun moves it to ``corrupt/`` (nothing is deleted) and computes
+    the case again.  An unreadable ``summary.parquet`` is rebuilt from the
+    case files with a `SweepWarning`.  What happened to a folder (corrupt
+    files moved aside, cases lost with their workers, interrupted runs, a
+    sweep extended) is appended to ``incidents.jsonl``, one JSON object per
+    line (`read_incidents`), which the report lists.
+
+One folder, one sweep
+    ``sweep.json`` records the case ids.  A sweep run into a folder that
+    holds another sweep is refused (`SweepFolderError`) unless it keeps every
+    recorded case: the same sweep resumes, and a sweep that only adds cases
+    (more realizations: the ids of the existing ones are kept) extends it.
+    A sweep that drops or changes a recorded case needs its own folder.
 
 Outputs of ``run_sweep(sweep, DIR)``: ``DIR/sweep.json`` (the resolved sweep:
 spec, base, every case with its id, seed, values and configuration),
-``DIR/cases/<case-id>.nc`` and ``DIR/summary.parquet`` (one row per case,
-rebuilt from the case files by `build_summary`, read by `load_summary`).
+``DIR/cases/<case-id>.nc``, ``DIR/summary.parquet`` (one row per case,
+rebuilt from the case files by `build_summary`, read by `load_summary`) and,
+when something went wrong, ``DIR/incidents.jsonl`` and ``DIR/corrupt/``.
 """
 
 from __future__ import annotations
@@ -65,19 +89,23 @@ import math
 import multiprocessing
 import os
 import re
+import sys
+import threading
 import time
 import tomllib
 import traceback
+import warnings
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import (
     FIRST_COMPLETED,
+    BrokenExecutor,
+    CancelledError,
     Executor,
     Future,
     ProcessPoolExecutor,
     wait,
 )
-from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal, Self
 
@@ -101,14 +129,18 @@ if TYPE_CHECKING:  # pandas is imported where needed: loading a sweep file does 
 
 __all__ = [
     "CASES_DIR",
+    "CORRUPT_DIR",
+    "INCIDENTS_FILE",
     "SUMMARY_FILE",
     "SWEEP_FILE",
     "CaseOutcome",
     "Sweep",
     "SweepCase",
     "SweepError",
+    "SweepFolderError",
     "SweepRun",
     "SweepSpec",
+    "SweepWarning",
     "build_summary",
     "compute_case",
     "dask_client",
@@ -116,21 +148,31 @@ __all__ = [
     "load_summary",
     "load_sweep",
     "parse_sweep",
+    "read_incidents",
     "run_sweep",
 ]
 
 SWEEP_FILE = "sweep.json"
 SUMMARY_FILE = "summary.parquet"
 CASES_DIR = "cases"
+#: Where a rerun moves case files it cannot read (nothing is deleted).
+CORRUPT_DIR = "corrupt"
+#: What happened to a sweep folder, one JSON object per line (`read_incidents`).
+INCIDENTS_FILE = "incidents.jsonl"
 _LOCK_FILE = ".sweep.lock"
+
+#: Seconds between two checks of a local worker that its driver is alive.
+WATCH_INTERVAL_S = 0.5
 
 #: Seconds between plain progress lines when stderr is not a terminal.
 LOG_INTERVAL_S = 30.0
 
 #: Statuses of a case: ``finished`` (converged), ``unconverged`` (the run ended
 #: but some solve did not converge), ``failed`` (it raised), ``missing`` (no
-#: case file yet; only in summaries).
-Status = Literal["finished", "unconverged", "failed", "missing"]
+#: case file yet) and ``corrupt`` (a case file that cannot be read as a
+#: result); the last two only in summaries.
+Status = Literal["finished", "unconverged", "failed", "missing", "corrupt"]
+_RECORDED = ("finished", "unconverged", "failed")
 
 # A dotted run-config key: bare TOML names joined by dots.
 _DOTTED_KEY = re.compile(r"[A-Za-z0-9_-]+(\.[A-Za-z0-9_-]+)*")
@@ -139,6 +181,14 @@ _MAX_SHOWN = 60
 
 class SweepError(ConfigError):
     """A sweep that cannot run: every problem, one line each, in ``.problems``."""
+
+
+class SweepFolderError(SweepError):
+    """An output folder that holds another sweep, or whose ``sweep.json`` cannot be read."""
+
+
+class SweepWarning(UserWarning):
+    """Something in a sweep folder was repaired on reading (an unreadable summary rebuilt)."""
 
 
 class SweepSpec(BaseModel):
@@ -279,6 +329,16 @@ class Sweep:
 def _show(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= _MAX_SHOWN else text[: _MAX_SHOWN - 3] + "..."
+
+
+def _brief(error: BaseException) -> str:
+    """``Type: message`` of an exception, its first line, at most 160 characters."""
+    try:
+        lines = str(error).strip().splitlines()
+    except Exception:  # noqa: BLE001 - an exception that cannot say what it is still has a type
+        lines = []
+    text = f"{type(error).__name__}: {lines[0] if lines else ''}".rstrip(": ")
+    return text if len(text) <= 160 else text[:157] + "..."
 
 
 def _quoted(key: str) -> str:
@@ -632,8 +692,28 @@ def _case_path(out_dir: Path, case_id: str) -> Path:
     return out_dir / CASES_DIR / f"{case_id}.nc"
 
 
+def _local_files() -> contextlib.AbstractContextManager[Any]:
+    """Read and write files with local locks, whatever dask scheduler is the default.
+
+    With a `dask.distributed.Client` as the default scheduler, xarray guards
+    NetCDF files with the cluster's distributed locks: the driver's files
+    would then depend on the cluster's health (a restarted worker has lost
+    such a lock: "Semaphore or Lock ... not known").  The driver's files are
+    its own; dask's synchronous scheduler gives xarray ordinary locks.
+    """
+    dask = sys.modules.get("dask")
+    if dask is None or not hasattr(dask, "config"):
+        return contextlib.nullcontext()
+    return dask.config.set(scheduler="synchronous")
+
+
 def _write_case_file(out_dir: Path, case: SweepCase, outcome: CaseOutcome) -> None:
     """Record one case in ``cases/<case-id>.nc``, atomically (a failed one as attributes only)."""
+    with _local_files():
+        _write_case_dataset(out_dir, case, outcome)
+
+
+def _write_case_dataset(out_dir: Path, case: SweepCase, outcome: CaseOutcome) -> None:
     import xarray as xr
 
     from brushbem.io import atomic_path, netcdf_attributes, write_dataset
@@ -673,6 +753,161 @@ def _case_attributes(path: Path) -> dict[str, Any]:
 
     with xr.open_dataset(path, engine="h5netcdf") as dataset:
         return dict(dataset.attrs)
+
+
+def _read_case_record(path: Path, case_id: str) -> tuple[dict[str, Any] | None, str]:
+    """The attributes of the case file of ``case_id``, or None and why it is not a result.
+
+    A case file is a result when it opens, its ``status`` is one a case is
+    recorded with, its ``case_id`` is its own, and a finished or unconverged
+    case has its load path.  No data is read beyond the file's metadata.
+    """
+    import xarray as xr
+
+    try:
+        with _local_files(), xr.open_dataset(path, engine="h5netcdf") as dataset:
+            attributes = dict(dataset.attrs)
+            variables = set(dataset.variables)
+    except Exception as exc:  # noqa: BLE001 - any unreadable file is corrupt, whatever the library says
+        return None, f"cannot be read ({_brief(exc)})"
+    status = attributes.get("status")
+    if status not in _RECORDED:
+        return None, f"no case status (found {_show(status)})"
+    if attributes.get("case_id") != case_id:
+        return None, f"records case {_show(attributes.get('case_id'))}, not {case_id}"
+    if status != "failed" and not {"displacement", "force"} <= variables:
+        return None, f"a {status} case without its load path"
+    return attributes, ""
+
+
+def _set_aside(out_dir: Path, path: Path) -> Path:
+    """Move an unreadable case file to ``corrupt/`` under a free name; the new path."""
+    folder = out_dir / CORRUPT_DIR
+    folder.mkdir(exist_ok=True)
+    target = folder / path.name
+    number = 0
+    while target.exists():
+        number += 1
+        target = folder / f"{path.stem}.{number}{path.suffix}"
+    os.replace(path, target)
+    return target
+
+
+def _record_incident(out_dir: Path, event: str, detail: str, **fields: Any) -> None:
+    """Append one incident to ``incidents.jsonl`` (a line per incident, flushed at once)."""
+    entry = {"time": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "event": event, **fields, "detail": detail}
+    line = json.dumps(to_json_safe(entry), allow_nan=False) + "\n"
+    with open(out_dir / INCIDENTS_FILE, "a", encoding="utf-8") as handle:
+        handle.write(line)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def read_incidents(out_dir: str | Path) -> list[dict[str, Any]]:
+    """What happened to a sweep folder, oldest first (see the module docstring).
+
+    Every entry has ``time``, ``event`` and ``detail``; ``case_id`` and
+    ``moved_to`` where they apply.  Events: ``corrupt`` (a case file moved
+    aside and recomputed), ``lost`` (a case lost with its worker, left
+    missing), ``interrupted`` (a run stopped by a signal), ``extended`` (a
+    sweep grown by new cases), ``unreadable-record`` (``sweep.json``
+    unreadable, the folder identified by its case files), ``stale-temporary``
+    (half-written files of a killed driver removed).  A line that does not
+    parse (a driver killed while appending it) is skipped.
+
+    Returns
+    -------
+    list of dict
+        Empty if the folder has no incidents file.
+    """
+    path = Path(out_dir) / INCIDENTS_FILE
+    try:
+        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    except FileNotFoundError:
+        return []
+    incidents = []
+    for line in lines:
+        try:
+            entry = json.loads(line)
+        except ValueError:
+            continue
+        if isinstance(entry, dict) and "event" in entry:
+            incidents.append(entry)
+    return incidents
+
+
+def _read_record(out_dir: Path) -> dict[str, Any]:
+    """The ``sweep.json`` of ``out_dir``.
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is none.
+    SweepFolderError
+        If it cannot be read as a sweep record (the file named).
+    """
+    path = out_dir / SWEEP_FILE
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise SweepFolderError([f"`{path}`: cannot be read as a sweep record ({_brief(exc)})"]) from None
+    cases = record.get("cases") if isinstance(record, dict) else None
+    if not (isinstance(cases, list) and all(isinstance(c, dict) and "case_id" in c for c in cases)):
+        raise SweepFolderError([f"`{path}`: not a sweep record (no list of cases with their ids)"])
+    return record
+
+
+def _check_folder(out_dir: Path, sweep: Sweep) -> None:
+    """Refuse a folder that holds another sweep; record an extension or a lost record.
+
+    The folder's sweep is what ``sweep.json`` records, or, if that is
+    unreadable, the case files in ``cases/``.  ``sweep`` may run there when
+    it keeps every one of those cases (the same ids).
+    """
+    ids = {case.case_id for case in sweep.cases}
+    try:
+        recorded = [str(case["case_id"]) for case in _read_record(out_dir)["cases"]]
+    except FileNotFoundError:
+        return
+    except SweepFolderError as error:
+        found = sorted(path.stem for path in (out_dir / CASES_DIR).glob("*.nc"))
+        foreign = [case_id for case_id in found if case_id not in ids]
+        if foreign:
+            raise SweepFolderError([
+                *error.problems,
+                (f"`{out_dir}`: holds case files of a different sweep (e.g. {foreign[0]}); "
+                 "run this sweep into a new --out folder"),
+            ]) from None
+        _record_incident(out_dir, "unreadable-record",
+                         f"{error.problems[0]}; rewritten: its {len(found)} case files belong to this sweep")
+        return
+    dropped = [case_id for case_id in recorded if case_id not in ids]
+    if dropped:
+        raise SweepFolderError([(
+            f"`{out_dir}`: holds a different sweep ({len(recorded)} cases in {out_dir / SWEEP_FILE}, "
+            f"{len(dropped)} of them not in this sweep, e.g. {dropped[0]}); a folder takes one sweep, "
+            "or one that only adds cases (more realizations): run this sweep into a new --out folder"
+        )])
+    if len(ids) > len(recorded):
+        _record_incident(out_dir, "extended",
+                         f"the sweep grew from {len(recorded)} to {len(ids)} cases")
+
+
+def _is_lost(error: BaseException) -> bool:
+    """Whether a case's future failed for the infrastructure (its worker, a connection), not the case.
+
+    `compute_case` turns every exception of the computation into a failed
+    outcome, so what reaches the driver is a broken local pool, a cancelled
+    future, a connection error, or dask's ``KilledWorker`` (the case's worker
+    died more often than the scheduler allows).
+    """
+    if isinstance(error, (BrokenExecutor, CancelledError, OSError)):
+        return True
+    scheduler = sys.modules.get("distributed.scheduler")
+    killed = getattr(scheduler, "KilledWorker", None)
+    return killed is not None and isinstance(error, killed)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -716,15 +951,73 @@ def default_workers() -> int:
     return max(1, os.cpu_count() or 1)
 
 
+def _start_time(pid: int) -> str | None:
+    """The start time of process ``pid`` (Linux ``/proc``); "" if it is gone or a zombie, None if unknown."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except FileNotFoundError:
+        return "" if Path("/proc/self/stat").exists() else None
+    except OSError:
+        return None
+    fields = text[text.rfind(")") + 2:].split()  # after the command name, which may hold spaces
+    return "" if fields[0] in "ZX" else fields[19]
+
+
+def _driver_alive(pid: int, started: str | None) -> bool:
+    """Whether the driver ``pid`` (started at ``started``, if known) still runs."""
+    now = _start_time(pid)
+    if now is not None:
+        return now != "" and (started is None or now == started)
+    try:  # no /proc: a signal 0 finds the process, if not yet reaped
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def _watch_driver(pid: int, started: str | None) -> None:
+    """Initializer of a local worker: exit as soon as the driving process ``pid`` is gone.
+
+    A worker's parent is the fork server, which outlives a driver killed
+    with SIGKILL; without the watch its workers would compute on, orphaned.
+    A daemon thread checks every `WATCH_INTERVAL_S` (a process id taken over
+    by a new process is told apart by its start time, where ``/proc`` gives it).
+    """
+    def watch() -> None:
+        while _driver_alive(pid, started):
+            time.sleep(WATCH_INTERVAL_S)
+        os._exit(1)  # nothing to report to: end at once, mid-computation too
+
+    threading.Thread(target=watch, name="brushbem-driver-watch", daemon=True).start()
+
+
 def _process_pool(workers: int) -> ProcessPoolExecutor:
-    """A local process pool that does not fork the (threaded) driver.
+    """A local process pool that does not fork the (threaded) driver, and dies with it.
 
     ``fork`` from a process running threads (rich's refresh thread, the
     executor's own) can deadlock; ``forkserver`` forks from a clean server.
+    Every worker watches the driver (`_watch_driver`).
     """
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
-    return ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    driver = os.getpid()
+    return ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                               initializer=_watch_driver, initargs=(driver, _start_time(driver)))
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """Shut an interrupted local pool down: cancel what waits, end the running workers."""
+    terminate = getattr(pool, "terminate_workers", None)  # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError):
+            process.terminate()
 
 
 @contextlib.contextmanager
@@ -934,14 +1227,22 @@ def run_sweep(
     ------
     SweepError
         If the sweep is invalid; nothing is created then.
+    SweepFolderError
+        If ``out_dir`` holds a different sweep (one that this sweep does not
+        contain case for case); nothing is changed then.
+    RuntimeError
+        If another sweep driver runs in ``out_dir``.
+    KeyboardInterrupt
+        Re-raised after an interruption: every case finished by then is
+        written, the local pool's workers are ended, and the interruption is
+        recorded in ``incidents.jsonl``.
     """
     sweep = _as_sweep(sweep, base_dir)
     out_dir = Path(out_dir)
     (out_dir / CASES_DIR).mkdir(parents=True, exist_ok=True)
     with _exclusive(out_dir):
-        # Leftovers of a driver killed while writing: never a complete file.
-        for stale in (out_dir / CASES_DIR).glob(".*.tmp"):
-            stale.unlink(missing_ok=True)
+        _remove_stale_temporaries(out_dir)
+        _check_folder(out_dir, sweep)
         _write_json(out_dir / SWEEP_FILE, sweep.record())
 
         skipped: dict[str, str] = {}
@@ -949,10 +1250,16 @@ def run_sweep(
         for case in sweep.cases:
             path = _case_path(out_dir, case.case_id)
             if path.exists():
-                status = str(_case_attributes(path).get("status", "failed"))
-                if not (retry_failed and status == "failed"):
-                    skipped[case.case_id] = status
-                    continue
+                attributes, problem = _read_case_record(path, case.case_id)
+                if attributes is None:
+                    moved = _set_aside(out_dir, path)
+                    _record_incident(out_dir, "corrupt", f"case file {problem}; recomputed",
+                                     case_id=case.case_id, moved_to=str(moved.relative_to(out_dir)))
+                else:
+                    status = str(attributes["status"])
+                    if not (retry_failed and status == "failed"):
+                        skipped[case.case_id] = status
+                        continue
             todo.append(case)
 
         computed: dict[str, str] = {}
@@ -964,6 +1271,22 @@ def run_sweep(
             # pure=False: each case runs even if dask would deem two calls equal.
             executor = executor.get_executor(pure=False)
         futures: dict[Future[CaseOutcome], SweepCase] = {}
+
+        def record(future: Future[CaseOutcome], case: SweepCase) -> tuple[str, str]:
+            try:
+                outcome = future.result()
+            except Exception as exc:  # noqa: BLE001 - reported, not raised
+                if _is_lost(exc):
+                    lost.append(case.case_id)
+                    _record_incident(out_dir, "lost", f"{_brief(exc)}; left missing, a rerun computes it",
+                                     case_id=case.case_id)
+                    return "missing", f"lost with its worker ({_brief(exc)}); rerun to compute it"
+                outcome = CaseOutcome("failed", f"{type(exc).__name__}: {exc}", math.nan,
+                                      traceback="".join(traceback.format_exception(exc)))
+            _write_case_file(out_dir, case, outcome)
+            computed[case.case_id] = outcome.status
+            return outcome.status, outcome.reason
+
         try:
             with _Reporter(len(todo), len(skipped), progress, console) as reporter:
                 for case in todo:
@@ -973,24 +1296,30 @@ def run_sweep(
                     done, pending = wait(pending, timeout=reporter.timeout(), return_when=FIRST_COMPLETED)
                     for future in sorted(done, key=lambda f: futures[f].index):
                         case = futures.pop(future)
-                        try:
-                            outcome = future.result()
-                        except BrokenProcessPool:
-                            lost.append(case.case_id)
-                            reporter.record(case, "missing", "a worker process died; rerun to compute it")
-                            continue
-                        except Exception as exc:  # noqa: BLE001 - reported, not raised
-                            outcome = CaseOutcome("failed", f"{type(exc).__name__}: {exc}", math.nan,
-                                                  traceback="".join(traceback.format_exception(exc)))
-                        _write_case_file(out_dir, case, outcome)
-                        computed[case.case_id] = outcome.status
-                        reporter.record(case, outcome.status, outcome.reason)
+                        reporter.record(case, *record(future, case))
                     reporter.tick()
+        except KeyboardInterrupt as interruption:
+            # Keep what finished before the signal, then stop the rest.
+            for future, case in sorted(futures.items(), key=lambda item: item[1].index):
+                if future.done() and not future.cancelled():
+                    with contextlib.suppress(Exception):
+                        record(future, case)
+            for future in futures:
+                future.cancel()
+            if owned is not None:
+                _stop_workers(owned)
+                owned = None
+            with contextlib.suppress(OSError):
+                missing = sum(not _case_path(out_dir, case.case_id).exists() for case in sweep.cases)
+                _record_incident(out_dir, "interrupted",
+                                 f"{type(interruption).__name__}: {len(computed)} cases computed by this run "
+                                 f"kept, {missing} missing")
+            raise
         except BaseException:
             for future in futures:
                 future.cancel()
             if owned is not None:
-                owned.shutdown(wait=False, cancel_futures=True)
+                _stop_workers(owned)
                 owned = None
             raise
         finally:
@@ -998,6 +1327,19 @@ def run_sweep(
                 owned.shutdown()
         summary = build_summary(out_dir)
     return SweepRun(computed=computed, skipped=skipped, lost=tuple(lost), summary=summary)
+
+
+def _remove_stale_temporaries(out_dir: Path) -> None:
+    """Remove what a driver killed while writing left: temporaries of its files, never complete files."""
+    stale = [*(out_dir / CASES_DIR).glob(".*.tmp"),
+             *(path for name in (SWEEP_FILE, SUMMARY_FILE) for path in out_dir.glob(f".{name}.*.tmp"))]
+    for path in stale:
+        path.unlink(missing_ok=True)
+    if stale:
+        _record_incident(out_dir, "stale-temporary",
+                         f"removed {len(stale)} half-written file(s) of a killed run: "
+                         + ", ".join(sorted(str(path.relative_to(out_dir)) for path in stale)[:5])
+                         + (", ..." if len(stale) > 5 else ""))
 
 
 # --------------------------------------------------------------------------- summary
@@ -1041,7 +1383,9 @@ def build_summary(out_dir: str | Path, *, write: bool = True) -> pd.DataFrame:
     ``summary.json`` fields flattened with dots (``theory.ratios.adhesive_force``;
     its own ``reason`` and ``wall_time_s`` give way to the case's), and
     ``brushbem_version``, ``backend``.  A case without a file has status
-    ``missing``.  Case files of other sweeps in the folder are ignored.
+    ``missing`` (its reason says so when its worker was lost), a case whose
+    file cannot be read as a result has status ``corrupt`` (nothing of it is
+    read).  Case files of other sweeps in the folder are ignored.
 
     Parameters
     ----------
@@ -1053,13 +1397,22 @@ def build_summary(out_dir: str | Path, *, write: bool = True) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``out_dir`` has no ``sweep.json``.
+    SweepFolderError
+        If its ``sweep.json`` cannot be read.
     """
     import pandas as pd
 
     from brushbem.io import atomic_path
 
     out_dir = Path(out_dir)
-    record = json.loads((out_dir / SWEEP_FILE).read_text(encoding="utf-8"))
+    record = _read_record(out_dir)
+    lost = {entry.get("case_id"): entry.get("detail", "") for entry in read_incidents(out_dir)
+            if entry["event"] == "lost"}
     rows, summaries = [], []
     for entry in record["cases"]:
         row: dict[str, Any] = {
@@ -1068,16 +1421,25 @@ def build_summary(out_dir: str | Path, *, write: bool = True) -> pd.DataFrame:
         row.update(entry["values"])
         path = _case_path(out_dir, entry["case_id"])
         summary: dict[str, Any] = {}
-        if path.exists():
-            attributes = _case_attributes(path)
+        provenance: dict[str, Any] = {"brushbem_version": None, "backend": None}
+        attributes, problem = _read_case_record(path, entry["case_id"]) if path.exists() else (None, "")
+        if attributes is not None:
             row["status"] = attributes.get("status")
             row["reason"] = attributes.get("reason")
             row["wall_time_s"] = attributes.get("wall_time_s")
-            summary = json.loads(attributes.get("summary", "null")) or {}
+            try:
+                summary = json.loads(attributes.get("summary", "null")) or {}
+            except (TypeError, ValueError):
+                summary = {}
             provenance = {key: attributes.get(key) for key in ("brushbem_version", "backend")}
+        elif problem:
+            row.update(status="corrupt", wall_time_s=math.nan,
+                       reason=f"case file {problem}; a rerun moves it to {CORRUPT_DIR}/ and recomputes it")
+        elif entry["case_id"] in lost:
+            row.update(status="missing", wall_time_s=math.nan,
+                       reason=f"its worker was lost ({lost[entry['case_id']]})")
         else:
             row.update(status="missing", reason="not computed yet", wall_time_s=math.nan)
-            provenance = {"brushbem_version": None, "backend": None}
         rows.append(row)
         summaries.append((summary, provenance))
     frame = pd.DataFrame(rows, columns=[
@@ -1097,14 +1459,23 @@ def build_summary(out_dir: str | Path, *, write: bool = True) -> pd.DataFrame:
 def load_summary(out_dir: str | Path, *, rebuild: bool = False) -> pd.DataFrame:
     """The summary of the sweep in ``out_dir`` (one row per case).
 
-    ``summary.parquet`` is read as it is unless it is missing, older than the
-    case files or ``sweep.json`` (a killed or extended sweep), or ``rebuild``
+    ``summary.parquet`` is read as it is unless it is missing, older than a
+    case file, the ``cases/`` folder or ``sweep.json`` (a killed or extended
+    sweep, a case file replaced or damaged since), or ``rebuild``
     is set; then it is rebuilt with `build_summary` (and written where the
-    folder is writable).
+    folder is writable).  A ``summary.parquet`` that cannot be read (corrupt,
+    or written by a newer format) is rebuilt too, with a `SweepWarning`.
 
     Returns
     -------
     pandas.DataFrame
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``out_dir`` has no ``sweep.json``.
+    SweepFolderError
+        If its ``sweep.json`` cannot be read.
     """
     import pandas as pd
 
@@ -1116,8 +1487,16 @@ def load_summary(out_dir: str | Path, *, rebuild: bool = False) -> pd.DataFrame:
             (out_dir / name).stat().st_mtime_ns
             for name in (SWEEP_FILE, CASES_DIR) if (out_dir / name).exists()
         )
+        with contextlib.suppress(FileNotFoundError), os.scandir(out_dir / CASES_DIR) as entries:
+            for entry in entries:
+                with contextlib.suppress(FileNotFoundError):
+                    newest = max(newest, entry.stat().st_mtime_ns)
         if newest <= written:
-            return pd.read_parquet(path, engine="pyarrow")
+            try:
+                return pd.read_parquet(path, engine="pyarrow")
+            except Exception as exc:  # noqa: BLE001 - a derived file: rebuilt, whatever the reader says
+                warnings.warn(f"{path} cannot be read ({_brief(exc)}); "
+                              "rebuilt from the case files", SweepWarning, stacklevel=2)
     try:
         return build_summary(out_dir)
     except OSError:  # a read-only results folder: summarise without writing

@@ -7,7 +7,9 @@ Layout of ``run_study(name, DIR)``::
     DIR/figures/*.png         drawn by the study's ``draw``
 
 Running again computes only the cases still missing (the sweeps resume), then
-redraws.  `draw_study` redraws from the stored results without computing.
+redraws.  A folder holds one study: running another study (or the quick
+sweeps into a folder of the full ones, or the reverse) into it is refused.
+`draw_study` redraws from the stored results without computing.
 """
 
 from __future__ import annotations
@@ -111,12 +113,18 @@ def read_study_record(out_dir: str | Path) -> dict[str, Any]:
     Raises
     ------
     StudyError
-        If the folder holds no ``study.json``.
+        If the folder holds no ``study.json``, or one that cannot be read.
     """
     path = Path(out_dir) / STUDY_FILE
     if not path.is_file():
         raise StudyError(f"{out_dir} holds no {STUDY_FILE}: not a study run folder")
-    return json.loads(path.read_text(encoding="utf-8"))
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise StudyError(f"{path} cannot be read as a study record ({type(exc).__name__}: {exc})") from None
+    if not (isinstance(record, dict) and isinstance(record.get("study"), str)):
+        raise StudyError(f"{path} is not a study record (no study name)")
+    return record
 
 
 def load_results(out_dir: str | Path, parts: tuple[str, ...] | None = None) -> dict[str, pd.DataFrame]:
@@ -193,9 +201,12 @@ def run_study(
     Raises
     ------
     StudyError
-        Unknown study, or a sweep file of a part is missing.
+        Unknown study, a sweep file of a part is missing, or ``out_dir``
+        holds another study (or the same one with the other ``quick``).
     brushbem.sweep.SweepError
         A part's sweep file is invalid.
+    brushbem.sweep.SweepFolderError
+        A part's folder holds a different sweep.
     """
     import traceback
 
@@ -209,6 +220,17 @@ def run_study(
     if absent:
         raise StudyError(f"study {study.name!r}: missing sweep file(s): {', '.join(absent)}")
     out_dir.mkdir(parents=True, exist_ok=True)
+    if (out_dir / STUDY_FILE).exists():
+        try:
+            previous = read_study_record(out_dir)
+        except StudyError:
+            previous = None  # unreadable: each part's sweep.json still guards its folder
+        if previous is not None and (previous["study"], bool(previous.get("quick"))) != (study.name, bool(quick)):
+            raise StudyError(
+                f"{out_dir} holds study {previous['study']!r} (quick: {bool(previous.get('quick'))}), "
+                f"not {study.name!r} (quick: {bool(quick)}): run it into a new --out folder")
+    for stale in out_dir.glob(f".{STUDY_FILE}.*.tmp"):  # of a driver killed while writing
+        stale.unlink(missing_ok=True)
     _write_json(out_dir / STUDY_FILE, {
         "study": study.name,
         "title": study.title,
