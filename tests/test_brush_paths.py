@@ -87,11 +87,16 @@ def test_contact_loading_gives_the_element_event_answer(case):
     # The same unloading path, state by state: the number of attached pillars
     # at every event displacement of the reference (ties within the solver
     # tolerance may order two pillars' detachments differently: at most 1 %).
+    # An event's d is the preload's minus the distance to the criterion, so
+    # it carries the solves' error on the scale of the path (the preload d),
+    # not of its own value, which passes through zero: 1e-6 of the preload d
+    # (100 x the CG tolerance; measured 3e-8 on the hierarchical brush).
     d_fast, attached_fast = _unloading(fast)
     d_ref, attached_ref = _unloading(reference)
     assert d_fast.size == pytest.approx(d_ref.size, rel=0.01)
     n = min(d_fast.size, d_ref.size)
-    same = np.isclose(d_fast[:n], d_ref[:n], rtol=1e-6, atol=1e-12) & (attached_fast[:n] == attached_ref[:n])
+    scale = 1e-6 * abs(reference.summary["max_displacement"])
+    same = np.isclose(d_fast[:n], d_ref[:n], rtol=0.0, atol=scale) & (attached_fast[:n] == attached_ref[:n])
     assert np.count_nonzero(~same) <= 0.01 * n
     # ... at a fraction of the solves.
     assert fast.summary["n_solves"] < 0.2 * reference.summary["n_solves"]

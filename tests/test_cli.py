@@ -101,7 +101,7 @@ def fake_run_case(monkeypatch):
     calls: list[RunConfig] = []
     state = {"converged": True}
 
-    def run_case(config, *, progress=None):
+    def run_case(config, *, progress=None, stop=None):
         calls.append(config)
         if progress is not None:
             progress(0.0, "pressing")
@@ -225,7 +225,8 @@ def test_run_writes_the_three_files(tmp_path, fake_run_case):
     assert len(fake_run_case.calls) == 1
     assert isinstance(fake_run_case.calls[0], RunConfig)
 
-    assert sorted(p.name for p in out.iterdir()) == ["pulloff.png", "result.nc", "summary.json"]
+    # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
+    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
     assert (out / "pulloff.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
     summary = json.loads((out / "summary.json").read_text())
@@ -276,7 +277,8 @@ def test_run_again_replaces_files_and_leaves_no_temporaries(tmp_path, fake_run_c
     out = tmp_path / "out"
     for _ in range(2):
         assert invoke("run", str(path), "--out", str(out), "--quiet").exit_code == 0
-    assert sorted(p.name for p in out.iterdir()) == ["pulloff.png", "result.nc", "summary.json"]
+    # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
+    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
 
 
 def test_not_converged_writes_results_and_exits_3(tmp_path, fake_run_case):

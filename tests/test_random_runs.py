@@ -118,6 +118,18 @@ _FINITE_KEYS = (
 _EXPLORE = os.environ.get("BRUSHBEM_RANDOM_RUNS")
 
 
+#: How every drawn run ended ("refused", "converged", "not converged").
+_OUTCOMES: list[str] = []
+
+#: Least share of the runs that started which must converge.  The draws include
+#: budgets meant to run out (``max_steps = 5``, ``max_iterations = 3``,
+#: ``tolerance`` at its limits), so not every run can; on the fixed sample 20 of
+#: the 30 that ran converged (30 were refused: pillars under 2 elements, random
+#: layouts that cannot fit).  A regression that leaves most runs unconverged
+#: fails here instead of passing as "unconverged with a reason".
+MIN_CONVERGED_FRACTION = 0.5
+
+
 @settings(
     max_examples=int(_EXPLORE or 60),
     derandomize=_EXPLORE is None,
@@ -125,7 +137,7 @@ _EXPLORE = os.environ.get("BRUSHBEM_RANDOM_RUNS")
     suppress_health_check=[HealthCheck.too_slow],
 )
 @given(drawn=run_documents())
-def test_random_configurations_run_or_are_refused(tmp_path_factory, drawn):
+def _run_or_refuse(tmp_path_factory, drawn):
     document, heights = drawn
     folder = Path(tmp_path_factory.mktemp("run"))
     if heights is not None:
@@ -135,12 +147,14 @@ def test_random_configurations_run_or_are_refused(tmp_path_factory, drawn):
     except ConfigError as error:
         assert error.problems and all(p.startswith("`") for p in error.problems)
         event("refused by the validation")
+        _OUTCOMES.append("refused")
         return
     result, _ = run_case(config)
     summary = result.summary
     assert isinstance(summary["converged"], bool)
     assert all(isinstance(w, str) for w in summary["warnings"])
     event("converged" if summary["converged"] else "not converged: " + summary["reason"].split("(")[0][:60])
+    _OUTCOMES.append("converged" if summary["converged"] else "not converged")
     if not summary["converged"]:
         assert isinstance(summary.get("reason"), str) and summary["reason"], summary
     else:
@@ -156,9 +170,24 @@ def test_random_configurations_run_or_are_refused(tmp_path_factory, drawn):
         if document["halfspace"]["work_of_adhesion"] == 0.0:
             bound = 10 * config.solver.tolerance * summary["preload_force"]
             assert summary["adhesive_force"] <= bound, summary
+        else:
+            # Work against a tensile force needs a tensile force: a pull-off with work
+            # but no force (or the reverse) has lost its extremum.  (Both are zero
+            # where the whole contact peels at a compressive force, which a contact
+            # of a few elements under a weak criterion may.)
+            assert (summary["adhesive_force"] > 0.0) == (summary["work_of_separation"] > 0.0), summary
     # What a converged or unconverged run has is written and read back alike.
     write_case(result, folder, config=config)
     written = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
     assert written["converged"] == summary["converged"]
     dataset = read_case(folder)
     assert dataset.sizes["step"] == result.curve.displacement.size
+
+
+def test_random_configurations_run_or_are_refused(tmp_path_factory):
+    """Every draw ends refused, converged and sound, or unconverged with a reason; most converge."""
+    _OUTCOMES.clear()
+    _run_or_refuse(tmp_path_factory)
+    ran = _OUTCOMES.count("converged") + _OUTCOMES.count("not converged")
+    assert ran >= 20, _OUTCOMES  # the sample must run, not only be refused
+    assert _OUTCOMES.count("converged") >= MIN_CONVERGED_FRACTION * ran, _OUTCOMES

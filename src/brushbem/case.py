@@ -285,15 +285,18 @@ def run_case(
     config: RunConfig,
     *,
     progress: Callable[[float, str], None] | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> tuple[CaseResult, dict | None]:
     """Run one validated configuration.
 
     Returns the result (curve, snapshots, summary with its ``theory`` object,
     provenance attributes) and the closed-form reference curve for the figure.
+    ``stop`` (polled after every state, `record_pull_off`) ends the run early:
+    the result then holds the path so far, ``interrupted`` and not converged.
     """
     problem = build_problem(config)
     path = build_path(config)
-    record = record_pull_off(problem, path, progress=progress)
+    record = record_pull_off(problem, path, progress=progress, stop=stop)
     summary = dict(record.summary)
     summary["critical_stress"] = problem.critical_stress
     summary["theory"], reference = theory_for(problem, summary, path)

@@ -2,10 +2,17 @@
 
 Each command is a thin shell over library functions: `brushbem.config` loads
 and validates, `brushbem.case.run_case` computes, `brushbem.io` and
-`brushbem.plot` write.  Exit status: 0 success, 2 invalid configuration,
-3 the run finished but some solve did not converge (results still written);
-for ``sweep``, 3 also when some case failed or is still missing, 130 when
-interrupted (a rerun computes the missing cases).
+`brushbem.plot` write.  Exit status: 0 success, 2 invalid configuration
+(or an --out that cannot be written, or is in use by another process),
+3 the run finished but some solve did not converge (results still written),
+4 the results could not be written (a full disk: nothing half-written is
+left); ``run`` interrupted by SIGINT / SIGTERM writes its partial result,
+marked interrupted, and exits 130 / 143;
+for ``sweep`` and ``study``, 2 also when --out holds a different sweep, 3
+also when some case failed or is still missing, and SIGINT / SIGTERM keep
+every finished case, end the local workers and exit 130 / 143 (a rerun
+computes the missing cases); ``figure`` and ``report`` exit 2 for a folder
+they cannot read.
 """
 
 from __future__ import annotations
@@ -15,7 +22,7 @@ import numbers
 import signal
 import threading
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 import click
 from rich.console import Console
@@ -154,6 +161,55 @@ def main() -> None:
     """Adhesive pull-off of punches, spheres and brushes on an elastic half-space."""
 
 
+class _Stop:
+    """SIGINT and SIGTERM ask a run to stop after its current state (a second SIGINT aborts at once)."""
+
+    def __init__(self) -> None:
+        self.signal: int | None = None
+        self._previous: dict[int, Any] = {}
+
+    def __call__(self) -> bool:
+        return self.signal is not None
+
+    def _handle(self, number: int, frame: Any) -> None:
+        if self.signal is not None and number == signal.SIGINT:
+            raise KeyboardInterrupt
+        self.signal = number
+        click.echo(f"\n{signal.Signals(number).name}: stopping after the current state and keeping the "
+                   "partial result (Ctrl-C again aborts without writing)", err=True)
+
+    def __enter__(self) -> Self:
+        if threading.current_thread() is threading.main_thread():
+            for number in (signal.SIGINT, signal.SIGTERM):
+                self._previous[number] = signal.signal(number, self._handle)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for number, handler in self._previous.items():
+            signal.signal(number, handler)
+
+    @property
+    def exit_status(self) -> int:
+        """128 + the signal's number: 130 for SIGINT, 143 for SIGTERM."""
+        return 128 + int(self.signal or signal.SIGINT)
+
+
+def _prepare_out(out_dir: Path) -> None:
+    """Create ``out_dir`` and check that it takes files, before anything is computed; else exit 2."""
+    from brushbem.io import check_writable
+
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: cannot create the output folder ({exc.strerror or exc})", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    try:
+        check_writable(out_dir)
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: cannot write into the output folder ({exc.strerror or exc})", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+
+
 @main.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
@@ -162,45 +218,69 @@ def main() -> None:
 )
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
 def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
-    """Run the pull-off in CONFIG; write the results into --out."""
+    """Run the pull-off in CONFIG; write the results into --out.
+
+    Ctrl-C (or SIGTERM) stops after the current state and writes the partial
+    result, marked ``interrupted`` and not converged (exit 130, or 143).
+    """
     config = _load_or_exit(config_path)
-    try:  # before the computation, so that a bad --out does not lose it
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        click.echo(f"--out {out_dir}: cannot create the output folder ({exc.strerror or exc})", err=True)
-        raise click.exceptions.Exit(2) from None
+    _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
 
     # Imported here so that `validate` and `--help` stay fast and do not need
     # the numerics.
     from brushbem import case as case_module
-    from brushbem.io import write_case
+    from brushbem.io import (
+        FolderBusyError,
+        exclusive_folder,
+        remove_stale_temporaries,
+        write_case,
+    )
     from brushbem.plot import plot_pull_off
 
     stderr = Console(stderr=True)
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.percentage:>3.0f}%"),
-        TimeElapsedColumn(),
-        console=stderr,
-        transient=True,
-        disable=quiet,
-    ) as progress:
-        task = progress.add_task("pull-off", total=1.0)
+    with contextlib.ExitStack() as stack:
+        try:
+            stack.enter_context(exclusive_folder(out_dir))
+        except FolderBusyError as exc:
+            click.echo(f"--out {exc}; wait for it or choose another folder", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        remove_stale_temporaries(out_dir)  # a killed run's leftovers: never a complete file
+        stop = stack.enter_context(_Stop())
+        with Progress(
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TextColumn("{task.percentage:>3.0f}%"),
+            TimeElapsedColumn(),
+            console=stderr,
+            transient=True,
+            disable=quiet,
+        ) as progress:
+            task = progress.add_task("pull-off", total=1.0)
 
-        def report(fraction: float, message: str) -> None:
-            progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
+            def report(fraction: float, message: str) -> None:
+                progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
 
-        result, reference = case_module.run_case(config, progress=report)
+            result, reference = case_module.run_case(config, progress=report, stop=stop)
 
-    write_case(result, out_dir, config=config)
-    plot_pull_off(result, out_dir / "pulloff.png", reference)
+        try:
+            write_case(result, out_dir, config=config)
+            plot_pull_off(result, out_dir / "pulloff.png", reference)
+        except OSError as exc:
+            if not quiet:
+                Console().print(_summary_table(result.summary))
+            click.echo(f"--out {out_dir}: could not write the results ({exc.strerror or exc}); no file there "
+                       "was left half-written", err=True)
+            raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
 
     if not quiet:
         Console().print(_summary_table(result.summary))
         click.echo(f"results written to {out_dir}")
     for warning in result.summary.get("warnings", []):
         click.echo(f"warning: {warning}", err=True)
+    if stop.signal is not None:
+        click.echo(f"interrupted: the partial result in {out_dir} is marked interrupted and not converged",
+                   err=True)
+        raise click.exceptions.Exit(stop.exit_status)
     if not result.summary.get("converged", False):
         click.echo(
             f"warning: the pull-off did not converge ({result.summary.get('reason', 'no reason given')}); "
@@ -510,18 +590,6 @@ def study(
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
 
 
-@main.command()
-@click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
-def figure(out_dir: Path) -> None:
-    """Redraw the figures of the study or sweep in DIR from its stored results (no computing)."""
-    from brushbem.report import draw_figures
-
-    with _reading_results():
-        paths = draw_figures(out_dir)
-    for path in paths:
-        click.echo(str(path))
-
-
 @contextlib.contextmanager
 def _reading_results() -> Any:
     """Draw or report from a results folder: repairs as warnings, a folder it cannot read exits 2.
@@ -553,6 +621,18 @@ def _reading_results() -> Any:
             for notice in dict.fromkeys(str(w.message) for w in caught
                                         if issubclass(w.category, sweep_module.SweepWarning)):
                 click.echo(f"warning: {notice}", err=True)
+
+
+@main.command()
+@click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
+def figure(out_dir: Path) -> None:
+    """Redraw the figures of the study or sweep in DIR from its stored results (no computing)."""
+    from brushbem.report import draw_figures
+
+    with _reading_results():
+        paths = draw_figures(out_dir)
+    for path in paths:
+        click.echo(str(path))
 
 
 @main.command()

@@ -24,8 +24,14 @@
     `CaseResult.attributes`.
 
 Every file is written to a temporary file in the output folder and moved into
-place with `os.replace`, so a reader never sees a half-written file and an
-interrupted run leaves the previous result intact.
+place with `os.replace`, so a reader never sees a half-written file.  The two
+files form one result: both carry the same ``run_id``; ``result.nc`` is moved
+into place first and ``summary.json`` last, so that a run killed between the
+two leaves a pair whose ids differ, which `read_case` refuses
+(`InconsistentCaseError`) instead of pairing an old dataset with a new
+summary.  A NetCDF file is rendered in memory and written by Python (up to
+`IN_MEMORY_LIMIT` bytes; larger ones after a free-space check), so a full disk
+is an ``OSError`` with its errno, never a crash inside the HDF5 library.
 
 Sign convention: d > 0 presses into the half-space; pressure and force are
 positive when compressive.
@@ -34,9 +40,14 @@ positive when compressive.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import errno
+import io
 import json
 import os
+import shutil
 import tempfile
+import uuid
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -50,16 +61,103 @@ from brushbem.results import CaseResult
 
 __all__ = [
     "DATASET_FILE",
+    "IN_MEMORY_LIMIT",
     "SUMMARY_FILE",
+    "FolderBusyError",
+    "InconsistentCaseError",
     "atomic_path",
+    "check_writable",
+    "exclusive_folder",
     "netcdf_attributes",
     "read_case",
+    "remove_stale_temporaries",
     "write_case",
     "write_dataset",
 ]
 
 SUMMARY_FILE = "summary.json"
 DATASET_FILE = "result.nc"
+
+#: Largest NetCDF file rendered in memory before it is written (bytes).
+IN_MEMORY_LIMIT = 512 * 2**20
+
+#: Free space kept beyond a file's own size when writing it (bytes).
+_FREE_SPACE_MARGIN = 2**20
+
+
+class InconsistentCaseError(ValueError):
+    """A case folder whose ``summary.json`` and ``result.nc`` are not one result."""
+
+
+def remove_stale_temporaries(folder: str | Path) -> list[Path]:
+    """Delete the temporary files that a killed writer left in ``folder`` (never a complete file).
+
+    Only names `atomic_path` creates (``.<name>.<random>.tmp``) are removed.
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    removed = []
+    for stale in Path(folder).glob(".*.tmp"):
+        if stale.is_file():
+            stale.unlink(missing_ok=True)
+            removed.append(stale)
+    return removed
+
+
+class FolderBusyError(RuntimeError):
+    """Another process holds a folder's lock (`exclusive_folder`)."""
+
+
+@contextlib.contextmanager
+def exclusive_folder(folder: str | Path, lock_name: str = ".brushbem.lock") -> Iterator[None]:
+    """Hold an exclusive lock on ``folder`` while writing into it.
+
+    The lock is an ``flock`` on ``folder/lock_name`` (POSIX; elsewhere no
+    lock is taken): the kernel releases it when the holder ends, killed or
+    not, so a stale lock never blocks a rerun.
+
+    Raises
+    ------
+    FolderBusyError
+        When another process holds the lock (its pid in the message).
+    """
+    try:
+        import fcntl
+    except ImportError:  # not on POSIX: no lock
+        yield
+        return
+    path = Path(folder) / lock_name
+    with open(path, "a+") as handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip() or "unknown"
+            raise FolderBusyError(f"{folder}: another brushbem process (pid {holder}) is writing into "
+                                  "this folder") from None
+        handle.seek(0)
+        handle.truncate()
+        handle.write(str(os.getpid()))
+        handle.flush()
+        yield
+
+
+def check_writable(folder: str | Path) -> None:
+    """Raise ``OSError`` unless a file can be created (and removed) in ``folder``."""
+    handle, name = tempfile.mkstemp(dir=folder, prefix=".write-check.", suffix=".tmp")
+    os.close(handle)
+    os.unlink(name)
+
+
+def _check_free_space(folder: Path, needed: int) -> None:
+    """Raise ``OSError(ENOSPC)`` when ``folder``'s file system has less than ``needed`` bytes free."""
+    free = shutil.disk_usage(folder).free
+    if free < needed + _FREE_SPACE_MARGIN:
+        raise OSError(errno.ENOSPC, f"no space left on device: writing needs {needed / 2**20:.2f} MiB and "
+                      f"{_FREE_SPACE_MARGIN / 2**20:g} MiB to spare, {free / 2**20:.2f} MiB free", str(folder))
 
 
 @contextlib.contextmanager
@@ -247,8 +345,22 @@ def write_dataset(
         The resolved configuration, recorded in the ``config`` attribute.
     """
     dataset = _dataset(result, config)
+    target = Path(target)
+    size = int(sum(variable.nbytes for variable in dataset.variables.values())) + 2**16
+    _check_free_space(target.parent, size)
     with atomic_path(target) as temporary:
-        dataset.to_netcdf(temporary, engine="h5netcdf")
+        if size <= IN_MEMORY_LIMIT:
+            # HDF5 writes to memory; Python writes the bytes, so that a full
+            # disk raises here instead of failing inside the library (which
+            # then crashes the interpreter when it closes the file).
+            buffer = io.BytesIO()
+            dataset.to_netcdf(buffer, engine="h5netcdf")
+            with open(temporary, "wb") as handle:
+                handle.write(buffer.getbuffer())
+                handle.flush()
+                os.fsync(handle.fileno())
+        else:
+            dataset.to_netcdf(temporary, engine="h5netcdf")
 
 
 def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
@@ -267,9 +379,16 @@ def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | N
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    with atomic_path(out_dir / SUMMARY_FILE) as temporary:
-        temporary.write_text(_json(result.summary, indent=2) + "\n", encoding="utf-8")
+    run_id = uuid.uuid4().hex
+    result = dataclasses.replace(result, attributes={**result.attributes, "run_id": run_id})
+    summary = _json({**result.summary, "run_id": run_id}, indent=2) + "\n"
+    _check_free_space(out_dir, len(summary))
+    # The dataset first, the summary last: the summary is the pair's commit.
     write_dataset(result, out_dir / DATASET_FILE, config=config)
+    with atomic_path(out_dir / SUMMARY_FILE) as temporary, open(temporary, "w", encoding="utf-8") as handle:
+        handle.write(summary)
+        handle.flush()
+        os.fsync(handle.fileno())
 
 
 def read_case(out_dir: str | Path) -> xr.Dataset:
@@ -284,5 +403,25 @@ def read_case(out_dir: str | Path) -> xr.Dataset:
     -------
     xarray.Dataset
         Fully loaded; the file is closed on return.
+
+    Raises
+    ------
+    InconsistentCaseError
+        When ``summary.json`` is missing, unreadable, or from another run than
+        ``result.nc`` (a run killed while writing its files).
     """
-    return xr.load_dataset(Path(out_dir) / DATASET_FILE, engine="h5netcdf")
+    out_dir = Path(out_dir)
+    dataset = xr.load_dataset(out_dir / DATASET_FILE, engine="h5netcdf")
+    run_id = dataset.attrs.get("run_id")
+    if run_id is not None:
+        try:
+            summary = json.loads((out_dir / SUMMARY_FILE).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            raise InconsistentCaseError(
+                f"{out_dir}: {SUMMARY_FILE} is missing or unreadable beside {DATASET_FILE} "
+                f"(a run stopped while writing?): {exc}") from None
+        if not isinstance(summary, dict) or summary.get("run_id") != run_id:
+            raise InconsistentCaseError(
+                f"{out_dir}: {SUMMARY_FILE} and {DATASET_FILE} come from different runs (a run stopped "
+                "between writing them); rerun the case")
+    return dataset

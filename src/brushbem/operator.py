@@ -422,6 +422,8 @@ class ContactSystem:
         else:
             self._spectrum = operator.halfspace.spectrum(rows_w, cols_w)
             self._springs = [(compliance, flat[self.index], n) for compliance, flat, n, _ in operator._levels]
+        #: The spring sums in segment form, whatever the coupling (`spring_deflection`).
+        self._spring_sums = [(compliance, flat[self.index], n) for compliance, flat, n, _ in operator._levels]
         #: Pillar of every element of S (-1 off the pillars).
         self.pillars = np.asarray(backend.to_numpy(operator.pillar_labels)).ravel()[index]
 
@@ -435,6 +437,14 @@ class ContactSystem:
         out = xp.zeros(self.shape[0] * self.shape[1], dtype=values.dtype)
         out[self.index] = values
         return xp.reshape(out, self.shape)
+
+    def spring_deflection(self, values):
+        """The springs' part of A_S v for v on S: the deflection of every level above each element."""
+        xp = self.xp
+        out = xp.zeros_like(values)
+        for compliance, labels, n in self._spring_sums:
+            out = out + compliance * backend.segment_sum(xp, labels, values, n + 1)[labels]
+        return out
 
     def apply(self, values):
         """A_S v for v on S (a vector of |S| values)."""

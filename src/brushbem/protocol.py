@@ -1244,6 +1244,7 @@ def record_pull_off(
     problem: ContactProblem,
     path: LoadPath,
     progress: Callable[[float, str], None] | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> PullOffRecord:
     """Run ``pull_off`` and collect the curve, snapshots and summary.
 
@@ -1251,8 +1252,14 @@ def record_pull_off(
     pull_off_displacement, separation_displacement (last d with contact),
     work_of_separation (work against the tensile force from the zero-force
     crossing of the unloading branch to separation, along the path, cascades
-    vertical), preload_force, max_displacement, converged, reason, n_solves,
-    n_cg_iterations, n_states, wall_time_s.
+    vertical), preload_force, max_displacement, converged, reason,
+    interrupted, n_solves, n_cg_iterations, n_states, wall_time_s.
+
+    ``stop`` is polled after every state: when it returns True the path
+    ends there, and the record holds what was computed, with
+    ``interrupted = True`` and ``converged = False`` (a partial pull-off is
+    not a result).  A summary number that comes out non-finite (an overflow
+    of extreme inputs) makes the run not converged, with the reason.
     """
     from .backend import to_numpy
 
@@ -1287,6 +1294,7 @@ def record_pull_off(
     n_solves = n_iterations = 0
     max_area = 0.0
     separated = False
+    interrupted = False
     for state in pull_off(problem, path):
         n_solves += state.n_solves
         n_iterations += state.cg_iterations
@@ -1328,6 +1336,11 @@ def record_pull_off(
                 fraction = 0.3 + 0.7 * (1.0 - state.contact_area / max_area if max_area else 1.0)
             progress(min(max(fraction, 0.0), 1.0), f"d = {state.displacement:.4g}, F = {state.force:.4g}")
         if not state.converged:
+            break
+        if stop is not None and stop():
+            interrupted = True
+            converged = False
+            reason = f"interrupted at d = {state.displacement:.6g} after {len(rows)} states"
             break
     if not separated and converged:
         converged = False
@@ -1372,6 +1385,7 @@ def record_pull_off(
         "max_displacement": loading_states[-1].displacement if loading_states else 0.0,
         "converged": bool(converged),
         "reason": reason,
+        "interrupted": interrupted,
         "n_solves": int(n_solves),
         "n_cg_iterations": int(n_iterations),
         "mean_cg_iterations_per_solve": n_iterations / n_solves if n_solves else 0.0,
@@ -1379,8 +1393,20 @@ def record_pull_off(
         "n_states": len(rows),
         "wall_time_s": time.perf_counter() - start,
     }
+    overflowed = [key for key in _FINITE_SUMMARY if summary[key] is not None and not math.isfinite(summary[key])]
+    if overflowed and summary["converged"]:
+        summary["converged"] = False
+        summary["reason"] = (
+            f"non-finite {', '.join(overflowed)}: the inputs' scales overflow double precision "
+            "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
+        )
     pillars = {"separation_displacement": last_attached_d, "max_tension": max_tension}
     return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary, pillars=pillars)
+
+
+#: Summary numbers that a converged run reports finite.
+_FINITE_SUMMARY = ("adhesive_force", "pull_off_displacement", "separation_displacement", "work_of_separation",
+                   "preload_force", "max_displacement")
 
 
 def _snapshot(name: str, state: State, to_numpy, pillar_forces) -> Snapshot:
