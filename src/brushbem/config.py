@@ -18,6 +18,7 @@ allowed, so that a user fixes a file in one pass instead of one error per run.
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -62,6 +63,25 @@ _MODEL_CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
 # pasted input can be arbitrarily long and the line must stay readable.
 _MAX_SHOWN = 60
 
+# Every nonzero finite number of a configuration must have a magnitude in this
+# range.  The numerics form products and quotients of a few inputs (E* h,
+# dgamma / (E* h), r^2 / R, areas h^2 N^2, works F d); inside this range they
+# stay far from overflow (1e308) and from the subnormal range (1e-308), so no
+# input can turn into an inf, a 0 or a division by zero downstream.  Any
+# consistent set of units (SI, or E* = L = 1) keeps physical inputs in it.
+MAGNITUDE_RANGE = (1e-30, 1e30)
+
+# Deepest nesting of tables and arrays a configuration may have: the schema
+# needs 4 (``indenter.levels[i].cluster``); a deeper document is a mistake and
+# would exhaust the recursion of the TOML reader and the validators.
+_MAX_DEPTH = 32
+
+# Largest configuration file read: a run configuration is a few kB.
+MAX_CONFIG_BYTES = 1 << 20
+
+# Most problem lines reported for one document; the rest are counted.
+_MAX_PROBLEMS = 100
+
 
 class ConfigError(ValueError):
     """A run configuration that cannot be used.
@@ -93,6 +113,8 @@ class _Problem:
 
 def _show(value: Any) -> str:
     """Short representation of a user value for a problem line."""
+    if value is None:  # an optional key left out (TOML has no null)
+        return "not given"
     # repr gives "nan", "inf", "0.003" for floats: what the user wrote in TOML.
     text = repr(value)
     if len(text) > _MAX_SHOWN:
@@ -109,7 +131,23 @@ def _rules_error(problems: list[_Problem]) -> PydanticCustomError:
     )
 
 
-class _Section(BaseModel):
+class _Model(BaseModel):
+    """A table of the configuration: strict, frozen, closed, numbers within `MAGNITUDE_RANGE`."""
+
+    model_config = _MODEL_CONFIG
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _magnitude(cls, value: Any, info: ValidationInfo) -> Any:
+        low, high = MAGNITUDE_RANGE
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        finite = number and (isinstance(value, int) or math.isfinite(value))  # a TOML integer may exceed 1e308
+        if finite and value != 0 and not low <= abs(value) <= high:
+            raise ValueError(f"must be {_describe_allowed(cls.model_fields[info.field_name])}")
+        return value
+
+
+class _Section(_Model):
     """A table of the configuration, with rules between its keys.
 
     A rule between keys ("exactly one of ...", "the keys each shape needs")
@@ -180,7 +218,7 @@ class HalfSpaceConfig(_Section):
         return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
 
 
-class GridConfig(BaseModel):
+class GridConfig(_Model):
     """The square computational domain.
 
     Attributes
@@ -236,16 +274,81 @@ _LAYOUT_OPTIONAL: dict[str, tuple[str, ...]] = {
 
 
 def _existing_file(value: str, info: ValidationInfo) -> Path:
-    """``value`` resolved against the configuration's folder; ValueError if it is not a file."""
+    """``value`` resolved against the configuration's folder; ValueError if it is not a regular file.
+
+    A relative name is resolved against the folder of the configuration file
+    (``base_dir`` of the validation context); an absolute name, or one that
+    leads out of that folder, is allowed: the file is only read as ``.npy``
+    data (`_read_numbers`), never executed or unpickled.
+    """
     base_dir = Path((info.context or {}).get("base_dir") or Path.cwd())
     try:
         path = (base_dir / value).resolve()
-        found = path.is_file()
+        exists, regular, folder = path.exists(), path.is_file(), path.is_dir()
     except (OSError, ValueError) as exc:  # e.g. an embedded NUL or a name too long
         raise ValueError(f"not a usable path ({exc})") from None
-    if not found:
+    if folder:
+        raise ValueError(f"is a folder, not a .npy file ({path})")
+    if exists and not regular:
+        raise ValueError(f"is not a regular file ({path})")
+    if not exists:
         raise ValueError(f"file not found (looked for {path})")
     return path
+
+
+def _read_numbers(path: Path) -> np.ndarray:
+    """The array of real numbers in the ``.npy`` file ``path``, as float64.
+
+    The header is read first, so that a file of Python objects is refused
+    without unpickling anything (``allow_pickle`` stays off), and a file of
+    another format is named as such.
+
+    Raises
+    ------
+    ValueError
+        With a message saying what is wrong: not ``.npy`` data, an object
+        (pickled) array, not real numbers, or values that are not finite or
+        lie outside `MAGNITUDE_RANGE`.
+    """
+    try:
+        with path.open("rb") as stream:
+            try:
+                version = np.lib.format.read_magic(stream)
+            except ValueError:
+                raise ValueError(
+                    f"cannot be read as a .npy array: {path} is not a .npy file (it does not start with "
+                    "the NumPy format's magic bytes); save the array with numpy.save"
+                ) from None
+            if version not in ((1, 0), (2, 0)):  # 3.0 only serves structured arrays with unicode names
+                raise ValueError(f"unsupported .npy format version {version[0]}.{version[1]}")
+            read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, _, dtype = read_header(stream)
+    except OSError as exc:
+        raise ValueError(f"cannot be read ({path}: {exc.strerror or exc})") from None
+    except ValueError as exc:
+        if str(exc).startswith("cannot be read"):
+            raise
+        raise ValueError(f"cannot be read as a .npy array ({path}: {exc})") from None
+    if dtype.hasobject:
+        raise ValueError(
+            f"holds Python objects ({path}); brushbem loads numeric .npy arrays only and never unpickles "
+            "(allow_pickle is off): save a float array"
+        )
+    if dtype.kind not in "fiu":
+        raise ValueError(f"holds {dtype} values ({path}); must hold real numbers (float or integer)")
+    try:
+        values = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError) as exc:  # e.g. a truncated file
+        raise ValueError(f"cannot be read as a .npy array ({path}: {exc})") from None
+    with np.errstate(over="ignore"):  # float128 beyond float64 becomes inf, refused below
+        values = np.asarray(values, dtype=np.float64)
+    if values.size and not np.all(np.isfinite(values)):
+        raise ValueError(f"must hold finite values ({path} holds nan or inf)")
+    largest = float(np.max(np.abs(values))) if values.size else 0.0
+    if largest > MAGNITUDE_RANGE[1]:
+        raise ValueError(f"holds values up to {largest:g} ({path}); must be at most {MAGNITUDE_RANGE[1]:g} in magnitude")
+    assert shape == values.shape
+    return values
 
 
 def _inf_from_string(value: Any) -> Any:
@@ -256,7 +359,7 @@ def _inf_from_string(value: Any) -> Any:
     return value
 
 
-class RoughnessConfig(BaseModel):
+class RoughnessConfig(_Model):
     """Gaussian pillar lengths (thesis eq. 5.1).
 
     Attributes
@@ -270,7 +373,7 @@ class RoughnessConfig(BaseModel):
     sigma: float = Field(ge=0, allow_inf_nan=False)
 
 
-class ProfileConfig(BaseModel):
+class ProfileConfig(_Model):
     """Concave macroscopic profile S_p = h~ S_c (thesis eq. 7.1-7.3).
 
     Attributes
@@ -397,14 +500,12 @@ class IndenterConfig(_Section):
         if value is None:
             return None
         path = _existing_file(value, info)
-        try:
-            lengths = np.load(path, allow_pickle=False)
-        except Exception as exc:  # noqa: BLE001 - any unreadable file is a configuration problem
-            raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
-        if not isinstance(lengths, np.ndarray) or lengths.dtype.kind not in "fiu" or lengths.ndim != 1:
-            raise ValueError("must hold a 1-D array of pillar lengths (one per pillar)")
-        if not np.all(np.isfinite(lengths)):
-            raise ValueError("must hold finite lengths (found nan or inf)")
+        lengths = _read_numbers(path)
+        if lengths.ndim != 1:
+            raise ValueError(
+                f"holds an array of shape {lengths.shape} ({path}); must hold a 1-D array of pillar lengths "
+                "(one per pillar)"
+            )
         return str(path)
 
     @property
@@ -461,7 +562,7 @@ class IndenterConfig(_Section):
             problems.append(_Problem(
                 "stiffness_ratio",
                 f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = "
-                f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'missing'}",
+                f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'not given'}",
                 "give exactly one of stiffness_ratio (k / (E* L)) and stiffness (inf = rigid)",
             ))
         return problems
@@ -479,18 +580,11 @@ def _check_height_map(path: Path) -> None:
     Raises
     ------
     ValueError
-        With a message saying what is wrong.
+        With a message saying what is wrong and naming the file.
     """
-    try:
-        heights = np.load(path, allow_pickle=False)
-    except Exception as exc:  # noqa: BLE001 - any unreadable file is a configuration problem
-        raise ValueError(f"cannot be read as a .npy array ({type(exc).__name__}: {exc})") from None
-    if not isinstance(heights, np.ndarray) or heights.dtype.kind not in "fiu":
-        raise ValueError("must hold an array of real numbers")
+    heights = _read_numbers(path)
     if heights.ndim != 2 or heights.shape[0] != heights.shape[1]:
-        raise ValueError(f"must hold a square N x N array, found shape {heights.shape}")
-    if not np.all(np.isfinite(heights)):
-        raise ValueError("must hold finite heights (found nan or inf)")
+        raise ValueError(f"must hold a square N x N array, found shape {heights.shape} ({path})")
 
 
 def _height_map_shape(path: str) -> tuple[int, ...]:
@@ -531,7 +625,7 @@ class ProtocolConfig(_Section):
     preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
     preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)
-    max_steps: int = Field(200_000, gt=0)
+    max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
 
     def _rule_problems(self) -> list[_Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):
@@ -543,7 +637,7 @@ class ProtocolConfig(_Section):
         return []
 
 
-class SolverConfig(BaseModel):
+class SolverConfig(_Model):
     """Inner linear solver (preconditioned conjugate gradients).
 
     Attributes
@@ -565,8 +659,8 @@ class SolverConfig(BaseModel):
 
     model_config = _MODEL_CONFIG
 
-    tolerance: float = Field(1e-8, gt=0, lt=1e-2, allow_inf_nan=False)
-    max_iterations: int = Field(20_000, gt=0)
+    tolerance: float = Field(1e-8, ge=1e-15, lt=1e-2, allow_inf_nan=False)
+    max_iterations: int = Field(20_000, gt=0, le=1_000_000_000)
     coupling: Literal["segments", "discriminant"] = "segments"
     cascade: Literal["local", "global"] = "local"
 
@@ -585,11 +679,23 @@ class RunConfig(BaseModel):
     @model_validator(mode="after")
     def _consistent(self) -> RunConfig:
         problems = _cross_section_problems(self.grid, self.indenter, self.halfspace)
+        problems.extend(_resource_problems(self))  # before the indenter is rasterised
         if not problems:
             problems = _rasterised_problems(self)
         if problems:
             raise _rules_error(problems)
         return self
+
+
+def _resource_problems(config: RunConfig) -> list[_Problem]:
+    """A run that would not fit in memory (`brushbem.resources`), refused before it starts."""
+    from .resources import MEMORY_LIMIT_VARIABLE, memory_problem
+
+    try:
+        problem = memory_problem(config)
+    except ValueError as exc:  # the limit variable itself is unusable
+        return [_Problem(MEMORY_LIMIT_VARIABLE, _show(os.environ.get(MEMORY_LIMIT_VARIABLE)), str(exc))]
+    return [] if problem is None else [_Problem("grid.elements", _show(config.grid.elements), problem)]
 
 
 def _rasterised_problems(config: RunConfig) -> list[_Problem]:
@@ -662,7 +768,7 @@ def _cross_section_problems(
                 _Problem(
                     "indenter.file",
                     _show(indenter.file),
-                    f"holds a {shape[0]} x {shape[1]} array; grid.elements = {grid.elements} "
+                    f"holds a {shape[0]} x {shape[1]} array ({indenter.file}); grid.elements = {grid.elements} "
                     f"needs {grid.elements} x {grid.elements}",
                 )
             )
@@ -752,9 +858,34 @@ def _describe_allowed(field: Any) -> str:
         text = f"{kind} {(low or high)[0]}"
     else:
         text = kind
+    if annotation is float:
+        text += _magnitude_clause(low, high)
     if annotation is float and not finite:
-        text += " or inf"
+        text += ", or inf"
     return text
+
+
+def _magnitude_clause(low: tuple | None, high: tuple | None) -> str:
+    """The part of `MAGNITUDE_RANGE` that a float field's own bounds do not already imply.
+
+    ``low`` and ``high`` are the ``(text, bracket, value)`` bounds of
+    `_describe_allowed` (None where unbounded).
+    """
+    smallest, largest = MAGNITUDE_RANGE
+    below = low is None or low[2] < smallest  # nonzero values under `smallest` pass the bounds
+    above = high is None or high[2] > largest
+    negative = low is None or low[2] < 0
+    zero = (low is None or low[2] < 0 or (low[2] == 0 and low[1] == "[")) and (high is None or high[2] > 0)
+    what = "in magnitude" if negative else ""
+    zero_text = "0 or " if zero else ""
+    sep = ": " if zero else ", "
+    if below and above:
+        return f"{sep}{zero_text}between {smallest:g} and {largest:g}{' ' + what if what else ''}"
+    if below:
+        return f"{sep}{zero_text}at least {smallest:g}{' ' + what if what else ''}"
+    if above:
+        return f", at most {largest:g}"
+    return ""
 
 
 def _problem_lines(
@@ -853,6 +984,10 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
     """
     if not isinstance(mapping, Mapping):
         raise ConfigError([f"``: {_show(mapping)} — must be a table of sections"])
+    deep = _too_deep(mapping)
+    if deep is not None:
+        where = _dotted(deep)
+        raise ConfigError([f"`{where}`: nested more than {_MAX_DEPTH} levels deep — a configuration nests at most 4"])
     context = {"base_dir": Path(base_dir) if base_dir is not None else Path.cwd()}
     problems: list[str] = []
     for key in mapping:
@@ -879,13 +1014,34 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
             sections.get("grid"), sections.get("indenter"), sections.get("halfspace")
         ):
             problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
-        raise ConfigError(problems)
+        raise ConfigError(_capped(problems))
     try:
         # The sections are already validated instances: this runs only the
         # rules between sections.
         return RunConfig.model_validate(sections)
     except ValidationError as exc:
         raise ConfigError(_problem_lines(exc, RunConfig, ())) from None
+
+
+def _too_deep(document: Any) -> tuple[Any, ...] | None:
+    """Location of a value nested deeper than `_MAX_DEPTH`, or None (iterative: no recursion)."""
+    stack: list[tuple[Any, tuple[Any, ...]]] = [(document, ())]
+    while stack:
+        value, loc = stack.pop()
+        if len(loc) > _MAX_DEPTH:
+            return loc[:_MAX_DEPTH]
+        if isinstance(value, Mapping):
+            stack.extend((item, (*loc, key)) for key, item in value.items())
+        elif isinstance(value, (list, tuple)):
+            stack.extend((item, (*loc, i)) for i, item in enumerate(value))
+    return None
+
+
+def _capped(problems: list[str]) -> list[str]:
+    """At most `_MAX_PROBLEMS` lines; a file with thousands of problems is counted, not listed."""
+    if len(problems) <= _MAX_PROBLEMS:
+        return problems
+    return [*problems[:_MAX_PROBLEMS], f"`...`: {len(problems) - _MAX_PROBLEMS} more problems not shown"]
 
 
 def load_config(path: str | Path) -> RunConfig:
@@ -909,15 +1065,28 @@ def load_config(path: str | Path) -> RunConfig:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as stream:
+            data = stream.read(MAX_CONFIG_BYTES + 1)
     except FileNotFoundError:
         raise ConfigError([f"`{path}`: file not found"]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError([f"`{path}`: cannot be read ({exc})"]) from None
+    except OSError as exc:
+        raise ConfigError([f"`{path}`: cannot be read ({exc.strerror or exc})"]) from None
+    if len(data) > MAX_CONFIG_BYTES:
+        raise ConfigError([
+            f"`{path}`: larger than {MAX_CONFIG_BYTES} bytes — not a run configuration (a few kB of TOML)"
+        ])
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError([f"`{path}`: not UTF-8 text ({exc.reason} at byte {exc.start})"]) from None
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError([f"`{path}`: not valid TOML ({exc})"]) from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise ConfigError([
+            f"`{path}`: arrays or tables nested too deeply (a configuration needs at most {_MAX_DEPTH} levels)"
+        ]) from None
     return parse_config(document, base_dir=path.resolve().parent)
 
 

@@ -274,6 +274,18 @@ def square_lattice(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, n
     return centres, index
 
 
+# Densest packing of equal disks in the plane, pi / (2 sqrt 3): no layout of
+# disks in a container covers a larger fraction of it (Groemer, Oler), so a
+# random layout asking for more is refused before any draw.
+HEXAGONAL_PACKING_DENSITY = math.pi / (2.0 * math.sqrt(3.0))
+
+# Most candidate positions drawn for one random layout, whatever the count:
+# random sequential addition slows down without bound near its jamming limit
+# (a covered fraction of about 0.547); beyond this many draws the layout is
+# refused instead of searched for minutes.
+MAX_RANDOM_DRAWS = 20_000_000
+
+
 def random_positions(
     count: int, radius: float, min_gap: float, region: str, region_size: float, rng: np.random.Generator,
     max_attempts_per_pillar: int = 2000,
@@ -282,38 +294,86 @@ def random_positions(
 
     Every pillar lies wholly inside the region (a square of side
     ``region_size`` or a circle of that diameter, centred on the origin) and
-    every two centres are at least ``2 radius + min_gap`` apart.  Candidates
-    are drawn uniformly in batches; a layout that cannot be completed within
-    ``max_attempts_per_pillar * count`` draws raises StructureError (the
-    jamming limit of random sequential addition is a filling factor of about
-    0.55, far above the thesis's 0.12).
+    every two centres are at least ``D = 2 radius + min_gap`` apart.
+    Candidates are drawn uniformly in batches of 256 and accepted in order if
+    they keep that distance from every centre accepted before.
+
+    Raises StructureError, naming the key, before any draw if the disks of
+    diameter D cannot fit in the region even in the densest (hexagonal)
+    packing, and after ``min(max_attempts_per_pillar * count,
+    MAX_RANDOM_DRAWS)`` draws if the layout is still incomplete (the jamming
+    limit of random sequential addition is a covered fraction of about 0.55,
+    far above the thesis's filling factor 0.12).  The conflicts of a
+    candidate are looked up in a background grid of cells of side D / sqrt 2
+    (at most one centre each), so a layout of M pillars costs O(M) work.
     """
     half = 0.5 * region_size - radius
     if half <= 0:
         raise StructureError("pillar_radius", radius, f"must be smaller than half the region ({0.5 * region_size:g})")
-    distance2 = (2.0 * radius + min_gap) ** 2
+    spacing = 2.0 * radius + min_gap
+    # Disks of diameter D around the centres lie in the region grown by D / 2.
+    if region == "circle":
+        container = math.pi * (half + 0.5 * spacing) ** 2
+    else:
+        container = (2.0 * half + spacing) ** 2
+    covered = count * math.pi * spacing**2 / 4.0
+    if covered > HEXAGONAL_PACKING_DENSITY * container:
+        raise StructureError(
+            "pillar_count", count,
+            f"{count} pillars of pillar_radius = {radius:g} at min_gap = {min_gap:g} cannot fit in the "
+            f"{region} region of region_size = {region_size:g} (they would cover {covered / container:.3g} of "
+            f"it; no layout exceeds {HEXAGONAL_PACKING_DENSITY:.3f} and a random one stops near 0.55): "
+            "reduce pillar_count, pillar_radius or min_gap, or enlarge region_size",
+        )
+    cell = spacing / math.sqrt(2.0)
+    cells = math.floor(2.0 * half / cell) + 1
+    if cells > 4096:
+        raise StructureError(
+            "pillar_radius", radius,
+            f"too small for the region (region_size = {region_size:g}): more than 4096 pillar spacings per side",
+        )
+    pad = 2  # a centre closer than D lies at most 2 cells away
+    width = cells + 2 * pad
+    # Coordinates of the centre in each cell (nan: empty), flat, row-major.
+    cell_y = np.full(width * width, np.nan)
+    cell_x = np.full(width * width, np.nan)
+    around = (np.arange(-pad, pad + 1)[:, None] * width + np.arange(-pad, pad + 1)[None, :]).ravel()
+    distance2 = spacing**2
     placed = np.empty((count, 2))
     n = 0
     drawn = 0
-    budget = max_attempts_per_pillar * count
+    budget = min(max_attempts_per_pillar * count, MAX_RANDOM_DRAWS)
     while n < count:
         if drawn >= budget:
             raise StructureError(
                 "pillar_count", count,
-                f"only {n} pillars of radius {radius:g} with gap {min_gap:g} fit at random in this region "
-                f"after {drawn} draws; reduce pillar_count, pillar_radius or min_gap",
+                f"only {n} pillars of pillar_radius = {radius:g} at min_gap = {min_gap:g} fit at random in the "
+                f"{region} region (region_size = {region_size:g}) after {drawn} draws; reduce pillar_count, "
+                "pillar_radius or min_gap, or enlarge region_size",
             )
         batch = rng.uniform(-half, half, size=(256, 2))
         drawn += len(batch)
         if region == "circle":
             batch = batch[np.einsum("ij,ij->i", batch, batch) <= half * half]
-        for candidate in batch:
-            if n and np.min(np.sum((placed[:n] - candidate) ** 2, axis=1)) < distance2:
-                continue
-            placed[n] = candidate
-            n += 1
-            if n == count:
-                break
+        index = np.minimum(((batch + half) / cell).astype(np.int64), cells - 1) + pad
+        flat = index[:, 0] * width + index[:, 1]
+        # Conflicts with the centres accepted before this batch, all candidates at once
+        # (an empty cell's nan compares false).
+        near = flat[:, None] + around[None, :]
+        dy = cell_y[near] - batch[:, 0, None]
+        dx = cell_x[near] - batch[:, 1, None]
+        free = np.flatnonzero(~np.any(dy * dy + dx * dx < distance2, axis=1))
+        # Among the free candidates, in order: accepted unless too close to one
+        # accepted before; only those close to an earlier free one need the loop.
+        close = np.tril(np.sum((batch[free, None, :] - batch[None, free, :]) ** 2, axis=2) < distance2, -1)
+        accepted = ~close.any(axis=1)
+        for j in np.flatnonzero(~accepted):
+            accepted[j] = not np.any(close[j] & accepted)
+        take = free[accepted][: count - n]
+        placed[n:n + len(take)] = batch[take]
+        cell_y[flat[take]] = batch[take, 0]
+        cell_x[flat[take]] = batch[take, 1]
+        n += len(take)
     return placed
 
 
@@ -324,12 +384,7 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     radius, reaches outside the domain, or shares an element with another.
     """
     h = grid.element_size
-    if radius < MIN_PILLAR_RADIUS_ELEMENTS * h:
-        raise StructureError(
-            "pillar_radius", radius,
-            f"is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = {h:g}); a pillar needs at least "
-            f"{MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
-        )
+    _check_pillar_radius(grid, radius)
     half = 0.5 * grid.size
     if np.any(np.abs(centres) + radius > half * (1 + 1e-12)):
         raise StructureError("pillar_radius", radius, "pillars reach outside the domain (grid.size)")
@@ -348,6 +403,17 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
             raise StructureError("pillar_radius", radius, "pillars overlap; reduce pillar_radius or increase spacing")
         block[inside] = k
     return labels
+
+
+def _check_pillar_radius(grid: Grid, radius: float) -> None:
+    """StructureError if a pillar of ``radius`` is under `MIN_PILLAR_RADIUS_ELEMENTS` elements."""
+    h = grid.element_size
+    if not radius >= MIN_PILLAR_RADIUS_ELEMENTS * h:
+        raise StructureError(
+            "pillar_radius", radius,
+            f"is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = grid.size / grid.elements = {h:g}); a pillar "
+            f"needs at least {MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
+        )
 
 
 def hierarchy_clusters(index: np.ndarray, pillars_per_side: int, clusters: tuple[int, ...]) -> list[np.ndarray]:
@@ -444,6 +510,7 @@ def brush(
     if region not in ("square", "circle"):
         raise StructureError("region", region, "must be 'square' or 'circle'")
     h = grid.element_size
+    _check_pillar_radius(grid, pillar_radius)  # before a random layout is searched for
     size = grid.size if region_size is None else float(region_size)
     if not (0 < size <= grid.size * (1 + 1e-12)):
         raise StructureError("region_size", region_size, f"must be in (0, grid.size = {grid.size:g}]")
@@ -456,7 +523,8 @@ def brush(
         if not pitch > 2 * pillar_radius:
             raise StructureError(
                 "spacing" if spacing is not None else "pillar_radius", spacing if spacing is not None else pillar_radius,
-                f"pillars overlap: the spacing {pitch:g} must exceed the pillar diameter {2 * pillar_radius:g}",
+                f"pillars overlap: the spacing {pitch:g} must exceed the pillar diameter "
+                f"2 pillar_radius = {2 * pillar_radius:g}",
             )
         if pillars_per_side * pitch > size * (1 + 1e-9):
             raise StructureError(
@@ -511,7 +579,8 @@ def brush(
         lengths = np.asarray(lengths, dtype=float).ravel()
         if lengths.shape != (n_pillars,) or not np.all(np.isfinite(lengths)):
             raise StructureError("lengths_file", f"{lengths.shape[0]} values",
-                                 f"must hold {n_pillars} finite pillar lengths (one per pillar)")
+                                 f"holds {lengths.shape[0]} values; must hold {n_pillars} finite pillar lengths "
+                                 "(one per pillar)")
         length += lengths
     offsets = length.max() - length
 
@@ -568,22 +637,27 @@ def build_brush(grid_config, indenter_config, halfspace_config) -> Indenter:
     profile = None
     if spec.profile is not None:
         profile = Profile(spec.profile.amplification, spec.profile.reference_stress)
-    return brush(
-        grid,
-        layout=spec.layout,
-        pillar_radius=spec.pillar_radius,
-        contact_modulus=modulus,
-        work_of_adhesion=halfspace_config.work_of_adhesion,
-        stiffness=spec.pillar_stiffness(modulus, grid.size),
-        region=spec.region or "square",
-        region_size=spec.region_size,
-        pillars_per_side=spec.pillars_per_side,
-        spacing=spec.spacing,
-        pillar_count=spec.pillar_count,
-        min_gap=spec.min_gap,
-        seed=spec.seed or 0,
-        roughness=spec.roughness.sigma if spec.roughness is not None else 0.0,
-        profile=profile,
-        lengths=lengths,
-        levels=levels,
-    )
+    try:
+        return brush(
+            grid,
+            layout=spec.layout,
+            pillar_radius=spec.pillar_radius,
+            contact_modulus=modulus,
+            work_of_adhesion=halfspace_config.work_of_adhesion,
+            stiffness=spec.pillar_stiffness(modulus, grid.size),
+            region=spec.region or "square",
+            region_size=spec.region_size,
+            pillars_per_side=spec.pillars_per_side,
+            spacing=spec.spacing,
+            pillar_count=spec.pillar_count,
+            min_gap=spec.min_gap,
+            seed=spec.seed or 0,
+            roughness=spec.roughness.sigma if spec.roughness is not None else 0.0,
+            profile=profile,
+            lengths=lengths,
+            levels=levels,
+        )
+    except StructureError as exc:
+        if exc.key == "lengths_file":  # name the file, not only its count
+            raise StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})") from None
+        raise

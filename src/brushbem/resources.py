@@ -1,0 +1,191 @@
+"""What a run needs from the machine: memory and the size of its result file.
+
+`memory_estimate` gives the peak resident memory of ``brushbem run`` for a
+configuration, from a model fitted to measured peaks
+(``benchmarks/memory.py``); `available_memory` what this machine (or the
+``BRUSHBEM_MEMORY_LIMIT`` environment variable) allows.  Validation refuses a
+configuration whose estimate exceeds it, before anything is computed
+(`memory_problem`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .config import RunConfig
+
+__all__ = [
+    "MEMORY_LIMIT_VARIABLE",
+    "available_memory",
+    "format_bytes",
+    "memory_estimate",
+    "memory_problem",
+    "parse_bytes",
+    "result_size_estimate",
+]
+
+#: Environment variable that sets the memory a run may use, in bytes or with
+#: a unit (``"16G"``, ``"512MiB"``, ``"2.5GB"``; powers of 1024), or ``"off"``
+#: to skip the check.  Unset: the memory the operating system reports
+#: available.
+MEMORY_LIMIT_VARIABLE = "BRUSHBEM_MEMORY_LIMIT"
+
+# Peak RSS = interpreter and imports + bytes per element of the N x N grid.
+# Fitted to benchmarks/memory.py (rigid punch, sphere on a spring, 16 x 16
+# brush; N = 512 ... 2048); the estimate is the fit times a margin, so that
+# it stays above every measured peak.
+_BASE_BYTES = 150e6
+_BYTES_PER_ELEMENT = {"flat_punch": 120.0, "sphere": 120.0, "height_map": 120.0, "brush": 160.0}
+_MARGIN = 1.15
+
+# Bytes per element of result.nc, per recorded snapshot (pressure as float64,
+# contact as one byte), and the number of snapshots a pull-off records
+# (max_preload, zero_force, adhesive_force, half_detached, before_separation).
+_RESULT_BYTES_PER_ELEMENT = 9.0
+_SNAPSHOTS = 5
+
+_UNITS = {"": 1, "k": 1 << 10, "m": 1 << 20, "g": 1 << 30, "t": 1 << 40}
+
+
+def memory_estimate(config: RunConfig) -> int:
+    """Peak resident memory of ``brushbem run`` for ``config``, in bytes.
+
+    Parameters
+    ----------
+    config : RunConfig
+
+    Returns
+    -------
+    int
+        The estimate: the interpreter and its imports plus a cost per element
+        of the N x N grid that depends on the indenter's shape (brushes keep
+        pillar and spring maps beside the elastic arrays), with a margin over
+        the peaks measured by ``benchmarks/memory.py``.
+    """
+    elements = config.grid.elements**2
+    per_element = _BYTES_PER_ELEMENT[config.indenter.shape]
+    return int(_MARGIN * (_BASE_BYTES + per_element * elements))
+
+
+def result_size_estimate(config: RunConfig) -> int:
+    """Size of the ``result.nc`` of ``config``, in bytes (its snapshots dominate)."""
+    return int(_SNAPSHOTS * _RESULT_BYTES_PER_ELEMENT * config.grid.elements**2)
+
+
+def parse_bytes(text: str) -> int:
+    """Bytes of ``text``: a number with an optional unit k, M, G or T (powers of 1024).
+
+    ``"8G"``, ``"8 GB"``, ``"8GiB"`` and ``"8589934592"`` are the same.
+
+    Raises
+    ------
+    ValueError
+        If ``text`` is not a finite, positive amount.
+    """
+    match = re.fullmatch(r"\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*([kKmMgGtT]?)(?:i?[bB])?\s*", text)
+    if match is None:
+        raise ValueError("must be a number of bytes, optionally with a unit k, M, G or T (e.g. 16G), or off")
+    amount = float(match.group(1)) * _UNITS[match.group(2).lower()]
+    if not (math.isfinite(amount) and amount > 0):
+        raise ValueError("must be a positive number of bytes")
+    return int(amount)
+
+
+def available_memory() -> tuple[int | None, str]:
+    """The memory a run may use, in bytes, and where that figure comes from.
+
+    Returns
+    -------
+    bytes : int or None
+        ``BRUSHBEM_MEMORY_LIMIT`` if set; else the smaller of ``MemAvailable``
+        (``/proc/meminfo``, or ``os.sysconf`` available pages) and the room
+        left under a cgroup memory limit (a container or a batch job); None
+        where none of them can be read or the variable is ``off`` (no check).
+    source : str
+        Where the figure comes from, for messages.
+
+    Raises
+    ------
+    ValueError
+        If ``BRUSHBEM_MEMORY_LIMIT`` is set but is not an amount of bytes.
+    """
+    setting = os.environ.get(MEMORY_LIMIT_VARIABLE)
+    if setting is not None and setting.strip():
+        if setting.strip().lower() in ("off", "none", "unlimited"):
+            return None, f"{MEMORY_LIMIT_VARIABLE}=off"
+        return parse_bytes(setting), f"{MEMORY_LIMIT_VARIABLE}={setting.strip()}"
+    found: list[tuple[int, str]] = []
+    meminfo = _meminfo_available()
+    if meminfo is not None:
+        found.append((meminfo, "available memory (MemAvailable)"))
+    else:
+        try:
+            pages = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (AttributeError, ValueError, OSError):
+            pages = -1
+        if pages > 0:
+            found.append((pages, "available physical memory"))
+    cgroup = _cgroup_room()
+    if cgroup is not None:
+        found.append((cgroup, "room under the cgroup memory limit"))
+    if not found:
+        return None, "unknown"
+    return min(found)
+
+
+def memory_problem(config: RunConfig) -> str | None:
+    """Why ``config`` cannot run in the available memory, or None.
+
+    The estimate (`memory_estimate`) is compared with `available_memory`;
+    no check where the available memory is unknown or the limit is ``off``.
+
+    Raises
+    ------
+    ValueError
+        If ``BRUSHBEM_MEMORY_LIMIT`` is not an amount of bytes.
+    """
+    limit, source = available_memory()
+    if limit is None:
+        return None
+    need = memory_estimate(config)
+    if need <= limit:
+        return None
+    return (
+        f"a run on {config.grid.elements} x {config.grid.elements} elements needs about {format_bytes(need)} "
+        f"of memory, more than the {format_bytes(limit)} of {source}: lower grid.elements, or set "
+        f"{MEMORY_LIMIT_VARIABLE} (bytes, e.g. 64G, or off) where more memory is at hand"
+    )
+
+
+def format_bytes(count: float) -> str:
+    """``count`` bytes in GiB, MiB or KiB with three significant digits."""
+    for unit, size in (("GiB", 1 << 30), ("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if count >= size:
+            return f"{count / size:.3g} {unit}"
+    return f"{int(count)} B"
+
+
+def _meminfo_available() -> int | None:
+    try:
+        text = Path("/proc/meminfo").read_text()
+    except OSError:
+        return None
+    match = re.search(r"^MemAvailable:\s+(\d+)\s*kB", text, flags=re.MULTILINE)
+    return int(match.group(1)) * 1024 if match else None
+
+
+def _cgroup_room() -> int | None:
+    """Limit minus usage of this process's cgroup (v2), or None without a limit."""
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        usage = Path("/sys/fs/cgroup/memory.current").read_text().strip()
+    except OSError:
+        return None
+    if not limit.isdigit() or not usage.isdigit():  # "max": no limit
+        return None
+    return max(int(limit) - int(usage), 0)

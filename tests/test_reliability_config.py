@@ -1,0 +1,607 @@
+"""Reliability of the inputs: every bad configuration, file or grid refused through the CLI.
+
+The program is attacked from outside, as a user would: TOML files written
+to disk and passed to ``brushbem validate`` (and ``brushbem run`` on small
+grids).  The promise asserted every time: exit status 2, the offending key
+named in the message, and no traceback.  A value that is accepted must run:
+``run`` ends converged (0) or reports non-convergence with its reason (3),
+never a traceback.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import pickle
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from brushbem.cli import main
+from brushbem.config import (
+    MAGNITUDE_RANGE,
+    GridConfig,
+    HalfSpaceConfig,
+    IndenterConfig,
+    LevelConfig,
+    ProfileConfig,
+    ProtocolConfig,
+    RoughnessConfig,
+    SolverConfig,
+    load_config,
+)
+from brushbem.resources import (
+    MEMORY_LIMIT_VARIABLE,
+    available_memory,
+    memory_estimate,
+    parse_bytes,
+    result_size_estimate,
+)
+from brushbem.structure import StructureError, random_positions
+
+# -- documents --------------------------------------------------------------------
+
+HALFSPACE = {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}
+GRID = {"size": 1.0, "elements": 32}
+
+BASES: dict[str, dict[str, Any]] = {
+    "punch": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.15},
+        "protocol": {"method": "fixed", "preload_displacement": 0.01, "step": 1e-3, "max_steps": 1000},
+        "solver": {"tolerance": 1e-8, "max_iterations": 1000},
+    },
+    "sphere": {
+        "halfspace": {"youngs_modulus": 1.0, "poisson_ratio": 0.3, "work_of_adhesion": 1e-3},
+        "grid": GRID,
+        "indenter": {"shape": "sphere", "radius": 1.0},
+        "protocol": {"preload_force": 1e-3},
+    },
+    "height_map": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {"shape": "height_map", "file": "heights.npy"},
+        "protocol": {"preload_displacement": 0.01},
+    },
+    "square_brush": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {
+            "shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.07,
+            "spacing": 0.24, "region_size": 1.0, "stiffness_ratio": 0.5, "seed": 1,
+            "lengths_file": "lengths.npy", "roughness": {"sigma": 1e-3},
+            "profile": {"amplification": 0.01, "reference_stress": 0.01},
+            "levels": [{"cluster": 2, "stiffness_ratio": 0.1}, {"cluster": 2, "stiffness": 0.2}],
+        },
+        "protocol": {"preload_displacement": 0.01},
+    },
+    "random_brush": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {
+            "shape": "brush", "layout": "random", "region": "circle", "pillar_count": 5,
+            "min_gap": 0.01, "pillar_radius": 0.07, "stiffness": 0.5,
+        },
+        "protocol": {"preload_displacement": 0.01},
+    },
+}
+
+# Values that no numeric key accepts on its own: the key itself must be named.
+REFUSED_ALONE = {
+    "nan": math.nan, "-inf": -math.inf, "-1": -1, "-1.0": -1.0, "-1e300": -1e300, "1e300": 1e300,
+    "1e-300": 1e-300, "1e-200": 1e-200, "10**40": 10**40, "string": "1.0", "list": [1.0],
+    "table": {"x": 1}, "bool": True,
+}
+# Values some keys accept (inf = rigid, 0 = none, 1.5 in range): accepted, or refused naming a key.
+PLAUSIBLE = {"inf": math.inf, "0": 0, "0.0": 0.0, "1.5": 1.5, "2**70": 2**70, "1e-30": 1e-30, "1e30": 1e30}
+
+
+def toml_value(value: Any) -> str:
+    """``value`` as a TOML literal (floats round-trip, nan and inf included)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(item) for item in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{toml_value(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"no TOML for {value!r}")
+
+
+def to_toml(document: dict[str, Any]) -> str:
+    """A document of tables of (inline) values as TOML text."""
+    lines = []
+    for section, table in document.items():
+        if isinstance(table, dict):
+            lines.append(f"[{toml_value(section)}]")
+            lines.extend(f"{toml_value(key)} = {toml_value(value)}" for key, value in table.items())
+        else:
+            lines.insert(0, f"{toml_value(section)} = {toml_value(table)}")
+    return "\n".join(lines) + "\n"
+
+
+def numeric_keys(document: Any, prefix: tuple = ()) -> list[tuple]:
+    """Locations of every number in ``document`` (tables and arrays of tables walked)."""
+    keys = []
+    items = document.items() if isinstance(document, dict) else enumerate(document)
+    for key, value in items:
+        if isinstance(value, (dict, list)) and not (isinstance(value, list) and value and not isinstance(value[0], dict)):
+            keys.extend(numeric_keys(value, (*prefix, key)))
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            keys.append((*prefix, key))
+    return keys
+
+
+def with_value(document: dict[str, Any], loc: tuple, value: Any) -> dict[str, Any]:
+    document = copy.deepcopy(document)
+    table = document
+    for part in loc[:-1]:
+        table = table[part]
+    table[loc[-1]] = value
+    return document
+
+
+def dotted(loc: tuple) -> str:
+    return ".".join(str(part) for part in loc)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory) -> Path:
+    """A folder with the files the base documents refer to."""
+    path = tmp_path_factory.mktemp("configs")
+    np.save(path / "heights.npy", np.zeros((32, 32)))
+    np.save(path / "lengths.npy", np.linspace(0.0, 1e-3, 16))
+    return path
+
+
+_RUNNER = CliRunner()
+
+
+def invoke(*args: str) -> Any:
+    """Run the CLI in-process; fail on any traceback or uncaught exception."""
+    result = _RUNNER.invoke(main, list(args))
+    assert result.exception is None or isinstance(result.exception, SystemExit), (
+        f"uncaught {type(result.exception).__name__}: {result.exception}\n{result.output}"
+    )
+    assert "Traceback" not in result.output, result.output
+    return result
+
+
+def validate(folder: Path, text: str | bytes, name: str = "case.toml") -> Any:
+    path = folder / name
+    path.write_bytes(text if isinstance(text, bytes) else text.encode())
+    return invoke("validate", str(path))
+
+
+def problem_lines(output: str) -> list[str]:
+    return [line.strip() for line in output.splitlines() if line.startswith("  `")]
+
+
+def assert_refused(result: Any, *keys: str) -> None:
+    """Exit 2, every line a problem naming its key, and each of ``keys`` named."""
+    assert result.exit_code == 2, result.output
+    lines = problem_lines(result.output)
+    assert lines, result.output
+    assert "None" not in result.output, result.output
+    for key in keys:
+        assert any(line.startswith(f"`{key}`") for line in lines), (key, result.output)
+
+
+# -- the schema is covered --------------------------------------------------------
+
+
+def test_the_base_documents_cover_every_numeric_key_of_the_schema(folder):
+    """A numeric key added to the schema must appear in some base document, so it is fuzzed too."""
+    models = {
+        "halfspace": HalfSpaceConfig, "grid": GridConfig, "indenter": IndenterConfig,
+        "protocol": ProtocolConfig, "solver": SolverConfig, "indenter.roughness": RoughnessConfig,
+        "indenter.profile": ProfileConfig, "indenter.levels": LevelConfig,
+    }
+    schema = {
+        f"{prefix}.{name}"
+        for prefix, model in models.items()
+        for name, field in model.model_fields.items()
+        if re.search(r"\b(int|float)\b", str(field.annotation))
+    }
+    covered = {
+        re.sub(r"\.\d+\.", ".", dotted(loc)) for document in BASES.values() for loc in numeric_keys(document)
+    }
+    assert schema <= covered, schema - covered
+    for name, document in BASES.items():
+        assert validate(folder, to_toml(document), f"{name}.toml").exit_code == 0, name
+
+
+# -- every numeric key, every bad value -------------------------------------------
+
+
+def _cases(values: dict[str, Any]) -> list[Any]:
+    return [
+        pytest.param(base, loc, value, id=f"{base}:{dotted(loc)}={label}")
+        for base, document in BASES.items()
+        for loc in numeric_keys(document)
+        for label, value in values.items()
+    ]
+
+
+@pytest.mark.parametrize(("base", "loc", "value"), _cases(REFUSED_ALONE))
+def test_a_bad_number_is_refused_naming_its_key(folder, base, loc, value):
+    result = validate(folder, to_toml(with_value(BASES[base], loc, value)))
+    assert_refused(result, dotted(loc))
+
+
+@pytest.mark.parametrize(("base", "loc", "value"), _cases(PLAUSIBLE))
+def test_a_plausible_number_is_accepted_or_refused_naming_a_key(folder, base, loc, value):
+    result = validate(folder, to_toml(with_value(BASES[base], loc, value)))
+    if result.exit_code != 0:
+        assert_refused(result)
+
+
+def test_values_outside_the_magnitude_range_state_the_range(folder):
+    """grid.size = 1e-200 validated and then divided by zero in the solver; 1e300 overflowed."""
+    low, high = MAGNITUDE_RANGE
+    for value in (1e-200, 1e300):
+        result = validate(folder, to_toml(with_value(BASES["punch"], ("grid", "size"), value)))
+        assert_refused(result, "grid.size")
+        assert f"between {low:g} and {high:g}" in result.output, result.output
+    result = validate(folder, to_toml(with_value(BASES["random_brush"], ("indenter", "min_gap"), 1e300)))
+    assert_refused(result, "indenter.min_gap")
+    assert f"0 or between {low:g} and {high:g}" in result.output, result.output
+
+
+def test_a_missing_stiffness_is_not_shown_as_python_none(folder):
+    document = copy.deepcopy(BASES["square_brush"])
+    del document["indenter"]["stiffness_ratio"]
+    del document["indenter"]["levels"][0]["stiffness_ratio"]
+    del document["protocol"]["preload_displacement"]
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "indenter.stiffness_ratio", "indenter.levels.0.stiffness_ratio", "protocol")
+    assert "stiffness_ratio = not given" in result.output
+
+
+@pytest.mark.parametrize("base", list(BASES))
+def test_every_key_missing_or_misspelt_is_refused_or_defaulted(folder, base):
+    document = BASES[base]
+    for loc in numeric_keys(document):
+        removed = copy.deepcopy(document)
+        table = removed
+        for part in loc[:-1]:
+            table = table[part]
+        value = table.pop(loc[-1])
+        result = validate(folder, to_toml(removed))
+        if result.exit_code != 0:  # a required key: named, or the rule that needs it
+            assert_refused(result)
+        table[f"{loc[-1]}_"] = value
+        assert_refused(validate(folder, to_toml(removed)), dotted((*loc[:-1], f"{loc[-1]}_")))
+
+
+def test_unknown_sections_and_unicode_keys_and_values(folder):
+    document = copy.deepcopy(BASES["punch"])
+    document["grïd"] = {"size": 1.0}
+    document["indenter"]["rädius\u200b"] = 0.25
+    document["indenter"]["shape"] = "flat_pünch \U0001f600"
+    document["halfspace"]["\x1b[31mred"] = 1.0
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "grïd", "indenter.rädius\u200b", "indenter.shape")
+    assert "\x1b" not in result.output  # a terminal escape in a key is shown escaped
+
+
+# -- whole files ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "says"),
+    [
+        pytest.param("", "missing — required table", id="empty"),
+        pytest.param("\n\n# only a comment\n", "missing — required table", id="comment"),
+        pytest.param(bytes(range(256)) * 16, "not UTF-8", id="binary"),
+        pytest.param(b"\xef\xbb\xbf[grid]\nsize = 1.0\n", "not valid TOML", id="byte-order-mark"),
+        pytest.param("[grid\nsize = 1", "not valid TOML", id="truncated"),
+        pytest.param("[grid]\nsize = 1.0\nsize = 2.0\n", "not valid TOML", id="duplicate-key"),
+        pytest.param("x = " + "[" * 1000 + "]" * 1000, "nested too deeply", id="array-1000-deep"),
+        pytest.param("x = " + "{a = " * 1000 + "1" + "}" * 1000, "nested too deeply", id="table-1000-deep"),
+        pytest.param("x = " + "[" * 100 + "]" * 100, "nested more than", id="array-100-deep"),
+        pytest.param("[" + ".".join(["a"] * 200) + "]\nb = 1\n", "nested more than", id="dotted-200-deep"),
+    ],
+)
+def test_malformed_files_are_refused_without_a_traceback(folder, text, says):
+    result = validate(folder, text)
+    assert result.exit_code == 2, result.output
+    assert says in result.output, result.output
+
+
+def test_a_very_large_file_is_refused_before_it_is_parsed(folder):
+    text = to_toml(BASES["punch"]) + "".join(f"# {'x' * 100}\n" for _ in range(12_000))
+    result = validate(folder, text)
+    assert result.exit_code == 2
+    assert "larger than 1048576 bytes" in result.output
+
+
+def test_thousands_of_unknown_keys_are_counted_not_listed(folder):
+    document = copy.deepcopy(BASES["punch"])
+    document["grid"].update({f"key{i}": i for i in range(5000)})
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "grid.key0")
+    lines = problem_lines(result.output)
+    assert len(lines) == 101 and lines[-1] == "`...`: 4900 more problems not shown", lines[-3:]
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(
+    text=st.one_of(
+        st.text(max_size=300),
+        st.binary(max_size=300),
+        st.lists(
+            st.tuples(st.sampled_from([*(f"[{s}]" for s in BASES["punch"]), "[indenter.profile]"]), st.text(max_size=40)),
+            max_size=8,
+        ).map(lambda pairs: "\n".join(f"{a}\n{b}" for a, b in pairs)),
+    )
+)
+def test_random_text_is_valid_or_refused_with_exit_2(folder, text):
+    result = validate(folder, text, "random.toml")
+    assert result.exit_code in (0, 2), result.output
+    if result.exit_code == 2:
+        assert problem_lines(result.output), result.output
+
+
+# -- height-map and lengths files ---------------------------------------------------
+
+
+def _write(path: Path, kind: str) -> None:
+    """A bad ``.npy`` (or not-.npy) file of the given kind at ``path``."""
+    if kind == "text":
+        path.write_text("0 0 0\n0 0 0\n")
+    elif kind == "garbage":
+        path.write_bytes(bytes(range(256)))
+    elif kind == "empty":
+        path.write_bytes(b"")
+    elif kind == "truncated":
+        np.save(path, np.zeros((32, 32)))
+        path.write_bytes(path.read_bytes()[:300])
+    elif kind == "npz":
+        with path.open("wb") as stream:
+            np.savez(stream, a=np.zeros(3))
+    elif kind == "pickle":
+        path.write_bytes(pickle.dumps(np.zeros((32, 32))))
+    elif kind == "object":
+        np.save(path, np.array([{"a": 1}] * 16, dtype=object), allow_pickle=True)
+    elif kind == "complex":
+        np.save(path, np.zeros((32, 32), dtype=complex))
+    elif kind == "bool":
+        np.save(path, np.zeros((32, 32), dtype=bool))
+    elif kind == "strings":
+        np.save(path, np.array(["a"] * 16))
+    elif kind == "nan":
+        values = np.zeros((32, 32))
+        values[3, 4] = np.nan
+        np.save(path, values)
+    elif kind == "inf":
+        np.save(path, np.full((32, 32), np.inf))
+    elif kind == "huge":
+        np.save(path, np.full((32, 32), 1e300))
+    elif kind == "3d":
+        np.save(path, np.zeros((2, 32, 32)))
+    elif kind == "scalar":
+        np.save(path, np.float64(1.0))
+    else:
+        raise ValueError(kind)
+
+
+BAD_FILE_KINDS = {
+    "text": "not a .npy file", "garbage": "not a .npy file", "empty": "not a .npy file",
+    "truncated": "cannot be read as a .npy array", "npz": "not a .npy file", "pickle": "not a .npy file",
+    "object": "never unpickles", "complex": "must hold real numbers", "bool": "must hold real numbers",
+    "strings": "must hold real numbers", "nan": "must hold finite values", "inf": "must hold finite values",
+    "huge": "must be at most 1e+30", "3d": "shape", "scalar": "shape",
+}
+
+
+@pytest.mark.parametrize(("shape", "key"), [("height_map", "indenter.file"), ("square_brush", "indenter.lengths_file")])
+@pytest.mark.parametrize("kind", list(BAD_FILE_KINDS))
+def test_a_bad_data_file_is_refused_naming_the_key_and_the_file(tmp_path, shape, key, kind):
+    name = f"bad_{kind}.npy"
+    _write(tmp_path / name, kind)
+    np.save(tmp_path / "lengths.npy", np.zeros(16))
+    np.save(tmp_path / "heights.npy", np.zeros((32, 32)))
+    result = validate(tmp_path, to_toml(with_value(BASES[shape], tuple(key.split(".")), name)))
+    assert_refused(result, key)
+    assert BAD_FILE_KINDS[kind] in result.output, result.output
+    assert name in result.output
+
+
+def test_a_pickled_object_array_is_never_unpickled(tmp_path, monkeypatch):
+    """An object array in a .npy is a pickle: refused from its header, its pickle never run."""
+    ran = tmp_path / "ran"
+
+    class Payload:
+        def __reduce__(self):
+            return (Path.touch, (ran,))
+
+    np.save(tmp_path / "tip.npy", np.array([Payload()] * 4, dtype=object), allow_pickle=True)
+    assert not ran.exists()
+    monkeypatch.setattr(np, "load", _refuse_pickles(np.load))
+    result = validate(tmp_path, to_toml(with_value(BASES["height_map"], ("indenter", "file"), "tip.npy")))
+    assert_refused(result, "indenter.file")
+    assert "never unpickles (allow_pickle is off)" in result.output
+    assert not ran.exists()
+
+
+def _refuse_pickles(load):
+    def checked(*args, allow_pickle=False, **kwargs):
+        assert not allow_pickle, "np.load called with allow_pickle=True"
+        return load(*args, allow_pickle=allow_pickle, **kwargs)
+    return checked
+
+
+@pytest.mark.parametrize(("shape", "key"), [("height_map", "indenter.file"), ("square_brush", "indenter.lengths_file")])
+def test_a_missing_file_a_folder_or_a_device_is_refused(tmp_path, shape, key):
+    np.save(tmp_path / "lengths.npy", np.zeros(16))
+    np.save(tmp_path / "heights.npy", np.zeros((32, 32)))
+    (tmp_path / "folder.npy").mkdir()
+    for name, says in [("absent.npy", "file not found"), ("folder.npy", "is a folder"), ("", "is a folder"),
+                       ("/dev/null", "not a regular file"), ("a\x00b.npy", "not a usable path")]:
+        document = with_value(BASES[shape], tuple(key.split(".")), name)
+        text = to_toml(document)
+        result = validate(tmp_path, text)
+        assert_refused(result, key)
+        assert says in result.output, (name, result.output)
+
+
+def test_wrong_lengths_and_heights_shapes_name_the_file(tmp_path):
+    np.save(tmp_path / "heights.npy", np.zeros((16, 16)))
+    np.save(tmp_path / "lengths.npy", np.zeros(5))
+    result = validate(tmp_path, to_toml(BASES["height_map"]))
+    assert_refused(result, "indenter.file")
+    assert "heights.npy" in result.output and "16 x 16" in result.output
+    document = with_value(BASES["square_brush"], ("indenter", "lengths_file"), "lengths.npy")
+    result = validate(tmp_path, to_toml(document))
+    assert_refused(result, "indenter.lengths_file")
+    assert "lengths.npy" in result.output and "holds 5 values; must hold 16" in result.output
+
+
+def test_paths_resolve_against_the_config_folder_and_may_leave_it(tmp_path):
+    """Relative names are read from the configuration's folder; a path outside it is allowed."""
+    inside = tmp_path / "case"
+    shared = tmp_path / "shared"
+    inside.mkdir()
+    shared.mkdir()
+    np.save(shared / "heights.npy", np.zeros((32, 32)))
+    for name in ("../shared/heights.npy", str(shared / "heights.npy")):
+        (inside / "case.toml").write_text(to_toml(with_value(BASES["height_map"], ("indenter", "file"), name)))
+        assert invoke("validate", str(inside / "case.toml")).exit_code == 0
+        assert load_config(inside / "case.toml").indenter.file == str(shared / "heights.npy")
+    (inside / "case.toml").write_text(to_toml(BASES["height_map"]))  # heights.npy: not in case/
+    result = invoke("validate", str(inside / "case.toml"))
+    assert_refused(result, "indenter.file")
+    assert str(inside / "heights.npy") in result.output
+
+
+# -- random layouts: refused up front, bounded search -------------------------------
+
+
+def test_a_random_layout_that_cannot_fit_is_refused_before_any_draw(folder):
+    """pillar_count = 1000000 searched at random without end; now the area is checked first."""
+    document = with_value(BASES["random_brush"], ("indenter", "pillar_count"), 1_000_000)
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "indenter.pillar_count")
+    assert "cannot fit" in result.output and "pillar_radius" in result.output and "min_gap" in result.output
+
+
+def test_a_random_layout_beyond_the_jamming_limit_stops_after_its_draws():
+    """Fits by area (0.8 of the densest packing) but not at random: a bounded search, named keys."""
+    rng = np.random.default_rng(0)
+    with pytest.raises(StructureError) as caught:
+        random_positions(60, 0.05, 0.0, "square", 1.0, rng, max_attempts_per_pillar=50)
+    assert caught.value.key == "pillar_count"
+    assert "after 3072 draws" in str(caught.value) and "min_gap" in str(caught.value)
+
+
+def test_random_layouts_keep_their_distance():
+    rng = np.random.default_rng(3)
+    centres = random_positions(2000, 0.004, 0.002, "circle", 1.0, rng)
+    gaps = np.linalg.norm(centres[:, None] - centres[None], axis=2) + np.eye(len(centres))
+    assert gaps.min() >= 0.01 and np.all(np.hypot(*centres.T) <= 0.5 - 0.004)
+
+
+# -- resources ---------------------------------------------------------------------
+
+
+def test_a_grid_beyond_the_memory_limit_is_refused_with_the_estimate(folder, monkeypatch):
+    document = with_value(BASES["punch"], ("grid", "elements"), 1024)
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "200M")
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "grid.elements")
+    assert "1024 x 1024 elements needs about" in result.output
+    assert "200 MiB of BRUSHBEM_MEMORY_LIMIT=200M" in result.output
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "off")
+    assert validate(folder, to_toml(document)).exit_code == 0
+
+
+def test_run_refuses_the_grid_before_computing(folder, monkeypatch, tmp_path):
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "1M")
+    (tmp_path / "case.toml").write_text(to_toml(BASES["punch"]))
+    result = invoke("run", str(tmp_path / "case.toml"), "--out", str(tmp_path / "out"))
+    assert_refused(result, "grid.elements")
+    assert not (tmp_path / "out" / "result.nc").exists()
+
+
+@pytest.mark.parametrize("setting", ["lots", "-5G", "0", "1e400", "5 GB extra", "nan"])
+def test_a_bad_memory_limit_is_refused_naming_the_variable(folder, monkeypatch, setting):
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, setting)
+    result = validate(folder, to_toml(BASES["punch"]))
+    assert_refused(result, MEMORY_LIMIT_VARIABLE)
+
+
+def test_memory_limit_units():
+    assert parse_bytes("8589934592") == parse_bytes("8G") == parse_bytes("8 GiB") == parse_bytes("8gb") == 8 << 30
+    assert parse_bytes("512M") == 512 << 20 and parse_bytes("1.5k") == 1536
+
+
+def test_available_memory_is_read_from_the_system(monkeypatch):
+    monkeypatch.delenv(MEMORY_LIMIT_VARIABLE, raising=False)
+    limit, source = available_memory()
+    if Path("/proc/meminfo").exists():
+        assert limit is not None and limit > 0 and source
+
+
+def test_the_estimate_grows_with_the_grid(folder):
+    small = load_config(_written(folder, BASES["sphere"], "small.toml"))
+    large = load_config(_written(folder, with_value(BASES["sphere"], ("grid", "elements"), 4096), "large.toml"))
+    assert memory_estimate(large) > 10 * memory_estimate(small) > 0
+    assert 2.0e9 < memory_estimate(large) < 4.0e9  # measured: 2.6 GB peak at N = 4096
+    assert result_size_estimate(large) == 16 * result_size_estimate(
+        load_config(_written(folder, with_value(BASES["sphere"], ("grid", "elements"), 1024), "mid.toml")))
+
+
+def _written(folder: Path, document: dict[str, Any], name: str) -> Path:
+    (folder / name).write_text(to_toml(document))
+    return folder / name
+
+
+# -- accepted extremes run without a traceback -------------------------------------------
+
+
+_RUN_VALUES = {"1e-30": 1e-30, "1e30": 1e30, "0": 0.0, "inf": math.inf}
+
+
+def _run_cases() -> list[Any]:
+    cases = []
+    for base in ("punch", "sphere", "random_brush"):
+        for loc in numeric_keys(BASES[base]):
+            if loc[0] == "grid" and loc[1] == "elements":
+                continue
+            for label, value in _RUN_VALUES.items():
+                cases.append(pytest.param(base, loc, value, id=f"{base}:{dotted(loc)}={label}"))
+    return cases
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("base", "loc", "value"), _run_cases())
+def test_an_accepted_extreme_value_runs_to_an_answer(tmp_path, base, loc, value):
+    """What validate accepts, run finishes: converged (0), or not converged with a reason (3)."""
+    document = with_value(BASES[base], loc, value)
+    if base != "punch":
+        document["protocol"] = {**document["protocol"], "max_steps": 2000}
+    document["grid"] = {**document["grid"], "elements": 16} if loc[0] != "grid" else document["grid"]
+    config = tmp_path / "case.toml"
+    config.write_text(to_toml(document))
+    if invoke("validate", str(config)).exit_code != 0:
+        return
+    result = invoke("run", str(config), "--out", str(tmp_path / "out"), "--quiet")
+    assert result.exit_code in (0, 3), result.output
+    if result.exit_code == 3:
+        assert "did not converge (" in result.output
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["converged"] == (result.exit_code == 0)
