@@ -560,7 +560,7 @@ def test_the_estimate_grows_with_the_grid(folder):
     small = load_config(_written(folder, BASES["sphere"], "small.toml"))
     large = load_config(_written(folder, with_value(BASES["sphere"], ("grid", "elements"), 4096), "large.toml"))
     assert memory_estimate(large) > 10 * memory_estimate(small) > 0
-    assert 2.0e9 < memory_estimate(large) < 4.0e9  # measured: 2.6 GB peak at N = 4096
+    assert 2.6e9 < memory_estimate(large) < 6.5e9  # measured: 2.6 GB peak at N = 4096
     assert result_size_estimate(large) == 16 * result_size_estimate(
         load_config(_written(folder, with_value(BASES["sphere"], ("grid", "elements"), 1024), "mid.toml")))
 

@@ -35,13 +35,15 @@ __all__ = [
 #: available.
 MEMORY_LIMIT_VARIABLE = "BRUSHBEM_MEMORY_LIMIT"
 
-# Peak RSS = interpreter and imports + bytes per element of the N x N grid.
-# Fitted to benchmarks/memory.py (rigid punch, sphere on a spring, 16 x 16
-# brush; N = 512 ... 2048); the estimate is the fit times a margin, so that
-# it stays above every measured peak.
-_BASE_BYTES = 150e6
-_BYTES_PER_ELEMENT = {"flat_punch": 120.0, "sphere": 120.0, "height_map": 120.0, "brush": 160.0}
-_MARGIN = 1.15
+# Peak RSS = interpreter and imports + bytes per element of the N x N grid,
+# times a margin.  Fitted to the peaks of benchmarks/memory.py (N = 256 ...
+# 1024 for single bodies, 256 and 512 for the 16 x 16 brush, whose pillar,
+# spring and contact-problem arrays cost more per element); the estimate lies
+# above every measured peak.  At N = 4096 and 8192 single bodies were measured
+# at 2.6 GB and 9.5 GB, about half the estimate: the margin grows with N.
+_BASE_BYTES = 250e6
+_BYTES_PER_ELEMENT = {"flat_punch": 270.0, "sphere": 270.0, "height_map": 270.0, "brush": 700.0}
+_MARGIN = 1.1
 
 # Bytes per element of result.nc, per recorded snapshot (pressure as float64,
 # contact as one byte), and the number of snapshots a pull-off records
