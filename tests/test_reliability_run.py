@@ -325,3 +325,42 @@ def test_fixed_steps_beyond_the_pull_off_still_find_it(tmp_path):
         assert fixed["adhesive_force"] == pytest.approx(reference, rel=1e-6)
         assert fixed["work_of_separation"] > 0.0
     assert np.isfinite(reference) and reference > 0
+
+
+SPHERE = textwrap.dedent("""
+    [halfspace]
+    contact_modulus = 1.0
+    work_of_adhesion = {dgamma}
+    [grid]
+    size = 1.0
+    elements = 128
+    [indenter]
+    shape = "sphere"
+    radius = {radius}
+    [protocol]
+    method = "events"
+    preload_displacement = 0.001
+""")
+
+
+@pytest.mark.parametrize(("radius", "dgamma"), [(0.1 / 128, 1e-4), (1.0, 1e-12)])
+def test_unresolved_sphere_is_refused(tmp_path, radius, dgamma):
+    """R = 0.1 h gave F_A = 34.5 x JKR, dgamma = 1e-12 at R = 1 gave 852 x, both "converged":
+    a JKR contact of a fraction of an element is not resolved by the mesh criterion."""
+    path = tmp_path / "sphere.toml"
+    path.write_text(SPHERE.format(radius=radius, dgamma=dgamma))
+    result = CliRunner().invoke(main, ["validate", str(path)])
+    assert result.exit_code == 2, result.output
+    assert "`indenter.radius`" in result.output and "JKR contact radius" in result.output
+    # A resolved sphere on the same grid passes: a_JKR = 0.071, 9 elements.
+    path.write_text(SPHERE.format(radius=1.0, dgamma=1e-4))
+    assert CliRunner().invoke(main, ["validate", str(path)]).exit_code == 0
+
+
+def test_fixed_step_beyond_the_domain_is_refused(tmp_path):
+    """A step of 1e30 located the pull-off to the rounding of 1e30 (d_A 250 x off, "converged")."""
+    path = _punch(tmp_path)
+    path.write_text(path.read_text().replace('method = "events"', 'method = "fixed"\nstep = 1e30'))
+    result = CliRunner().invoke(main, ["validate", str(path)])
+    assert result.exit_code == 2, result.output
+    assert "`protocol.step`" in result.output and "grid.size" in result.output
