@@ -1014,10 +1014,14 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
         terminate()
         return
     processes = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
-    pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         with contextlib.suppress(OSError, ValueError):
             process.terminate()
+    # Joined, not left to the interpreter's exit: its atexit hook would wake the
+    # pool's manager thread through a pipe that may be closed by then, which
+    # prints a traceback after the clean exit.  The workers are gone, so the
+    # manager sees a broken pool and ends at once.
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 @contextlib.contextmanager
