@@ -201,6 +201,24 @@ def _stiff_force(results):
     return float(frame[frame.k_tilde == frame.k_tilde.max()].F.mean())
 
 
+def _stiff_force_random(results):
+    frame = _frame(results, "random")
+    return float(frame[frame.k_tilde == frame.k_tilde.max()].F.mean())
+
+
+def _plateau_exponent(results):
+    """Slope of log F~_A against log N at the plateau (smallest k~) of the regular brushes (eq. 4.10: 1/4)."""
+    n, f, _ = _plateau(_frame(results, "regular"))
+    return float(np.polyfit(np.log(n), np.log(f), 1)[0])
+
+
+def _stiff_work(results):
+    """W~ = W / (2 dgamma A) at the stiffest k~, mean over N (thesis: 'roughly equal to' the rigid punch)."""
+    frame = _frame(results, "regular")
+    rows = frame[frame.k_tilde == frame.k_tilde.max()]
+    return float(np.mean(column(rows, "work_of_separation") / (2 * 1.0e-4 * rows.phi.to_numpy())))
+
+
 def _plateau_amplitude(results):
     n, f, _ = _plateau(_frame(results, "regular"))
     return float(np.mean(n**0.25 / f))
@@ -226,8 +244,14 @@ NUMBERS = (
                  safe(_rigid_limit)),
     ThesisNumber("F~_A at the stiffest k~ (k~ > 1: 'very slightly larger than' phi^-1/4)", "sec. 4.3, Fig. 4-4",
                  1.7, safe(_stiff_force)),
+    ThesisNumber("F~_A at the stiffest k~, random layouts (k~ > 1: 'very slightly larger than' phi^-1/4)",
+                 "sec. 4.3, Fig. 4-4 b", 1.7, safe(_stiff_force_random)),
     ThesisNumber("N^1/4 / F~_A at the plateau (thesis: 1.2 to 1.3)", "sec. 4.3, Fig. 4-5", 1.25,
                  safe(_plateau_amplitude)),
+    ThesisNumber("exponent of F~_A against N at the plateau (eq. 4.10)", "sec. 4.3, Fig. 4-5", 0.25,
+                 safe(_plateau_exponent)),
+    ThesisNumber("W~ = W / (2 dgamma A) at the stiffest k~ ('roughly equal to' the rigid punch)",
+                 "sec. 4.3, Fig. 4-7", 1.0, safe(_stiff_work)),
     ThesisNumber("plateau F~_A of the largest regular brush (thesis: x6 at N = 2304; quick: N = 64)",
                  "sec. 4.3, Fig. 4-4 a", 6.0, safe(_largest_plateau)),
     ThesisNumber("W~ k~ / (N^-1/2 phi^1/2) at the smallest k~ (eq. 4.18 'coincides')", "sec. 4.3, Fig. 4-7",
