@@ -21,6 +21,7 @@ from brushbem.reproduction import (
     ComparisonRow,
     compare,
     comparison_document,
+    draw_table_figures,
     export_tables,
     load_tables,
     render,
@@ -101,10 +102,20 @@ def test_a_number_that_fails_is_reported_in_its_row():
     assert "n/a (KeyError: 'x')" in text
 
 
-def test_the_committed_comparison_is_what_the_committed_tables_give():
+def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):
+    """The document, its figure links, and the figures themselves all follow from the tables."""
     tables = ROOT / "docs" / "reproduction"
     document = ROOT / "docs" / "thesis-comparison.md"
-    assert document.read_text(encoding="utf-8") == comparison_document(tables), (
-        "docs/thesis-comparison.md is out of date: run "
-        "brushbem compare-thesis docs/reproduction --out docs/thesis-comparison.md"
+    figures = ROOT / "docs" / "figures"
+    committed = {folder.name: sorted(folder.glob("*.png")) for folder in sorted(figures.iterdir()) if folder.is_dir()}
+    links = {name: [path.relative_to(document.parent).as_posix() for path in paths]
+             for name, paths in committed.items()}
+    assert document.read_text(encoding="utf-8") == comparison_document(tables, links), (
+        "docs/thesis-comparison.md is out of date: run brushbem compare-thesis docs/reproduction "
+        "--out docs/thesis-comparison.md --figures docs/figures"
     )
+    # Every committed figure is one the tables draw, and every one they draw is committed.
+    drawn = draw_table_figures(tables, tmp_path)
+    assert {name: sorted(p.name for p in paths) for name, paths in drawn.items()} == {
+        name: sorted(p.name for p in paths) for name, paths in committed.items()}
+    assert all(path.stat().st_size > 10_000 for paths in drawn.values() for path in paths)

@@ -669,12 +669,27 @@ def export_tables(study_dir: Path, tables_root: Path) -> None:
 @click.option("--out", "out_file", type=click.Path(path_type=Path, dir_okay=False), default=None,
               help="Write the document here (default: standard output).")
 @click.option("--check", is_flag=True, help="Exit 1 if --out differs from what TABLES give (write nothing).")
-def compare_thesis(tables_root: Path, out_file: Path | None, check: bool) -> None:
+@click.option("--figures", "figures_root", type=click.Path(path_type=Path, file_okay=False), default=None,
+              help="Also draw the figures the tables determine into DIR/<study>/ and link them in the document "
+              "(with --check: only link the figures already there).")
+def compare_thesis(tables_root: Path, out_file: Path | None, check: bool, figures_root: Path | None) -> None:
     """The thesis's numbers beside ours, computed from the tables in TABLES (Markdown)."""
-    from brushbem.io import atomic_path
-    from brushbem.reproduction import comparison_document
+    import os
 
-    document = comparison_document(tables_root)
+    from brushbem.io import atomic_path
+    from brushbem.reproduction import comparison_document, draw_table_figures
+
+    links: dict[str, list[str]] = {}
+    if figures_root is not None:
+        if check:
+            drawn = {folder.name: sorted(folder.glob("*.png")) for folder in sorted(figures_root.glob("*"))
+                     if folder.is_dir()}
+        else:
+            drawn = draw_table_figures(tables_root, figures_root)
+        base = (out_file.parent if out_file is not None else Path.cwd()).resolve()
+        links = {name: [Path(os.path.relpath(Path(p).resolve(), base)).as_posix() for p in sorted(paths)]
+                 for name, paths in drawn.items()}
+    document = comparison_document(tables_root, links)
     if check:
         if out_file is None:
             raise click.UsageError("--check needs --out FILE")

@@ -206,8 +206,13 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
 
 
-def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any]], notes: str = "") -> str:
-    """The comparison document (Markdown) of `compare`'s rows, then ``notes``."""
+def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any]], notes: str = "",
+           figures: Mapping[str, list[str]] | None = None) -> str:
+    """The comparison document (Markdown) of `compare`'s rows, then ``notes``.
+
+    ``figures``: study -> figure paths (relative to the document) linked in its section.
+    """
+    figures = figures or {}
     lines = [
         "# Thesis comparison: the thesis's numbers beside ours",
         "",
@@ -256,15 +261,47 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
                          f"{error} | {deviation} |")
         lines.append("")
+        if figures.get(name):
+            lines += ["Figures drawn from these tables (`brushbem compare-thesis ... --figures DIR`):", ""]
+            lines += [f"![{Path(path).stem}]({path})" for path in figures[name]]
+            lines.append("")
     if notes.strip():
         lines += [notes.strip(), ""]
     return "\n".join(lines)
 
 
-def comparison_document(tables_root: str | Path) -> str:
-    """`render` of `compare` of ``tables_root`` with its notes: the whole document."""
+def comparison_document(tables_root: str | Path, figures: Mapping[str, list[str]] | None = None) -> str:
+    """`render` of `compare` of ``tables_root`` with its notes: the whole document.
+
+    ``figures`` (study -> paths relative to the document) are linked under
+    their study's section.
+    """
     root = Path(tables_root)
     rows, provenances = compare(root)
     notes_path = root / NOTES_FILE
     notes = notes_path.read_text(encoding="utf-8") if notes_path.is_file() else ""
-    return render(rows, provenances, notes)
+    return render(rows, provenances, notes, figures or {})
+
+
+def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dict[str, list[Path]]:
+    """Draw, for every study in ``tables_root`` that has ``draw_tables``, its figures from the tables.
+
+    The figures go to ``figures_root/<study>/``; they carry the thesis's
+    axes, normalisations and closed-form lines, and are drawn from the
+    same tables as the comparison rows.
+
+    Returns
+    -------
+    dict
+        Study name -> the figures written.
+    """
+    from .studies import STUDIES
+
+    drawn: dict[str, list[Path]] = {}
+    for folder in sorted(Path(tables_root).iterdir()):
+        study = STUDIES.get(folder.name)
+        if study is None or study.draw_tables is None or not (folder / PROVENANCE_FILE).is_file():
+            continue
+        _provenance, tables = load_tables(folder)
+        drawn[study.name] = study.draw_tables(tables, Path(figures_root) / study.name)
+    return drawn

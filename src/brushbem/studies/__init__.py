@@ -92,6 +92,12 @@ class Study:
         ``results.attrs``-free paths via the ``case_file`` column).
     numbers : tuple of ThesisNumber
         The numbers the thesis states that this study reproduces.
+    draw_tables : callable, optional
+        ``draw_tables(tables, figures_dir) -> list[Path]``: the figures that
+        the exported per-case tables alone determine (no case files: no
+        snapshots or load curves), drawn from ``docs/reproduction/<name>``
+        by `brushbem.reproduction.draw_table_figures`.  None: the study's
+        figures all need case files.
     """
 
     name: str
@@ -101,6 +107,7 @@ class Study:
     draw: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]]
     numbers: tuple[ThesisNumber, ...] = ()
     notes: str = ""
+    draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 
 

@@ -186,6 +186,12 @@ def draw(results, figures_dir: Path) -> list[Path]:
                                               _draw_work)]
 
 
+def draw_tables(results, figures_dir: Path) -> list[Path]:
+    """Fig. 4-4 to 4-7: the figures that the per-case tables determine (Fig. 4-3 needs the snapshots)."""
+    figures_dir = Path(figures_dir)
+    return [f(results, figures_dir) for f in (_draw_force_vs_stiffness, _draw_plateau, _draw_phi, _draw_work)]
+
+
 def _curve_force(results, k_tilde):
     frame = _frame(results, "curves")
     return float(frame.F.iloc[int(np.argmin(np.abs(np.log(frame.k_tilde / k_tilde))))])
@@ -264,6 +270,7 @@ STUDY = Study(
     figures=("4-3", "4-4", "4-5", "4-6", "4-7"),
     parts=("curves", "regular", "random", "phi"),
     draw=draw,
+    draw_tables=draw_tables,
     numbers=NUMBERS,
     notes="E* = 1, dgamma = 1e-4, L = 1, preload d = 0.002; phi ~ 0.12 except part phi.",
 )
