@@ -284,7 +284,7 @@ def comparison_document(tables_root: str | Path, figures: Mapping[str, list[str]
 
 
 def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dict[str, list[Path]]:
-    """Draw, for every study in ``tables_root`` that has ``draw_tables``, its figures from the tables.
+    """Draw, for every thesis-grid study in ``tables_root`` with ``draw_tables``, its figures from the tables.
 
     The figures go to ``figures_root/<study>/``; they carry the thesis's
     axes, normalisations and closed-form lines, and are drawn from the
@@ -302,6 +302,8 @@ def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dic
         study = STUDIES.get(folder.name)
         if study is None or study.draw_tables is None or not (folder / PROVENANCE_FILE).is_file():
             continue
-        _provenance, tables = load_tables(folder)
+        provenance, tables = load_tables(folder)
+        if provenance.get("quick"):
+            continue  # quick grids test the machinery: no figure beside the thesis's
         drawn[study.name] = study.draw_tables(tables, Path(figures_root) / study.name)
     return drawn

@@ -119,7 +119,13 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             a_.legend(fontsize=7)
         a_.set(xlabel="x / L", ylabel="tensile stress / Σ_c", title=f"Fig. 7-4: h~ = {h:g}")
     save(fig, figures_dir / "fig7-4_cross_section.png", written)
+    return [*written, *draw_tables(results, figures_dir)]
 
+
+def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    """Fig. 7-5 to 7-7, which the per-case numbers alone determine (7-3 and 7-4 need the case files)."""
+    figures_dir = Path(figures_dir)
+    written: list[Path] = []
     # Fig. 7-5: F~_A vs h~, square/circle, phi = 0.06 / 0.15
     amp = _with_phi(finished(results, "amplification"))
     fig, ax = figure(1, 1, size=(6.0, 4.2))
@@ -201,6 +207,7 @@ STUDY = Study(
     figures=("7-3", "7-4", "7-5", "7-6", "7-7"),
     parts=("curves", "amplification", "stiffness"),
     draw=draw,
+    draw_tables=draw_tables,
     numbers=(
         ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, circle", "Fig. 7-3, text", 0.65, _curve_value(0.0, "circle")),
         ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, square", "Fig. 7-3, text", 0.65, _curve_value(0.0, "square")),

@@ -89,6 +89,13 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     out += [save(fig4, figures_dir / "fig2-4_punch_curves.png"), save(fig5, figures_dir / "fig2-5_punch_radius.png")]
+    return [*out, *draw_tables(results, figures_dir)]
+
+
+def draw_tables(results, figures_dir: Path) -> list[Path]:
+    """Fig. 2-6, which the per-case numbers alone determine (Fig. 2-4 and 2-5 need the load curves)."""
+    figures_dir = Path(figures_dir)
+    frame = _frame(results)
     # Fig. 2-6: work of separation vs k~.
     fig6, ax6 = new_figure()
     ax6 = ax6[0, 0]
@@ -107,8 +114,7 @@ def draw(results, figures_dir: Path) -> list[Path]:
             title="Fig. 2-6: work of separation")
     ax6.legend(fontsize=7)
     ax6.grid(alpha=0.3, which="both")
-    out.append(save(fig6, figures_dir / "fig2-6_punch_work.png"))
-    return out
+    return [save(fig6, figures_dir / "fig2-6_punch_work.png")]
 
 
 NUMBERS = (
@@ -126,6 +132,7 @@ STUDY = Study(
     figures=("2-4", "2-5", "2-6"),
     parts=(PART,),
     draw=draw,
+    draw_tables=draw_tables,
     numbers=NUMBERS,
     notes="r = 0.3 L, E* = 1, dgamma = 1e-3; k~ = k/(2 E* r) with r the rasterised equivalent radius.",
 )

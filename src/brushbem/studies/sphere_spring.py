@@ -96,6 +96,13 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax.legend(fontsize=6)
         ax.grid(alpha=0.3)
     out = [save(fig7, figures_dir / "fig2-7_sphere_curves.png"), save(fig8, figures_dir / "fig2-8_sphere_radius.png")]
+    return [*out, *draw_tables(results, figures_dir)]
+
+
+def draw_tables(results, figures_dir: Path) -> list[Path]:
+    """Fig. 2-9, which the per-case numbers alone determine (Fig. 2-7 and 2-8 need the load curves)."""
+    figures_dir = Path(figures_dir)
+    frame = _frame(results)
     fig9, ax9 = new_figure()
     ax9 = ax9[0, 0]
     kk = np.logspace(-1, 2, 300)
@@ -113,8 +120,7 @@ def draw(results, figures_dir: Path) -> list[Path]:
             title="Fig. 2-9: work of separation")
     ax9.legend(fontsize=7)
     ax9.grid(alpha=0.3, which="both")
-    out.append(save(fig9, figures_dir / "fig2-9_sphere_work.png"))
-    return out
+    return [save(fig9, figures_dir / "fig2-9_sphere_work.png")]
 
 
 NUMBERS = (
@@ -130,6 +136,7 @@ STUDY = Study(
     figures=("2-7", "2-8", "2-9"),
     parts=(PART,),
     draw=draw,
+    draw_tables=draw_tables,
     numbers=NUMBERS,
     notes="R = 1, E* = 1, dgamma = 1e-3, L = 1, preload force 0.03 for every stiffness (contact radius 1.86 a_JKR, beyond B).",
 )
