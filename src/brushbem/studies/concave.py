@@ -126,47 +126,50 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     """Fig. 7-5 to 7-7, which the per-case numbers alone determine (7-3 and 7-4 need the case files)."""
     figures_dir = Path(figures_dir)
     written: list[Path] = []
-    # Fig. 7-5: F~_A vs h~, square/circle, phi = 0.06 / 0.15
-    amp = _with_phi(finished(results, "amplification"))
-    fig, ax = figure(1, 1, size=(6.0, 4.2))
-    if has(amp, H, FIS, REGION, PHI):
-        for (phi, reg), g in amp.groupby([PHI, REGION]):
-            m = g.groupby(H)[FIS].mean()
-            ax[0, 0].plot(m.index, m.to_numpy(), "o-" if reg == "circle" else "s--", ms=3, label=f"φ = {phi:g}, {reg}")
+    # A table folder holds the parts that were computed: draw only their figures.
+    if "amplification" in results:
+        # Fig. 7-5: F~_A vs h~, square/circle, phi = 0.06 / 0.15
+        amp = _with_phi(finished(results, "amplification"))
+        fig, ax = figure(1, 1, size=(6.0, 4.2))
+        if has(amp, H, FIS, REGION, PHI):
+            for (phi, reg), g in amp.groupby([PHI, REGION]):
+                m = g.groupby(H)[FIS].mean()
+                ax[0, 0].plot(m.index, m.to_numpy(), "o-" if reg == "circle" else "s--", ms=3, label=f"φ = {phi:g}, {reg}")
+        else:
+            empty_note(ax[0, 0])
+        ax[0, 0].plot([0.16], [0.88], "k*", ms=10, label="thesis max φ = 0.15")
+        ax[0, 0].plot([0.5], [0.95], "kP", ms=9, label="thesis max φ = 0.06")
         ax[0, 0].legend(fontsize=7)
-    else:
-        empty_note(ax[0, 0])
-    ax[0, 0].plot([0.16], [0.88], "k*", ms=10, label="thesis max φ = 0.15")
-    ax[0, 0].plot([0.5], [0.95], "kP", ms=9, label="thesis max φ = 0.06")
-    ax[0, 0].set(xlabel="h~", ylabel="F~_A = F_A / (N F_K)", title="Fig. 7-5: k~ = 6e-4 (stars: thesis maxima)")
-    save(fig, figures_dir / "fig7-5_amplification.png", written)
+        ax[0, 0].set(xlabel="h~", ylabel="F~_A = F_A / (N F_K)", title="Fig. 7-5: k~ = 6e-4 (stars: thesis maxima)")
+        save(fig, figures_dir / "fig7-5_amplification.png", written)
 
-    # Fig. 7-6: circle, per phi, F~_A vs h~ for each k~; Fig. 7-7: maximum vs k~
-    stiff = _with_phi(finished(results, "stiffness"))
-    phis = sorted(stiff[PHI].unique()) if has(stiff, PHI) else []
-    fig, ax = figure(max(1, len(phis)), 1)
-    for a_, phi in zip(ax[0], phis):
-        for k, g in stiff[stiff[PHI] == phi].groupby(K):
-            m = g.groupby(H)[FIS].mean()
-            a_.plot(m.index, m.to_numpy(), "o-", ms=3, label=f"k~ = {k:g}")
-        if np.isclose(phi, 0.06):
-            a_.plot([0.04, 0.05], [0.94, 0.77], "k*", ms=9, label="thesis k~ = 10")
-        a_.set(xlabel="h~", ylabel="F~_A", xscale="symlog", title=f"Fig. 7-6: circle, φ = {phi:g}")
-        a_.legend(fontsize=6)
-    if not phis:
-        empty_note(ax[0, 0])
-    save(fig, figures_dir / "fig7-6_stiffness.png", written)
-    fig, ax = figure(1, 1)
-    mx = maxima(stiff, [PHI, K]) if phis else pd.DataFrame()
-    for phi, g in (mx.groupby(PHI) if len(mx) else []):
-        g = g.sort_values(K)
-        ax[0, 0].semilogx(g[K], g["max"], "o-", label=f"φ = {phi:g}")
-    ax[0, 0].set(xlabel="k~", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
-    if len(mx):
-        ax[0, 0].legend(fontsize=7)
-    else:
-        empty_note(ax[0, 0])
-    save(fig, figures_dir / "fig7-7_maximum.png", written)
+    if "stiffness" in results:
+        # Fig. 7-6: circle, per phi, F~_A vs h~ for each k~; Fig. 7-7: maximum vs k~
+        stiff = _with_phi(finished(results, "stiffness"))
+        phis = sorted(stiff[PHI].unique()) if has(stiff, PHI) else []
+        fig, ax = figure(max(1, len(phis)), 1)
+        for a_, phi in zip(ax[0], phis):
+            for k, g in stiff[stiff[PHI] == phi].groupby(K):
+                m = g.groupby(H)[FIS].mean()
+                a_.plot(m.index, m.to_numpy(), "o-", ms=3, label=f"k~ = {k:g}")
+            if np.isclose(phi, 0.06):
+                a_.plot([0.04, 0.05], [0.94, 0.77], "k*", ms=9, label="thesis k~ = 10")
+            a_.set(xlabel="h~", ylabel="F~_A", xscale="symlog", title=f"Fig. 7-6: circle, φ = {phi:g}")
+            a_.legend(fontsize=6)
+        if not phis:
+            empty_note(ax[0, 0])
+        save(fig, figures_dir / "fig7-6_stiffness.png", written)
+        fig, ax = figure(1, 1)
+        mx = maxima(stiff, [PHI, K]) if phis else pd.DataFrame()
+        for phi, g in (mx.groupby(PHI) if len(mx) else []):
+            g = g.sort_values(K)
+            ax[0, 0].semilogx(g[K], g["max"], "o-", label=f"φ = {phi:g}")
+        ax[0, 0].set(xlabel="k~", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
+        if len(mx):
+            ax[0, 0].legend(fontsize=7)
+        else:
+            empty_note(ax[0, 0])
+        save(fig, figures_dir / "fig7-7_maximum.png", written)
     return written
 
 
