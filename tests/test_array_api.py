@@ -9,6 +9,13 @@ same run on NumPy: the two use different preconditioners on brushes (pillar
 blocks on the host for NumPy, the device-side window path otherwise) and
 agree to the CG tolerance 1e-8, i.e. about 1e-7 in the force; a case that
 takes the same path agrees to round-off.
+
+A GPU namespace also refuses to be turned into a NumPy array implicitly
+(CuPy raises on ``np.asarray``); ``array_api_strict`` allows it on its CPU
+device.  Here it refuses too (``_refuse_implicit_conversion``), so every
+host copy must go through the one boundary, ``backend.to_numpy``, and a
+stray ``np.asarray`` of a solver array fails here instead of on the first
+GPU run.
 """
 
 from __future__ import annotations
@@ -19,9 +26,30 @@ import numpy as np
 import pytest
 
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, Level, brush, flat_punch, sphere
+from brushbem import backend
+from brushbem.structure import Grid, Level, Profile, brush, flat_punch, sphere
 
 strict = pytest.importorskip("array_api_strict")
+
+
+@pytest.fixture(autouse=True)
+def _refuse_implicit_conversion(monkeypatch):
+    """``np.asarray`` of an ``array_api_strict`` array raises, as it does for a CuPy array."""
+
+    def refuse(self, dtype=None, copy=None):
+        raise RuntimeError("implicit conversion of a device array to NumPy (use backend.to_numpy)")
+
+    monkeypatch.setattr(type(strict.asarray(0.0)), "__array__", refuse)
+
+
+def test_implicit_conversion_is_refused_and_the_boundary_copies():
+    """The fixture is in force (a test that cannot fail otherwise), and ``to_numpy`` still copies."""
+    array = strict.asarray([[1.0, 2.0], [3.0, 4.0]])
+    with pytest.raises(RuntimeError, match="implicit conversion"):
+        np.asarray(array)
+    np.testing.assert_array_equal(backend.to_numpy(array), [[1.0, 2.0], [3.0, 4.0]])
+    assert backend.bounding_box(strict, array > 2.5) == (1, 2, 0, 2)
+    assert backend.bounding_box(strict, array > 9.0) is None
 
 GRID = Grid(1.0, 64)
 
@@ -38,6 +66,12 @@ CASES = {
     "soft brush": (lambda: _brush(stiffness=1e-3), 1e-4, "events"),
     "hierarchy": (lambda: _brush(stiffness=1e-2, levels=(Level(2, 1e-2),)), 1e-4, "events"),
     "rigid brush, fixed steps": (lambda: _brush(stiffness=math.inf), 1e-4, "fixed"),
+    "rigid punch": (lambda: flat_punch(GRID, 0.2), 1e-4, "events"),
+    "sphere on a spring, fixed steps": (lambda: sphere(GRID, 1.0, 0.5), 1e-3, "fixed"),
+    "rough brush": (lambda: _brush(stiffness=1e-2, roughness=5e-4, seed=3), 1e-4, "events"),
+    "rough brush, element events": (lambda: _brush(stiffness=1e-2, roughness=5e-4, seed=3), 1e-4, "element_events"),
+    "rough brush, fixed steps": (lambda: _brush(stiffness=1e-2, roughness=5e-4, seed=3), 1e-4, "fixed"),
+    "concave brush": (lambda: _brush(stiffness=6e-4, profile=Profile(amplification=0.5)), 1e-4, "events"),
 }
 
 
@@ -55,3 +89,18 @@ def test_pull_off_on_the_strict_array_api_equals_numpy(name):
     assert on_strict["n_states"] == on_numpy["n_states"]
     for key in ("preload_force", "adhesive_force", "pull_off_displacement", "work_of_separation"):
         assert on_strict[key] == pytest.approx(on_numpy[key], rel=1e-6, abs=1e-15), key
+
+
+def test_pull_off_to_a_preload_force_on_the_strict_array_api_equals_numpy():
+    """The force-preload searches (contact problems, then events) in the strict namespace."""
+    indenter = _brush(stiffness=1e-2, roughness=5e-4, seed=3)
+    summaries = []
+    for xp in (np, strict):
+        problem = ContactProblem(GRID, indenter, 1.0, 1e-4, xp=xp)
+        record = record_pull_off(problem, LoadPath(method="events", preload_force=1e-3))
+        assert record.summary["converged"], record.summary["reason"]
+        summaries.append(record.summary)
+    on_numpy, on_strict = summaries
+    assert on_strict["n_states"] == on_numpy["n_states"]
+    for key in ("preload_force", "adhesive_force", "work_of_separation"):
+        assert on_strict[key] == pytest.approx(on_numpy[key], rel=1e-6), key

@@ -18,6 +18,7 @@ from array_api_compat import array_namespace, is_numpy_namespace
 
 __all__ = [
     "backend_name",
+    "bounding_box",
     "fft_workers",
     "irfft2",
     "namespace",
@@ -173,10 +174,36 @@ def segment_sum(xp, labels, weights, count: int):
 
 
 def to_numpy(array) -> np.ndarray:
-    """Copy ``array`` to host memory as a NumPy array (for I/O and plotting only)."""
+    """Copy ``array`` to host memory as a NumPy array: the one host/device boundary.
+
+    Every host copy of a namespace array goes through here (I/O, plotting and
+    the small dense pillar-space steps of the solver), never through an
+    implicit ``np.asarray``, which CuPy refuses.  CuPy arrays are copied with
+    ``.get()``, PyTorch tensors with ``.cpu()``, any other array API array by
+    DLPack.
+    """
     if isinstance(array, np.ndarray):
         return array
+    if isinstance(array, (bool, int, float, np.generic)):
+        return np.asarray(array)
     get = getattr(array, "get", None)
     if get is not None:
         return np.asarray(get())
-    return np.asarray(array)
+    cpu = getattr(array, "cpu", None)
+    if cpu is not None:
+        array = cpu()
+    return np.from_dlpack(array)
+
+
+def bounding_box(xp, mask) -> tuple[int, int, int, int] | None:
+    """Bounding box (r0, r1, c0, c1) of the True entries of a 2-D mask of namespace ``xp`` (None: empty).
+
+    Reduces on the device and copies two short vectors (the rows and the
+    columns that hold the mask) to the host, not the mask.
+    """
+    rows = np.flatnonzero(to_numpy(xp.any(mask, axis=1)))
+    if rows.size == 0:
+        return None
+    r0, r1 = int(rows[0]), int(rows[-1]) + 1
+    cols = np.flatnonzero(to_numpy(xp.any(mask[r0:r1, :], axis=0)))  # only the rows that hold the mask
+    return r0, r1, int(cols[0]), int(cols[-1]) + 1

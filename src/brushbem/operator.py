@@ -81,13 +81,7 @@ def fast_size(size: int) -> int:
 
 def _support(xp, values) -> tuple[int, int, int, int] | None:
     """Bounding box (r0, r1, c0, c1) of the non-zero entries of a 2-D array (None: all zero)."""
-    loaded = values != 0
-    rows = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded, axis=1))))
-    if rows.size == 0:
-        return None
-    r0, r1 = int(rows[0]), int(rows[-1]) + 1
-    cols = np.flatnonzero(np.asarray(backend.to_numpy(xp.any(loaded[r0:r1, :], axis=0))))
-    return r0, r1, int(cols[0]), int(cols[-1]) + 1
+    return backend.bounding_box(xp, values != 0)
 
 
 def _fast_block(lo: int, hi: int, limit: int) -> tuple[int, int]:
@@ -225,14 +219,12 @@ class ContactOperator:
         mask : ndarray of bool, the window's shape
             The set the solve works on (not empty).
         """
-        m = np.asarray(backend.to_numpy(mask))
-        rows = np.flatnonzero(m.any(axis=1))
-        cols = np.flatnonzero(m.any(axis=0))
-        if rows.size == 0:
+        box = backend.bounding_box(self.xp, mask)
+        if box is None:
             return self.window.slices_local, self
         w_rows, w_cols = self.window.shape
-        r0, r1 = _fast_block(int(rows[0]), int(rows[-1]) + 1, w_rows)
-        c0, c1 = _fast_block(int(cols[0]), int(cols[-1]) + 1, w_cols)
+        r0, r1 = _fast_block(box[0], box[1], w_rows)
+        c0, c1 = _fast_block(box[2], box[3], w_cols)
         if (r1 - r0, c1 - c0) == (w_rows, w_cols):
             return self.window.slices_local, self
         block = Window(self.window.r0 + r0, self.window.r0 + r1, self.window.c0 + c0, self.window.c0 + c1)

@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import backend
 from .halfspace import HalfSpace
 from .operator import ContactOperator, Window, fast_size
 from .results import Curve, Snapshot
@@ -245,18 +246,16 @@ class _Tracker:
         self.window: Window | None = None
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
         self.operator: ContactOperator | None = None
-        fp = np.asarray(indenter.footprint)
-        rows = np.flatnonzero(fp.any(axis=1))
-        cols = np.flatnonzero(fp.any(axis=0))
-        self.footprint_box = (rows[0], rows[-1] + 1, cols[0], cols[-1] + 1)
+        # The geometry on the host (the indenter's own arrays): windows and
+        # bounds are computed from these, without copies of device arrays.
+        self._height_host = np.asarray(indenter.height)
+        self._footprint_host = np.isfinite(self._height_host)
+        self.footprint_box = backend.bounding_box(np, self._footprint_host)
 
     # -- window -------------------------------------------------------------
     def _box_of(self, mask) -> tuple[int, int, int, int]:
-        m = np.asarray(mask)
-        rows = np.flatnonzero(m.any(axis=1))
-        r0, r1 = rows[0], rows[-1] + 1
-        cols = np.flatnonzero(m[r0:r1].any(axis=0))  # only the rows that hold the mask
-        return r0, r1, cols[0], cols[-1] + 1
+        """Bounding box of a non-empty full-grid mask (any namespace)."""
+        return backend.bounding_box(backend.namespace(mask), mask)
 
     def ensure_window(self, needed, margin_fraction: float | None = None) -> None:
         """Make the working window cover ``needed`` (full-grid bool) with a margin.
@@ -268,10 +267,8 @@ class _Tracker:
         the contact allows.
         """
         n = self.problem.grid.elements
-        needed = np.asarray(needed)
-        if not bool(needed.any()):
-            needed = np.asarray(self.footprint)
-        r0, r1, c0, c1 = self._box_of(needed)
+        box = backend.bounding_box(backend.namespace(needed), needed)
+        r0, r1, c0, c1 = self.footprint_box if box is None else box
         fr0, fr1, fc0, fc1 = self.footprint_box
         if self.window is not None:
             w = self.window
@@ -316,9 +313,9 @@ class _Tracker:
 
     def _lowest_outside(self, window: Window) -> float:
         """Lowest tip height on the footprint outside ``window`` (inf if none)."""
-        outside = np.asarray(self.footprint).copy()
+        outside = self._footprint_host.copy()
         outside[window.slices] = False
-        heights = np.asarray(self.height)[outside]
+        heights = self._height_host[outside]
         return float(heights.min()) if heights.size else math.inf
 
     def _install_window(self, window: Window) -> None:
@@ -610,9 +607,9 @@ class _Tracker:
         if self.n_pillars == 1:
             return int(bool(self.xp.any(self._on_window(c))))
         labels = self.pillar[c]
-        if labels.size == 0:
+        if labels.shape[0] == 0:
             return 0
-        return int(np.unique(np.asarray(labels)).size)
+        return int(self.xp.unique_values(labels).shape[0])
 
     def state(self, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
               pressure=None, contact=None) -> State:
