@@ -25,8 +25,8 @@ import math
 import numpy as np
 import pytest
 
-from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem import backend
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.structure import Grid, Level, Profile, brush, flat_punch, sphere
 
 strict = pytest.importorskip("array_api_strict")
