@@ -15,4 +15,39 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
-__all__ = ["__version__"]
+#: The public names and the module each lives in, imported on first use
+#: (PEP 562): ``import brushbem`` stays light, and ``brushbem validate`` does
+#: not load the numerics.
+_PUBLIC = {
+    "run": "api",
+    "pull_off": "api",
+    "PullOff": "api",
+    "Grid": "structure",
+    "Level": "structure",
+    "Profile": "structure",
+    "brush": "structure",
+    "flat_punch": "structure",
+    "sphere": "structure",
+    "height_map": "structure",
+    "ConfigError": "config",
+    "RunConfig": "config",
+    "load_config": "config",
+    "parse_config": "config",
+}
+
+__all__ = ["__version__", *sorted(_PUBLIC)]
+
+
+def __getattr__(name: str):
+    module = _PUBLIC.get(name)
+    if module is None:
+        raise AttributeError(f"module 'brushbem' has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))

@@ -15,7 +15,8 @@ from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from .results import CaseResult
 from .structure import Grid, Indenter, build_brush, flat_punch, height_map, sphere
 
-__all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_warnings", "theory_for"]
+__all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
+           "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.
@@ -294,19 +295,31 @@ def run_case(
     ``stop`` (polled after every state, `record_pull_off`) ends the run early:
     the result then holds the path so far, ``interrupted`` and not converged.
     """
-    problem = build_problem(config)
-    path = build_path(config)
+    return run_problem(build_problem(config), build_path(config), progress=progress, stop=stop,
+                       config=config_to_dict(config))
+
+
+def run_problem(
+    problem: ContactProblem,
+    path: LoadPath,
+    *,
+    progress: Callable[[float, str], None] | None = None,
+    stop: Callable[[], bool] | None = None,
+    config: dict[str, Any] | None = None,
+) -> tuple[CaseResult, dict | None]:
+    """Run the pull-off of a built problem: `run_case` without a configuration.
+
+    ``config`` (the resolved configuration as a mapping, if there is one) is
+    recorded in the provenance attributes.
+    """
     record = record_pull_off(problem, path, progress=progress, stop=stop)
     summary = dict(record.summary)
     summary["critical_stress"] = problem.critical_stress
     summary["theory"], reference = theory_for(problem, summary, path)
     summary["warnings"] = run_warnings(problem, path, record)
-    attributes = {
-        "brushbem_version": __version__,
-        "config": config_to_dict(config),
-        "seeds": [],
-        "backend": backend_name(problem.xp),
-    }
+    attributes = {"brushbem_version": __version__, "seeds": [], "backend": backend_name(problem.xp)}
+    if config is not None:
+        attributes["config"] = config
     pillars = dict(record.pillars)
     info = problem.indenter.description
     if info.get("shape") == "brush":

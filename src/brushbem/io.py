@@ -71,6 +71,7 @@ __all__ = [
     "netcdf_attributes",
     "read_case",
     "remove_stale_temporaries",
+    "to_dataset",
     "write_case",
     "write_dataset",
 ]
@@ -232,6 +233,17 @@ def netcdf_attributes(attributes: dict[str, Any]) -> dict[str, Any]:
     dict
     """
     return {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
+
+
+def to_dataset(result: CaseResult, config: RunConfig | None = None) -> xr.Dataset:
+    """The ``result.nc`` content of one run as an in-memory `xarray.Dataset`.
+
+    Variables along ``step`` (the curve), ``x``/``y`` (the snapshots' pressure
+    and contact) and ``pillar`` (per-pillar arrays), the summary and the
+    provenance as attributes; ``config`` (the resolved configuration) is
+    recorded when given.
+    """
+    return _dataset(result, config)
 
 
 def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:

@@ -21,7 +21,7 @@ from matplotlib.figure import Figure
 from brushbem.io import atomic_path
 from brushbem.results import CaseResult
 
-__all__ = ["plot_pull_off"]
+__all__ = ["pull_off_figure", "plot_pull_off"]
 
 _LOADING_COLOUR = "tab:blue"
 _UNLOADING_COLOUR = "tab:red"
@@ -33,7 +33,14 @@ def plot_pull_off(
     path: str | Path,
     reference: Mapping[str, Any] | None = None,
 ) -> None:
-    """Draw force against base displacement and save it as a PNG.
+    """Draw `pull_off_figure` and save it as a PNG at ``path`` (replaced atomically)."""
+    figure = pull_off_figure(result, reference)
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=150)
+
+
+def pull_off_figure(result: CaseResult, reference: Mapping[str, Any] | None = None) -> Figure:
+    """Force against base displacement, as a `matplotlib.figure.Figure` (no pyplot, no window).
 
     The loading branch and the unloading (pull-off) branch are drawn in
     different colours and the adhesive-force point (the minimum force) is
@@ -45,8 +52,6 @@ def plot_pull_off(
     result : CaseResult
         The run; its ``curve`` is drawn (displacement in units of length,
         force in units of force, compressive positive).
-    path : path
-        The PNG file, replaced atomically.
     reference : mapping, optional
         A closed-form curve drawn dashed: ``displacement`` and ``force``
         (array-like of equal length, same units as the curve) and ``label``
@@ -100,9 +105,7 @@ def plot_pull_off(
     axes.grid(True, linewidth=0.4, alpha=0.5)
     if axes.get_legend_handles_labels()[0]:
         axes.legend(loc="best", fontsize="small")
-
-    with atomic_path(path) as temporary:
-        figure.savefig(temporary, format="png", dpi=150)
+    return figure
 
 
 def _draw_pattern(axes, snapshot, element_size: float) -> None:
