@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from brushbem.config import parse_config
+from brushbem.assembly import parse_config
 from brushbem.resources import format_bytes, memory_estimate, result_size_estimate
 
 HALFSPACE = {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}

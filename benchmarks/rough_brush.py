@@ -21,7 +21,17 @@ against it (``events / reference - 1``):
 * ``fixed`` - fixed steps of ``--fixed-step`` d_c (the shipped chapter-5
   sweeps used d_c / 5).
 
+``--transforms`` also counts, in one more run of the events path, the padded
+convolutions (the FFT pairs that every CG product and every deflection
+costs), their median time, the events of the pull-off and the solves per
+event, and prints the floor they imply for any path that solves the
+contact set exactly after each event: two solves per event (the state and
+its unit response), each at least one product, at the measured cost of a
+product (``floor_seconds``); the transforms of the run itself give
+``transform_seconds``.
+
     python benchmarks/rough_brush.py --elements 512 --pillars-per-side 32
+    python benchmarks/rough_brush.py --elements 512 --stiffness-ratios 0.01 --sigmas 1 --transforms
     python benchmarks/rough_brush.py --elements 256 --pillars-per-side 16 \\
         --references element_events fixed
 """
@@ -33,7 +43,9 @@ import json
 import math
 import statistics
 import time
+from contextlib import contextmanager
 
+from brushbem import backend
 from brushbem.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.structure import Grid, brush
@@ -53,6 +65,54 @@ def _run(problem: ContactProblem, path: LoadPath) -> tuple[float, dict]:
     return time.perf_counter() - start, record.summary
 
 
+@contextmanager
+def _counted_transforms():
+    """Count and time `backend.padded_convolution` and `padded_convolution_rows` while the block runs."""
+    times: dict[str, list[float]] = {"padded_convolution": [], "padded_convolution_rows": []}
+    originals = {name: getattr(backend, name) for name in times}
+
+    def timed(name):
+        original = originals[name]
+
+        def wrapper(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return original(*args, **kwargs)
+            finally:
+                times[name].append(time.perf_counter() - start)
+        return wrapper
+
+    for name in times:
+        setattr(backend, name, timed(name))
+    try:
+        yield times
+    finally:
+        for name, original in originals.items():
+            setattr(backend, name, original)
+
+
+def _transform_line(problem: ContactProblem, path: LoadPath) -> dict:
+    """One more events run with its transforms counted: counts, medians, events and the exact-path floor."""
+    with _counted_transforms() as times:
+        record = record_pull_off(problem, path)
+    curve = record.curve
+    # Every event of the pull-off records two states: on its threshold, and after its cascade.
+    events = max(1, int((~curve.loading).sum()) // 2)
+    rows, full = times["padded_convolution_rows"], times["padded_convolution"]
+    product = statistics.median(rows) if rows else statistics.median(full)
+    return {
+        "products": len(rows),
+        "product_ms": round(1e3 * product, 3),
+        "full_transforms": len(full),
+        "full_transform_ms": round(1e3 * statistics.median(full), 3) if full else None,
+        "transform_seconds": round(sum(rows) + sum(full), 2),
+        "unloading_events": events,
+        "solves_per_event": round(record.summary["n_solves"] / events, 2),
+        "transforms_per_event": round((len(rows) + len(full)) / events, 2),
+        "floor_seconds": round(2 * events * product, 2),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--elements", type=int, default=512)
@@ -65,6 +125,8 @@ def main() -> None:
     parser.add_argument("--references", nargs="*", default=[], choices=["element_events", "fixed"])
     parser.add_argument("--fixed-step", type=float, default=0.2, help="step of the fixed reference, in d_c")
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--transforms", action="store_true",
+                        help="count the padded convolutions of one more run and print the exact-path floor")
     args = parser.parse_args()
     grid = Grid(1.0, args.elements)
     n = args.pillars_per_side
@@ -92,6 +154,8 @@ def main() -> None:
                 "force_by_fc": summary["adhesive_force"] / f_c,
                 "work_of_separation": summary["work_of_separation"],
             }
+            if args.transforms:
+                line["transforms"] = _transform_line(problem, path)
             for name in args.references:
                 method = "fixed" if name == "fixed" else "element_events"
                 reference_path = LoadPath(method=method, preload_force=args.preload * f_c, max_steps=10**7,

@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from brushbem import theory
+from brushbem.assembly import parse_config
 from brushbem.case import build_problem, run_case
-from brushbem.config import ConfigError, config_to_dict, parse_config
+from brushbem.config import ConfigError, config_to_dict
 from brushbem.halfspace import HalfSpace
 from brushbem.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from brushbem import protocol
+from brushbem.assembly import load_config
 from brushbem.case import brush_scales, build_path, build_problem
-from brushbem.config import load_config
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.structure import Grid, Level, Profile, brush
 

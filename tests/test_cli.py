@@ -19,6 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 import brushbem
+from brushbem.assembly import Assembly
 from brushbem.cli import main
 from brushbem.config import RunConfig, config_to_dict
 from brushbem.io import read_case
@@ -223,7 +224,9 @@ def test_run_writes_the_three_files(tmp_path, fake_run_case):
     assert "adhesive force" in result.output
     assert "adhesive_force_ratio" in result.output
     assert len(fake_run_case.calls) == 1
-    assert isinstance(fake_run_case.calls[0], RunConfig)
+    # The run gets the configuration built from its one rasterisation (brushbem.assembly).
+    assert isinstance(fake_run_case.calls[0], Assembly)
+    assert isinstance(fake_run_case.calls[0].config, RunConfig)
 
     # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
     assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
@@ -268,7 +271,7 @@ def test_result_nc_round_trips(tmp_path, fake_run_case):
     assert json.loads(dataset.attrs["seeds"]) == []
     assert dataset.attrs["method"] == "events"
     recorded = json.loads(dataset.attrs["config"])
-    assert recorded == config_to_dict(fake_run_case.calls[0])
+    assert recorded == config_to_dict(fake_run_case.calls[0].config)
     assert recorded["indenter"]["stiffness"] == "inf"
 
 

@@ -13,6 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pydantic import ValidationError
 
+from brushbem.assembly import load_config, parse_config
 from brushbem.config import (
     ConfigError,
     GridConfig,
@@ -20,8 +21,6 @@ from brushbem.config import (
     IndenterConfig,
     RunConfig,
     config_to_dict,
-    load_config,
-    parse_config,
 )
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

@@ -28,8 +28,9 @@ import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
+from brushbem.assembly import parse_config
 from brushbem.case import run_case
-from brushbem.config import ConfigError, parse_config
+from brushbem.config import ConfigError
 from brushbem.io import read_case, write_case
 
 _SCALES = (1e-3, 1.0, 1e3)

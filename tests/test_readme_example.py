@@ -18,7 +18,7 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 def _first_python_block(heading: str) -> str:
     text = README.read_text(encoding="utf-8")
     section = text[text.index(heading):]
-    match = re.search(r"```python\n(.*?)```", section, re.S)
+    match = re.search(r"```python\n(.*?)```", section, re.DOTALL)
     assert match, f"no python block under {heading!r}"
     return match.group(1)
 

@@ -24,6 +24,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from brushbem.assembly import load_config
 from brushbem.cli import main
 from brushbem.config import (
     MAGNITUDE_RANGE,
@@ -35,7 +36,6 @@ from brushbem.config import (
     ProtocolConfig,
     RoughnessConfig,
     SolverConfig,
-    load_config,
 )
 from brushbem.resources import (
     MEMORY_LIMIT_VARIABLE,

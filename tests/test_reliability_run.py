@@ -23,9 +23,9 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem import protocol
+from brushbem.assembly import parse_config
 from brushbem.case import run_case
 from brushbem.cli import main
-from brushbem.config import parse_config
 from brushbem.io import InconsistentCaseError, read_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -206,7 +206,7 @@ def test_full_disk_is_a_message_not_a_crash(tmp_path):
             import errno, sys
             import brushbem.io as io
             from brushbem.case import run_case
-            from brushbem.config import load_config
+            from brushbem.assembly import load_config
             io._check_free_space = lambda folder, needed: None
             config = load_config({str(_punch(tmp_path))!r})
             result, _ = run_case(config)
@@ -233,7 +233,7 @@ def test_writer_killed_between_its_two_files(tmp_path):
         import os
         import brushbem.io as io
         from brushbem.case import run_case
-        from brushbem.config import load_config
+        from brushbem.assembly import load_config
         original = io.write_dataset
         def write_then_die(*args, **kwargs):
             original(*args, **kwargs)

@@ -10,8 +10,8 @@ import math
 
 import pytest
 
+from brushbem.assembly import parse_config
 from brushbem.case import run_case
-from brushbem.config import parse_config
 
 
 def _document(shape: str, radius: float, **protocol) -> dict:

@@ -24,8 +24,8 @@ from rich.console import Console
 
 import brushbem.case
 import brushbem.sweep as sweep_module
+from brushbem.assembly import parse_config
 from brushbem.cli import main
-from brushbem.config import parse_config
 from brushbem.sweep import (
     SweepError,
     load_summary,

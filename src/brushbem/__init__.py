@@ -31,11 +31,14 @@ _PUBLIC = {
     "height_map": "structure",
     "ConfigError": "config",
     "RunConfig": "config",
-    "load_config": "config",
-    "parse_config": "config",
+    "load_config": "assembly",
+    "parse_config": "assembly",
 }
 
-__all__ = ["__version__", *sorted(_PUBLIC)]
+__all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC
+    "__version__", "ConfigError", "Grid", "Level", "Profile", "PullOff", "RunConfig", "brush", "flat_punch",
+    "height_map", "load_config", "parse_config", "pull_off", "run", "sphere",
+]
 
 
 def __getattr__(name: str):

@@ -30,7 +30,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .config import RunConfig, load_config, parse_config
+from .assembly import Assembly, load, parse
+from .config import RunConfig
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -134,18 +135,19 @@ def run(
     current directory.  ``progress(fraction, message)`` is called as the run
     advances.
     """
+    built: RunConfig | Assembly
     if isinstance(config, RunConfig):
-        resolved = config
+        built = config
     elif isinstance(config, Mapping):
-        resolved = parse_config(config)
+        built = parse(config)
     elif isinstance(config, (str, Path)):
-        resolved = load_config(config)
+        built = load(config)
     else:
         raise TypeError(f"config = {config!r}: expected a file path, a mapping of tables or a RunConfig")
     from .case import run_case
 
-    result, reference = run_case(resolved, progress=progress)
-    return PullOff(result, reference, resolved)
+    result, reference = run_case(built, progress=progress)
+    return PullOff(result, reference, built if isinstance(built, RunConfig) else built.config)
 
 
 def pull_off(

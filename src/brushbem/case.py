@@ -9,11 +9,11 @@ from typing import Any
 import numpy as np
 
 from . import __version__, theory
+from .assembly import Assembly, assemble, build_indenter, build_path, build_problem
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from .results import CaseResult
-from .structure import Grid, Indenter, build_brush, flat_punch, height_map, sphere
 
 __all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
            "theory_for"]
@@ -21,48 +21,6 @@ __all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.
 MIN_TENSILE_STEPS = 10
-
-
-def build_indenter(config: RunConfig) -> Indenter:
-    """Rasterise the configured indenter on the configured grid."""
-    grid = Grid(config.grid.size, config.grid.elements)
-    spec = config.indenter
-    if spec.shape == "flat_punch":
-        return flat_punch(grid, spec.radius, spec.stiffness)
-    if spec.shape == "sphere":
-        return sphere(grid, spec.radius, spec.stiffness)
-    if spec.shape == "height_map":
-        return height_map(grid, np.load(spec.file, allow_pickle=False), spec.stiffness)
-    if spec.shape == "brush":
-        return build_brush(config.grid, spec, config.halfspace)
-    raise ValueError(f"indenter.shape = {spec.shape!r} is not known")
-
-
-def build_problem(config: RunConfig) -> ContactProblem:
-    """The contact problem of a validated configuration."""
-    grid = Grid(config.grid.size, config.grid.elements)
-    return ContactProblem(
-        grid=grid,
-        indenter=build_indenter(config),
-        contact_modulus=config.halfspace.effective_modulus,
-        work_of_adhesion=config.halfspace.work_of_adhesion,
-        coupling=config.solver.coupling,
-    )
-
-
-def build_path(config: RunConfig) -> LoadPath:
-    """The load path of a validated configuration."""
-    p = config.protocol
-    return LoadPath(
-        method=p.method,
-        preload_displacement=p.preload_displacement,
-        preload_force=p.preload_force,
-        step=p.step,
-        max_steps=p.max_steps,
-        tolerance=config.solver.tolerance,
-        max_iterations=config.solver.max_iterations,
-        cascade=config.solver.cascade,
-    )
 
 
 def theory_for(problem: ContactProblem, summary: dict[str, Any],
@@ -283,20 +241,21 @@ def run_warnings(problem: ContactProblem, path: LoadPath, record: PullOffRecord)
 
 
 def run_case(
-    config: RunConfig,
+    config: RunConfig | Assembly,
     *,
     progress: Callable[[float, str], None] | None = None,
     stop: Callable[[], bool] | None = None,
 ) -> tuple[CaseResult, dict | None]:
-    """Run one validated configuration.
+    """Run one validated configuration (or its `Assembly`, built from its validation's rasterisation).
 
     Returns the result (curve, snapshots, summary with its ``theory`` object,
     provenance attributes) and the closed-form reference curve for the figure.
     ``stop`` (polled after every state, `record_pull_off`) ends the run early:
     the result then holds the path so far, ``interrupted`` and not converged.
     """
-    return run_problem(build_problem(config), build_path(config), progress=progress, stop=stop,
-                       config=config_to_dict(config))
+    built = config if isinstance(config, Assembly) else assemble(config)
+    return run_problem(built.problem, built.path, progress=progress, stop=stop,
+                       config=config_to_dict(built.config))
 
 
 def run_problem(

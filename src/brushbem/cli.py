@@ -29,8 +29,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from brushbem import __version__
-from brushbem.config import ConfigError, RunConfig, load_config
+from brushbem import __version__, assembly
+from brushbem.config import ConfigError, RunConfig
 
 __all__ = ["main"]
 
@@ -40,10 +40,13 @@ EXIT_INTERRUPTED = 130
 EXIT_WRITE_FAILED = 4
 
 
-def _load_or_exit(config_path: Path) -> RunConfig:
-    """Load a configuration; on any problem print them all and exit with status 2."""
+def _load_or_exit(config_path: Path, build: bool = False) -> RunConfig | assembly.Assembly:
+    """Load and check a configuration completely (`brushbem.assembly`); ``build``: its `Assembly`.
+
+    On any problem print them all and exit with status 2.
+    """
     try:
-        return load_config(config_path)
+        return assembly.load(config_path) if build else assembly.load_config(config_path)
     except ConfigError as error:
         click.echo(f"invalid configuration {config_path}:", err=True)
         for problem in error.problems:
@@ -223,7 +226,8 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
     Ctrl-C (or SIGTERM) stops after the current state and writes the partial
     result, marked ``interrupted`` and not converged (exit 130, or 143).
     """
-    config = _load_or_exit(config_path)
+    built = _load_or_exit(config_path, build=True)
+    config = built.config
     _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
 
     # Imported here so that `validate` and `--help` stay fast and do not need
@@ -260,7 +264,7 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
             def report(fraction: float, message: str) -> None:
                 progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
 
-            result, reference = case_module.run_case(config, progress=report, stop=stop)
+            result, reference = case_module.run_case(built, progress=report, stop=stop)
 
         try:
             write_case(result, out_dir, config=config)

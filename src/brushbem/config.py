@@ -13,6 +13,12 @@ The numerics never see these models' validation logic: they receive the frozen,
 already-checked values.  Validation reports *every* problem of a file at once,
 one line per problem, each naming the dotted key, the value found and what is
 allowed, so that a user fixes a file in one pass instead of one error per run.
+
+This module is the schema: the fields and the rules between keys.  Rules that
+need the rasterised structure (overlapping pillars, a preload that never
+reaches the lowest element) belong to `brushbem.assembly`, which passes them
+in as ``rules`` (`StructureRules`) and builds the problem from the same
+rasterisation; ``brushbem.assembly.load_config`` is the complete check.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import NoneType, UnionType
-from typing import Any, Literal, Union, get_args, get_origin
+from typing import Any, Literal, Protocol, Union, get_args, get_origin
 
 import numpy as np
 from pydantic import (
@@ -44,14 +50,17 @@ __all__ = [
     "HalfSpaceConfig",
     "IndenterConfig",
     "LevelConfig",
+    "Problem",
     "ProfileConfig",
     "ProtocolConfig",
     "RoughnessConfig",
     "RunConfig",
     "SolverConfig",
+    "StructureRules",
     "config_to_dict",
     "load_config",
     "parse_config",
+    "show_value",
     "to_json_safe",
 ]
 
@@ -99,7 +108,7 @@ class ConfigError(ValueError):
 
 
 @dataclass(frozen=True)
-class _Problem:
+class Problem:
     """One problem found by a rule that a single field's constraints cannot express.
 
     ``key`` is relative to the model that found it (``""`` for the model
@@ -109,6 +118,26 @@ class _Problem:
     key: str
     value: str
     allowed: str
+
+
+class StructureRules(Protocol):
+    """Rules on the rasterised structure, supplied by `brushbem.assembly` (keys absolute).
+
+    ``structure_problems`` runs with the other rules between sections, on the
+    sections that validated (so it is reported beside their problems);
+    ``rasterised_problems`` runs on a configuration that passed every other
+    rule.
+    """
+
+    def structure_problems(self, grid: GridConfig, indenter: IndenterConfig,
+                           halfspace: HalfSpaceConfig) -> list[Problem]: ...
+
+    def rasterised_problems(self, config: RunConfig) -> list[Problem]: ...
+
+
+def show_value(value: Any) -> str:
+    """Short representation of a user value for a problem line."""
+    return _show(value)
 
 
 def _show(value: Any) -> str:
@@ -122,7 +151,7 @@ def _show(value: Any) -> str:
     return text
 
 
-def _rules_error(problems: list[_Problem]) -> PydanticCustomError:
+def _rules_error(problems: list[Problem]) -> PydanticCustomError:
     """Wrap rule problems so that they travel through pydantic's error list."""
     return PydanticCustomError(
         "config_rules",
@@ -159,7 +188,7 @@ class _Section(_Model):
 
     model_config = _MODEL_CONFIG
 
-    def _rule_problems(self) -> list[_Problem]:
+    def _rule_problems(self) -> list[Problem]:
         return []
 
     @model_validator(mode="after")
@@ -196,7 +225,7 @@ class HalfSpaceConfig(_Section):
     poisson_ratio: float | None = Field(None, ge=0, lt=0.5, allow_inf_nan=False)
     work_of_adhesion: float = Field(0.0, ge=0, allow_inf_nan=False)
 
-    def _rule_problems(self) -> list[_Problem]:
+    def _rule_problems(self) -> list[Problem]:
         by_contact = self.contact_modulus is not None
         by_young = self.youngs_modulus is not None or self.poisson_ratio is not None
         complete_young = self.youngs_modulus is not None and self.poisson_ratio is not None
@@ -205,7 +234,7 @@ class HalfSpaceConfig(_Section):
                 f"{name} = {_show(getattr(self, name))}"
                 for name in ("contact_modulus", "youngs_modulus", "poisson_ratio")
             )
-            return [_Problem("", given, "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio")]
+            return [Problem("", given, "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio")]
         return []
 
     @property
@@ -417,9 +446,9 @@ class LevelConfig(_Section):
     def _inf_string(cls, value: Any) -> Any:
         return _inf_from_string(value)
 
-    def _rule_problems(self) -> list[_Problem]:
+    def _rule_problems(self) -> list[Problem]:
         if (self.stiffness is None) == (self.stiffness_ratio is None):
-            return [_Problem(
+            return [Problem(
                 "stiffness_ratio",
                 f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = {_show(self.stiffness)}",
                 "give exactly one of stiffness_ratio and stiffness (inf = rigid)",
@@ -521,7 +550,7 @@ class IndenterConfig(_Section):
         _check_height_map(path)
         return str(path)
 
-    def _rule_problems(self) -> list[_Problem]:
+    def _rule_problems(self) -> list[Problem]:
         shape = getattr(self, "shape", None)  # absent on a failed table built from what was given
         if not isinstance(shape, str) or shape not in _SHAPE_KEYS:  # a problem of `shape` itself
             return []
@@ -532,19 +561,19 @@ class IndenterConfig(_Section):
         for key in sorted(every):
             value = getattr(self, key)
             if key in needed and value is None:
-                problems.append(_Problem(key, "missing", f"required when shape = {self.shape!r}"))
+                problems.append(Problem(key, "missing", f"required when shape = {self.shape!r}"))
             elif key not in allowed and value is not None:
                 users = " or ".join(
                     repr(s) for s in _SHAPE_KEYS if key in _SHAPE_KEYS[s] or key in _SHAPE_OPTIONAL[s]
                 )
                 problems.append(
-                    _Problem(key, _show(value), f"only used when shape = {users}; remove it")
+                    Problem(key, _show(value), f"only used when shape = {users}; remove it")
                 )
         if self.is_brush:
             problems.extend(self._brush_problems())
         return problems
 
-    def _brush_problems(self) -> list[_Problem]:
+    def _brush_problems(self) -> list[Problem]:
         problems = []
         if isinstance(self.layout, str) and self.layout in _LAYOUT_KEYS:
             needed = set(_LAYOUT_KEYS[self.layout])
@@ -552,14 +581,14 @@ class IndenterConfig(_Section):
             for key in sorted({k for keys in (*_LAYOUT_KEYS.values(), *_LAYOUT_OPTIONAL.values()) for k in keys}):
                 value = getattr(self, key)
                 if key in needed and value is None:
-                    problems.append(_Problem(key, "missing", f"required when layout = {self.layout!r}"))
+                    problems.append(Problem(key, "missing", f"required when layout = {self.layout!r}"))
                 elif key not in allowed and value is not None:
                     users = " or ".join(
                         repr(s) for s in _LAYOUT_KEYS if key in _LAYOUT_KEYS[s] or key in _LAYOUT_OPTIONAL[s]
                     )
-                    problems.append(_Problem(key, _show(value), f"only used when layout = {users}; remove it"))
+                    problems.append(Problem(key, _show(value), f"only used when layout = {users}; remove it"))
         if ("stiffness" in self.model_fields_set) == (self.stiffness_ratio is not None):
-            problems.append(_Problem(
+            problems.append(Problem(
                 "stiffness_ratio",
                 f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = "
                 f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'not given'}",
@@ -627,13 +656,13 @@ class ProtocolConfig(_Section):
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)
     max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
 
-    def _rule_problems(self) -> list[_Problem]:
+    def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):
             given = (
                 f"preload_displacement = {_show(self.preload_displacement)}, "
                 f"preload_force = {_show(self.preload_force)}"
             )
-            return [_Problem("", given, "give exactly one of preload_displacement or preload_force")]
+            return [Problem("", given, "give exactly one of preload_displacement or preload_force")]
         return []
 
 
@@ -677,67 +706,40 @@ class RunConfig(BaseModel):
     solver: SolverConfig = SolverConfig()
 
     @model_validator(mode="after")
-    def _consistent(self) -> RunConfig:
-        problems = _cross_section_problems(self.grid, self.indenter, self.halfspace)
+    def _consistent(self, info: ValidationInfo) -> RunConfig:
+        rules = (info.context or {}).get("rules")
+        problems = _cross_section_problems(self.grid, self.indenter, self.halfspace, rules)
         if self.protocol.method == "fixed" and self.protocol.step > self.grid.size:
             # The first detachment is located inside a step to the rounding of
             # the step's length: a step of 1e30 put it 250 x off.  A base
             # displacement beyond the domain size is outside linear elasticity.
-            problems.append(_Problem(
+            problems.append(Problem(
                 "protocol.step", _show(self.protocol.step),
                 f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
             ))
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
-        if not problems:
-            problems = _rasterised_problems(self)
+        if not problems and rules is not None:
+            problems = rules.rasterised_problems(self)
         if problems:
             raise _rules_error(problems)
         return self
 
 
-def _resource_problems(config: RunConfig) -> list[_Problem]:
+def _resource_problems(config: RunConfig) -> list[Problem]:
     """A run that would not fit in memory (`brushbem.resources`), refused before it starts."""
     from .resources import MEMORY_LIMIT_VARIABLE, memory_problem
 
     try:
         problem = memory_problem(config)
     except ValueError as exc:  # the limit variable itself is unusable
-        return [_Problem(MEMORY_LIMIT_VARIABLE, _show(os.environ.get(MEMORY_LIMIT_VARIABLE)), str(exc))]
-    return [] if problem is None else [_Problem("grid.elements", _show(config.grid.elements), problem)]
-
-
-def _rasterised_problems(config: RunConfig) -> list[_Problem]:
-    """Rules on the rasterised indenter: the preload must reach it, the coupling must apply to it."""
-    from .case import build_indenter
-    from .operator import discriminant_half_width
-    from .structure import StructureError
-
-    try:
-        indenter = build_indenter(config)
-    except (StructureError, ValueError, OSError):
-        return []  # reported by the rules above
-    problems = []
-    preload = config.protocol.preload_displacement
-    lowest = indenter.lowest_height
-    if preload is not None and preload <= lowest:
-        problems.append(_Problem(
-            "protocol.preload_displacement", _show(preload),
-            f"must be > {lowest:.6g}, the height of the indenter's lowest element on this grid "
-            "(where it first touches); a smaller preload never reaches the surface",
-        ))
-    if config.solver.coupling == "discriminant":
-        for level in indenter.elastic_levels:
-            try:
-                discriminant_half_width(np.asarray(indenter.element_clusters(level)))
-            except ValueError as exc:
-                problems.append(_Problem("solver.coupling", _show(config.solver.coupling), str(exc)))
-                break
-    return problems
+        return [Problem(MEMORY_LIMIT_VARIABLE, _show(os.environ.get(MEMORY_LIMIT_VARIABLE)), str(exc))]
+    return [] if problem is None else [Problem("grid.elements", _show(config.grid.elements), problem)]
 
 
 def _cross_section_problems(
-    grid: GridConfig | None, indenter: IndenterConfig | None, halfspace: HalfSpaceConfig | None = None
-) -> list[_Problem]:
+    grid: GridConfig | None, indenter: IndenterConfig | None, halfspace: HalfSpaceConfig | None = None,
+    rules: StructureRules | None = None,
+) -> list[Problem]:
     """Rules between sections; each runs only if the sections it needs validated.
 
     Keys of the returned problems are absolute (``"indenter.radius"``).
@@ -752,7 +754,7 @@ def _cross_section_problems(
         # handful of elements and no longer approximates a circular punch.
         if radius < 2 * h:
             problems.append(
-                _Problem(
+                Problem(
                     "indenter.radius",
                     _show(radius),
                     f"under 2 elements (h = {h:g}); the punch needs at least 2 elements in radius",
@@ -760,7 +762,7 @@ def _cross_section_problems(
             )
         if 2 * radius > grid.size:
             problems.append(
-                _Problem(
+                Problem(
                     "indenter.radius",
                     _show(radius),
                     f"the punch (diameter {2 * radius:g}) is larger than the domain "
@@ -769,13 +771,13 @@ def _cross_section_problems(
             )
     if indenter.shape == "sphere" and indenter.radius is not None and halfspace is not None:
         problems.extend(_sphere_resolution_problems(grid, indenter.radius, halfspace))
-    if indenter.is_brush and halfspace is not None:
-        problems.extend(_brush_structure_problems(grid, indenter, halfspace))
+    if halfspace is not None and rules is not None:
+        problems.extend(rules.structure_problems(grid, indenter, halfspace))
     if indenter.shape == "height_map" and indenter.file is not None:
         shape = _height_map_shape(indenter.file)
         if shape != (grid.elements, grid.elements):
             problems.append(
-                _Problem(
+                Problem(
                     "indenter.file",
                     _show(indenter.file),
                     f"holds a {shape[0]} x {shape[1]} array ({indenter.file}); grid.elements = {grid.elements} "
@@ -789,7 +791,7 @@ def _cross_section_problems(
 SPHERE_MIN_PULL_OFF_ELEMENTS = 2.0
 
 
-def _sphere_resolution_problems(grid: GridConfig, radius: float, halfspace: HalfSpaceConfig) -> list[_Problem]:
+def _sphere_resolution_problems(grid: GridConfig, radius: float, halfspace: HalfSpaceConfig) -> list[Problem]:
     """An adhesive sphere whose pull-off contact spans fewer than two elements in radius.
 
     The mesh criterion (eq. 2.14) converges at first order in h / a: a JKR
@@ -808,26 +810,13 @@ def _sphere_resolution_problems(grid: GridConfig, radius: float, halfspace: Half
     a_jkr = (9 * math.pi * halfspace.work_of_adhesion * radius**2 / (8 * modulus)) ** (1 / 3)
     if a_jkr >= SPHERE_MIN_PULL_OFF_ELEMENTS * h:
         return []
-    return [_Problem(
+    return [Problem(
         "indenter.radius", _show(radius),
         f"the JKR contact radius at pull-off, a = (9 pi dgamma R^2 / (8 E*))^(1/3) = {a_jkr:.3g}, spans "
         f"{a_jkr / h:.3g} elements (h = {h:g}); the criterion needs at least "
         f"{SPHERE_MIN_PULL_OFF_ELEMENTS:g}: raise indenter.radius or halfspace.work_of_adhesion, "
         "or refine grid.elements",
     )]
-
-
-def _brush_structure_problems(
-    grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig
-) -> list[_Problem]:
-    """Build the brush once: overlapping, sub-resolved or untileable layouts are config errors."""
-    from .structure import StructureError, build_brush
-
-    try:
-        build_brush(grid, indenter, halfspace)
-    except StructureError as exc:
-        return [_Problem(f"indenter.{exc.key}", _show(exc.value), exc.allowed)]
-    return []
 
 
 _SECTIONS: dict[str, type[BaseModel]] = {
@@ -1001,7 +990,8 @@ def _skipped_rule_lines(
     return lines
 
 
-def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None) -> RunConfig:
+def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None, *,
+                 rules: StructureRules | None = None) -> RunConfig:
     """Validate a configuration mapping (a parsed TOML document).
 
     Parameters
@@ -1012,6 +1002,9 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
     base_dir : path, optional
         Folder against which relative file names (``indenter.file``) are
         resolved; the current directory if not given.
+    rules : StructureRules, optional
+        The rules on the rasterised structure (`brushbem.assembly`); without
+        them only the schema and the rules between keys are checked.
 
     Returns
     -------
@@ -1053,14 +1046,14 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None)
             )
     if problems:
         for problem in _cross_section_problems(
-            sections.get("grid"), sections.get("indenter"), sections.get("halfspace")
+            sections.get("grid"), sections.get("indenter"), sections.get("halfspace"), rules
         ):
             problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
         raise ConfigError(_capped(problems))
     try:
         # The sections are already validated instances: this runs only the
         # rules between sections.
-        return RunConfig.model_validate(sections)
+        return RunConfig.model_validate(sections, context={"rules": rules})
     except ValidationError as exc:
         raise ConfigError(_problem_lines(exc, RunConfig, ())) from None
 
@@ -1086,8 +1079,8 @@ def _capped(problems: list[str]) -> list[str]:
     return [*problems[:_MAX_PROBLEMS], f"`...`: {len(problems) - _MAX_PROBLEMS} more problems not shown"]
 
 
-def load_config(path: str | Path) -> RunConfig:
-    """Read and validate a TOML run configuration.
+def load_config(path: str | Path, *, rules: StructureRules | None = None) -> RunConfig:
+    """Read and validate a TOML run configuration (``rules``: see `parse_config`).
 
     Parameters
     ----------
@@ -1129,7 +1122,7 @@ def load_config(path: str | Path) -> RunConfig:
         raise ConfigError([
             f"`{path}`: arrays or tables nested too deeply (a configuration needs at most {_MAX_DEPTH} levels)"
         ]) from None
-    return parse_config(document, base_dir=path.resolve().parent)
+    return parse_config(document, base_dir=path.resolve().parent, rules=rules)
 
 
 def to_json_safe(value: Any) -> Any:

@@ -21,7 +21,7 @@ from matplotlib.figure import Figure
 from brushbem.io import atomic_path
 from brushbem.results import CaseResult
 
-__all__ = ["pull_off_figure", "plot_pull_off"]
+__all__ = ["plot_pull_off", "pull_off_figure"]
 
 _LOADING_COLOUR = "tab:blue"
 _UNLOADING_COLOUR = "tab:red"

@@ -30,7 +30,6 @@ __all__ = [
     "SpringLevel",
     "StructureError",
     "brush",
-    "build_brush",
     "flat_punch",
     "height_map",
     "hierarchy_clusters",
@@ -616,48 +615,3 @@ def brush(
         "level_clusters": [lv.cluster for lv in levels],
     }
     return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
-
-
-def build_brush(grid_config, indenter_config, halfspace_config) -> Indenter:
-    """The brush of a validated configuration (``shape = "brush"``).
-
-    Takes the config sections (duck-typed: ``GridConfig``, ``IndenterConfig``,
-    ``HalfSpaceConfig``) and converts the stiffness ratios k~ = k / (E* L),
-    L = grid.size, to stiffnesses.
-    """
-    spec = indenter_config
-    grid = Grid(grid_config.size, grid_config.elements)
-    modulus = halfspace_config.effective_modulus
-    scale = modulus * grid.size
-    levels = tuple(
-        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale)
-        for lv in (spec.levels or ())
-    )
-    lengths = np.load(spec.lengths_file, allow_pickle=False) if spec.lengths_file else None
-    profile = None
-    if spec.profile is not None:
-        profile = Profile(spec.profile.amplification, spec.profile.reference_stress)
-    try:
-        return brush(
-            grid,
-            layout=spec.layout,
-            pillar_radius=spec.pillar_radius,
-            contact_modulus=modulus,
-            work_of_adhesion=halfspace_config.work_of_adhesion,
-            stiffness=spec.pillar_stiffness(modulus, grid.size),
-            region=spec.region or "square",
-            region_size=spec.region_size,
-            pillars_per_side=spec.pillars_per_side,
-            spacing=spec.spacing,
-            pillar_count=spec.pillar_count,
-            min_gap=spec.min_gap,
-            seed=spec.seed or 0,
-            roughness=spec.roughness.sigma if spec.roughness is not None else 0.0,
-            profile=profile,
-            lengths=lengths,
-            levels=levels,
-        )
-    except StructureError as exc:
-        if exc.key == "lengths_file":  # name the file, not only its count
-            raise StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})") from None
-        raise

@@ -113,11 +113,11 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from brushbem import __version__
+from brushbem.assembly import parse_config
 from brushbem.config import (
     ConfigError,
     RunConfig,
     config_to_dict,
-    parse_config,
     to_json_safe,
 )
 

@@ -8,8 +8,9 @@ figures from the stored results (``DIR/figures/*.png``), in the thesis's axes,
 scales and normalisations, with its closed-form lines and the numbers the
 thesis states marked.
 
-Every study module in this package defines ``STUDY = Study(...)``; the registry
-`STUDIES` collects them by name.
+Every study module in this package defines ``STUDY = Study(...)``
+(`brushbem.studies.base`); the registry `STUDIES` lists them explicitly, by
+name.
 
     brushbem study NAME --out DIR [--quick]
     brushbem figure DIR          # redraw from stored results
@@ -18,14 +19,27 @@ Every study module in this package defines ``STUDY = Study(...)``; the registry
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import pandas as pd
+from brushbem.studies import (
+    _framework,
+    concave,
+    flat_brush,
+    hierarchy,
+    nested_vs_convolution,
+    punch_spring,
+    rough_brush,
+    sphere_spring,
+)
+from brushbem.studies._framework import (
+    STUDY_FILE,
+    StudyError,
+    StudyRun,
+    load_results,
+    read_study_record,
+)
+from brushbem.studies.base import SWEEPS_DIR, Study, ThesisNumber, finished, sweep_file
 
 __all__ = [
     "STUDIES",
@@ -43,113 +57,50 @@ __all__ = [
     "sweep_file",
 ]
 
-#: Where the shipped sweep files live.
-SWEEPS_DIR = Path(__file__).resolve().parent / "sweeps"
+#: The studies by name, registered here and nowhere else.
+STUDIES: dict[str, Study] = {
+    study.name: study
+    for study in sorted(
+        (
+            punch_spring.STUDY,
+            sphere_spring.STUDY,
+            nested_vs_convolution.STUDY,
+            flat_brush.STUDY,
+            rough_brush.STUDY,
+            hierarchy.STUDY,
+            concave.STUDY,
+        ),
+        key=lambda study: study.name,
+    )
+}
 
 
-@dataclass(frozen=True)
-class ThesisNumber:
-    """A number the thesis states, and how to compute ours from a study's results.
+def get_study(name: str) -> Study:
+    """The registered study called ``name``.
 
-    Attributes
-    ----------
-    quantity : str
-        What it is, e.g. "F~_A of 16 x 16 pillars at k~ = 0.455".
-    where : str
-        Where the thesis states it, e.g. "Fig. 4-3 a, text p. 43".
-    thesis : float
-        The thesis's value.
-    compute : callable
-        ``compute(results) -> float`` with ``results`` the part name ->
-        summary DataFrame mapping (as `brushbem.sweep.load_summary` returns).
+    Raises
+    ------
+    StudyError
+        If there is none; the message lists the known names.
     """
+    try:
+        return STUDIES[name]
+    except KeyError:
+        known = ", ".join(STUDIES) or "(none registered)"
+        raise StudyError(f"unknown study {name!r}; known studies: {known}") from None
 
-    quantity: str
-    where: str
-    thesis: float
-    compute: Callable[[Mapping[str, pd.DataFrame]], float]
 
+def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any = None, **options: Any) -> StudyRun:
+    """Run every part of the study ``name`` into ``out_dir`` (resuming), then draw it.
 
-@dataclass(frozen=True)
-class Study:
-    """One study of the thesis.
-
-    Attributes
-    ----------
-    name : str
-        Command-line name, e.g. ``"punch_spring"``.
-    title : str
-        One line, naming the thesis figures / table it reproduces.
-    figures : tuple of str
-        Thesis figure numbers, e.g. ``("2-4", "2-5", "2-6")``.
-    parts : tuple of str
-        Names of its sweeps; part ``p`` is ``sweeps/<name>.<p>.toml`` (and
-        ``.quick.toml``), run into ``DIR/<p>/``.
-    draw : callable
-        ``draw(results, figures_dir) -> list[Path]``: writes the figures (PNG,
-        atomically) from ``results`` (part -> summary DataFrame; the case files
-        are in ``DIR/<part>/cases/`` for curves and snapshots, reachable as
-        ``results.attrs``-free paths via the ``case_file`` column).
-    numbers : tuple of ThesisNumber
-        The numbers the thesis states that this study reproduces.
-    draw_tables : callable, optional
-        ``draw_tables(tables, figures_dir) -> list[Path]``: the figures that
-        the exported per-case tables alone determine (no case files: no
-        snapshots or load curves), drawn from ``docs/reproduction/<name>``
-        by `brushbem.reproduction.draw_table_figures`.  None: the study's
-        figures all need case files.
+    The options are those of `brushbem.studies._framework.run_study`
+    (``workers``, ``retry_failed``, ``progress``, ``draw``).
     """
-
-    name: str
-    title: str
-    figures: tuple[str, ...]
-    parts: tuple[str, ...]
-    draw: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]]
-    numbers: tuple[ThesisNumber, ...] = ()
-    notes: str = ""
-    draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
-    extra: dict[str, Any] = field(default_factory=dict)
+    study = get_study(name)
+    files = {part: sweep_file(study.name, part, quick) for part in study.parts}
+    return _framework.run_study(study, out_dir, quick, executor, files=files, **options)
 
 
-def sweep_file(study: str, part: str, quick: bool) -> Path:
-    """The shipped sweep file of one part of a study."""
-    return SWEEPS_DIR / f"{study}.{part}{'.quick' if quick else ''}.toml"
-
-
-def finished(frame: pd.DataFrame) -> pd.DataFrame:
-    """The rows of a summary whose case finished (converged); the others are dropped.
-
-    A study's ``draw`` must tolerate failed, unconverged and missing cases (a
-    study whose run was interrupted or partly failed is still drawn from what
-    finished): filter with this before plotting.
-    """
-    if "status" not in frame.columns:
-        return frame.iloc[0:0]
-    return frame[frame["status"] == "finished"]
-
-
-# Execution and redrawing (imported here, after `Study` and `sweep_file`, which
-# they use; they look up `STUDIES` and `sweep_file` at call time).
-from brushbem.studies._framework import (
-    STUDY_FILE,
-    StudyError,
-    StudyRun,
-    draw_study,
-    get_study,
-    load_results,
-    run_study,
-)
-
-
-def _discover() -> dict[str, Study]:
-    found: dict[str, Study] = {}
-    for module in pkgutil.iter_modules(__path__):
-        if module.name.startswith("_"):
-            continue
-        study = getattr(importlib.import_module(f"{__name__}.{module.name}"), "STUDY", None)
-        if isinstance(study, Study):
-            found[study.name] = study
-    return dict(sorted(found.items()))
-
-
-STUDIES: dict[str, Study] = _discover()
+def draw_study(out_dir: str | Path) -> list[Path]:
+    """Redraw the figures of the study run in ``out_dir`` from its stored results (nothing is computed)."""
+    return _framework.draw_study(get_study(read_study_record(out_dir)["study"]), out_dir)

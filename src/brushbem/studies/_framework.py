@@ -26,7 +26,7 @@ from brushbem import __version__
 if TYPE_CHECKING:
     import pandas as pd
 
-    from brushbem.studies import Study
+    from brushbem.studies.base import Study
     from brushbem.sweep import SweepRun
 
 __all__ = [
@@ -35,7 +35,6 @@ __all__ = [
     "StudyError",
     "StudyRun",
     "draw_study",
-    "get_study",
     "load_results",
     "run_study",
 ]
@@ -48,28 +47,6 @@ FIGURES_DIR = "figures"
 
 class StudyError(LookupError):
     """An unknown study, or a folder that holds no study run."""
-
-
-def _registry() -> Mapping[str, Study]:
-    from brushbem import studies  # at call time: tests replace the registry
-
-    return studies.STUDIES
-
-
-def get_study(name: str) -> Study:
-    """The registered study called ``name``.
-
-    Raises
-    ------
-    StudyError
-        If there is none; the message lists the known names.
-    """
-    registry = _registry()
-    try:
-        return registry[name]
-    except KeyError:
-        known = ", ".join(registry) or "(none registered)"
-        raise StudyError(f"unknown study {name!r}; known studies: {known}") from None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -153,8 +130,8 @@ def load_results(out_dir: str | Path, parts: tuple[str, ...] | None = None) -> d
     return results
 
 
-def draw_study(out_dir: str | Path) -> list[Path]:
-    """Redraw a study's figures from the results stored in ``out_dir`` (nothing is computed).
+def draw_study(study: Study, out_dir: str | Path) -> list[Path]:
+    """Redraw the figures of ``study`` from the results stored in ``out_dir`` (nothing is computed).
 
     Returns
     -------
@@ -163,7 +140,6 @@ def draw_study(out_dir: str | Path) -> list[Path]:
     """
     out_dir = Path(out_dir)
     record = read_study_record(out_dir)
-    study = get_study(record["study"])
     results = load_results(out_dir, tuple(record.get("parts", study.parts)))
     figures_dir = out_dir / FIGURES_DIR
     figures_dir.mkdir(parents=True, exist_ok=True)
@@ -171,7 +147,7 @@ def draw_study(out_dir: str | Path) -> list[Path]:
 
 
 def run_study(
-    name: str,
+    study: Study,
     out_dir: str | Path,
     quick: bool = False,
     executor: Executor | Any | None = None,
@@ -180,19 +156,23 @@ def run_study(
     retry_failed: bool = False,
     progress: bool = False,
     draw: bool = True,
+    files: Mapping[str, str | Path] | None = None,
 ) -> StudyRun:
     """Run every part of a study into ``out_dir`` (resuming what is there), then draw it.
 
     Parameters
     ----------
-    name : str
-        A name in `brushbem.studies.STUDIES`.
+    study : Study
+        The study (`brushbem.studies.get_study` finds one by name).
     out_dir : path
         Created if absent; part ``p`` runs into ``out_dir/p``.
     quick : bool
         Run the coarse ``.quick.toml`` sweep files (minutes instead of hours).
     executor, workers, retry_failed, progress
         As for `brushbem.sweep.run_sweep`.
+    files : mapping, optional
+        Part -> sweep file; by default the shipped files
+        (`brushbem.studies.base.sweep_file`).
     draw : bool
         Draw the figures afterwards (from whatever finished).  An exception of
         the study's ``draw`` is recorded in `StudyRun.draw_error`, not raised:
@@ -210,12 +190,12 @@ def run_study(
     """
     import traceback
 
-    from brushbem import studies
+    from brushbem.studies.base import sweep_file
     from brushbem.sweep import run_sweep
 
-    study = get_study(name)
     out_dir = Path(out_dir)
-    files = {part: studies.sweep_file(study.name, part, quick) for part in study.parts}
+    if files is None:
+        files = {part: sweep_file(study.name, part, quick) for part in study.parts}
     absent = [str(path) for path in files.values() if not Path(path).is_file()]
     if absent:
         raise StudyError(f"study {study.name!r}: missing sweep file(s): {', '.join(absent)}")
@@ -248,7 +228,7 @@ def run_study(
     draw_error = ""
     if draw:
         try:
-            figures = draw_study(out_dir)
+            figures = draw_study(study, out_dir)
         except Exception as exc:  # noqa: BLE001 - reported, not raised
             draw_error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}"
     return StudyRun(study=study.name, out_dir=out_dir, parts=runs, figures=figures, draw_error=draw_error)

@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._ch5_7 import (
     FIS,
     RADIUS,
@@ -31,6 +30,7 @@ from brushbem.studies._ch5_7 import (
     save,
     value,
 )
+from brushbem.studies.base import Study, ThesisNumber
 
 PHI = "phi"
 DISP = "normalized.displacement_by_rigid_brush"

@@ -19,7 +19,6 @@ from pathlib import Path
 
 import numpy as np
 
-from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._common import (
     case_config,
     column,
@@ -30,6 +29,7 @@ from brushbem.studies._common import (
     safe,
     save,
 )
+from brushbem.studies.base import Study, ThesisNumber
 
 SNAPSHOTS = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
 FA = "normalized.force_by_compact_punch"

@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._ch5_7 import (
     FA,
     FP,
@@ -33,6 +32,7 @@ from brushbem.studies._ch5_7 import (
     read_curve,
     save,
 )
+from brushbem.studies.base import Study, ThesisNumber
 from brushbem.theory import equivalent_single_level_stiffness
 
 LEVELS = ("one", "two", "three")

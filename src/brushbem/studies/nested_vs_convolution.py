@@ -28,8 +28,8 @@ from brushbem.nested import nested_loop_brush_equilibrium, nested_loop_equilibri
 from brushbem.operator import ContactOperator, Window
 from brushbem.solver import equilibrium
 from brushbem.structure import Grid, Indenter, brush, flat_punch, sphere
-from brushbem.studies import Study
 from brushbem.studies._common import new_figure, save
+from brushbem.studies.base import Study
 
 MODULUS = 100.0      # E*, N/mm^2
 STIFFNESS = 50.0     # k, N/mm

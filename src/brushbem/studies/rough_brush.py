@@ -15,7 +15,6 @@ import numpy as np
 import pandas as pd
 
 from brushbem.io import atomic_path
-from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._ch5_7 import (
     FA,
     FP,
@@ -34,6 +33,7 @@ from brushbem.studies._ch5_7 import (
     read_curve,
     save,
 )
+from brushbem.studies.base import Study, ThesisNumber
 from brushbem.theory import adhesion_coefficient
 
 #: Table 1 of the thesis: k~ -> (alpha, sigma~_c); beta = alpha / sigma~_c (its row is lost in the text but 0.035).

@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 
 from brushbem import theory
-from brushbem.studies import Study, ThesisNumber
 from brushbem.studies._common import (
     case_config,
     column,
@@ -28,6 +27,7 @@ from brushbem.studies._common import (
     safe,
     save,
 )
+from brushbem.studies.base import Study, ThesisNumber
 
 PART = "stiffness"
 

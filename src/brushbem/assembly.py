@@ -1,0 +1,255 @@
+"""Assembly: a validated configuration in, the problem and the load path out.
+
+The layers import one way: `brushbem.config` (the schema: fields and the rules
+between keys) <- this module <- `brushbem.case`, `brushbem.sweep`,
+`brushbem.cli`.  Here the configured indenter is rasterised, the rules that
+need the rasterised structure run on it (`Rules`: a layout that cannot be
+built, a preload that never reaches the lowest element, a spring coupling
+that does not apply), structure errors are named by their configuration keys,
+and the problem is built from the same rasterisation: a run rasterises its
+indenter once.
+
+`load_config` and `parse_config` are the complete check (the schema's with
+these rules); `load` and `parse` also return the built `Assembly`.  Nothing
+here imports the solver: ``brushbem validate`` loads neither it nor SciPy
+(but for a concave profile, whose offsets come from `brushbem.theory`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import config as schema
+from .config import (
+    GridConfig,
+    HalfSpaceConfig,
+    IndenterConfig,
+    Problem,
+    RunConfig,
+    show_value,
+)
+from .structure import (
+    Grid,
+    Indenter,
+    Level,
+    Profile,
+    StructureError,
+    brush,
+    flat_punch,
+    height_map,
+    sphere,
+)
+
+if TYPE_CHECKING:
+    from .protocol import ContactProblem, LoadPath
+
+__all__ = [
+    "Assembly",
+    "Rules",
+    "assemble",
+    "build_brush",
+    "build_indenter",
+    "build_path",
+    "build_problem",
+    "load",
+    "load_config",
+    "parse",
+    "parse_config",
+]
+
+
+def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
+                halfspace_config: HalfSpaceConfig) -> Indenter:
+    """The brush of the configuration sections (``shape = "brush"``).
+
+    Converts the stiffness ratios k~ = k / (E* L), L = grid.size, to
+    stiffnesses; a `StructureError` names the ``indenter`` key it comes from.
+    """
+    spec = indenter_config
+    grid = Grid(grid_config.size, grid_config.elements)
+    modulus = halfspace_config.effective_modulus
+    scale = modulus * grid.size
+    levels = tuple(
+        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale)
+        for lv in (spec.levels or ())
+    )
+    lengths = np.load(spec.lengths_file, allow_pickle=False) if spec.lengths_file else None
+    profile = None
+    if spec.profile is not None:
+        profile = Profile(spec.profile.amplification, spec.profile.reference_stress)
+    try:
+        return brush(
+            grid,
+            layout=spec.layout,
+            pillar_radius=spec.pillar_radius,
+            contact_modulus=modulus,
+            work_of_adhesion=halfspace_config.work_of_adhesion,
+            stiffness=spec.pillar_stiffness(modulus, grid.size),
+            region=spec.region or "square",
+            region_size=spec.region_size,
+            pillars_per_side=spec.pillars_per_side,
+            spacing=spec.spacing,
+            pillar_count=spec.pillar_count,
+            min_gap=spec.min_gap,
+            seed=spec.seed or 0,
+            roughness=spec.roughness.sigma if spec.roughness is not None else 0.0,
+            profile=profile,
+            lengths=lengths,
+            levels=levels,
+        )
+    except StructureError as exc:
+        if exc.key == "lengths_file":  # name the file, not only its count
+            raise StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})") from None
+        raise
+
+
+def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
+    grid = Grid(grid_config.size, grid_config.elements)
+    if spec.shape == "flat_punch":
+        return flat_punch(grid, spec.radius, spec.stiffness)
+    if spec.shape == "sphere":
+        return sphere(grid, spec.radius, spec.stiffness)
+    if spec.shape == "height_map":
+        return height_map(grid, np.load(spec.file, allow_pickle=False), spec.stiffness)
+    if spec.shape == "brush":
+        return build_brush(grid_config, spec, halfspace_config)
+    raise ValueError(f"indenter.shape = {spec.shape!r} is not known")
+
+
+class Rules:
+    """The rules on the rasterised structure (`brushbem.config.StructureRules`), and what they built.
+
+    The indenter rasterised for the rules is kept (for the sections it was
+    built from) and handed to `assemble`, so validating and running a
+    configuration rasterise it once.
+    """
+
+    def __init__(self) -> None:
+        self._built: tuple[tuple[int, int, int], Indenter] | None = None
+
+    def indenter(self, grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig) -> Indenter:
+        """The rasterised indenter of these sections (built once; raises `StructureError`)."""
+        key = (id(grid), id(indenter), id(halfspace))
+        if self._built is None or self._built[0] != key:
+            self._built = (key, _rasterise(grid, indenter, halfspace))
+        return self._built[1]
+
+    def structure_problems(self, grid: GridConfig, indenter: IndenterConfig,
+                           halfspace: HalfSpaceConfig) -> list[Problem]:
+        """A brush layout that cannot be built (overlapping, sub-resolved or untileable) as config errors."""
+        if not indenter.is_brush:
+            return []
+        try:
+            self.indenter(grid, indenter, halfspace)
+        except StructureError as exc:
+            return [Problem(f"indenter.{exc.key}", show_value(exc.value), exc.allowed)]
+        return []
+
+    def rasterised_problems(self, config: RunConfig) -> list[Problem]:
+        """The preload must reach the rasterised indenter; the spring coupling must apply to it."""
+        try:
+            indenter = self.indenter(config.grid, config.indenter, config.halfspace)
+        except (StructureError, ValueError, OSError):
+            return []  # reported by the rules on the sections
+        problems = []
+        preload = config.protocol.preload_displacement
+        lowest = indenter.lowest_height
+        if preload is not None and preload <= lowest:
+            problems.append(Problem(
+                "protocol.preload_displacement", show_value(preload),
+                f"must be > {lowest:.6g}, the height of the indenter's lowest element on this grid "
+                "(where it first touches); a smaller preload never reaches the surface",
+            ))
+        if config.solver.coupling == "discriminant":
+            from .operator import (
+                discriminant_half_width,  # the transforms: only for this coupling
+            )
+
+            for level in indenter.elastic_levels:
+                try:
+                    discriminant_half_width(np.asarray(indenter.element_clusters(level)))
+                except ValueError as exc:
+                    problems.append(Problem("solver.coupling", show_value(config.solver.coupling), str(exc)))
+                    break
+        return problems
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A validated configuration with its built problem and load path."""
+
+    config: RunConfig
+    problem: ContactProblem
+    path: LoadPath
+
+
+def build_indenter(config: RunConfig) -> Indenter:
+    """Rasterise the configured indenter on the configured grid."""
+    return _rasterise(config.grid, config.indenter, config.halfspace)
+
+
+def build_problem(config: RunConfig, indenter: Indenter | None = None, xp: Any = np) -> ContactProblem:
+    """The contact problem of a validated configuration (``indenter``: its rasterisation, if built)."""
+    from .protocol import ContactProblem
+
+    return ContactProblem(
+        grid=Grid(config.grid.size, config.grid.elements),
+        indenter=build_indenter(config) if indenter is None else indenter,
+        contact_modulus=config.halfspace.effective_modulus,
+        work_of_adhesion=config.halfspace.work_of_adhesion,
+        coupling=config.solver.coupling,
+        xp=xp,
+    )
+
+
+def build_path(config: RunConfig) -> LoadPath:
+    """The load path of a validated configuration."""
+    from .protocol import LoadPath
+
+    p = config.protocol
+    return LoadPath(
+        method=p.method,
+        preload_displacement=p.preload_displacement,
+        preload_force=p.preload_force,
+        step=p.step,
+        max_steps=p.max_steps,
+        tolerance=config.solver.tolerance,
+        max_iterations=config.solver.max_iterations,
+        cascade=config.solver.cascade,
+    )
+
+
+def assemble(config: RunConfig, rules: Rules | None = None, xp: Any = np) -> Assembly:
+    """The problem and the load path of a validated configuration.
+
+    ``rules``: the `Rules` that validated it, whose rasterisation is reused.
+    """
+    indenter = None if rules is None else rules.indenter(config.grid, config.indenter, config.halfspace)
+    return Assembly(config, build_problem(config, indenter, xp), build_path(config))
+
+
+def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None) -> RunConfig:
+    """`brushbem.config.parse_config` with the rules on the rasterised structure: the complete check."""
+    return schema.parse_config(mapping, base_dir, rules=Rules())
+
+
+def load_config(path: str | Path) -> RunConfig:
+    """`brushbem.config.load_config` with the rules on the rasterised structure: the complete check."""
+    return schema.load_config(path, rules=Rules())
+
+
+def parse(mapping: Mapping[str, Any], base_dir: str | Path | None = None) -> Assembly:
+    """Validate a configuration mapping completely and build it (one rasterisation)."""
+    rules = Rules()
+    return assemble(schema.parse_config(mapping, base_dir, rules=rules), rules)
+
+
+def load(path: str | Path) -> Assembly:
+    """Read, validate completely and build a TOML configuration (one rasterisation)."""
+    rules = Rules()
+    return assemble(schema.load_config(path, rules=rules), rules)

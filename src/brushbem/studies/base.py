@@ -1,0 +1,101 @@
+"""What a study is: the `Study` and `ThesisNumber` records, and where its sweep files live.
+
+The study modules import these (not the package, whose registry imports
+them), so the imports run one way: `brushbem.studies` -> study modules ->
+this module.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+__all__ = ["SWEEPS_DIR", "Study", "ThesisNumber", "finished", "sweep_file"]
+
+#: Where the shipped sweep files live.
+SWEEPS_DIR = Path(__file__).resolve().parent / "sweeps"
+
+
+@dataclass(frozen=True)
+class ThesisNumber:
+    """A number the thesis states, and how to compute ours from a study's results.
+
+    Attributes
+    ----------
+    quantity : str
+        What it is, e.g. "F~_A of 16 x 16 pillars at k~ = 0.455".
+    where : str
+        Where the thesis states it, e.g. "Fig. 4-3 a, text p. 43".
+    thesis : float
+        The thesis's value.
+    compute : callable
+        ``compute(results) -> float`` with ``results`` the part name ->
+        summary DataFrame mapping (as `brushbem.sweep.load_summary` returns).
+    """
+
+    quantity: str
+    where: str
+    thesis: float
+    compute: Callable[[Mapping[str, pd.DataFrame]], float]
+
+
+@dataclass(frozen=True)
+class Study:
+    """One study of the thesis.
+
+    Attributes
+    ----------
+    name : str
+        Command-line name, e.g. ``"punch_spring"``.
+    title : str
+        One line, naming the thesis figures / table it reproduces.
+    figures : tuple of str
+        Thesis figure numbers, e.g. ``("2-4", "2-5", "2-6")``.
+    parts : tuple of str
+        Names of its sweeps; part ``p`` is ``sweeps/<name>.<p>.toml`` (and
+        ``.quick.toml``), run into ``DIR/<p>/``.
+    draw : callable
+        ``draw(results, figures_dir) -> list[Path]``: writes the figures (PNG,
+        atomically) from ``results`` (part -> summary DataFrame; the case files
+        are in ``DIR/<part>/cases/`` for curves and snapshots, reachable as
+        ``results.attrs``-free paths via the ``case_file`` column).
+    numbers : tuple of ThesisNumber
+        The numbers the thesis states that this study reproduces.
+    draw_tables : callable, optional
+        ``draw_tables(tables, figures_dir) -> list[Path]``: the figures that
+        the exported per-case tables alone determine (no case files: no
+        snapshots or load curves), drawn from ``docs/reproduction/<name>``
+        by `brushbem.reproduction.draw_table_figures`.  None: the study's
+        figures all need case files.
+    """
+
+    name: str
+    title: str
+    figures: tuple[str, ...]
+    parts: tuple[str, ...]
+    draw: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]]
+    numbers: tuple[ThesisNumber, ...] = ()
+    notes: str = ""
+    draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def sweep_file(study: str, part: str, quick: bool) -> Path:
+    """The shipped sweep file of one part of a study."""
+    return SWEEPS_DIR / f"{study}.{part}{'.quick' if quick else ''}.toml"
+
+
+def finished(frame: pd.DataFrame) -> pd.DataFrame:
+    """The rows of a summary whose case finished (converged); the others are dropped.
+
+    A study's ``draw`` must tolerate failed, unconverged and missing cases (a
+    study whose run was interrupted or partly failed is still drawn from what
+    finished): filter with this before plotting.
+    """
+    if "status" not in frame.columns:
+        return frame.iloc[0:0]
+    return frame[frame["status"] == "finished"]
