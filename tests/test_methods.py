@@ -335,11 +335,11 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     solver tolerance (1e-11 here; measured 1.5e-10 of max |a|, bound 1e-7),
     while a|S' alone is off by 6.5e-2.
     """
-    from brushbem.protocol import _Tracker
+    from brushbem.protocol import Tracker
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
-    tracker = _Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
+    tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
     tracker.solve(d)
     tracker.ensure_window(tracker.contact)

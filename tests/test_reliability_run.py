@@ -301,7 +301,7 @@ def test_unresolvable_spring_is_reported_not_converged(tmp_path, modulus, stiffn
 
 def test_non_finite_summary_is_never_converged(tmp_path, monkeypatch):
     """The last guard: a number that overflows makes the run unconverged, with the reason."""
-    monkeypatch.setattr(protocol, "work_of_separation", lambda points: math.inf)
+    monkeypatch.setattr(protocol.recording, "work_of_separation", lambda points: math.inf)
     summary = _punch_summary(tmp_path, stiffness=math.inf)
     assert summary["converged"] is False
     assert "non-finite work_of_separation" in summary["reason"]

@@ -1,0 +1,149 @@
+"""What a pull-off is asked to do: the contact problem, the load path, and the states it records.
+
+Sign convention: d > 0 presses into the half-space, F and p > 0 are compressive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..solver import critical_stress
+from ..structure import Grid, Indenter
+
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State"]
+
+
+class NotConvergedError(RuntimeError):
+    """A solve did not converge; the path stops and the record says why."""
+
+
+@dataclass(frozen=True)
+class ContactProblem:
+    """An indenter on springs against an elastic half-space.
+
+    Parameters
+    ----------
+    grid : Grid
+    indenter : Indenter
+    contact_modulus : float
+        E*, in units of stress.
+    work_of_adhesion : float
+        dgamma, energy per unit area (0: no adhesion).
+    coupling : {"segments", "discriminant"}
+        How the spring sums are evaluated (see ``brushbem.operator``).
+    """
+
+    grid: Grid
+    indenter: Indenter
+    contact_modulus: float
+    work_of_adhesion: float
+    coupling: str = "segments"
+    xp: object = np
+
+    def __post_init__(self):
+        if not (math.isfinite(self.contact_modulus) and self.contact_modulus > 0):
+            raise ValueError(f"contact_modulus = {self.contact_modulus} must be finite and > 0")
+        if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion >= 0):
+            raise ValueError(f"work_of_adhesion = {self.work_of_adhesion} must be finite and >= 0")
+
+    @property
+    def critical_stress(self) -> float:
+        """Sigma_c of the mesh (eq. 2.14); 0 without adhesion."""
+        return critical_stress(self.contact_modulus, self.work_of_adhesion, self.grid.element_size)
+
+
+@dataclass(frozen=True)
+class LoadPath:
+    """How the indenter is pressed and pulled off.
+
+    Parameters
+    ----------
+    method : {"events", "element_events", "fixed"}
+    preload_displacement, preload_force : float or None
+        Exactly one: press to this base displacement, or until this force.
+    step : float
+        Displacement step of the "fixed" method, in units of length.
+    max_steps : int
+        Bound on the recorded states of each branch (a path that needs more is
+        reported as not converged).
+    tolerance : float
+        Relative residual of every CG solve.
+    max_iterations : int
+        Bound on the iterations of one CG solve.
+    window_margin : float
+        Margin of the working window around the contact, as a fraction of its
+        size (at least 4 elements).
+    cascade : {"local", "global"}
+        How the detachment rounds of a brush run (``solver.equilibrium``).
+    """
+
+    method: str = "events"
+    preload_displacement: float | None = None
+    preload_force: float | None = None
+    step: float = 1e-4
+    max_steps: int = 200000
+    tolerance: float = 1e-8
+    max_iterations: int = 20000
+    window_margin: float = 0.25
+    cascade: str = "local"
+
+    def __post_init__(self):
+        if self.method not in ("events", "element_events", "fixed"):
+            raise ValueError(f"protocol.method = {self.method!r} must be 'events', 'element_events' or 'fixed'")
+        if self.cascade not in ("local", "global"):
+            raise ValueError(f"solver.cascade = {self.cascade!r} must be 'local' or 'global'")
+        if (self.preload_displacement is None) == (self.preload_force is None):
+            raise ValueError("exactly one of protocol.preload_displacement and protocol.preload_force is required")
+        for name in ("preload_displacement", "preload_force"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise ValueError(f"protocol.{name} = {value} must be finite and > 0")
+        if not (math.isfinite(self.step) and self.step > 0):
+            raise ValueError(f"protocol.step = {self.step} must be finite and > 0")
+
+
+@dataclass(frozen=True)
+class State:
+    """One recorded equilibrium of the load path.
+
+    Attributes
+    ----------
+    displacement : float
+        Base displacement d.
+    force : float
+        F = h^2 sum p, compressive positive.
+    contact_area : float
+        h^2 times the number of contact elements.
+    attached_pillars : int
+    loading : bool
+        True while pressing, False while pulling off.
+    kind : str
+        "equilibrium" (after any cascade), "event" (a state on the threshold
+        of the next event, before elements leave or join) or "separated".
+    trial_force : float
+        Force of the fixed-set solution at this d before the cascade (equal to
+        ``force`` when nothing changed); the path passes through it.
+    cg_iterations, n_solves : int
+        Spent to reach this state.
+    converged : bool
+    reason : str
+    pressure : ndarray, shape (N, N)
+    contact : ndarray of bool, shape (N, N)
+    """
+
+    displacement: float
+    force: float
+    contact_area: float
+    attached_pillars: int
+    loading: bool
+    kind: str
+    trial_force: float
+    cg_iterations: int
+    n_solves: int
+    converged: bool
+    reason: str
+    pressure: object
+    contact: object

@@ -1,0 +1,269 @@
+"""Recording a pull-off: the curve, the snapshots at the marked moments, the summary numbers."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..results import Curve, Snapshot
+from .paths import pull_off
+from .problem import ContactProblem, LoadPath, State
+
+__all__ = ["PullOffRecord", "record_pull_off", "work_of_separation"]
+
+
+@dataclass(frozen=True)
+class PullOffRecord:
+    """The curve, the snapshots and the summary numbers of one pull-off."""
+
+    curve: Curve
+    snapshots: tuple[Snapshot, ...]
+    summary: dict
+    pillars: dict = field(default_factory=dict)
+
+
+def record_pull_off(
+    problem: ContactProblem,
+    path: LoadPath,
+    progress: Callable[[float, str], None] | None = None,
+    stop: Callable[[], bool] | None = None,
+) -> PullOffRecord:
+    """Run ``pull_off`` and collect the curve, snapshots and summary.
+
+    Summary fields: adhesive_force (-min F on the pull-off, >= 0),
+    pull_off_displacement, separation_displacement (last d with contact),
+    work_of_separation (work against the tensile force from the zero-force
+    crossing of the unloading branch to separation, along the path, cascades
+    vertical), preload_force, max_displacement, converged, reason,
+    interrupted, n_solves, n_cg_iterations, n_states, wall_time_s.
+
+    ``stop`` is polled after every state: when it returns True the path
+    ends there, and the record holds what was computed, with
+    ``interrupted = True`` and ``converged = False`` (a partial pull-off is
+    not a result).  A summary number that comes out non-finite (an overflow
+    of extreme inputs) makes the run not converged, with the reason.
+    """
+    from ..backend import to_numpy
+
+    start = time.perf_counter()
+    labels = np.asarray(to_numpy(problem.indenter.pillar)).ravel()
+    n_pillars = problem.indenter.n_pillars
+    h2 = problem.grid.element_size**2
+    last_attached_d = np.full(n_pillars, np.nan)
+    max_tension = np.zeros(n_pillars)
+
+    def pillar_forces(state: State) -> tuple[np.ndarray, np.ndarray]:
+        contact = np.flatnonzero(np.asarray(to_numpy(state.contact)).ravel())
+        pressure = np.asarray(to_numpy(state.pressure)).ravel()[contact]
+        force = h2 * np.bincount(labels[contact], weights=pressure, minlength=n_pillars)
+        attached = np.bincount(labels[contact], minlength=n_pillars) > 0
+        return force, attached
+
+    attached_at_preload = 0
+    half_taken = False
+    zero_taken = False
+    # The states without their arrays: keeping every State would keep two
+    # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
+    # and a page fault for every fresh page of every new array).
+    rows: list[State] = []
+    path_points: list[tuple[float, float, bool]] = []  # (d, F, loading) along the path, cascades included
+    snapshots: dict[str, Snapshot] = {}
+    last_contact_state: State | None = None
+    last_loading_state: State | None = None
+    best: State | None = None
+    converged = True
+    reason = "complete separation"
+    n_solves = n_iterations = 0
+    max_area = 0.0
+    separated = False
+    interrupted = False
+    for state in pull_off(problem, path):
+        n_solves += state.n_solves
+        n_iterations += state.cg_iterations
+        if not state.converged:
+            converged = False
+            reason = state.reason
+        if state.kind == "separated":
+            separated = True
+            path_points.append((state.displacement, state.trial_force, False))
+            path_points.append((state.displacement, 0.0, False))
+            rows.append(dataclasses.replace(state, pressure=None, contact=None))
+            break
+        if state.trial_force != state.force:
+            path_points.append((state.displacement, state.trial_force, state.loading))
+        path_points.append((state.displacement, state.force, state.loading))
+        rows.append(dataclasses.replace(state, pressure=None, contact=None))
+        if state.loading:
+            last_loading_state = state
+            attached_at_preload = state.attached_pillars
+        elif state.contact_area > 0:
+            last_contact_state = state
+            forces, attached = pillar_forces(state)
+            last_attached_d[attached] = state.displacement
+            np.maximum(max_tension, -forces, out=max_tension)
+            if best is None or state.force < best.force:
+                best = state
+            if not zero_taken and state.force <= 0:
+                snapshots["zero_force"] = _snapshot("zero_force", state, to_numpy, pillar_forces)
+                zero_taken = True
+            if not half_taken and n_pillars > 1 and 2 * state.attached_pillars <= attached_at_preload:
+                snapshots["half_detached"] = _snapshot("half_detached", state, to_numpy, pillar_forces)
+                half_taken = True
+        max_area = max(max_area, state.contact_area)
+        if progress is not None:
+            if state.loading:
+                target = path.preload_displacement
+                fraction = 0.3 * (state.displacement / target if target else min(state.force / path.preload_force, 1))
+            else:
+                fraction = 0.3 + 0.7 * (1.0 - state.contact_area / max_area if max_area else 1.0)
+            progress(min(max(fraction, 0.0), 1.0), f"d = {state.displacement:.4g}, F = {state.force:.4g}")
+        if not state.converged:
+            break
+        if stop is not None and stop():
+            interrupted = True
+            converged = False
+            reason = f"interrupted at d = {state.displacement:.6g} after {len(rows)} states"
+            break
+    if not separated and converged:
+        converged = False
+        reason = "the path ended before complete separation"
+    if last_contact_state is None and last_loading_state is not None and last_loading_state.contact_area > 0:
+        # The first unloading step already separated: the unloading branch
+        # starts at the preload, which is its last state with contact and the
+        # least compressive one.
+        last_contact_state = best = last_loading_state
+        _, attached = pillar_forces(last_loading_state)
+        last_attached_d[attached] = last_loading_state.displacement
+    if last_loading_state is not None:
+        snapshots["max_preload"] = _snapshot("max_preload", last_loading_state, to_numpy, pillar_forces)
+    if best is not None:
+        snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy, pillar_forces)
+    if last_contact_state is not None:
+        snapshots["before_separation"] = _snapshot("before_separation", last_contact_state, to_numpy, pillar_forces)
+    order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
+    snapshots = {name: snapshots[name] for name in order if name in snapshots}
+    curve = Curve(
+        displacement=np.array([s.displacement for s in rows]),
+        force=np.array([s.force if s.kind != "separated" else 0.0 for s in rows]),
+        contact_area=np.array([s.contact_area for s in rows]),
+        cg_iterations=np.array([s.cg_iterations for s in rows], dtype=np.int64),
+        converged=np.array([s.converged for s in rows], dtype=bool),
+        loading=np.array([s.loading for s in rows], dtype=bool),
+        attached_pillars=np.array([s.attached_pillars for s in rows], dtype=np.int64),
+    )
+    loading_states = [s for s in rows if s.loading]
+    # The unloading path starts at the end of the loading branch.
+    start_point = [(loading_states[-1].displacement, loading_states[-1].force)] if loading_states else []
+    if path.method == "fixed":
+        unloading = start_point + _fixed_unloading_path([s for s in rows if not s.loading])
+    else:
+        unloading = start_point + [(d, f) for d, f, load in path_points if not load]
+    summary = {
+        "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
+        "pull_off_displacement": best.displacement if best is not None else None,
+        "separation_displacement": last_contact_state.displacement if last_contact_state is not None else None,
+        "work_of_separation": work_of_separation(unloading),
+        "preload_force": loading_states[-1].force if loading_states else 0.0,
+        "max_displacement": loading_states[-1].displacement if loading_states else 0.0,
+        "converged": bool(converged),
+        "reason": reason,
+        "interrupted": interrupted,
+        "n_solves": int(n_solves),
+        "n_cg_iterations": int(n_iterations),
+        "mean_cg_iterations_per_solve": n_iterations / n_solves if n_solves else 0.0,
+        "attached_pillars_at_pull_off": best.attached_pillars if best is not None else 0,
+        "n_states": len(rows),
+        "wall_time_s": time.perf_counter() - start,
+    }
+    overflowed = [key for key in _FINITE_SUMMARY if summary[key] is not None and not math.isfinite(summary[key])]
+    if overflowed and summary["converged"]:
+        summary["converged"] = False
+        summary["reason"] = (
+            f"non-finite {', '.join(overflowed)}: the inputs' scales overflow double precision "
+            "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
+        )
+    pillars = {"separation_displacement": last_attached_d, "max_tension": max_tension}
+    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary, pillars=pillars)
+
+
+#: Summary numbers that a converged run reports finite.
+_FINITE_SUMMARY = ("adhesive_force", "pull_off_displacement", "separation_displacement", "work_of_separation",
+                   "preload_force", "max_displacement")
+
+
+def _snapshot(name: str, state: State, to_numpy, pillar_forces) -> Snapshot:
+    return Snapshot(
+        name=name,
+        displacement=state.displacement,
+        force=state.force,
+        pressure=np.array(to_numpy(state.pressure)),
+        contact=np.array(to_numpy(state.contact)),
+        pillar_force=pillar_forces(state)[0],
+    )
+
+
+def _fixed_unloading_path(rows: list[State]) -> list[tuple[float, float]]:
+    """The unloading path (d, F) of fixed steps, cascades placed where they start.
+
+    A step whose first detachment was located (a ``kind == "event"`` state
+    from `_first_crossing`) follows its contact set's line exactly to that
+    point; the cascade is then taken there, as the event path does, down to
+    the line of the contact set the step ended with, which passes through the
+    step's equilibrium with the slope of the next step's first solve (the
+    same contact set: exact where nothing else happened in the step).  A
+    step that ends in separation drops to zero at its crossing.  Elsewhere
+    the path goes through every state, cascades vertical at the step's end.
+    """
+    points: list[tuple[float, float]] = []
+    crossing: State | None = None
+    for i, state in enumerate(rows):
+        if state.kind == "event":
+            crossing = state
+            points.append((state.displacement, state.force))
+            continue
+        force = 0.0 if state.kind == "separated" else state.force
+        if crossing is not None:
+            after = force
+            following = rows[i + 1] if i + 1 < len(rows) else None
+            if state.kind != "separated" and following is not None and following.displacement != state.displacement:
+                # The next step's first solve is on this step's contact set.
+                reached = following.force if following.kind == "event" else following.trial_force
+                slope = (reached - force) / (following.displacement - state.displacement)
+                after = force + slope * (crossing.displacement - state.displacement)
+            points.append((crossing.displacement, after))
+            crossing = None
+        elif state.trial_force != force:
+            points.append((state.displacement, state.trial_force))
+        points.append((state.displacement, force))
+    return points
+
+
+def work_of_separation(points: list[tuple[float, float]]) -> float:
+    """Work against the tensile force along an unloading path (d decreasing).
+
+    ``points`` is the path (d, F) in order, cascades as vertical segments; each
+    segment is linear (exact for the event-driven path).  The work is the area
+    of the tensile part of the curve, -F dd where F < 0: it starts at the
+    first zero crossing of F and ends at separation.  Where F turns
+    compressive again on the way (a cascade that leaves compressed contacts
+    behind, as on a rough brush), that stretch is pushed by the half-space,
+    not pulled against its adhesion, and adds nothing - so the work is never
+    negative.
+    """
+    work = 0.0
+    for (d0, f0), (d1, f1) in itertools.pairwise(points):
+        run = d0 - d1  # >= 0 along the unloading
+        if run == 0.0 or (f0 >= 0.0 and f1 >= 0.0):
+            continue
+        if f0 <= 0.0 and f1 <= 0.0:
+            work += 0.5 * (-f0 - f1) * run
+        else:  # F changes sign inside the segment: the tensile triangle
+            tension = -min(f0, f1)
+            work += 0.5 * tension * run * tension / (abs(f0) + abs(f1))
+    return float(work)

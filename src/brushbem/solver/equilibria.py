@@ -1,0 +1,479 @@
+"""The adhesive equilibrium at a base displacement (Pohrt-Popov criterion) and the non-adhesive contact problem."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import backend
+from ..operator import ContactOperator
+from .cg import WARM_START_WITHIN_TOLERANCE, SolveResult, _norm, conjugate_gradient
+from .preconditioners import (
+    BLOCK_LIMIT,
+    MAX_BLOCK_PILLARS,
+    contact_preconditioner,
+    laplacian_preconditioner,
+    pillar_block_preconditioner,
+)
+
+__all__ = [
+    "ELEMENT_ENERGY_COEFFICIENT",
+    "Equilibrium",
+    "critical_stress",
+    "equilibrium",
+    "local_cascade",
+    "penetration",
+    "polonsky_keer",
+    "solve_on_set",
+    "tip_deflection",
+]
+
+
+#: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
+ELEMENT_ENERGY_COEFFICIENT = 0.473201
+
+
+def critical_stress(contact_modulus: float, work_of_adhesion: float, element_size: float) -> float:
+    """Sigma_c = sqrt(E* dgamma / (0.473201 h)), thesis eq. 2.14, in units of stress."""
+    return math.sqrt(contact_modulus * work_of_adhesion / (ELEMENT_ENERGY_COEFFICIENT * element_size))
+
+
+
+
+def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
+                 tolerance: float = 1e-8, max_iterations: int = 10000, preconditioner=None) -> SolveResult:
+    """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
+
+    On a brush of 2 to ``MAX_BLOCK_PILLARS`` pillars whose contacts have at
+    most ``BLOCK_LIMIT`` elements each, the CG runs on the |S| values of S
+    (`ContactSystem`) with `pillar_block_preconditioner`; otherwise on the
+    window's arrays with ``preconditioner`` (M^-1 on window arrays) or, by
+    default, `contact_preconditioner`.  A single body (a punch, a sphere)
+    always takes the window path: its contact changes shape at every event,
+    and a fresh block inverse per event costs more than the extra iterations.
+    So does every array namespace other than NumPy (a GPU): the pillar blocks
+    are dense host matrices, and the window path keeps every iteration on
+    the device.
+    ``rhs``, ``initial`` and ``initial_product`` (A applied to ``initial``,
+    if known) are window-shaped; so is the solution.
+    """
+    xp = operator.xp
+    if (preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS
+            and backend.is_numpy_namespace(xp)):
+        system = operator.system(mask)
+        blocked = pillar_block_preconditioner(system)
+        if blocked is not None:
+            rhs_on_set = system.gather(rhs)
+            result = conjugate_gradient(
+                system.apply,
+                rhs_on_set,
+                xp.ones(system.size, dtype=xp.bool),
+                initial=None if initial is None else system.gather(initial),
+                tolerance=tolerance,
+                max_iterations=max_iterations,
+                preconditioner=blocked,
+                xp=xp,
+                initial_product=None if initial_product is None else system.gather(initial_product),
+                reference=lambda v: _norm(xp, rhs_on_set - system.spring_deflection(v)),
+            )
+            return dataclasses.replace(result, solution=system.scatter(result.solution))
+    weights = xp.astype(mask, xp.float64)  # 0/1: a cheaper mask to multiply by
+    return conjugate_gradient(
+        lambda x: operator.apply(x, weights),
+        rhs,
+        mask,
+        initial=initial,
+        tolerance=tolerance,
+        max_iterations=max_iterations,
+        preconditioner=contact_preconditioner(operator, mask) if preconditioner is None else preconditioner,
+        xp=xp,
+        initial_product=initial_product,
+        reference=(lambda x: _norm(xp, (rhs - operator.spring_deflection(x)) * weights))
+        if operator.has_springs else None,
+    )
+
+
+def local_cascade(operator: ContactOperator, contact, pressure, leaving, critical: float,
+                  max_block: int = BLOCK_LIMIT):
+    """Detachment rounds on the pillars that lose elements, each pillar solved on its own.
+
+    The state (``pressure`` on ``contact``, window arrays) is an equilibrium
+    and ``leaving`` the elements that must leave.  Every pillar P that loses
+    one keeps the deflection that the rest of the structure causes on it
+    fixed: its new pressure q solves
+
+        A_PP|S' q = (A_PP p_P)|S',   A_PP = K_PP + (sum_l h^2 / k_l) 1 1^T,
+
+    on its remaining contact S' (the springs of every level above P load all
+    of P's elements alike), exactly, with the pillar's half-space block
+    (``HalfSpace.block_inverse``, shared by pillars of the same contact shape)
+    and the Sherman-Morrison formula for the springs.  Elements of P whose
+    tension then exceeds ``critical`` leave too, until P is stable.  The rest
+    of the structure is not touched; the caller's next global solve adds the
+    change of the far field.  A soft pillar that starts to peel thus peels in
+    a few dense solves of its own size, instead of one global solve per ring
+    of elements.
+
+    Returns (contact, pressure, number of elements that left) or None where
+    it does not apply: an element of ``leaving`` off the pillars, or a
+    pillar contact of more than ``max_block`` elements.
+    """
+    xp = operator.xp
+    labels = np.asarray(backend.to_numpy(operator.pillar_labels))
+    in_contact = np.asarray(backend.to_numpy(contact), dtype=bool)
+    leave = np.asarray(backend.to_numpy(leaving), dtype=bool) & in_contact
+    hit = np.unique(labels[leave])
+    if hit.size == 0 or hit[0] < 0:
+        return None
+    rows, cols = np.nonzero(in_contact & np.isin(labels, hit))  # row-major
+    by_pillar = np.argsort(labels[rows, cols], kind="stable")
+    rows, cols = rows[by_pillar], cols[by_pillar]
+    counts = np.bincount(np.searchsorted(hit, labels[rows, cols]), minlength=hit.size)
+    if int(counts.max()) > max_block:
+        return None
+    halfspace = operator.halfspace
+    compliance = sum(c for c, _ in operator.spring_levels)
+    values = np.array(backend.to_numpy(pressure), dtype=np.float64)
+    new_contact = in_contact.copy()
+    origin = np.array([operator.window.r0, operator.window.c0])
+    detached = 0
+    for start, count in zip(np.r_[0, np.cumsum(counts)[:-1]].tolist(), counts.tolist()):
+        r, c = rows[start : start + count], cols[start : start + count]
+        offsets = np.stack([r, c], axis=1) + origin
+        p = values[r, c]
+        b = halfspace.block_matrix(offsets) @ p + compliance * p.sum()
+        keep = ~leave[r, c]
+        parent = (offsets, halfspace.block_inverse(offsets))
+        q = np.zeros(count)
+        while bool(np.any(keep)):
+            sub = offsets[keep]
+            inverse = halfspace.block_inverse(sub, parent=parent)
+            y = inverse @ b[keep]
+            z = inverse.sum(axis=1)
+            q = np.zeros(count)
+            q[keep] = y - z * (compliance * y.sum() / (1.0 + compliance * z.sum()))
+            tense = keep & ((q < -critical) if critical > 0 else (q < 0))
+            if not bool(np.any(tense)):
+                break
+            parent = (sub, inverse)
+            keep &= ~tense
+        values[r, c] = np.where(keep, q, 0.0)
+        new_contact[r, c] = keep
+        detached += int(count - np.count_nonzero(keep))
+    return xp.asarray(new_contact), xp.asarray(values), detached
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """The state at one base displacement (on the operator's window).
+
+    Attributes
+    ----------
+    displacement : float
+        Base displacement d.
+    pressure : ndarray
+        Pressure on the window, compressive positive.
+    contact : ndarray of bool
+        Contact set on the window.
+    converged : bool
+    reason : str
+    cg_iterations : int
+        CG iterations spent, all solves together.
+    n_solves : int
+    trial_force_sum : float
+        Sum of the pressure of the first global solve (the fixed-set force
+        the path passes through before a cascade; after the local rounds of
+        `local_cascade` where the cascade starts on the pillars).
+    detached, attached : int
+        Elements that left and joined S.
+    deflection : ndarray or None
+        ``tip_deflection`` (K p + springs) on the window for the returned pressure, when the
+        solver computed it anyway (the final join check of ``equilibrium``),
+        so that callers need not transform the pressure again.
+    trial_pressure : ndarray or None
+        The pressure of the first global solve (on the starting contact set,
+        before any element left or joined; the sum of it is
+        ``trial_force_sum``); None where no solve ran.
+    """
+
+    displacement: float
+    pressure: object
+    contact: object
+    converged: bool
+    reason: str
+    cg_iterations: int
+    n_solves: int
+    trial_force_sum: float
+    detached: int
+    attached: int
+    deflection: object = None
+    trial_pressure: object = None
+
+
+def tip_deflection(operator: ContactOperator, pressure):
+    """Half-space deflection plus spring deflection of ``pressure`` on the window (unmasked)."""
+    return operator.tip_deflection(pressure)
+
+
+def penetration(operator: ContactOperator, height, displacement: float, pressure):
+    """How far the tip reaches into the deformed half-space (> 0: penetrates), on the window."""
+    return displacement - height - tip_deflection(operator, pressure)
+
+
+def equilibrium(
+    operator: ContactOperator,
+    height,
+    displacement: float,
+    contact,
+    pressure,
+    critical: float,
+    tolerance: float = 1e-8,
+    max_iterations: int = 10000,
+    max_rounds: int = 100000,
+    preconditioner=None,
+    force_detach=None,
+    force_attach=None,
+    deflection=None,
+    cascade: str = "local",
+    length_scale: float = 0.0,
+) -> Equilibrium:
+    """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
+
+    Parameters
+    ----------
+    operator : ContactOperator
+    height : ndarray
+        Tip heights on the operator's window (inf outside the footprints).
+    displacement : float
+        d, in units of length.
+    contact : ndarray of bool
+        Contact set to start from (history).
+    pressure : ndarray
+        Warm start.
+    critical : float
+        Sigma_c; 0 means no adhesion (elements leave when p < 0).
+    preconditioner : callable, optional
+        M^-1 on the window's arrays, instead of the Laplacian preconditioner
+        (the solves then run on the whole window rather than on the block
+        around S).
+    force_detach, force_attach : ndarray of bool, optional
+        Elements that leave / join S before the first solve (the event that
+        the event-driven path has reached exactly).
+    deflection : ndarray, optional
+        ``operator.tip_deflection(pressure)``, when the caller knows it (the
+        event-driven path does: the state is affine between events).  It is
+        kept in step while nothing is solved: the first solve starts without
+        applying the operator, and when that solve finds the warm start
+        within tolerance (an attachment exactly at the touching point does
+        not change the pressure) the join check needs no transform either.
+    cascade : {"local", "global"}
+        How the detachment rounds of a brush run.  "global": every round is a
+        solve on the whole contact set (the thesis's loop).  "local" (on
+        structures of two or more pillars; the others always run "global"):
+        the pillars that lose elements peel in rounds of their own
+        (`local_cascade`), with the rest of the structure held, and a global
+        solve then adds the far field and checks every element again.  Both
+        end in a state where no element exceeds the criterion and none
+        penetrates; they may differ in which elements a cascade takes along
+        when one is within the far field's change of the threshold.
+    length_scale : float
+        The load path's displacement scale (the largest |d| so far), in
+        units of length.  An element joins S when it penetrates by more than
+        the solve's accuracy in length, ``10 * tolerance`` times the largest
+        of this, |d| and the largest |d - height|; near d = 0 (a flat tip
+        pulled back to its zero without adhesion) |d| alone would let
+        rounding errors of the pressure keep the contact forever.
+    """
+    if cascade not in ("local", "global"):
+        raise ValueError(f"cascade = {cascade!r} must be 'local' or 'global'")
+    xp = operator.xp
+    footprint = xp.isfinite(height)
+    contact = contact & footprint
+    detached = attached = 0
+    local = cascade == "local" and preconditioner is None and operator.indenter.n_pillars >= 2
+    if force_detach is not None and local and bool(xp.any(contact & force_detach)):
+        # The caller's state is an equilibrium: the cascade starts on the pillars.
+        cascaded = local_cascade(operator, contact, xp.where(contact, pressure, 0.0), force_detach, critical)
+        if cascaded is not None:
+            contact, pressure, n_left = cascaded
+            detached += n_left
+            force_detach = None
+            deflection = None
+    if force_detach is not None:
+        detached += int(xp.count_nonzero(contact & force_detach))
+        contact = contact & ~force_detach
+    if force_attach is not None:
+        joining = force_attach & footprint & ~contact
+        attached += int(xp.count_nonzero(joining))
+        contact = contact | joining
+    target = xp.where(footprint, displacement - height, 0.0)
+    if deflection is not None:
+        # The pressure outside the new set (elements forced to leave) is dropped.
+        deflection = deflection - operator.element_deflection(pressure, ~contact)
+    pressure = xp.where(contact, pressure, 0.0)
+    iterations = solves = 0
+    trial = trial_pressure = None
+    # Penetration tolerance: the solve's accuracy in units of length.
+    scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
+    slack = 10.0 * tolerance * max(scale, abs(displacement), length_scale, 1e-300)
+    for _ in range(max_rounds):
+        if bool(xp.any(contact)):
+            # The solve only needs the deflection on S: run it on the block
+            # around S (a caller's preconditioner works on the whole window).
+            if preconditioner is None:
+                block, block_operator = operator.sub_operator(contact)
+            else:
+                block, block_operator = operator.window.slices_local, operator
+            block_contact = contact[block]
+            result = solve_on_set(
+                block_operator, block_contact, target[block], pressure[block],
+                None if deflection is None else deflection[block], tolerance, max_iterations, preconditioner,
+            )
+            iterations += result.iterations
+            solves += 1
+            if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
+                deflection = None  # the pressure moved
+            pressure = xp.zeros_like(target)
+            pressure[block] = result.solution
+            if not result.converged:
+                return Equilibrium(
+                    displacement, pressure, contact, False, result.reason, iterations, solves,
+                    trial if trial is not None else float(xp.sum(pressure)), detached, attached,
+                )
+        else:
+            pressure = xp.zeros_like(target)
+        if trial is None:
+            trial = float(xp.sum(pressure))
+            trial_pressure = pressure
+        leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
+        n_leaving = int(xp.count_nonzero(leaving))
+        if n_leaving and local:
+            cascaded = local_cascade(operator, contact, pressure, leaving, critical)
+            if cascaded is not None:
+                contact, pressure, n_left = cascaded
+                detached += n_left
+                deflection = None
+                continue
+        if n_leaving:
+            contact = contact & ~leaving
+            if deflection is not None:
+                deflection = deflection - operator.element_deflection(pressure, leaving)
+            pressure = xp.where(contact, pressure, 0.0)
+            detached += n_leaving
+            continue
+        if deflection is None:
+            deflection = tip_deflection(operator, pressure)
+        joining = footprint & ~contact & (displacement - height - deflection > slack)
+        n_joining = int(xp.count_nonzero(joining))
+        if n_joining:
+            contact = contact | joining
+            attached += n_joining
+            continue
+        return Equilibrium(
+            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached,
+            attached, deflection, trial_pressure,
+        )
+    return Equilibrium(
+        displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",
+        iterations, solves, trial if trial is not None else 0.0, detached, attached,
+    )
+
+
+def polonsky_keer(
+    operator: ContactOperator,
+    height,
+    displacement: float,
+    pressure,
+    tolerance: float = 1e-8,
+    max_iterations: int = 10000,
+) -> Equilibrium:
+    """Non-adhesive contact at base displacement d by constrained CG (Polonsky & Keer 1999).
+
+    Minimises 1/2 p.A p - p.(d - height) subject to p >= 0 on the footprint.
+    The contact set is the set where p > 0; elements with p = 0 and a negative
+    gap join it inside the iteration (the conjugacy is then reset).  The
+    stopping test is the relative residual of the gap on the contact set plus
+    the absence of penetration outside it.
+    """
+    xp = operator.xp
+    footprint = xp.isfinite(height)
+    target = xp.where(footprint, displacement - height, 0.0)
+    if not bool(xp.any(target > 0)):
+        zeros = xp.zeros_like(target)
+        return Equilibrium(displacement, zeros, zeros > 0, True, "no penetration", 0, 1, 0.0, 0, 0)
+    # The rigid-punch-like guess: a small uniform pressure where the tip penetrates.
+    guess = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
+    pressure = xp.where(footprint & (pressure > 0), pressure, 0.0)
+    if not bool(xp.any(pressure > 0)):
+        pressure = guess
+    target_norm = math.sqrt(float(xp.sum(target[target > 0] ** 2)))
+    direction = xp.zeros_like(pressure)
+    # The deflection is tracked, not recomputed: one FFT pair per iteration for
+    # the search direction, and one more only in iterations where the
+    # projection (p < 0 -> 0) or the joining of overlapping elements changed p.
+    deflection = operator.deflection(pressure)
+    g_old = 1.0
+    reset = True
+    relative = math.inf
+    for iteration in range(1, max_iterations + 1):
+        contact = pressure > 0
+        if not bool(xp.any(contact)):
+            # A step projected every pressure to zero (a warm start far too
+            # high): start again from the guess, which loads the penetration.
+            pressure = guess
+            deflection = operator.deflection(pressure)
+            reset = True
+            contact = pressure > 0
+        gap = deflection - target  # > 0: separated, < 0: penetrating
+        gap_c = xp.where(contact, gap, 0.0)
+        g_norm2 = float(xp.sum(gap_c * gap_c))
+        relative = math.sqrt(g_norm2) / target_norm
+        outside_penetration = bool(xp.any(footprint & ~contact & (gap < -tolerance * target_norm)))
+        if relative <= tolerance and not outside_penetration and iteration > 1:
+            return Equilibrium(
+                displacement, pressure, contact, True, "relative gap residual below tolerance",
+                iteration - 1, 1, float(xp.sum(pressure)), 0, 0,
+            )
+        if relative <= tolerance and outside_penetration:
+            # S is solved but elements outside it penetrate: the gradient on
+            # S vanishes, so no search direction would reach them.  They join
+            # with the pressure that closes their own gap (the diagonal), and
+            # the iteration restarts on the larger set.
+            joining = footprint & ~contact & (gap < -tolerance * target_norm)
+            change = xp.where(joining, -gap / operator.halfspace.diagonal(), 0.0)
+            pressure = pressure + change
+            deflection = deflection + operator.deflection(change)
+            reset = True
+            continue
+        # Preconditioned direction (Vollebregt 2014): z = M^-1 gap on S.
+        z = laplacian_preconditioner(contact)(gap_c)
+        rz = float(xp.sum(gap_c * z))
+        direction = z + (0.0 if reset else rz / g_old) * direction
+        direction = xp.where(contact, direction, 0.0)
+        g_old = rz
+        response_full = operator.deflection(direction)
+        denominator = float(xp.sum(direction * response_full))
+        if not (denominator > 0):
+            return Equilibrium(
+                displacement, pressure, contact, False, "search direction lost positivity",
+                iteration, 1, float(xp.sum(pressure)), 0, 0,
+            )
+        step = float(xp.sum(gap_c * direction)) / denominator
+        moved = pressure - step * direction
+        deflection = deflection - step * response_full
+        projected = xp.where(moved > 0, moved, 0.0)
+        overlap = footprint & (projected <= 0) & (gap < 0)
+        reset = bool(xp.any(overlap))
+        if reset:
+            projected = projected - xp.where(overlap, step * gap, 0.0)
+        change = projected - moved
+        if bool(xp.any(change != 0)):
+            deflection = deflection + operator.deflection(change)
+        pressure = projected
+    return Equilibrium(
+        displacement, pressure, pressure > 0, False, f"no convergence in {max_iterations} iterations",
+        max_iterations, 1, float(xp.sum(pressure)), 0, 0,
+    )

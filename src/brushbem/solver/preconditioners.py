@@ -1,0 +1,383 @@
+"""Preconditioners of A_S: shifted Laplacian, springs by Woodbury, and the two-level pillar blocks of a brush."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+from scipy import sparse
+from scipy.sparse import linalg as sparse_linalg
+
+from .. import backend
+from ..operator import ContactOperator, ContactSystem
+
+__all__ = [
+    "BLOCK_LIMIT",
+    "MAX_BLOCK_PILLARS",
+    "PRECONDITIONER_SHIFT",
+    "contact_preconditioner",
+    "laplacian_preconditioner",
+    "pillar_block_preconditioner",
+    "spring_preconditioner",
+]
+
+
+#: Largest pillar contact (elements) that ``pillar_block_preconditioner`` inverts exactly.
+BLOCK_LIMIT = 256
+
+#: Most pillars for the pillar-block path (its coarse matrices are dense: 2 x 8 n^2 bytes, 85 MB at 2304).
+MAX_BLOCK_PILLARS = 3000
+
+#: Random odd multipliers and offsets of the shape signature of a pillar's contact (fixed seed).
+_HASH_WEIGHTS = np.random.default_rng(20261121).integers(1, 2**63, size=(2, BLOCK_LIMIT + 1), dtype=np.uint64) | np.uint64(1)
+
+#: Shift of the Laplacian preconditioner, in units of 1/h^2 (see laplacian_preconditioner).
+PRECONDITIONER_SHIFT = 0.3
+
+
+def laplacian_preconditioner(mask, shift: float = PRECONDITIONER_SHIFT):
+    """M^-1 = P_S (shift I - Delta_h) P_S: a shifted 5-point Laplacian on the contact set.
+
+    The half-space operator has the symbol 1/(E* |xi|), so its inverse behaves
+    like |xi|; ``shift + |xi|^2`` (in element units) follows it at the scale
+    where the two meet and, restricted to S with zero values outside
+    (symmetric positive definite), brings the condition number of K_S from
+    O(D/h) down to about O(sqrt(D/h)), D the size of the contact.  It costs a
+    few array passes, far less than one FFT pair, and cut the CG iterations
+    2-3 fold on contacts 20-160 elements wide (``benchmarks/preconditioner.py``).
+    The constant factor of M does not matter to CG.
+    """
+
+    # A 0/1 float mask: multiplying by it is twice as fast as by a bool array.
+    xp = backend.namespace(mask)
+    maskf = xp.astype(mask, xp.float64)
+
+    def apply(residual):
+        z = residual * maskf
+        out = (4.0 + shift) * z
+        out[1:, :] -= z[:-1, :]
+        out[:-1, :] -= z[1:, :]
+        out[:, 1:] -= z[:, :-1]
+        out[:, :-1] -= z[:, 1:]
+        return out
+
+    return apply
+
+
+def _cut_laplacian(labels, shift: float):
+    """``z -> (4 + shift) z - sum of the 4 neighbours with the same label``: block diagonal per pillar."""
+    # Float weights: multiplying by a bool array would convert it on every call.
+    xp = backend.namespace(labels)
+    same_rows = xp.astype((labels[1:, :] == labels[:-1, :]) & (labels[1:, :] >= 0), xp.float64)
+    same_cols = xp.astype((labels[:, 1:] == labels[:, :-1]) & (labels[:, 1:] >= 0), xp.float64)
+
+    def apply(z):
+        out = (4.0 + shift) * z
+        out[1:, :] -= z[:-1, :] * same_rows
+        out[:-1, :] -= z[1:, :] * same_rows
+        out[:, 1:] -= z[:, :-1] * same_cols
+        out[:, :-1] -= z[:, 1:] * same_cols
+        return out
+
+    return apply
+
+
+def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECONDITIONER_SHIFT):
+    """Preconditioner for A_S = K_S + Z C Z^T that stays good for arbitrarily soft springs.
+
+    Z is the element-to-unit incidence on S over every elastic level (a unit is
+    a pillar or a cluster), C = diag(h^2 / k).  The soft springs put eigenvalues
+    of order h^2 n / k on the span of Z; a Laplacian preconditioner alone
+    leaves them there and CG needs thousands of iterations at k~ = 1e-5.  Here
+    K_S^-1 is approximated by B = alpha P_S (shift I - Delta_cut) P_S, the
+    shifted 5-point Laplacian with its couplings cut between different
+    pillars (so B is block diagonal per pillar), and the spring term is added
+    exactly through the Woodbury identity:
+
+        M^-1 = (B^-1 + Z C Z^T)^-1 = B - B Z G^-1 Z^T B,   G = C^-1 + Z^T B Z.
+
+    Because B is block diagonal per pillar, Z^T B Z = Q^T diag(T) Q with Q the
+    pillar-to-unit incidence and T_n = 1^T B_n 1, so G is a small sparse
+    matrix (diagonal for one level) factorised once per contact set.  The
+    scale alpha_n of every pillar block is chosen so that T_n equals the
+    stiffness of a rigid circular punch of the pillar's contact area,
+    2 E* sqrt(A_n / pi) / h^2 (the mean-mode response of K_n^-1), so the
+    preconditioner and A agree on the pillar-mean modes whatever k is.  M^-1
+    is symmetric positive definite; each application costs two stencil passes,
+    two segment sums and one sparse triangular solve on the units.
+    """
+    xp = operator.xp
+    labels_np = np.asarray(operator.pillar_labels)
+    mask_np = np.asarray(backend.to_numpy(mask), dtype=bool) & (labels_np >= 0)
+    n_pillars = operator.indenter.n_pillars
+    h = operator.halfspace.element_size
+    laplacian = _cut_laplacian(xp.asarray(labels_np), shift)
+    maskf = xp.asarray(mask_np.astype(float))
+    flat_labels = np.where(mask_np, labels_np, n_pillars).ravel()
+    # Sums over the pillars only need the elements of S.
+    in_contact = np.flatnonzero(mask_np.ravel())
+    contact_index = xp.asarray(in_contact)
+    contact_labels = xp.asarray(flat_labels[in_contact])
+    window_labels = xp.asarray(flat_labels)
+    counts = np.bincount(flat_labels, minlength=n_pillars + 1)[:n_pillars]
+    diag_l = np.bincount(flat_labels, weights=np.asarray(backend.to_numpy(laplacian(maskf))).ravel(),
+                         minlength=n_pillars + 1)[:n_pillars]
+    target = 2.0 * operator.halfspace.contact_modulus * np.sqrt(counts / math.pi) / h
+    alpha = np.where(counts > 0, target / np.where(diag_l > 0, diag_l, 1.0), 0.0)
+    alpha_elements = xp.asarray(np.append(alpha, 0.0)[np.where(labels_np >= 0, labels_np, n_pillars)])
+
+    # Pillar-to-unit incidence Q over the elastic levels and G = C^-1 + Q^T diag(T) Q.
+    rows, cols, inverse_compliance = [], [], []
+    offset = 0
+    for compliance, cluster in operator.spring_levels:
+        n_units = int(cluster.max()) + 1
+        rows.append(np.arange(n_pillars))
+        cols.append(offset + cluster)
+        inverse_compliance.append(np.full(n_units, 1.0 / compliance))
+        offset += n_units
+    incidence = sparse.csr_matrix(
+        (np.ones(sum(len(r) for r in rows)), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(n_pillars, offset),
+    )
+    coarse = sparse.diags(np.concatenate(inverse_compliance)) + incidence.T @ sparse.diags(target) @ incidence
+    coarse = sparse.csc_matrix(coarse)
+    if coarse.nnz == offset:  # one level of one-pillar units: G is diagonal
+        diagonal = coarse.diagonal()
+
+        def coarse_solve(b):
+            return b / diagonal
+    else:
+        coarse_solve = sparse_linalg.factorized(coarse)
+    incidence_t = incidence.T.tocsr()
+
+    if backend.is_numpy_namespace(xp):
+        # On the CPU, B restricted to S as a sparse matrix: each application
+        # touches the |S| contact elements only, not every window element.
+        size = mask_np.size
+        labels_c = flat_labels[in_contact]
+        local = np.full(size, -1, dtype=np.int64)
+        local[in_contact] = np.arange(in_contact.size)
+        grid_local = local.reshape(mask_np.shape)
+        pairs = []
+        for a, b in ((grid_local[:, :-1], grid_local[:, 1:]), (grid_local[:-1, :], grid_local[1:, :])):
+            both = (a >= 0) & (b >= 0)
+            ia, ib = a[both], b[both]
+            same = labels_c[ia] == labels_c[ib]
+            pairs.append((ia[same], ib[same]))
+        i_nb = np.concatenate([p[0] for p in pairs] + [p[1] for p in pairs])
+        j_nb = np.concatenate([p[1] for p in pairs] + [p[0] for p in pairs])
+        scale_c = np.append(alpha, 0.0)[labels_c]
+        n_c = in_contact.size
+        blocked = sparse.csr_matrix(
+            (np.concatenate([scale_c * (4.0 + shift), -scale_c[i_nb]]),
+             (np.concatenate([np.arange(n_c), i_nb]), np.concatenate([np.arange(n_c), j_nb]))),
+            shape=(n_c, n_c),
+        )
+
+        def apply(residual):
+            z = blocked @ residual.reshape(-1)[in_contact]
+            sums = np.bincount(labels_c, weights=z, minlength=n_pillars + 1)[:n_pillars]
+            y = np.append(incidence @ coarse_solve(incidence_t @ sums), 0.0)
+            out = np.zeros(size)
+            out[in_contact] = z - blocked @ y[labels_c]
+            return out.reshape(mask_np.shape)
+
+        return apply
+
+    def apply(residual):
+        z = alpha_elements * laplacian(residual * maskf)
+        sums = np.asarray(backend.to_numpy(
+            backend.segment_sum(xp, contact_labels, xp.reshape(z, (-1,))[contact_index], n_pillars)))
+        y = xp.asarray(np.append(incidence @ coarse_solve(incidence_t @ sums), 0.0))
+        spread = xp.take(y, window_labels)  # a gather: zero off S (the dummy pillar)
+        return z - alpha_elements * laplacian(xp.reshape(spread, z.shape))
+
+    return apply
+
+
+def contact_preconditioner(operator: ContactOperator, mask):
+    """The preconditioner for A_S: `spring_preconditioner` with springs, else `laplacian_preconditioner`."""
+    if operator.has_springs:
+        return spring_preconditioner(operator, mask)
+    return laplacian_preconditioner(mask)
+
+
+def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LIMIT):
+    """Two-level preconditioner for A_S on the pillars of a brush (vectors on S), or None.
+
+    A_S = K_S + Z H_s Z^T, Z the element-to-pillar incidence on S and H_s the
+    spring compliances (h^2/k_l for every pair of pillars under the same unit
+    of level l).  It is approximated by
+
+        M = B + Z (H_s + G) Z^T,
+
+    B = blockdiag(K_n) the exact half-space blocks of the pillars' contact
+    elements (inverted once per shape, ``HalfSpace.block_inverse``) and G the
+    far-field coupling of the pillars as point loads, G_mn = h^2 / (pi E* r_mn)
+    between their footprint centroids.  By the Woodbury identity
+
+        M^-1 = B^-1 - B^-1 Z X Z^T B^-1,  X = T^-1 - T^-1 (T^-1 + H)^-1 T^-1,
+
+    with T = Z^T B^-1 Z = diag(1^T K_n^-1 1) (each pillar's exact mean-mode
+    stiffness) and H = H_s + G, so a solve with the dense pillar matrix
+    T^-1 + H (the brush as interacting punches on springs) is all the
+    coarse work.  M^-1 is SPD exactly when T^-1 + H is; where the point-load
+    coupling makes it indefinite (pillars much closer than their size) G is
+    dropped, which leaves the exact blocks and the springs.  Within a pillar
+    the preconditioner is exact, between pillars it keeps the interaction of
+    their mean modes, so the CG iterations no longer depend on the pillar
+    stiffness nor much on the number of pillars (tests/test_brush.py and
+    ``benchmarks/preconditioner.py``).
+
+    Returns None when an element of S lies off the pillars or a pillar's
+    contact has more than ``max_block`` elements (a large punch or sphere:
+    the blocks would cost more than they save).
+    """
+    labels = system.pillars
+    if system.size == 0 or bool(np.any(labels < 0)):
+        return None
+    order = np.argsort(labels, kind="stable")  # by pillar, row-major within each
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+    counts = np.diff(np.r_[starts, sorted_labels.size])
+    if int(counts.max()) > max_block:
+        return None
+    operator = system.operator
+    halfspace = operator.halfspace
+    active = sorted_labels[starts]
+    rows = system.element_rows[order]
+    cols = system.element_cols[order]
+    # Pillars whose contacts have the same shape share one inverse block.  The
+    # shapes are told apart by a hash of their element offsets (checked
+    # exactly within every group), without a Python loop over the pillars.
+    segment = np.repeat(np.arange(active.size), counts)
+    rel_rows = rows - np.minimum.reduceat(rows, starts)[segment]
+    rel_cols = cols - np.minimum.reduceat(cols, starts)[segment]
+    codes = rel_rows * (2 * BLOCK_LIMIT + 1) + rel_cols  # a contact of <= BLOCK_LIMIT elements spans fewer
+    rank = np.arange(rows.size) - starts[segment]
+    with np.errstate(over="ignore"):
+        mixed = codes.astype(np.uint64) * _HASH_WEIGHTS[0][rank] + _HASH_WEIGHTS[1][rank]
+        signature = np.add.reduceat(mixed, starts) + counts.astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)
+    _, group_of = np.unique(signature, return_inverse=True)
+    by_group = np.argsort(group_of, kind="stable")
+    group_starts = np.flatnonzero(np.r_[True, group_of[by_group][1:] != group_of[by_group][:-1]])
+    group_members = np.split(by_group, group_starts[1:])
+    blocks = []  # (element indices on S (members x k), members, inverse, inverse @ 1)
+    stiffness = np.empty(active.size)
+    # Each pillar's last block (grid coordinates, inverse) and its signature:
+    # a pillar that lost a few elements since is downdated from it
+    # (HalfSpace.block_inverse).
+    shared = operator._shared
+    previous = shared.setdefault("pillar_blocks", {})
+    last = shared.setdefault("pillar_signature", np.zeros(operator.indenter.n_pillars, dtype=np.uint64))
+    r0, c0 = operator.window.r0, operator.window.c0
+
+    def grid_offsets(member: int, k: int):
+        start = int(starts[member])
+        return np.stack([rows[start : start + k] + r0, cols[start : start + k] + c0], axis=1)
+
+    pending = list(group_members)
+    while pending:
+        members = pending.pop()
+        k = int(counts[members[0]])
+        at = starts[members][:, None] + np.arange(k)[None, :] if bool(np.all(counts[members] == k)) else None
+        same = None if at is None else np.all(codes[at] == codes[at[0]], axis=1)
+        if same is None or not bool(np.all(same)):  # a hash collision: split the group
+            exact: dict[bytes, list[int]] = {}
+            for member in members.tolist():
+                start = int(starts[member])
+                exact.setdefault(codes[start : start + int(counts[member])].tobytes(), []).append(member)
+            pending.extend(np.asarray(m) for m in exact.values())
+            continue
+        elements = order[at]
+        inverse = halfspace.block_inverse(grid_offsets(members[0], k), parent=previous.get(int(active[members[0]])))
+        pillars = active[members]
+        for member in members[last[pillars] != signature[members]].tolist():
+            previous[int(active[member])] = (grid_offsets(member, k), inverse)
+        last[pillars] = signature[members]
+        row_sums = inverse.sum(axis=1)
+        stiffness[members] = row_sums.sum()
+        blocks.append((elements, members, inverse, row_sums))
+    coarse = _coarse_factor(operator, active, stiffness)
+    xp = system.xp
+
+    def apply(residual):
+        r = np.asarray(backend.to_numpy(residual))
+        z = np.empty_like(r)
+        sums = np.empty(active.size)
+        for elements, members, inverse, _ in blocks:
+            local = r[elements] @ inverse  # inverse is symmetric
+            z[elements] = local
+            sums[members] = local.sum(axis=1)
+        if coarse is not None:
+            factor, positions, reference, size = coarse
+            scaled = np.zeros(size)
+            scaled[positions] = sums / reference
+            correction = sums / reference - scipy.linalg.cho_solve(factor, scaled, check_finite=False)[positions] / reference
+            for elements, members, _, row_sums in blocks:
+                z[elements] -= correction[members][:, None] * row_sums[None, :]
+        return xp.asarray(z)
+
+    return apply
+
+
+#: A coarse factorisation is kept while at most this fraction of its pillars
+#: (and at least 2) have lost more than ``_COARSE_DRIFT`` of their stiffness.
+_COARSE_STALE = 0.02
+_COARSE_DRIFT = 0.3
+#: Fewer pillars than this are refactorised for every contact set (a few ms).
+_COARSE_REUSE_MIN = 1024
+
+
+def _coarse_factor(operator: ContactOperator, active, stiffness):
+    """Cholesky factor of T^-1 + H on the pillars ``active`` for `pillar_block_preconditioner`.
+
+    Returns (factor, positions of ``active`` in the factored set, T used, size)
+    or None.  The factorisation (dense, O(n^3) for n pillars) is reused from
+    an earlier contact set (with at least ``_COARSE_REUSE_MIN`` pillars;
+    smaller ones are refactorised every time) while the pillars are a subset
+    of its pillars and none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
+    T0^-1 then still satisfies X0 < T0^-1 <= T^-1 on any subset, which keeps
+    M^-1 positive definite, and only its accuracy on the pillars that lost
+    contact suffers.  A new one is made when more than ``_COARSE_STALE`` of
+    the pillars lost over ``_COARSE_DRIFT`` of their stiffness.
+    """
+    cached = operator._shared.get("coarse")
+    if cached is not None:
+        factor, pillars, reference = cached
+        positions = np.searchsorted(pillars, active)
+        inside = positions < pillars.size
+        if pillars.size >= _COARSE_REUSE_MIN and bool(np.all(inside)) and np.array_equal(pillars[positions], active):
+            base = reference[positions]
+            if bool(np.all(stiffness <= base * (1 + 1e-9))):
+                stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
+                if stale <= max(2, _COARSE_STALE * pillars.size):
+                    return factor, positions, base, pillars.size
+    coupling = operator._shared.get("pillar_coupling")
+    if coupling is None:
+        # H over all pillars (fixed): springs of every level and the point-load coupling.
+        halfspace = operator.halfspace
+        h = halfspace.element_size
+        n = operator.indenter.n_pillars
+        springs = np.zeros((n, n))
+        for compliance, cluster in operator.spring_levels:
+            units = np.asarray(cluster)
+            springs += compliance * (units[:, None] == units[None, :])
+        centres = operator.pillar_centres()
+        distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
+        np.fill_diagonal(distance, np.inf)
+        coupling = (springs + h * h / (math.pi * halfspace.contact_modulus * distance), springs)
+        operator._shared["pillar_coupling"] = coupling
+    selection = np.ix_(active, active)
+    matrix, springs_only = coupling[0][selection], coupling[1][selection]
+    for candidate in (matrix, springs_only):
+        candidate[np.diag_indices(active.size)] += 1.0 / stiffness
+        try:
+            factor = scipy.linalg.cho_factor(candidate, lower=True, overwrite_a=True)
+        except np.linalg.LinAlgError:
+            continue
+        pillars = np.array(active)
+        operator._shared["coarse"] = (factor, pillars, stiffness.copy())
+        return factor, np.arange(active.size), stiffness, active.size
+    return None
