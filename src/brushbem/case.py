@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -13,9 +13,9 @@ from .assembly import Assembly, assemble, build_indenter, build_path, build_prob
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
-from .results import CaseResult
+from .results import CaseResult, RunSummary
 
-__all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
+__all__ = ["brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
            "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
@@ -23,7 +23,7 @@ __all__ = ["brush_scales", "build_indenter", "build_path", "build_problem", "run
 MIN_TENSILE_STEPS = 10
 
 
-def theory_for(problem: ContactProblem, summary: dict[str, Any],
+def theory_for(problem: ContactProblem, summary: Mapping[str, Any],
                path: LoadPath | None = None) -> tuple[dict[str, Any], dict | None]:
     """Closed-form values for this case and the ratios of the computed ones to them.
 
@@ -45,7 +45,7 @@ def theory_for(problem: ContactProblem, summary: dict[str, Any],
     out: dict[str, Any] = {}
     reference = None
     if shape == "brush" and dgamma > 0:
-        return _brush_theory(problem, summary)
+        return _brush_theory(problem, summary)[0], None
     if dgamma <= 0 or shape not in ("flat_punch", "sphere"):
         return out, None
     if shape == "flat_punch":
@@ -148,8 +148,15 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
     }
 
 
-def _brush_theory(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dict[str, Any], dict | None]:
-    """Theory and the thesis's normalisations of a brush; fills ``summary["normalized"]``."""
+def brush_normalizations(problem: ContactProblem, summary: Mapping[str, Any]) -> dict[str, Any] | None:
+    """The thesis's normalisations of an adhesive brush's summary numbers (``normalized``), else None."""
+    if problem.indenter.description.get("shape") != "brush" or problem.work_of_adhesion <= 0:
+        return None
+    return _brush_theory(problem, summary)[1]
+
+
+def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The closed forms and the thesis's normalisations of a brush."""
     indenter = problem.indenter
     info = indenter.description
     scales = brush_scales(problem)
@@ -184,7 +191,6 @@ def _brush_theory(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dic
         counts = [float(c * c) for c in clusters]
         normalized["equivalent_single_level_stiffness_ratio"] = theory.equivalent_single_level_stiffness(
             ratios, counts)
-    summary["normalized"] = normalized
     out = {
         "model": "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)",
         "compact_punch_force": scales["compact_punch_force"],
@@ -198,7 +204,7 @@ def _brush_theory(problem: ContactProblem, summary: dict[str, Any]) -> tuple[dic
             "adhesive_force_by_ideal_sharing": normalized["force_by_ideal_sharing"],
         },
     }
-    return out, None
+    return out, normalized
 
 
 def run_warnings(problem: ContactProblem, path: LoadPath, record: PullOffRecord) -> list[str]:
@@ -272,10 +278,14 @@ def run_problem(
     recorded in the provenance attributes.
     """
     record = record_pull_off(problem, path, progress=progress, stop=stop)
-    summary = dict(record.summary)
-    summary["critical_stress"] = problem.critical_stress
-    summary["theory"], reference = theory_for(problem, summary, path)
-    summary["warnings"] = run_warnings(problem, path, record)
+    theory, reference = theory_for(problem, record.summary, path)
+    summary = RunSummary(
+        **record.summary.to_dict(),
+        critical_stress=problem.critical_stress,
+        normalized=brush_normalizations(problem, record.summary),
+        theory=theory,
+        warnings=run_warnings(problem, path, record),
+    )
     attributes = {"brushbem_version": __version__, "seeds": [], "backend": backend_name(problem.xp)}
     if config is not None:
         attributes["config"] = config

@@ -7,12 +7,13 @@ force are positive when compressive.  Adhesive (tensile) forces are negative.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
 
-__all__ = ["CaseResult", "Curve", "Snapshot"]
+__all__ = ["CaseResult", "Curve", "PullOffSummary", "RunSummary", "Snapshot"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +79,98 @@ class Curve:
     attached_pillars: np.ndarray
 
 
+class _MappingRecord(Mapping):
+    """A frozen record that also reads as the mapping of its fields (the keys of ``summary.json``).
+
+    Code reads the attributes (``summary.adhesive_force``); JSON, NetCDF
+    attributes and sweep tables read it as a mapping, in field order.  A field
+    named in ``_ABSENT_WHEN_NONE`` that is None is not a key (a punch has no
+    brush normalisations).
+    """
+
+    _ABSENT_WHEN_NONE: frozenset[str] = frozenset()
+
+    def _keys(self) -> list[str]:
+        return [f.name for f in fields(self)
+                if not (f.name in self._ABSENT_WHEN_NONE and getattr(self, f.name) is None)]
+
+    def __getitem__(self, key: str) -> Any:
+        if key in self._keys():
+            return getattr(self, key)
+        raise KeyError(key)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys())
+
+    def __len__(self) -> int:
+        return len(self._keys())
+
+    def to_dict(self) -> dict[str, Any]:
+        """The plain mapping (nested mappings as they are)."""
+        return {key: getattr(self, key) for key in self._keys()}
+
+
+@dataclass(frozen=True, kw_only=True)
+class PullOffSummary(_MappingRecord):
+    """The numbers of one pull-off (`brushbem.protocol.record_pull_off`), as in ``summary.json``.
+
+    Attributes
+    ----------
+    adhesive_force : float
+        F_A = -min F over the pull-off, a positive magnitude (0 without tension).
+    pull_off_displacement, separation_displacement : float or None
+        d at the adhesive force, and the last d with contact.
+    work_of_separation : float
+        The area of the tensile part of the unloading curve.
+    preload_force, max_displacement : float
+        F and d at the end of loading.
+    converged, interrupted : bool
+    reason : str
+    n_solves, n_cg_iterations, n_states, attached_pillars_at_pull_off : int
+    mean_cg_iterations_per_solve, wall_time_s : float
+    """
+
+    adhesive_force: float
+    pull_off_displacement: float | None
+    separation_displacement: float | None
+    work_of_separation: float
+    preload_force: float
+    max_displacement: float
+    converged: bool
+    reason: str
+    interrupted: bool
+    n_solves: int
+    n_cg_iterations: int
+    mean_cg_iterations_per_solve: float
+    attached_pillars_at_pull_off: int
+    n_states: int
+    wall_time_s: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunSummary(PullOffSummary):
+    """`PullOffSummary` with what a run adds: the mesh's critical stress, the closed forms, the warnings.
+
+    Attributes
+    ----------
+    critical_stress : float
+        Sigma_c of the mesh (eq. 2.14).
+    normalized : mapping or None
+        A brush's thesis normalisations (``force_by_compact_punch``, ...);
+        not a key for other indenters.
+    theory : mapping
+        The closed-form values and the ratios of the computed ones to them.
+    warnings : list of str
+    """
+
+    _ABSENT_WHEN_NONE = frozenset({"normalized"})
+
+    critical_stress: float
+    normalized: Mapping[str, Any] | None = None
+    theory: Mapping[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+
+
 @dataclass(frozen=True)
 class CaseResult:
     """Everything one run produces.
@@ -86,8 +179,8 @@ class CaseResult:
     ----------
     curve : Curve
     snapshots : tuple of Snapshot
-    summary : dict
-        The ``summary.json`` contract (see README): adhesive_force,
+    summary : RunSummary
+        The ``summary.json`` contract (see README; a mapping of these keys): adhesive_force,
         pull_off_displacement, separation_displacement, work_of_separation,
         preload_force, max_displacement, converged, n_solves,
         n_cg_iterations, wall_time_s, theory {...}.
@@ -104,7 +197,7 @@ class CaseResult:
 
     curve: Curve
     snapshots: tuple[Snapshot, ...]
-    summary: dict[str, Any]
+    summary: Mapping[str, Any]
     attributes: dict[str, Any] = field(default_factory=dict)
     element_size: float = 1.0
     pillars: dict[str, np.ndarray] = field(default_factory=dict)

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..results import Curve, Snapshot
+from ..results import Curve, PullOffSummary, Snapshot
 from .paths import pull_off
 from .problem import ContactProblem, LoadPath, State
 
@@ -24,7 +24,7 @@ class PullOffRecord:
 
     curve: Curve
     snapshots: tuple[Snapshot, ...]
-    summary: dict
+    summary: PullOffSummary
     pillars: dict = field(default_factory=dict)
 
 
@@ -189,7 +189,8 @@ def record_pull_off(
             "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
         )
     pillars = {"separation_displacement": last_attached_d, "max_tension": max_tension}
-    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=summary, pillars=pillars)
+    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=PullOffSummary(**summary),
+                         pillars=pillars)
 
 
 #: Summary numbers that a converged run reports finite.

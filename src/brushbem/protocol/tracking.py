@@ -227,8 +227,10 @@ class Tracker:
             self.ensure_window(self.contact | outside)
             force_attach = outside
         return Equilibrium(
-            displacement, self.pressure, self.contact, eq.converged, eq.reason, iterations, solves,
-            trial, eq.detached, eq.attached, eq.deflection, trial_pressure,
+            displacement=displacement, pressure=self.pressure, contact=self.contact, converged=eq.converged,
+            reason=eq.reason, cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
+            detached=eq.detached, attached=eq.attached, deflection=eq.deflection,
+            trial_pressure=trial_pressure,
         )
 
     def known_deflection(self):

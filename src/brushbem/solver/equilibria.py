@@ -166,7 +166,7 @@ def local_cascade(operator: ContactOperator, contact, pressure, leaving, critica
     return xp.asarray(new_contact), xp.asarray(values), detached
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Equilibrium:
     """The state at one base displacement (on the operator's window).
 
@@ -340,8 +340,10 @@ def equilibrium(
             pressure[block] = result.solution
             if not result.converged:
                 return Equilibrium(
-                    displacement, pressure, contact, False, result.reason, iterations, solves,
-                    trial if trial is not None else float(xp.sum(pressure)), detached, attached,
+                    displacement=displacement, pressure=pressure, contact=contact, converged=False,
+                    reason=result.reason, cg_iterations=iterations, n_solves=solves,
+                    trial_force_sum=trial if trial is not None else float(xp.sum(pressure)),
+                    detached=detached, attached=attached,
                 )
         else:
             pressure = xp.zeros_like(target)
@@ -373,12 +375,15 @@ def equilibrium(
             attached += n_joining
             continue
         return Equilibrium(
-            displacement, pressure, contact, True, "contact set stable", iterations, solves, trial, detached,
-            attached, deflection, trial_pressure,
+            displacement=displacement, pressure=pressure, contact=contact, converged=True,
+            reason="contact set stable", cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
+            detached=detached, attached=attached, deflection=deflection, trial_pressure=trial_pressure,
         )
     return Equilibrium(
-        displacement, pressure, contact, False, f"contact set did not stabilise in {max_rounds} rounds",
-        iterations, solves, trial if trial is not None else 0.0, detached, attached,
+        displacement=displacement, pressure=pressure, contact=contact, converged=False,
+        reason=f"contact set did not stabilise in {max_rounds} rounds", cg_iterations=iterations,
+        n_solves=solves, trial_force_sum=trial if trial is not None else 0.0, detached=detached,
+        attached=attached,
     )
 
 
@@ -403,7 +408,11 @@ def polonsky_keer(
     target = xp.where(footprint, displacement - height, 0.0)
     if not bool(xp.any(target > 0)):
         zeros = xp.zeros_like(target)
-        return Equilibrium(displacement, zeros, zeros > 0, True, "no penetration", 0, 1, 0.0, 0, 0)
+        return Equilibrium(
+            displacement=displacement, pressure=zeros, contact=zeros > 0, converged=True,
+            reason="no penetration", cg_iterations=0, n_solves=1, trial_force_sum=0.0, detached=0,
+            attached=0,
+        )
     # The rigid-punch-like guess: a small uniform pressure where the tip penetrates.
     guess = xp.astype(target > 0, xp.float64) * (float(xp.max(target)) / operator.halfspace.diagonal()) * 0.1
     pressure = xp.where(footprint & (pressure > 0), pressure, 0.0)
@@ -434,8 +443,9 @@ def polonsky_keer(
         outside_penetration = bool(xp.any(footprint & ~contact & (gap < -tolerance * target_norm)))
         if relative <= tolerance and not outside_penetration and iteration > 1:
             return Equilibrium(
-                displacement, pressure, contact, True, "relative gap residual below tolerance",
-                iteration - 1, 1, float(xp.sum(pressure)), 0, 0,
+                displacement=displacement, pressure=pressure, contact=contact, converged=True,
+                reason="relative gap residual below tolerance", cg_iterations=iteration - 1, n_solves=1,
+                trial_force_sum=float(xp.sum(pressure)), detached=0, attached=0,
             )
         if relative <= tolerance and outside_penetration:
             # S is solved but elements outside it penetrate: the gradient on
@@ -458,8 +468,9 @@ def polonsky_keer(
         denominator = float(xp.sum(direction * response_full))
         if not (denominator > 0):
             return Equilibrium(
-                displacement, pressure, contact, False, "search direction lost positivity",
-                iteration, 1, float(xp.sum(pressure)), 0, 0,
+                displacement=displacement, pressure=pressure, contact=contact, converged=False,
+                reason="search direction lost positivity", cg_iterations=iteration, n_solves=1,
+                trial_force_sum=float(xp.sum(pressure)), detached=0, attached=0,
             )
         step = float(xp.sum(gap_c * direction)) / denominator
         moved = pressure - step * direction
@@ -474,6 +485,7 @@ def polonsky_keer(
             deflection = deflection + operator.deflection(change)
         pressure = projected
     return Equilibrium(
-        displacement, pressure, pressure > 0, False, f"no convergence in {max_iterations} iterations",
-        max_iterations, 1, float(xp.sum(pressure)), 0, 0,
+        displacement=displacement, pressure=pressure, contact=pressure > 0, converged=False,
+        reason=f"no convergence in {max_iterations} iterations", cg_iterations=max_iterations, n_solves=1,
+        trial_force_sum=float(xp.sum(pressure)), detached=0, attached=0,
     )
