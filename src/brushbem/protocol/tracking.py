@@ -71,7 +71,7 @@ class Tracker:
     # -- window -------------------------------------------------------------
     def _box_of(self, mask) -> tuple[int, int, int, int]:
         """Bounding box of a non-empty full-grid mask (any namespace)."""
-        return backend.bounding_box(backend.namespace(mask), mask)
+        return backend.bounding_box(self.xp, mask)
 
     def ensure_window(self, needed, margin_fraction: float | None = None) -> None:
         """Make the working window cover ``needed`` (full-grid bool) with a margin.
@@ -83,7 +83,7 @@ class Tracker:
         the contact allows.
         """
         n = self.problem.grid.elements
-        box = backend.bounding_box(backend.namespace(needed), needed)
+        box = backend.bounding_box(self.xp, needed)
         r0, r1, c0, c1 = self.footprint_box if box is None else box
         fr0, fr1, fc0, fc1 = self.footprint_box
         if self.window is not None:
