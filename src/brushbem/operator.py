@@ -17,7 +17,7 @@ constructor checks that condition and refuses layouts that violate it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from array_api_compat import is_numpy_namespace
@@ -27,7 +27,7 @@ from . import backend
 from .halfspace import HalfSpace
 from .structure import Indenter
 
-__all__ = ["ContactOperator", "ContactSystem", "Window", "discriminant_half_width", "fast_size"]
+__all__ = ["ContactOperator", "ContactSystem", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
 
 
 @dataclass(frozen=True)
@@ -125,6 +125,38 @@ def discriminant_half_width(labels: np.ndarray) -> int:
     return width
 
 
+@dataclass
+class PillarCache:
+    """What the solves of one indenter reuse across windows and contact sets.
+
+    Owned by the operators of one indenter (`ContactOperator.for_window`
+    hands it on) and filled by the pillar-block preconditioner
+    (`brushbem.solver.preconditioners`).
+
+    Attributes
+    ----------
+    centres : ndarray or None
+        (n_pillars, 2) footprint centroids, in elements of the whole grid.
+    coupling : tuple or None
+        (springs + point-load coupling, springs only): the pillars' dense
+        compliance matrices over all pillars.
+    coarse : tuple or None
+        (Cholesky factor, the pillars it was made for, their stiffnesses) of
+        the last coarse matrix, reused while it stays valid.
+    blocks : dict
+        Pillar -> (grid offsets of its last contact, inverse of its half-space
+        block): the parent a shrinking contact is downdated from.
+    signature : ndarray or None
+        Shape signature of every pillar's last contact.
+    """
+
+    centres: np.ndarray | None = None
+    coupling: tuple | None = None
+    coarse: tuple | None = None
+    blocks: dict = field(default_factory=dict)
+    signature: np.ndarray | None = None
+
+
 class ContactOperator:
     """A restricted to a window: ``apply(p, mask) = mask * (K p + springs(p))``.
 
@@ -148,7 +180,7 @@ class ContactOperator:
         window: Window,
         coupling: str = "segments",
         _levels: list | None = None,
-        _shared: dict | None = None,
+        cache: PillarCache | None = None,
     ):
         if coupling not in ("segments", "discriminant"):
             raise ValueError(f"coupling = {coupling!r} must be 'segments' or 'discriminant'")
@@ -169,7 +201,8 @@ class ContactOperator:
                 _levels.append((h2 / level.stiffness, labels, width, level))
         self._level_data = _levels
         # Per-indenter data computed on first use, shared by every window's operator.
-        self._shared = {} if _shared is None else _shared
+        #: What the solves of this indenter reuse (shared by every window's operator).
+        self.cache = PillarCache() if cache is None else cache
         self._levels = []  # (compliance h^2/k, flat labels with -1 -> dummy, n_clusters, level)
         self._sub_operators: dict[Window, ContactOperator] = {}
         rows, cols = window.shape
@@ -198,7 +231,7 @@ class ContactOperator:
     def for_window(self, window: Window) -> ContactOperator:
         """The same operator on another window (the springs' labels and widths are shared)."""
         return ContactOperator(
-            self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data, _shared=self._shared
+            self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data, cache=self.cache
         )
 
     def sub_operator(self, mask) -> tuple[tuple[slice, slice], ContactOperator]:
@@ -249,7 +282,7 @@ class ContactOperator:
 
     def pillar_centres(self) -> np.ndarray:
         """Centroid of every pillar's footprint, (n_pillars, 2) in element units of the whole grid."""
-        centres = self._shared.get("pillar_centres")
+        centres = self.cache.centres
         if centres is None:
             labels = np.asarray(backend.to_numpy(self.indenter.pillar))
             on = labels >= 0
@@ -258,7 +291,7 @@ class ContactOperator:
             counts = np.maximum(np.bincount(labels[on], minlength=n), 1)
             centres = np.stack([np.bincount(labels[on], weights=rows, minlength=n) / counts,
                                 np.bincount(labels[on], weights=cols, minlength=n) / counts], axis=1)
-            self._shared["pillar_centres"] = centres
+            self.cache.centres = centres
         return centres
 
     def system(self, mask) -> ContactSystem:

@@ -268,9 +268,11 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     # Each pillar's last block (grid coordinates, inverse) and its signature:
     # a pillar that lost a few elements since is downdated from it
     # (HalfSpace.block_inverse).
-    shared = operator._shared
-    previous = shared.setdefault("pillar_blocks", {})
-    last = shared.setdefault("pillar_signature", np.zeros(operator.indenter.n_pillars, dtype=np.uint64))
+    cache = operator.cache
+    previous = cache.blocks
+    if cache.signature is None:
+        cache.signature = np.zeros(operator.indenter.n_pillars, dtype=np.uint64)
+    last = cache.signature
     r0, c0 = operator.window.r0, operator.window.c0
 
     def grid_offsets(member: int, k: int):
@@ -343,7 +345,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
     contact suffers.  A new one is made when more than ``_COARSE_STALE`` of
     the pillars lost over ``_COARSE_DRIFT`` of their stiffness.
     """
-    cached = operator._shared.get("coarse")
+    cached = operator.cache.coarse
     if cached is not None:
         factor, pillars, reference = cached
         positions = np.searchsorted(pillars, active)
@@ -354,7 +356,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
                 stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
                 if stale <= max(2, _COARSE_STALE * pillars.size):
                     return factor, positions, base, pillars.size
-    coupling = operator._shared.get("pillar_coupling")
+    coupling = operator.cache.coupling
     if coupling is None:
         # H over all pillars (fixed): springs of every level and the point-load coupling.
         halfspace = operator.halfspace
@@ -368,7 +370,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
         np.fill_diagonal(distance, np.inf)
         coupling = (springs + h * h / (math.pi * halfspace.contact_modulus * distance), springs)
-        operator._shared["pillar_coupling"] = coupling
+        operator.cache.coupling = coupling
     selection = np.ix_(active, active)
     matrix, springs_only = coupling[0][selection], coupling[1][selection]
     for candidate in (matrix, springs_only):
@@ -378,6 +380,6 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         except np.linalg.LinAlgError:
             continue
         pillars = np.array(active)
-        operator._shared["coarse"] = (factor, pillars, stiffness.copy())
+        operator.cache.coarse = (factor, pillars, stiffness.copy())
         return factor, np.arange(active.size), stiffness, active.size
     return None
