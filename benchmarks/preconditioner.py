@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, Window
+from brushbem.operator import ContactOperator, MaskedOperator, Window
 from brushbem.solver import (
     conjugate_gradient,
     laplacian_preconditioner,
@@ -32,7 +32,7 @@ from brushbem.structure import Grid, brush, flat_punch
 
 
 def iterations(operator, mask, rhs, preconditioner) -> int:
-    result = conjugate_gradient(lambda p: operator.apply(p, mask), rhs, mask, initial=np.zeros(mask.shape),
+    result = conjugate_gradient(MaskedOperator(operator, mask), rhs, initial=np.zeros(mask.shape),
                                 tolerance=1e-8, max_iterations=20000, preconditioner=preconditioner)
     if not result.converged:
         raise RuntimeError(result.reason)
@@ -68,7 +68,7 @@ def main() -> None:
         system = operator.system(mask)
         blocked = pillar_block_preconditioner(system)
         if blocked is not None:
-            result = conjugate_gradient(system.apply, system.gather(rhs), np.ones(system.size, dtype=bool),
+            result = conjugate_gradient(system, system.gather(rhs),
                                         tolerance=1e-8, max_iterations=20000, preconditioner=blocked)
             if not result.converged:
                 raise RuntimeError(result.reason)

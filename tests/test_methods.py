@@ -23,9 +23,15 @@ import pytest
 from brushbem import theory
 from brushbem.halfspace import HalfSpace
 from brushbem.nested import nested_loop_equilibrium
-from brushbem.operator import ContactOperator, Window, discriminant_half_width
+from brushbem.operator import (
+    ContactOperator,
+    MaskedOperator,
+    Window,
+    discriminant_half_width,
+)
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
 from brushbem.solver import (
+    CallableOperator,
     conjugate_gradient,
     critical_stress,
     equilibrium,
@@ -288,10 +294,10 @@ def test_conjugate_gradient_initial_product_saves_the_first_apply():
         calls.append(1)
         return operator.apply(x, mask)
 
-    plain = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10)
+    plain = conjugate_gradient(CallableOperator(apply, mask), rhs, initial=initial, tolerance=1e-10)
     n_plain = len(calls)
     calls.clear()
-    known = conjugate_gradient(apply, rhs, mask, initial=initial, tolerance=1e-10,
+    known = conjugate_gradient(CallableOperator(apply, mask), rhs, initial=initial, tolerance=1e-10,
                                initial_product=operator.deflection(initial))
     assert len(calls) == n_plain - 1
     assert known.iterations == plain.iterations
@@ -479,7 +485,7 @@ def _direct_solve(problem, contact, displacement):
     halfspace = HalfSpace(n, grid.element_size, problem.contact_modulus)
     operator = ContactOperator(halfspace, problem.indenter, Window.full(n))
     rhs = np.where(contact, displacement - problem.indenter.height, 0.0)
-    result = conjugate_gradient(lambda x: operator.apply(x, contact), rhs, contact, tolerance=1e-12)
+    result = conjugate_gradient(MaskedOperator(operator, contact), rhs, tolerance=1e-12)
     assert result.converged, result.reason
     return result.solution
 
@@ -611,14 +617,14 @@ def test_conjugate_gradient_reports_non_convergence():
     operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), indenter, Window.full(n))
     mask = indenter.footprint
     rhs = np.where(mask, 1.0, 0.0)
-    result = conjugate_gradient(lambda x: operator.apply(x, mask), rhs, mask, max_iterations=2)
+    result = conjugate_gradient(MaskedOperator(operator, mask), rhs, max_iterations=2)
     assert result.converged is False
     assert "2 iterations" in result.reason
     assert result.iterations == 2
     assert result.residual > 1e-8 and len(result.residual_history) == 3
     assert result.residual == result.residual_history[-1]
     # The same problem does converge with enough iterations (so the flag above is about the budget).
-    full = conjugate_gradient(lambda x: operator.apply(x, mask), rhs, mask)
+    full = conjugate_gradient(MaskedOperator(operator, mask), rhs)
     assert full.converged and full.residual <= 1e-8
 
 
@@ -627,7 +633,7 @@ def test_conjugate_gradient_reports_an_indefinite_operator():
     n = grid.elements
     operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), indenter, Window.full(n))
     mask = indenter.footprint
-    result = conjugate_gradient(lambda x: -operator.apply(x, mask), np.where(mask, 1.0, 0.0), mask)
+    result = conjugate_gradient(CallableOperator(lambda x: -operator.apply(x, mask), mask), np.where(mask, 1.0, 0.0))
     assert result.converged is False
     assert "positive definite" in result.reason
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .operator import ContactOperator
+from .operator import ContactOperator, MaskedOperator
 from .solver import conjugate_gradient
 
 __all__ = ["NestedBrushResult", "NestedLoopResult", "nested_loop_brush_equilibrium", "nested_loop_equilibrium"]
@@ -182,8 +182,8 @@ def nested_loop_brush_equilibrium(
             for _inner in range(max_balance):
                 tip = displacement - deflection[np.maximum(labels, 0)]
                 rhs = xp.where(contact, tip - height, 0.0)
-                result = conjugate_gradient(lambda x: rigid_operator.apply(x, contact), rhs, contact,  # noqa: B023 - called inside the loop
-                                            initial=pressure, tolerance=tolerance, max_iterations=20000, xp=xp)
+                result = conjugate_gradient(MaskedOperator(rigid_operator, contact), rhs,
+                                            initial=pressure, tolerance=tolerance, max_iterations=20000)
                 cg_total += result.iterations
                 balance += 1
                 if not result.converged:

@@ -27,7 +27,7 @@ from . import backend
 from .halfspace import HalfSpace
 from .structure import Indenter
 
-__all__ = ["ContactOperator", "ContactSystem", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
+__all__ = ["ContactOperator", "ContactSystem", "MaskedOperator", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
 
 
 @dataclass(frozen=True)
@@ -403,6 +403,28 @@ class ContactOperator:
         return self.deflection(pressure) * mask
 
 
+class MaskedOperator:
+    """A_S on a window's arrays: ``apply(p) = mask * (K p + springs(p))`` (a `brushbem.solver.cg.SetOperator`).
+
+    Parameters
+    ----------
+    operator : ContactOperator
+        The operator of the window.
+    mask : ndarray of bool, the window's shape
+        The set S.
+    """
+
+    def __init__(self, operator: ContactOperator, mask):
+        self.operator = operator
+        self.mask = mask
+        self.xp = operator.xp
+        #: S as 0/1 floats: a cheaper mask to multiply by.
+        self.weights = operator.xp.astype(mask, operator.xp.float64)
+
+    def apply(self, values):
+        return self.operator.apply(values, self.weights)
+
+
 class ContactSystem:
     """A_S on a contact set S of a window, acting on vectors of the |S| values of S.
 
@@ -451,6 +473,11 @@ class ContactSystem:
         self._spring_sums = [(compliance, flat[self.index], n) for compliance, flat, n, _ in operator._levels]
         #: Pillar of every element of S (-1 off the pillars).
         self.pillars = np.asarray(backend.to_numpy(operator.pillar_labels)).ravel()[index]
+
+    @property
+    def mask(self):
+        """Every entry of a vector on S is on S (the `brushbem.solver.cg.SetOperator` contract)."""
+        return self.xp.ones(self.size, dtype=self.xp.bool)
 
     def gather(self, array):
         """The values of a window-shaped array on S."""

@@ -27,6 +27,8 @@ from __future__ import annotations
 from .cg import (
     ROUNDING_FLOOR,
     WARM_START_WITHIN_TOLERANCE,
+    CallableOperator,
+    SetOperator,
     SolveResult,
     conjugate_gradient,
 )
@@ -58,7 +60,9 @@ __all__ = [
     "PRECONDITIONER_SHIFT",
     "ROUNDING_FLOOR",
     "WARM_START_WITHIN_TOLERANCE",
+    "CallableOperator",
     "Equilibrium",
+    "SetOperator",
     "SolveResult",
     "conjugate_gradient",
     "contact_preconditioner",

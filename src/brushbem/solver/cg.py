@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, Protocol
 
-__all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "SolveResult", "conjugate_gradient"]
+__all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "SetOperator", "SolveResult",
+           "conjugate_gradient"]
 
 
 #: Smallest relative residual ||r|| / ||rhs|| that a CG solve is asked to
@@ -52,29 +55,53 @@ def _dot(xp, a, b) -> float:
     return float(xp.sum(a * b))
 
 
+class SetOperator(Protocol):
+    """What CG needs of an operator: A_S on the set ``mask``, in the namespace ``xp``.
+
+    ``apply(x)`` is A_S x for x zero outside the mask and is zero outside the
+    mask itself (`brushbem.operator.MaskedOperator` on a window's arrays,
+    `brushbem.operator.ContactSystem` on the |S| values of S).
+    """
+
+    mask: Any
+    xp: Any
+
+    def apply(self, x: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class CallableOperator:
+    """A `SetOperator` from a function: ``apply(x) -> A_S x`` on ``mask`` (namespace ``xp``, default: NumPy's)."""
+
+    function: Callable[[Any], Any]
+    mask: Any
+    xp: Any = None
+
+    def apply(self, x: Any) -> Any:
+        return self.function(x)
+
+
 def conjugate_gradient(
-    apply,
+    operator: SetOperator,
     rhs,
-    mask,
+    *,
     initial=None,
+    initial_product=None,
+    preconditioner=None,
     tolerance: float = 1e-8,
     max_iterations: int = 10000,
-    preconditioner=None,
-    xp=None,
-    initial_product=None,
     reference=None,
 ) -> SolveResult:
-    """Preconditioned CG for ``apply(x) = rhs`` on the elements where ``mask`` is True.
+    """Preconditioned CG for A_S x = rhs on the set S of ``operator``.
 
     Parameters
     ----------
-    apply : callable
-        ``apply(x) -> A_S x`` for x zero outside the mask; must return zero
-        outside the mask.
+    operator : SetOperator
+        ``operator.apply(x) -> A_S x`` for x zero outside ``operator.mask``
+        (the set S), zero outside it; ``operator.xp`` its namespace (None:
+        the namespace of ``rhs``).
     rhs : ndarray
-        Right-hand side (only the masked entries matter).
-    mask : ndarray of bool
-        The set S.
+        Right-hand side (only the entries on S matter).
     initial : ndarray, optional
         Warm start (restricted to the mask).
     tolerance : float
@@ -97,6 +124,7 @@ def conjugate_gradient(
         double precision resolves against ||rhs|| (``ROUNDING_FLOOR`` x
         ||rhs||), the solve stops not converged, saying so.
     """
+    apply, mask, xp = operator.apply, operator.mask, operator.xp
     if xp is None:
         from ..backend import namespace
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import backend
-from ..operator import ContactOperator
+from ..operator import ContactOperator, MaskedOperator
 from .cg import WARM_START_WITHIN_TOLERANCE, SolveResult, _norm, conjugate_gradient
 from .preconditioners import (
     BLOCK_LIMIT,
@@ -68,30 +68,26 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
         if blocked is not None:
             rhs_on_set = system.gather(rhs)
             result = conjugate_gradient(
-                system.apply,
+                system,
                 rhs_on_set,
-                xp.ones(system.size, dtype=xp.bool),
                 initial=None if initial is None else system.gather(initial),
                 tolerance=tolerance,
                 max_iterations=max_iterations,
                 preconditioner=blocked,
-                xp=xp,
                 initial_product=None if initial_product is None else system.gather(initial_product),
                 reference=lambda v: _norm(xp, rhs_on_set - system.spring_deflection(v)),
             )
             return dataclasses.replace(result, solution=system.scatter(result.solution))
-    weights = xp.astype(mask, xp.float64)  # 0/1: a cheaper mask to multiply by
+    restricted = MaskedOperator(operator, mask)
     return conjugate_gradient(
-        lambda x: operator.apply(x, weights),
+        restricted,
         rhs,
-        mask,
         initial=initial,
         tolerance=tolerance,
         max_iterations=max_iterations,
         preconditioner=contact_preconditioner(operator, mask) if preconditioner is None else preconditioner,
-        xp=xp,
         initial_product=initial_product,
-        reference=(lambda x: _norm(xp, (rhs - operator.spring_deflection(x)) * weights))
+        reference=(lambda x: _norm(xp, (rhs - operator.spring_deflection(x)) * restricted.weights))
         if operator.has_springs else None,
     )
 
