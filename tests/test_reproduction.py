@@ -119,3 +119,47 @@ def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):
     assert {name: sorted(p.name for p in paths) for name, paths in drawn.items()} == {
         name: sorted(p.name for p in paths) for name, paths in committed.items()}
     assert all(path.stat().st_size > 10_000 for paths in drawn.values() for path in paths)
+
+
+def _points(path: Path) -> tuple[dict, set[tuple]]:
+    import tomllib
+
+    spec = tomllib.loads(path.read_text(encoding="utf-8"))
+    keys = list(spec["sweep"])
+    return spec, {tuple(zip(keys, values)) for values in zip(*spec["sweep"].values())}
+
+
+def test_sampled_sweeps_are_subsets_of_the_full_sweeps():
+    """A sampled file keeps the full sweep's base, seed and realisations, and only its points.
+
+    So its cases are the full sweep's cases (same seeds and configs): a sampled
+    number is a number of the thesis-grid sweep, not of another model.
+    """
+    from brushbem.studies.base import SWEEPS_DIR
+
+    sampled = sorted(SWEEPS_DIR.glob("*.sampled.toml"))
+    assert sampled, "no sampled sweep is shipped"
+    for path in sampled:
+        full_path = path.with_name(path.name.replace(".sampled.toml", ".toml"))
+        spec, points = _points(path)
+        full, full_points = _points(full_path)
+        for key in ("base", "mode", "realizations", "seed"):
+            assert spec.get(key) == full.get(key), (path.name, key)
+        assert points and points <= full_points, path.name
+        assert len(points) < len(full_points)
+
+
+def test_the_sampled_flag_picks_a_parts_sampled_file_or_its_full_one():
+    from brushbem.studies.base import sweep_file
+
+    assert sweep_file("rough_brush", "preload", False, sampled=True).name == "rough_brush.preload.sampled.toml"
+    assert sweep_file("rough_brush", "curves", False, sampled=True).name == "rough_brush.curves.toml"
+    assert sweep_file("rough_brush", "preload", True, sampled=True).name == "rough_brush.preload.quick.toml"
+
+
+def test_a_sampled_study_is_labelled_and_recomputed_with_its_flag():
+    provenance = {"quick": False, "parts": {"preload": {"sweep_file": "rough_brush.preload.sampled.toml"}}}
+    row = ComparisonRow("rough_brush", "q", "Table 1", 1.0, 1.0, math.nan, 1, "")
+    text = render([row], {"rough_brush": provenance}, "", {})
+    assert "## `rough_brush` (thesis grid, sampled)" in text
+    assert "brushbem study rough_brush --out out/rough_brush --sampled" in text

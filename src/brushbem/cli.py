@@ -511,6 +511,9 @@ def _list_studies() -> None:
     "cases already there are not recomputed).",
 )
 @click.option("--quick", is_flag=True, help="Run the coarse sweep files (a quick check, not the thesis's grids).")
+@click.option("--sampled", is_flag=True,
+              help="Run, for the parts that ship one, the sampled subset of the full sweep (the parameter "
+                   "points that carry the thesis's stated numbers, at its grid).")
 @click.option("--list", "list_studies", is_flag=True, help="List the studies and exit.")
 @click.option("--estimate", is_flag=True,
               help="Run a few sampled cases of every part and print the expected CPU time of the study "
@@ -523,6 +526,7 @@ def study(
     name: str | None,
     out_dir: Path | None,
     quick: bool,
+    sampled: bool,
     list_studies: bool,
     estimate: bool,
     samples: int,
@@ -550,7 +554,7 @@ def study(
     if estimate:
         estimates = {}
         for part in found.parts:
-            path = studies.sweep_file(name, part, quick)
+            path = studies.sweep_file(name, part, quick, sampled)
             loaded = _load_sweep_or_exit(path, f"invalid sweep file {path.name}:")
             estimates[part] = _estimate(loaded, samples, quiet)
         _print_estimates(estimates, workers)
@@ -562,7 +566,7 @@ def study(
         _make_out(out_dir)
         try:
             outcome = studies.run_study(
-                name, out_dir, quick=quick, executor=executor, workers=workers,
+                name, out_dir, quick=quick, executor=executor, workers=workers, sampled=sampled,
                 retry_failed=retry_failed, progress=not quiet,
             )
         except sweep_module.SweepFolderError:

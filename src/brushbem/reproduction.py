@@ -220,7 +220,9 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         "`docs/reproduction/` (do not edit by hand: edit `docs/reproduction/notes.md`, or",
         "recompute a study and export its tables).  Each study's section names its",
         "grids and the command that recomputes it; \"quick\" studies ran the coarse",
-        "`*.quick.toml` sweeps, which test the machinery, not the thesis's numbers.",
+        "`*.quick.toml` sweeps, which test the machinery, not the thesis's numbers;",
+        "\"sampled\" studies ran, at the thesis's grid, the `*.sampled.toml` subsets of the",
+        "full sweeps that carry the stated numbers (`docs/reproduction/plan.md`).",
         f"Deviations above {100 * EXPLAIN_ABOVE:.0f} % are explained in the notes below.",
         "",
     ]
@@ -230,9 +232,12 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
     for name in sorted(by_study):
         provenance = provenances[name]
         quick = bool(provenance.get("quick"))
-        label = "quick" if quick else "thesis grid"
+        sampled = any(str(info.get("sweep_file", "")).endswith(".sampled.toml")
+                      for info in provenance["parts"].values())
+        label = "quick" if quick else "thesis grid, sampled" if sampled else "thesis grid"
         lines += [f"## `{name}` ({label})", ""]
-        command = f"brushbem study {name} --out out/{name}{' --quick' if quick else ''}"
+        flags = " --quick" if quick else " --sampled" if sampled else ""
+        command = f"brushbem study {name} --out out/{name}{flags}"
         lines += [
             f"Recompute: `{command}`, then `brushbem export-tables out/{name} --to docs/reproduction`.",
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",

@@ -90,14 +90,17 @@ def get_study(name: str) -> Study:
         raise StudyError(f"unknown study {name!r}; known studies: {known}") from None
 
 
-def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any = None, **options: Any) -> StudyRun:
+def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any = None, *,
+              sampled: bool = False, **options: Any) -> StudyRun:
     """Run every part of the study ``name`` into ``out_dir`` (resuming), then draw it.
 
-    The options are those of `brushbem.studies._framework.run_study`
-    (``workers``, ``retry_failed``, ``progress``, ``draw``).
+    ``sampled`` runs a part's ``.sampled.toml`` subset where one is shipped
+    (`brushbem.studies.base.sweep_file`).  The other options are those of
+    `brushbem.studies._framework.run_study` (``workers``, ``retry_failed``,
+    ``progress``, ``draw``).
     """
     study = get_study(name)
-    files = {part: sweep_file(study.name, part, quick) for part in study.parts}
+    files = {part: sweep_file(study.name, part, quick, sampled) for part in study.parts}
     return _framework.run_study(study, out_dir, quick, executor, files=files, **options)
 
 

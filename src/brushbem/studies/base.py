@@ -84,8 +84,18 @@ class Study:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
-def sweep_file(study: str, part: str, quick: bool) -> Path:
-    """The shipped sweep file of one part of a study."""
+def sweep_file(study: str, part: str, quick: bool, sampled: bool = False) -> Path:
+    """The shipped sweep file of one part of a study.
+
+    ``sampled`` asks for the part's ``.sampled.toml``: the parameter points of
+    the full sweep (same grid, seeds and case ids) that carry the thesis's
+    stated numbers, where the full product is unaffordable.  A part without
+    one runs its full sweep.
+    """
+    if sampled and not quick:
+        subset = SWEEPS_DIR / f"{study}.{part}.sampled.toml"
+        if subset.is_file():
+            return subset
     return SWEEPS_DIR / f"{study}.{part}{'.quick' if quick else ''}.toml"
 
 

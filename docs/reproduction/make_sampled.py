@@ -1,0 +1,128 @@
+"""Write the sampled subsets of the full thesis sweeps (``*.sampled.toml``).
+
+The full chapter-5 preload sweep (``rough_brush.preload.toml``, 1188 points x 10
+realisations) costs hundreds of CPU hours at the thesis's grid.  The thesis's
+stated numbers need only some of its points (``plan.md``, section 3):
+
+* the plateaus (5a-5e, 5m): k~ {10, 1, 0.55, 0.001} x sigma~ {0.01, 0.07, 2.1}
+  x F~_P {20, 15, 10};
+* the adhesion coefficient c and Table 1 (5f-5k): every k~ x every sigma~ at
+  the two smallest shipped preloads where c F~_P lies in [0.05, 0.6] by the
+  thesis's own Table 1 (c = alpha/sigma~ - beta): below 0.05 a single touching
+  pillar dominates c, above about half the plateau the response is no longer
+  linear.  Where no shipped preload is small enough (the soft brushes at
+  sigma~ = 0.01: c F~_P = 1.7 at F~_P = 0.005, k~ = 0.001) the smallest one is
+  taken, as the thesis's c at its smallest preload.  A (k~, sigma~) beyond
+  sigma~_c (c <= 0) has no linear region and is left out.
+
+Every point is copied from the full sweep with its base, seed and realisations,
+so a sampled case has the full sweep's seed and case id.  The order puts the
+points that carry numbers first (a sweep runs realisation by realisation, in
+this order): the largest-preload plateaus, c at sigma~ = 0.01, the other
+plateau preloads, then the Table 1 points by k~.
+
+    python docs/reproduction/make_sampled.py      # rewrites the sampled files
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
+F_C = 0.00849802  # eq. 5.3 at the sweep's units (its header)
+D_C = 0.00753117  # eq. 5.4-5.5
+TABLE_1 = {0.55: (0.11, 3.67), 0.1: (0.15, 4.29), 0.055: (0.18, 5.14), 0.02: (0.28, 5.6), 0.01: (0.44, 5.5),
+           0.008: (0.59, 6.56), 0.004: (0.91, 9.1), 0.002: (1.7, 15.45), 0.001: (3.32, 22.13)}
+PLATEAU_K = (10.0, 1.0, 0.55, 0.001)
+PLATEAU_SIGMA = (0.01, 0.07, 2.1)
+PLATEAU_PRELOAD = (20.0, 15.0, 10.0)
+LINEAR = (0.05, 0.6)
+
+K, STEP, SIGMA, PRELOAD = ("indenter.stiffness_ratio", "protocol.step", "indenter.roughness.sigma",
+                           "protocol.preload_force")
+
+
+def _close(a: float, b: float) -> bool:
+    return math.isclose(a, b, rel_tol=2e-3)
+
+
+def thesis_c(k: float, sigma_tilde: float) -> float:
+    alpha, critical = TABLE_1[min(k, 0.55)]
+    return alpha / sigma_tilde - alpha / critical
+
+
+def select(points: list[dict]) -> list[dict]:
+    def tilde(p):
+        return p[K], p[SIGMA] / D_C, p[PRELOAD] / F_C
+
+    chosen: list[dict] = []
+
+    def take(p):
+        if all(p is not q for q in chosen):
+            chosen.append(p)
+
+    def plateau(preloads):
+        for p in points:
+            k, s, f = tilde(p)
+            if (any(_close(k, x) for x in PLATEAU_K) and any(_close(s, x) for x in PLATEAU_SIGMA)
+                    and any(_close(f, x) for x in preloads)):
+                take(p)
+
+    def linear(p_list):
+        groups: dict[tuple, list[dict]] = {}
+        for p in p_list:
+            k, s, _ = tilde(p)
+            groups.setdefault((k, round(s, 4)), []).append(p)
+        picked = []
+        for (k, s), group in groups.items():
+            c = thesis_c(k, s)
+            if c <= 0:
+                continue
+            inside = sorted((p for p in group if LINEAR[0] <= c * tilde(p)[2] <= LINEAR[1]), key=lambda p: p[PRELOAD])
+            picked += inside[:2] or sorted(group, key=lambda p: p[PRELOAD])[:1]
+        return picked
+
+    plateau(PLATEAU_PRELOAD[:1])
+    for p in linear([p for p in points if _close(tilde(p)[1], 0.01)]):
+        take(p)
+    plateau(PLATEAU_PRELOAD[1:])
+    for p in sorted(linear(points), key=lambda p: (-p[K], p[SIGMA], p[PRELOAD])):
+        take(p)
+    return chosen
+
+
+def _value(x) -> str:
+    return repr(float(x))
+
+
+def write(study: str, part: str) -> Path:
+    full = SWEEPS / f"{study}.{part}.toml"
+    text = full.read_text(encoding="utf-8")
+    spec = tomllib.loads(text)
+    keys = list(spec["sweep"])
+    points = [dict(zip(keys, values)) for values in zip(*spec["sweep"].values())]
+    chosen = select(points)
+    header = [line for line in text.splitlines() if line.startswith("#")]
+    base_line = next(line for line in text.splitlines() if line.startswith("base = "))
+    lines = header + [
+        f"# SAMPLED subset of {full.name} ({len(chosen)} of its {len(points)} points, the same base, seed and",
+        "# realisations, so the same case ids): the points that carry the thesis's stated numbers, written",
+        "# by docs/reproduction/make_sampled.py (which states the rule); plateaus first.",
+        base_line,
+        f'mode = "{spec.get("mode", "zip")}"',
+        f"realizations = {spec['realizations']}",
+        f"seed = {spec['seed']}",
+        "",
+        "[sweep]",
+    ]
+    for key in keys:
+        lines.append(f'"{key}" = [' + ", ".join(_value(p[key]) for p in chosen) + "]")
+    out = SWEEPS / f"{study}.{part}.sampled.toml"
+    out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return out
+
+
+if __name__ == "__main__":
+    print(write("rough_brush", "preload"))
