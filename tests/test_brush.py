@@ -519,7 +519,7 @@ def test_nested_loop_per_pillar_equals_the_coupled_operator():
     for the per-pillar force balance, stopped at 100 x tolerance).
     """
     from brushbem.nested import nested_loop_brush_equilibrium
-    from brushbem.solver import critical_stress, equilibrium
+    from brushbem.solver import Settings, Start, critical_stress, equilibrium
 
     grid = Grid(1.0, 64)
     indenter = brush(grid, layout="square", pillars_per_side=5, pillar_radius=0.06, contact_modulus=E_STAR,
@@ -531,7 +531,8 @@ def test_nested_loop_per_pillar_equals_the_coupled_operator():
     c1 = c2 = indenter.footprint
     p1 = p2 = np.zeros(indenter.height.shape)
     for d in (0.004, 0.0, -0.04, -0.068, -0.0713):
-        a = equilibrium(coupled, indenter.height, d, c1, p1, critical, tolerance=1e-10)
+        a = equilibrium(coupled, indenter.height, d, Start(contact=c1, pressure=p1), critical=critical,
+                        settings=Settings(tolerance=1e-10))
         b = nested_loop_brush_equilibrium(rigid, indenter.pillar, indenter.height, d, 0.05, c2, p2, critical)
         assert a.converged and b.converged
         np.testing.assert_array_equal(a.contact, b.contact)
@@ -631,7 +632,13 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     attached), which is why their agreement is tested on real pull-offs
     (above), where a cascade starts at one element on the threshold.
     """
-    from brushbem.solver import critical_stress, equilibrium, tip_deflection
+    from brushbem.solver import (
+        Settings,
+        Start,
+        critical_stress,
+        equilibrium,
+        tip_deflection,
+    )
 
     indenter = _brush(stiffness=1e-3)
     halfspace = HalfSpace(GRID.elements, GRID.element_size, E_STAR)
@@ -639,8 +646,10 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     critical = critical_stress(E_STAR, DGAMMA, GRID.element_size)
     height = indenter.height
     d = -1e-4
-    pressed = equilibrium(operator, height, 2e-3, indenter.footprint, np.zeros(height.shape), critical)
-    start = equilibrium(operator, height, d, pressed.contact, pressed.pressure, critical)
+    pressed = equilibrium(operator, height, 2e-3, Start(contact=indenter.footprint, pressure=np.zeros(height.shape)),
+                          critical=critical)
+    start = equilibrium(operator, height, d, Start(contact=pressed.contact, pressure=pressed.pressure),
+                        critical=critical)
     assert start.converged and float(start.pressure.min()) < 0
     on_pillar = start.contact & (indenter.pillar == 5)
     weakest = np.where(on_pillar, start.pressure, np.inf)
@@ -648,8 +657,8 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     critical = fraction * float(-start.pressure.min())
     solves = {}
     for cascade in ("local", "global"):
-        eq = equilibrium(operator, height, d, start.contact, start.pressure, critical,
-                         force_detach=forced, cascade=cascade)
+        eq = equilibrium(operator, height, d, Start(contact=start.contact, pressure=start.pressure, detach=forced),
+                         critical=critical, settings=Settings(cascade=cascade))
         assert eq.converged, eq.reason
         contact = eq.contact
         gap = tip_deflection(operator, eq.pressure) - (d - height)
@@ -664,4 +673,4 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     # The pillars peel in local rounds instead of global solves.
     assert solves["local"] < solves["global"]
     with pytest.raises(ValueError, match="cascade"):
-        equilibrium(operator, height, d, start.contact, start.pressure, critical, cascade="fast")
+        Settings(cascade="fast")

@@ -32,6 +32,8 @@ from brushbem.operator import (
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
 from brushbem.solver import (
     CallableOperator,
+    Settings,
+    Start,
     conjugate_gradient,
     critical_stress,
     equilibrium,
@@ -86,7 +88,8 @@ def _compare_nested_and_coupled(grid, rigid, soft, stiffness, displacements):
         nested = nested_loop_equilibrium(
             rigid_operator, height, d, stiffness, contact_n, pressure_n, sigma_c, tolerance=1e-10
         )
-        coupled = equilibrium(coupled_operator, height, d, contact_c, pressure_c, sigma_c, tolerance=1e-10)
+        coupled = equilibrium(coupled_operator, height, d, Start(contact=contact_c, pressure=pressure_c),
+                              critical=sigma_c, settings=Settings(tolerance=1e-10))
         assert nested.converged, (d, nested.reason)
         assert coupled.converged, (d, coupled.reason)
         # Same contact set, element by element.
@@ -250,12 +253,13 @@ def test_equilibrium_on_the_block_agrees_with_the_whole_window():
     sigma_c = critical_stress(E_STAR, DGAMMA, grid.element_size)
     zeros = np.zeros((grid.elements, grid.elements))
     d = 0.3 * A_JKR**2 / SPHERE_RADIUS
-    block = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c, tolerance=1e-11)
+    block = equilibrium(operator, indenter.height, d, Start(contact=zeros > 0, pressure=zeros), critical=sigma_c,
+                        settings=Settings(tolerance=1e-11))
     # A caller's preconditioner makes equilibrium solve on the whole window; the
     # Laplacian with an all-true mask is the same M^-1 on every contact set.
     everywhere = laplacian_preconditioner(np.ones((grid.elements, grid.elements), dtype=bool))
-    whole = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c, tolerance=1e-11,
-                        preconditioner=everywhere)
+    whole = equilibrium(operator, indenter.height, d, Start(contact=zeros > 0, pressure=zeros), critical=sigma_c,
+                        settings=Settings(tolerance=1e-11, window_preconditioner=everywhere))
     assert block.converged and whole.converged
     assert np.array_equal(block.contact, whole.contact)
     scale = float(np.max(np.abs(whole.pressure)))
@@ -305,7 +309,7 @@ def test_conjugate_gradient_initial_product_saves_the_first_apply():
 
 
 def test_equilibrium_with_a_known_deflection_agrees():
-    """equilibrium(deflection=K p) with forced leaves and joins = equilibrium without it."""
+    """equilibrium from a Start with deflection=K p, forced leaves and joins = the same without it."""
     grid = _sphere_grid(40)
     indenter = sphere(grid, SPHERE_RADIUS)
     operator = ContactOperator(HalfSpace(grid.elements, grid.element_size, E_STAR), indenter,
@@ -313,7 +317,7 @@ def test_equilibrium_with_a_known_deflection_agrees():
     sigma_c = critical_stress(E_STAR, DGAMMA, grid.element_size)
     zeros = np.zeros((grid.elements, grid.elements))
     d = 0.3 * A_JKR**2 / SPHERE_RADIUS
-    start = equilibrium(operator, indenter.height, d, zeros > 0, zeros, sigma_c)
+    start = equilibrium(operator, indenter.height, d, Start(contact=zeros > 0, pressure=zeros), critical=sigma_c)
     assert start.converged and start.deflection is not None
     # Force out the most tensile element and its mirror images, force in a ring element.
     tension = np.where(start.contact, start.pressure, np.inf)
@@ -321,10 +325,11 @@ def test_equilibrium_with_a_known_deflection_agrees():
     gap = np.where(np.isfinite(indenter.height) & ~start.contact, indenter.height, np.inf)
     join = gap <= gap.min() * (1 + 1e-9)
     for d_new in (d, 0.9 * d):
-        kwargs = {"force_detach": leave, "force_attach": join, "tolerance": 1e-10}
-        plain = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c, **kwargs)
-        known = equilibrium(operator, indenter.height, d_new, start.contact, start.pressure, sigma_c,
-                            deflection=start.deflection, **kwargs)
+        settings = Settings(tolerance=1e-10)
+        event = {"contact": start.contact, "pressure": start.pressure, "detach": leave, "attach": join}
+        plain = equilibrium(operator, indenter.height, d_new, Start(**event), critical=sigma_c, settings=settings)
+        known = equilibrium(operator, indenter.height, d_new, Start(**event, deflection=start.deflection),
+                            critical=sigma_c, settings=settings)
         assert plain.converged and known.converged
         assert np.array_equal(plain.contact, known.contact)
         scale = float(np.max(np.abs(plain.pressure)))
@@ -643,8 +648,8 @@ def test_equilibrium_reports_non_convergence():
     n = grid.elements
     operator = ContactOperator(HalfSpace(n, grid.element_size, E_STAR), indenter, Window.full(n))
     state = equilibrium(
-        operator, indenter.height, 0.01, indenter.footprint, np.zeros((n, n)),
-        critical_stress(E_STAR, DGAMMA, grid.element_size), max_iterations=2,
+        operator, indenter.height, 0.01, Start(contact=indenter.footprint, pressure=np.zeros((n, n))),
+        critical=critical_stress(E_STAR, DGAMMA, grid.element_size), settings=Settings(max_iterations=2),
     )
     assert state.converged is False and "2 iterations" in state.reason
 

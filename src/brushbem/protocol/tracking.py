@@ -12,6 +12,8 @@ from ..halfspace import HalfSpace
 from ..operator import ContactOperator, Window, fast_size
 from ..solver import (
     Equilibrium,
+    Settings,
+    Start,
     equilibrium,
     penetration,
     polonsky_keer,
@@ -36,6 +38,7 @@ class Tracker:
     def __init__(self, problem: ContactProblem, path: LoadPath):
         self.problem = problem
         self.path = path
+        self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
         self.xp = xp
         grid = problem.grid
@@ -180,15 +183,13 @@ class Tracker:
                     self.path.tolerance, self.path.max_iterations,
                 )
             else:
-                eq = equilibrium(
-                    self.operator, height, displacement, self.contact[sl], self.pressure[sl], self.critical,
-                    tolerance=self.path.tolerance, max_iterations=self.path.max_iterations,
-                    force_detach=None if force_detach is None else force_detach[sl],
-                    force_attach=None if force_attach is None else force_attach[sl],
-                    deflection=self.known_deflection(),
-                    cascade=self.path.cascade,
-                    length_scale=self.length_scale,
+                start = Start(
+                    contact=self.contact[sl], pressure=self.pressure[sl], deflection=self.known_deflection(),
+                    detach=None if force_detach is None else force_detach[sl],
+                    attach=None if force_attach is None else force_attach[sl],
                 )
+                eq = equilibrium(self.operator, height, displacement, start, critical=self.critical,
+                                 settings=self.settings, length_scale=self.length_scale)
             iterations += eq.cg_iterations
             solves += eq.n_solves
             if trial is None:

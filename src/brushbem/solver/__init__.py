@@ -35,6 +35,8 @@ from .cg import (
 from .equilibria import (
     ELEMENT_ENERGY_COEFFICIENT,
     Equilibrium,
+    Settings,
+    Start,
     critical_stress,
     equilibrium,
     local_cascade,
@@ -63,7 +65,9 @@ __all__ = [
     "CallableOperator",
     "Equilibrium",
     "SetOperator",
+    "Settings",
     "SolveResult",
+    "Start",
     "conjugate_gradient",
     "contact_preconditioner",
     "critical_stress",

@@ -22,6 +22,8 @@ from .preconditioners import (
 __all__ = [
     "ELEMENT_ENERGY_COEFFICIENT",
     "Equilibrium",
+    "Settings",
+    "Start",
     "critical_stress",
     "equilibrium",
     "local_cascade",
@@ -219,21 +221,85 @@ def penetration(operator: ContactOperator, height, displacement: float, pressure
     return displacement - height - tip_deflection(operator, pressure)
 
 
+@dataclass(frozen=True, kw_only=True)
+class Settings:
+    """How an equilibrium is solved: tolerances, limits, the cascade and the solves' scope.
+
+    Attributes
+    ----------
+    tolerance : float
+        Relative residual of every CG solve; an element joins S when it
+        penetrates by more than ``10 * tolerance`` times the problem's length
+        scale (`equilibrium`).
+    max_iterations : int
+        CG iterations per solve.
+    max_rounds : int
+        Leave/join rounds before the contact set is declared not stable.
+    cascade : {"local", "global"}
+        How the detachment rounds of a brush run.  "global": every round is a
+        solve on the whole contact set (the thesis's loop).  "local" (on
+        structures of two or more pillars; the others always run "global"):
+        the pillars that lose elements peel in rounds of their own
+        (`local_cascade`), with the rest of the structure held, and a global
+        solve then adds the far field and checks every element again.  Both
+        end in a state where no element exceeds the criterion and none
+        penetrates; they may differ in which elements a cascade takes along
+        when one is within the far field's change of the threshold.
+    window_preconditioner : callable, optional
+        M^-1 on the window's arrays.  With one, every solve runs on the whole
+        window with it and the cascade is global; without one (the default),
+        a solve runs on the block around S with the preconditioner that
+        `solve_on_set` chooses, and the cascade follows ``cascade``.
+    """
+
+    tolerance: float = 1e-8
+    max_iterations: int = 10000
+    max_rounds: int = 100000
+    cascade: str = "local"
+    window_preconditioner: object = None
+
+    def __post_init__(self) -> None:
+        if self.cascade not in ("local", "global"):
+            raise ValueError(f"cascade = {self.cascade!r} must be 'local' or 'global'")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Start:
+    """The state an equilibrium starts from (on the operator's window), and the event applied to it.
+
+    Attributes
+    ----------
+    contact : ndarray of bool
+        Contact set to start from (the history).
+    pressure : ndarray
+        Warm start.
+    deflection : ndarray, optional
+        ``operator.tip_deflection(pressure)``, when the caller knows it (the
+        event-driven path does: the state is affine between events).  It is
+        kept in step while nothing is solved: the first solve starts without
+        applying the operator, and when that solve finds the warm start
+        within tolerance (an attachment exactly at the touching point does
+        not change the pressure) the join check needs no transform either.
+    detach, attach : ndarray of bool, optional
+        Elements that leave / join S before the first solve (the event that
+        the event-driven path has reached exactly).
+    """
+
+    contact: object
+    pressure: object
+    deflection: object = None
+    detach: object = None
+    attach: object = None
+
+
 def equilibrium(
     operator: ContactOperator,
     height,
     displacement: float,
-    contact,
-    pressure,
+    start: Start,
+    *,
     critical: float,
-    tolerance: float = 1e-8,
-    max_iterations: int = 10000,
-    max_rounds: int = 100000,
-    preconditioner=None,
-    force_detach=None,
-    force_attach=None,
-    deflection=None,
-    cascade: str = "local",
+    settings: Settings = Settings(),
     length_scale: float = 0.0,
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
@@ -245,36 +311,13 @@ def equilibrium(
         Tip heights on the operator's window (inf outside the footprints).
     displacement : float
         d, in units of length.
-    contact : ndarray of bool
-        Contact set to start from (history).
-    pressure : ndarray
-        Warm start.
+    start : Start
+        The contact set, pressure (and deflection if known) to start from,
+        with the elements forced to leave or join first.
     critical : float
         Sigma_c; 0 means no adhesion (elements leave when p < 0).
-    preconditioner : callable, optional
-        M^-1 on the window's arrays, instead of the Laplacian preconditioner
-        (the solves then run on the whole window rather than on the block
-        around S).
-    force_detach, force_attach : ndarray of bool, optional
-        Elements that leave / join S before the first solve (the event that
-        the event-driven path has reached exactly).
-    deflection : ndarray, optional
-        ``operator.tip_deflection(pressure)``, when the caller knows it (the
-        event-driven path does: the state is affine between events).  It is
-        kept in step while nothing is solved: the first solve starts without
-        applying the operator, and when that solve finds the warm start
-        within tolerance (an attachment exactly at the touching point does
-        not change the pressure) the join check needs no transform either.
-    cascade : {"local", "global"}
-        How the detachment rounds of a brush run.  "global": every round is a
-        solve on the whole contact set (the thesis's loop).  "local" (on
-        structures of two or more pillars; the others always run "global"):
-        the pillars that lose elements peel in rounds of their own
-        (`local_cascade`), with the rest of the structure held, and a global
-        solve then adds the far field and checks every element again.  Both
-        end in a state where no element exceeds the criterion and none
-        penetrates; they may differ in which elements a cascade takes along
-        when one is within the far field's change of the threshold.
+    settings : Settings
+        Tolerances, limits, cascade and solve scope.
     length_scale : float
         The load path's displacement scale (the largest |d| so far), in
         units of length.  An element joins S when it penetrates by more than
@@ -282,52 +325,36 @@ def equilibrium(
         of this, |d| and the largest |d - height|; near d = 0 (a flat tip
         pulled back to its zero without adhesion) |d| alone would let
         rounding errors of the pressure keep the contact forever.
+
+    The loop (solve on S, drop the elements beyond the criterion, add the
+    penetrating ones, until neither happens) is written out in one function:
+    its state (contact, pressure, the known deflection, the counts) threads
+    through every branch, and split into pieces it would pass 8 values in and
+    out of each.
     """
-    if cascade not in ("local", "global"):
-        raise ValueError(f"cascade = {cascade!r} must be 'local' or 'global'")
     xp = operator.xp
     footprint = xp.isfinite(height)
-    contact = contact & footprint
-    detached = attached = 0
-    local = cascade == "local" and preconditioner is None and operator.indenter.n_pillars >= 2
-    if force_detach is not None and local and bool(xp.any(contact & force_detach)):
-        # The caller's state is an equilibrium: the cascade starts on the pillars.
-        cascaded = local_cascade(operator, contact, xp.where(contact, pressure, 0.0), force_detach, critical)
-        if cascaded is not None:
-            contact, pressure, n_left = cascaded
-            detached += n_left
-            force_detach = None
-            deflection = None
-    if force_detach is not None:
-        detached += int(xp.count_nonzero(contact & force_detach))
-        contact = contact & ~force_detach
-    if force_attach is not None:
-        joining = force_attach & footprint & ~contact
-        attached += int(xp.count_nonzero(joining))
-        contact = contact | joining
+    local = (settings.cascade == "local" and settings.window_preconditioner is None
+             and operator.indenter.n_pillars >= 2)
+    contact, pressure, deflection, detached, attached = _apply_event(operator, footprint, start, critical, local)
     target = xp.where(footprint, displacement - height, 0.0)
-    if deflection is not None:
-        # The pressure outside the new set (elements forced to leave) is dropped.
-        deflection = deflection - operator.element_deflection(pressure, ~contact)
-    pressure = xp.where(contact, pressure, 0.0)
     iterations = solves = 0
     trial = trial_pressure = None
     # Penetration tolerance: the solve's accuracy in units of length.
     scale = float(xp.max(xp.abs(target))) if bool(xp.any(footprint)) else 0.0
-    slack = 10.0 * tolerance * max(scale, abs(displacement), length_scale, 1e-300)
-    for _ in range(max_rounds):
+    slack = 10.0 * settings.tolerance * max(scale, abs(displacement), length_scale, 1e-300)
+
+    def state(converged: bool, reason: str, **extra) -> Equilibrium:
+        return Equilibrium(
+            displacement=displacement, pressure=pressure, contact=contact, converged=converged, reason=reason,
+            cg_iterations=iterations, n_solves=solves,
+            trial_force_sum=trial if trial is not None else (float(xp.sum(pressure)) if solves else 0.0),
+            detached=detached, attached=attached, **extra,
+        )
+
+    for _ in range(settings.max_rounds):
         if bool(xp.any(contact)):
-            # The solve only needs the deflection on S: run it on the block
-            # around S (a caller's preconditioner works on the whole window).
-            if preconditioner is None:
-                block, block_operator = operator.sub_operator(contact)
-            else:
-                block, block_operator = operator.window.slices_local, operator
-            block_contact = contact[block]
-            result = solve_on_set(
-                block_operator, block_contact, target[block], pressure[block],
-                None if deflection is None else deflection[block], tolerance, max_iterations, preconditioner,
-            )
+            result, block = _solve(operator, contact, target, pressure, deflection, settings)
             iterations += result.iterations
             solves += 1
             if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
@@ -335,12 +362,7 @@ def equilibrium(
             pressure = xp.zeros_like(target)
             pressure[block] = result.solution
             if not result.converged:
-                return Equilibrium(
-                    displacement=displacement, pressure=pressure, contact=contact, converged=False,
-                    reason=result.reason, cg_iterations=iterations, n_solves=solves,
-                    trial_force_sum=trial if trial is not None else float(xp.sum(pressure)),
-                    detached=detached, attached=attached,
-                )
+                return state(False, result.reason)
         else:
             pressure = xp.zeros_like(target)
         if trial is None:
@@ -370,17 +392,51 @@ def equilibrium(
             contact = contact | joining
             attached += n_joining
             continue
-        return Equilibrium(
-            displacement=displacement, pressure=pressure, contact=contact, converged=True,
-            reason="contact set stable", cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
-            detached=detached, attached=attached, deflection=deflection, trial_pressure=trial_pressure,
-        )
-    return Equilibrium(
-        displacement=displacement, pressure=pressure, contact=contact, converged=False,
-        reason=f"contact set did not stabilise in {max_rounds} rounds", cg_iterations=iterations,
-        n_solves=solves, trial_force_sum=trial if trial is not None else 0.0, detached=detached,
-        attached=attached,
+        return state(True, "contact set stable", deflection=deflection, trial_pressure=trial_pressure)
+    return state(False, f"contact set did not stabilise in {settings.max_rounds} rounds")
+
+
+def _apply_event(operator: ContactOperator, footprint, start: Start, critical: float, local: bool):
+    """The start's contact, pressure and deflection after its forced leaves and joins, and their counts."""
+    xp = operator.xp
+    contact = start.contact & footprint
+    pressure, deflection, detach = start.pressure, start.deflection, start.detach
+    detached = attached = 0
+    if detach is not None and local and bool(xp.any(contact & detach)):
+        # The caller's state is an equilibrium: the cascade starts on the pillars.
+        cascaded = local_cascade(operator, contact, xp.where(contact, pressure, 0.0), detach, critical)
+        if cascaded is not None:
+            contact, pressure, detached = cascaded
+            detach = deflection = None
+    if detach is not None:
+        detached += int(xp.count_nonzero(contact & detach))
+        contact = contact & ~detach
+    if start.attach is not None:
+        joining = start.attach & footprint & ~contact
+        attached += int(xp.count_nonzero(joining))
+        contact = contact | joining
+    if deflection is not None:
+        # The pressure outside the new set (elements forced to leave) is dropped.
+        deflection = deflection - operator.element_deflection(pressure, ~contact)
+    return contact, xp.where(contact, pressure, 0.0), deflection, detached, attached
+
+
+def _solve(operator: ContactOperator, contact, target, pressure, deflection, settings: Settings):
+    """One solve on S: on the block around S, or on the whole window with the settings' preconditioner.
+
+    Returns the solve's result and the slices of the window it covers.
+    """
+    if settings.window_preconditioner is None:
+        # The solve only needs the deflection on S: run it on the block around S.
+        block, block_operator = operator.sub_operator(contact)
+    else:
+        block, block_operator = operator.window.slices_local, operator
+    result = solve_on_set(
+        block_operator, contact[block], target[block], pressure[block],
+        None if deflection is None else deflection[block], settings.tolerance, settings.max_iterations,
+        settings.window_preconditioner,
     )
+    return result, block
 
 
 def polonsky_keer(

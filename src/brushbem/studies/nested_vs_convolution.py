@@ -26,7 +26,7 @@ import numpy as np
 from brushbem.halfspace import HalfSpace
 from brushbem.nested import nested_loop_brush_equilibrium, nested_loop_equilibrium
 from brushbem.operator import ContactOperator, Window
-from brushbem.solver import equilibrium
+from brushbem.solver import Settings, Start, equilibrium
 from brushbem.structure import Grid, Indenter, brush, flat_punch, sphere
 from brushbem.studies._common import new_figure, save
 from brushbem.studies.base import Study
@@ -61,8 +61,10 @@ def compute(elements: int = ELEMENTS, tolerance: float = 1e-10) -> dict[str, np.
         start = indenter.footprint & (indenter.height <= DEPTH)
         zeros = np.zeros(indenter.height.shape)
         results = {
-            "rigid": equilibrium(rigid, indenter.height, DEPTH, start, zeros, 0.0, tolerance),
-            "convolution": equilibrium(coupled, indenter.height, DEPTH, start, zeros, 0.0, tolerance),
+            "rigid": equilibrium(rigid, indenter.height, DEPTH, Start(contact=start, pressure=zeros),
+                                 critical=0.0, settings=Settings(tolerance=tolerance)),
+            "convolution": equilibrium(coupled, indenter.height, DEPTH, Start(contact=start, pressure=zeros),
+                                       critical=0.0, settings=Settings(tolerance=tolerance)),
         }
         if indenter.n_pillars == 1:
             nested = nested_loop_equilibrium(rigid, indenter.height, DEPTH, STIFFNESS, start, zeros, 0.0, tolerance)
