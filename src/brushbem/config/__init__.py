@@ -1,0 +1,80 @@
+"""Validated run configuration: the TOML file a user writes, checked at the edge.
+
+A run is described by one TOML file with the tables ``[halfspace]``, ``[grid]``,
+``[indenter]``, ``[protocol]`` and (optionally) ``[solver]``.  Every number is
+dimensional, in whatever consistent units the user chooses (length, stress,
+force = stress x length^2, stiffness = force / length).
+
+Sign convention (the same everywhere in brushbem): the base displacement ``d``
+is positive when the indenter presses into the half-space; pressure and force
+are positive when compressive.
+
+The numerics never see these models' validation logic: they receive the frozen,
+already-checked values.  Validation reports *every* problem of a file at once,
+one line per problem, each naming the dotted key, the value found and what is
+allowed, so that a user fixes a file in one pass instead of one error per run.
+
+This package is the schema: the fields and the rules between keys.  Rules that
+need the rasterised structure (overlapping pillars, a preload that never
+reaches the lowest element) belong to `brushbem.assembly`, which passes them
+in as ``rules`` (`StructureRules`) and builds the problem from the same
+rasterisation; ``brushbem.assembly.load_config`` is the complete check.
+
+Modules (each imports only those above it; `rules` names the models for
+type checking only):
+
+- `brushbem.config.limits`: the bounds on input (`MAGNITUDE_RANGE`,
+  `MAX_CONFIG_BYTES`, the deepest nesting, the most problems listed, the
+  longest value shown).
+- `brushbem.config.errors`: `ConfigError` and the problem lines:
+  `show_value`, what a field allows, pydantic errors turned into lines.
+- `brushbem.config.files`: the ``.npy`` files a configuration names,
+  resolved and read header first, never unpickled.
+- `brushbem.config.rules`: `Problem`, `StructureRules`, and the rules
+  between sections (punch and sphere resolution, height-map shape, memory).
+- `brushbem.config.schema`: the section models (`HalfSpaceConfig`,
+  `GridConfig`, `IndenterConfig` and its tables, `ProtocolConfig`,
+  `SolverConfig`, `RunConfig`) with the rules between a table's keys.
+- `brushbem.config.loading`: `load_config`, `parse_config`,
+  `config_to_dict` and `to_json_safe`.
+"""
+
+from __future__ import annotations
+
+from .errors import ConfigError, show_value
+from .limits import MAGNITUDE_RANGE as MAGNITUDE_RANGE
+from .limits import MAX_CONFIG_BYTES as MAX_CONFIG_BYTES
+from .loading import config_to_dict, load_config, parse_config, to_json_safe
+from .rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
+from .rules import Problem, StructureRules
+from .schema import (
+    GridConfig,
+    HalfSpaceConfig,
+    IndenterConfig,
+    LevelConfig,
+    ProfileConfig,
+    ProtocolConfig,
+    RoughnessConfig,
+    RunConfig,
+    SolverConfig,
+)
+
+__all__ = [
+    "ConfigError",
+    "GridConfig",
+    "HalfSpaceConfig",
+    "IndenterConfig",
+    "LevelConfig",
+    "Problem",
+    "ProfileConfig",
+    "ProtocolConfig",
+    "RoughnessConfig",
+    "RunConfig",
+    "SolverConfig",
+    "StructureRules",
+    "config_to_dict",
+    "load_config",
+    "parse_config",
+    "show_value",
+    "to_json_safe",
+]

@@ -1,0 +1,253 @@
+"""Reading a configuration (a TOML file or a mapping) into a `RunConfig`, and writing one back.
+
+`load_config` reads the file within its limits (`brushbem.config.limits`);
+`parse_config` validates each section on its own and the rules between
+sections on those that validated, so that one `ConfigError` lists every
+problem.  `config_to_dict` gives the resolved configuration as JSON-able data
+that re-parses to an equal `RunConfig`.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from types import NoneType, UnionType
+from typing import Any, Union, get_args, get_origin
+
+import numpy as np
+from pydantic import BaseModel, ValidationError
+
+from .errors import ConfigError, _capped, _dotted, _problem_lines, _show
+from .limits import _MAX_DEPTH, MAX_CONFIG_BYTES
+from .rules import StructureRules, _cross_section_problems
+from .schema import _SECTIONS, RunConfig, _Section
+
+__all__ = ["config_to_dict", "load_config", "parse_config", "to_json_safe"]
+
+
+def _skipped_rule_lines(
+    items: list[dict[str, Any]], model: type[BaseModel], raw: Any, prefix: tuple[Any, ...]
+) -> list[str]:
+    """Problems of the rules between keys that pydantic skipped in a failed table.
+
+    ``items`` are the table's pydantic errors (locations relative to it).  If
+    any of its values failed, its after-validator did not run; its rules are
+    applied here to the keys as given, so that one pass reports them too.
+    The same holds for each ``[[indenter.levels]]`` table.
+    """
+    if not (isinstance(raw, Mapping) and isinstance(model, type) and issubclass(model, _Section)):
+        return []
+    lines = []
+    rules_ran = any(item["type"] == "config_rules" and not item["loc"] for item in items)
+    if items and not rules_ran and any(item["loc"] for item in items):
+        given = model.model_construct(**{k: v for k, v in raw.items() if k in model.model_fields})
+        for problem in given._rule_problems():
+            lines.append(f"`{_dotted(prefix + (problem.key,))}`: {problem.value} — {problem.allowed}")
+    for name, field in model.model_fields.items():  # lists of tables, e.g. [[indenter.levels]]
+        annotation = field.annotation
+        if get_origin(annotation) in (Union, UnionType):  # X | None
+            annotation = next(a for a in get_args(annotation) if a is not NoneType)
+        if get_origin(annotation) is not tuple or not isinstance(raw.get(name), list):
+            continue
+        for i, table in enumerate(raw[name]):
+            nested = [
+                {**item, "loc": tuple(item["loc"])[2:]}
+                for item in items
+                if tuple(item["loc"])[:2] == (name, i)
+            ]
+            lines.extend(_skipped_rule_lines(nested, get_args(annotation)[0], table, prefix + (name, i)))
+    return lines
+
+
+def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None, *,
+                 rules: StructureRules | None = None) -> RunConfig:
+    """Validate a configuration mapping (a parsed TOML document).
+
+    Parameters
+    ----------
+    mapping : mapping
+        The document: tables ``halfspace``, ``grid``, ``indenter``,
+        ``protocol`` and optionally ``solver``.
+    base_dir : path, optional
+        Folder against which relative file names (``indenter.file``) are
+        resolved; the current directory if not given.
+    rules : StructureRules, optional
+        The rules on the rasterised structure (`brushbem.assembly`); without
+        them only the schema and the rules between keys are checked.
+
+    Returns
+    -------
+    RunConfig
+
+    Raises
+    ------
+    ConfigError
+        Listing every problem found: each section is validated on its own, and
+        the rules between sections run on every section that validated, so one
+        pass reports them all.
+    """
+    if not isinstance(mapping, Mapping):
+        raise ConfigError([f"``: {_show(mapping)} — must be a table of sections"])
+    deep = _too_deep(mapping)
+    if deep is not None:
+        where = _dotted(deep)
+        raise ConfigError([f"`{where}`: nested more than {_MAX_DEPTH} levels deep — a configuration nests at most 4"])
+    context = {"base_dir": Path(base_dir) if base_dir is not None else Path.cwd()}
+    problems: list[str] = []
+    for key in mapping:
+        if key not in _SECTIONS:
+            problems.append(
+                f"`{key}`: {_show(mapping[key])} — unknown key (allowed: {', '.join(_SECTIONS)})"
+            )
+    sections: dict[str, BaseModel] = {}
+    for name, model in _SECTIONS.items():
+        if name not in mapping:
+            if RunConfig.model_fields[name].is_required():
+                keys = ", ".join(model.model_fields)
+                problems.append(f"`{name}`: missing — required table with keys {keys}")
+            continue
+        try:
+            sections[name] = model.model_validate(mapping[name], context=context)
+        except ValidationError as exc:
+            problems.extend(_problem_lines(exc, model, (name,)))
+            problems.extend(
+                _skipped_rule_lines(exc.errors(include_url=False), model, mapping[name], (name,))
+            )
+    if problems:
+        for problem in _cross_section_problems(
+            sections.get("grid"), sections.get("indenter"), sections.get("halfspace"), rules
+        ):
+            problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
+        raise ConfigError(_capped(problems))
+    try:
+        # The sections are already validated instances: this runs only the
+        # rules between sections.
+        return RunConfig.model_validate(sections, context={"rules": rules})
+    except ValidationError as exc:
+        raise ConfigError(_problem_lines(exc, RunConfig, ())) from None
+
+
+def _too_deep(document: Any) -> tuple[Any, ...] | None:
+    """Location of a value nested deeper than `_MAX_DEPTH`, or None (iterative: no recursion)."""
+    stack: list[tuple[Any, tuple[Any, ...]]] = [(document, ())]
+    while stack:
+        value, loc = stack.pop()
+        if len(loc) > _MAX_DEPTH:
+            return loc[:_MAX_DEPTH]
+        if isinstance(value, Mapping):
+            stack.extend((item, (*loc, key)) for key, item in value.items())
+        elif isinstance(value, (list, tuple)):
+            stack.extend((item, (*loc, i)) for i, item in enumerate(value))
+    return None
+
+
+def load_config(path: str | Path, *, rules: StructureRules | None = None) -> RunConfig:
+    """Read and validate a TOML run configuration (``rules``: see `parse_config`).
+
+    Parameters
+    ----------
+    path : path
+        The TOML file.  Relative file names inside it are resolved against its
+        folder.
+
+    Returns
+    -------
+    RunConfig
+
+    Raises
+    ------
+    ConfigError
+        If the file is missing or unreadable, is not valid TOML, or any value
+        is not allowed (every problem listed).
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as stream:
+            data = stream.read(MAX_CONFIG_BYTES + 1)
+    except FileNotFoundError:
+        raise ConfigError([f"`{path}`: file not found"]) from None
+    except OSError as exc:
+        raise ConfigError([f"`{path}`: cannot be read ({exc.strerror or exc})"]) from None
+    if len(data) > MAX_CONFIG_BYTES:
+        raise ConfigError([
+            f"`{path}`: larger than {MAX_CONFIG_BYTES} bytes — not a run configuration (a few kB of TOML)"
+        ])
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError([f"`{path}`: not UTF-8 text ({exc.reason} at byte {exc.start})"]) from None
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError([f"`{path}`: not valid TOML ({exc})"]) from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise ConfigError([
+            f"`{path}`: arrays or tables nested too deeply (a configuration needs at most {_MAX_DEPTH} levels)"
+        ]) from None
+    return parse_config(document, base_dir=path.resolve().parent, rules=rules)
+
+
+def to_json_safe(value: Any) -> Any:
+    """Convert to plain JSON data; non-finite floats become strings.
+
+    JSON has no infinity or NaN, and ``null`` would read as "missing", so
+    ``inf``, ``-inf`` and ``nan`` become ``"inf"``, ``"-inf"`` and ``"nan"``.
+    NumPy scalars and arrays become Python numbers and lists.
+
+    Parameters
+    ----------
+    value : any
+        Nested dicts, lists, tuples, numbers, strings, booleans, None, NumPy
+        scalars or arrays.
+
+    Returns
+    -------
+    any
+        The same structure with JSON-representable leaves only.
+    """
+    if isinstance(value, Mapping):
+        return {str(key): to_json_safe(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_json_safe(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return to_json_safe(value.tolist())
+    if isinstance(value, np.generic):
+        return to_json_safe(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    return value
+
+
+def config_to_dict(config: RunConfig) -> dict[str, Any]:
+    """The resolved configuration as plain JSON-able data.
+
+    Defaults are filled in, ``indenter.file`` is absolute, and an infinite
+    value (a rigid ``stiffness``) is written as the string ``"inf"``.  The
+    result re-parses with `parse_config` to an equal `RunConfig`.
+
+    Parameters
+    ----------
+    config : RunConfig
+
+    Returns
+    -------
+    dict
+    """
+    data = config.model_dump(mode="python")
+    indenter = data["indenter"]
+    # Keys a shape does not use are dropped, and the default rigid
+    # `stiffness` is not written beside a `stiffness_ratio` (exactly one of
+    # them may be given), so the result re-parses to an equal config.
+    for key in [k for k, v in indenter.items() if v is None]:
+        del indenter[key]
+    if indenter.get("stiffness_ratio") is not None:
+        indenter.pop("stiffness", None)
+    for level in indenter.get("levels") or ():
+        for key in [k for k, v in level.items() if v is None]:
+            del level[key]
+    for table in ("roughness", "profile"):
+        if isinstance(indenter.get(table), dict):
+            indenter[table] = {k: v for k, v in indenter[table].items() if v is not None}
+    return to_json_safe(data)

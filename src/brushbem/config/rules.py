@@ -1,0 +1,158 @@
+"""The rules between keys that no single field can express, and the problems they find.
+
+A rule reports a `Problem`; `_rules_error` carries problems through
+pydantic's error list to the formatter (`brushbem.config.errors`).  The rules
+between the keys of one table are the `_rule_problems` methods of its model
+(`brushbem.config.schema`); the rules between sections are here
+(`_cross_section_problems`, `_resource_problems`), with the protocol of the
+rules on the rasterised structure that `brushbem.assembly` supplies
+(`StructureRules`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+from pydantic_core import PydanticCustomError
+
+from .errors import _show
+from .files import _height_map_shape
+
+if TYPE_CHECKING:
+    from .schema import GridConfig, HalfSpaceConfig, IndenterConfig, RunConfig
+
+__all__ = ["SPHERE_MIN_PULL_OFF_ELEMENTS", "Problem", "StructureRules"]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One problem found by a rule that a single field's constraints cannot express.
+
+    ``key`` is relative to the model that found it (``""`` for the model
+    itself); the formatter prefixes the location of that model.
+    """
+
+    key: str
+    value: str
+    allowed: str
+
+
+class StructureRules(Protocol):
+    """Rules on the rasterised structure, supplied by `brushbem.assembly` (keys absolute).
+
+    ``structure_problems`` runs with the other rules between sections, on the
+    sections that validated (so it is reported beside their problems);
+    ``rasterised_problems`` runs on a configuration that passed every other
+    rule.
+    """
+
+    def structure_problems(self, grid: GridConfig, indenter: IndenterConfig,
+                           halfspace: HalfSpaceConfig) -> list[Problem]: ...
+
+    def rasterised_problems(self, config: RunConfig) -> list[Problem]: ...
+
+
+def _rules_error(problems: list[Problem]) -> PydanticCustomError:
+    """Wrap rule problems so that they travel through pydantic's error list."""
+    return PydanticCustomError(
+        "config_rules",
+        "{summary}",
+        {"problems": problems, "summary": "; ".join(p.allowed for p in problems)},
+    )
+
+
+def _resource_problems(config: RunConfig) -> list[Problem]:
+    """A run that would not fit in memory (`brushbem.resources`), refused before it starts."""
+    from ..resources import MEMORY_LIMIT_VARIABLE, memory_problem
+
+    try:
+        problem = memory_problem(config)
+    except ValueError as exc:  # the limit variable itself is unusable
+        return [Problem(MEMORY_LIMIT_VARIABLE, _show(os.environ.get(MEMORY_LIMIT_VARIABLE)), str(exc))]
+    return [] if problem is None else [Problem("grid.elements", _show(config.grid.elements), problem)]
+
+
+def _cross_section_problems(
+    grid: GridConfig | None, indenter: IndenterConfig | None, halfspace: HalfSpaceConfig | None = None,
+    rules: StructureRules | None = None,
+) -> list[Problem]:
+    """Rules between sections; each runs only if the sections it needs validated.
+
+    Keys of the returned problems are absolute (``"indenter.radius"``).
+    """
+    if grid is None or indenter is None:
+        return []
+    problems = []
+    h = grid.element_size
+    if indenter.shape == "flat_punch" and indenter.radius is not None:
+        radius = indenter.radius
+        # With fewer than 2 elements in radius the rasterised footprint is a
+        # handful of elements and no longer approximates a circular punch.
+        if radius < 2 * h:
+            problems.append(
+                Problem(
+                    "indenter.radius",
+                    _show(radius),
+                    f"under 2 elements (h = {h:g}); the punch needs at least 2 elements in radius",
+                )
+            )
+        if 2 * radius > grid.size:
+            problems.append(
+                Problem(
+                    "indenter.radius",
+                    _show(radius),
+                    f"the punch (diameter {2 * radius:g}) is larger than the domain "
+                    f"(grid.size = {grid.size:g})",
+                )
+            )
+    if indenter.shape == "sphere" and indenter.radius is not None and halfspace is not None:
+        problems.extend(_sphere_resolution_problems(grid, indenter.radius, halfspace))
+    if halfspace is not None and rules is not None:
+        problems.extend(rules.structure_problems(grid, indenter, halfspace))
+    if indenter.shape == "height_map" and indenter.file is not None:
+        shape = _height_map_shape(indenter.file)
+        if shape != (grid.elements, grid.elements):
+            problems.append(
+                Problem(
+                    "indenter.file",
+                    _show(indenter.file),
+                    f"holds a {shape[0]} x {shape[1]} array ({indenter.file}); grid.elements = {grid.elements} "
+                    f"needs {grid.elements} x {grid.elements}",
+                )
+            )
+    return problems
+
+
+#: Fewest elements across the JKR pull-off contact radius of an adhesive sphere.
+SPHERE_MIN_PULL_OFF_ELEMENTS = 2.0
+
+
+def _sphere_resolution_problems(grid: GridConfig, radius: float, halfspace: HalfSpaceConfig) -> list[Problem]:
+    """An adhesive sphere whose pull-off contact spans fewer than two elements in radius.
+
+    The mesh criterion (eq. 2.14) converges at first order in h / a: a JKR
+    contact resolved by a_JKR / h = 39 elements is still 4 % strong, and one of
+    a tenth of an element is not a contact at all (a sphere of R = 0.1 h gave
+    F_A = 34 x JKR).  a_JKR = (9 pi dgamma R^2 / (8 E*))^(1/3) (eq. 2.20b) is
+    the contact radius at the force minimum, the smallest one that decides F_A.
+    """
+    if halfspace.work_of_adhesion <= 0:
+        return []
+    h = grid.element_size
+    try:
+        modulus = halfspace.effective_modulus
+    except (TypeError, ValueError, ArithmeticError):  # reported by the section's own rules
+        return []
+    a_jkr = (9 * math.pi * halfspace.work_of_adhesion * radius**2 / (8 * modulus)) ** (1 / 3)
+    if a_jkr >= SPHERE_MIN_PULL_OFF_ELEMENTS * h:
+        return []
+    return [Problem(
+        "indenter.radius", _show(radius),
+        f"the JKR contact radius at pull-off, a = (9 pi dgamma R^2 / (8 E*))^(1/3) = {a_jkr:.3g}, spans "
+        f"{a_jkr / h:.3g} elements (h = {h:g}); the criterion needs at least "
+        f"{SPHERE_MIN_PULL_OFF_ELEMENTS:g}: raise indenter.radius or halfspace.work_of_adhesion, "
+        "or refine grid.elements",
+    )]

@@ -1,0 +1,522 @@
+"""The section models of a run configuration: the fields and the rules between a table's keys.
+
+One model per TOML table (`HalfSpaceConfig`, `GridConfig`, `IndenterConfig`
+with `RoughnessConfig`, `ProfileConfig` and `LevelConfig`, `ProtocolConfig`,
+`SolverConfig`) and `RunConfig`, the whole run.  A table's rules between keys
+are its `_rule_problems`; `RunConfig` runs the rules between sections
+(`brushbem.config.rules`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+
+from .errors import _describe_allowed, _show
+from .files import _check_height_map, _existing_file, _read_numbers
+from .limits import MAGNITUDE_RANGE
+from .rules import Problem, _cross_section_problems, _resource_problems, _rules_error
+
+__all__ = [
+    "GridConfig",
+    "HalfSpaceConfig",
+    "IndenterConfig",
+    "LevelConfig",
+    "ProfileConfig",
+    "ProtocolConfig",
+    "RoughnessConfig",
+    "RunConfig",
+    "SolverConfig",
+]
+
+
+# Strict: a TOML ``size = "1.0"`` or ``elements = true`` is a mistake to report,
+# not a value to coerce.  Frozen: the numerics may cache on a config safely.
+_MODEL_CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+
+class _Model(BaseModel):
+    """A table of the configuration: strict, frozen, closed, numbers within `MAGNITUDE_RANGE`."""
+
+    model_config = _MODEL_CONFIG
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _magnitude(cls, value: Any, info: ValidationInfo) -> Any:
+        low, high = MAGNITUDE_RANGE
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        finite = number and (isinstance(value, int) or math.isfinite(value))  # a TOML integer may exceed 1e308
+        if finite and value != 0 and not low <= abs(value) <= high:
+            raise ValueError(f"must be {_describe_allowed(cls.model_fields[info.field_name])}")
+        return value
+
+
+class _Section(_Model):
+    """A table of the configuration, with rules between its keys.
+
+    A rule between keys ("exactly one of ...", "the keys each shape needs")
+    is `_rule_problems`; it reads only which keys are given and the values of
+    choice keys, so `rule_problems_of_raw` can apply it to a table whose values
+    failed their own checks - pydantic skips an after-validator then, and the
+    rule's problem would otherwise surface one run later.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    def _rule_problems(self) -> list[Problem]:
+        return []
+
+    @model_validator(mode="after")
+    def _rules(self) -> _Section:
+        problems = self._rule_problems()
+        if problems:
+            raise _rules_error(problems)
+        return self
+
+
+class HalfSpaceConfig(_Section):
+    """The elastic half-space.
+
+    Give either ``contact_modulus`` (E*) or both ``youngs_modulus`` and
+    ``poisson_ratio``; the numerics use only E*, see `effective_modulus`.
+
+    Attributes
+    ----------
+    contact_modulus : float or None
+        E*, in units of stress.
+    youngs_modulus : float or None
+        Young's modulus E of the half-space, in units of stress.
+    poisson_ratio : float or None
+        Poisson's ratio nu of the half-space, dimensionless, in [0, 0.5).
+    work_of_adhesion : float
+        Delta gamma, in units of energy per area (stress x length); 0 means no
+        adhesion.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    contact_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
+    youngs_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
+    poisson_ratio: float | None = Field(None, ge=0, lt=0.5, allow_inf_nan=False)
+    work_of_adhesion: float = Field(0.0, ge=0, allow_inf_nan=False)
+
+    def _rule_problems(self) -> list[Problem]:
+        by_contact = self.contact_modulus is not None
+        by_young = self.youngs_modulus is not None or self.poisson_ratio is not None
+        complete_young = self.youngs_modulus is not None and self.poisson_ratio is not None
+        if by_contact == by_young or (by_young and not complete_young):
+            given = ", ".join(
+                f"{name} = {_show(getattr(self, name))}"
+                for name in ("contact_modulus", "youngs_modulus", "poisson_ratio")
+            )
+            return [Problem("", given, "give either contact_modulus (E*) or both youngs_modulus and poisson_ratio")]
+        return []
+
+    @property
+    def effective_modulus(self) -> float:
+        """E* = E / (1 - nu^2), in units of stress."""
+        if self.contact_modulus is not None:
+            return self.contact_modulus
+        # The validator guarantees both are set when contact_modulus is not.
+        assert self.youngs_modulus is not None and self.poisson_ratio is not None
+        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+
+
+class GridConfig(_Model):
+    """The square computational domain.
+
+    Attributes
+    ----------
+    size : float
+        Side L of the square domain, in units of length.
+    elements : int
+        Number N of elements along each side (N x N elements in all).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    size: float = Field(gt=0, allow_inf_nan=False)
+    elements: int = Field(ge=8, le=8192)
+
+    @property
+    def element_size(self) -> float:
+        """h = L / N, in units of length."""
+        return self.size / self.elements
+
+
+# Which optional keys each indenter shape needs.  Every key listed for some
+# shape is required by that shape and rejected by the others, so a stray key is
+# never silently ignored.  A new shape adds its fields to IndenterConfig and one
+# entry here.
+_SHAPE_KEYS: dict[str, tuple[str, ...]] = {
+    "flat_punch": ("radius",),
+    "sphere": ("radius",),
+    "height_map": ("file",),
+    "brush": ("layout", "pillar_radius"),
+}
+
+# Keys a shape accepts but does not require (rejected by the other shapes).
+_SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
+    "flat_punch": (),
+    "sphere": (),
+    "height_map": (),
+    "brush": (
+        "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
+        "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels",
+    ),
+}
+
+# Keys of a brush that belong to one layout only.
+_LAYOUT_KEYS: dict[str, tuple[str, ...]] = {
+    "square": ("pillars_per_side",),
+    "random": ("pillar_count",),
+}
+_LAYOUT_OPTIONAL: dict[str, tuple[str, ...]] = {
+    "square": ("spacing", "levels"),
+    "random": ("min_gap",),
+}
+
+
+def _inf_from_string(value: Any) -> Any:
+    # `config_to_dict` writes infinity as the string "inf" (JSON has no
+    # infinity); accept it back so a recorded config re-parses.
+    if isinstance(value, str) and value == "inf":
+        return math.inf
+    return value
+
+
+class RoughnessConfig(_Model):
+    """Gaussian pillar lengths (thesis eq. 5.1).
+
+    Attributes
+    ----------
+    sigma : float
+        Standard deviation of the pillar lengths, in units of length; 0 = flat.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    sigma: float = Field(ge=0, allow_inf_nan=False)
+
+
+class ProfileConfig(_Model):
+    """Concave macroscopic profile S_p = h~ S_c (thesis eq. 7.1-7.3).
+
+    Attributes
+    ----------
+    amplification : float
+        h~, dimensionless; 0 = flat.
+    reference_stress : float or None
+        Uniform stress p_c of S_c that makes h~ dimensionless, in units of
+        stress.  Default: one pillar's Kendall mean stress F_K / (pi r^2)
+        (`brushbem.theory.concave_reference_stress`).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    amplification: float = Field(ge=0, allow_inf_nan=False)
+    reference_stress: float | None = Field(None, gt=0, allow_inf_nan=False)
+
+
+class LevelConfig(_Section):
+    """One hierarchy level above the pillars (thesis ch. 6).
+
+    Attributes
+    ----------
+    cluster : int
+        n: n x n units of the level below form one unit of this level.
+    stiffness_ratio : float or None
+        k~ = k / (E* L) of this level's springs (L = grid.size).
+    stiffness : float or None
+        k of this level's springs, in units of force / length; inf = rigid.
+        Exactly one of the two.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    cluster: int = Field(ge=1, le=4096)
+    stiffness_ratio: float | None = Field(None, gt=0)
+    stiffness: float | None = Field(None, gt=0)
+
+    @field_validator("stiffness", "stiffness_ratio", mode="before")
+    @classmethod
+    def _inf_string(cls, value: Any) -> Any:
+        return _inf_from_string(value)
+
+    def _rule_problems(self) -> list[Problem]:
+        if (self.stiffness is None) == (self.stiffness_ratio is None):
+            return [Problem(
+                "stiffness_ratio",
+                f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = {_show(self.stiffness)}",
+                "give exactly one of stiffness_ratio and stiffness (inf = rigid)",
+            )]
+        return []
+
+
+class IndenterConfig(_Section):
+    """The indenter and the spring that carries it.
+
+    Attributes
+    ----------
+    shape : {"flat_punch", "sphere", "height_map"}
+        Flat cylindrical punch, paraboloid ``z = r^2 / (2 R)``, or a profile
+        read from a file.
+    radius : float or None
+        Punch radius, or the sphere's radius of curvature R, in units of length.
+        Required for ``flat_punch`` and ``sphere``.
+    stiffness : float
+        Spring stiffness k between the base and the indenter, in units of
+        force / length; ``inf`` is a rigid connection.
+    file : str or None
+        ``.npy`` file of an N x N array of tip heights z (units of length; rows
+        y, columns x; N = grid.elements).  Relative paths are resolved against
+        the configuration file's folder; after validation the path is absolute.
+        Required for ``height_map``.
+
+    Brush keys (``shape = "brush"``, thesis ch. 3-7; k~ = k / (E* L) with L = grid.size)
+        layout : ``"square"`` (regular lattice, ``pillars_per_side``, optional
+        ``spacing``, default region_size / pillars_per_side) or ``"random"``
+        (``pillar_count`` non-overlapping positions, optional ``min_gap``
+        between pillar edges, default 2 h); region : ``"square"`` (default) or
+        ``"circle"``, where pillars are placed, of side / diameter
+        ``region_size`` (default grid.size), whose area is the apparent area
+        A0; pillar_radius; stiffness_ratio or stiffness (exactly one, the
+        pillars' own springs); seed (random layout and roughness, default 0);
+        ``[indenter.roughness] sigma``; ``[indenter.profile] amplification``
+        (and optionally ``reference_stress``); lengths_file (``.npy`` of one
+        extra length per pillar); ``[[indenter.levels]]`` ``cluster`` and
+        ``stiffness_ratio`` or ``stiffness``, bottom-up (square layout only).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    shape: Literal["flat_punch", "sphere", "height_map", "brush"]
+    radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    stiffness: float = Field(math.inf, gt=0)
+    file: str | None = None
+    layout: Literal["square", "random"] | None = None
+    region: Literal["square", "circle"] | None = None
+    region_size: float | None = Field(None, gt=0, allow_inf_nan=False)
+    pillars_per_side: int | None = Field(None, ge=1, le=4096)
+    spacing: float | None = Field(None, gt=0, allow_inf_nan=False)
+    pillar_count: int | None = Field(None, ge=1, le=1_000_000)
+    min_gap: float | None = Field(None, ge=0, allow_inf_nan=False)
+    pillar_radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    stiffness_ratio: float | None = Field(None, gt=0)
+    seed: int | None = Field(None, ge=0, le=2**63 - 1)
+    roughness: RoughnessConfig | None = None
+    profile: ProfileConfig | None = None
+    lengths_file: str | None = None
+    levels: tuple[LevelConfig, ...] | None = None
+
+    @field_validator("stiffness", "stiffness_ratio", mode="before")
+    @classmethod
+    def _inf_string(cls, value: Any) -> Any:
+        return _inf_from_string(value)
+
+    @field_validator("levels", mode="before")
+    @classmethod
+    def _levels_list(cls, value: Any) -> Any:
+        # TOML arrays of tables arrive as lists; the frozen model stores a tuple.
+        return tuple(value) if isinstance(value, list) else value
+
+    @field_validator("lengths_file")
+    @classmethod
+    def _resolve_lengths_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:
+            return None
+        path = _existing_file(value, info)
+        lengths = _read_numbers(path)
+        if lengths.ndim != 1:
+            raise ValueError(
+                f"holds an array of shape {lengths.shape} ({path}); must hold a 1-D array of pillar lengths "
+                "(one per pillar)"
+            )
+        return str(path)
+
+    @property
+    def is_brush(self) -> bool:
+        return self.shape == "brush"
+
+    @field_validator("file")
+    @classmethod
+    def _resolve_and_check_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:
+            return None
+        path = _existing_file(value, info)
+        _check_height_map(path)
+        return str(path)
+
+    def _rule_problems(self) -> list[Problem]:
+        shape = getattr(self, "shape", None)  # absent on a failed table built from what was given
+        if not isinstance(shape, str) or shape not in _SHAPE_KEYS:  # a problem of `shape` itself
+            return []
+        needed = set(_SHAPE_KEYS[self.shape])
+        allowed = needed | set(_SHAPE_OPTIONAL[self.shape])
+        every = {k for keys in (*_SHAPE_KEYS.values(), *_SHAPE_OPTIONAL.values()) for k in keys}
+        problems = []
+        for key in sorted(every):
+            value = getattr(self, key)
+            if key in needed and value is None:
+                problems.append(Problem(key, "missing", f"required when shape = {self.shape!r}"))
+            elif key not in allowed and value is not None:
+                users = " or ".join(
+                    repr(s) for s in _SHAPE_KEYS if key in _SHAPE_KEYS[s] or key in _SHAPE_OPTIONAL[s]
+                )
+                problems.append(
+                    Problem(key, _show(value), f"only used when shape = {users}; remove it")
+                )
+        if self.is_brush:
+            problems.extend(self._brush_problems())
+        return problems
+
+    def _brush_problems(self) -> list[Problem]:
+        problems = []
+        if isinstance(self.layout, str) and self.layout in _LAYOUT_KEYS:
+            needed = set(_LAYOUT_KEYS[self.layout])
+            allowed = needed | set(_LAYOUT_OPTIONAL[self.layout])
+            for key in sorted({k for keys in (*_LAYOUT_KEYS.values(), *_LAYOUT_OPTIONAL.values()) for k in keys}):
+                value = getattr(self, key)
+                if key in needed and value is None:
+                    problems.append(Problem(key, "missing", f"required when layout = {self.layout!r}"))
+                elif key not in allowed and value is not None:
+                    users = " or ".join(
+                        repr(s) for s in _LAYOUT_KEYS if key in _LAYOUT_KEYS[s] or key in _LAYOUT_OPTIONAL[s]
+                    )
+                    problems.append(Problem(key, _show(value), f"only used when layout = {users}; remove it"))
+        if ("stiffness" in self.model_fields_set) == (self.stiffness_ratio is not None):
+            problems.append(Problem(
+                "stiffness_ratio",
+                f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = "
+                f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'not given'}",
+                "give exactly one of stiffness_ratio (k / (E* L)) and stiffness (inf = rigid)",
+            ))
+        return problems
+
+    def pillar_stiffness(self, contact_modulus: float, size: float) -> float:
+        """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L)."""
+        if self.stiffness_ratio is not None:
+            return self.stiffness_ratio * contact_modulus * size
+        return self.stiffness
+
+
+class ProtocolConfig(_Section):
+    """The pull-off load path: press to a preload, then retract until separation.
+
+    Attributes
+    ----------
+    method : {"events", "element_events", "fixed"}
+        ``"events"`` follows the exact path: it jumps from one contact
+        change to the next, and presses a brush (two or more pillars) as
+        non-adhesive contact problems, which is the same branch checked on
+        its samples (``brushbem.protocol``); ``"element_events"`` takes
+        every element event on the loading branch too (the reference, and
+        today's path of single bodies); ``"fixed"`` retracts by constant
+        steps (the thesis's method), locating the first detachment inside
+        each step.
+    preload_displacement : float or None
+        Press until the base displacement reaches this value, units of length.
+    preload_force : float or None
+        Press until the compressive force reaches this value, units of force.
+        Exactly one of the two preloads is given.
+    step : float
+        Displacement step of ``"fixed"``, in units of length.
+    max_steps : int
+        Most steps (events, or fixed displacement steps) on each branch,
+        loading and unloading; a branch that needs more ends the run, which
+        reports not converged.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    method: Literal["events", "element_events", "fixed"] = "events"
+    preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
+    preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
+    step: float = Field(1e-4, gt=0, allow_inf_nan=False)
+    max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
+
+    def _rule_problems(self) -> list[Problem]:
+        if (self.preload_displacement is None) == (self.preload_force is None):
+            given = (
+                f"preload_displacement = {_show(self.preload_displacement)}, "
+                f"preload_force = {_show(self.preload_force)}"
+            )
+            return [Problem("", given, "give exactly one of preload_displacement or preload_force")]
+        return []
+
+
+class SolverConfig(_Model):
+    """Inner linear solver (preconditioned conjugate gradients).
+
+    Attributes
+    ----------
+    tolerance : float
+        Relative residual at which a solve counts as converged, dimensionless.
+    max_iterations : int
+        Iterations allowed per solve before it is reported as not converged.
+    coupling : {"segments", "discriminant"}
+        How the spring sums enter the operator: segment sums over the
+        element-to-pillar incidence (exact for any layout), or the thesis's
+        discriminant-matrix convolution (eq. 3.13-3.17; refused where its size
+        condition does not hold).
+    cascade : {"local", "global"}
+        How a brush's detachment cascade at fixed d runs: the pillars that
+        peel solved on their own between global solves ("local"), or a global
+        solve for every round (the thesis's loop, "global").
+    """
+
+    model_config = _MODEL_CONFIG
+
+    tolerance: float = Field(1e-8, ge=1e-15, lt=1e-2, allow_inf_nan=False)
+    max_iterations: int = Field(20_000, gt=0, le=1_000_000_000)
+    coupling: Literal["segments", "discriminant"] = "segments"
+    cascade: Literal["local", "global"] = "local"
+
+
+class RunConfig(BaseModel):
+    """One run: half-space, grid, indenter, load path and solver settings."""
+
+    model_config = _MODEL_CONFIG
+
+    halfspace: HalfSpaceConfig
+    grid: GridConfig
+    indenter: IndenterConfig
+    protocol: ProtocolConfig
+    solver: SolverConfig = SolverConfig()
+
+    @model_validator(mode="after")
+    def _consistent(self, info: ValidationInfo) -> RunConfig:
+        rules = (info.context or {}).get("rules")
+        problems = _cross_section_problems(self.grid, self.indenter, self.halfspace, rules)
+        if self.protocol.method == "fixed" and self.protocol.step > self.grid.size:
+            # The first detachment is located inside a step to the rounding of
+            # the step's length: a step of 1e30 put it 250 x off.  A base
+            # displacement beyond the domain size is outside linear elasticity.
+            problems.append(Problem(
+                "protocol.step", _show(self.protocol.step),
+                f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
+            ))
+        problems.extend(_resource_problems(self))  # before the indenter is rasterised
+        if not problems and rules is not None:
+            problems = rules.rasterised_problems(self)
+        if problems:
+            raise _rules_error(problems)
+        return self
+
+
+_SECTIONS: dict[str, type[BaseModel]] = {
+    "halfspace": HalfSpaceConfig,
+    "grid": GridConfig,
+    "indenter": IndenterConfig,
+    "protocol": ProtocolConfig,
+    "solver": SolverConfig,
+}
