@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-    from .results import CaseResult, Curve, Snapshot
+    from .results import CaseResult, Curve, ReferenceCurve, Snapshot
     from .structure import Grid, Indenter
 
 __all__ = ["PullOff", "pull_off", "run"]
@@ -51,7 +51,7 @@ class PullOff:
     ----------
     result : CaseResult
         The typed record (curve, snapshots, summary, provenance, per-pillar arrays).
-    reference : dict or None
+    reference : ReferenceCurve or None
         The closed-form reference curve of the figure (``displacement``,
         ``force``, ``label``), where one applies.
     config : RunConfig or None
@@ -59,7 +59,7 @@ class PullOff:
     """
 
     result: CaseResult
-    reference: dict | None = None
+    reference: ReferenceCurve | None = None
     config: RunConfig | None = None
 
     @property

@@ -13,7 +13,15 @@ from .assembly import Assembly, assemble, build_indenter, build_path, build_prob
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
-from .results import CaseResult, RunSummary
+from .results import (
+    BrushTheory,
+    CaseResult,
+    PunchTheory,
+    ReferenceCurve,
+    RunSummary,
+    SphereTheory,
+)
+from .structure import BrushGeometry
 
 __all__ = ["brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
            "theory_for"]
@@ -24,7 +32,7 @@ MIN_TENSILE_STEPS = 10
 
 
 def theory_for(problem: ContactProblem, summary: Mapping[str, Any],
-               path: LoadPath | None = None) -> tuple[dict[str, Any], dict | None]:
+               path: LoadPath | None = None) -> tuple[Mapping[str, Any], ReferenceCurve | None]:
     """Closed-form values for this case and the ratios of the computed ones to them.
 
     A flat punch is compared with Kendall (eq. 2.4) at the radius of the
@@ -34,87 +42,100 @@ def theory_for(problem: ContactProblem, summary: Mapping[str, Any],
     zero-force crossing of the unloading: from B (eq. 2.27) where the
     preload (``path``, Hertz loading) pressed the contact beyond a_o, from
     the fixed-contact line below it (`theory.sphere_spring_work_from_preload`).
-    Returns the ``theory`` object of ``summary.json`` and a reference curve
-    for the figure (or None).
+    Returns the ``theory`` record of ``summary.json`` (`PunchTheory`,
+    `SphereTheory`, `BrushTheory`, or an empty mapping where no closed form
+    applies) and a reference curve for the figure (or None).
     """
-    indenter = problem.indenter
-    shape = indenter.description.get("shape")
-    modulus, dgamma = problem.contact_modulus, problem.work_of_adhesion
-    levels = indenter.elastic_levels
-    stiffness = levels[0].stiffness if levels else math.inf
-    out: dict[str, Any] = {}
-    reference = None
-    if shape == "brush" and dgamma > 0:
+    shape = problem.indenter.description.shape
+    if shape == "brush" and problem.work_of_adhesion > 0:
         return _brush_theory(problem, summary)[0], None
-    if dgamma <= 0 or shape not in ("flat_punch", "sphere"):
-        return out, None
+    if problem.work_of_adhesion <= 0 or shape not in ("flat_punch", "sphere"):
+        return {}, None
     if shape == "flat_punch":
-        radius = math.sqrt(indenter.description["rasterised_area"] / math.pi)
-        force = theory.kendall_force(modulus, dgamma, radius)
-        tip = theory.kendall_displacement(modulus, dgamma, radius)
-        base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
-        work = theory.punch_spring_work_of_separation(modulus, dgamma, radius, stiffness)
-        out.update({
-            "model": "Kendall flat punch (thesis eq. 2.4, 2.18-2.19)",
-            "equivalent_radius": radius,
-            "adhesive_force": force,
-            "pull_off_displacement": base,
-            "work_of_separation": work,
-        })
-        if math.isfinite(stiffness):
-            out["normalized_stiffness"] = theory.normalized_punch_stiffness(stiffness, modulus, radius)
-        compliance = 1.0 / theory.punch_stiffness(modulus, radius) + (1.0 / stiffness if math.isfinite(stiffness) else 0.0)
-        d_max = summary.get("max_displacement") or 0.0
-        d = np.array([d_max, base, base])
-        reference = {"displacement": d, "force": np.array([d_max / compliance, -force, 0.0]),
-                     "label": "Kendall (eq. 2.1, 2.4)"}
-    else:
-        radius = indenter.description["radius"]
-        force = theory.jkr_pull_off_force(dgamma, radius)
-        tip = theory.jkr_pull_off_displacement(modulus, dgamma, radius)
-        base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
-        preload_radius = math.inf
-        if path is not None:
-            preload_radius = theory.sphere_preload_contact_radius(
-                modulus, radius, stiffness, preload_force=path.preload_force,
-                preload_displacement=path.preload_displacement,
-            )
-            out["preload_contact_radius"] = preload_radius
-            out["zero_force_radius"] = theory.jkr_zero_force_radius(modulus, dgamma, radius)
-            out["work_counted_from"] = (
+        return _punch_theory(problem, summary)
+    return _sphere_theory(problem, summary, path)
+
+
+def _stiffness(problem: ContactProblem) -> float:
+    levels = problem.indenter.elastic_levels
+    return levels[0].stiffness if levels else math.inf
+
+
+def _ratios(summary: Mapping[str, Any], **closed_forms: float) -> dict[str, float]:
+    """Computed over closed form, for the quantities both have (and a non-zero closed form)."""
+    ratios = {}
+    for key, value in closed_forms.items():
+        computed = summary.get(key)
+        if computed is not None and value:
+            ratios[key] = computed / value
+    return ratios
+
+
+def _punch_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[PunchTheory, ReferenceCurve]:
+    """Kendall's punch (eq. 2.4) on its spring (eq. 2.18-2.19), with the reference curve (eq. 2.1)."""
+    modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, _stiffness(problem)
+    radius = math.sqrt(problem.indenter.description.rasterised_area / math.pi)
+    force = theory.kendall_force(modulus, dgamma, radius)
+    tip = theory.kendall_displacement(modulus, dgamma, radius)
+    base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
+    work = theory.punch_spring_work_of_separation(modulus, dgamma, radius, stiffness)
+    record = PunchTheory(
+        equivalent_radius=radius, adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
+        normalized_stiffness=(theory.normalized_punch_stiffness(stiffness, modulus, radius)
+                              if math.isfinite(stiffness) else None),
+        ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
+    )
+    compliance = 1.0 / theory.punch_stiffness(modulus, radius) + (1.0 / stiffness if math.isfinite(stiffness) else 0.0)
+    d_max = summary.get("max_displacement") or 0.0
+    reference = ReferenceCurve(displacement=np.array([d_max, base, base]),
+                               force=np.array([d_max / compliance, -force, 0.0]), label="Kendall (eq. 2.1, 2.4)")
+    return record, reference
+
+
+def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
+                   path: LoadPath | None) -> tuple[SphereTheory, ReferenceCurve]:
+    """JKR (eq. 2.20-2.24) on a spring (eq. 2.32-2.39), with the JKR curve (eq. 2.22)."""
+    modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, _stiffness(problem)
+    radius = problem.indenter.description.radius
+    force = theory.jkr_pull_off_force(dgamma, radius)
+    tip = theory.jkr_pull_off_displacement(modulus, dgamma, radius)
+    base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
+    preload_radius = math.inf
+    preload: dict[str, Any] = {}
+    if path is not None:
+        preload_radius = theory.sphere_preload_contact_radius(
+            modulus, radius, stiffness, preload_force=path.preload_force,
+            preload_displacement=path.preload_displacement,
+        )
+        zero_force_radius = theory.jkr_zero_force_radius(modulus, dgamma, radius)
+        preload = {
+            "preload_contact_radius": preload_radius,
+            "zero_force_radius": zero_force_radius,
+            "work_counted_from": (
                 "B, the zero-force point of the JKR curve (eq. 2.27)"
-                if preload_radius >= out["zero_force_radius"]
+                if preload_radius >= zero_force_radius
                 else "the zero-force crossing of the fixed-contact unloading line (the preload contact "
                 "radius is below a_o, so the unloading does not pass B)"
-            )
-        work = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness,
-                                                       preload_radius=preload_radius)
-        if math.isfinite(stiffness):
-            out["normalized_stiffness"] = theory.sphere_normalized_stiffness(stiffness, modulus, dgamma, radius)
-        out.update({
-            "model": "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.39)",
-            "adhesive_force": force,
-            "pull_off_displacement": base,
-            "work_of_separation": work,
-        })
-        a_sep = theory.jkr_separation_radius(modulus, dgamma, radius)
-        a_max = max(a_sep * 4.0, theory.jkr_pull_off_radius(modulus, dgamma, radius) * 2.5)
-        a = np.linspace(a_sep, a_max, 200)
-        f = theory.jkr_force_from_radius(a, modulus, dgamma, radius)
-        d = theory.jkr_displacement_from_radius(a, modulus, dgamma, radius)
-        if math.isfinite(stiffness):
-            d = d + f / stiffness
-        keep = d <= (summary.get("max_displacement") or d.max())
-        reference = {"displacement": d[keep], "force": f[keep], "label": "JKR (eq. 2.22)"}
-    ratios = {}
-    for key, computed_key in (("adhesive_force", "adhesive_force"),
-                              ("pull_off_displacement", "pull_off_displacement"),
-                              ("work_of_separation", "work_of_separation")):
-        computed = summary.get(computed_key)
-        if computed is not None and out.get(key):
-            ratios[key] = computed / out[key]
-    out["ratios"] = ratios
-    return out, reference
+            ),
+        }
+    work = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness,
+                                                   preload_radius=preload_radius)
+    record = SphereTheory(
+        **preload,
+        normalized_stiffness=(theory.sphere_normalized_stiffness(stiffness, modulus, dgamma, radius)
+                              if math.isfinite(stiffness) else None),
+        adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
+        ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
+    )
+    a_sep = theory.jkr_separation_radius(modulus, dgamma, radius)
+    a_max = max(a_sep * 4.0, theory.jkr_pull_off_radius(modulus, dgamma, radius) * 2.5)
+    a = np.linspace(a_sep, a_max, 200)
+    f = theory.jkr_force_from_radius(a, modulus, dgamma, radius)
+    d = theory.jkr_displacement_from_radius(a, modulus, dgamma, radius)
+    if math.isfinite(stiffness):
+        d = d + f / stiffness
+    keep = d <= (summary.get("max_displacement") or d.max())
+    return record, ReferenceCurve(displacement=d[keep], force=f[keep], label="JKR (eq. 2.22)")
 
 
 def brush_scales(problem: ContactProblem) -> dict[str, Any]:
@@ -136,13 +157,13 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
     info = indenter.description
     modulus, dgamma = problem.contact_modulus, problem.work_of_adhesion
     h2 = problem.grid.element_size**2
-    phi = min(info["filling_factor"], 1.0)
-    radii = np.sqrt(np.asarray(info["pillar_elements"], dtype=float) * h2 / math.pi)
+    phi = min(info.filling_factor, 1.0)
+    radii = np.sqrt(np.asarray(info.pillar_elements, dtype=float) * h2 / math.pi)
     return {
-        "compact_punch_force": float(theory.compact_punch_force(modulus, dgamma, info["real_area"])),
-        "rigid_brush_force": float(theory.rigid_brush_force(modulus, dgamma, phi, info["apparent_area"])),
+        "compact_punch_force": float(theory.compact_punch_force(modulus, dgamma, info.real_area)),
+        "rigid_brush_force": float(theory.rigid_brush_force(modulus, dgamma, phi, info.apparent_area)),
         "ideal_sharing_force": float(np.sum(theory.kendall_force(modulus, dgamma, radii))),
-        "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(modulus, dgamma, phi, info["apparent_area"]))),
+        "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(modulus, dgamma, phi, info.apparent_area))),
         "stiffness_scale": modulus * problem.grid.size,
         "filling_factor": phi,
     }
@@ -150,17 +171,17 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
 
 def brush_normalizations(problem: ContactProblem, summary: Mapping[str, Any]) -> dict[str, Any] | None:
     """The thesis's normalisations of an adhesive brush's summary numbers (``normalized``), else None."""
-    if problem.indenter.description.get("shape") != "brush" or problem.work_of_adhesion <= 0:
+    if not isinstance(problem.indenter.description, BrushGeometry) or problem.work_of_adhesion <= 0:
         return None
     return _brush_theory(problem, summary)[1]
 
 
-def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[BrushTheory, dict[str, Any]]:
     """The closed forms and the thesis's normalisations of a brush."""
     indenter = problem.indenter
     info = indenter.description
     scales = brush_scales(problem)
-    n = info["n_pillars"]
+    n = info.n_pillars
     stiffnesses = [level.stiffness for level in indenter.levels] or [math.inf]
     ratios = [k / scales["stiffness_scale"] for k in stiffnesses]
     force = summary.get("adhesive_force") or 0.0
@@ -178,32 +199,31 @@ def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
         "max_displacement_by_rigid_brush": ratio(summary.get("max_displacement"), d_c),
         "preload_by_rigid_brush": ratio(summary.get("preload_force"), scales["rigid_brush_force"]),
         "preload_by_compact_punch": ratio(summary.get("preload_force"), scales["compact_punch_force"]),
-        "roughness_by_rigid_brush": ratio(info["roughness"], d_c),
+        "roughness_by_rigid_brush": ratio(info.roughness, d_c),
         "stiffness_ratio": ratios[0],
         "level_stiffness_ratios": ratios,
-        "filling_factor": info["filling_factor"],
+        "filling_factor": info.filling_factor,
         "pillars": n,
         "attached_pillars_at_pull_off": summary.get("attached_pillars_at_pull_off"),
-        "profile_amplification": info["profile_amplification"],
+        "profile_amplification": info.profile_amplification,
     }
-    clusters = info["level_clusters"]
+    clusters = info.level_clusters
     if clusters:
         counts = [float(c * c) for c in clusters]
         normalized["equivalent_single_level_stiffness_ratio"] = theory.equivalent_single_level_stiffness(
             ratios, counts)
-    out = {
-        "model": "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)",
-        "compact_punch_force": scales["compact_punch_force"],
-        "rigid_brush_force": scales["rigid_brush_force"],
-        "ideal_sharing_force": scales["ideal_sharing_force"],
-        "rigid_brush_displacement": -d_c,
-        "rigid_brush_enhancement": float(theory.rigid_brush_enhancement(scales["filling_factor"])),
-        "soft_brush_enhancement": float(theory.soft_brush_enhancement(n)),
-        "ratios": {
+    out = BrushTheory(
+        compact_punch_force=scales["compact_punch_force"],
+        rigid_brush_force=scales["rigid_brush_force"],
+        ideal_sharing_force=scales["ideal_sharing_force"],
+        rigid_brush_displacement=-d_c,
+        rigid_brush_enhancement=float(theory.rigid_brush_enhancement(scales["filling_factor"])),
+        soft_brush_enhancement=float(theory.soft_brush_enhancement(n)),
+        ratios={
             "adhesive_force_by_rigid_brush": normalized["force_by_rigid_brush"],
             "adhesive_force_by_ideal_sharing": normalized["force_by_ideal_sharing"],
         },
-    }
+    )
     return out, normalized
 
 
@@ -220,7 +240,7 @@ def run_warnings(problem: ContactProblem, path: LoadPath, record: PullOffRecord)
     """
     warnings = []
     summary = record.summary
-    shape = problem.indenter.description.get("shape")
+    shape = problem.indenter.description.shape
     preload = next((s for s in record.snapshots if s.name == "max_preload"), None)
     if shape in ("sphere", "height_map") and preload is not None:
         contact = np.asarray(preload.contact)
@@ -251,7 +271,7 @@ def run_case(
     *,
     progress: Callable[[float, str], None] | None = None,
     stop: Callable[[], bool] | None = None,
-) -> tuple[CaseResult, dict | None]:
+) -> tuple[CaseResult, ReferenceCurve | None]:
     """Run one validated configuration (or its `Assembly`, built from its validation's rasterisation).
 
     Returns the result (curve, snapshots, summary with its ``theory`` object,
@@ -271,7 +291,7 @@ def run_problem(
     progress: Callable[[float, str], None] | None = None,
     stop: Callable[[], bool] | None = None,
     config: dict[str, Any] | None = None,
-) -> tuple[CaseResult, dict | None]:
+) -> tuple[CaseResult, ReferenceCurve | None]:
     """Run the pull-off of a built problem: `run_case` without a configuration.
 
     ``config`` (the resolved configuration as a mapping, if there is one) is
@@ -291,14 +311,14 @@ def run_problem(
         attributes["config"] = config
     pillars = dict(record.pillars)
     info = problem.indenter.description
-    if info.get("shape") == "brush":
+    if isinstance(info, BrushGeometry):
         pillars.update({
-            "y": np.asarray(info["centres"])[:, 0],
-            "x": np.asarray(info["centres"])[:, 1],
-            "offset": np.asarray(info["offsets"]),
-            "elements": np.asarray(info["pillar_elements"]),
+            "y": np.asarray(info.centres)[:, 0],
+            "x": np.asarray(info.centres)[:, 1],
+            "offset": np.asarray(info.offsets),
+            "elements": np.asarray(info.pillar_elements),
         })
-        attributes["seeds"] = [info["seed"]]
+        attributes["seeds"] = [info.seed]
     result = CaseResult(
         curve=record.curve,
         snapshots=record.snapshots,

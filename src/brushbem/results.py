@@ -7,13 +7,16 @@ force are positive when compressive.  Adhesive (tensile) forces are negative.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field, fields
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-__all__ = ["CaseResult", "Curve", "PullOffSummary", "RunSummary", "Snapshot"]
+from .records import MappingRecord
+
+__all__ = ["BrushTheory", "CaseResult", "Curve", "PullOffSummary", "PunchTheory", "ReferenceCurve", "RunSummary",
+           "Snapshot", "SphereTheory"]
 
 
 @dataclass(frozen=True)
@@ -79,39 +82,8 @@ class Curve:
     attached_pillars: np.ndarray
 
 
-class _MappingRecord(Mapping):
-    """A frozen record that also reads as the mapping of its fields (the keys of ``summary.json``).
-
-    Code reads the attributes (``summary.adhesive_force``); JSON, NetCDF
-    attributes and sweep tables read it as a mapping, in field order.  A field
-    named in ``_ABSENT_WHEN_NONE`` that is None is not a key (a punch has no
-    brush normalisations).
-    """
-
-    _ABSENT_WHEN_NONE: frozenset[str] = frozenset()
-
-    def _keys(self) -> list[str]:
-        return [f.name for f in fields(self)
-                if not (f.name in self._ABSENT_WHEN_NONE and getattr(self, f.name) is None)]
-
-    def __getitem__(self, key: str) -> Any:
-        if key in self._keys():
-            return getattr(self, key)
-        raise KeyError(key)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._keys())
-
-    def __len__(self) -> int:
-        return len(self._keys())
-
-    def to_dict(self) -> dict[str, Any]:
-        """The plain mapping (nested mappings as they are)."""
-        return {key: getattr(self, key) for key in self._keys()}
-
-
 @dataclass(frozen=True, kw_only=True)
-class PullOffSummary(_MappingRecord):
+class PullOffSummary(MappingRecord):
     """The numbers of one pull-off (`brushbem.protocol.record_pull_off`), as in ``summary.json``.
 
     Attributes
@@ -145,6 +117,105 @@ class PullOffSummary(_MappingRecord):
     attached_pillars_at_pull_off: int
     n_states: int
     wall_time_s: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class PunchTheory(MappingRecord):
+    """A flat punch against Kendall (eq. 2.4) and, on a spring, the work of eq. 2.18-2.19.
+
+    Attributes
+    ----------
+    model : str
+    equivalent_radius : float
+        sqrt(A / pi) of the rasterised footprint's area A: the radius the closed forms use.
+    adhesive_force, pull_off_displacement, work_of_separation : float
+        The closed forms' values (the displacement of the base, the spring included).
+    normalized_stiffness : float or None
+        k / (2 E* a) on a finite spring (absent on a rigid punch).
+    ratios : dict
+        Computed over closed form, per quantity.
+    """
+
+    _ABSENT_WHEN_NONE = frozenset({"normalized_stiffness"})
+
+    model: str = "Kendall flat punch (thesis eq. 2.4, 2.18-2.19)"
+    equivalent_radius: float
+    adhesive_force: float
+    pull_off_displacement: float
+    work_of_separation: float
+    normalized_stiffness: float | None = None
+    ratios: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SphereTheory(MappingRecord):
+    """A sphere against JKR (eq. 2.20-2.24) and, on a spring, the work of eq. 2.32-2.39.
+
+    Attributes
+    ----------
+    preload_contact_radius, zero_force_radius : float or None
+        The Hertz contact radius of the preload and JKR's a_o (eq. 2.27), when
+        the load path is known.
+    work_counted_from : str or None
+        Where the work of separation starts (B of eq. 2.27, or the zero-force
+        crossing of the fixed-contact unloading below a_o).
+    normalized_stiffness : float or None
+        The spring's normalised stiffness (absent on a rigid sphere).
+    model : str
+    adhesive_force, pull_off_displacement, work_of_separation : float
+    ratios : dict
+        Computed over closed form, per quantity.
+    """
+
+    _ABSENT_WHEN_NONE = frozenset({"preload_contact_radius", "zero_force_radius", "work_counted_from",
+                                   "normalized_stiffness"})
+
+    preload_contact_radius: float | None = None
+    zero_force_radius: float | None = None
+    work_counted_from: str | None = None
+    normalized_stiffness: float | None = None
+    model: str = "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.39)"
+    adhesive_force: float
+    pull_off_displacement: float
+    work_of_separation: float
+    ratios: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BrushTheory(MappingRecord):
+    """A brush's closed-form limits (eq. 4.5-4.13, 5.3-5.5, 7.4), against which its force is read.
+
+    Attributes
+    ----------
+    model : str
+    compact_punch_force, rigid_brush_force, ideal_sharing_force : float
+        Kendall's force of one punch of the real area (eq. 4.11), F_c of the
+        rigid brush (eq. 4.5) and N F_K (eq. 7.4).
+    rigid_brush_displacement : float
+        -|d_c| (eq. 4.12).
+    rigid_brush_enhancement, soft_brush_enhancement : float
+        phi^-1/4 (eq. 4.9) and N^1/4 (eq. 4.18).
+    ratios : dict
+        The adhesive force over F_c and over N F_K.
+    """
+
+    model: str = "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)"
+    compact_punch_force: float
+    rigid_brush_force: float
+    ideal_sharing_force: float
+    rigid_brush_displacement: float
+    rigid_brush_enhancement: float
+    soft_brush_enhancement: float
+    ratios: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True, kw_only=True)
+class ReferenceCurve(MappingRecord):
+    """A closed-form force-displacement curve drawn beside the computed one."""
+
+    displacement: np.ndarray
+    force: np.ndarray
+    label: str
 
 
 @dataclass(frozen=True, kw_only=True)

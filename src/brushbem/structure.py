@@ -22,11 +22,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .records import MappingRecord
+
 __all__ = [
+    "BrushGeometry",
+    "Geometry",
     "Grid",
+    "HeightMapGeometry",
     "Indenter",
     "Level",
     "Profile",
+    "PunchGeometry",
+    "SphereGeometry",
     "SpringLevel",
     "StructureError",
     "brush",
@@ -100,6 +107,97 @@ class SpringLevel:
         return math.isinf(self.stiffness)
 
 
+@dataclass(frozen=True, kw_only=True)
+class Geometry(MappingRecord):
+    """What an indenter is, for the record: its shape and the parameters it was built from.
+
+    The records below read as attributes (``indenter.description.radius``) and
+    as the mapping of their fields (``indenter.description["radius"]``).  An
+    indenter built from arrays alone has ``shape = "custom"``.
+    """
+
+    shape: str = "custom"
+
+
+@dataclass(frozen=True, kw_only=True)
+class PunchGeometry(Geometry):
+    """A flat-ended cylindrical punch: nominal radius and the area of its rasterised footprint."""
+
+    shape: str = "flat_punch"
+    radius: float
+    rasterised_area: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class SphereGeometry(Geometry):
+    """A paraboloid tip of curvature radius ``radius``."""
+
+    shape: str = "sphere"
+    radius: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class HeightMapGeometry(Geometry):
+    """Tip heights read from an array."""
+
+    shape: str = "height_map"
+
+
+@dataclass(frozen=True, kw_only=True)
+class BrushGeometry(Geometry):
+    """A brush: layout, region, the pillars as rasterised, roughness and length profile.
+
+    Attributes
+    ----------
+    layout, region : str
+        ``square`` / ``random`` placement in a ``square`` / ``circle`` region.
+    region_size : float
+        Side (square) or diameter (circle) of the placement region.
+    n_pillars : int
+    pillar_radius : float
+        Nominal radius of every pillar.
+    apparent_area, real_area : float
+        Area of the region A0 and of the rasterised footprints A.
+    filling_factor, nominal_filling_factor : float
+        A / A0, and the same with the nominal circles.
+    pillar_elements : ndarray of int, shape (n_pillars,)
+        Elements of every pillar's footprint.
+    centres : ndarray, shape (n_pillars, 2)
+        Pillar centres (y, x).
+    offsets : ndarray, shape (n_pillars,)
+        Tip height of every pillar (roughness plus length profile).
+    roughness : float
+        Standard deviation of the Gaussian tip heights.
+    seed : int
+    profile_amplification : float
+        The length profile's amplification h~ (0 without a profile).
+    profile_reference_stress, profile_radius : float or None
+        The profile's p_c of eq. 7.2 and its radius R (None without a profile).
+    level_clusters : list of ndarray
+        Per hierarchy level above the pillars, the cluster of every pillar.
+    """
+
+    shape: str = "brush"
+    layout: str
+    region: str
+    region_size: float
+    n_pillars: int
+    pillar_radius: float
+    apparent_area: float
+    real_area: float
+    filling_factor: float
+    nominal_filling_factor: float
+    pillar_elements: np.ndarray
+    centres: np.ndarray
+    offsets: np.ndarray
+    roughness: float
+    seed: int
+    profile_amplification: float
+    profile_reference_stress: float | None
+    profile_radius: float | None
+    level_clusters: list
+
+
 @dataclass(frozen=True)
 class Indenter:
     """A rasterised indenter (see the module docstring).
@@ -113,14 +211,15 @@ class Indenter:
         Pillar index of every element, -1 outside the footprints.
     levels : tuple of SpringLevel
         Springs, bottom-up (empty or all rigid: a rigid indenter).
-    description : dict
-        Geometry parameters for the record (shape, radius, ...).
+    description : Geometry
+        What the indenter is, for the record (`PunchGeometry`,
+        `SphereGeometry`, `HeightMapGeometry`, `BrushGeometry`).
     """
 
     height: np.ndarray
     pillar: np.ndarray
     levels: tuple[SpringLevel, ...] = ()
-    description: dict = field(default_factory=dict)
+    description: Geometry = field(default_factory=Geometry)
 
     def __post_init__(self):
         if self.height.shape != self.pillar.shape or self.height.ndim != 2:
@@ -186,7 +285,7 @@ def flat_punch(grid: Grid, radius: float, stiffness: float = math.inf) -> Indent
         height=height,
         pillar=pillar,
         levels=_single_spring(stiffness),
-        description={"shape": "flat_punch", "radius": radius, "rasterised_area": float(area)},
+        description=PunchGeometry(radius=radius, rasterised_area=float(area)),
     )
 
 
@@ -200,7 +299,7 @@ def sphere(grid: Grid, radius: float, stiffness: float = math.inf) -> Indenter:
         height=height,
         pillar=pillar,
         levels=_single_spring(stiffness),
-        description={"shape": "sphere", "radius": radius},
+        description=SphereGeometry(radius=radius),
     )
 
 
@@ -217,7 +316,7 @@ def height_map(grid: Grid, heights: np.ndarray, stiffness: float = math.inf) -> 
         height=height,
         pillar=pillar,
         levels=_single_spring(stiffness),
-        description={"shape": "height_map"},
+        description=HeightMapGeometry(),
     )
 
 
@@ -593,25 +692,24 @@ def brush(
             spring_levels.append(SpringLevel(float(lv.stiffness), cluster))
     apparent_area = size * size if region == "square" else math.pi * size * size / 4.0
     real_area = float(counts.sum()) * h * h
-    description = {
-        "shape": "brush",
-        "layout": layout,
-        "region": region,
-        "region_size": size,
-        "n_pillars": n_pillars,
-        "pillar_radius": float(pillar_radius),
-        "apparent_area": apparent_area,
-        "real_area": real_area,
-        "filling_factor": real_area / apparent_area,
-        "nominal_filling_factor": n_pillars * math.pi * pillar_radius**2 / apparent_area,
-        "pillar_elements": counts,
-        "centres": centres,
-        "offsets": offsets,
-        "roughness": float(roughness),
-        "seed": int(seed),
-        "profile_amplification": float(profile.amplification) if profile is not None else 0.0,
-        "profile_reference_stress": reference_stress,
-        "profile_radius": profile_radius,
-        "level_clusters": [lv.cluster for lv in levels],
-    }
+    description = BrushGeometry(
+        layout=layout,
+        region=region,
+        region_size=size,
+        n_pillars=n_pillars,
+        pillar_radius=float(pillar_radius),
+        apparent_area=apparent_area,
+        real_area=real_area,
+        filling_factor=real_area / apparent_area,
+        nominal_filling_factor=n_pillars * math.pi * pillar_radius**2 / apparent_area,
+        pillar_elements=counts,
+        centres=centres,
+        offsets=offsets,
+        roughness=float(roughness),
+        seed=int(seed),
+        profile_amplification=float(profile.amplification) if profile is not None else 0.0,
+        profile_reference_stress=reference_stress,
+        profile_radius=profile_radius,
+        level_clusters=[lv.cluster for lv in levels],
+    )
     return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
