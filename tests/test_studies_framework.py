@@ -19,7 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 import brushbem.case
-import brushbem.sweep as sweep_module
+import brushbem.sweep.execution as sweep_execution
 from brushbem import studies
 from brushbem.cli import main
 from brushbem.report import config_hash, draw_figures, write_report
@@ -103,7 +103,7 @@ def fake_study(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setattr(studies, "STUDIES", {"fake": FAKE})
     monkeypatch.setattr(
         studies, "sweep_file",
-        lambda study, part, quick: sweeps / f"{study}.{part}{'.quick' if quick else ''}.toml",
+        lambda study, part, quick, sampled=False: sweeps / f"{study}.{part}{'.quick' if quick else ''}.toml",
     )
     return sweeps
 
@@ -193,7 +193,7 @@ def test_cli_study_list_and_exit_status(
     assert "fake" in listed.output and "9-9" in listed.output
     # One case fails: exit status 3, the figures are still drawn.  Threads, not
     # processes, run the cases here, so that the patched run_case is seen.
-    monkeypatch.setattr(sweep_module, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
+    monkeypatch.setattr(sweep_execution, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
     result = runner.invoke(main, ["study", "fake", "--out", str(tmp_path / "o"), "--workers", "1",
                                   "--quiet"])
     assert result.exit_code == 3, result.output

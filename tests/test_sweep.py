@@ -24,6 +24,8 @@ from rich.console import Console
 
 import brushbem.case
 import brushbem.sweep as sweep_module
+import brushbem.sweep.progress as sweep_progress
+import brushbem.sweep.spec as sweep_spec
 from brushbem.assembly import parse_config
 from brushbem.cli import main
 from brushbem.sweep import (
@@ -150,7 +152,7 @@ def test_seed_written_where_the_indenter_takes_one(monkeypatch):
             seen.append(seed)
         return parse_config(mapping, base_dir)
 
-    monkeypatch.setattr(sweep_module, "parse_config", parse_with_seed)
+    monkeypatch.setattr(sweep_spec, "parse_config", parse_with_seed)
     sweep = parse_sweep(spec(realizations=2, sweep={"indenter.stiffness": [1.0, 2.0]}))
     assert all(c.seed_applied for c in sweep.cases)
     assert seen == [c.seed for c in sweep.cases]
@@ -369,7 +371,7 @@ def test_rerun_gives_bit_identical_results(tmp_path):
 
 
 def test_plain_progress_lines_when_not_a_terminal(tmp_path, monkeypatch):
-    monkeypatch.setattr(sweep_module, "LOG_INTERVAL_S", 0.0)
+    monkeypatch.setattr(sweep_progress, "LOG_INTERVAL_S", 0.0)
     stream = io.StringIO()
     with ThreadPoolExecutor(1) as pool:
         run_sweep(spec(sweep={"indenter.stiffness": [1.0, 2.0]}), tmp_path / "o", pool,
