@@ -13,6 +13,14 @@ discriminant matrix Pi_l folded into the kernel spectrum
 (``coupling="discriminant"``, eq. 3.13-3.17 and 6.14-6.18), which is exact
 only while every Pi_l covers a whole cluster and no part of another one; the
 constructor checks that condition and refuses layouts that violate it.
+
+The pieces compose: `ContactOperator` on a window is the half-space
+(`brushbem.halfspace.HalfSpace`, K on any block) plus the pillar springs of
+every level on that window (`brushbem.springs.PillarSprings`); `MaskedOperator`
+restricts their sum to a contact set on the window's arrays, `ContactSystem` on
+the |S| values of S (the springs by `PillarSprings.on_set`).  The last two are
+the `brushbem.solver.cg.SetOperator`s that the conjugate gradient takes;
+`PillarCache` is the explicit cache of the pillar-block preconditioner.
 """
 
 from __future__ import annotations
@@ -20,11 +28,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from array_api_compat import is_numpy_namespace
 from scipy import ndimage
 
 from . import backend
 from .halfspace import HalfSpace
+from .springs import PillarSprings
 from .structure import Indenter
 
 __all__ = ["ContactOperator", "ContactSystem", "MaskedOperator", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
@@ -179,7 +187,7 @@ class ContactOperator:
         indenter: Indenter,
         window: Window,
         coupling: str = "segments",
-        _levels: list | None = None,
+        _widths: tuple | None = None,
         cache: PillarCache | None = None,
     ):
         if coupling not in ("segments", "discriminant"):
@@ -190,48 +198,34 @@ class ContactOperator:
         self.coupling = coupling
         xp = halfspace.xp
         self.xp = xp
-        h2 = halfspace.element_size**2
-        if _levels is None:
-            # Per elastic level: (compliance h^2/k, full-grid cluster labels,
-            # discriminant half-width or None).  Shared with the sub-operators.
-            _levels = []
-            for level in indenter.elastic_levels:
-                labels = indenter.element_clusters(level)
-                width = discriminant_half_width(labels) if coupling == "discriminant" else None
-                _levels.append((h2 / level.stiffness, labels, width, level))
-        self._level_data = _levels
-        # Per-indenter data computed on first use, shared by every window's operator.
         #: What the solves of this indenter reuse (shared by every window's operator).
         self.cache = PillarCache() if cache is None else cache
-        self._levels = []  # (compliance h^2/k, flat labels with -1 -> dummy, n_clusters, level)
+        #: The springs of every elastic level on this window.
+        self.springs = PillarSprings(indenter, halfspace.element_size, window.slices, xp)
+        if _widths is None:
+            # Per elastic level: the discriminant half-width (shared with the sub-operators).
+            _widths = tuple(
+                discriminant_half_width(indenter.element_clusters(lv.level)) if coupling == "discriminant" else None
+                for lv in self.springs.levels
+            )
+        self._widths = _widths
         self._sub_operators: dict[Window, ContactOperator] = {}
         rows, cols = window.shape
         spectrum = None
-        for compliance, labels, width, level in _levels:
-            if coupling == "discriminant":
+        if coupling == "discriminant":
+            for lv, width in zip(self.springs.levels, _widths):
                 if spectrum is None:
                     spectrum = xp.asarray(halfspace.spectrum(rows, cols), copy=True)
-                spectrum = spectrum + compliance * self._box_spectrum(rows, cols, width)
-            window_labels = labels[window.slices]
-            n = level.n_clusters
-            flat = np.where(window_labels >= 0, window_labels, n).ravel()
-            self._levels.append((compliance, xp.asarray(flat), n, level))
-        self._spectrum = spectrum
+                spectrum = spectrum + lv.compliance * self._box_spectrum(rows, cols, width)
+        #: The half-space and the springs in one spectrum (discriminant coupling), else None.
+        self.spectrum = spectrum
         #: Pillar index of every window element (-1 outside the footprints).
         self.pillar_labels = indenter.pillar[window.slices]
-        # The spring sums only ever see pressure on the footprints: gather
-        # those elements once (far fewer than the window's for a sparse brush).
-        footprint = np.flatnonzero(self.pillar_labels.ravel() >= 0)
-        self._footprint_index = xp.asarray(footprint)
-        self._footprint_levels = [
-            (compliance, xp.asarray(np.asarray(backend.to_numpy(flat))[footprint]), n)
-            for compliance, flat, n, _ in self._levels
-        ]
 
     def for_window(self, window: Window) -> ContactOperator:
         """The same operator on another window (the springs' labels and widths are shared)."""
         return ContactOperator(
-            self.halfspace, self.indenter, window, self.coupling, _levels=self._level_data, cache=self.cache
+            self.halfspace, self.indenter, window, self.coupling, _widths=self._widths, cache=self.cache
         )
 
     def sub_operator(self, mask) -> tuple[tuple[slice, slice], ContactOperator]:
@@ -300,12 +294,12 @@ class ContactOperator:
 
     @property
     def has_springs(self) -> bool:
-        return bool(self._levels)
+        return bool(self.springs)
 
     @property
     def spring_levels(self) -> list[tuple[float, np.ndarray]]:
         """``(h^2 / k_l, cluster of every pillar)`` of every elastic level, bottom-up."""
-        return [(compliance, level.cluster) for compliance, _, _, level in self._levels]
+        return [(lv.compliance, lv.level.cluster) for lv in self.springs.levels]
 
     def halfspace_deflection(self, pressure):
         """K p on the window, in units of length."""
@@ -313,36 +307,11 @@ class ContactOperator:
 
     def cluster_forces(self, pressure):
         """Force carried by every cluster of every elastic level: list of arrays h^2 sum p."""
-        xp = self.xp
-        h2 = self.halfspace.element_size**2
-        values = xp.reshape(pressure, (-1,))[self._footprint_index]
-        return [h2 * backend.segment_sum(xp, labels, values, n) for _, labels, n in self._footprint_levels]
+        return self.springs.cluster_forces(pressure)
 
     def spring_deflection(self, pressure):
-        """Total spring deflection above every element of the window, in units of length.
-
-        Zero outside the footprints; pressure outside the footprints is ignored
-        (it is zero in every state of the solver).
-        """
-        xp = self.xp
-        if not is_numpy_namespace(xp):
-            # Gathers only (the array API standard has no scatter): sums per
-            # cluster over the window, the off-footprint dummy cluster n set
-            # to zero, read back through the labels.
-            values = xp.reshape(pressure, (-1,))
-            total = xp.zeros(values.shape, dtype=pressure.dtype)
-            for compliance, flat, n, _ in self._levels:
-                sums = backend.segment_sum(xp, flat, values, n + 1)
-                sums = xp.where(xp.arange(n + 1) < n, sums, 0.0)
-                total = total + compliance * xp.take(sums, flat)
-            return xp.reshape(total, pressure.shape)
-        values = xp.reshape(pressure, (-1,))[self._footprint_index]
-        on_footprint = xp.zeros(values.shape, dtype=pressure.dtype)
-        for compliance, labels, n in self._footprint_levels:
-            on_footprint = on_footprint + compliance * backend.segment_sum(xp, labels, values, n)[labels]
-        total = xp.zeros(pressure.size, dtype=pressure.dtype)
-        total[self._footprint_index] = on_footprint
-        return xp.reshape(total, pressure.shape)
+        """Total spring deflection above every element of the window (`PillarSprings.apply`)."""
+        return self.springs.apply(pressure)
 
     def tip_deflection(self, pressure):
         """K p plus the spring deflection (segment sums) on the window, unmasked.
@@ -352,8 +321,8 @@ class ContactOperator:
         discriminant coupling; on the footprint the two agree to round-off).
         """
         deflection = self.halfspace.apply(pressure, support=_support(self.xp, pressure))
-        if self._levels:
-            deflection = deflection + self.spring_deflection(pressure)
+        if self.springs:
+            deflection = deflection + self.springs.apply(pressure)
         return deflection
 
     def element_deflection(self, values, mask):
@@ -378,17 +347,17 @@ class ContactOperator:
         weights = np.asarray(backend.to_numpy(values[loaded]))
         for r, c, w in zip(rows_at.tolist(), cols_at.tolist(), weights.tolist()):
             deflection += w * table[rows - 1 - r : 2 * rows - 1 - r, cols - 1 - c : 2 * cols - 1 - c]
-        if self._levels:
-            deflection = deflection + self.spring_deflection(xp.where(loaded, values, 0.0))
+        if self.springs:
+            deflection = deflection + self.springs.apply(xp.where(loaded, values, 0.0))
         return deflection
 
     def deflection(self, pressure):
         """(K + springs) p on the window, unmasked."""
-        if self._spectrum is not None:
-            return self.halfspace.apply(pressure, spectrum=self._spectrum)
+        if self.spectrum is not None:
+            return self.halfspace.apply(pressure, spectrum=self.spectrum)
         result = self.halfspace.apply(pressure)
-        if self._levels:
-            result = result + self.spring_deflection(pressure)
+        if self.springs:
+            result = result + self.springs.apply(pressure)
         return result
 
     def apply(self, pressure, mask):
@@ -463,14 +432,14 @@ class ContactSystem:
         self._compact = xp.asarray(compact)
         rows_w, cols_w = m.shape
         self._padded_shape = (2 * rows_w, 2 * cols_w)
-        if operator._spectrum is not None:
-            self._spectrum = operator._spectrum
-            self._springs = []
+        #: The spring sums on S in segment form, whatever the coupling (`spring_deflection`).
+        self.springs = operator.springs.on_set(self.index)
+        if operator.spectrum is not None:
+            self._spectrum = operator.spectrum  # the springs are folded into it
+            self._springs = None
         else:
             self._spectrum = operator.halfspace.spectrum(rows_w, cols_w)
-            self._springs = [(compliance, flat[self.index], n) for compliance, flat, n, _ in operator._levels]
-        #: The spring sums in segment form, whatever the coupling (`spring_deflection`).
-        self._spring_sums = [(compliance, flat[self.index], n) for compliance, flat, n, _ in operator._levels]
+            self._springs = self.springs
         #: Pillar of every element of S (-1 off the pillars).
         self.pillars = np.asarray(backend.to_numpy(operator.pillar_labels)).ravel()[index]
 
@@ -492,11 +461,7 @@ class ContactSystem:
 
     def spring_deflection(self, values):
         """The springs' part of A_S v for v on S: the deflection of every level above each element."""
-        xp = self.xp
-        out = xp.zeros_like(values)
-        for compliance, labels, n in self._spring_sums:
-            out = out + compliance * backend.segment_sum(xp, labels, values, n + 1)[labels]
-        return out
+        return self.springs.apply(values)
 
     def apply(self, values):
         """A_S v for v on S (a vector of |S| values)."""
@@ -506,6 +471,6 @@ class ContactSystem:
         rows = xp.reshape(rows, (int(self._rows_np.size), self.shape[1]))
         deflection = backend.padded_convolution_rows(xp, rows, self._rows, self._spectrum, self._padded_shape)
         out = xp.reshape(deflection, (-1,))[self._compact]
-        for compliance, labels, n in self._springs:
-            out = out + compliance * backend.segment_sum(xp, labels, values, n + 1)[labels]
+        if self._springs:
+            out = self._springs.apply(values, out)
         return out
