@@ -47,8 +47,8 @@ def main() -> None:
         "states": summary["n_states"],
         "cg_iterations": summary["n_cg_iterations"],
         "converged": summary["converged"],
-        "force_over_jkr": summary["adhesive_force"] / theory.jkr_pull_off_force(1e-3, 1.0),
-        "work_over_jkr": summary["work_of_separation"] / theory.jkr_work_of_separation(1.0, 1e-3, 1.0),
+        "force_over_jkr": summary["adhesive_force"] / theory.jkr_pull_off_force(1.0, work_of_adhesion=1e-3),
+        "work_over_jkr": summary["work_of_separation"] / theory.jkr_work_of_separation(1.0, contact_modulus=1.0, work_of_adhesion=1e-3),
     }))
 
 

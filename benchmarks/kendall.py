@@ -45,8 +45,8 @@ def main() -> None:
         row = {
             "radius_elements": round(float(q), 4),
             "equivalent_radius_elements": radius / h,
-            "force_error": summary["adhesive_force"] / theory.kendall_force(1.0, 1e-3, radius) - 1.0,
-            "displacement_error": summary["pull_off_displacement"] / theory.kendall_displacement(1.0, 1e-3, radius)
+            "force_error": summary["adhesive_force"] / theory.kendall_force(radius, contact_modulus=1.0, work_of_adhesion=1e-3) - 1.0,
+            "displacement_error": summary["pull_off_displacement"] / theory.kendall_displacement(radius, contact_modulus=1.0, work_of_adhesion=1e-3)
             - 1.0,
             "converged": summary["converged"],
             "seconds": seconds,

@@ -118,8 +118,8 @@ def test_concave_profile_offsets_follow_eq_7_3():
     r = np.hypot(info["centres"][:, 0], info["centres"][:, 1])
     g = info["offsets"]
     assert g[np.argmax(r)] == 0.0  # the rim pillars are the longest
-    p_c = theory.concave_reference_stress(E_STAR, DGAMMA, 3 * GRID.element_size)
-    expected = theory.concave_offsets(r, r.max(), 0.5, E_STAR, p_c)
+    p_c = theory.concave_reference_stress(3 * GRID.element_size, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    expected = theory.concave_offsets(r, r.max(), 0.5, p_c, contact_modulus=E_STAR)
     np.testing.assert_allclose(g, expected, rtol=1e-12, atol=1e-18)
     order = np.argsort(r)
     assert np.all(np.diff(g[order]) <= 1e-15)  # shorter towards the centre

@@ -72,13 +72,13 @@ def test_hertz_force_and_contact_radius():
     states.close()
     assert state.converged, state.reason
     assert state.displacement == pytest.approx(d, rel=1e-15)
-    expected = theory.hertz_force(E_STAR, radius, d)
+    expected = theory.hertz_force(radius, d, contact_modulus=E_STAR)
     assert state.force == pytest.approx(expected, rel=5e-3)
     contact_radius = math.sqrt(state.contact_area / math.pi)
     assert abs(contact_radius - theory.hertz_contact_radius(radius, d)) < 0.5 * h
     # Maximum pressure 2 E* a / (pi R): the centre element samples a smooth
     # field, error O(h^2) (measured 3e-4); 0.5 % as for the force.
-    assert float(np.max(state.pressure)) == pytest.approx(theory.hertz_max_pressure(E_STAR, radius, d), rel=5e-3)
+    assert float(np.max(state.pressure)) == pytest.approx(theory.hertz_max_pressure(radius, d, contact_modulus=E_STAR), rel=5e-3)
     # No adhesion: the pressure is nowhere tensile, and zero off the contact.
     assert float(np.min(state.pressure)) >= 0.0
     assert not np.any(state.pressure[~state.contact])
@@ -100,7 +100,7 @@ def test_hertz_along_the_event_driven_loading_branch():
             break
         assert state.converged, state.reason
         if state.displacement >= 0.01:
-            assert state.force == pytest.approx(theory.hertz_force(E_STAR, radius, state.displacement), rel=5e-3)
+            assert state.force == pytest.approx(theory.hertz_force(radius, state.displacement, contact_modulus=E_STAR), rel=5e-3)
             checked += 1
     assert checked > 50  # the branch really was followed event by event
 
@@ -119,8 +119,8 @@ def _kendall_errors(n: int) -> tuple[float, float, float]:
     record = record_pull_off(problem, LoadPath(method="events", preload_displacement=0.01))
     summary = record.summary
     assert summary["converged"], summary["reason"]
-    force_error = summary["adhesive_force"] / theory.kendall_force(E_STAR, DGAMMA, a) - 1.0
-    displacement_error = summary["pull_off_displacement"] / theory.kendall_displacement(E_STAR, DGAMMA, a) - 1.0
+    force_error = summary["adhesive_force"] / theory.kendall_force(a, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) - 1.0
+    displacement_error = summary["pull_off_displacement"] / theory.kendall_displacement(a, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) - 1.0
     return a / grid.element_size, force_error, displacement_error
 
 
@@ -203,8 +203,8 @@ def test_jkr_sphere_pull_off_force_convergence():
     it by ~10 %).
     """
     radius = 1.0
-    a_jkr = theory.jkr_pull_off_radius(E_STAR, DGAMMA, radius)
-    f_jkr = theory.jkr_pull_off_force(DGAMMA, radius)
+    a_jkr = theory.jkr_pull_off_radius(radius, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    f_jkr = theory.jkr_pull_off_force(radius, work_of_adhesion=DGAMMA)
     preload = 1.2 * a_jkr**2 / radius
     size = 0.5
     assert theory.hertz_contact_radius(radius, preload) > a_jkr
@@ -234,16 +234,17 @@ def test_jkr_sphere_pull_off_force_convergence():
 def _sphere_work_errors(size, sizes, stiffness=math.inf, **preload):
     """(a_JKR/h, F_A/F_JKR - 1, w/w_theory - 1) of a sphere R = 1 pulled off by events."""
     radius = 1.0
-    a_jkr = theory.jkr_pull_off_radius(E_STAR, DGAMMA, radius)
-    a_m = theory.sphere_preload_contact_radius(E_STAR, radius, stiffness, **preload)
-    work = theory.sphere_spring_work_of_separation(E_STAR, DGAMMA, radius, stiffness, preload_radius=a_m)
+    a_jkr = theory.jkr_pull_off_radius(radius, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    a_m = theory.sphere_preload_contact_radius(radius, stiffness, **preload, contact_modulus=E_STAR)
+    work = theory.sphere_spring_work_of_separation(radius, stiffness, preload_radius=a_m, contact_modulus=E_STAR,
+                                                   work_of_adhesion=DGAMMA)
     rows = []
     for n in sizes:
         grid = Grid(size, n)
         problem = ContactProblem(grid, sphere(grid, radius, stiffness), E_STAR, DGAMMA)
         summary = record_pull_off(problem, LoadPath(method="events", **preload)).summary
         assert summary["converged"], summary["reason"]
-        rows.append((a_jkr / grid.element_size, summary["adhesive_force"] / theory.jkr_pull_off_force(DGAMMA, radius) - 1.0,
+        rows.append((a_jkr / grid.element_size, summary["adhesive_force"] / theory.jkr_pull_off_force(radius, work_of_adhesion=DGAMMA) - 1.0,
                      summary["work_of_separation"] / work - 1.0))
     return a_m / a_jkr, rows
 
@@ -311,17 +312,17 @@ def test_punch_on_spring_force_and_work_of_separation():
     lines = []
     for k_tilde in (0.05, 0.3, 1.5):
         stiffness = k_tilde * 2.0 * E_STAR * a
-        assert theory.normalized_punch_stiffness(stiffness, E_STAR, a) == pytest.approx(k_tilde, rel=1e-14)
+        assert theory.normalized_punch_stiffness(stiffness, a, contact_modulus=E_STAR) == pytest.approx(k_tilde, rel=1e-14)
         problem = ContactProblem(grid, flat_punch(grid, 0.25, stiffness), E_STAR, DGAMMA)
         summary = record_pull_off(problem, path).summary
         assert summary["converged"], summary["reason"]
         force_ratio = summary["adhesive_force"] / rigid["adhesive_force"]
-        work = theory.punch_spring_work_of_separation(E_STAR, DGAMMA, a, stiffness)
+        work = theory.punch_spring_work_of_separation(a, stiffness, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
         work_error = summary["work_of_separation"] / work - 1.0
         lines.append(f"k~ = {k_tilde}: F_A/F_A(rigid) - 1 = {force_ratio - 1:.2e}, w/w_theory - 1 = {work_error:.3%}")
         assert force_ratio == pytest.approx(1.0, abs=0.01), lines[-1]
         assert abs(work_error) < 0.02, lines[-1]
         # Softer springs store more: w/w_K = 1 + 1/k~ (1.67 ... 21), so the
         # spring term dominates - the test is not passing on the punch term alone.
-        assert summary["work_of_separation"] > (1.0 + 0.5 / k_tilde) * theory.kendall_work_of_separation(DGAMMA, a)
+        assert summary["work_of_separation"] > (1.0 + 0.5 / k_tilde) * theory.kendall_work_of_separation(a, work_of_adhesion=DGAMMA)
     print("\nPunch on a spring (a/h = 32):\n  " + "\n  ".join(lines))

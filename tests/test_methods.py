@@ -44,7 +44,7 @@ from brushbem.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
 E_STAR = 1.0
 DGAMMA = 1.0e-3
 SPHERE_RADIUS = 1.0
-A_JKR = theory.jkr_pull_off_radius(E_STAR, DGAMMA, SPHERE_RADIUS)  # 0.152
+A_JKR = theory.jkr_pull_off_radius(SPHERE_RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)  # 0.152
 
 # Regression guard: discriminant_half_width once built its minimum filter on int64
 # labels with the sentinel np.iinfo(np.int64).max; scipy.ndimage filters compute in

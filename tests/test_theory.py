@@ -18,6 +18,7 @@ Tolerances, unless a test says otherwise:
 
 from __future__ import annotations
 
+import inspect
 import math
 
 import numpy as np
@@ -56,14 +57,14 @@ def central_difference(function, x, step):
 
 
 def test_contact_modulus_from_young_and_poisson():
-    assert theory.contact_modulus_from(2.0e6, 0.0) == 2.0e6
+    assert theory.contact_modulus_from(youngs_modulus=2.0e6, poisson_ratio=0.0) == 2.0e6
     # nu = 0.5 (incompressible rubber): E* = 4 E / 3.
-    assert theory.contact_modulus_from(3.0e6, 0.5) == pytest.approx(4.0e6, rel=EXACT)
+    assert theory.contact_modulus_from(youngs_modulus=3.0e6, poisson_ratio=0.5) == pytest.approx(4.0e6, rel=EXACT)
 
 
 def test_scalars_give_floats_and_arrays_broadcast():
-    assert type(theory.kendall_force(E_STAR, DGAMMA, RADIUS)) is float
-    forces = theory.kendall_force(E_STAR, DGAMMA, np.array([[1e-4], [1e-3]]) * np.ones((2, 3)))
+    assert type(theory.kendall_force(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)) is float
+    forces = theory.kendall_force(np.array([[1e-4], [1e-3]]) * np.ones((2, 3)), contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert isinstance(forces, np.ndarray)
     assert forces.shape == (2, 3)
 
@@ -91,29 +92,29 @@ def test_kendall_from_the_energy_of_eq_2_3():
 
     d_scale = math.sqrt(DGAMMA * r / E_STAR)
     d_critical = -optimize.brentq(energy_release, 0.1 * d_scale, 10.0 * d_scale, xtol=1e-20, rtol=1e-14)
-    assert d_critical == pytest.approx(theory.kendall_displacement(E_STAR, DGAMMA, r), rel=1e-9)
+    assert d_critical == pytest.approx(theory.kendall_displacement(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=1e-9)
     # Force on the punch at that displacement, eq. 2.1, is the pull-off force (eq. 2.4b).
     force = 2.0 * E_STAR * r * d_critical
-    assert -force == pytest.approx(theory.kendall_force(E_STAR, DGAMMA, r), rel=1e-9)
+    assert -force == pytest.approx(theory.kendall_force(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=1e-9)
 
 
 def test_kendall_work_is_the_area_under_the_punch_curve():
     """Eq. 2.5-2.6: the integral of F = 2 E* r d up to d_K equals 2 pi dgamma r**2."""
     r = 3e-4
-    d_k = theory.kendall_displacement(E_STAR, DGAMMA, r)
+    d_k = theory.kendall_displacement(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     work, _ = integrate.quad(lambda d: 2.0 * E_STAR * r * d, 0.0, d_k, epsabs=0.0, epsrel=1e-13)
-    assert work == pytest.approx(theory.kendall_work_of_separation(DGAMMA, r), rel=QUADRATURE)
+    assert work == pytest.approx(theory.kendall_work_of_separation(r, work_of_adhesion=DGAMMA), rel=QUADRATURE)
     assert E_STAR * r * d_k**2 == pytest.approx(2.0 * DGAMMA * math.pi * r**2, rel=EXACT)
 
 
 @given(moduli, works, lengths)
 def test_kendall_force_is_stiffness_times_displacement(modulus, dgamma, r):
-    force = theory.kendall_force(modulus, dgamma, r)
-    displacement = theory.kendall_displacement(modulus, dgamma, r)
+    force = theory.kendall_force(r, contact_modulus=modulus, work_of_adhesion=dgamma)
+    displacement = theory.kendall_displacement(r, contact_modulus=modulus, work_of_adhesion=dgamma)
     assert displacement < 0.0
-    assert force == pytest.approx(-theory.punch_stiffness(modulus, r) * displacement, rel=EXACT)
+    assert force == pytest.approx(-theory.punch_stiffness(r, contact_modulus=modulus) * displacement, rel=EXACT)
     # Stored energy at detachment equals the rigid work of separation.
-    assert 0.5 * force * -displacement == pytest.approx(theory.kendall_work_of_separation(dgamma, r), rel=EXACT)
+    assert 0.5 * force * -displacement == pytest.approx(theory.kendall_work_of_separation(r, work_of_adhesion=dgamma), rel=EXACT)
 
 
 # ---------------------------------------------------------------------------
@@ -125,12 +126,12 @@ def test_kendall_force_is_stiffness_times_displacement(modulus, dgamma, r):
 def test_punch_spring_work_equals_eq_2_8(modulus, dgamma, r, k_tilde):
     """w~ = 1 + 1/k~ (eq. 2.19) against eq. 2.8 with the spring stretched by F_K / k (eq. 2.17)."""
     stiffness = k_tilde * 2.0 * modulus * r
-    assert theory.normalized_punch_stiffness(stiffness, modulus, r) == pytest.approx(k_tilde, rel=EXACT)
-    deflection = theory.kendall_force(modulus, dgamma, r) / stiffness
+    assert theory.normalized_punch_stiffness(stiffness, r, contact_modulus=modulus) == pytest.approx(k_tilde, rel=EXACT)
+    deflection = theory.kendall_force(r, contact_modulus=modulus, work_of_adhesion=dgamma) / stiffness
     eq_2_8 = 2.0 * dgamma * math.pi * r**2 + 0.5 * stiffness * deflection**2
-    work = theory.punch_spring_work_of_separation(modulus, dgamma, r, stiffness)
+    work = theory.punch_spring_work_of_separation(r, stiffness, contact_modulus=modulus, work_of_adhesion=dgamma)
     assert work == pytest.approx(eq_2_8, rel=EXACT)
-    assert work / theory.kendall_work_of_separation(dgamma, r) == pytest.approx(1.0 + 1.0 / k_tilde, rel=EXACT)
+    assert work / theory.kendall_work_of_separation(r, work_of_adhesion=dgamma) == pytest.approx(1.0 + 1.0 / k_tilde, rel=EXACT)
 
 
 def test_punch_spring_curve_integrates_to_the_work_and_ends_at_minus_f_k():
@@ -140,24 +141,24 @@ def test_punch_spring_curve_integrates_to_the_work_and_ends_at_minus_f_k():
     change the pull-off force), and the area under the curve must be eq. 2.18.
     """
     r, k_tilde = 3e-4, 0.05
-    stiffness = k_tilde * theory.punch_stiffness(E_STAR, r)
-    series = 1.0 / (1.0 / theory.punch_stiffness(E_STAR, r) + 1.0 / stiffness)
-    d_sep = theory.punch_spring_separation_displacement(E_STAR, DGAMMA, r, stiffness)
-    assert series * d_sep == pytest.approx(-theory.kendall_force(E_STAR, DGAMMA, r), rel=EXACT)
+    stiffness = k_tilde * theory.punch_stiffness(r, contact_modulus=E_STAR)
+    series = 1.0 / (1.0 / theory.punch_stiffness(r, contact_modulus=E_STAR) + 1.0 / stiffness)
+    d_sep = theory.punch_spring_separation_displacement(r, stiffness, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert series * d_sep == pytest.approx(-theory.kendall_force(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT)
     work, _ = integrate.quad(lambda d: series * d, 0.0, d_sep, epsabs=0.0, epsrel=1e-13)
-    assert work == pytest.approx(theory.punch_spring_work_of_separation(E_STAR, DGAMMA, r, stiffness), rel=QUADRATURE)
+    assert work == pytest.approx(theory.punch_spring_work_of_separation(r, stiffness, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=QUADRATURE)
     # The base travels (1 + 1/k~) times as far as the rigid punch: the same factor as the work.
-    ratio = d_sep / theory.kendall_displacement(E_STAR, DGAMMA, r)
+    ratio = d_sep / theory.kendall_displacement(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert ratio == pytest.approx(1.0 + 1.0 / k_tilde, rel=EXACT)
 
 
 def test_punch_spring_rigid_limit():
     r = 3e-4
-    assert theory.punch_spring_work_of_separation(E_STAR, DGAMMA, r, math.inf) == pytest.approx(
-        theory.kendall_work_of_separation(DGAMMA, r), rel=EXACT
+    assert theory.punch_spring_work_of_separation(r, math.inf, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        theory.kendall_work_of_separation(r, work_of_adhesion=DGAMMA), rel=EXACT
     )
-    assert theory.punch_spring_separation_displacement(E_STAR, DGAMMA, r, math.inf) == pytest.approx(
-        theory.kendall_displacement(E_STAR, DGAMMA, r), rel=EXACT
+    assert theory.punch_spring_separation_displacement(r, math.inf, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        theory.kendall_displacement(r, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT
     )
 
 
@@ -168,8 +169,8 @@ def test_punch_spring_work_against_the_thesis_numbers():
     1.67, within 2 % of them, which is what the thesis calls good agreement.
     The "over 65 times" at k~ = 0.015 is eq. 2.19's 67.7.
     """
-    work = theory.punch_spring_work_of_separation(1.0, 1.0, 1.0, np.array([0.3, 1.5, 0.015]) * 2.0)
-    normalized = work / theory.kendall_work_of_separation(1.0, 1.0)
+    work = theory.punch_spring_work_of_separation(1.0, np.array([0.3, 1.5, 0.015]) * 2.0, contact_modulus=1.0, work_of_adhesion=1.0)
+    normalized = work / theory.kendall_work_of_separation(1.0, work_of_adhesion=1.0)
     np.testing.assert_allclose(normalized, [13.0 / 3.0, 5.0 / 3.0, 1.0 + 1.0 / 0.015], rtol=EXACT)
     np.testing.assert_allclose(normalized[:2], [4.26, 1.64], rtol=0.02)
     assert normalized[2] > 65.0
@@ -183,20 +184,22 @@ def test_punch_spring_work_against_the_thesis_numbers():
 def test_hertz_pressure_force_and_radius_are_consistent():
     d = 2e-5
     a = theory.hertz_contact_radius(RADIUS, d)
-    force = theory.hertz_force(E_STAR, RADIUS, d)
+    force = theory.hertz_force(RADIUS, d, contact_modulus=E_STAR)
     # Hertz pressure p0 sqrt(1 - (r/a)**2) integrates to F = 2/3 pi a**2 p0.
-    assert theory.hertz_max_pressure(E_STAR, RADIUS, d) == pytest.approx(3.0 * force / (2.0 * math.pi * a**2), rel=EXACT)
-    assert theory.hertz_force(E_STAR, RADIUS, -d) == 0.0
+    assert theory.hertz_max_pressure(RADIUS, d, contact_modulus=E_STAR) == pytest.approx(3.0 * force / (2.0 * math.pi * a**2), rel=EXACT)
+    assert theory.hertz_force(RADIUS, -d, contact_modulus=E_STAR) == 0.0
 
 
 @given(st.floats(min_value=1e-6, max_value=1e-2))
 def test_jkr_reduces_to_hertz_without_adhesion(a):
     """Eq. 2.22 and d(a) with dgamma = 0 are Hertz: F = 4/3 E* sqrt(R) d**1.5, d = a**2 / R."""
-    d = theory.jkr_displacement_from_radius(a, E_STAR, 0.0, RADIUS)
+    d = theory.jkr_displacement_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=0.0)
     assert d == pytest.approx(a**2 / RADIUS, rel=EXACT)
-    assert theory.jkr_force_from_radius(a, E_STAR, 0.0, RADIUS) == pytest.approx(theory.hertz_force(E_STAR, RADIUS, d), rel=EXACT)
-    assert theory.jkr_force_from_displacement(d, E_STAR, 0.0, RADIUS) == pytest.approx(
-        theory.hertz_force(E_STAR, RADIUS, d), rel=1e-10
+    assert theory.jkr_force_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=0.0) == pytest.approx(
+        theory.hertz_force(RADIUS, d, contact_modulus=E_STAR), rel=EXACT
+    )
+    assert theory.jkr_force_from_displacement(d, RADIUS, contact_modulus=E_STAR, work_of_adhesion=0.0) == pytest.approx(
+        theory.hertz_force(RADIUS, d, contact_modulus=E_STAR), rel=1e-10
     )
 
 
@@ -204,17 +207,17 @@ def test_jkr_approaches_hertz_as_adhesion_vanishes():
     """The adhesive term of eq. 2.22 scales like sqrt(dgamma): the gap to Hertz shrinks 10x per 100x."""
     a = 1e-4
     hertz = 4.0 * E_STAR * a**3 / (3.0 * RADIUS)
-    gaps = [abs(theory.jkr_force_from_radius(a, E_STAR, g, RADIUS) / hertz - 1.0) for g in (1e-4, 1e-6, 1e-8)]
+    gaps = [abs(theory.jkr_force_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=g) / hertz - 1.0) for g in (1e-4, 1e-6, 1e-8)]
     np.testing.assert_allclose(np.array(gaps[:-1]) / np.array(gaps[1:]), 10.0, rtol=1e-9)
 
 
 def test_jkr_force_minimum_is_minus_f_jkr_at_a_jkr():
     """Point C: dF/da = 0 at a_JKR, where F = -3/2 pi R dgamma (eq. 1.1, 2.20)."""
-    a_jkr = theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS)
-    f_jkr = theory.jkr_pull_off_force(DGAMMA, RADIUS)
+    a_jkr = theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    f_jkr = theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA)
 
     def force(a):
-        return theory.jkr_force_from_radius(a, E_STAR, DGAMMA, RADIUS)
+        return theory.jkr_force_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
 
     assert force(a_jkr) == pytest.approx(-f_jkr, rel=EXACT)
     # Step 1e-4 a: truncation ~1e-8 F'''a**2 ~ 1e-8 F_JKR / a; rounding ~1e-16 / 1e-4.
@@ -225,33 +228,34 @@ def test_jkr_force_minimum_is_minus_f_jkr_at_a_jkr():
     result = optimize.minimize_scalar(force, bounds=(0.1 * a_jkr, 3.0 * a_jkr), method="bounded", options={"xatol": 1e-12 * a_jkr})
     assert result.x == pytest.approx(a_jkr, rel=1e-5)
     assert result.fun == pytest.approx(-f_jkr, rel=1e-10)
-    assert theory.jkr_displacement_from_radius(a_jkr, E_STAR, DGAMMA, RADIUS) == pytest.approx(
-        theory.jkr_pull_off_displacement(E_STAR, DGAMMA, RADIUS), rel=EXACT
+    assert theory.jkr_displacement_from_radius(a_jkr, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT
     )
 
 
 def test_jkr_zero_force_at_two_to_the_two_thirds():
     """Point B: F = 0 at a~ = 2**(2/3) (from eq. 2.24)."""
-    a0 = theory.jkr_zero_force_radius(E_STAR, DGAMMA, RADIUS)
-    assert a0 / theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS) == pytest.approx(2.0 ** (2.0 / 3.0), rel=EXACT)
+    a0 = theory.jkr_zero_force_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert a0 / theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(2.0 ** (2.0 / 3.0), rel=EXACT)
     # Two terms of size ~2 F_JKR cancel: the residual is round-off of that size.
-    assert abs(theory.jkr_force_from_radius(a0, E_STAR, DGAMMA, RADIUS)) < 1e-13 * theory.jkr_pull_off_force(DGAMMA, RADIUS)
+    force = theory.jkr_force_from_radius(a0, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert abs(force) < 1e-13 * theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA)
 
 
 def test_jkr_separation_point_d():
     """Point D: dd/da = 0 at a~ = (1/3)**(2/3), F = -5/9 F_JKR, d = 3**(2/3) d_JKR."""
-    a_s = theory.jkr_separation_radius(E_STAR, DGAMMA, RADIUS)
+    a_s = theory.jkr_separation_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
 
     def displacement(a):
-        return theory.jkr_displacement_from_radius(a, E_STAR, DGAMMA, RADIUS)
+        return theory.jkr_displacement_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
 
-    d_s = theory.jkr_separation_displacement(E_STAR, DGAMMA, RADIUS)
+    d_s = theory.jkr_separation_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert displacement(a_s) == pytest.approx(d_s, rel=EXACT)
-    assert d_s / theory.jkr_pull_off_displacement(E_STAR, DGAMMA, RADIUS) == pytest.approx(3.0 ** (2.0 / 3.0), rel=EXACT)
+    assert d_s / theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(3.0 ** (2.0 / 3.0), rel=EXACT)
     assert abs(central_difference(displacement, a_s, 1e-4 * a_s)) * a_s < 1e-7 * abs(d_s)
-    force = theory.jkr_force_from_radius(a_s, E_STAR, DGAMMA, RADIUS)
-    assert force == pytest.approx(-theory.jkr_separation_force(DGAMMA, RADIUS), rel=EXACT)
-    assert force == pytest.approx(-5.0 / 9.0 * theory.jkr_pull_off_force(DGAMMA, RADIUS), rel=EXACT)
+    force = theory.jkr_force_from_radius(a_s, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert force == pytest.approx(-theory.jkr_separation_force(RADIUS, work_of_adhesion=DGAMMA), rel=EXACT)
+    assert force == pytest.approx(-5.0 / 9.0 * theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA), rel=EXACT)
     result = optimize.minimize_scalar(displacement, bounds=(0.05 * a_s, 5.0 * a_s), method="bounded", options={"xatol": 1e-12 * a_s})
     assert result.fun == pytest.approx(d_s, rel=1e-10)
 
@@ -259,15 +263,15 @@ def test_jkr_separation_point_d():
 @given(st.floats(min_value=0.0, max_value=20.0))
 def test_jkr_normalized_forms_of_eq_2_24(a_tilde):
     """Eq. 2.24: F / F_JKR = a~**3 - 2 a~**1.5 and d / |d_JKR| = 3 a~**2 - 4 a~**0.5."""
-    a = a_tilde * theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS)
-    f_scale = theory.jkr_pull_off_force(DGAMMA, RADIUS)
-    d_scale = -theory.jkr_pull_off_displacement(E_STAR, DGAMMA, RADIUS)
+    a = a_tilde * theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    f_scale = theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA)
+    d_scale = -theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     # Differences of terms up to 3 a~**2 in size: compare with an absolute tolerance on that scale.
     size = 1.0 + 3.0 * a_tilde**3
-    assert theory.jkr_force_from_radius(a, E_STAR, DGAMMA, RADIUS) / f_scale == pytest.approx(
+    assert theory.jkr_force_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) / f_scale == pytest.approx(
         theory.jkr_normalized_force(a_tilde), abs=EXACT * size
     )
-    assert theory.jkr_displacement_from_radius(a, E_STAR, DGAMMA, RADIUS) / d_scale == pytest.approx(
+    assert theory.jkr_displacement_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) / d_scale == pytest.approx(
         theory.jkr_normalized_displacement(a_tilde), abs=EXACT * size
     )
 
@@ -279,59 +283,62 @@ def test_jkr_energy_eq_2_23_is_stationary_on_the_jkr_curve(a_tilde):
     Step 1e-5 of the variable: truncation ~1e-10 relative, rounding ~1e-11
     relative to the energy scale; tolerance 1e-7 of the scale.
     """
-    a = a_tilde * theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS)
-    d = theory.jkr_displacement_from_radius(a, E_STAR, DGAMMA, RADIUS)
-    u_scale = theory.sphere_normalization_energy(E_STAR, DGAMMA, RADIUS) * (1.0 + a_tilde**5)
-    d_step = 1e-5 * abs(theory.jkr_pull_off_displacement(E_STAR, DGAMMA, RADIUS))
-    du_da = central_difference(lambda x: theory.jkr_total_energy(x, d, E_STAR, DGAMMA, RADIUS), a, 1e-5 * a)
-    du_dd = central_difference(lambda x: theory.jkr_total_energy(a, x, E_STAR, DGAMMA, RADIUS), d, d_step)
+    a = a_tilde * theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    d = theory.jkr_displacement_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    u_scale = theory.sphere_normalization_energy(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) * (1.0 + a_tilde**5)
+    d_step = 1e-5 * abs(theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA))
+    du_da = central_difference(lambda x: theory.jkr_total_energy(x, d, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), a, 1e-5 * a)
+    du_dd = central_difference(lambda x: theory.jkr_total_energy(a, x, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), d, d_step)
     assert abs(du_da) * a < 1e-7 * u_scale
-    force = theory.jkr_force_from_radius(a, E_STAR, DGAMMA, RADIUS)
-    assert du_dd == pytest.approx(force, abs=1e-7 * theory.jkr_pull_off_force(DGAMMA, RADIUS) * (1.0 + a_tilde**3))
+    force = theory.jkr_force_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert du_dd == pytest.approx(force, abs=1e-7 * theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA) * (1.0 + a_tilde**3))
 
 
 @settings(deadline=None)
 @given(moduli, works, lengths, st.floats(min_value=(1.0 / 3.0) ** (2.0 / 3.0), max_value=50.0))
 def test_jkr_radius_from_displacement_inverts_the_stable_branch(modulus, dgamma, r, a_tilde):
-    a = a_tilde * theory.jkr_pull_off_radius(modulus, dgamma, r)
-    d = theory.jkr_displacement_from_radius(a, modulus, dgamma, r)
-    a_back = theory.jkr_radius_from_displacement(d, modulus, dgamma, r)
+    a = a_tilde * theory.jkr_pull_off_radius(r, contact_modulus=modulus, work_of_adhesion=dgamma)
+    d = theory.jkr_displacement_from_radius(a, r, contact_modulus=modulus, work_of_adhesion=dgamma)
+    a_back = theory.jkr_radius_from_displacement(d, r, contact_modulus=modulus, work_of_adhesion=dgamma)
     # Near D the branch is flat (dd/da = 0): a is determined only to ~sqrt(eps) there.
     tolerance = 1e-6 if a_tilde < 0.6 else 1e-9
     assert a_back == pytest.approx(a, rel=tolerance)
-    assert a_back >= theory.jkr_separation_radius(modulus, dgamma, r) * (1.0 - 1e-12)
+    assert a_back >= theory.jkr_separation_radius(r, contact_modulus=modulus, work_of_adhesion=dgamma) * (1.0 - 1e-12)
 
 
 def test_jkr_force_from_displacement_limits_and_errors():
-    d_s = theory.jkr_separation_displacement(E_STAR, DGAMMA, RADIUS)
-    assert theory.jkr_force_from_displacement(d_s, E_STAR, DGAMMA, RADIUS) == pytest.approx(
-        -theory.jkr_separation_force(DGAMMA, RADIUS), rel=1e-9
+    d_s = theory.jkr_separation_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert theory.jkr_force_from_displacement(d_s, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        -theory.jkr_separation_force(RADIUS, work_of_adhesion=DGAMMA), rel=1e-9
     )
-    d_c = theory.jkr_pull_off_displacement(E_STAR, DGAMMA, RADIUS)
-    assert theory.jkr_force_from_displacement(d_c, E_STAR, DGAMMA, RADIUS) == pytest.approx(
-        -theory.jkr_pull_off_force(DGAMMA, RADIUS), rel=1e-9
+    d_c = theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert theory.jkr_force_from_displacement(d_c, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        -theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA), rel=1e-9
     )
     # Vectorised, and on the largest-a branch: the contact grows with d from a_s on.
     # The force falls from -5/9 F_JKR at D to -F_JKR at C, then rises.
     displacements = np.linspace(d_s, -d_s, 7)
-    radii = theory.jkr_radius_from_displacement(displacements, E_STAR, DGAMMA, RADIUS)
+    radii = theory.jkr_radius_from_displacement(displacements, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert np.all(np.diff(radii) > 0.0)
-    assert radii[0] == pytest.approx(theory.jkr_separation_radius(E_STAR, DGAMMA, RADIUS), rel=1e-9)
-    forces = theory.jkr_force_from_displacement(displacements[displacements >= d_c], E_STAR, DGAMMA, RADIUS)
+    assert radii[0] == pytest.approx(theory.jkr_separation_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=1e-9)
+    forces = theory.jkr_force_from_displacement(displacements[displacements >= d_c], RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert np.all(np.diff(forces) > 0.0)
     with pytest.raises(ValueError, match="displacement"):
-        theory.jkr_force_from_displacement(1.001 * d_s, E_STAR, DGAMMA, RADIUS)
+        theory.jkr_force_from_displacement(1.001 * d_s, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     with pytest.raises(ValueError, match="displacement"):
-        theory.jkr_radius_from_displacement(-1e-9, E_STAR, 0.0, RADIUS)
+        theory.jkr_radius_from_displacement(-1e-9, RADIUS, contact_modulus=E_STAR, work_of_adhesion=0.0)
 
 
 def test_dmt_tabor_maugis():
-    assert theory.dmt_pull_off_force(DGAMMA, RADIUS) / theory.jkr_pull_off_force(DGAMMA, RADIUS) == pytest.approx(4.0 / 3.0, rel=EXACT)
+    dmt = theory.dmt_pull_off_force(RADIUS, work_of_adhesion=DGAMMA)
+    assert dmt / theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA) == pytest.approx(4.0 / 3.0, rel=EXACT)
     # Eq. 1.5's "lambda ~ 1.16 mu_T": with the Dugdale stress that matches a
     # Lennard-Jones law, sigma0 = 16 dgamma / (9 sqrt(3) z0), the ratio is 1.157.
     z0 = 3e-10
     sigma0 = 16.0 * DGAMMA / (9.0 * math.sqrt(3.0) * z0)
-    ratio = theory.maugis_parameter(sigma0, RADIUS, E_STAR, DGAMMA) / theory.tabor_parameter(RADIUS, DGAMMA, E_STAR, z0)
+    maugis = theory.maugis_parameter(RADIUS, adhesive_stress=sigma0, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    tabor = theory.tabor_parameter(RADIUS, work_of_adhesion=DGAMMA, contact_modulus=E_STAR, equilibrium_separation=z0)
+    ratio = maugis / tabor
     assert ratio == pytest.approx(16.0 / (9.0 * math.sqrt(3.0)) * (9.0 / (2.0 * math.pi)) ** (1.0 / 3.0), rel=EXACT)
     assert round(ratio, 2) == 1.16
 
@@ -342,43 +349,45 @@ def test_dmt_tabor_maugis():
 
 
 def test_sphere_scales_relate_to_the_jkr_scales():
-    a_nor = theory.sphere_normalization_radius(E_STAR, DGAMMA, RADIUS)
-    a_jkr = theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS)
+    a_nor = theory.sphere_normalization_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    a_jkr = theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert a_jkr / a_nor == pytest.approx((9.0 / 4.0) ** (1.0 / 3.0), rel=EXACT)
-    assert theory.sphere_normalization_energy(E_STAR, DGAMMA, RADIUS) == pytest.approx(E_STAR * a_nor**5 / RADIUS**2, rel=EXACT)
+    assert theory.sphere_normalization_energy(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(E_STAR * a_nor**5 / RADIUS**2, rel=EXACT)
     # k_bar (eq. 2.36) versus the k~ = k / (E* a_JKR) of eq. 2.21.
     k = 3.0
-    assert theory.sphere_normalized_stiffness(k, E_STAR, DGAMMA, RADIUS) == pytest.approx(k / (E_STAR * a_jkr) * a_jkr / a_nor, rel=EXACT)
+    assert theory.sphere_normalized_stiffness(k, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
+        k / (E_STAR * a_jkr) * a_jkr / a_nor, rel=EXACT
+    )
 
 
 def test_sphere_special_radii_are_the_jkr_points():
     """a_bar_o, a_bar_s, a_bar_c are points B, D, C of eq. 2.22 in the a / a_nor scale."""
-    a_nor = theory.sphere_normalization_radius(E_STAR, DGAMMA, RADIUS)
-    f_jkr = theory.jkr_pull_off_force(DGAMMA, RADIUS)
-    assert abs(theory.jkr_force_from_radius(theory.SPHERE_ABAR_ZERO_FORCE * a_nor, E_STAR, DGAMMA, RADIUS)) < 1e-13 * f_jkr
-    assert theory.SPHERE_ABAR_ZERO_FORCE * a_nor == pytest.approx(theory.jkr_zero_force_radius(E_STAR, DGAMMA, RADIUS), rel=EXACT)
-    assert theory.SPHERE_ABAR_SEPARATION * a_nor == pytest.approx(theory.jkr_separation_radius(E_STAR, DGAMMA, RADIUS), rel=EXACT)
-    assert theory.SPHERE_ABAR_PULL_OFF * a_nor == pytest.approx(theory.jkr_pull_off_radius(E_STAR, DGAMMA, RADIUS), rel=EXACT)
+    a_nor = theory.sphere_normalization_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    f_jkr = theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA)
+    assert abs(theory.jkr_force_from_radius(theory.SPHERE_ABAR_ZERO_FORCE * a_nor, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)) < 1e-13 * f_jkr
+    assert theory.SPHERE_ABAR_ZERO_FORCE * a_nor == pytest.approx(theory.jkr_zero_force_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT)
+    assert theory.SPHERE_ABAR_SEPARATION * a_nor == pytest.approx(theory.jkr_separation_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT)
+    assert theory.SPHERE_ABAR_PULL_OFF * a_nor == pytest.approx(theory.jkr_pull_off_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT)
 
 
 @given(st.floats(min_value=0.0, max_value=5.0), moduli, works, lengths)
 def test_eq_2_37_rigid_is_eq_2_23_on_the_jkr_curve(a_bar, modulus, dgamma, r):
     """Eq. 2.37 with 1/k_bar -> 0 is eq. 2.23 at d = d(a), divided by U_nor."""
-    a_nor = theory.sphere_normalization_radius(modulus, dgamma, r)
-    u_nor = theory.sphere_normalization_energy(modulus, dgamma, r)
+    a_nor = theory.sphere_normalization_radius(r, contact_modulus=modulus, work_of_adhesion=dgamma)
+    u_nor = theory.sphere_normalization_energy(r, contact_modulus=modulus, work_of_adhesion=dgamma)
     a = a_bar * a_nor
-    d = theory.jkr_displacement_from_radius(a, modulus, dgamma, r)
-    eq_2_23 = theory.jkr_total_energy(a, d, modulus, dgamma, r) / u_nor
+    d = theory.jkr_displacement_from_radius(a, r, contact_modulus=modulus, work_of_adhesion=dgamma)
+    eq_2_23 = theory.jkr_total_energy(a, d, r, contact_modulus=modulus, work_of_adhesion=dgamma) / u_nor
     # Terms of size up to 8/3 a_bar**3.5 cancel: absolute tolerance on that scale.
     assert theory.sphere_spring_energy_normalized(a_bar, math.inf) == pytest.approx(eq_2_23, abs=EXACT * (1.0 + 3.0 * a_bar**5))
 
 
 @given(st.floats(min_value=0.0, max_value=5.0), st.floats(min_value=1e-3, max_value=1e3))
 def test_eq_2_37_spring_term_is_f_squared_over_2k(a_bar, k_bar):
-    a_nor = theory.sphere_normalization_radius(E_STAR, DGAMMA, RADIUS)
-    u_nor = theory.sphere_normalization_energy(E_STAR, DGAMMA, RADIUS)
+    a_nor = theory.sphere_normalization_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    u_nor = theory.sphere_normalization_energy(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     k = k_bar * E_STAR * a_nor
-    force = theory.jkr_force_from_radius(a_bar * a_nor, E_STAR, DGAMMA, RADIUS)
+    force = theory.jkr_force_from_radius(a_bar * a_nor, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     spring = theory.sphere_spring_energy_normalized(a_bar, k_bar) - theory.sphere_spring_energy_normalized(a_bar, math.inf)
     assert spring == pytest.approx(force**2 / (2.0 * k) / u_nor, rel=1e-9, abs=1e-12 * (1.0 + a_bar**6) / k_bar)
 
@@ -412,16 +421,19 @@ def test_sphere_spring_works():
 
 def test_sphere_work_of_separation_in_energy_units():
     """w_0 = U_tot(a_s, d_s) - U_tot(a_o, d_o) from eq. 2.23 directly (eq. 2.25-2.27)."""
-    a_o = theory.jkr_zero_force_radius(E_STAR, DGAMMA, RADIUS)
-    a_s = theory.jkr_separation_radius(E_STAR, DGAMMA, RADIUS)
+    a_o = theory.jkr_zero_force_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    a_s = theory.jkr_separation_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     u = [
-        theory.jkr_total_energy(a, theory.jkr_displacement_from_radius(a, E_STAR, DGAMMA, RADIUS), E_STAR, DGAMMA, RADIUS)
+        theory.jkr_total_energy(
+            a, theory.jkr_displacement_from_radius(a, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), RADIUS,
+            contact_modulus=E_STAR, work_of_adhesion=DGAMMA,
+        )
         for a in (a_o, a_s)
     ]
-    assert theory.jkr_work_of_separation(E_STAR, DGAMMA, RADIUS) == pytest.approx(u[1] - u[0], rel=1e-11)
-    k = 0.5 * E_STAR * theory.sphere_normalization_radius(E_STAR, DGAMMA, RADIUS)  # k_bar = 0.5, low branch
+    assert theory.jkr_work_of_separation(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(u[1] - u[0], rel=1e-11)
+    k = 0.5 * E_STAR * theory.sphere_normalization_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)  # k_bar = 0.5, low branch
     expected = theory.sphere_spring_work(0.5) * (u[1] - u[0])
-    assert theory.sphere_spring_work_of_separation(E_STAR, DGAMMA, RADIUS, k) == pytest.approx(expected, rel=1e-11)
+    assert theory.sphere_spring_work_of_separation(RADIUS, k, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(expected, rel=1e-11)
 
 
 # ---------------------------------------------------------------------------
@@ -433,13 +445,13 @@ def test_sphere_work_of_separation_in_energy_units():
 def test_rigid_brush_is_kendall_with_reduced_adhesion(modulus, dgamma, phi, area):
     """Eq. 4.5 is Kendall on the apparent radius with phi dgamma; eq. 4.6 rewrites it as phi**(-1/4) F_K(A)."""
     radius = math.sqrt(area / math.pi)
-    force = theory.rigid_brush_force(modulus, dgamma, phi, area)
-    assert force == pytest.approx(theory.kendall_force(modulus, phi * dgamma, radius), rel=EXACT)
+    force = theory.rigid_brush_force(phi, area, contact_modulus=modulus, work_of_adhesion=dgamma)
+    assert force == pytest.approx(theory.kendall_force(radius, contact_modulus=modulus, work_of_adhesion=phi * dgamma), rel=EXACT)
     assert force == pytest.approx(
-        theory.rigid_brush_enhancement(phi) * theory.compact_punch_force(modulus, dgamma, phi * area), rel=EXACT
+        theory.rigid_brush_enhancement(phi) * theory.compact_punch_force(phi * area, contact_modulus=modulus, work_of_adhesion=dgamma), rel=EXACT
     )
-    assert theory.rigid_brush_displacement(modulus, dgamma, phi, area) == pytest.approx(
-        theory.kendall_displacement(modulus, phi * dgamma, radius), rel=EXACT
+    assert theory.rigid_brush_displacement(phi, area, contact_modulus=modulus, work_of_adhesion=dgamma) == pytest.approx(
+        theory.kendall_displacement(radius, contact_modulus=modulus, work_of_adhesion=phi * dgamma), rel=EXACT
     )
 
 
@@ -447,11 +459,11 @@ def test_rigid_brush_is_kendall_with_reduced_adhesion(modulus, dgamma, phi, area
 def test_soft_brush_is_n_to_the_quarter(n, modulus, dgamma, real_area):
     """Eq. 4.7 with N pillars of radius sqrt(A / (N pi)) is N**(1/4) F_K(A) (eq. 4.8); eq. 4.16 per pillar."""
     pillar_radius = math.sqrt(real_area / (n * math.pi))
-    compact = theory.compact_punch_force(modulus, dgamma, real_area)
-    force = theory.soft_brush_force(n, modulus, dgamma, pillar_radius)
+    compact = theory.compact_punch_force(real_area, contact_modulus=modulus, work_of_adhesion=dgamma)
+    force = theory.soft_brush_force(n, pillar_radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     assert force == pytest.approx(theory.soft_brush_enhancement(n) * compact, rel=EXACT)
-    assert theory.ideal_sharing_force(n, modulus, dgamma, pillar_radius) == force
-    assert theory.kendall_force(modulus, dgamma, pillar_radius) == pytest.approx(n**-0.75 * compact, rel=EXACT)
+    assert theory.ideal_sharing_force(n, pillar_radius, contact_modulus=modulus, work_of_adhesion=dgamma) == force
+    assert theory.kendall_force(pillar_radius, contact_modulus=modulus, work_of_adhesion=dgamma) == pytest.approx(n**-0.75 * compact, rel=EXACT)
 
 
 def test_enhancement_factors_quoted_in_the_thesis():
@@ -470,15 +482,15 @@ def test_soft_brush_work_eq_4_17_and_4_18():
     n, phi, side, k_tilde = 256, 0.12, 1e-3, 1e-3
     real_area = phi * side**2
     stiffness = k_tilde * E_STAR * side
-    work = theory.soft_brush_work_of_separation(n, E_STAR, DGAMMA, real_area, stiffness)
+    work = theory.soft_brush_work_of_separation(n, real_area, stiffness, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     a0 = math.sqrt(real_area / math.pi)
-    normalized = work / theory.kendall_work_of_separation(DGAMMA, a0)
+    normalized = work / theory.kendall_work_of_separation(a0, work_of_adhesion=DGAMMA)
     assert normalized == pytest.approx(n**-0.5 * 2.0 * E_STAR * a0 / stiffness, rel=EXACT)
     printed = theory.soft_brush_work_normalized(n, phi, k_tilde)
     assert printed == pytest.approx(n**-0.5 * phi**0.5 / k_tilde, rel=EXACT)
     assert normalized / printed == pytest.approx(2.0 / math.sqrt(math.pi), rel=EXACT)
     # Eq. 4.17 is N times the per-pillar spring energy of eq. 4.16.
-    pillar_force = theory.kendall_force(E_STAR, DGAMMA, math.sqrt(real_area / (n * math.pi)))
+    pillar_force = theory.kendall_force(math.sqrt(real_area / (n * math.pi)), contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     assert work == pytest.approx(n * pillar_force**2 / (2.0 * stiffness), rel=EXACT)
 
 
@@ -574,7 +586,7 @@ def test_concave_profile_against_quadrature_of_the_elliptic_integral():
     r = np.array([0.0, 0.1, 0.37, 0.5, 0.9, 0.999, 1.0]) * R_CONCAVE
     scale = 4.0 * P_C * R_CONCAVE / (math.pi * E_STAR)
     expected = [scale * (elliptic_e_by_quadrature(x / R_CONCAVE) - math.pi / 2) for x in r]
-    profile = theory.concave_profile(r, R_CONCAVE, E_STAR, P_C)
+    profile = theory.concave_profile(r, R_CONCAVE, P_C, contact_modulus=E_STAR)
     # Differences E - pi/2 lose relative accuracy near r = 0: compare on the scale.
     np.testing.assert_allclose(profile, expected, rtol=QUADRATURE, atol=QUADRATURE * scale)
     assert profile[0] == 0.0
@@ -602,18 +614,18 @@ def test_uniform_stress_deflection_eq_7_1_from_boussinesq():
         # The profile is that deflection measured from the centre, with the opposite sign
         # (the half-space rises most at the centre under tension).
         centre = 2.0 * P_C * R_CONCAVE / E_STAR
-        assert theory.concave_profile(r, R_CONCAVE, E_STAR, P_C) == pytest.approx(deflection - centre, abs=QUADRATURE * centre)
+        assert theory.concave_profile(r, R_CONCAVE, P_C, contact_modulus=E_STAR) == pytest.approx(deflection - centre, abs=QUADRATURE * centre)
 
 
 def test_concave_profile_shape_and_slopes():
     r = np.linspace(0.0, R_CONCAVE, 101)
-    profile = theory.concave_profile(r, R_CONCAVE, E_STAR, P_C)
+    profile = theory.concave_profile(r, R_CONCAVE, P_C, contact_modulus=E_STAR)
     assert np.all(profile[1:] < 0.0) and np.all(np.diff(profile) < 0.0)
     # Near the centre a paraboloid: S_c = -(p_c R / E*) (k**2/2 + 3 k**4/32) + O(k**6),
     # relative remainder 5 k**4 / 64 = 5e-7 at k = 0.05.
     k = 0.05
     series = -(P_C * R_CONCAVE / E_STAR) * (k**2 / 2.0 + 3.0 * k**4 / 32.0)
-    assert theory.concave_profile(k * R_CONCAVE, R_CONCAVE, E_STAR, P_C) == pytest.approx(series, rel=1e-6)
+    assert theory.concave_profile(k * R_CONCAVE, R_CONCAVE, P_C, contact_modulus=E_STAR) == pytest.approx(series, rel=1e-6)
 
     # Slope dS_c/dr = (4 p_c / (pi E*)) (E(k) - K(k)) / k, K of the first kind: finite inside,
     # zero at the centre, logarithmically infinite at the rim.
@@ -622,7 +634,7 @@ def test_concave_profile_shape_and_slopes():
         return 4.0 * P_C / (math.pi * E_STAR) * (special.ellipe(m) - special.ellipk(m)) / (x / R_CONCAVE)
 
     def profile_at(x):
-        return theory.concave_profile(x, R_CONCAVE, E_STAR, P_C)
+        return theory.concave_profile(x, R_CONCAVE, P_C, contact_modulus=E_STAR)
 
     for x in (0.2 * R_CONCAVE, 0.6 * R_CONCAVE, 0.95 * R_CONCAVE):
         # Step 1e-5 R: truncation ~1e-10 S''' R**2, rounding ~1e-16 / 1e-5; 1e-7 relative covers both.
@@ -635,25 +647,25 @@ def test_concave_profile_shape_and_slopes():
 def test_concave_offsets_follow_the_brushbem_convention():
     r = np.linspace(0.0, R_CONCAVE, 11)
     h = 0.2
-    offsets = theory.concave_offsets(r, R_CONCAVE, h, E_STAR, P_C)
-    pillar_profile = theory.concave_pillar_profile(r, R_CONCAVE, h, E_STAR, P_C)
-    np.testing.assert_allclose(pillar_profile, h * theory.concave_profile(r, R_CONCAVE, E_STAR, P_C), rtol=EXACT)
+    offsets = theory.concave_offsets(r, R_CONCAVE, h, P_C, contact_modulus=E_STAR)
+    pillar_profile = theory.concave_pillar_profile(r, R_CONCAVE, h, P_C, contact_modulus=E_STAR)
+    np.testing.assert_allclose(pillar_profile, h * theory.concave_profile(r, R_CONCAVE, P_C, contact_modulus=E_STAR), rtol=EXACT)
     np.testing.assert_allclose(offsets, pillar_profile - pillar_profile[-1], rtol=EXACT, atol=1e-15 * abs(pillar_profile[-1]))
     assert offsets[-1] == 0.0 and np.all(offsets >= 0.0) and np.all(np.diff(offsets) < 0.0)
     assert offsets[0] == pytest.approx(h * 4.0 * P_C * R_CONCAVE / (math.pi * E_STAR) * (math.pi / 2 - 1.0), rel=EXACT)
-    assert np.all(theory.concave_offsets(r, R_CONCAVE, 0.0, E_STAR, P_C) == 0.0)
+    assert np.all(theory.concave_offsets(r, R_CONCAVE, 0.0, P_C, contact_modulus=E_STAR) == 0.0)
 
 
 def test_concave_reference_stress_is_the_kendall_mean_stress():
     pillar_radius = 1e-5
-    stress = theory.concave_reference_stress(E_STAR, DGAMMA, pillar_radius)
-    assert stress == pytest.approx(theory.kendall_force(E_STAR, DGAMMA, pillar_radius) / (math.pi * pillar_radius**2), rel=EXACT)
+    stress = theory.concave_reference_stress(pillar_radius, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
+    assert stress == pytest.approx(theory.kendall_force(pillar_radius, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) / (math.pi * pillar_radius**2), rel=EXACT)
     assert stress == pytest.approx(math.sqrt(8.0 * E_STAR * DGAMMA / (math.pi * pillar_radius)), rel=EXACT)
 
 
 def test_concave_profile_refuses_points_outside_the_circle():
     with pytest.raises(ValueError, match="radial_position"):
-        theory.concave_profile([0.0, 1.01 * R_CONCAVE], R_CONCAVE, E_STAR, P_C)
+        theory.concave_profile([0.0, 1.01 * R_CONCAVE], R_CONCAVE, P_C, contact_modulus=E_STAR)
 
 
 # ---------------------------------------------------------------------------
@@ -695,23 +707,23 @@ def test_bad_positive_parameters_raise_naming_the_parameter(function, kwargs, na
 @pytest.mark.parametrize(
     ("call", "name"),
     [
-        (lambda: theory.kendall_force(E_STAR, -0.1, RADIUS), "work_of_adhesion"),
-        (lambda: theory.kendall_force(E_STAR, [DGAMMA, math.nan], RADIUS), "work_of_adhesion"),
-        (lambda: theory.contact_modulus_from(1e6, 0.6), "poisson_ratio"),
-        (lambda: theory.contact_modulus_from(1e6, -1.0), "poisson_ratio"),
+        (lambda: theory.kendall_force(RADIUS, contact_modulus=E_STAR, work_of_adhesion=-0.1), "work_of_adhesion"),
+        (lambda: theory.kendall_force(RADIUS, contact_modulus=E_STAR, work_of_adhesion=[DGAMMA, math.nan]), "work_of_adhesion"),
+        (lambda: theory.contact_modulus_from(youngs_modulus=1e6, poisson_ratio=0.6), "poisson_ratio"),
+        (lambda: theory.contact_modulus_from(youngs_modulus=1e6, poisson_ratio=-1.0), "poisson_ratio"),
         (lambda: theory.rigid_brush_enhancement(1.5), "filling_factor"),
         (lambda: theory.rigid_brush_enhancement(0.0), "filling_factor"),
         (lambda: theory.soft_brush_enhancement(0.5), "pillar_count"),
-        (lambda: theory.punch_spring_work_of_separation(E_STAR, DGAMMA, RADIUS, 0.0), "stiffness"),
-        (lambda: theory.punch_spring_work_of_separation(E_STAR, DGAMMA, RADIUS, -math.inf), "stiffness"),
+        (lambda: theory.punch_spring_work_of_separation(RADIUS, 0.0, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), "stiffness"),
+        (lambda: theory.punch_spring_work_of_separation(RADIUS, -math.inf, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), "stiffness"),
         (lambda: theory.sphere_spring_energy_normalized(1.0, math.nan), "normalized_stiffness"),
         (lambda: theory.sphere_spring_energy_normalized(-1.0, 1.0), "normalized_radius"),
         (lambda: theory.hierarchy_stiffnesses(1e-3, (0.12, 0.0)), "filling_factors"),
         (lambda: theory.hierarchy_stiffnesses(1e-3, ()), "filling_factors"),
         (lambda: theory.equivalent_single_level_stiffness((1.0, 2.0), (0.5,)), "cluster_counts"),
-        (lambda: theory.concave_offsets(0.0, R_CONCAVE, -0.1, E_STAR, P_C), "amplification"),
-        (lambda: theory.jkr_radius_from_displacement(math.nan, E_STAR, DGAMMA, RADIUS), "displacement"),
-        (lambda: theory.hertz_force(E_STAR, RADIUS, "deep"), "displacement"),
+        (lambda: theory.concave_offsets(0.0, R_CONCAVE, -0.1, P_C, contact_modulus=E_STAR), "amplification"),
+        (lambda: theory.jkr_radius_from_displacement(math.nan, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), "displacement"),
+        (lambda: theory.hertz_force(RADIUS, "deep", contact_modulus=E_STAR), "displacement"),
     ],
 )
 def test_other_bad_inputs_raise_naming_the_parameter(call, name):
@@ -719,8 +731,28 @@ def test_other_bad_inputs_raise_naming_the_parameter(call, name):
         call()
 
 
+MATERIAL_PARAMETERS = {"contact_modulus", "work_of_adhesion", "youngs_modulus", "poisson_ratio",
+                       "adhesive_stress", "equilibrium_separation"}
+
+
+def test_material_arguments_are_keyword_only():
+    """E* and dgamma are both plain floats: no closed form may take them by position."""
+    checked = 0
+    for name in theory.__all__:
+        function = getattr(theory, name)
+        if not callable(function):
+            continue
+        for parameter in inspect.signature(function).parameters.values():
+            if parameter.name in MATERIAL_PARAMETERS:
+                assert parameter.kind is inspect.Parameter.KEYWORD_ONLY, f"{name}({parameter.name})"
+                checked += 1
+    assert checked > 40
+    with pytest.raises(TypeError):
+        theory.kendall_force(E_STAR, DGAMMA, RADIUS)
+
+
 def test_infinite_stiffness_means_rigid():
-    assert theory.normalized_punch_stiffness(math.inf, E_STAR, RADIUS) == math.inf
+    assert theory.normalized_punch_stiffness(math.inf, RADIUS, contact_modulus=E_STAR) == math.inf
     assert theory.sphere_spring_energy_normalized(1.0, math.inf) == theory.sphere_spring_energy_normalized(1.0, 1e300)
     assert theory.soft_brush_work_normalized(16, 0.1, math.inf) == 0.0
 
@@ -738,19 +770,19 @@ def test_sphere_work_from_preload_equals_the_integral_along_the_path(kbar, a_ove
     k_bar >= 1.7 (end at D) for every case here.  Quadrature to 1e-10.
     """
     modulus, dgamma, radius = 1.0, 1e-3, 1.0
-    a_nor = theory.sphere_normalization_radius(modulus, dgamma, radius)
+    a_nor = theory.sphere_normalization_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     stiffness = kbar * modulus * a_nor
-    a_m = a_over_ajkr * theory.jkr_pull_off_radius(modulus, dgamma, radius)
-    a_s = theory.jkr_separation_radius(modulus, dgamma, radius)
-    a_o = theory.jkr_zero_force_radius(modulus, dgamma, radius)
+    a_m = a_over_ajkr * theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    a_s = theory.jkr_separation_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    a_o = theory.jkr_zero_force_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     compliance_k = 0.0 if math.isinf(stiffness) else 1.0 / stiffness
 
     def force(a):
-        return theory.jkr_force_from_radius(a, modulus, dgamma, radius)
+        return theory.jkr_force_from_radius(a, radius, contact_modulus=modulus, work_of_adhesion=dgamma)
 
     def base_displacement_rate(a, da=1e-7):
         def d(x):
-            return theory.jkr_displacement_from_radius(x, modulus, dgamma, radius) + force(x) * compliance_k
+            return theory.jkr_displacement_from_radius(x, radius, contact_modulus=modulus, work_of_adhesion=dgamma) + force(x) * compliance_k
         return (d(a + da) - d(a - da)) / (2 * da)
 
     start = min(a_m, a_o)
@@ -759,12 +791,12 @@ def test_sphere_work_from_preload_equals_the_integral_along_the_path(kbar, a_ove
     f1 = force(a_m)
     triangle = 0.5 * f1**2 * (1.0 / (2 * modulus * a_m) + compliance_k) if f1 < 0 else 0.0
     # w_0 (eq. 2.27) is checked against its own quadrature elsewhere in this file.
-    expected = (branch + triangle) / theory.jkr_work_of_separation(modulus, dgamma, radius)
+    expected = (branch + triangle) / theory.jkr_work_of_separation(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     got = theory.sphere_spring_work_from_preload(kbar, a_m / a_nor)
     assert got == pytest.approx(expected, rel=1e-6)
     # The dimensional form agrees, and beyond B it is the thesis's eq. 2.38.
-    w = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness, preload_radius=a_m)
-    assert w == pytest.approx(got * theory.jkr_work_of_separation(modulus, dgamma, radius), rel=1e-12)
+    w = theory.sphere_spring_work_of_separation(radius, stiffness, preload_radius=a_m, contact_modulus=modulus, work_of_adhesion=dgamma)
+    assert w == pytest.approx(got * theory.jkr_work_of_separation(radius, contact_modulus=modulus, work_of_adhesion=dgamma), rel=1e-12)
     if a_m >= a_o:
         assert got == pytest.approx(theory.sphere_spring_work(kbar), rel=1e-12)
 
@@ -772,11 +804,11 @@ def test_sphere_work_from_preload_equals_the_integral_along_the_path(kbar, a_ove
 @pytest.mark.parametrize("stiffness", [math.inf, 0.5, 0.05])
 def test_sphere_preload_contact_radius_is_hertz_on_the_spring(stiffness):
     """a_m from the preload force is Hertz's; from a displacement, d = a^2/R + F/k holds at it."""
-    a = theory.sphere_preload_contact_radius(1.0, 1.0, stiffness, preload_force=0.03)
-    assert theory.hertz_force(1.0, 1.0, a * a) == pytest.approx(0.03, rel=1e-12)
-    a = theory.sphere_preload_contact_radius(1.0, 1.0, stiffness, preload_displacement=0.03)
+    a = theory.sphere_preload_contact_radius(1.0, stiffness, preload_force=0.03, contact_modulus=1.0)
+    assert theory.hertz_force(1.0, a * a, contact_modulus=1.0) == pytest.approx(0.03, rel=1e-12)
+    a = theory.sphere_preload_contact_radius(1.0, stiffness, preload_displacement=0.03, contact_modulus=1.0)
     force = 4.0 * a**3 / 3.0
     spring = 0.0 if math.isinf(stiffness) else force / stiffness
     assert a * a + spring == pytest.approx(0.03, rel=1e-12)
     with pytest.raises(ValueError):
-        theory.sphere_preload_contact_radius(1.0, 1.0, stiffness)
+        theory.sphere_preload_contact_radius(1.0, stiffness, contact_modulus=1.0)

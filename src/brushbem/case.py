@@ -75,17 +75,19 @@ def _punch_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
     """Kendall's punch (eq. 2.4) on its spring (eq. 2.18-2.19), with the reference curve (eq. 2.1)."""
     modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, _stiffness(problem)
     radius = math.sqrt(problem.indenter.description.rasterised_area / math.pi)
-    force = theory.kendall_force(modulus, dgamma, radius)
-    tip = theory.kendall_displacement(modulus, dgamma, radius)
+    force = theory.kendall_force(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    tip = theory.kendall_displacement(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
-    work = theory.punch_spring_work_of_separation(modulus, dgamma, radius, stiffness)
+    work = theory.punch_spring_work_of_separation(radius, stiffness, contact_modulus=modulus,
+                                                  work_of_adhesion=dgamma)
     record = PunchTheory(
         equivalent_radius=radius, adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
-        normalized_stiffness=(theory.normalized_punch_stiffness(stiffness, modulus, radius)
+        normalized_stiffness=(theory.normalized_punch_stiffness(stiffness, radius, contact_modulus=modulus)
                               if math.isfinite(stiffness) else None),
         ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
     )
-    compliance = 1.0 / theory.punch_stiffness(modulus, radius) + (1.0 / stiffness if math.isfinite(stiffness) else 0.0)
+    compliance = (1.0 / theory.punch_stiffness(radius, contact_modulus=modulus)
+                  + (1.0 / stiffness if math.isfinite(stiffness) else 0.0))
     d_max = summary.get("max_displacement") or 0.0
     reference = ReferenceCurve(displacement=np.array([d_max, base, base]),
                                force=np.array([d_max / compliance, -force, 0.0]), label="Kendall (eq. 2.1, 2.4)")
@@ -97,17 +99,17 @@ def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
     """JKR (eq. 2.20-2.24) on a spring (eq. 2.32-2.39), with the JKR curve (eq. 2.22)."""
     modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, _stiffness(problem)
     radius = problem.indenter.description.radius
-    force = theory.jkr_pull_off_force(dgamma, radius)
-    tip = theory.jkr_pull_off_displacement(modulus, dgamma, radius)
+    force = theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma)
+    tip = theory.jkr_pull_off_displacement(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
     preload_radius = math.inf
     preload: dict[str, Any] = {}
     if path is not None:
         preload_radius = theory.sphere_preload_contact_radius(
-            modulus, radius, stiffness, preload_force=path.preload_force,
-            preload_displacement=path.preload_displacement,
+            radius, stiffness, preload_force=path.preload_force,
+            preload_displacement=path.preload_displacement, contact_modulus=modulus,
         )
-        zero_force_radius = theory.jkr_zero_force_radius(modulus, dgamma, radius)
+        zero_force_radius = theory.jkr_zero_force_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
         preload = {
             "preload_contact_radius": preload_radius,
             "zero_force_radius": zero_force_radius,
@@ -118,20 +120,21 @@ def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
                 "radius is below a_o, so the unloading does not pass B)"
             ),
         }
-    work = theory.sphere_spring_work_of_separation(modulus, dgamma, radius, stiffness,
-                                                   preload_radius=preload_radius)
+    work = theory.sphere_spring_work_of_separation(radius, stiffness, preload_radius=preload_radius,
+                                                   contact_modulus=modulus, work_of_adhesion=dgamma)
     record = SphereTheory(
         **preload,
-        normalized_stiffness=(theory.sphere_normalized_stiffness(stiffness, modulus, dgamma, radius)
+        normalized_stiffness=(theory.sphere_normalized_stiffness(stiffness, radius, contact_modulus=modulus,
+                                                                 work_of_adhesion=dgamma)
                               if math.isfinite(stiffness) else None),
         adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
         ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
     )
-    a_sep = theory.jkr_separation_radius(modulus, dgamma, radius)
-    a_max = max(a_sep * 4.0, theory.jkr_pull_off_radius(modulus, dgamma, radius) * 2.5)
+    a_sep = theory.jkr_separation_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    a_max = max(a_sep * 4.0, theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma) * 2.5)
     a = np.linspace(a_sep, a_max, 200)
-    f = theory.jkr_force_from_radius(a, modulus, dgamma, radius)
-    d = theory.jkr_displacement_from_radius(a, modulus, dgamma, radius)
+    f = theory.jkr_force_from_radius(a, radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    d = theory.jkr_displacement_from_radius(a, radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     if math.isfinite(stiffness):
         d = d + f / stiffness
     keep = d <= (summary.get("max_displacement") or d.max())
@@ -160,10 +163,14 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
     phi = min(info.filling_factor, 1.0)
     radii = np.sqrt(np.asarray(info.pillar_elements, dtype=float) * h2 / math.pi)
     return {
-        "compact_punch_force": float(theory.compact_punch_force(modulus, dgamma, info.real_area)),
-        "rigid_brush_force": float(theory.rigid_brush_force(modulus, dgamma, phi, info.apparent_area)),
-        "ideal_sharing_force": float(np.sum(theory.kendall_force(modulus, dgamma, radii))),
-        "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(modulus, dgamma, phi, info.apparent_area))),
+        "compact_punch_force": float(theory.compact_punch_force(info.real_area, contact_modulus=modulus,
+                                                                work_of_adhesion=dgamma)),
+        "rigid_brush_force": float(theory.rigid_brush_force(phi, info.apparent_area, contact_modulus=modulus,
+                                                            work_of_adhesion=dgamma)),
+        "ideal_sharing_force": float(np.sum(theory.kendall_force(radii, contact_modulus=modulus,
+                                                                 work_of_adhesion=dgamma))),
+        "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(
+            phi, info.apparent_area, contact_modulus=modulus, work_of_adhesion=dgamma))),
         "stiffness_scale": modulus * problem.grid.size,
         "filling_factor": phi,
     }

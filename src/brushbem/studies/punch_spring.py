@@ -72,8 +72,8 @@ def draw(results, figures_dir: Path) -> list[Path]:
         modulus = cfg["halfspace"]["contact_modulus"]
         dgamma = cfg["halfspace"]["work_of_adhesion"]
         r = float(row["theory.equivalent_radius"])
-        fk = theory.kendall_force(modulus, dgamma, r)
-        dk = theory.kendall_displacement(modulus, dgamma, r)
+        fk = theory.kendall_force(r, contact_modulus=modulus, work_of_adhesion=dgamma)
+        dk = theory.kendall_displacement(r, contact_modulus=modulus, work_of_adhesion=dgamma)
         label = "rigid" if not np.isfinite(row.k_tilde) else f"k~ = {row.k_tilde:.3g}"
         d = ds["displacement"].values / dk
         f = ds["force"].values / fk

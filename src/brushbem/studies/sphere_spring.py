@@ -69,9 +69,9 @@ def draw(results, figures_dir: Path) -> list[Path]:
         modulus = cfg["halfspace"]["contact_modulus"]
         dgamma = cfg["halfspace"]["work_of_adhesion"]
         radius = cfg["indenter"]["radius"]
-        f_jkr = theory.jkr_pull_off_force(dgamma, radius)
-        d_jkr = abs(theory.jkr_pull_off_displacement(modulus, dgamma, radius))
-        a_jkr = theory.jkr_pull_off_radius(modulus, dgamma, radius)
+        f_jkr = theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma)
+        d_jkr = abs(theory.jkr_pull_off_displacement(radius, contact_modulus=modulus, work_of_adhesion=dgamma))
+        a_jkr = theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
         a_tilde_nor = (modulus, dgamma, radius)
         k = float(row["indenter.stiffness"]) if "indenter.stiffness" in row else math.inf
         k_tilde = k / (modulus * a_jkr)
@@ -81,14 +81,16 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax8.plot(np.sqrt(ds["contact_area"].values / math.pi) / a_jkr, f, label=label)
     if a_tilde_nor is not None:
         modulus, dgamma, radius = a_tilde_nor
-        a = np.linspace(theory.jkr_separation_radius(modulus, dgamma, radius), 2.2 * theory.jkr_pull_off_radius(
-            modulus, dgamma, radius), 300)
-        f = theory.jkr_force_from_radius(a, modulus, dgamma, radius) / theory.jkr_pull_off_force(dgamma, radius)
-        d = theory.jkr_displacement_from_radius(a, modulus, dgamma, radius) / abs(
-            theory.jkr_pull_off_displacement(modulus, dgamma, radius))
+        a_jkr = theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+        a_sep = theory.jkr_separation_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+        a = np.linspace(a_sep, 2.2 * a_jkr, 300)
+        f = (theory.jkr_force_from_radius(a, radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+             / theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma))
+        d = theory.jkr_displacement_from_radius(a, radius, contact_modulus=modulus, work_of_adhesion=dgamma) / abs(
+            theory.jkr_pull_off_displacement(radius, contact_modulus=modulus, work_of_adhesion=dgamma))
         ax7.plot(d, f, "k--", label="JKR rigid (eq. 2.22)")
-        ax8.plot(a / theory.jkr_pull_off_radius(modulus, dgamma, radius), f, "k--", label="JKR rigid")
-        a_s = theory.jkr_separation_radius(modulus, dgamma, radius) / theory.jkr_pull_off_radius(modulus, dgamma, radius)
+        ax8.plot(a / a_jkr, f, "k--", label="JKR rigid")
+        a_s = a_sep / a_jkr
         mark(ax8, a_s, -5 / 9, "thesis: F~(a_s) = -5/9 (point D)")
     ax7.set(xlabel="d~ = d / |d_JKR|", ylabel="F~ = F / F_JKR", title="Fig. 2-7: sphere on a spring")
     ax8.set(xlabel="a~ = a / a_JKR", ylabel="F~ = F / F_JKR", title="Fig. 2-8: force vs contact radius")

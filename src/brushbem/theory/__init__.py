@@ -41,7 +41,9 @@ Displacements are positive into the half-space and forces positive when
 compressive; characteristic adhesive forces (``..._force``) are returned as
 positive magnitudes and critical displacements (``..._displacement``) signed
 (negative: pulled away).  The half-space enters through the contact modulus E*
-and the work of adhesion dgamma, in any consistent units.  Every function
+and the work of adhesion dgamma, in any consistent units, always passed by
+keyword after the positional geometry and load
+(``kendall_force(radius, contact_modulus=E, work_of_adhesion=dgamma)``).  Every function
 validates its arguments and raises :class:`ValueError` naming the parameter,
 the offending value and the allowed range.
 """

@@ -26,6 +26,14 @@ The half-space enters only through the contact modulus ``contact_modulus``
 Any consistent system of units works: lengths in L, stresses and moduli in F/L**2,
 works of adhesion in F/L, forces in F, stiffnesses in F/L, energies in F*L.
 
+The material arguments are keyword-only: ``contact_modulus`` and
+``work_of_adhesion`` (and ``youngs_modulus``, ``poisson_ratio``,
+``adhesive_stress``, ``equilibrium_separation`` where they appear) follow a ``*``
+after the geometric and load arguments, e.g.
+``kendall_force(radius, contact_modulus=E, work_of_adhesion=dgamma)``.  E* and
+dgamma are both plain floats, so passing them by position could swap them
+silently; a positional material argument raises :class:`TypeError` instead.
+
 Input validation
 ----------------
 Every function checks its arguments and raises :class:`ValueError` naming the

@@ -31,7 +31,7 @@ __all__ = [  # noqa: RUF022 - in the thesis's order
 # ---------------------------------------------------------------------------
 
 
-def rigid_brush_force(contact_modulus, work_of_adhesion, filling_factor, apparent_area):
+def rigid_brush_force(filling_factor, apparent_area, *, contact_modulus, work_of_adhesion):
     """Adhesive force of a flat rigid brush, ``sqrt(8 pi E* dgamma phi (sqrt(A0/pi))**3)`` (eq. 4.5, 5.3).
 
     Kendall's force for a punch of the apparent radius with dgamma replaced by
@@ -39,14 +39,14 @@ def rigid_brush_force(contact_modulus, work_of_adhesion, filling_factor, apparen
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     filling_factor : float or array_like
         phi = real (pillar cross-section) area / apparent area, dimensionless; in (0, 1].
     apparent_area : float or array_like
         Apparent area A0 of the brush, in units of area; positive.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -60,7 +60,7 @@ def rigid_brush_force(contact_modulus, work_of_adhesion, filling_factor, apparen
     return _out(np.sqrt(8.0 * np.pi * modulus * dgamma * phi * np.sqrt(area / np.pi) ** 3))
 
 
-def rigid_brush_displacement(contact_modulus, work_of_adhesion, filling_factor, apparent_area):
+def rigid_brush_displacement(filling_factor, apparent_area, *, contact_modulus, work_of_adhesion):
     """Critical displacement of a flat rigid brush, ``-sqrt(2 pi phi dgamma sqrt(A0/pi) / E*)`` (eq. 5.4).
 
     The displacement scale d_c of eq. 4.12, 5.4, 6.23 and 7.5 (which the thesis
@@ -68,14 +68,14 @@ def rigid_brush_displacement(contact_modulus, work_of_adhesion, filling_factor, 
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     filling_factor : float or array_like
         phi, dimensionless; in (0, 1].
     apparent_area : float or array_like
         Apparent area A0, in units of area; positive.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -89,19 +89,19 @@ def rigid_brush_displacement(contact_modulus, work_of_adhesion, filling_factor, 
     return _out(-np.sqrt(2.0 * np.pi * phi * dgamma * np.sqrt(area / np.pi) / modulus))
 
 
-def compact_punch_force(contact_modulus, work_of_adhesion, real_area):
+def compact_punch_force(real_area, *, contact_modulus, work_of_adhesion):
     """Kendall force of a compact punch with the same real area, radius ``sqrt(A/pi)`` (eq. 4.11).
 
     The force scale of chapter 4.
 
     Parameters
     ----------
+    real_area : float or array_like
+        Real (total pillar cross-section) area A, in units of area; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    real_area : float or array_like
-        Real (total pillar cross-section) area A, in units of area; positive.
 
     Returns
     -------
@@ -109,7 +109,7 @@ def compact_punch_force(contact_modulus, work_of_adhesion, real_area):
         Magnitude of the adhesive force, in units of force.
     """
     area = _positive("real_area", real_area)
-    return kendall_force(contact_modulus, work_of_adhesion, np.sqrt(area / np.pi))
+    return kendall_force(np.sqrt(area / np.pi), contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
 
 
 def rigid_brush_enhancement(filling_factor):
@@ -146,7 +146,7 @@ def soft_brush_enhancement(pillar_count):
     return _out(n**0.25)
 
 
-def soft_brush_force(pillar_count, contact_modulus, work_of_adhesion, pillar_radius):
+def soft_brush_force(pillar_count, pillar_radius, *, contact_modulus, work_of_adhesion):
     """Adhesive force of a very soft brush, ``N sqrt(8 pi E* dgamma a**3)`` (eq. 4.7).
 
     Every pillar detaches on its own at its Kendall force.
@@ -155,12 +155,12 @@ def soft_brush_force(pillar_count, contact_modulus, work_of_adhesion, pillar_rad
     ----------
     pillar_count : float or array_like
         Number of pillars N, dimensionless; ``N >= 1``.
+    pillar_radius : float or array_like
+        Pillar radius a, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    pillar_radius : float or array_like
-        Pillar radius a, in units of length; positive.
 
     Returns
     -------
@@ -169,10 +169,10 @@ def soft_brush_force(pillar_count, contact_modulus, work_of_adhesion, pillar_rad
     """
     n = _count("pillar_count", pillar_count)
     r = _positive("pillar_radius", pillar_radius)
-    return _out(n * np.asarray(kendall_force(contact_modulus, work_of_adhesion, r)))
+    return _out(n * np.asarray(kendall_force(r, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)))
 
 
-def ideal_sharing_force(pillar_count, contact_modulus, work_of_adhesion, pillar_radius):
+def ideal_sharing_force(pillar_count, pillar_radius, *, contact_modulus, work_of_adhesion):
     """Equal-load-sharing adhesive force ``N F_K(r)`` (eq. 7.4), the force scale of chapter 7.
 
     The same number as :func:`soft_brush_force` (eq. 4.7): both are all pillars
@@ -182,22 +182,23 @@ def ideal_sharing_force(pillar_count, contact_modulus, work_of_adhesion, pillar_
     ----------
     pillar_count : float or array_like
         Number of pillars N, dimensionless; ``N >= 1``.
+    pillar_radius : float or array_like
+        Pillar radius r, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    pillar_radius : float or array_like
-        Pillar radius r, in units of length; positive.
 
     Returns
     -------
     float or ndarray
         Magnitude of the maximum adhesive force, in units of force.
     """
-    return soft_brush_force(pillar_count, contact_modulus, work_of_adhesion, pillar_radius)
+    return soft_brush_force(pillar_count, pillar_radius,
+                            contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
 
 
-def soft_brush_work_of_separation(pillar_count, contact_modulus, work_of_adhesion, real_area, stiffness):
+def soft_brush_work_of_separation(pillar_count, real_area, stiffness, *, contact_modulus, work_of_adhesion):
     """Spring energy of a very soft brush at separation, ``N**(-1/2) F_K**2 / (2 k)`` (eq. 4.16-4.17).
 
     F_K is :func:`compact_punch_force` of the real area; each of the N pillars
@@ -207,14 +208,14 @@ def soft_brush_work_of_separation(pillar_count, contact_modulus, work_of_adhesio
     ----------
     pillar_count : float or array_like
         Number of pillars N, dimensionless; ``N >= 1``.
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     real_area : float or array_like
         Real area A = N pi a**2, in units of area; positive.
     stiffness : float or array_like
         Pillar stiffness k, in units of force per length; ``0 < k <= inf``.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -223,7 +224,7 @@ def soft_brush_work_of_separation(pillar_count, contact_modulus, work_of_adhesio
     """
     n = _count("pillar_count", pillar_count)
     k = _positive("stiffness", stiffness, allow_inf=True)
-    f_k = np.asarray(compact_punch_force(contact_modulus, work_of_adhesion, real_area))
+    f_k = np.asarray(compact_punch_force(real_area, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
     return _out(n**-0.5 * f_k**2 / (2.0 * k))
 
 

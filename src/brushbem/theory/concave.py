@@ -27,7 +27,7 @@ __all__ = [  # noqa: RUF022 - in the thesis's order
 # ---------------------------------------------------------------------------
 
 
-def concave_reference_stress(contact_modulus, work_of_adhesion, pillar_radius):
+def concave_reference_stress(pillar_radius, *, contact_modulus, work_of_adhesion):
     """Default uniform stress p_c for the concave profile: one pillar's Kendall mean stress.
 
     ``p_c = F_K / (pi r**2) = sqrt(8 E* dgamma / (pi r))``.  The thesis does not
@@ -42,12 +42,12 @@ def concave_reference_stress(contact_modulus, work_of_adhesion, pillar_radius):
 
     Parameters
     ----------
+    pillar_radius : float or array_like
+        Pillar radius r, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    pillar_radius : float or array_like
-        Pillar radius r, in units of length; positive.
 
     Returns
     -------
@@ -55,11 +55,11 @@ def concave_reference_stress(contact_modulus, work_of_adhesion, pillar_radius):
         p_c (magnitude of a tensile stress), in units of stress.
     """
     r = _positive("pillar_radius", pillar_radius)
-    force = np.asarray(kendall_force(contact_modulus, work_of_adhesion, r))
+    force = np.asarray(kendall_force(r, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
     return _out(force / (np.pi * r**2))
 
 
-def concave_profile(radial_position, radius, contact_modulus, uniform_stress):
+def concave_profile(radial_position, radius, uniform_stress, *, contact_modulus):
     """Punch profile giving a uniform stress p_c over a circle (eq. 7.2).
 
     ``S_c(r) = (4 p_c R / (pi E*)) (E(r/R) - pi/2)``, ``r <= R``, with E the complete
@@ -82,11 +82,11 @@ def concave_profile(radial_position, radius, contact_modulus, uniform_stress):
         Distance r from the centre, in units of length; ``0 <= r <= R``.
     radius : float
         Radius R of the circular (apparent) contact, in units of length; positive.
-    contact_modulus : float
-        Contact modulus E*, in units of stress; positive.
     uniform_stress : float
         Magnitude p_c of the uniform tensile stress, in units of stress;
         non-negative (see :func:`concave_reference_stress`).
+    contact_modulus : float
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -108,7 +108,7 @@ def concave_profile(radial_position, radius, contact_modulus, uniform_stress):
     return _out(4.0 * p_c * big_r / (np.pi * modulus) * (elliptic - np.pi / 2.0))
 
 
-def concave_pillar_profile(radial_position, radius, amplification, contact_modulus, uniform_stress):
+def concave_pillar_profile(radial_position, radius, amplification, uniform_stress, *, contact_modulus):
     """Amplified concave profile of the pillar tips, ``S_p = h~ S_c`` (eq. 7.3).
 
     Same sign as :func:`concave_profile`: zero at the centre, negative outside.
@@ -122,11 +122,11 @@ def concave_pillar_profile(radial_position, radius, amplification, contact_modul
         Radius R of the profile, in units of length; positive.
     amplification : float
         Amplification factor h~, dimensionless; non-negative (0: flat brush).
-    contact_modulus : float
-        Contact modulus E*, in units of stress; positive.
     uniform_stress : float
         Reference stress p_c that makes h~ dimensionless, in units of stress;
         non-negative.
+    contact_modulus : float
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -134,10 +134,11 @@ def concave_pillar_profile(radial_position, radius, amplification, contact_modul
         S_p(r), in units of length (non-positive).
     """
     h = _nonnegative("amplification", amplification)
-    return _out(h * np.asarray(concave_profile(radial_position, radius, contact_modulus, uniform_stress)))
+    profile = concave_profile(radial_position, radius, uniform_stress, contact_modulus=contact_modulus)
+    return _out(h * np.asarray(profile))
 
 
-def concave_offsets(radial_position, radius, amplification, contact_modulus, uniform_stress):
+def concave_offsets(radial_position, radius, amplification, uniform_stress, *, contact_modulus):
     """Pillar length offsets g >= 0 of a concave brush, ``g = S_p(r) - S_p(R)``.
 
     The profile of eq. 7.3 shifted to brushbem's offset convention (DESIGN.md:
@@ -154,17 +155,19 @@ def concave_offsets(radial_position, radius, amplification, contact_modulus, uni
         Radius R of the profile, in units of length; positive.
     amplification : float
         Amplification factor h~, dimensionless; non-negative.
-    contact_modulus : float
-        Contact modulus E*, in units of stress; positive.
     uniform_stress : float
         Reference stress p_c (see :func:`concave_reference_stress`), in units of
         stress; non-negative.
+    contact_modulus : float
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
     float or ndarray
         Offsets g (how much shorter than a rim pillar), in units of length.
     """
-    profile = np.asarray(concave_pillar_profile(radial_position, radius, amplification, contact_modulus, uniform_stress))
-    rim = np.asarray(concave_pillar_profile(radius, radius, amplification, contact_modulus, uniform_stress))
+    profile = np.asarray(concave_pillar_profile(radial_position, radius, amplification, uniform_stress,
+                                                contact_modulus=contact_modulus))
+    rim = np.asarray(concave_pillar_profile(radius, radius, amplification, uniform_stress,
+                                            contact_modulus=contact_modulus))
     return _out(np.maximum(profile - rim, 0.0))

@@ -15,7 +15,7 @@ __all__ = [
 # ---------------------------------------------------------------------------
 
 
-def contact_modulus_from(youngs_modulus, poisson_ratio):
+def contact_modulus_from(*, youngs_modulus, poisson_ratio):
     """Contact modulus of an elastic half-space pressed by a rigid indenter.
 
     ``E* = E / (1 - nu**2)`` (thesis eq. 2.1).  For two elastic bodies the

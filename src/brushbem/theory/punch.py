@@ -28,15 +28,15 @@ __all__ = [  # noqa: RUF022 - in the thesis's order
 # ---------------------------------------------------------------------------
 
 
-def punch_stiffness(contact_modulus, radius):
+def punch_stiffness(radius, *, contact_modulus):
     """Normal contact stiffness of a rigid flat circular punch, ``2 E* r`` (eq. 2.2).
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
     radius : float or array_like
         Punch radius r, in units of length; positive.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -48,17 +48,17 @@ def punch_stiffness(contact_modulus, radius):
     return _out(2.0 * modulus * r)
 
 
-def kendall_force(contact_modulus, work_of_adhesion, radius):
+def kendall_force(radius, *, contact_modulus, work_of_adhesion):
     """Kendall adhesive force of a rigid flat punch, ``sqrt(8 pi E* dgamma r**3)`` (eq. 2.4b).
 
     Parameters
     ----------
+    radius : float or array_like
+        Punch radius r, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Punch radius r, in units of length; positive.
 
     Returns
     -------
@@ -72,17 +72,17 @@ def kendall_force(contact_modulus, work_of_adhesion, radius):
     return _out(np.sqrt(8.0 * np.pi * modulus * dgamma * r**3))
 
 
-def kendall_displacement(contact_modulus, work_of_adhesion, radius):
+def kendall_displacement(radius, *, contact_modulus, work_of_adhesion):
     """Critical displacement of a rigid flat punch, ``-sqrt(2 pi dgamma r / E*)`` (eq. 2.4a).
 
     Parameters
     ----------
+    radius : float or array_like
+        Punch radius r, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Punch radius r, in units of length; positive.
 
     Returns
     -------
@@ -96,7 +96,7 @@ def kendall_displacement(contact_modulus, work_of_adhesion, radius):
     return _out(-np.sqrt(2.0 * np.pi * dgamma * r / modulus))
 
 
-def kendall_work_of_separation(work_of_adhesion, radius):
+def kendall_work_of_separation(radius, *, work_of_adhesion):
     """External work to separate a rigid flat punch, ``2 pi dgamma r**2`` (eq. 2.5, 4.14).
 
     Half of it creates the new surface (eq. 2.7); the other half is the elastic
@@ -104,10 +104,10 @@ def kendall_work_of_separation(work_of_adhesion, radius):
 
     Parameters
     ----------
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Punch radius r, in units of length; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -124,7 +124,7 @@ def kendall_work_of_separation(work_of_adhesion, radius):
 # ---------------------------------------------------------------------------
 
 
-def normalized_punch_stiffness(stiffness, contact_modulus, radius):
+def normalized_punch_stiffness(stiffness, radius, *, contact_modulus):
     """Pillar stiffness over the punch contact stiffness, ``k~ = k / (2 E* r)`` (eq. 2.16).
 
     Parameters
@@ -132,10 +132,10 @@ def normalized_punch_stiffness(stiffness, contact_modulus, radius):
     stiffness : float or array_like
         Spring (pillar) stiffness k, in units of force per length; ``0 < k <= inf``
         (``inf``: rigid connection).
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
     radius : float or array_like
         Punch radius r, in units of length; positive.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -148,7 +148,7 @@ def normalized_punch_stiffness(stiffness, contact_modulus, radius):
     return _out(k / (2.0 * modulus * r))
 
 
-def punch_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, stiffness):
+def punch_spring_work_of_separation(radius, stiffness, *, contact_modulus, work_of_adhesion):
     """Work to separate a flat punch held by a spring, ``2 pi dgamma r**2 (1 + 1/k~)`` (eq. 2.18-2.19).
 
     The spring does not change the pull-off force or the punch's critical
@@ -156,27 +156,27 @@ def punch_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, s
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Punch radius r, in units of length; positive.
     stiffness : float or array_like
         Spring stiffness k, in units of force per length; ``0 < k <= inf``.
         ``inf`` gives the rigid value ``2 pi dgamma r**2``.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
     float or ndarray
         Work of separation w_ad from zero indentation, in units of energy.
     """
-    k_tilde = np.asarray(normalized_punch_stiffness(stiffness, contact_modulus, radius))
-    rigid_work = np.asarray(kendall_work_of_separation(work_of_adhesion, radius))
+    k_tilde = np.asarray(normalized_punch_stiffness(stiffness, radius, contact_modulus=contact_modulus))
+    rigid_work = np.asarray(kendall_work_of_separation(radius, work_of_adhesion=work_of_adhesion))
     return _out(rigid_work * (1.0 + 1.0 / k_tilde))
 
 
-def punch_spring_separation_displacement(contact_modulus, work_of_adhesion, radius, stiffness):
+def punch_spring_separation_displacement(radius, stiffness, *, contact_modulus, work_of_adhesion):
     """Base displacement at which a flat punch on a spring separates, ``d_K - F_K / k``.
 
     The punch itself detaches at ``d_K`` (eq. 2.4a); the spring is then stretched
@@ -184,14 +184,14 @@ def punch_spring_separation_displacement(contact_modulus, work_of_adhesion, radi
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Punch radius r, in units of length; positive.
     stiffness : float or array_like
         Spring stiffness k, in units of force per length; ``0 < k <= inf``.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -199,6 +199,6 @@ def punch_spring_separation_displacement(contact_modulus, work_of_adhesion, radi
         Signed base displacement at separation (negative), in units of length.
     """
     k = _positive("stiffness", stiffness, allow_inf=True)
-    d_k = np.asarray(kendall_displacement(contact_modulus, work_of_adhesion, radius))
-    f_k = np.asarray(kendall_force(contact_modulus, work_of_adhesion, radius))
+    d_k = np.asarray(kendall_displacement(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
+    f_k = np.asarray(kendall_force(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
     return _out(d_k - f_k / k)

@@ -48,18 +48,18 @@ __all__ = [  # noqa: RUF022 - in the thesis's order
 # ---------------------------------------------------------------------------
 
 
-def hertz_force(contact_modulus, radius, displacement):
+def hertz_force(radius, displacement, *, contact_modulus):
     """Hertz force of a paraboloid ``r**2 / (2 R)``, ``4/3 E* sqrt(R) d**1.5``.
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
     radius : float or array_like
         Radius of curvature R of the tip, in units of length; positive.
     displacement : float or array_like
         Indentation d, in units of length; finite.  ``d <= 0`` means no contact
         and gives zero.
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -92,17 +92,17 @@ def hertz_contact_radius(radius, displacement):
     return _out(np.sqrt(r * d))
 
 
-def hertz_max_pressure(contact_modulus, radius, displacement):
+def hertz_max_pressure(radius, displacement, *, contact_modulus):
     """Hertz pressure at the centre of the contact, ``2 E* a / (pi R) = 3 F / (2 pi a**2)``.
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
     radius : float or array_like
         Radius of curvature R of the tip, in units of length; positive.
     displacement : float or array_like
         Indentation d, in units of length; finite (``d <= 0`` gives zero).
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -120,20 +120,20 @@ def hertz_max_pressure(contact_modulus, radius, displacement):
 # ---------------------------------------------------------------------------
 
 
-def jkr_force_from_radius(contact_radius, contact_modulus, work_of_adhesion, radius):
+def jkr_force_from_radius(contact_radius, radius, *, contact_modulus, work_of_adhesion):
     """JKR force at contact radius a, ``4 E* a**3 / (3 R) - sqrt(8 pi dgamma E* a**3)`` (eq. 2.22).
 
     Parameters
     ----------
     contact_radius : float or array_like
         Contact radius a, in units of length; non-negative.
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative
         (zero gives Hertz).
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -148,7 +148,7 @@ def jkr_force_from_radius(contact_radius, contact_modulus, work_of_adhesion, rad
     return _out(4.0 * modulus * a**3 / (3.0 * r) - np.sqrt(8.0 * np.pi * dgamma * modulus * a**3))
 
 
-def jkr_displacement_from_radius(contact_radius, contact_modulus, work_of_adhesion, radius):
+def jkr_displacement_from_radius(contact_radius, radius, *, contact_modulus, work_of_adhesion):
     """JKR displacement at contact radius a, ``a**2 / R - sqrt(2 pi dgamma a / E*)``.
 
     The Hertz indentation minus the rigid-punch lift-off of the adhesive stress
@@ -158,12 +158,12 @@ def jkr_displacement_from_radius(contact_radius, contact_modulus, work_of_adhesi
     ----------
     contact_radius : float or array_like
         Contact radius a, in units of length; non-negative.
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -178,7 +178,7 @@ def jkr_displacement_from_radius(contact_radius, contact_modulus, work_of_adhesi
     return _out(a**2 / r - np.sqrt(2.0 * np.pi * dgamma * a / modulus))
 
 
-def jkr_total_energy(contact_radius, displacement, contact_modulus, work_of_adhesion, radius):
+def jkr_total_energy(contact_radius, displacement, radius, *, contact_modulus, work_of_adhesion):
     """Total energy of a rigid paraboloid at contact radius a and indentation d (eq. 2.23).
 
     ``U = E* (d**2 a - 2/3 d a**3 / R + a**5 / (5 R**2)) - pi dgamma a**2``: elastic
@@ -191,12 +191,12 @@ def jkr_total_energy(contact_radius, displacement, contact_modulus, work_of_adhe
         Contact radius a, in units of length; non-negative.
     displacement : float or array_like
         Indentation d, in units of length; finite.
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -250,17 +250,17 @@ def jkr_normalized_displacement(normalized_radius):
     return _out(3.0 * a**2 - 4.0 * np.sqrt(a))
 
 
-def jkr_pull_off_force(work_of_adhesion, radius):
+def jkr_pull_off_force(radius, *, work_of_adhesion):
     """JKR adhesive force ``F_JKR = 3/2 pi R dgamma`` (eq. 1.1, 2.20a); force minimum, point C.
 
     Independent of the contact modulus, like :func:`dmt_pull_off_force`.
 
     Parameters
     ----------
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Radius of curvature R of the tip, in units of length; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -272,17 +272,17 @@ def jkr_pull_off_force(work_of_adhesion, radius):
     return _out(1.5 * np.pi * r * dgamma)
 
 
-def jkr_pull_off_radius(contact_modulus, work_of_adhesion, radius):
+def jkr_pull_off_radius(radius, *, contact_modulus, work_of_adhesion):
     """Contact radius at the JKR force minimum, ``a_JKR = (9 pi dgamma R**2 / (8 E*))**(1/3)`` (eq. 2.20b).
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -295,7 +295,7 @@ def jkr_pull_off_radius(contact_modulus, work_of_adhesion, radius):
     return _out(np.cbrt(9.0 * np.pi * dgamma * r**2 / (8.0 * modulus)))
 
 
-def jkr_pull_off_displacement(contact_modulus, work_of_adhesion, radius):
+def jkr_pull_off_displacement(radius, *, contact_modulus, work_of_adhesion):
     """Displacement at the JKR force minimum, ``d_JKR = -(3 pi**2 dgamma**2 R / (64 E*^2))**(1/3)`` (eq. 2.20b).
 
     This is the displacement at point C (largest tensile force); under
@@ -304,12 +304,12 @@ def jkr_pull_off_displacement(contact_modulus, work_of_adhesion, radius):
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -322,86 +322,89 @@ def jkr_pull_off_displacement(contact_modulus, work_of_adhesion, radius):
     return _out(-np.cbrt(3.0 * np.pi**2 * dgamma**2 * r / (64.0 * modulus**2)))
 
 
-def jkr_zero_force_radius(contact_modulus, work_of_adhesion, radius):
+def jkr_zero_force_radius(radius, *, contact_modulus, work_of_adhesion):
     """Contact radius at zero load (point B), ``2**(2/3) a_JKR`` (from eq. 2.24 with F~ = 0).
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
     float or ndarray
         Contact radius a_0, in units of length.
     """
-    return _out(2.0 ** (2.0 / 3.0) * np.asarray(jkr_pull_off_radius(contact_modulus, work_of_adhesion, radius)))
+    a_jkr = jkr_pull_off_radius(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
+    return _out(2.0 ** (2.0 / 3.0) * np.asarray(a_jkr))
 
 
-def jkr_separation_radius(contact_modulus, work_of_adhesion, radius):
+def jkr_separation_radius(radius, *, contact_modulus, work_of_adhesion):
     """Contact radius at separation under displacement control (point D), ``(1/3)**(2/3) a_JKR``.
 
     Point D is the minimum of the displacement, ``dd/da = 0`` (eq. 2.24 and text).
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
     float or ndarray
         Contact radius a_s, in units of length.
     """
-    return _out((1.0 / 3.0) ** (2.0 / 3.0) * np.asarray(jkr_pull_off_radius(contact_modulus, work_of_adhesion, radius)))
+    a_jkr = jkr_pull_off_radius(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
+    return _out((1.0 / 3.0) ** (2.0 / 3.0) * np.asarray(a_jkr))
 
 
-def jkr_separation_force(work_of_adhesion, radius):
+def jkr_separation_force(radius, *, work_of_adhesion):
     """Force magnitude at separation under displacement control (point D), ``5/9 F_JKR = 5/6 pi R dgamma``.
 
     Parameters
     ----------
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Radius of curvature R of the tip, in units of length; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
     float or ndarray
         Magnitude of the (tensile) force at D, in units of force.
     """
-    return _out(5.0 / 9.0 * np.asarray(jkr_pull_off_force(work_of_adhesion, radius)))
+    return _out(5.0 / 9.0 * np.asarray(jkr_pull_off_force(radius, work_of_adhesion=work_of_adhesion)))
 
 
-def jkr_separation_displacement(contact_modulus, work_of_adhesion, radius):
+def jkr_separation_displacement(radius, *, contact_modulus, work_of_adhesion):
     """Displacement at separation under displacement control (point D), ``3**(2/3) d_JKR``.
 
     From eq. 2.24 at ``a~ = (1/3)**(2/3)``: ``d / |d_JKR| = -3**(2/3)``.
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
     float or ndarray
         Signed displacement d_s (negative, the most negative reachable), in units of length.
     """
-    return _out(3.0 ** (2.0 / 3.0) * np.asarray(jkr_pull_off_displacement(contact_modulus, work_of_adhesion, radius)))
+    d_jkr = jkr_pull_off_displacement(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
+    return _out(3.0 ** (2.0 / 3.0) * np.asarray(d_jkr))
 
 
 def _jkr_radius_scalar(d: float, modulus: float, dgamma: float, r: float) -> float:
@@ -435,7 +438,7 @@ def _jkr_radius_scalar(d: float, modulus: float, dgamma: float, r: float) -> flo
     return root * a_jkr
 
 
-def jkr_radius_from_displacement(displacement, contact_modulus, work_of_adhesion, radius):
+def jkr_radius_from_displacement(displacement, radius, *, contact_modulus, work_of_adhesion):
     """JKR contact radius on the stable branch for a given indentation.
 
     Inverts ``d(a) = a**2 / R - sqrt(2 pi dgamma a / E*)`` for the largest root
@@ -447,13 +450,13 @@ def jkr_radius_from_displacement(displacement, contact_modulus, work_of_adhesion
     displacement : float or array_like
         Indentation d, in units of length; ``d >= d_s``
         (:func:`jkr_separation_displacement`).
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative (zero:
         Hertz, ``d >= 0`` required).
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -477,7 +480,7 @@ def jkr_radius_from_displacement(displacement, contact_modulus, work_of_adhesion
     return _out(result)
 
 
-def jkr_force_from_displacement(displacement, contact_modulus, work_of_adhesion, radius):
+def jkr_force_from_displacement(displacement, radius, *, contact_modulus, work_of_adhesion):
     """JKR force on the stable branch for a given indentation (displacement control).
 
     Parameters
@@ -485,12 +488,12 @@ def jkr_force_from_displacement(displacement, contact_modulus, work_of_adhesion,
     displacement : float or array_like
         Indentation d, in units of length; ``d >= d_s``
         (:func:`jkr_separation_displacement`).
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; non-negative.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -502,11 +505,12 @@ def jkr_force_from_displacement(displacement, contact_modulus, work_of_adhesion,
     ValueError
         If ``displacement`` is below the separation displacement or any input is invalid.
     """
-    a = jkr_radius_from_displacement(displacement, contact_modulus, work_of_adhesion, radius)
-    return jkr_force_from_radius(a, contact_modulus, work_of_adhesion, radius)
+    a = jkr_radius_from_displacement(displacement, radius,
+                                     contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
+    return jkr_force_from_radius(a, radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
 
 
-def jkr_work_of_separation(contact_modulus, work_of_adhesion, radius):
+def jkr_work_of_separation(radius, *, contact_modulus, work_of_adhesion):
     """Work to separate a rigid sphere from zero load (B) to separation (D), ``U_tot(a_s) - U_tot(a_0)`` (eq. 2.27).
 
     Equal to ``U_nor * (4/5 * 4**(-2/3) + 6/5 * 3**(4/3))`` with U_nor from
@@ -514,19 +518,20 @@ def jkr_work_of_separation(contact_modulus, work_of_adhesion, radius):
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; positive.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
     float or ndarray
         Work of separation w_0, in units of energy.
     """
-    return sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, np.inf)
+    return sphere_spring_work_of_separation(radius, np.inf,
+                                            contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion)
 
 
 # ---------------------------------------------------------------------------
@@ -534,15 +539,15 @@ def jkr_work_of_separation(contact_modulus, work_of_adhesion, radius):
 # ---------------------------------------------------------------------------
 
 
-def dmt_pull_off_force(work_of_adhesion, radius):
+def dmt_pull_off_force(radius, *, work_of_adhesion):
     """DMT adhesive force ``2 pi R dgamma`` (eq. 1.2).
 
     Parameters
     ----------
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; non-negative.
     radius : float or array_like
         Combined radius of curvature R, in units of length; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; non-negative.
 
     Returns
     -------
@@ -554,7 +559,7 @@ def dmt_pull_off_force(work_of_adhesion, radius):
     return _out(2.0 * np.pi * r * dgamma)
 
 
-def tabor_parameter(radius, work_of_adhesion, contact_modulus, equilibrium_separation):
+def tabor_parameter(radius, *, work_of_adhesion, contact_modulus, equilibrium_separation):
     """Tabor parameter ``mu_T = (R dgamma**2 / (E*^2 z0**3))**(1/3)`` (eq. 1.3).
 
     Large values: JKR (compliant, large bodies); small values: DMT.
@@ -582,7 +587,7 @@ def tabor_parameter(radius, work_of_adhesion, contact_modulus, equilibrium_separ
     return _out(np.cbrt(r * dgamma**2 / (modulus**2 * z0**3)))
 
 
-def maugis_parameter(adhesive_stress, radius, contact_modulus, work_of_adhesion):
+def maugis_parameter(radius, *, adhesive_stress, contact_modulus, work_of_adhesion):
     """Maugis parameter ``lambda = sigma0 (9 R / (2 pi E*^2 dgamma))**(1/3)`` (eq. 1.5).
 
     With the Dugdale stress matched to a Lennard-Jones law,
@@ -590,11 +595,11 @@ def maugis_parameter(adhesive_stress, radius, contact_modulus, work_of_adhesion)
 
     Parameters
     ----------
+    radius : float or array_like
+        Combined radius of curvature R, in units of length; positive.
     adhesive_stress : float or array_like
         Dugdale adhesive stress sigma0 (``dgamma = sigma0 h0``, eq. 1.4), in units
         of stress; positive.
-    radius : float or array_like
-        Combined radius of curvature R, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like

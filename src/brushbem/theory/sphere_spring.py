@@ -57,17 +57,17 @@ SPHERE_WORK_SWITCH: Final[float] = 1.7
 """k_bar below which the thesis uses the low-stiffness work (eq. 2.39), above it eq. 2.38."""
 
 
-def sphere_normalization_radius(contact_modulus, work_of_adhesion, radius):
+def sphere_normalization_radius(radius, *, contact_modulus, work_of_adhesion):
     """Length scale of eq. 2.33, ``a_nor = (pi dgamma R**2 / (2 E*))**(1/3) = (4/9)**(1/3) a_JKR``.
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; positive.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -80,19 +80,19 @@ def sphere_normalization_radius(contact_modulus, work_of_adhesion, radius):
     return _out(np.cbrt(np.pi * dgamma * r**2 / (2.0 * modulus)))
 
 
-def sphere_normalization_energy(contact_modulus, work_of_adhesion, radius):
+def sphere_normalization_energy(radius, *, contact_modulus, work_of_adhesion):
     """Energy scale of eq. 2.34, ``U_nor = (pi**5 dgamma**5 R**4 / (2**5 E*^2))**(1/3)``.
 
     Equal to ``E* a_nor**5 / R**2``.
 
     Parameters
     ----------
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; positive.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -106,7 +106,7 @@ def sphere_normalization_energy(contact_modulus, work_of_adhesion, radius):
     return _out((np.pi * dgamma / 2.0) ** (5.0 / 3.0) * r ** (4.0 / 3.0) * modulus ** (-2.0 / 3.0))
 
 
-def sphere_normalized_stiffness(stiffness, contact_modulus, work_of_adhesion, radius):
+def sphere_normalized_stiffness(stiffness, radius, *, contact_modulus, work_of_adhesion):
     """Dimensionless pillar stiffness of eq. 2.36, ``k_bar = k / (E* a_nor)``.
 
     Not the same as eq. 2.21's ``k~ = k / (E* a_JKR)``: ``k_bar = (9/4)**(1/3) k~ = 1.31 k~``.
@@ -115,12 +115,12 @@ def sphere_normalized_stiffness(stiffness, contact_modulus, work_of_adhesion, ra
     ----------
     stiffness : float or array_like
         Spring stiffness k, in units of force per length; ``0 < k <= inf``.
+    radius : float or array_like
+        Radius of curvature R of the tip, in units of length; positive.
     contact_modulus : float or array_like
         Contact modulus E*, in units of stress; positive.
     work_of_adhesion : float or array_like
         Work of adhesion dgamma, in units of energy per area; positive.
-    radius : float or array_like
-        Radius of curvature R of the tip, in units of length; positive.
 
     Returns
     -------
@@ -129,7 +129,8 @@ def sphere_normalized_stiffness(stiffness, contact_modulus, work_of_adhesion, ra
     """
     k = _positive("stiffness", stiffness, allow_inf=True)
     modulus = np.asarray(_positive("contact_modulus", contact_modulus))
-    a_nor = np.asarray(sphere_normalization_radius(contact_modulus, work_of_adhesion, radius))
+    a_nor = np.asarray(sphere_normalization_radius(radius, contact_modulus=contact_modulus,
+                                                   work_of_adhesion=work_of_adhesion))
     return _out(k / (modulus * a_nor))
 
 
@@ -290,7 +291,8 @@ def sphere_spring_work_from_preload(normalized_stiffness, normalized_preload_rad
     return _out(numerator / _sphere_rigid_work_normalized())
 
 
-def sphere_preload_contact_radius(contact_modulus, radius, stiffness, preload_force=None, preload_displacement=None):
+def sphere_preload_contact_radius(radius, stiffness, preload_force=None, preload_displacement=None, *,
+                                  contact_modulus):
     """Contact radius at the end of the loading of a sphere on a spring (Hertz, eq. 2.22 with dgamma = 0).
 
     Elements join where the tip touches, so the loading branch is Hertz's:
@@ -299,14 +301,14 @@ def sphere_preload_contact_radius(contact_modulus, radius, stiffness, preload_fo
 
     Parameters
     ----------
-    contact_modulus : float
-        Contact modulus E*, in units of stress; positive.
     radius : float
         Radius of curvature R of the tip, in units of length; positive.
     stiffness : float
         Spring stiffness k, in units of force per length; ``0 < k <= inf``.
     preload_force, preload_displacement : float, optional
         The preload, in units of force or of length; positive.
+    contact_modulus : float
+        Contact modulus E*, in units of stress; positive.
 
     Returns
     -------
@@ -332,8 +334,8 @@ def sphere_preload_contact_radius(contact_modulus, radius, stiffness, preload_fo
     return float(optimize.brentq(excess, 0.0, a_rigid, xtol=1e-15 * a_rigid, rtol=1e-14))
 
 
-def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, stiffness, switch=SPHERE_WORK_SWITCH,
-                                     preload_radius=math.inf):
+def sphere_spring_work_of_separation(radius, stiffness, switch=SPHERE_WORK_SWITCH, preload_radius=math.inf, *,
+                                     contact_modulus, work_of_adhesion):
     """Work of separation of a JKR sphere on a spring, from zero load to separation.
 
     ``w = w_bar(k_bar) * (U_tot(a_s) - U_tot(a_o))`` (eq. 2.27, 2.30-2.31, 2.38-2.39),
@@ -344,10 +346,6 @@ def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, 
 
     Parameters
     ----------
-    contact_modulus : float or array_like
-        Contact modulus E*, in units of stress; positive.
-    work_of_adhesion : float or array_like
-        Work of adhesion dgamma, in units of energy per area; positive.
     radius : float or array_like
         Radius of curvature R of the tip, in units of length; positive.
     stiffness : float or array_like
@@ -357,15 +355,21 @@ def sphere_spring_work_of_separation(contact_modulus, work_of_adhesion, radius, 
     preload_radius : float or array_like, optional
         Largest contact radius of the loading (:func:`sphere_preload_contact_radius`),
         in units of length; default inf (beyond B, the thesis's case).
+    contact_modulus : float or array_like
+        Contact modulus E*, in units of stress; positive.
+    work_of_adhesion : float or array_like
+        Work of adhesion dgamma, in units of energy per area; positive.
 
     Returns
     -------
     float or ndarray
         Work of separation, in units of energy.
     """
-    kbar = np.asarray(sphere_normalized_stiffness(stiffness, contact_modulus, work_of_adhesion, radius))
-    u_nor = np.asarray(sphere_normalization_energy(contact_modulus, work_of_adhesion, radius))
+    kbar = np.asarray(sphere_normalized_stiffness(stiffness, radius, contact_modulus=contact_modulus,
+                                                  work_of_adhesion=work_of_adhesion))
+    u_nor = np.asarray(sphere_normalization_energy(radius, contact_modulus=contact_modulus,
+                                                   work_of_adhesion=work_of_adhesion))
     a_m = np.asarray(_positive("preload_radius", preload_radius, allow_inf=True)) / np.asarray(
-        sphere_normalization_radius(contact_modulus, work_of_adhesion, radius))
+        sphere_normalization_radius(radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
     w_bar = np.asarray(sphere_spring_work_from_preload(kbar, a_m, switch))
     return _out(w_bar * _sphere_rigid_work_normalized() * u_nor)
