@@ -159,3 +159,48 @@ def test_validate_loads_neither_the_solver_nor_scipy(example):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+#: The numerical core: the modules whose functions the size rule covers.
+NUMERICS = ("backend.py", "halfspace.py", "operator.py", "springs.py", "structure.py", "nested.py",
+            "solver", "protocol")
+MAX_LINES = 80  # code lines, the docstring not counted
+MAX_PARAMETERS = 8  # self and cls not counted
+REASON = "Why one function:", "Why these parameters:"
+
+
+def _sizes(tree: ast.AST):
+    for node in ast.walk(tree):
+        if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        doc = ast.get_docstring(node) or ""
+        body = node.body[1:] if doc and len(node.body) > 1 else node.body
+        lines = node.end_lineno - body[0].lineno + 1
+        args = node.args
+        names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
+        parameters = len([n for n in names if n not in ("self", "cls")])
+        yield node, lines, parameters, doc
+
+
+def _numerics_files():
+    for name in NUMERICS:
+        path = PACKAGE / name
+        yield from (sorted(path.glob("*.py")) if path.is_dir() else [path])
+
+
+def test_numerics_functions_are_short_or_say_why():
+    """No function of the numerics over 80 code lines or 8 parameters without its reason in the docstring."""
+    unexplained = []
+    for path in _numerics_files():
+        for node, lines, parameters, doc in _sizes(ast.parse(path.read_text(encoding="utf-8"))):
+            if (lines > MAX_LINES or parameters > MAX_PARAMETERS) and not any(r in doc for r in REASON):
+                unexplained.append(f"{path.relative_to(PACKAGE)}:{node.lineno} {node.name} "
+                                   f"({lines} lines, {parameters} parameters)")
+    assert not unexplained, "\n".join(unexplained)
+
+
+def test_the_size_rule_finds_a_long_function():
+    body = "\n".join(f"    x{i} = {i}" for i in range(MAX_LINES + 1))
+    source = f'def long(a, b, c, d, e, f, g, h, i):\n    """No reason."""\n{body}\n'
+    [(_, lines, parameters, doc)] = list(_sizes(ast.parse(source)))
+    assert lines == MAX_LINES + 1 and parameters == 9 and not any(r in doc for r in REASON)

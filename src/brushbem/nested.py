@@ -84,6 +84,9 @@ def nested_loop_equilibrium(
     This is `nested_loop_brush_equilibrium` with one pillar: the same secant
     corrections of the pillar position, started by a Newton step with the
     punch stiffness of the contact.
+
+    Why these parameters: the thesis's nested loop (sec. 3.2) is kept as an independent reference for the
+    coupled operator, with the arguments the thesis's algorithm takes; it is not on any production path.
     """
     xp = rigid_operator.xp
     one_pillar = xp.where(xp.isfinite(height), 0, -1)
@@ -156,6 +159,9 @@ def nested_loop_brush_equilibrium(
         Tip heights on the window (inf outside the footprints).
     displacement, stiffness, contact, pressure, critical, tolerance
         As for `nested_loop_equilibrium`; ``stiffness`` is every pillar's k.
+
+    Why these parameters: as `nested_loop_equilibrium`, the thesis's algorithm with its own arguments, kept
+    independent of the solver it checks.
     """
     if rigid_operator.has_springs:
         raise ValueError("the nested loop needs the rigid (spring-free) operator")

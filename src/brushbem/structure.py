@@ -602,6 +602,11 @@ def brush(
 
     The pillar length is the sum of the three contributions; the offsets are
     g_n = max(length) - length_n >= 0, so the longest pillar touches first.
+
+    Why one function: every parameter is one key of the config's `indenter` section (layout, region, counts,
+    radius, materials, roughness, profile, levels, seed), and the body is the sequence positions, footprints,
+    offsets, springs, description that each of them enters once; the steps are in `random_positions`,
+    `rasterise_pillars`, `hierarchy_clusters` and `Profile`.
     """
     if layout not in ("square", "random"):
         raise StructureError("layout", layout, "must be 'square' or 'random'")
@@ -669,10 +674,11 @@ def brush(
                     "the default reference stress needs halfspace.work_of_adhesion > 0 "
                     "(or give profile.reference_stress)",
                 )
-            reference_stress = float(theory.concave_reference_stress(contact_modulus, work_of_adhesion, pillar_radius))
+            reference_stress = float(theory.concave_reference_stress(
+                pillar_radius, contact_modulus=contact_modulus, work_of_adhesion=work_of_adhesion))
         profile_radius = float(radial.max()) if radial.max() > 0 else float(pillar_radius)
         length -= np.asarray(theory.concave_offsets(
-            radial, profile_radius, profile.amplification, contact_modulus, reference_stress))
+            radial, profile_radius, profile.amplification, reference_stress, contact_modulus=contact_modulus))
     if lengths is not None:
         lengths = np.asarray(lengths, dtype=float).ravel()
         if lengths.shape != (n_pillars,) or not np.all(np.isfinite(lengths)):

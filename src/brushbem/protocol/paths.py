@@ -477,30 +477,16 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     """Advance to the next event in ``direction`` (+1 press, -1 pull); yield its states.
 
     Returns (d, branch_finished), or None when the path must stop.
+
+    Why one function: after the prediction (`_events_ahead`) the three endings of a step (a window bound, a
+    target, an event and its cascade) all move the tracker from the same predicted state; split, each would
+    take the prediction and the tracker and hand back the next d.
     """
     xp = tracker.xp
     loading = direction > 0
-    critical = tracker.critical
     tol = path.tolerance
-    has_contact = bool(xp.any(tracker.contact))
-    candidates: list[tuple[float, str, object]] = []  # (distance along direction, kind, mask)
-    if loading and path.preload_displacement is not None:
-        candidates.append((path.preload_displacement - d, "target", None))
-    if not has_contact:
-        if not loading:
-            yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
-            return d, True
-        # First touch: the lowest footprint elements.
-        lowest = tracker.problem.indenter.lowest_height
-        distance = max(lowest - d, 0.0)
-        first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
-        new_d = d + distance
-        eq = tracker.solve(new_d, force_attach=first)
-        state = _eq_state(tracker, eq, True)
-        yield state
-        if not eq.converged:
-            return None
-        return new_d, _target_reached(tracker, path, new_d)
+    if not bool(xp.any(tracker.contact)):
+        return (yield from _without_contact(tracker, path, d, loading))
     tracker.ensure_window(tracker.contact)
     if loading and not tracker.covers_footprint and tracker.outside_reach_displacement() <= d:
         # An element outside the window may already be within reach (the
@@ -516,36 +502,10 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     contact = tracker.contact[sl]
     pressure = tracker.pressure[sl]
     s = float(direction)
-    # Detachment: p_i + t s a_i = -Sigma_c for t >= 0 (elements whose tension grows).
-    rate = s * a
-    grows = contact & (rate < 0)
-    t_detach = xp.where(grows, (pressure + critical) / xp.where(grows, -rate, 1.0), xp.inf)
-    t_detach = xp.where(t_detach < 0, 0.0, t_detach)
-    # Attachment: penetration pen_j + t s slope_j = 0 from below.
-    height = tracker.height[sl]
-    footprint = tracker.footprint[sl]
-    deflection = tracker.deflection()  # known from the last equilibrium's join check
-    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
-    reach = d - height - deflection
-    slope = 1.0 - unit_deflection
-    closing = footprint & ~contact & (s * slope > 0)
-    t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
-    t_attach = xp.where(t_attach < 0, 0.0, t_attach)
-    t_det = float(xp.min(t_detach)) if bool(xp.any(grows)) else math.inf
-    t_att = float(xp.min(t_attach)) if bool(xp.any(closing)) else math.inf
-    candidates.append((t_det, "detach", None))
-    candidates.append((t_att, "attach", None))
-    if loading and path.preload_force is not None:
-        force_rate = tracker.h2 * float(xp.sum(a))
-        if force_rate > 0:
-            candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
-    if loading and not tracker.covers_footprint:
-        # Footprint elements outside the window (other pillars, asperities)
-        # are not in the affine prediction: stop where one of them could
-        # first touch, enlarge the window there and predict again.
-        reach_at = tracker.outside_reach_displacement()
-        if reach_at < math.inf:
-            candidates.append((max(reach_at - d, 0.0), "outside", None))
+    ahead = _events_ahead(tracker, path, d, direction, a)
+    grows, t_detach, t_det = ahead.grows, ahead.t_detach, ahead.t_detach_min
+    closing, t_attach, t_att = ahead.closing, ahead.t_attach, ahead.t_attach_min
+    deflection, unit_deflection, candidates = ahead.deflection, ahead.unit_deflection, ahead.candidates
     t = min(c[0] for c in candidates)
     if not math.isfinite(t):
         yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
@@ -609,3 +569,79 @@ def _target_reached(tracker, path, d) -> bool:
     if path.preload_displacement is not None:
         return d >= path.preload_displacement * (1 - 1e-12)
     return tracker.force() >= path.preload_force * (1 - 1e-9)
+
+
+def _without_contact(tracker: Tracker, path: LoadPath, d: float, loading: bool):
+    """`_event_step` without contact: separation on the pull-off, the first touch on the loading."""
+    if not loading:
+        yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
+        return d, True
+    # First touch: the lowest footprint elements.
+    lowest = tracker.problem.indenter.lowest_height
+    distance = max(lowest - d, 0.0)
+    first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
+    new_d = d + distance
+    eq = tracker.solve(new_d, force_attach=first)
+    yield _eq_state(tracker, eq, True)
+    if not eq.converged:
+        return None
+    return new_d, _target_reached(tracker, path, new_d)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Ahead:
+    """The events ahead of an affine state p + t s a, on the tracker's window (`_events_ahead`)."""
+
+    grows: object  # elements of S whose tension grows
+    t_detach: object  # t at which each reaches -Sigma_c (inf elsewhere)
+    t_detach_min: float
+    closing: object  # footprint elements off S that approach the surface
+    t_attach: object  # t at which each touches (inf elsewhere)
+    t_attach_min: float
+    deflection: object  # tip deflection of the current pressure
+    unit_deflection: object  # tip deflection of a
+    candidates: list  # (t, kind, None): detach, attach, and the targets and window bounds ahead
+
+
+def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a) -> _Ahead:
+    """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
+    xp = tracker.xp
+    loading = direction > 0
+    sl = tracker.window.slices
+    contact = tracker.contact[sl]
+    pressure = tracker.pressure[sl]
+    s = float(direction)
+    candidates: list[tuple[float, str, object]] = []  # (distance along direction, kind, mask)
+    if loading and path.preload_displacement is not None:
+        candidates.append((path.preload_displacement - d, "target", None))
+    # Detachment: p_i + t s a_i = -Sigma_c for t >= 0 (elements whose tension grows).
+    rate = s * a
+    grows = contact & (rate < 0)
+    t_detach = xp.where(grows, (pressure + tracker.critical) / xp.where(grows, -rate, 1.0), xp.inf)
+    t_detach = xp.where(t_detach < 0, 0.0, t_detach)
+    # Attachment: penetration pen_j + t s slope_j = 0 from below.
+    height = tracker.height[sl]
+    footprint = tracker.footprint[sl]
+    deflection = tracker.deflection()  # known from the last equilibrium's join check
+    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
+    reach = d - height - deflection
+    slope = 1.0 - unit_deflection
+    closing = footprint & ~contact & (s * slope > 0)
+    t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
+    t_attach = xp.where(t_attach < 0, 0.0, t_attach)
+    t_det = float(xp.min(t_detach)) if bool(xp.any(grows)) else math.inf
+    t_att = float(xp.min(t_attach)) if bool(xp.any(closing)) else math.inf
+    candidates.append((t_det, "detach", None))
+    candidates.append((t_att, "attach", None))
+    if loading and path.preload_force is not None:
+        force_rate = tracker.h2 * float(xp.sum(a))
+        if force_rate > 0:
+            candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
+    if loading and not tracker.covers_footprint:
+        # Footprint elements outside the window (other pillars, asperities)
+        # are not in the affine prediction: stop where one of them could
+        # first touch, enlarge the window there and predict again.
+        reach_at = tracker.outside_reach_displacement()
+        if reach_at < math.inf:
+            candidates.append((max(reach_at - d, 0.0), "outside", None))
+    return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, deflection, unit_deflection, candidates)

@@ -49,106 +49,173 @@ def record_pull_off(
     not a result).  A summary number that comes out non-finite (an overflow
     of extreme inputs) makes the run not converged, with the reason.
     """
-    from ..backend import to_numpy
-
     start = time.perf_counter()
-    labels = np.asarray(to_numpy(problem.indenter.pillar)).ravel()
-    n_pillars = problem.indenter.n_pillars
-    h2 = problem.grid.element_size**2
-    last_attached_d = np.full(n_pillars, np.nan)
-    max_tension = np.zeros(n_pillars)
-
-    def pillar_forces(state: State) -> tuple[np.ndarray, np.ndarray]:
-        contact = np.flatnonzero(np.asarray(to_numpy(state.contact)).ravel())
-        pressure = np.asarray(to_numpy(state.pressure)).ravel()[contact]
-        force = h2 * np.bincount(labels[contact], weights=pressure, minlength=n_pillars)
-        attached = np.bincount(labels[contact], minlength=n_pillars) > 0
-        return force, attached
-
-    attached_at_preload = 0
-    half_taken = False
-    zero_taken = False
-    # The states without their arrays: keeping every State would keep two
-    # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
-    # and a page fault for every fresh page of every new array).
-    rows: list[State] = []
-    path_points: list[tuple[float, float, bool]] = []  # (d, F, loading) along the path, cascades included
-    snapshots: dict[str, Snapshot] = {}
-    last_contact_state: State | None = None
-    last_loading_state: State | None = None
-    best: State | None = None
-    converged = True
-    reason = "complete separation"
-    n_solves = n_iterations = 0
-    max_area = 0.0
-    separated = False
-    interrupted = False
+    recorder = _Recorder(problem)
     for state in pull_off(problem, path):
-        n_solves += state.n_solves
-        n_iterations += state.cg_iterations
-        if not state.converged:
-            converged = False
-            reason = state.reason
-        if state.kind == "separated":
-            separated = True
-            path_points.append((state.displacement, state.trial_force, False))
-            path_points.append((state.displacement, 0.0, False))
-            rows.append(dataclasses.replace(state, pressure=None, contact=None))
+        if not recorder.add(state):
             break
-        if state.trial_force != state.force:
-            path_points.append((state.displacement, state.trial_force, state.loading))
-        path_points.append((state.displacement, state.force, state.loading))
-        rows.append(dataclasses.replace(state, pressure=None, contact=None))
-        if state.loading:
-            last_loading_state = state
-            attached_at_preload = state.attached_pillars
-        elif state.contact_area > 0:
-            last_contact_state = state
-            forces, attached = pillar_forces(state)
-            last_attached_d[attached] = state.displacement
-            np.maximum(max_tension, -forces, out=max_tension)
-            if best is None or state.force < best.force:
-                best = state
-            if not zero_taken and state.force <= 0:
-                snapshots["zero_force"] = _snapshot("zero_force", state, to_numpy, pillar_forces)
-                zero_taken = True
-            if not half_taken and n_pillars > 1 and 2 * state.attached_pillars <= attached_at_preload:
-                snapshots["half_detached"] = _snapshot("half_detached", state, to_numpy, pillar_forces)
-                half_taken = True
-        max_area = max(max_area, state.contact_area)
         if progress is not None:
-            if state.loading:
-                target = path.preload_displacement
-                fraction = 0.3 * (state.displacement / target if target else min(state.force / path.preload_force, 1))
-            else:
-                fraction = 0.3 + 0.7 * (1.0 - state.contact_area / max_area if max_area else 1.0)
-            progress(min(max(fraction, 0.0), 1.0), f"d = {state.displacement:.4g}, F = {state.force:.4g}")
+            progress(_progress_fraction(state, path, recorder.max_area),
+                     f"d = {state.displacement:.4g}, F = {state.force:.4g}")
         if not state.converged:
             break
         if stop is not None and stop():
-            interrupted = True
-            converged = False
-            reason = f"interrupted at d = {state.displacement:.6g} after {len(rows)} states"
+            recorder.interrupt(state)
             break
-    if not separated and converged:
-        converged = False
-        reason = "the path ended before complete separation"
-    if last_contact_state is None and last_loading_state is not None and last_loading_state.contact_area > 0:
-        # The first unloading step already separated: the unloading branch
-        # starts at the preload, which is its last state with contact and the
-        # least compressive one.
-        last_contact_state = best = last_loading_state
-        _, attached = pillar_forces(last_loading_state)
-        last_attached_d[attached] = last_loading_state.displacement
-    if last_loading_state is not None:
-        snapshots["max_preload"] = _snapshot("max_preload", last_loading_state, to_numpy, pillar_forces)
-    if best is not None:
-        snapshots["adhesive_force"] = _snapshot("adhesive_force", best, to_numpy, pillar_forces)
-    if last_contact_state is not None:
-        snapshots["before_separation"] = _snapshot("before_separation", last_contact_state, to_numpy, pillar_forces)
-    order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
-    snapshots = {name: snapshots[name] for name in order if name in snapshots}
-    curve = Curve(
+    return recorder.finish(path, time.perf_counter() - start)
+
+
+def _progress_fraction(state: State, path: LoadPath, max_area: float) -> float:
+    """How far the pull-off has come: 30 % for the loading, 70 % for the contact area lost since."""
+    if state.loading:
+        target = path.preload_displacement
+        fraction = 0.3 * (state.displacement / target if target else min(state.force / path.preload_force, 1))
+    else:
+        fraction = 0.3 + 0.7 * (1.0 - state.contact_area / max_area if max_area else 1.0)
+    return min(max(fraction, 0.0), 1.0)
+
+
+class _Recorder:
+    """What `record_pull_off` keeps of the states of one pull-off, as they come."""
+
+    def __init__(self, problem: ContactProblem):
+        from ..backend import to_numpy
+
+        self.to_numpy = to_numpy
+        self.labels = np.asarray(to_numpy(problem.indenter.pillar)).ravel()
+        self.n_pillars = problem.indenter.n_pillars
+        self.h2 = problem.grid.element_size**2
+        self.last_attached_d = np.full(self.n_pillars, np.nan)
+        self.max_tension = np.zeros(self.n_pillars)
+        self.attached_at_preload = 0
+        # The states without their arrays: keeping every State would keep two
+        # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
+        # and a page fault for every fresh page of every new array).
+        self.rows: list[State] = []
+        self.path_points: list[tuple[float, float, bool]] = []  # (d, F, loading), cascades included
+        self.snapshots: dict[str, Snapshot] = {}
+        self.last_contact_state: State | None = None
+        self.last_loading_state: State | None = None
+        self.best: State | None = None
+        self.converged = True
+        self.reason = "complete separation"
+        self.n_solves = self.n_iterations = 0
+        self.max_area = 0.0
+        self.separated = False
+        self.interrupted = False
+
+    def pillar_forces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        contact = np.flatnonzero(np.asarray(self.to_numpy(state.contact)).ravel())
+        pressure = np.asarray(self.to_numpy(state.pressure)).ravel()[contact]
+        force = self.h2 * np.bincount(self.labels[contact], weights=pressure, minlength=self.n_pillars)
+        attached = np.bincount(self.labels[contact], minlength=self.n_pillars) > 0
+        return force, attached
+
+    def _take(self, name: str, state: State) -> None:
+        self.snapshots[name] = _snapshot(name, state, self.to_numpy, self.pillar_forces)
+
+    def add(self, state: State) -> bool:
+        """Keep what is needed of ``state``; False when the path ended with it (separation)."""
+        self.n_solves += state.n_solves
+        self.n_iterations += state.cg_iterations
+        if not state.converged:
+            self.converged = False
+            self.reason = state.reason
+        if state.kind == "separated":
+            self.separated = True
+            self.path_points.append((state.displacement, state.trial_force, False))
+            self.path_points.append((state.displacement, 0.0, False))
+            self.rows.append(dataclasses.replace(state, pressure=None, contact=None))
+            return False
+        if state.trial_force != state.force:
+            self.path_points.append((state.displacement, state.trial_force, state.loading))
+        self.path_points.append((state.displacement, state.force, state.loading))
+        self.rows.append(dataclasses.replace(state, pressure=None, contact=None))
+        if state.loading:
+            self.last_loading_state = state
+            self.attached_at_preload = state.attached_pillars
+        elif state.contact_area > 0:
+            self.last_contact_state = state
+            forces, attached = self.pillar_forces(state)
+            self.last_attached_d[attached] = state.displacement
+            np.maximum(self.max_tension, -forces, out=self.max_tension)
+            if self.best is None or state.force < self.best.force:
+                self.best = state
+            if "zero_force" not in self.snapshots and state.force <= 0:
+                self._take("zero_force", state)
+            if ("half_detached" not in self.snapshots and self.n_pillars > 1
+                    and 2 * state.attached_pillars <= self.attached_at_preload):
+                self._take("half_detached", state)
+        self.max_area = max(self.max_area, state.contact_area)
+        return True
+
+    def interrupt(self, state: State) -> None:
+        self.interrupted = True
+        self.converged = False
+        self.reason = f"interrupted at d = {state.displacement:.6g} after {len(self.rows)} states"
+
+    def finish(self, path: LoadPath, wall_time: float) -> PullOffRecord:
+        """The record of the states seen: snapshots, curve, summary, per-pillar numbers."""
+        if not self.separated and self.converged:
+            self.converged = False
+            self.reason = "the path ended before complete separation"
+        loading = self.last_loading_state
+        if self.last_contact_state is None and loading is not None and loading.contact_area > 0:
+            # The first unloading step already separated: the unloading branch
+            # starts at the preload, which is its last state with contact and the
+            # least compressive one.
+            self.last_contact_state = self.best = loading
+            _, attached = self.pillar_forces(loading)
+            self.last_attached_d[attached] = loading.displacement
+        for name, state in (("max_preload", loading), ("adhesive_force", self.best),
+                            ("before_separation", self.last_contact_state)):
+            if state is not None:
+                self._take(name, state)
+        order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
+        snapshots = tuple(self.snapshots[name] for name in order if name in self.snapshots)
+        pillars = {"separation_displacement": self.last_attached_d, "max_tension": self.max_tension}
+        return PullOffRecord(curve=_curve(self.rows), snapshots=snapshots,
+                             summary=self._summary(path, wall_time), pillars=pillars)
+
+    def _summary(self, path: LoadPath, wall_time: float) -> PullOffSummary:
+        rows, best, last = self.rows, self.best, self.last_contact_state
+        loading_states = [s for s in rows if s.loading]
+        # The unloading path starts at the end of the loading branch.
+        start_point = [(loading_states[-1].displacement, loading_states[-1].force)] if loading_states else []
+        if path.method == "fixed":
+            unloading = start_point + _fixed_unloading_path([s for s in rows if not s.loading])
+        else:
+            unloading = start_point + [(d, f) for d, f, load in self.path_points if not load]
+        summary = {
+            "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
+            "pull_off_displacement": best.displacement if best is not None else None,
+            "separation_displacement": last.displacement if last is not None else None,
+            "work_of_separation": work_of_separation(unloading),
+            "preload_force": loading_states[-1].force if loading_states else 0.0,
+            "max_displacement": loading_states[-1].displacement if loading_states else 0.0,
+            "converged": bool(self.converged),
+            "reason": self.reason,
+            "interrupted": self.interrupted,
+            "n_solves": int(self.n_solves),
+            "n_cg_iterations": int(self.n_iterations),
+            "mean_cg_iterations_per_solve": self.n_iterations / self.n_solves if self.n_solves else 0.0,
+            "attached_pillars_at_pull_off": best.attached_pillars if best is not None else 0,
+            "n_states": len(rows),
+            "wall_time_s": wall_time,
+        }
+        overflowed = [key for key in _FINITE_SUMMARY if summary[key] is not None and not math.isfinite(summary[key])]
+        if overflowed and summary["converged"]:
+            summary["converged"] = False
+            summary["reason"] = (
+                f"non-finite {', '.join(overflowed)}: the inputs' scales overflow double precision "
+                "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
+            )
+        return PullOffSummary(**summary)
+
+
+def _curve(rows: list[State]) -> Curve:
+    """The curve of the recorded states (a separation's force is 0)."""
+    return Curve(
         displacement=np.array([s.displacement for s in rows]),
         force=np.array([s.force if s.kind != "separated" else 0.0 for s in rows]),
         contact_area=np.array([s.contact_area for s in rows]),
@@ -157,40 +224,6 @@ def record_pull_off(
         loading=np.array([s.loading for s in rows], dtype=bool),
         attached_pillars=np.array([s.attached_pillars for s in rows], dtype=np.int64),
     )
-    loading_states = [s for s in rows if s.loading]
-    # The unloading path starts at the end of the loading branch.
-    start_point = [(loading_states[-1].displacement, loading_states[-1].force)] if loading_states else []
-    if path.method == "fixed":
-        unloading = start_point + _fixed_unloading_path([s for s in rows if not s.loading])
-    else:
-        unloading = start_point + [(d, f) for d, f, load in path_points if not load]
-    summary = {
-        "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
-        "pull_off_displacement": best.displacement if best is not None else None,
-        "separation_displacement": last_contact_state.displacement if last_contact_state is not None else None,
-        "work_of_separation": work_of_separation(unloading),
-        "preload_force": loading_states[-1].force if loading_states else 0.0,
-        "max_displacement": loading_states[-1].displacement if loading_states else 0.0,
-        "converged": bool(converged),
-        "reason": reason,
-        "interrupted": interrupted,
-        "n_solves": int(n_solves),
-        "n_cg_iterations": int(n_iterations),
-        "mean_cg_iterations_per_solve": n_iterations / n_solves if n_solves else 0.0,
-        "attached_pillars_at_pull_off": best.attached_pillars if best is not None else 0,
-        "n_states": len(rows),
-        "wall_time_s": time.perf_counter() - start,
-    }
-    overflowed = [key for key in _FINITE_SUMMARY if summary[key] is not None and not math.isfinite(summary[key])]
-    if overflowed and summary["converged"]:
-        summary["converged"] = False
-        summary["reason"] = (
-            f"non-finite {', '.join(overflowed)}: the inputs' scales overflow double precision "
-            "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
-        )
-    pillars = {"separation_displacement": last_attached_d, "max_tension": max_tension}
-    return PullOffRecord(curve=curve, snapshots=tuple(snapshots.values()), summary=PullOffSummary(**summary),
-                         pillars=pillars)
 
 
 #: Summary numbers that a converged run reports finite.

@@ -432,6 +432,10 @@ class Tracker:
 
     def state(self, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
               pressure=None, contact=None) -> State:
+        """The `State` at ``displacement`` of the given pressure and contact (default: the tracker's).
+
+        Why these parameters: one per field of `State` that the caller knows (the rest are computed here).
+        """
         p = self.pressure if pressure is None else pressure
         c = self.contact if contact is None else contact
         self.length_scale = max(self.length_scale, abs(float(displacement)))

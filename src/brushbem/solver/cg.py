@@ -123,6 +123,10 @@ def conjugate_gradient(
         ||r|| <= ``tolerance`` x ``reference(x)``.  When that is below what
         double precision resolves against ||rhs|| (``ROUNDING_FLOOR`` x
         ||rhs||), the solve stops not converged, saying so.
+
+    Why one function: the iteration and its stopping tests (tolerance, reference norm, rounding floor,
+    stagnation, limit) share the state x, r, z, p and the norms of every step; split, each piece would take
+    and return them all.
     """
     apply, mask, xp = operator.apply, operator.mask, operator.xp
     if xp is None:

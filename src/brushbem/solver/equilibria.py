@@ -454,6 +454,10 @@ def polonsky_keer(
     gap join it inside the iteration (the conjugacy is then reset).  The
     stopping test is the relative residual of the gap on the contact set plus
     the absence of penetration outside it.
+
+    Why one function: the algorithm of Polonsky and Keer (1999) as published, one loop whose state (pressure,
+    conjugate direction, G, delta) each step updates; written like the paper so that it can be checked against
+    it.
     """
     xp = operator.xp
     footprint = xp.isfinite(height)

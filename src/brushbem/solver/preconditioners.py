@@ -106,6 +106,9 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
     preconditioner and A agree on the pillar-mean modes whatever k is.  M^-1
     is symmetric positive definite; each application costs two stencil passes,
     two segment sums and one sparse triangular solve on the units.
+
+    Why one function: it builds one M^-1 (the stencil, the unit graph and its sparse factor) and returns the
+    closure that applies it; the pieces only make sense together.
     """
     xp = operator.xp
     labels_np = np.asarray(operator.pillar_labels)
@@ -233,6 +236,9 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     Returns None when an element of S lies off the pillars or a pillar's
     contact has more than ``max_block`` elements (a large punch or sphere:
     the blocks would cost more than they save).
+
+    Why one function: it builds one M^-1 from the pillar blocks, the coarse pillar-space matrix and their
+    reuse in `PillarCache`, and returns the closure that applies it; the reuse logic needs all three.
     """
     labels = system.pillars
     if system.size == 0 or bool(np.any(labels < 0)):
