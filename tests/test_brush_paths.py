@@ -22,7 +22,7 @@ from brushbem import protocol
 from brushbem.assembly import load_config
 from brushbem.case import brush_scales, build_path, build_problem
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, Level, Profile, brush
+from brushbem.structure import Grading, Grid, Level, Profile, Tilt, Tip, brush
 
 GRID = Grid(1.0, 128)
 PER_SIDE = 8
@@ -61,6 +61,12 @@ CASES = {
     "rough very soft": {"stiffness": 1e-3, "sigma": 2.0},
     "hierarchical rough": {"stiffness": 0.1, "sigma": 1.0, "levels": (Level(cluster=2, stiffness=0.05),)},
     "concave": {"stiffness": 6e-4, "profile": Profile(amplification=0.5)},
+    # Misalignment, a stiffness gradient and curved tips (sec. 8.2): the tilt's
+    # height range across the brush (~0.4 d_c) and the caps' rise r^2/(2R)
+    # (~0.3 d_c) are of the order of the pillars' stretch at pull-off.
+    "tilted": {"stiffness": 0.01, "tilt": Tilt(0.2, 30.0)},
+    "graded rough": {"stiffness": 0.01, "sigma": 1.0, "grading": Grading("radial", -0.5, 2.0)},
+    "spherical caps": {"stiffness": 0.1, "tip": Tip("spherical_cap", radius=0.2)},
 }
 
 

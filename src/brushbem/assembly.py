@@ -34,11 +34,14 @@ from .config import (
     show_value,
 )
 from .structure import (
+    Grading,
     Grid,
     Indenter,
     Level,
     Profile,
     StructureError,
+    Tilt,
+    Tip,
     brush,
     flat_punch,
     height_map,
@@ -75,7 +78,8 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
     modulus = halfspace_config.effective_modulus
     scale = modulus * grid.size
     levels = tuple(
-        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale)
+        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale,
+              _grading(lv.grading))
         for lv in (spec.levels or ())
     )
     lengths = np.load(spec.lengths_file, allow_pickle=False) if spec.lengths_file else None
@@ -101,11 +105,37 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
             profile=profile,
             lengths=lengths,
             levels=levels,
+            tip=_tip(spec.tip),
+            tilt=Tilt(spec.tilt.angle, spec.tilt.azimuth) if spec.tilt is not None else None,
+            grading=_grading(spec.grading),
         )
     except StructureError as exc:
         if exc.key == "lengths_file":  # name the file, not only its count
             raise StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})") from None
         raise
+
+
+def _grading(spec) -> Grading | None:
+    """The `Grading` of a ``grading`` table (None without one)."""
+    if spec is None:
+        return None
+    if spec.rule == "file":
+        return Grading("factors", factors=np.load(spec.file, allow_pickle=False))
+    return Grading(spec.rule, spec.amplitude, 1.0 if spec.exponent is None else spec.exponent,
+                   0.0 if spec.azimuth is None else spec.azimuth)
+
+
+def _tip(spec) -> Tip | list[Tip] | None:
+    """The `Tip` (or one per pillar, where the parameter is a file) of a ``tip`` table."""
+    if spec is None or spec.shape == "flat":
+        return None
+    if spec.shape == "profile":
+        return Tip("profile", profile=np.load(spec.file, allow_pickle=False))
+    key = "radius" if spec.shape == "spherical_cap" else "depth"
+    value = getattr(spec, key)
+    if isinstance(value, str):
+        return [Tip(spec.shape, **{key: float(v)}) for v in np.load(value, allow_pickle=False).ravel()]
+    return Tip(spec.shape, **{key: float(value)})
 
 
 def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
@@ -171,6 +201,13 @@ class Rules:
             )
 
             for level in indenter.elastic_levels:
+                if not level.uniform:
+                    problems.append(Problem(
+                        "solver.coupling", show_value(config.solver.coupling),
+                        "needs one stiffness per spring level; a graded or per-pillar stiffness needs "
+                        "coupling = 'segments'",
+                    ))
+                    break
                 try:
                     discriminant_half_width(np.asarray(indenter.element_clusters(level)))
                 except ValueError as exc:

@@ -58,7 +58,12 @@ def theory_for(problem: ContactProblem, summary: Mapping[str, Any],
 
 def _stiffness(problem: ContactProblem) -> float:
     levels = problem.indenter.elastic_levels
-    return levels[0].stiffness if levels else math.inf
+    return _level_stiffness(levels[0]) if levels else math.inf
+
+
+def _level_stiffness(level) -> float:
+    """A level's stiffness as one number: its springs' own, or their mean for a graded level."""
+    return float(level.stiffnesses[0]) if level.uniform else float(np.mean(level.stiffnesses))
 
 
 def _ratios(summary: Mapping[str, Any], **closed_forms: float) -> dict[str, float]:
@@ -189,7 +194,8 @@ def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
     info = indenter.description
     scales = brush_scales(problem)
     n = info.n_pillars
-    stiffnesses = [level.stiffness for level in indenter.levels] or [math.inf]
+    # A graded level is normalised by its mean stiffness.
+    stiffnesses = [_level_stiffness(level) for level in indenter.levels] or [math.inf]
     ratios = [k / scales["stiffness_scale"] for k in stiffnesses]
     force = summary.get("adhesive_force") or 0.0
     d_c = scales["rigid_brush_displacement"]
@@ -325,6 +331,8 @@ def run_problem(
             "offset": np.asarray(info.offsets),
             "elements": np.asarray(info.pillar_elements),
         })
+        if problem.indenter.levels and not problem.indenter.levels[0].rigid:
+            pillars["stiffness"] = np.array(problem.indenter.levels[0].stiffnesses)
         attributes["seeds"] = [info.seed]
     result = CaseResult(
         curve=record.curve,

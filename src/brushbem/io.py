@@ -15,7 +15,7 @@
     base displacement and the force of that moment as the attributes
     ``displacement`` and ``force``.  Per pillar (dimension ``pillar``):
     ``pillar_x``, ``pillar_y``, ``pillar_offset``, ``pillar_elements``,
-    ``pillar_separation_displacement``, ``pillar_max_tension`` and, per
+    ``pillar_stiffness`` (pillars on springs), ``pillar_separation_displacement``, ``pillar_max_tension`` and, per
     snapshot, ``pillar_force_<name>``; ``cross_section_adhesive_force`` is the
     pressure along the element row through the centre at the adhesive-force
     moment (thesis Fig. 7-4).  Global attributes record provenance:
@@ -213,6 +213,7 @@ _PILLAR_ATTRS: dict[str, dict[str, str]] = {
     "y": {"long_name": "pillar centre y", "units": "length"},
     "offset": {"long_name": "pillar length offset g (0: longest pillar)", "units": "length"},
     "elements": {"long_name": "elements in the rasterised pillar footprint"},
+    "stiffness": {"long_name": "stiffness of the pillar's own spring (level 1)", "units": "force / length"},
     "separation_displacement": {"long_name": "last base displacement with contact on the pull-off "
                                              "(nan: never in contact)", "units": "length"},
     "max_tension": {"long_name": "largest tensile force carried on the pull-off (>= 0)", "units": "force"},

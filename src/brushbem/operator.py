@@ -213,10 +213,16 @@ class ContactOperator:
         rows, cols = window.shape
         spectrum = None
         if coupling == "discriminant":
+            for lv in self.springs.levels:
+                if not lv.level.uniform:
+                    raise ValueError(
+                        "coupling = 'discriminant' needs one stiffness per spring level (its spectrum carries "
+                        "one compliance); a graded or per-pillar stiffness needs coupling = 'segments'"
+                    )
             for lv, width in zip(self.springs.levels, _widths):
                 if spectrum is None:
                     spectrum = xp.asarray(halfspace.spectrum(rows, cols), copy=True)
-                spectrum = spectrum + lv.compliance * self._box_spectrum(rows, cols, width)
+                spectrum = spectrum + float(lv.compliance[0]) * self._box_spectrum(rows, cols, width)
         #: The half-space and the springs in one spectrum (discriminant coupling), else None.
         self.spectrum = spectrum
         #: Pillar index of every window element (-1 outside the footprints).
@@ -297,8 +303,8 @@ class ContactOperator:
         return bool(self.springs)
 
     @property
-    def spring_levels(self) -> list[tuple[float, np.ndarray]]:
-        """``(h^2 / k_l, cluster of every pillar)`` of every elastic level, bottom-up."""
+    def spring_levels(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``(h^2 / k_c of every cluster, cluster of every pillar)`` of every elastic level, bottom-up."""
         return [(lv.compliance, lv.level.cluster) for lv in self.springs.levels]
 
     def halfspace_deflection(self, pressure):

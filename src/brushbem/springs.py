@@ -8,9 +8,11 @@ operator on one window of the grid, by segment sums over the element-to-cluster
 incidence: exact for any layout, O(n), in the namespace of the half-space.
 `ContactOperator` adds it to the half-space's deflection; `PillarSprings.on_set`
 gives the same sums on the elements of a contact set, for the solvers that
-work on the values of S.  The compliance of a level is one number today: the
-sums read it through `compliance * sums[labels]` per cluster, so a per-pillar
-stiffness changes the level's data here, not the operators built on it.
+work on the values of S.  The compliance of a level is one number per
+cluster (h^2 / k_c: a graded or per-pillar stiffness), applied to the cluster
+sums before they are read back through the labels, ``(compliance *
+sums)[labels]``; a uniform level gives the same products, bit for bit, as one
+number would.
 """
 
 from __future__ import annotations
@@ -32,19 +34,24 @@ class LevelLabels:
 
     Attributes
     ----------
-    compliance : float
-        h^2 / k_l, in units of length per stress.
+    compliance : ndarray, shape (n_clusters,)
+        h^2 / k_c of every cluster's spring, in units of length per stress
+        (host array).
     labels : array, flat over the window
         Cluster of every element; off-footprint elements carry the dummy
         cluster ``n_clusters`` (its sum is never read back on the footprint).
     n_clusters : int
     level : SpringLevel
+    padded : array, shape (n_clusters + 1,)
+        ``compliance`` with 0 for the dummy cluster, in the namespace of the
+        half-space.
     """
 
-    compliance: float
+    compliance: np.ndarray
     labels: object
     n_clusters: int
     level: SpringLevel
+    padded: object
 
 
 class PillarSprings:
@@ -69,13 +76,15 @@ class PillarSprings:
             window_labels = indenter.element_clusters(level)[slices]
             n = level.n_clusters
             flat = np.where(window_labels >= 0, window_labels, n).ravel()
-            self.levels.append(LevelLabels(h2 / level.stiffness, xp.asarray(flat), n, level))
+            compliance = h2 / level.stiffnesses
+            padded = xp.asarray(np.append(compliance, 0.0))
+            self.levels.append(LevelLabels(compliance, xp.asarray(flat), n, level, padded))
         # The spring sums only ever see pressure on the footprints: gather
         # those elements once (far fewer than the window's for a sparse brush).
         footprint = np.flatnonzero(indenter.pillar[slices].ravel() >= 0)
         self._footprint_index = xp.asarray(footprint)
         self._footprint_levels = [
-            (lv.compliance, xp.asarray(np.asarray(backend.to_numpy(lv.labels))[footprint]), lv.n_clusters)
+            (lv.padded[:-1], xp.asarray(np.asarray(backend.to_numpy(lv.labels))[footprint]), lv.n_clusters)
             for lv in self.levels
         ]
         self.element_size = element_size
@@ -107,26 +116,27 @@ class PillarSprings:
             for lv in self.levels:
                 n = lv.n_clusters
                 sums = backend.segment_sum(xp, lv.labels, values, n + 1)
-                sums = xp.where(xp.arange(n + 1) < n, sums, 0.0)
-                total = total + lv.compliance * xp.take(sums, lv.labels)
+                total = total + xp.take(lv.padded * sums, lv.labels)
             return xp.reshape(total, pressure.shape)
         values = xp.reshape(pressure, (-1,))[self._footprint_index]
         on_footprint = xp.zeros(values.shape, dtype=pressure.dtype)
         for compliance, labels, n in self._footprint_levels:
-            on_footprint = on_footprint + compliance * backend.segment_sum(xp, labels, values, n)[labels]
+            on_footprint = on_footprint + (compliance * backend.segment_sum(xp, labels, values, n))[labels]
         total = xp.zeros(pressure.size, dtype=pressure.dtype)
         total[self._footprint_index] = on_footprint
         return xp.reshape(total, pressure.shape)
 
     def on_set(self, index) -> SetSprings:
         """The springs on the elements ``index`` (flat window indices) of a contact set."""
-        return SetSprings([(lv.compliance, lv.labels[index], lv.n_clusters) for lv in self.levels], self.xp)
+        return SetSprings([(lv.padded, lv.labels[index], lv.n_clusters) for lv in self.levels], self.xp)
 
 
 class SetSprings:
     """The springs' part of A_S on the |S| values of a contact set S."""
 
-    def __init__(self, levels: list[tuple[float, object, int]], xp):
+    def __init__(self, levels: list[tuple[object, object, int]], xp):
+        """``levels``: per elastic level, (compliance of every cluster and 0 for the dummy one, the
+        cluster of every element of S, n_clusters)."""
         self.levels = levels
         self.xp = xp
 
@@ -142,5 +152,5 @@ class SetSprings:
         if out is None:
             out = xp.zeros_like(values)
         for compliance, labels, n in self.levels:
-            out = out + compliance * backend.segment_sum(xp, labels, values, n + 1)[labels]
+            out = out + (compliance * backend.segment_sum(xp, labels, values, n + 1))[labels]
         return out

@@ -18,6 +18,7 @@ A compact punch or a sphere is a structure with one pillar.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,6 +28,7 @@ from .records import MappingRecord
 __all__ = [
     "BrushGeometry",
     "Geometry",
+    "Grading",
     "Grid",
     "HeightMapGeometry",
     "Indenter",
@@ -36,8 +38,11 @@ __all__ = [
     "SphereGeometry",
     "SpringLevel",
     "StructureError",
+    "Tilt",
+    "Tip",
     "brush",
     "flat_punch",
+    "graded_stiffness",
     "height_map",
     "hierarchy_clusters",
     "random_positions",
@@ -89,22 +94,56 @@ class SpringLevel:
 
     Attributes
     ----------
-    stiffness : float
-        k_l of every spring of the level, in units of force / length; inf = rigid.
+    stiffness : float or ndarray of float, shape (n_clusters,)
+        k_l of every spring of the level (one number), or of each cluster's
+        spring (graded or per-pillar stiffness), in units of force / length;
+        inf = rigid.  A level is rigid or elastic as a whole: an array mixing
+        inf and finite values is refused.
     cluster : ndarray of int, shape (M,)
         Cluster of the level that each pillar belongs to, in [0, n_clusters).
     """
 
-    stiffness: float
+    stiffness: float | np.ndarray
     cluster: np.ndarray
+
+    def __post_init__(self):
+        if np.ndim(self.stiffness) == 0:
+            return
+        values = np.asarray(self.stiffness, dtype=np.float64)
+        if values.shape != (self.n_clusters,):
+            raise ValueError(
+                f"stiffness holds {values.size} values; a level of {self.n_clusters} clusters needs one per cluster"
+            )
+        if not np.all(values > 0):
+            raise ValueError(f"stiffness = {float(values.min())} must be > 0 (inf = rigid) for every cluster")
+        infinite = np.isinf(values)
+        if infinite.any() and not infinite.all():
+            raise ValueError("stiffness mixes inf (rigid) and finite values within one level")
+        object.__setattr__(self, "stiffness", values)
 
     @property
     def n_clusters(self) -> int:
         return int(self.cluster.max()) + 1 if self.cluster.size else 0
 
     @property
+    def stiffnesses(self) -> np.ndarray:
+        """k of every cluster's spring, shape (n_clusters,)."""
+        return np.broadcast_to(np.asarray(self.stiffness, dtype=np.float64), (self.n_clusters,))
+
+    @property
+    def uniform(self) -> bool:
+        """Whether every spring of the level has the same stiffness."""
+        values = self.stiffnesses
+        return bool(values.size == 0 or np.all(values == values[0]))
+
+    @property
+    def softest(self) -> float:
+        """The smallest stiffness of the level (the largest stretch per unit force)."""
+        return float(np.min(self.stiffnesses)) if self.n_clusters else math.inf
+
+    @property
     def rigid(self) -> bool:
-        return math.isinf(self.stiffness)
+        return bool(np.all(np.isinf(self.stiffnesses)))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -175,6 +214,12 @@ class BrushGeometry(Geometry):
         The profile's p_c of eq. 7.2 and its radius R (None without a profile).
     level_clusters : list of ndarray
         Per hierarchy level above the pillars, the cluster of every pillar.
+    tip : str
+        The tip shape (`Tip.describe`), or ``"per pillar"``.
+    tilt_angle, tilt_azimuth : float
+        The base's tilt, degrees (`Tilt`).
+    graded : bool
+        Whether some level's springs differ from pillar to pillar.
     """
 
     shape: str = "brush"
@@ -196,6 +241,10 @@ class BrushGeometry(Geometry):
     profile_reference_stress: float | None
     profile_radius: float | None
     level_clusters: list
+    tip: str = "flat"
+    tilt_angle: float = 0.0
+    tilt_azimuth: float = 0.0
+    graded: bool = False
 
 
 @dataclass(frozen=True)
@@ -232,8 +281,8 @@ class Indenter:
         for level in self.levels:
             if level.cluster.shape != (self.n_pillars,):
                 raise ValueError("every spring level needs one cluster index per pillar")
-            if not (level.stiffness > 0):
-                raise ValueError(f"stiffness = {level.stiffness} must be > 0 (inf = rigid)")
+            if not np.all(level.stiffnesses > 0):
+                raise ValueError(f"stiffness = {level.softest} must be > 0 (inf = rigid)")
 
     @property
     def footprint(self) -> np.ndarray:
@@ -340,10 +389,16 @@ class StructureError(ValueError):
 
 @dataclass(frozen=True)
 class Level:
-    """One hierarchy level above the pillars: ``cluster`` x ``cluster`` units of the level below."""
+    """One hierarchy level above the pillars: ``cluster`` x ``cluster`` units of the level below.
+
+    ``stiffness``: k of every spring of the level, or an array of one per
+    cluster (in the order of `hierarchy_clusters`: row-major over the
+    clusters' lattice).
+    """
 
     cluster: int
-    stiffness: float
+    stiffness: float | np.ndarray
+    grading: Grading | None = None
 
 
 @dataclass(frozen=True)
@@ -357,6 +412,187 @@ class Profile:
 
     amplification: float
     reference_stress: float | None = None
+
+
+TIP_SHAPES = ("flat", "spherical_cap", "concave", "profile")
+
+
+@dataclass(frozen=True)
+class Tip:
+    """The shape of a pillar's tip: its height z(rho) above the tip's lowest point at the distance rho from the axis.
+
+    Attributes
+    ----------
+    shape : {"flat", "spherical_cap", "concave", "profile"}
+        ``flat``: z = 0 (the thesis's pillars).  ``spherical_cap``: z =
+        rho^2 / (2 R), the cap of curvature radius R in the parabolic
+        approximation of the sphere of ch. 2 (so one such pillar is the sphere
+        on a spring).  ``concave``: z = depth (1 - rho^2 / r^2), a dish whose
+        rim (rho = r, the pillar radius) touches first and whose centre lies
+        ``depth`` higher.  ``profile``: z(rho) from ``profile``.
+    radius : float, optional
+        R of the spherical cap (> 0), in units of length.
+    depth : float, optional
+        Depth of the concave dish (> 0), in units of length.
+    profile : callable or 1-D array, optional
+        z(rho) as a vectorised function of rho (units of length), or its values
+        at K >= 2 evenly spaced rho from 0 to the pillar radius (linear
+        interpolation between them); finite, and >= 0 (the tip's lowest point
+        is z = 0).
+    """
+
+    shape: str = "flat"
+    radius: float | None = None
+    depth: float | None = None
+    profile: object = None
+
+    def __post_init__(self):
+        if self.shape not in TIP_SHAPES:
+            raise StructureError("tip.shape", self.shape, f"must be one of {', '.join(map(repr, TIP_SHAPES))}")
+        need = {"spherical_cap": "radius", "concave": "depth", "profile": "profile"}.get(self.shape)
+        for key in ("radius", "depth", "profile"):
+            given = getattr(self, key) is not None
+            if key == need and not given:
+                raise StructureError(f"tip.{key}", None, f"required when tip.shape = {self.shape!r}")
+            if key != need and given:
+                raise StructureError(f"tip.{key}", getattr(self, key),
+                                     f"only used with tip.shape = {({'radius': 'spherical_cap', 'depth': 'concave'}).get(key, 'profile')!r}")
+        for key in ("radius", "depth"):
+            value = getattr(self, key)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise StructureError(f"tip.{key}", value, "must be finite and > 0")
+        if self.shape == "profile" and not callable(self.profile):
+            values = np.asarray(self.profile, dtype=np.float64)
+            if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)) or values.min() < 0:
+                raise StructureError("tip.profile", f"{values.size} values",
+                                     "must hold K >= 2 finite heights >= 0, at evenly spaced rho from 0 to the "
+                                     "pillar radius")
+
+    def heights(self, rho: np.ndarray, pillar_radius: float) -> np.ndarray:
+        """z at the distances ``rho`` from the pillar's axis (units of length)."""
+        rho = np.asarray(rho, dtype=np.float64)
+        if self.shape == "flat":
+            return np.zeros_like(rho)
+        if self.shape == "spherical_cap":
+            return rho**2 / (2.0 * self.radius)
+        if self.shape == "concave":
+            return self.depth * np.clip(1.0 - (rho / pillar_radius) ** 2, 0.0, 1.0)
+        if callable(self.profile):
+            z = np.broadcast_to(np.asarray(self.profile(rho), dtype=np.float64), rho.shape)
+            if not np.all(np.isfinite(z)) or (z.size and z.min() < 0):
+                raise StructureError("tip.profile", "function", "must return finite heights >= 0 on the footprint")
+            return np.array(z)
+        values = np.asarray(self.profile, dtype=np.float64)
+        return np.interp(rho, np.linspace(0.0, pillar_radius, values.size), values)
+
+    def describe(self) -> str:
+        """The tip in one line, for the record."""
+        if self.shape == "spherical_cap":
+            return f"spherical_cap(radius={self.radius:g})"
+        if self.shape == "concave":
+            return f"concave(depth={self.depth:g})"
+        if self.shape == "profile":
+            return "profile(function)" if callable(self.profile) else f"profile({np.size(self.profile)} values)"
+        return "flat"
+
+
+@dataclass(frozen=True)
+class Tilt:
+    """A base tilted by ``angle`` (degrees, in [0, 45)) towards the in-plane direction ``azimuth`` (degrees).
+
+    The base, and with it every pillar and tip face, is the rigid rotation of
+    the untilted brush: the tip height grows by tan(angle) (x cos(azimuth) +
+    y sin(azimuth)), so the pillars on the side the azimuth points to are the
+    farthest from the surface (small slopes: the in-plane positions are kept).
+    """
+
+    angle: float = 0.0
+    azimuth: float = 0.0
+
+    def __post_init__(self):
+        if not (math.isfinite(self.angle) and 0.0 <= self.angle < 45.0):
+            raise StructureError("tilt.angle", self.angle,
+                                 "must be in [0, 45) degrees (a half-space contact needs small slopes)")
+        if not math.isfinite(self.azimuth):
+            raise StructureError("tilt.azimuth", self.azimuth, "must be finite (degrees)")
+
+    def heights(self, y: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """The tilt's height at the in-plane positions (y, x), in units of length."""
+        a = math.radians(self.azimuth)
+        return math.tan(math.radians(self.angle)) * (np.asarray(x) * math.cos(a) + np.asarray(y) * math.sin(a))
+
+
+GRADING_RULES = ("radial", "linear")
+
+
+def graded_stiffness(stiffness: float, centres: np.ndarray, *, rule: str, amplitude: float,
+                     exponent: float = 1.0, azimuth: float = 0.0, key: str = "grading") -> np.ndarray:
+    """Stiffness of every spring graded over the brush: k_n = k (1 + amplitude s_n^exponent).
+
+    ``radial``: s_n = r_n / R, the distance of the spring's centre from the
+    brush's centre over that of the outermost one (0 at the centre, 1 at the
+    rim; amplitude < 0 makes the rim softer).  ``linear``: s_n = the centre's
+    coordinate along the direction ``azimuth`` (degrees) over the largest
+    such |coordinate| (-1 to 1; ``exponent`` must be 1).  Every k_n must stay
+    > 0: amplitude > -1 (radial) or |amplitude| < 1 (linear), else a
+    StructureError names ``key``.amplitude.
+    """
+    centres = np.asarray(centres, dtype=np.float64).reshape(-1, 2)
+    if rule not in GRADING_RULES:
+        raise StructureError(f"{key}.rule", rule, f"must be one of {', '.join(map(repr, GRADING_RULES))}")
+    if not math.isfinite(amplitude):
+        raise StructureError(f"{key}.amplitude", amplitude, "must be finite")
+    if not (math.isfinite(exponent) and exponent > 0):
+        raise StructureError(f"{key}.exponent", exponent, "must be finite and > 0")
+    if rule == "radial":
+        r = np.hypot(centres[:, 0], centres[:, 1])
+        s = r / r.max() if r.max() > 0 else np.zeros_like(r)
+        factor = 1.0 + amplitude * s**exponent
+        if not amplitude > -1.0:
+            raise StructureError(f"{key}.amplitude", amplitude,
+                                 "must be > -1 with rule = 'radial' (the rim's stiffness k (1 + amplitude) must "
+                                 "stay > 0)")
+    else:
+        if exponent != 1.0:
+            raise StructureError(f"{key}.exponent", exponent, "only rule = 'radial' takes an exponent")
+        a = math.radians(azimuth)
+        t = centres[:, 1] * math.cos(a) + centres[:, 0] * math.sin(a)
+        s = t / np.abs(t).max() if np.abs(t).max() > 0 else np.zeros_like(t)
+        factor = 1.0 + amplitude * s
+        if not abs(amplitude) < 1.0:
+            raise StructureError(f"{key}.amplitude", amplitude,
+                                 "must lie in (-1, 1) with rule = 'linear' (the stiffness k (1 +- amplitude) at "
+                                 "both ends must stay > 0)")
+    return float(stiffness) * factor
+
+
+@dataclass(frozen=True)
+class Grading:
+    """A level's stiffness graded from spring to spring: a rule of `graded_stiffness`, or factors.
+
+    ``rule`` is ``"radial"`` or ``"linear"`` (with ``amplitude``, ``exponent``,
+    ``azimuth`` as in `graded_stiffness`) or ``"factors"``: k_n = k
+    factors[n], one factor > 0 per spring of the level.
+    """
+
+    rule: str
+    amplitude: float = 0.0
+    exponent: float = 1.0
+    azimuth: float = 0.0
+    factors: np.ndarray | None = None
+
+    def apply(self, stiffness: float, centres: np.ndarray, key: str) -> np.ndarray:
+        """The stiffness of every spring whose centres are ``centres`` (StructureError names ``key``)."""
+        if self.rule != "factors":
+            return graded_stiffness(stiffness, centres, rule=self.rule, amplitude=self.amplitude,
+                                    exponent=self.exponent, azimuth=self.azimuth, key=key)
+        factors = np.asarray(self.factors, dtype=np.float64).ravel()
+        if factors.shape != (len(centres),):
+            raise StructureError(f"{key}.file", f"{factors.size} values",
+                                 f"must hold one stiffness factor per spring ({len(centres)})")
+        if not np.all(np.isfinite(factors) & (factors > 0)):
+            raise StructureError(f"{key}.file", float(np.min(factors)), "every factor must be finite and > 0")
+        return float(stiffness) * factors
 
 
 def square_lattice(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, np.ndarray]:
@@ -558,6 +794,9 @@ def brush(
     profile: Profile | None = None,
     lengths: np.ndarray | None = None,
     levels: tuple[Level, ...] = (),
+    tip: Tip | Sequence[Tip] | None = None,
+    tilt: Tilt | None = None,
+    grading: Grading | None = None,
 ) -> Indenter:
     """A brush of flat-ended cylindrical pillars on springs (thesis ch. 3-7).
 
@@ -571,8 +810,9 @@ def brush(
         Radius r of every pillar, units of length (>= 2 elements).
     contact_modulus, work_of_adhesion : float
         E* and dgamma: they set the reference stress of the concave profile.
-    stiffness : float
-        k of every pillar's own spring (level 1); inf = rigid.
+    stiffness : float or array of M floats
+        k of every pillar's own spring (level 1), or of each pillar's
+        (`graded_stiffness`); inf = rigid.
     region : {"square", "circle"}
         Where pillars are placed: a square of side ``region_size`` or a circle
         of that diameter, centred on the domain.  Its area is the apparent area
@@ -599,14 +839,23 @@ def brush(
         Explicit extra pillar lengths (units of length), added to the above.
     levels : tuple of Level
         Hierarchy above the pillars, bottom-up (square layout only).
+    tip : Tip or sequence of M Tips, optional
+        The tip shape of every pillar, or of each (default flat).
+    grading : Grading, optional
+        Grades the pillars' own springs over the brush (a `Level` takes its
+        own, graded over its clusters' centres: the mean of their pillars').
+    tilt : Tilt, optional
+        A tilted base (default none).  Where the tilt puts an element below
+        the lowest pillar's tip, every height is shifted so the lowest is 0.
 
     The pillar length is the sum of the three contributions; the offsets are
     g_n = max(length) - length_n >= 0, so the longest pillar touches first.
 
     Why one function: every parameter is one key of the config's `indenter` section (layout, region, counts,
-    radius, materials, roughness, profile, levels, seed), and the body is the sequence positions, footprints,
-    offsets, springs, description that each of them enters once; the steps are in `random_positions`,
-    `rasterise_pillars`, `hierarchy_clusters` and `Profile`.
+    radius, materials, roughness, profile, levels, seed, tip, tilt), and the body is the sequence positions,
+    footprints, offsets, springs, description that each of them enters once; the steps are in
+    `random_positions`, `rasterise_pillars`, `hierarchy_clusters`, `Profile`, `_tip_heights` and
+    `_level_stiffness`.
     """
     if layout not in ("square", "random"):
         raise StructureError("layout", layout, "must be 'square' or 'random'")
@@ -689,13 +938,31 @@ def brush(
     offsets = length.max() - length
 
     height = np.where(labels >= 0, offsets[np.maximum(labels, 0)], np.inf)
-    spring_levels = [SpringLevel(float(stiffness), np.arange(n_pillars, dtype=np.int64))]
+    tip_record = "flat"
+    if tip is not None or tilt is not None:
+        height, tip_record = _tip_heights(grid, labels, centres, pillar_radius, height, tip, tilt)
+        if tilt is not None:
+            offsets = offsets + tilt.heights(centres[:, 0], centres[:, 1])
+            lowest = float(height[labels >= 0].min())
+            if lowest < 0:
+                height = np.where(labels >= 0, height - lowest, np.inf)
+            offsets = offsets - min(lowest, 0.0)
+    if grading is not None:
+        stiffness = grading.apply(_level_stiffness(stiffness, n_pillars, "stiffness"), centres, "grading")
+    spring_levels = [SpringLevel(_level_stiffness(stiffness, n_pillars, "stiffness"),
+                                 np.arange(n_pillars, dtype=np.int64))]
     if levels:
         maps = hierarchy_clusters(index, int(pillars_per_side), tuple(lv.cluster for lv in levels))
         for lv, cluster in zip(levels, maps):
-            if not lv.stiffness > 0:
-                raise StructureError("levels.stiffness", lv.stiffness, "must be > 0 (inf = rigid)")
-            spring_levels.append(SpringLevel(float(lv.stiffness), cluster))
+            n_clusters = int(cluster.max()) + 1
+            k = lv.stiffness
+            if lv.grading is not None:
+                counts_c = np.bincount(cluster, minlength=n_clusters)
+                cluster_centres = np.stack([np.bincount(cluster, weights=centres[:, i], minlength=n_clusters)
+                                            for i in (0, 1)], axis=1) / counts_c[:, None]
+                k = lv.grading.apply(_level_stiffness(k, n_clusters, "levels.stiffness"), cluster_centres,
+                                     "levels.grading")
+            spring_levels.append(SpringLevel(_level_stiffness(k, n_clusters, "levels.stiffness"), cluster))
     apparent_area = size * size if region == "square" else math.pi * size * size / 4.0
     real_area = float(counts.sum()) * h * h
     description = BrushGeometry(
@@ -717,5 +984,59 @@ def brush(
         profile_reference_stress=reference_stress,
         profile_radius=profile_radius,
         level_clusters=[lv.cluster for lv in levels],
+        tip=tip_record,
+        tilt_angle=float(tilt.angle) if tilt is not None else 0.0,
+        tilt_azimuth=float(tilt.azimuth) if tilt is not None else 0.0,
+        graded=any(not level.uniform for level in spring_levels),
     )
     return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
+
+
+def _level_stiffness(stiffness, n_springs: int, key: str) -> float | np.ndarray:
+    """One level's stiffness as given: a number for every spring, or n_springs values (StructureError names ``key``)."""
+    if np.ndim(stiffness) == 0:
+        value = float(stiffness)
+        if not value > 0:
+            raise StructureError(key, value, "must be > 0 (inf = rigid)")
+        return value
+    values = np.asarray(stiffness, dtype=np.float64).ravel()
+    if values.shape != (n_springs,):
+        raise StructureError(key, f"{values.size} values", f"must hold one stiffness per spring ({n_springs})")
+    if not np.all(values > 0):
+        raise StructureError(key, float(values.min()), "every spring's stiffness must be > 0 (inf = rigid)")
+    infinite = np.isinf(values)
+    if infinite.any() and not infinite.all():
+        raise StructureError(key, "inf and finite values", "a level is rigid (all inf) or elastic (all finite)")
+    return float(values[0]) if infinite.all() else values
+
+
+def _tip_heights(grid: Grid, labels: np.ndarray, centres: np.ndarray, pillar_radius: float, height: np.ndarray,
+                 tip: Tip | Sequence[Tip] | None, tilt: Tilt | None) -> tuple[np.ndarray, str]:
+    """The element heights with every pillar's tip shape and the base's tilt added; and the tip for the record."""
+    rows, cols = np.nonzero(labels >= 0)
+    owner = labels[rows, cols]
+    x = grid.centres()
+    y_el, x_el = x[rows], x[cols]
+    rho = np.hypot(y_el - centres[owner, 0], x_el - centres[owner, 1])
+    extra = np.zeros(rows.size)
+    record = "flat"
+    if isinstance(tip, Tip):
+        extra += tip.heights(rho, pillar_radius)
+        record = tip.describe()
+    elif tip is not None:
+        tips = list(tip)
+        if len(tips) != len(centres) or not all(isinstance(t, Tip) for t in tips):
+            raise StructureError("tip", f"{len(tips)} values", f"must be one Tip or one per pillar ({len(centres)})")
+        order = np.argsort(owner, kind="stable")
+        bounds = np.searchsorted(owner[order], np.arange(len(centres) + 1))
+        for n, t in enumerate(tips):
+            if t.shape != "flat":
+                where = order[bounds[n]:bounds[n + 1]]
+                extra[where] += t.heights(rho[where], pillar_radius)
+        shapes = {t.describe() for t in tips}
+        record = shapes.pop() if len(shapes) == 1 else "per pillar"
+    if tilt is not None:
+        extra += tilt.heights(y_el, x_el)
+    out = height.copy()
+    out[rows, cols] += extra
+    return out, record

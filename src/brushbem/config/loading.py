@@ -35,7 +35,8 @@ def _skipped_rule_lines(
     ``items`` are the table's pydantic errors (locations relative to it).  If
     any of its values failed, its after-validator did not run; its rules are
     applied here to the keys as given, so that one pass reports them too.
-    The same holds for each ``[[indenter.levels]]`` table.
+    The same holds for each ``[[indenter.levels]]`` table and each sub-table
+    with rules (``[indenter.tip]``, ``[indenter.grading]``).
     """
     if not (isinstance(raw, Mapping) and isinstance(model, type) and issubclass(model, _Section)):
         return []
@@ -49,6 +50,11 @@ def _skipped_rule_lines(
         annotation = field.annotation
         if get_origin(annotation) in (Union, UnionType):  # X | None
             annotation = next(a for a in get_args(annotation) if a is not NoneType)
+        if isinstance(annotation, type) and issubclass(annotation, _Section) and isinstance(raw.get(name), Mapping):
+            # A sub-table with rules of its own, e.g. [indenter.tip].
+            nested = [{**item, "loc": tuple(item["loc"])[1:]} for item in items if tuple(item["loc"])[:1] == (name,)]
+            lines.extend(_skipped_rule_lines(nested, annotation, raw[name], prefix + (name,)))
+            continue
         if get_origin(annotation) is not tuple or not isinstance(raw.get(name), list):
             continue
         for i, table in enumerate(raw[name]):

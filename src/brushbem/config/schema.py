@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from typing import Any, Literal
 
+import numpy as np
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -27,6 +28,7 @@ from .limits import MAGNITUDE_RANGE
 from .rules import Problem, _cross_section_problems, _resource_problems, _rules_error
 
 __all__ = [
+    "GradingConfig",
     "GridConfig",
     "HalfSpaceConfig",
     "IndenterConfig",
@@ -36,6 +38,8 @@ __all__ = [
     "RoughnessConfig",
     "RunConfig",
     "SolverConfig",
+    "TiltConfig",
+    "TipConfig",
 ]
 
 
@@ -171,7 +175,7 @@ _SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
     "height_map": (),
     "brush": (
         "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
-        "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels",
+        "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt", "grading",
     ),
 }
 
@@ -227,6 +231,155 @@ class ProfileConfig(_Model):
     reference_stress: float | None = Field(None, gt=0, allow_inf_nan=False)
 
 
+def _per_pillar_file(value: Any, info: ValidationInfo) -> Any:
+    """A tip parameter given as a file name: resolved and read as 1-D numbers > 0 (one per pillar)."""
+    if not isinstance(value, str):
+        return value
+    path = _existing_file(value, info)
+    numbers = _read_numbers(path)
+    if numbers.ndim != 1 or not bool(np.all(numbers > 0)):
+        raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold one value > 0 per pillar")
+    return str(path)
+
+
+_TIP_KEY = {"spherical_cap": "radius", "concave": "depth", "profile": "file", "flat": None}
+
+
+class TipConfig(_Section):
+    """The tip shape of every pillar (`brushbem.structure.Tip`).
+
+    Attributes
+    ----------
+    shape : {"flat", "spherical_cap", "concave", "profile"}
+    radius : float or str
+        Curvature radius R of a spherical cap (z = rho^2 / (2 R)), in units of
+        length; or a ``.npy`` file of one radius per pillar.
+    depth : float or str
+        Depth of a concave dish (z = depth (1 - rho^2 / r^2)), in units of
+        length; or a ``.npy`` file of one depth per pillar.
+    file : str
+        ``.npy`` file of the profile z(rho) >= 0 at K >= 2 evenly spaced rho
+        from 0 to the pillar radius (``shape = "profile"``).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    shape: Literal["flat", "spherical_cap", "concave", "profile"]
+    radius: float | str | None = Field(None)
+    depth: float | str | None = Field(None)
+    file: str | None = None
+
+    @field_validator("radius", "depth")
+    @classmethod
+    def _positive_or_file(cls, value: Any, info: ValidationInfo) -> Any:
+        if isinstance(value, (int, float)) and not (math.isfinite(value) and value > 0):
+            raise ValueError("must be finite and > 0 (units of length), or a .npy file of one value per pillar")
+        return _per_pillar_file(value, info)
+
+    @field_validator("file")
+    @classmethod
+    def _profile_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:
+            return None
+        path = _existing_file(value, info)
+        numbers = _read_numbers(path)
+        if numbers.ndim != 1 or numbers.size < 2 or float(numbers.min()) < 0:
+            raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold K >= 2 heights >= 0 at "
+                             "evenly spaced rho from 0 to the pillar radius")
+        return str(path)
+
+    def _rule_problems(self) -> list[Problem]:
+        shape = getattr(self, "shape", None)
+        if shape not in _TIP_KEY:
+            return []
+        problems = []
+        for key in ("radius", "depth", "file"):
+            given = getattr(self, key, None) is not None
+            if key == _TIP_KEY[shape] and not given:
+                problems.append(Problem(key, "missing", f"required when tip.shape = {shape!r}"))
+            elif key != _TIP_KEY[shape] and given:
+                users = next(s for s, k in _TIP_KEY.items() if k == key)
+                problems.append(Problem(key, _show(getattr(self, key)), f"only used with tip.shape = {users!r}; "
+                                        "remove it"))
+        return problems
+
+
+class TiltConfig(_Model):
+    """A tilted base (`brushbem.structure.Tilt`).
+
+    Attributes
+    ----------
+    angle : float
+        Tilt angle in degrees, in [0, 45).
+    azimuth : float
+        In-plane direction (degrees from the x axis towards y) in which the
+        tips recede from the surface; default 0.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    angle: float = Field(ge=0, lt=45, allow_inf_nan=False)
+    azimuth: float = Field(0.0, ge=-360, le=360, allow_inf_nan=False)
+
+
+class GradingConfig(_Section):
+    """A level's stiffness graded over the brush (`brushbem.structure.Grading`).
+
+    Attributes
+    ----------
+    rule : {"radial", "linear", "file"}
+        k_n = k (1 + amplitude s_n^exponent), s_n the spring's distance from
+        the centre over the outermost's (radial) or its coordinate along
+        ``azimuth`` over the largest (linear, -1..1); or k_n = k f_n with the
+        factors f_n of ``file`` (one per spring of the level).
+    amplitude : float
+        > -1 (radial) or in (-1, 1) (linear): every k_n stays > 0.
+    exponent : float
+        Radial only; default 1.
+    azimuth : float
+        Linear only, degrees; default 0 (along x).
+    file : str
+        ``.npy`` file of one factor > 0 per spring (rule = "file").
+    """
+
+    model_config = _MODEL_CONFIG
+
+    rule: Literal["radial", "linear", "file"]
+    amplitude: float | None = Field(None, allow_inf_nan=False)
+    exponent: float | None = Field(None, gt=0, allow_inf_nan=False)
+    azimuth: float | None = Field(None, ge=-360, le=360, allow_inf_nan=False)
+    file: str | None = None
+
+    @field_validator("file")
+    @classmethod
+    def _factors_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        return None if value is None else _per_pillar_file(value, info)
+
+    def _rule_problems(self) -> list[Problem]:
+        rule = getattr(self, "rule", None)
+        uses = {"radial": ("amplitude", "exponent"), "linear": ("amplitude", "azimuth"), "file": ("file",)}
+        if rule not in uses:
+            return []
+        problems = []
+        needed = "file" if rule == "file" else "amplitude"
+        for key in ("amplitude", "exponent", "azimuth", "file"):
+            value = getattr(self, key, None)
+            if key == needed and value is None:
+                problems.append(Problem(key, "missing", f"required when grading.rule = {rule!r}"))
+            elif key not in uses[rule] and value is not None:
+                problems.append(Problem(key, _show(value), f"not used when grading.rule = {rule!r}; remove it"))
+        amplitude = getattr(self, "amplitude", None)
+        if isinstance(amplitude, float) and rule == "radial" and not amplitude > -1:
+            problems.append(Problem("amplitude", _show(amplitude),
+                                    "must be > -1 with rule = 'radial' (the rim's stiffness k (1 + amplitude) "
+                                    "must stay > 0)"))
+        if isinstance(amplitude, float) and rule == "linear" and not abs(amplitude) < 1:
+            problems.append(Problem("amplitude", _show(amplitude),
+                                    "must lie in (-1, 1) with rule = 'linear' (the stiffness k (1 +- amplitude) "
+                                    "at both ends must stay > 0)"))
+        return problems
+
+
 class LevelConfig(_Section):
     """One hierarchy level above the pillars (thesis ch. 6).
 
@@ -239,6 +392,8 @@ class LevelConfig(_Section):
     stiffness : float or None
         k of this level's springs, in units of force / length; inf = rigid.
         Exactly one of the two.
+    grading : GradingConfig or None
+        Grades the level's springs over its clusters' centres.
     """
 
     model_config = _MODEL_CONFIG
@@ -246,6 +401,7 @@ class LevelConfig(_Section):
     cluster: int = Field(ge=1, le=4096)
     stiffness_ratio: float | None = Field(None, gt=0)
     stiffness: float | None = Field(None, gt=0)
+    grading: GradingConfig | None = None
 
     @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod
@@ -294,7 +450,10 @@ class IndenterConfig(_Section):
         ``[indenter.roughness] sigma``; ``[indenter.profile] amplification``
         (and optionally ``reference_stress``); lengths_file (``.npy`` of one
         extra length per pillar); ``[[indenter.levels]]`` ``cluster`` and
-        ``stiffness_ratio`` or ``stiffness``, bottom-up (square layout only).
+        ``stiffness_ratio`` or ``stiffness``, bottom-up (square layout only),
+        each with an optional ``grading``; ``[indenter.tip]`` (`TipConfig`),
+        ``[indenter.tilt]`` (`TiltConfig`), ``[indenter.grading]``
+        (`GradingConfig`, the pillars' own springs).
     """
 
     model_config = _MODEL_CONFIG
@@ -317,6 +476,9 @@ class IndenterConfig(_Section):
     profile: ProfileConfig | None = None
     lengths_file: str | None = None
     levels: tuple[LevelConfig, ...] | None = None
+    tip: TipConfig | None = None
+    tilt: TiltConfig | None = None
+    grading: GradingConfig | None = None
 
     @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod

@@ -401,7 +401,8 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     area = float(np.count_nonzero(np.asarray(indenter.footprint))) * tracker.h2
     # Displacement of the whole footprint as one punch on its springs in series (a first guess).
     compliance = 1.0 / (2.0 * problem.contact_modulus * math.sqrt(area / math.pi))
-    compliance += sum(1.0 / (level.stiffness * level.n_clusters) for level in indenter.elastic_levels)
+    compliance += sum(1.0 / (level.stiffness * level.n_clusters if level.uniform else float(np.sum(level.stiffness)))
+                      for level in indenter.elastic_levels)
     lo = hi = None  # samples below and above the target
     lo_points = [(lowest, 0.0)]
     f_lo = f_hi = 0.0  # residuals F - target at the ends, halved by the Illinois rule

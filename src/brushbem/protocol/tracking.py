@@ -207,7 +207,7 @@ class Tracker:
                 break
             if self.covers_footprint or self._outside_safe(displacement):
                 break
-            if not enlarged:
+            if not enlarged and bool(xp.any(self.contact)):
                 # The contact has grown close to the window's edge, where the
                 # bound cannot exclude penetration.  A window rebuilt around
                 # the contact with the usual margin usually restores the
@@ -313,7 +313,7 @@ class Tracker:
             c0, c1 = c0 + self.window.c0, c1 + self.window.c0
             gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
             lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
-        stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
+        stretch = sum(tension / level.softest for level in self.problem.indenter.elastic_levels)
         return lowest > displacement + lift + stretch
 
     def outside_reach_displacement(self) -> float:
@@ -334,7 +334,7 @@ class Tracker:
             w = self.window
             gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
             lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
-        stretch = sum(tension / level.stiffness for level in self.problem.indenter.elastic_levels)
+        stretch = sum(tension / level.softest for level in self.problem.indenter.elastic_levels)
         return self._outside_lowest - lift - stretch
 
     def _outside_penetration(self, displacement: float):

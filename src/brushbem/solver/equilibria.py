@@ -133,12 +133,15 @@ def local_cascade(operator: ContactOperator, contact, pressure, leaving, critica
     if int(counts.max()) > max_block:
         return None
     halfspace = operator.halfspace
-    compliance = sum(c for c, _ in operator.spring_levels)
+    # Every hit pillar's springs in series: the sum over the levels of its cluster's compliance.
+    compliances = sum(np.asarray(c)[np.asarray(cluster)[hit]] for c, cluster in operator.spring_levels)
+    compliances = np.broadcast_to(np.asarray(compliances, dtype=np.float64), hit.shape)
     values = np.array(backend.to_numpy(pressure), dtype=np.float64)
     new_contact = in_contact.copy()
     origin = np.array([operator.window.r0, operator.window.c0])
     detached = 0
-    for start, count in zip(np.r_[0, np.cumsum(counts)[:-1]].tolist(), counts.tolist()):
+    for start, count, compliance in zip(np.r_[0, np.cumsum(counts)[:-1]].tolist(), counts.tolist(),
+                                        compliances.tolist()):
         r, c = rows[start : start + count], cols[start : start + count]
         offsets = np.stack([r, c], axis=1) + origin
         p = values[r, c]

@@ -137,7 +137,7 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
         n_units = int(cluster.max()) + 1
         rows.append(np.arange(n_pillars))
         cols.append(offset + cluster)
-        inverse_compliance.append(np.full(n_units, 1.0 / compliance))
+        inverse_compliance.append(1.0 / np.broadcast_to(compliance, (n_units,)))
         offset += n_units
     incidence = sparse.csr_matrix(
         (np.ones(sum(len(r) for r in rows)), (np.concatenate(rows), np.concatenate(cols))),
@@ -371,7 +371,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         springs = np.zeros((n, n))
         for compliance, cluster in operator.spring_levels:
             units = np.asarray(cluster)
-            springs += compliance * (units[:, None] == units[None, :])
+            springs += np.asarray(compliance)[units][:, None] * (units[:, None] == units[None, :])
         centres = operator.pillar_centres()
         distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
         np.fill_diagonal(distance, np.inf)
