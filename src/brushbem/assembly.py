@@ -17,6 +17,7 @@ here imports the solver: ``brushbem validate`` loads neither it nor SciPy
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -139,6 +140,17 @@ def _tip(spec) -> Tip | list[Tip] | None:
 
 
 def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
+    indenter = _rasterise_shape(grid_config, spec, halfspace_config)
+    if spec.viscoelastic is None:
+        return indenter
+    from .viscoelastic import Viscoelastic
+
+    v = spec.viscoelastic
+    return dataclasses.replace(indenter, viscoelastic=Viscoelastic(v.model, v.relaxation_time,
+                                                                   v.instantaneous_factor))
+
+
+def _rasterise_shape(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
     grid = Grid(grid_config.size, grid_config.elements)
     if spec.shape == "flat_punch":
         return flat_punch(grid, spec.radius, spec.stiffness)
@@ -255,6 +267,7 @@ def build_path(config: RunConfig) -> LoadPath:
         preload_force=p.preload_force,
         step=p.step,
         max_steps=p.max_steps,
+        speed=p.speed,
         tolerance=config.solver.tolerance,
         max_iterations=config.solver.max_iterations,
         cascade=config.solver.cascade,

@@ -263,12 +263,16 @@ class Indenter:
     description : Geometry
         What the indenter is, for the record (`PunchGeometry`,
         `SphereGeometry`, `HeightMapGeometry`, `BrushGeometry`).
+    viscoelastic : brushbem.viscoelastic.Viscoelastic or None
+        The rheology of the pillars' own connections (level 1), whose
+        ``stiffness`` is then the relaxed one; None: elastic springs.
     """
 
     height: np.ndarray
     pillar: np.ndarray
     levels: tuple[SpringLevel, ...] = ()
     description: Geometry = field(default_factory=Geometry)
+    viscoelastic: object = None
 
     def __post_init__(self):
         if self.height.shape != self.pillar.shape or self.height.ndim != 2:
@@ -283,6 +287,11 @@ class Indenter:
                 raise ValueError("every spring level needs one cluster index per pillar")
             if not np.all(level.stiffnesses > 0):
                 raise ValueError(f"stiffness = {level.softest} must be > 0 (inf = rigid)")
+        if self.viscoelastic is not None and (not self.levels or self.levels[0].rigid):
+            raise ValueError(
+                "viscoelastic pillars need a finite pillar stiffness (indenter.stiffness or stiffness_ratio): it is "
+                "their relaxed stiffness"
+            )
 
     @property
     def footprint(self) -> np.ndarray:

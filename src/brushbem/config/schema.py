@@ -40,6 +40,7 @@ __all__ = [
     "SolverConfig",
     "TiltConfig",
     "TipConfig",
+    "ViscoelasticConfig",
 ]
 
 
@@ -170,12 +171,13 @@ _SHAPE_KEYS: dict[str, tuple[str, ...]] = {
 
 # Keys a shape accepts but does not require (rejected by the other shapes).
 _SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
-    "flat_punch": (),
-    "sphere": (),
-    "height_map": (),
+    "flat_punch": ("viscoelastic",),
+    "sphere": ("viscoelastic",),
+    "height_map": ("viscoelastic",),
     "brush": (
         "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
         "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt", "grading",
+        "viscoelastic",
     ),
 }
 
@@ -380,6 +382,37 @@ class GradingConfig(_Section):
         return problems
 
 
+class ViscoelasticConfig(_Section):
+    """Viscoelastic pillar connections (`brushbem.viscoelastic`); the pillar stiffness is the relaxed one.
+
+    Attributes
+    ----------
+    model : {"kelvin_voigt", "standard_linear_solid"}
+    relaxation_time : float
+        tau (> 0), in the time units of ``protocol.speed``: eta / k
+        (Kelvin-Voigt) or eta / k_1 of the Maxwell arm (standard linear solid).
+    instantaneous_factor : float
+        k_0 / k_inf > 1, the standard linear solid's instantaneous over its
+        relaxed stiffness (that model only).
+    """
+
+    model_config = _MODEL_CONFIG
+
+    model: Literal["kelvin_voigt", "standard_linear_solid"]
+    relaxation_time: float = Field(gt=0, allow_inf_nan=False)
+    instantaneous_factor: float | None = Field(None, gt=1, allow_inf_nan=False)
+
+    def _rule_problems(self) -> list[Problem]:
+        model = getattr(self, "model", None)
+        factor = getattr(self, "instantaneous_factor", None)
+        if model == "standard_linear_solid" and factor is None:
+            return [Problem("instantaneous_factor", "missing", "required when model = 'standard_linear_solid'")]
+        if model == "kelvin_voigt" and factor is not None:
+            return [Problem("instantaneous_factor", _show(factor),
+                            "only used with model = 'standard_linear_solid'; remove it")]
+        return []
+
+
 class LevelConfig(_Section):
     """One hierarchy level above the pillars (thesis ch. 6).
 
@@ -454,6 +487,11 @@ class IndenterConfig(_Section):
         each with an optional ``grading``; ``[indenter.tip]`` (`TipConfig`),
         ``[indenter.tilt]`` (`TiltConfig`), ``[indenter.grading]``
         (`GradingConfig`, the pillars' own springs).
+
+    Every shape: ``[indenter.viscoelastic]`` (`ViscoelasticConfig`) makes
+    the spring (a brush: the pillars' own springs) a viscoelastic
+    connection whose relaxed stiffness is ``stiffness`` or
+    ``stiffness_ratio``; it needs ``protocol.speed``.
     """
 
     model_config = _MODEL_CONFIG
@@ -479,6 +517,7 @@ class IndenterConfig(_Section):
     tip: TipConfig | None = None
     tilt: TiltConfig | None = None
     grading: GradingConfig | None = None
+    viscoelastic: ViscoelasticConfig | None = None
 
     @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod
@@ -596,6 +635,11 @@ class ProtocolConfig(_Section):
         Most steps (events, or fixed displacement steps) on each branch,
         loading and unloading; a branch that needs more ends the run, which
         reports not converged.
+    speed : float or None
+        Pulling (and pressing) speed of viscoelastic pillars, in units of
+        length per time: each ``step`` is the time step step / speed.  Needs
+        ``indenter.viscoelastic``, ``method = "fixed"`` and
+        ``preload_displacement``.
     """
 
     model_config = _MODEL_CONFIG
@@ -605,6 +649,7 @@ class ProtocolConfig(_Section):
     preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)
     max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
+    speed: float | None = Field(None, gt=0, allow_inf_nan=False)
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):
@@ -667,12 +712,41 @@ class RunConfig(BaseModel):
                 "protocol.step", _show(self.protocol.step),
                 f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
             ))
+        problems.extend(self._time_stepping_problems())
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
         if not problems and rules is not None:
             problems = rules.rasterised_problems(self)
         if problems:
             raise _rules_error(problems)
         return self
+
+
+    def _time_stepping_problems(self) -> list[Problem]:
+        """Viscoelastic pillars and the pulling speed go together, on a fixed-step path to a displacement."""
+        viscoelastic, protocol = self.indenter.viscoelastic, self.protocol
+        if viscoelastic is None:
+            if protocol.speed is None:
+                return []
+            return [Problem("protocol.speed", _show(protocol.speed),
+                            "only used with viscoelastic pillars (indenter.viscoelastic); remove it")]
+        problems = []
+        if protocol.speed is None:
+            problems.append(Problem("protocol.speed", "missing",
+                                    "required with indenter.viscoelastic: the pulling speed (> 0)"))
+        if protocol.method != "fixed":
+            problems.append(Problem("protocol.method", _show(protocol.method),
+                                    "must be 'fixed' with indenter.viscoelastic (the path is stepped in time: "
+                                    "dt = step / speed)"))
+        if protocol.preload_displacement is None:
+            problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
+                                    "viscoelastic pillars are pressed to protocol.preload_displacement instead"))
+        spec = self.indenter
+        stiffness = (spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness)
+        if not math.isfinite(stiffness):
+            problems.append(Problem("indenter.stiffness_ratio" if spec.stiffness_ratio is not None
+                                    else "indenter.stiffness", _show(stiffness),
+                                    "must be finite with indenter.viscoelastic (it is the relaxed stiffness)"))
+        return problems
 
 
 _SECTIONS: dict[str, type[BaseModel]] = {

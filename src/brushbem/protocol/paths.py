@@ -42,6 +42,8 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     ``converged == False`` with the reason when a solve failed or the step
     budget ran out.
     """
+    if problem.indenter.viscoelastic is not None or path.speed is not None:
+        path = _time_stepped(problem, path)
     tracker = Tracker(problem, path)
     if path.preload_displacement is not None:
         lowest = problem.indenter.lowest_height
@@ -67,6 +69,28 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
         yield state
 
 
+def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
+    """The path of viscoelastic pillars: fixed steps to a preload displacement, at a speed; one step size.
+
+    The step is shortened so that the preload is a whole number of steps: the
+    time step, and with it the connections' step stiffness, is then the same
+    along the whole path (`brushbem.viscoelastic`).
+    """
+    if problem.indenter.viscoelastic is None:
+        raise ValueError(f"protocol.speed = {path.speed:g} only applies to viscoelastic pillars "
+                         "(indenter.viscoelastic); remove it")
+    if path.speed is None:
+        raise ValueError("viscoelastic pillars need protocol.speed, the pulling speed (> 0)")
+    if path.method != "fixed":
+        raise ValueError(f"protocol.method = {path.method!r}: viscoelastic pillars are stepped in time and need "
+                         "method = 'fixed' (its step is the time step times the speed)")
+    if path.preload_displacement is None:
+        raise ValueError("viscoelastic pillars are pressed to protocol.preload_displacement (a force target "
+                         "would need steps of changing length)")
+    steps = max(1, math.ceil(path.preload_displacement / path.step - 1e-9))
+    return dataclasses.replace(path, step=path.preload_displacement / steps)
+
+
 def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
     trial = tracker.h2 * eq.trial_force_sum
     return tracker.state(eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged, eq.reason)
@@ -77,7 +101,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if _press_as_contact_problems(tracker):
+    if tracker.memory is None and _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -94,11 +118,13 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
         start = d
         for k in range(1, min(n_steps, path.max_steps) + 1):
             d = min(start + k * step, path.preload_displacement)
+            tracker.advance_history()
             eq = tracker.solve(d)
             state = _eq_state(tracker, eq, True)
             yield state
             if not eq.converged:
                 return
+            tracker.commit_history()
         if n_steps > path.max_steps:
             yield _budget_exhausted(tracker, d, True, path)
             return
@@ -128,10 +154,12 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
         before = (d + step, tracker.pressure, tracker.contact)
+        tracker.advance_history()
         eq = tracker.solve(d)
         if not eq.converged:
             yield _eq_state(tracker, eq, False)
             return
+        tracker.commit_history()
         crossing = _first_crossing(tracker, before, eq)
         if crossing is not None:
             yield crossing

@@ -78,6 +78,10 @@ class LoadPath:
         size (at least 4 elements).
     cascade : {"local", "global"}
         How the detachment rounds of a brush run (``solver.equilibrium``).
+    speed : float or None
+        Pulling speed v of a time-stepped path (viscoelastic pillars, method
+        "fixed"): every displacement step is the time step dd / v, in the
+        time units of the pillars' relaxation time.
     """
 
     method: str = "events"
@@ -89,6 +93,7 @@ class LoadPath:
     max_iterations: int = 20000
     window_margin: float = 0.25
     cascade: str = "local"
+    speed: float | None = None
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed"):
@@ -103,6 +108,8 @@ class LoadPath:
                 raise ValueError(f"protocol.{name} = {value} must be finite and > 0")
         if not (math.isfinite(self.step) and self.step > 0):
             raise ValueError(f"protocol.step = {self.step} must be finite and > 0")
+        if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
+            raise ValueError(f"protocol.speed = {self.speed} must be finite and > 0")
 
 
 @dataclass(frozen=True)

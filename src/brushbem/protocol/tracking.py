@@ -36,8 +36,16 @@ class Tracker:
     """Full-grid state, the working window and its operator."""
 
     def __init__(self, problem: ContactProblem, path: LoadPath):
-        self.problem = problem
         self.path = path
+        #: The viscoelastic connections' history along a time-stepped path (`brushbem.viscoelastic`), else None.
+        self.memory = None
+        if problem.indenter.viscoelastic is not None:
+            from ..viscoelastic import Memory
+
+            self.memory = Memory(problem.indenter, path.step, path.speed)
+            # The solves see the pillar springs of the step's stiffness k_eff.
+            problem = dataclasses.replace(problem, indenter=self.memory.stepped)
+        self.problem = problem
         self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
         self.xp = xp
@@ -70,6 +78,31 @@ class Tracker:
         self._height_host = np.asarray(indenter.height)
         self._footprint_host = np.isfinite(self._height_host)
         self.footprint_box = backend.bounding_box(np, self._footprint_host)
+        self._base_height_host = self._height_host
+        self._pillar_host = np.asarray(indenter.pillar)
+
+    # -- time stepping (viscoelastic connections) ---------------------------
+    def advance_history(self) -> None:
+        """Before a time step: every pillar's tip raised by its connection's history offset b."""
+        if self.memory is None:
+            return
+        offsets = self.memory.advance()
+        host = np.where(self._footprint_host, self._base_height_host + offsets[np.maximum(self._pillar_host, 0)],
+                        np.inf)
+        self._height_host = host
+        self.height = self.xp.asarray(host)
+        if self.window is not None:
+            self._outside_lowest = self._lowest_outside(self.window)
+
+    def commit_history(self) -> None:
+        """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
+        if self.memory is None:
+            return
+        contact = np.asarray(backend.to_numpy(self.contact))
+        pressure = np.asarray(backend.to_numpy(self.pressure))
+        forces = self.h2 * np.bincount(self._pillar_host[contact], weights=pressure[contact],
+                                       minlength=self.n_pillars)
+        self.memory.commit(forces)
 
     # -- window -------------------------------------------------------------
     def _box_of(self, mask) -> tuple[int, int, int, int]:
