@@ -28,14 +28,19 @@ from brushbem.assembly import load_config
 from brushbem.cli import main
 from brushbem.config import (
     MAGNITUDE_RANGE,
+    GradingConfig,
     GridConfig,
     HalfSpaceConfig,
     IndenterConfig,
     LevelConfig,
+    PillarLawConfig,
     ProfileConfig,
     ProtocolConfig,
     RoughnessConfig,
     SolverConfig,
+    TiltConfig,
+    TipConfig,
+    ViscoelasticConfig,
 )
 from brushbem.resources import (
     MEMORY_LIMIT_VARIABLE,
@@ -79,6 +84,42 @@ BASES: dict[str, dict[str, Any]] = {
             "levels": [{"cluster": 2, "stiffness_ratio": 0.1}, {"cluster": 2, "stiffness": 0.2}],
         },
         "protocol": {"preload_displacement": 0.01},
+    },
+    "graded_tilted_brush": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {
+            "shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.07,
+            "stiffness_ratio": 0.5, "tip": {"shape": "spherical_cap", "radius": 0.5},
+            "tilt": {"angle": 0.5, "azimuth": 30.0},
+            "grading": {"rule": "radial", "amplitude": -0.5, "exponent": 2.0},
+            "levels": [{"cluster": 2, "stiffness_ratio": 0.1,
+                        "grading": {"rule": "linear", "amplitude": 0.3, "azimuth": 10.0}}],
+        },
+        "protocol": {"preload_displacement": 0.01},
+    },
+    "concave_tips": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {
+            "shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.07,
+            "stiffness": 0.5, "tip": {"shape": "concave", "depth": 1e-3},
+            "grading": {"rule": "linear", "amplitude": 0.2, "azimuth": 45.0},
+            "levels": [{"cluster": 2, "stiffness": 0.2,
+                        "grading": {"rule": "radial", "amplitude": 0.5, "exponent": 1.5}}],
+        },
+        "protocol": {"preload_displacement": 0.01},
+    },
+    "viscoelastic_punch": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.15,
+                     "viscoelastic": {"model": "standard_linear_solid", "relaxation_time": 1.0,
+                                      "instantaneous_factor": 3.0}},
+        "protocol": {"method": "fixed", "preload_displacement": 0.01, "step": 1e-3, "speed": 0.01},
+    },
+    "law_punch": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.15,
+                     "pillar_law": {"forces": [0.002], "factors": [1.0, 0.05], "tension_limit": 0.01}},
+        "protocol": {"method": "fixed", "preload_displacement": 0.01, "step": 1e-3},
     },
     "random_brush": {
         "halfspace": HALFSPACE, "grid": GRID,
@@ -208,13 +249,16 @@ def test_the_base_documents_cover_every_numeric_key_of_the_schema(folder):
     models = {
         "halfspace": HalfSpaceConfig, "grid": GridConfig, "indenter": IndenterConfig,
         "protocol": ProtocolConfig, "solver": SolverConfig, "indenter.roughness": RoughnessConfig,
-        "indenter.profile": ProfileConfig, "indenter.levels": LevelConfig,
+        "indenter.profile": ProfileConfig, "indenter.levels": LevelConfig, "indenter.tip": TipConfig,
+        "indenter.tilt": TiltConfig, "indenter.grading": GradingConfig, "indenter.levels.grading": GradingConfig,
+        "indenter.viscoelastic": ViscoelasticConfig, "indenter.pillar_law": PillarLawConfig,
     }
     schema = {
         f"{prefix}.{name}"
         for prefix, model in models.items()
         for name, field in model.model_fields.items()
-        if re.search(r"\b(int|float)\b", str(field.annotation))
+        # Arrays of numbers (a pillar law's breakpoints) are checked as a whole, in their own tests.
+        if re.search(r"\b(int|float)\b", str(field.annotation)) and not str(field.annotation).startswith("tuple")
     }
     covered = {
         re.sub(r"\.\d+\.", ".", dotted(loc)) for document in BASES.values() for loc in numeric_keys(document)

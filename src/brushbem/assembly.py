@@ -141,13 +141,19 @@ def _tip(spec) -> Tip | list[Tip] | None:
 
 def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
     indenter = _rasterise_shape(grid_config, spec, halfspace_config)
-    if spec.viscoelastic is None:
-        return indenter
-    from .viscoelastic import Viscoelastic
+    if spec.viscoelastic is not None:
+        from .viscoelastic import Viscoelastic
 
-    v = spec.viscoelastic
-    return dataclasses.replace(indenter, viscoelastic=Viscoelastic(v.model, v.relaxation_time,
-                                                                   v.instantaneous_factor))
+        v = spec.viscoelastic
+        indenter = dataclasses.replace(indenter, viscoelastic=Viscoelastic(v.model, v.relaxation_time,
+                                                                           v.instantaneous_factor))
+    if spec.pillar_law is not None:
+        from .pillar_laws import PiecewiseLinear
+
+        law = spec.pillar_law
+        indenter = dataclasses.replace(indenter, pillar_law=PiecewiseLinear(law.forces, law.factors,
+                                                                            law.tension_limit))
+    return indenter
 
 
 def _rasterise_shape(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:

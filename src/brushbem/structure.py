@@ -266,6 +266,9 @@ class Indenter:
     viscoelastic : brushbem.viscoelastic.Viscoelastic or None
         The rheology of the pillars' own connections (level 1), whose
         ``stiffness`` is then the relaxed one; None: elastic springs.
+    pillar_law : brushbem.pillar_laws.PiecewiseLinear or None
+        A nonlinear force-compression law of the pillars' own connections
+        (slopes as factors of ``stiffness``); None: linear springs.
     """
 
     height: np.ndarray
@@ -273,6 +276,7 @@ class Indenter:
     levels: tuple[SpringLevel, ...] = ()
     description: Geometry = field(default_factory=Geometry)
     viscoelastic: object = None
+    pillar_law: object = None
 
     def __post_init__(self):
         if self.height.shape != self.pillar.shape or self.height.ndim != 2:
@@ -287,6 +291,9 @@ class Indenter:
                 raise ValueError("every spring level needs one cluster index per pillar")
             if not np.all(level.stiffnesses > 0):
                 raise ValueError(f"stiffness = {level.softest} must be > 0 (inf = rigid)")
+        if self.pillar_law is not None and (not self.levels or self.levels[0].rigid):
+            raise ValueError("a nonlinear pillar law needs a finite pillar stiffness (indenter.stiffness or "
+                             "stiffness_ratio): its slopes are factors of it")
         if self.viscoelastic is not None and (not self.levels or self.levels[0].rigid):
             raise ValueError(
                 "viscoelastic pillars need a finite pillar stiffness (indenter.stiffness or stiffness_ratio): it is "

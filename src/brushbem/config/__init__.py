@@ -48,23 +48,30 @@ from .loading import config_to_dict, load_config, parse_config, to_json_safe
 from .rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
 from .rules import Problem, StructureRules
 from .schema import (
+    GradingConfig,
     GridConfig,
     HalfSpaceConfig,
     IndenterConfig,
     LevelConfig,
+    PillarLawConfig,
     ProfileConfig,
     ProtocolConfig,
     RoughnessConfig,
     RunConfig,
     SolverConfig,
+    TiltConfig,
+    TipConfig,
+    ViscoelasticConfig,
 )
 
 __all__ = [
     "ConfigError",
+    "GradingConfig",
     "GridConfig",
     "HalfSpaceConfig",
     "IndenterConfig",
     "LevelConfig",
+    "PillarLawConfig",
     "Problem",
     "ProfileConfig",
     "ProtocolConfig",
@@ -72,6 +79,9 @@ __all__ = [
     "RunConfig",
     "SolverConfig",
     "StructureRules",
+    "TiltConfig",
+    "TipConfig",
+    "ViscoelasticConfig",
     "config_to_dict",
     "load_config",
     "parse_config",

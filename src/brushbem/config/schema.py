@@ -9,6 +9,7 @@ are its `_rule_problems`; `RunConfig` runs the rules between sections
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any, Literal
 
@@ -33,6 +34,7 @@ __all__ = [
     "HalfSpaceConfig",
     "IndenterConfig",
     "LevelConfig",
+    "PillarLawConfig",
     "ProfileConfig",
     "ProtocolConfig",
     "RoughnessConfig",
@@ -171,13 +173,13 @@ _SHAPE_KEYS: dict[str, tuple[str, ...]] = {
 
 # Keys a shape accepts but does not require (rejected by the other shapes).
 _SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
-    "flat_punch": ("viscoelastic",),
-    "sphere": ("viscoelastic",),
-    "height_map": ("viscoelastic",),
+    "flat_punch": ("viscoelastic", "pillar_law"),
+    "sphere": ("viscoelastic", "pillar_law"),
+    "height_map": ("viscoelastic", "pillar_law"),
     "brush": (
         "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
         "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt", "grading",
-        "viscoelastic",
+        "viscoelastic", "pillar_law",
     ),
 }
 
@@ -271,6 +273,14 @@ class TipConfig(_Section):
     depth: float | str | None = Field(None)
     file: str | None = None
 
+    @field_validator("radius", "depth", mode="before")
+    @classmethod
+    def _number_or_name(cls, value: Any) -> Any:
+        if value is None or isinstance(value, str) or (isinstance(value, (int, float))
+                                                       and not isinstance(value, bool)):
+            return float(value) if isinstance(value, int) else value
+        raise ValueError("must be a number > 0 (units of length) or the name of a .npy file of one value per pillar")
+
     @field_validator("radius", "depth")
     @classmethod
     def _positive_or_file(cls, value: Any, info: ValidationInfo) -> Any:
@@ -314,14 +324,14 @@ class TiltConfig(_Model):
     angle : float
         Tilt angle in degrees, in [0, 45).
     azimuth : float
-        In-plane direction (degrees from the x axis towards y) in which the
-        tips recede from the surface; default 0.
+        In-plane direction (degrees from the x axis towards y, in [0, 360)) in
+        which the tips recede from the surface; default 0.
     """
 
     model_config = _MODEL_CONFIG
 
     angle: float = Field(ge=0, lt=45, allow_inf_nan=False)
-    azimuth: float = Field(0.0, ge=-360, le=360, allow_inf_nan=False)
+    azimuth: float = Field(0.0, ge=0, lt=360, allow_inf_nan=False)
 
 
 class GradingConfig(_Section):
@@ -339,7 +349,7 @@ class GradingConfig(_Section):
     exponent : float
         Radial only; default 1.
     azimuth : float
-        Linear only, degrees; default 0 (along x).
+        Linear only, degrees in [0, 360); default 0 (along x).
     file : str
         ``.npy`` file of one factor > 0 per spring (rule = "file").
     """
@@ -349,7 +359,7 @@ class GradingConfig(_Section):
     rule: Literal["radial", "linear", "file"]
     amplitude: float | None = Field(None, allow_inf_nan=False)
     exponent: float | None = Field(None, gt=0, allow_inf_nan=False)
-    azimuth: float | None = Field(None, ge=-360, le=360, allow_inf_nan=False)
+    azimuth: float | None = Field(None, ge=0, lt=360, allow_inf_nan=False)
     file: str | None = None
 
     @field_validator("file")
@@ -411,6 +421,52 @@ class ViscoelasticConfig(_Section):
             return [Problem("instantaneous_factor", _show(factor),
                             "only used with model = 'standard_linear_solid'; remove it")]
         return []
+
+
+class PillarLawConfig(_Section):
+    """A nonlinear force-compression law of the pillars' connections (`brushbem.pillar_laws.PiecewiseLinear`).
+
+    Attributes
+    ----------
+    forces : list of float
+        Force breakpoints, strictly increasing (compressive positive), units
+        of force; default none.
+    factors : list of float
+        The slope of each of the len(forces) + 1 pieces as a factor (> 0) of
+        the pillar stiffness, from the most tensile piece up; default [1].
+    tension_limit : float or None
+        A pillar whose tension exceeds this force breaks.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    forces: tuple[float, ...] = ()
+    factors: tuple[float, ...] = (1.0,)
+    tension_limit: float | None = Field(None, gt=0, allow_inf_nan=False)
+
+    @field_validator("forces", "factors", mode="before")
+    @classmethod
+    def _list(cls, value: Any) -> Any:
+        return tuple(value) if isinstance(value, list) else value
+
+    def _rule_problems(self) -> list[Problem]:
+        forces, factors = getattr(self, "forces", ()), getattr(self, "factors", (1.0,))
+        problems = []
+        numbers = all(isinstance(f, (int, float)) and math.isfinite(f) for f in (*forces, *factors))
+        if not numbers:
+            return [Problem("forces", _show(list(forces)), "forces and factors must be finite numbers")]
+        if any(b <= a for a, b in itertools.pairwise(forces)):
+            problems.append(Problem("forces", _show(list(forces)), "must be strictly increasing"))
+        if len(factors) != len(forces) + 1:
+            problems.append(Problem("factors", _show(list(factors)),
+                                    f"must hold {len(forces) + 1} values: one per piece between the "
+                                    f"{len(forces)} force breakpoints"))
+        if any(f <= 0 for f in factors):
+            problems.append(Problem("factors", _show(list(factors)),
+                                    "must all be > 0: the law must be increasing (monotone); a falling "
+                                    "(snapping) piece is not supported - give a post-buckling plateau a small "
+                                    "positive factor"))
+        return problems
 
 
 class LevelConfig(_Section):
@@ -492,6 +548,8 @@ class IndenterConfig(_Section):
     the spring (a brush: the pillars' own springs) a viscoelastic
     connection whose relaxed stiffness is ``stiffness`` or
     ``stiffness_ratio``; it needs ``protocol.speed``.
+    ``[indenter.pillar_law]`` (`PillarLawConfig`) makes it nonlinear (with
+    ``protocol.method = "fixed"``).
     """
 
     model_config = _MODEL_CONFIG
@@ -518,6 +576,7 @@ class IndenterConfig(_Section):
     tilt: TiltConfig | None = None
     grading: GradingConfig | None = None
     viscoelastic: ViscoelasticConfig | None = None
+    pillar_law: PillarLawConfig | None = None
 
     @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod
@@ -713,6 +772,7 @@ class RunConfig(BaseModel):
                 f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
             ))
         problems.extend(self._time_stepping_problems())
+        problems.extend(self._pillar_law_problems())
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
         if not problems and rules is not None:
             problems = rules.rasterised_problems(self)
@@ -720,6 +780,27 @@ class RunConfig(BaseModel):
             raise _rules_error(problems)
         return self
 
+
+    def _pillar_law_problems(self) -> list[Problem]:
+        """A nonlinear pillar law: fixed steps to a displacement, a finite stiffness, no viscoelasticity."""
+        spec, protocol = self.indenter, self.protocol
+        if spec.pillar_law is None:
+            return []
+        problems = []
+        if protocol.method != "fixed":
+            problems.append(Problem("protocol.method", _show(protocol.method),
+                                    "must be 'fixed' with indenter.pillar_law (the law is followed step by step)"))
+        if protocol.preload_displacement is None:
+            problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
+                                    "a nonlinear pillar law is pressed to protocol.preload_displacement instead"))
+        if spec.viscoelastic is not None:
+            problems.append(Problem("indenter.pillar_law", "given", "cannot be combined with indenter.viscoelastic"))
+        stiffness = spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness
+        if not math.isfinite(stiffness):
+            problems.append(Problem("indenter.stiffness_ratio" if spec.stiffness_ratio is not None
+                                    else "indenter.stiffness", _show(stiffness),
+                                    "must be finite with indenter.pillar_law (its slopes are factors of it)"))
+        return problems
 
     def _time_stepping_problems(self) -> list[Problem]:
         """Viscoelastic pillars and the pulling speed go together, on a fixed-step path to a displacement."""

@@ -44,6 +44,8 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     """
     if problem.indenter.viscoelastic is not None or path.speed is not None:
         path = _time_stepped(problem, path)
+    if problem.indenter.pillar_law is not None:
+        _check_law_path(problem, path)
     tracker = Tracker(problem, path)
     if path.preload_displacement is not None:
         lowest = problem.indenter.lowest_height
@@ -91,6 +93,18 @@ def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
     return dataclasses.replace(path, step=path.preload_displacement / steps)
 
 
+def _check_law_path(problem: ContactProblem, path: LoadPath) -> None:
+    """A nonlinear pillar law is followed by fixed steps, on elastic connections."""
+    if path.method != "fixed":
+        raise ValueError(f"protocol.method = {path.method!r}: a nonlinear pillar law (indenter.pillar_law) is "
+                         "followed step by step and needs method = 'fixed'")
+    if problem.indenter.viscoelastic is not None:
+        raise ValueError("indenter.pillar_law and indenter.viscoelastic cannot be combined")
+    if path.preload_displacement is None:
+        raise ValueError("a nonlinear pillar law is pressed to protocol.preload_displacement (a force target "
+                         "would search across the law's pieces)")
+
+
 def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
     trial = tracker.h2 * eq.trial_force_sum
     return tracker.state(eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged, eq.reason)
@@ -101,7 +115,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if tracker.memory is None and _press_as_contact_problems(tracker):
+    if tracker.memory is None and tracker.pieces is None and _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -118,8 +132,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
         start = d
         for k in range(1, min(n_steps, path.max_steps) + 1):
             d = min(start + k * step, path.preload_displacement)
-            tracker.advance_history()
-            eq = tracker.solve(d)
+            eq = tracker.step_solve(d)
             state = _eq_state(tracker, eq, True)
             yield state
             if not eq.converged:
@@ -154,8 +167,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
         before = (d + step, tracker.pressure, tracker.contact)
-        tracker.advance_history()
-        eq = tracker.solve(d)
+        eq = tracker.step_solve(d)
         if not eq.converged:
             yield _eq_state(tracker, eq, False)
             return

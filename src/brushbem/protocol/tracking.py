@@ -20,6 +20,7 @@ from ..solver import (
     solve_on_set,
     tip_deflection,
 )
+from ..structure import SpringLevel
 from .problem import ContactProblem, LoadPath, State
 
 __all__ = ["Tracker"]
@@ -45,6 +46,16 @@ class Tracker:
             self.memory = Memory(problem.indenter, path.step, path.speed)
             # The solves see the pillar springs of the step's stiffness k_eff.
             problem = dataclasses.replace(problem, indenter=self.memory.stepped)
+        #: The pieces of a nonlinear pillar law and the broken pillars (`brushbem.pillar_laws`), else None.
+        self.pieces = None
+        if problem.indenter.pillar_law is not None:
+            from ..pillar_laws import PieceState
+
+            self.pieces = PieceState(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
+            # The springs of the piece that holds F = 0 (its offset is 0).
+            level = problem.indenter.levels[0]
+            levels = (SpringLevel(self.pieces.springs()[0], level.cluster), *problem.indenter.levels[1:])
+            problem = dataclasses.replace(problem, indenter=dataclasses.replace(problem.indenter, levels=levels))
         self.problem = problem
         self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
@@ -81,12 +92,11 @@ class Tracker:
         self._base_height_host = self._height_host
         self._pillar_host = np.asarray(indenter.pillar)
 
-    # -- time stepping (viscoelastic connections) ---------------------------
-    def advance_history(self) -> None:
-        """Before a time step: every pillar's tip raised by its connection's history offset b."""
-        if self.memory is None:
-            return
-        offsets = self.memory.advance()
+    # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --
+    def _raise_tips(self, offsets: np.ndarray, lifted: np.ndarray | None = None) -> None:
+        """Every pillar's tip raised by ``offsets`` (one per pillar); the ``lifted`` pillars out of reach."""
+        if lifted is not None and lifted.any():
+            offsets = np.where(lifted, 1e3 * self.problem.grid.size, offsets)
         host = np.where(self._footprint_host, self._base_height_host + offsets[np.maximum(self._pillar_host, 0)],
                         np.inf)
         self._height_host = host
@@ -94,15 +104,82 @@ class Tracker:
         if self.window is not None:
             self._outside_lowest = self._lowest_outside(self.window)
 
-    def commit_history(self) -> None:
-        """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
-        if self.memory is None:
-            return
+    def _pillar_forces(self) -> np.ndarray:
+        """Force of every pillar in the current state (compressive positive)."""
         contact = np.asarray(backend.to_numpy(self.contact))
         pressure = np.asarray(backend.to_numpy(self.pressure))
-        forces = self.h2 * np.bincount(self._pillar_host[contact], weights=pressure[contact],
-                                       minlength=self.n_pillars)
-        self.memory.commit(forces)
+        return self.h2 * np.bincount(self._pillar_host[contact], weights=pressure[contact], minlength=self.n_pillars)
+
+    def _set_pillar_stiffness(self, stiffness: np.ndarray) -> None:
+        """The pillars' own springs (level 1) get ``stiffness``: a new operator, nothing cached of the old."""
+        indenter = self.problem.indenter
+        level = indenter.levels[0]
+        levels = (SpringLevel(np.array(stiffness, dtype=np.float64), level.cluster), *indenter.levels[1:])
+        self.problem = dataclasses.replace(self.problem, indenter=dataclasses.replace(indenter, levels=levels))
+        self.operator = None
+        self._known_deflection = self._unit_deflection = self._pressure_change = None
+        self.unit = None
+        if self.window is not None:
+            self._install_window(self.window)
+
+    def advance_history(self) -> None:
+        """Before a time step: every pillar's tip raised by its connection's history offset b."""
+        if self.memory is not None:
+            self._raise_tips(self.memory.advance())
+
+    def commit_history(self) -> None:
+        """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
+        if self.memory is not None:
+            self.memory.commit(self._pillar_forces())
+
+    def step_solve(self, displacement: float) -> Equilibrium:
+        """One step of a fixed-step path: the equilibrium at d with the connections' state.
+
+        Viscoelastic connections: their history offsets first.  A nonlinear
+        pillar law: the piece iteration of `brushbem.pillar_laws`, then the
+        breaks, each break solved again at the same d.
+        """
+        self.advance_history()
+        if self.pieces is None:
+            return self.solve(displacement)
+        from ..pillar_laws import MAX_PIECE_ROUNDS
+
+        iterations = solves = detached = 0
+        detach = first = None
+        moved = np.zeros(self.n_pillars, dtype=bool)
+
+        def settled(eq: Equilibrium, **changes) -> Equilibrium:
+            # The first round's trial solve is on the step's starting set and pieces: the one
+            # on which the pressure is affine in d (`paths._first_crossing`).
+            return dataclasses.replace(eq, cg_iterations=iterations, n_solves=solves, detached=detached,
+                                       trial_force_sum=first.trial_force_sum, trial_pressure=first.trial_pressure,
+                                       **changes)
+
+        for _ in range(MAX_PIECE_ROUNDS):
+            eq = self.solve(displacement, force_detach=detach)
+            first = eq if first is None else first
+            iterations += eq.cg_iterations
+            solves += eq.n_solves
+            detached += eq.detached
+            detach = None
+            if not eq.converged:
+                return settled(eq)
+            forces = self._pillar_forces()
+            moved = self.pieces.update(forces)
+            if not moved.any():
+                broken = self.pieces.breaking(forces)
+                if not broken.any():
+                    return settled(eq)
+                detach = self.contact & self.xp.asarray(np.isin(self._pillar_host, np.flatnonzero(broken)))
+            stiffness, offsets = self.pieces.springs()
+            if moved.any():
+                self._set_pillar_stiffness(stiffness)
+            self._raise_tips(offsets, self.pieces.broken)
+        return settled(
+            eq, converged=False,
+            reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
+                   f"(pillars still changing: {np.flatnonzero(moved)[:10].tolist()})",
+        )
 
     # -- window -------------------------------------------------------------
     def _box_of(self, mask) -> tuple[int, int, int, int]:

@@ -1,0 +1,211 @@
+"""Nonlinear pillar connections (thesis sec. 8.2, 2): piecewise-linear laws, buckling, a tension cut-off.
+
+Checks, each against an independent result:
+
+* one piece of factor 1 is the linear spring, state for state;
+* a flat punch on a three-piece law stays in full contact, where the
+  half-space is a linear spring k_h: every state then solves the scalar
+  equation F = k_h (d - s(F)), found here by bracketing (brentq) on the law;
+* the piece iteration of a buckling brush ends on a consistent state: the
+  same brush with every pillar's converged piece as a linear spring and its
+  offset as a length, pressed by the ordinary contact solver, has the same
+  pillar forces;
+* a tension cut-off below Kendall's force breaks the punch at the cut-off;
+* bad laws are refused by key.
+
+Grids are quick grids (N = 64): they test the machinery.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import textwrap
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from brushbem.assembly import load
+from brushbem.config import ConfigError
+from brushbem.pillar_laws import PiecewiseLinear
+from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
+from brushbem.structure import Grid, SpringLevel, brush, flat_punch
+
+GRID = Grid(1.0, 64)
+RADIUS, STIFFNESS, DGAMMA = 0.2, 0.2, 1e-3
+PATH = LoadPath(method="fixed", preload_displacement=0.02, step=5e-4)
+
+
+def _punch(law=None, stiffness=STIFFNESS):
+    return dataclasses.replace(flat_punch(GRID, RADIUS, stiffness), pillar_law=law)
+
+
+def _record(indenter, dgamma=DGAMMA, path=PATH):
+    record = record_pull_off(ContactProblem(GRID, indenter, contact_modulus=1.0, work_of_adhesion=dgamma), path)
+    assert record.summary["converged"], record.summary["reason"]
+    return record
+
+
+def _brush(law=None, stiffness=0.05):
+    indenter = brush(GRID, layout="square", pillars_per_side=4, pillar_radius=math.sqrt(0.16 / math.pi) / 4,
+                     contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=stiffness, roughness=1e-3, seed=5)
+    return dataclasses.replace(indenter, pillar_law=law)
+
+
+def test_linear_laws_are_the_linear_spring():
+    """One piece of factor 1 is the spring itself; pieces of factor 1 around breakpoints too, state for state.
+
+    The flat brush is pressed by the same fixed steps both ways (level tips:
+    no contact-problem loading), so the states must agree to rounding.
+    """
+    path = dataclasses.replace(PATH, preload_displacement=0.006)
+    flat = brush(GRID, layout="square", pillars_per_side=4, pillar_radius=math.sqrt(0.16 / math.pi) / 4,
+                 contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=0.05)
+    for indenter, dgamma in ((_punch(), DGAMMA), (flat, 1e-4)):
+        linear = _record(indenter, dgamma, path)
+        for law in (PiecewiseLinear(), PiecewiseLinear(forces=(-1e-4, 1e-4), factors=(1.0, 1.0, 1.0))):
+            other = _record(dataclasses.replace(indenter, pillar_law=law), dgamma, path)
+            for key in ("adhesive_force", "work_of_separation", "preload_force"):
+                assert other.summary[key] == pytest.approx(linear.summary[key], rel=1e-9)
+            np.testing.assert_allclose(other.curve.force, linear.curve.force, rtol=1e-9, atol=1e-15)
+
+
+def test_law_pieces_compress_as_integrated():
+    law = PiecewiseLinear(forces=(-0.005, 0.002), factors=(0.5, 1.0, 0.05))
+    k = np.array([0.2])
+    # s(F) is the integral of dF / (k f(F)) from 0: check against its pieces by hand.
+    assert law.compression(np.array([0.001]), k)[0] == pytest.approx(0.001 / 0.2)
+    assert law.compression(np.array([0.003]), k)[0] == pytest.approx(0.002 / 0.2 + 0.001 / 0.01)
+    assert law.compression(np.array([-0.006]), k)[0] == pytest.approx(-0.005 / 0.2 - 0.001 / 0.1)
+    # The affine form on each piece reproduces s(F) inside the piece.
+    for force in (-0.02, -0.001, 0.0015, 0.01):
+        piece = law.piece(np.array([force]))
+        slope, offset = law.affine(piece, k)
+        assert force / slope[0] + offset[0] == pytest.approx(law.compression(np.array([force]), k)[0], abs=1e-15)
+
+
+def test_a_punch_on_a_three_piece_law_solves_its_scalar_equation():
+    """Softer in tension, linear around 0, buckled (5 % slope) beyond F = 0.002: F = k_h (d - s(F)) at every state.
+
+    1e-7 covers the CG tolerance (1e-8) of k_h and of each state.
+    """
+    law = PiecewiseLinear(forces=(-0.005, 0.002), factors=(0.5, 1.0, 0.05))
+    record = _record(_punch(law))
+    rigid = ContactProblem(GRID, flat_punch(GRID, RADIUS), contact_modulus=1.0, work_of_adhesion=0.0)
+    k_h = indent(rigid, 0.01).force / 0.01
+    k = np.array([STIFFNESS])
+    curve = record.curve
+    full = curve.contact_area == curve.contact_area.max()
+    assert full.sum() > 50
+    for d, force in zip(curve.displacement[full], curve.force[full]):
+        expected = brentq(lambda f, d=d: f - k_h * (d - law.compression(np.array([f]), k)[0]), -1.0, 1.0,
+                          xtol=1e-14)
+        assert force == pytest.approx(expected, rel=1e-7, abs=1e-12)
+    # Buckled: the preload force stays near the buckling load instead of k_series d.
+    assert record.summary["preload_force"] < 1.1 * 0.002 + 0.05 * STIFFNESS * 0.02
+    # Kendall's force still decides the pull-off (the law only changes the stretch).
+    assert record.summary["adhesive_force"] == pytest.approx(_record(_punch()).summary["adhesive_force"], rel=1e-7)
+
+
+def test_the_piece_iteration_of_a_buckling_brush_ends_on_the_law():
+    """The buckled brush's preload state equals the linear brush of its converged pieces (1e-7, CG tolerance).
+
+    Pressed without adhesion beyond the buckling load of its pillars, every
+    pillar ends on a piece; a brush whose springs are those pieces' slopes
+    (k f_i) and whose tips are raised by their offsets b_i is linear, and the
+    ordinary contact solver pressed to the same d must find the same forces.
+    Also, the buckled pillars carry at most the buckling load plus the
+    plateau's slope times their compression.
+    """
+    buckling = 4e-5
+    law = PiecewiseLinear(forces=(buckling,), factors=(1.0, 0.02))
+    indenter = _brush(law, stiffness=0.05)
+    path = LoadPath(method="fixed", preload_displacement=0.004, step=2e-4)
+    record = _record(indenter, 0.0, path)
+    preload = next(s for s in record.snapshots if s.name == "max_preload")
+    forces = preload.pillar_force
+    pieces = law.piece(forces)
+    assert pieces.min() == 0 and pieces.max() == 1  # some pillars buckled, some not
+    stiffness, offsets = law.affine(pieces, np.full(forces.size, 0.05))
+    labels = indenter.pillar
+    height = np.where(labels >= 0, indenter.height + offsets[np.maximum(labels, 0)], np.inf)
+    linear = dataclasses.replace(indenter, height=height, pillar_law=None,
+                                 levels=(SpringLevel(stiffness, indenter.levels[0].cluster),))
+    problem = ContactProblem(GRID, linear, contact_modulus=1.0, work_of_adhesion=0.0)
+    state = indent(problem, path.preload_displacement)
+    reference = GRID.element_size**2 * np.bincount(
+        labels[state.contact & (labels >= 0)], weights=state.pressure[state.contact & (labels >= 0)],
+        minlength=forces.size)
+    np.testing.assert_allclose(forces, reference, rtol=1e-7, atol=1e-7 * np.abs(forces).max())
+    assert forces.max() < buckling + 0.02 * 0.05 * path.preload_displacement
+
+
+def test_a_tension_cut_off_breaks_the_punch_at_the_cut_off():
+    """A cut-off at half Kendall's force: the punch breaks there, one step after the tension passes it at most."""
+    kendall = _record(_punch()).summary["adhesive_force"]
+    limit = 0.5 * kendall
+    record = _record(_punch(PiecewiseLinear(tension_limit=limit)))
+    force = record.summary["adhesive_force"]
+    k_series = 1.0 / (1.0 / STIFFNESS + 1.0 / 0.4)  # the punch's k_h ~ 0.4 at r = 0.2
+    assert limit - k_series * PATH.step <= force <= limit * (1 + 1e-9)
+    assert record.curve.contact_area[-1] == 0.0
+
+
+def test_a_brush_breaks_pillar_by_pillar():
+    law = PiecewiseLinear(tension_limit=2e-5)
+    record = _record(_brush(law, stiffness=0.05), 1e-4, LoadPath(method="fixed", preload_displacement=0.004,
+                                                                  step=2e-4))
+    attached = record.curve.attached_pillars[~record.curve.loading]
+    assert np.all(np.diff(attached) <= 0) and attached[-1] == 0
+    assert record.summary["adhesive_force"] <= 16 * 2e-5 * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"forces": (0.1, 0.05), "factors": (1, 1, 1)}, "strictly increasing"),
+    ({"forces": (0.1,), "factors": (1.0,)}, "2 pieces"),
+    ({"forces": (0.1,), "factors": (1.0, -0.1)}, "monotone"),
+    ({"tension_limit": -1.0}, "tension_limit"),
+])
+def test_bad_laws_are_refused(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        PiecewiseLinear(**kwargs)
+
+
+def test_laws_need_fixed_steps_and_a_stiffness():
+    with pytest.raises(ValueError, match="method = 'fixed'"):
+        record_pull_off(ContactProblem(GRID, _punch(PiecewiseLinear()), contact_modulus=1.0, work_of_adhesion=DGAMMA),
+                        LoadPath(method="events", preload_displacement=0.01))
+    with pytest.raises(ValueError, match="finite pillar stiffness"):
+        _punch(PiecewiseLinear(), stiffness=math.inf)
+
+
+def test_config_names_a_non_monotone_law(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_text(textwrap.dedent("""
+        [halfspace]
+        contact_modulus = 1.0
+        work_of_adhesion = 1e-3
+        [grid]
+        size = 1.0
+        elements = 64
+        [indenter]
+        shape = "flat_punch"
+        radius = 0.2
+        stiffness = 0.2
+        pillar_law = {forces = [0.002, 0.001], factors = [1.0, -0.5]}
+        [protocol]
+        preload_displacement = 0.01
+        """))
+    with pytest.raises(ConfigError) as info:
+        load(path)
+    message = str(info.value)
+    assert "indenter.pillar_law.forces" in message and "indenter.pillar_law.factors" in message
+    assert "monotone" in message
+    path.write_text(path.read_text().replace("[0.002, 0.001], factors = [1.0, -0.5]",
+                                             "[0.002], factors = [1.0, 0.05], tension_limit = 0.01"))
+    with pytest.raises(ConfigError, match="protocol.method"):
+        load(path)
+    path.write_text(path.read_text() + 'method = "fixed"\nstep = 5e-4\n')
+    built = load(path)
+    assert built.problem.indenter.pillar_law == PiecewiseLinear((0.002,), (1.0, 0.05), 0.01)
