@@ -8,9 +8,10 @@ figures from the stored results (``DIR/figures/*.png``), in the thesis's axes,
 scales and normalisations, with its closed-form lines and the numbers the
 thesis states marked.
 
-Every study module in this package defines ``STUDY = Study(...)``
-(`brushbem.studies.base`); the registry `STUDIES` lists them explicitly, by
-name.
+Every thesis study module in this package defines ``STUDY = Study(...)``
+(`brushbem.studies.base`); `brushbem.studies.beyond` defines the four
+studies beyond the thesis (tip shapes, grading, tilt, viscoelastic pillars).
+The registry `STUDIES` lists them explicitly, by name.
 
     brushbem study NAME --out DIR [--quick]
     brushbem figure DIR          # redraw from stored results
@@ -24,6 +25,7 @@ from typing import Any
 
 from brushbem.studies import (
     _framework,
+    beyond,
     concave,
     flat_brush,
     hierarchy,
@@ -69,6 +71,10 @@ STUDIES: dict[str, Study] = {
             rough_brush.STUDY,
             hierarchy.STUDY,
             concave.STUDY,
+            beyond.TIP_SHAPE,
+            beyond.GRADING,
+            beyond.TILT,
+            beyond.VISCOELASTIC,
         ),
         key=lambda study: study.name,
     )
