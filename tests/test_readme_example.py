@@ -70,3 +70,16 @@ def test_import_brushbem_loads_no_numerics():
     assert set(brushbem.__all__) >= {"run", "pull_off", "brush", "Grid", "ConfigError"}
     with pytest.raises(AttributeError):
         brushbem.not_a_name  # noqa: B018
+
+
+def test_readme_beyond_the_thesis_example_runs_as_written():
+    """The README's block on tip shapes, gradients, tilt, viscoelastic and nonlinear pillars runs and converges."""
+    text = README.read_text(encoding="utf-8")
+    heading = "Tip shapes, gradients, tilt, viscoelastic and nonlinear pillars"
+    block = re.search(r"```python\n(.*?)```", text[text.index(heading):], re.DOTALL).group(1)
+    namespace: dict = {}
+    exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102
+    for name in ("graded", "pulled", "pressed"):
+        assert namespace[name].converged, (name, namespace[name].summary["reason"])
+    assert namespace["pressed"].summary["preload_force"] > 0
+    assert namespace["graded"].adhesive_force > 0 and namespace["pulled"].work_of_separation > 0

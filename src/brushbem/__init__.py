@@ -25,6 +25,11 @@ _PUBLIC = {
     "Grid": "structure",
     "Level": "structure",
     "Profile": "structure",
+    "Tip": "structure",
+    "Tilt": "structure",
+    "Grading": "structure",
+    "Viscoelastic": "viscoelastic",
+    "PiecewiseLinear": "pillar_laws",
     "brush": "structure",
     "flat_punch": "structure",
     "sphere": "structure",
@@ -36,8 +41,9 @@ _PUBLIC = {
 }
 
 __all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC
-    "__version__", "ConfigError", "Grid", "Level", "Profile", "PullOff", "RunConfig", "brush", "flat_punch",
-    "height_map", "load_config", "parse_config", "pull_off", "run", "sphere",
+    "__version__", "ConfigError", "Grid", "Level", "Profile", "Tip", "Tilt", "Grading", "Viscoelastic",
+    "PiecewiseLinear", "PullOff", "RunConfig", "brush", "flat_punch", "height_map", "load_config", "parse_config",
+    "pull_off", "run", "sphere",
 ]
 
 

@@ -161,6 +161,7 @@ def pull_off(
     method: str = "events",
     step: float = 1e-4,
     tolerance: float = 1e-8,
+    speed: float | None = None,
     xp: Any = np,
     progress: Callable[[float, str], None] | None = None,
 ) -> PullOff:
@@ -183,6 +184,9 @@ def pull_off(
         The load path (README, "Protocol"); ``step`` is the fixed method's step.
     tolerance : float
         Relative residual of every CG solve.
+    speed : float, optional
+        Pulling speed of viscoelastic pillars (``dataclasses.replace(indenter,
+        viscoelastic=brushbem.Viscoelastic(...))``), with ``method="fixed"``.
     xp : array namespace
         NumPy (default) or a GPU namespace such as CuPy.
     """
@@ -191,6 +195,6 @@ def pull_off(
 
     problem = ContactProblem(grid, indenter, contact_modulus, work_of_adhesion, xp=xp)
     path = LoadPath(method=method, preload_displacement=preload_displacement, preload_force=preload_force,
-                    step=step, tolerance=tolerance)
+                    step=step, tolerance=tolerance, speed=speed)
     result, reference = run_problem(problem, path, progress=progress)
     return PullOff(result, reference, None)
