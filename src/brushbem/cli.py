@@ -96,6 +96,12 @@ def _summary_table(summary: dict[str, Any]) -> Table:
             # Only scalar ratios and values belong in a one-screen table.
             if isinstance(value, (numbers.Real, str)):
                 table.add_row(f"theory: {key}", _number(value))
+    refinement = summary.get("refinement")
+    if refinement:
+        for label, key in (("F_A extrapolated", "adhesive_force"), ("work extrapolated", "work_of_separation")):
+            entry = refinement[key]
+            table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
+                          f"{_number(entry['extrapolated'])} ± {_number(entry['error_estimate'])}")
     table.add_row("converged", _number(summary.get("converged", "—")))
     table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
     table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
@@ -220,7 +226,10 @@ def _prepare_out(out_dir: Path) -> None:
     help="Folder for summary.json, result.nc and pulloff.png (created if absent).",
 )
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
-def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
+@click.option("--refine", "grids", type=click.IntRange(2, 3), default=None,
+              help="Also run on the coarser grids N/2 (and N/4) and report the Richardson-extrapolated F_A and "
+                   "work with error estimates in summary.json (refinement).")
+def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None) -> None:
     """Run the pull-off in CONFIG; write the results into --out.
 
     Ctrl-C (or SIGTERM) stops after the current state and writes the partial
@@ -228,6 +237,16 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
     """
     built = _load_or_exit(config_path, build=True)
     config = built.config
+    if grids is not None:
+        from brushbem.refine import refined_configs
+
+        try:
+            refined_configs(config, grids)
+        except ConfigError as exc:
+            click.echo(f"invalid refinement of {config_path}:", err=True)
+            for line in exc.problems:
+                click.echo(f"  {line}", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
 
     # Imported here so that `validate` and `--help` stay fast and do not need
@@ -264,7 +283,14 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
             def report(fraction: float, message: str) -> None:
                 progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
 
-            result, reference = case_module.run_case(built, progress=report, stop=stop)
+            if grids is None:
+                result, reference = case_module.run_case(built, progress=report, stop=stop)
+            else:
+                from brushbem.refine import refined_run
+
+                result, reference = refined_run(
+                    config, grids, progress=report,
+                    run=lambda cfg, progress: case_module.run_case(cfg, progress=progress, stop=stop))
 
         try:
             write_case(result, out_dir, config=config)
@@ -291,6 +317,46 @@ def run(config_path: Path, out_dir: Path, quiet: bool) -> None:
             f"results written to {out_dir} but they are not trustworthy",
             err=True,
         )
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+@main.command()
+@click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+              help="Folder for design.npy, design.csv, design.json and design.png.")
+@click.option("--target", type=click.Choice(["lengths", "stiffness"]), default="lengths", show_default=True,
+              help="Design the pillars' length offsets, or their stiffnesses.")
+@click.option("--iterations", type=click.IntRange(0, 50), default=2, show_default=True,
+              help="Corrective pull-offs after the direct solve.")
+@click.option("--quiet", is_flag=True, help="No progress output.")
+def design(config_path: Path, out_dir: Path, target: str, iterations: int, quiet: bool) -> None:
+    """Design CONFIG's brush for equal load sharing (lengths or stiffnesses), verified by pull-offs.
+
+    Every pillar is brought to the criterion at the same moment by a direct
+    solve for prescribed pillar forces; the ordinary pull-off of the designed
+    brush then verifies F~ = F_A / (N F_K) (brushbem.design).
+    """
+    built = _load_or_exit(config_path, build=True)
+    from brushbem.design import DesignError, write_design
+    from brushbem.design import design as run_design
+
+    try:
+        result = run_design(built.problem, built.path, target=target, iterations=iterations,
+                            progress=None if quiet else lambda f, m: click.echo(m, err=True))
+    except DesignError as exc:
+        click.echo(f"cannot design {config_path}: {exc}", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    try:
+        write_design(built.problem, result, out_dir, str(config_path))
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: could not write the design ({exc.strerror or exc})", err=True)
+        raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+    if not quiet:
+        click.echo(f"predicted F~ = {result.predicted_force_ratio:.4f} (every pillar's edge critical at once), "
+                   f"verified F~ = {result.verified_force_ratio:.4f} after {result.iterations} corrective pull-offs; "
+                   f"detachment spread {result.spread:.3g} |d_c|; written to {out_dir}")
+    if not result.converged:
+        click.echo("warning: a verification pull-off did not converge", err=True)
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
 
 

@@ -15,7 +15,8 @@
     base displacement and the force of that moment as the attributes
     ``displacement`` and ``force``.  Per pillar (dimension ``pillar``):
     ``pillar_x``, ``pillar_y``, ``pillar_offset``, ``pillar_elements``,
-    ``pillar_stiffness`` (pillars on springs), ``pillar_separation_displacement``, ``pillar_max_tension`` and, per
+    ``pillar_stiffness`` (pillars on springs), ``pillar_separation_displacement``, ``pillar_max_tension``,
+    ``pillar_max_tension_displacement`` and, per
     snapshot, ``pillar_force_<name>``; ``cross_section_adhesive_force`` is the
     pressure along the element row through the centre at the adhesive-force
     moment (thesis Fig. 7-4).  Global attributes record provenance:
@@ -217,6 +218,8 @@ _PILLAR_ATTRS: dict[str, dict[str, str]] = {
     "separation_displacement": {"long_name": "last base displacement with contact on the pull-off "
                                              "(nan: never in contact)", "units": "length"},
     "max_tension": {"long_name": "largest tensile force carried on the pull-off (>= 0)", "units": "force"},
+    "max_tension_displacement": {"long_name": "base displacement at the pillar's largest tension (nan: never in "
+                                             "tension)", "units": "length"},
 }
 
 

@@ -232,14 +232,19 @@ class RunSummary(PullOffSummary):
     theory : mapping
         The closed-form values and the ratios of the computed ones to them.
     warnings : list of str
+    refinement : mapping or None
+        With ``brushbem run --refine``: the grids and the Richardson-
+        extrapolated adhesive force and work with their error estimates
+        (`brushbem.refine.Refinement`); not a key otherwise.
     """
 
-    _ABSENT_WHEN_NONE = frozenset({"normalized"})
+    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement"})
 
     critical_stress: float
     normalized: Mapping[str, Any] | None = None
     theory: Mapping[str, Any] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    refinement: Mapping[str, Any] | None = None
 
 
 @dataclass(frozen=True)

@@ -87,6 +87,7 @@ class _Recorder:
         self.h2 = problem.grid.element_size**2
         self.last_attached_d = np.full(self.n_pillars, np.nan)
         self.max_tension = np.zeros(self.n_pillars)
+        self.max_tension_d = np.full(self.n_pillars, np.nan)
         self.attached_at_preload = 0
         # The states without their arrays: keeping every State would keep two
         # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
@@ -138,7 +139,9 @@ class _Recorder:
             self.last_contact_state = state
             forces, attached = self.pillar_forces(state)
             self.last_attached_d[attached] = state.displacement
-            np.maximum(self.max_tension, -forces, out=self.max_tension)
+            larger = -forces > self.max_tension
+            self.max_tension[larger] = -forces[larger]
+            self.max_tension_d[larger] = state.displacement
             if self.best is None or state.force < self.best.force:
                 self.best = state
             if "zero_force" not in self.snapshots and state.force <= 0:
@@ -173,7 +176,8 @@ class _Recorder:
                 self._take(name, state)
         order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
         snapshots = tuple(self.snapshots[name] for name in order if name in self.snapshots)
-        pillars = {"separation_displacement": self.last_attached_d, "max_tension": self.max_tension}
+        pillars = {"separation_displacement": self.last_attached_d, "max_tension": self.max_tension,
+                   "max_tension_displacement": self.max_tension_d}
         return PullOffRecord(curve=_curve(self.rows), snapshots=snapshots,
                              summary=self._summary(path, wall_time), pillars=pillars)
 

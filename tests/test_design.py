@@ -1,0 +1,136 @@
+"""Design for equal load sharing (``brushbem design``): the direct solve, its verification, its limits.
+
+Quick grid (8 x 8 pillars in a circle, phi = 0.06, N = 128: 2.2 elements per
+pillar radius, the thesis's ch. 7 setting coarsened): it tests the machinery;
+the thesis-grid numbers are in the closing measurements of the README.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from brushbem.case import brush_scales
+from brushbem.cli import main
+from brushbem.design import DesignError, critical_forces, design, prescribed_force_state
+from brushbem.halfspace import HalfSpace
+from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
+from brushbem.structure import Grid, Profile, brush, flat_punch
+
+GRID = Grid(1.0, 128)
+RADIUS = math.sqrt(0.06 / math.pi) / 8
+
+
+def _problem(stiffness: float, profile: float = 0.0) -> ContactProblem:
+    indenter = brush(GRID, layout="square", region="circle", pillars_per_side=8, pillar_radius=RADIUS,
+                     contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=stiffness,
+                     profile=Profile(profile) if profile else None)
+    return ContactProblem(GRID, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+
+
+def _path(problem: ContactProblem) -> LoadPath:
+    return LoadPath(method="events", preload_force=2 * brush_scales(problem)["ideal_sharing_force"],
+                    max_steps=10**6)
+
+
+def test_prescribed_forces_on_a_punch_give_its_stiffness():
+    """One rigid punch carrying F moves by F / k_h, k_h its stiffness from the ordinary contact solver (1e-6)."""
+    punch = flat_punch(GRID, 0.2)
+    halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
+    pressure, w = prescribed_force_state(halfspace, punch.pillar, np.array([-0.01]))
+    assert GRID.element_size**2 * pressure.sum() == pytest.approx(-0.01, rel=1e-12)
+    k_h = indent(ContactProblem(GRID, punch, contact_modulus=1.0, work_of_adhesion=0.0), 0.01).force / 0.01
+    assert w[0] == pytest.approx(-0.01 / k_h, rel=1e-6)
+
+
+def test_critical_forces_put_every_pillar_edge_at_the_criterion():
+    problem = _problem(10.0)
+    indenter = problem.indenter
+    halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
+    forces, _, total = critical_forces(halfspace, indenter.pillar, -np.full(indenter.n_pillars, 1e-4),
+                                       problem.critical_stress)
+    pressure, _ = prescribed_force_state(halfspace, indenter.pillar, forces)
+    tension = np.zeros(indenter.n_pillars)
+    np.maximum.at(tension, indenter.pillar[indenter.pillar >= 0], -pressure[indenter.pillar >= 0])
+    np.testing.assert_allclose(tension, problem.critical_stress, rtol=1e-7)
+    assert total == pytest.approx(-forces.sum())
+
+
+@pytest.mark.parametrize("stiffness", [6e-4, 10.0])
+def test_designed_lengths_reach_the_prediction_and_beat_the_concave_brushes(stiffness):
+    """The verified F~ equals the predicted one (every edge critical at once) to 1e-4 (measured 2e-6).
+
+    And it is at least that of the flat brush and of the thesis's family of
+    concave brushes (eq. 7.3) around its optimum on this grid.  Measured:
+    the design 0.893 for both stiffnesses; k~ = 6e-4: flat 0.872, concave
+    0.883 / 0.8875 (h~ = 0.1 / 0.15, the best of 0.05-0.3); k~ = 10: flat
+    0.743, and every concave brush below it.
+    """
+    problem = _problem(stiffness)
+    result = design(problem, _path(problem), target="lengths", iterations=0)
+    assert result.converged
+    assert result.verified_force_ratio == pytest.approx(result.predicted_force_ratio, abs=1e-4)
+    assert result.values.min() == 0.0 and result.values.max() > 0
+    for h in (0.0, 0.1, 0.15):
+        concave = _problem(stiffness, h)
+        force = record_pull_off(concave, _path(concave)).summary["adhesive_force"]
+        assert result.verified_force_ratio >= force / result.ideal_sharing_force - 1e-6, h
+
+
+def test_designed_stiffnesses_keep_the_mean_and_reach_the_prediction():
+    problem = _problem(0.05)
+    result = design(problem, _path(problem), target="stiffness", iterations=1)
+    assert result.converged and np.all(result.values > 0)
+    assert result.verified_force_ratio >= result.predicted_force_ratio - 1e-3
+    assert result.history[0] == pytest.approx(result.predicted_force_ratio, abs=1e-4)
+    # The direct design keeps the configured mean stiffness (a corrective round may move it).
+    direct = design(problem, _path(problem), target="stiffness", iterations=0)
+    assert float(np.mean(direct.values)) == pytest.approx(0.05, rel=1e-10)
+
+
+def test_the_design_is_reproducible():
+    problem = _problem(10.0)
+    first = design(problem, _path(problem), iterations=1)
+    second = design(problem, _path(problem), iterations=1)
+    np.testing.assert_allclose(first.values, second.values, rtol=0, atol=1e-12 * np.abs(first.values).max())
+
+
+def test_what_the_design_cannot_handle_is_refused():
+    punch = ContactProblem(GRID, flat_punch(GRID, 0.2), contact_modulus=1.0, work_of_adhesion=1e-4)
+    path = LoadPath(preload_displacement=0.01)
+    with pytest.raises(DesignError, match="brush"):
+        design(punch, path)
+    rigid = _problem(math.inf)
+    with pytest.raises(DesignError, match="elastic pillars"):
+        design(rigid, _path(rigid), target="stiffness")
+    dry = dataclasses.replace(_problem(1.0), work_of_adhesion=0.0)
+    with pytest.raises(DesignError, match="work_of_adhesion"):
+        design(dry, LoadPath(preload_displacement=0.01))
+    with pytest.raises(DesignError, match="target"):
+        design(_problem(1.0), LoadPath(preload_displacement=0.01), target="shape")
+
+
+def test_cli_design_writes_the_design(tmp_path):
+    path = tmp_path / "brush.toml"
+    path.write_text(
+        "[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\nelements = 64\n"
+        '[indenter]\nshape = "brush"\nlayout = "square"\nregion = "circle"\npillars_per_side = 4\n'
+        f"pillar_radius = {math.sqrt(0.06 / math.pi) / 4}\nstiffness_ratio = 10.0\n"
+        "[protocol]\npreload_force = 0.005\n")
+    out = tmp_path / "design"
+    result = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert {p.name for p in out.iterdir()} == {"design.npy", "design.csv", "design.json", "design.png"}
+    scalars = json.loads((out / "design.json").read_text())
+    assert scalars["verified_force_ratio"] > 0.5 and scalars["pillars"] == np.load(out / "design.npy").size
+    punch = tmp_path / "punch.toml"
+    punch.write_text("[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\n"
+                     'elements = 64\n[indenter]\nshape = "flat_punch"\nradius = 0.2\n[protocol]\n'
+                     "preload_displacement = 0.01\n")
+    refused = CliRunner().invoke(main, ["design", str(punch), "--out", str(tmp_path / "no")])
+    assert refused.exit_code == 2
