@@ -132,3 +132,29 @@ def test_cli_run_refine_writes_the_refinement(tmp_path):
     path.write_text(small)
     refused = CliRunner().invoke(main, ["run", str(path), "--out", str(tmp_path / "refused"), "--refine", "3"])
     assert refused.exit_code == 2 and "grid.elements" in refused.output + str(refused.stderr_bytes or b"")
+
+
+def test_a_sweep_refines_every_case(tmp_path):
+    import concurrent.futures
+
+    from brushbem.sweep import load_summary, run_sweep
+
+    sweep = {
+        "base": {
+            "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3},
+            "grid": {"size": 1.0, "elements": 64},
+            "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.15},
+            "protocol": {"preload_displacement": 0.01},
+        },
+        "refine": 2,
+        "sweep": {"indenter.stiffness": [0.15, 1.5]},
+    }
+    run_sweep(sweep, tmp_path / "sweep", concurrent.futures.ThreadPoolExecutor(1))
+    frame = load_summary(tmp_path / "sweep")
+    assert (frame["status"] == "finished").all()
+    column = "refinement.adhesive_force.extrapolated"
+    assert column in frame and np.all(np.isfinite(frame[column].astype(float)))
+    # The finest grid is the configured one: its F_A is the case's.
+    values = frame["refinement.adhesive_force.values"]
+    assert all(json.loads(v)[-1] == f if isinstance(v, str) else v[-1] == f
+               for v, f in zip(values, frame["adhesive_force"]))

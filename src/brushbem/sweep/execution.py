@@ -202,7 +202,7 @@ def run_sweep(
         try:
             with _Reporter(len(todo), len(skipped), progress, console) as reporter:
                 for case in todo:
-                    futures[executor.submit(compute_case, case.config)] = case
+                    futures[executor.submit(compute_case, case.config, sweep.spec.refine)] = case
                 pending = set(futures)
                 while pending:
                     done, pending = wait(pending, timeout=reporter.timeout(), return_when=FIRST_COMPLETED)

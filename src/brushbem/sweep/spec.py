@@ -53,6 +53,9 @@ class SweepSpec(BaseModel):
         Realizations of every parameter point, each with its own seed.
     seed : int
         Entropy of the `numpy.random.SeedSequence` the case seeds come from.
+    refine : int or None
+        Run every case on 2 or 3 grids and record the Richardson-extrapolated
+        F_A and work (`brushbem.refine`, as ``brushbem run --refine``).
     sweep : dict
         Dotted run-config key -> non-empty list of values.
     """
@@ -63,6 +66,7 @@ class SweepSpec(BaseModel):
     mode: Literal["product", "zip"] = "product"
     realizations: int = Field(1, ge=1, le=1_000_000)
     seed: int = Field(0, ge=0)
+    refine: int | None = Field(None, ge=2, le=3)
     sweep: dict[str, Annotated[list[Any], Field(min_length=1)]] = Field(default_factory=dict)
 
 
@@ -71,6 +75,7 @@ _ALLOWED = {
     "mode": "one of 'product', 'zip'",
     "realizations": "an integer in [1, 1000000]",
     "seed": "an integer >= 0 (the entropy of numpy.random.SeedSequence)",
+    "refine": "2 or 3: run every case on that many grids N / 2^k and extrapolate (brushbem run --refine)",
     "sweep": "a table of dotted run-configuration keys, each with a list of values",
 }
 
@@ -162,6 +167,7 @@ class Sweep:
             "mode": self.spec.mode,
             "realizations": self.spec.realizations,
             "seed": self.spec.seed,
+            **({"refine": self.spec.refine} if self.spec.refine is not None else {}),
             "seed_policy": (
                 "numpy.random.SeedSequence(seed).spawn(realizations): one child per "
                 "realization, shared by all parameter points; its first 32-bit word "

@@ -56,8 +56,8 @@ class CaseOutcome:
     traceback: str = ""
 
 
-def compute_case(config: RunConfig) -> CaseOutcome:
-    """Run one case in a worker; any exception becomes a ``failed`` outcome.
+def compute_case(config: RunConfig, refine: int | None = None) -> CaseOutcome:
+    """Run one case in a worker (on ``refine`` grids, if given); any exception becomes a ``failed`` outcome.
 
     Catching here, not in the driver, keeps one bad case from taking down its
     neighbours, and turns the exception into text: an exception object may not
@@ -67,7 +67,12 @@ def compute_case(config: RunConfig) -> CaseOutcome:
 
     start = time.perf_counter()
     try:
-        result, _reference = case_module.run_case(config)
+        if refine is None:
+            result, _reference = case_module.run_case(config)
+        else:
+            from brushbem.refine import refined_run
+
+            result, _reference = refined_run(config, refine, run=case_module.run_case)
     except Exception as exc:  # noqa: BLE001 - reported, not raised
         return CaseOutcome(
             status="failed",
