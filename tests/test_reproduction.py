@@ -163,3 +163,34 @@ def test_a_sampled_study_is_labelled_and_recomputed_with_its_flag():
     text = render([row], {"rough_brush": provenance}, "", {})
     assert "## `rough_brush` (thesis grid, sampled)" in text
     assert "brushbem study rough_brush --out out/rough_brush --sampled" in text
+
+
+def test_committed_tables_keep_their_case_ids():
+    """Every committed table's case ids are those its shipped sweep file expands to today.
+
+    A case id hashes the resolved configuration; a schema key added later
+    must not change it while unset (`config_to_dict`), or every recorded
+    sweep folder would stop resuming and the tables would no longer name the
+    sweep's cases.
+    """
+    import csv
+    import json
+
+    from brushbem.studies import SWEEPS_DIR
+    from brushbem.sweep import load_sweep
+
+    root = Path(__file__).resolve().parents[1] / "docs" / "reproduction"
+    checked = 0
+    for provenance in sorted(root.glob("*/provenance.json")):
+        record = json.loads(provenance.read_text())
+        for part, info in (record.get("parts") or {}).items():
+            table = provenance.parent / f"{part}.csv"
+            sweep_file = SWEEPS_DIR / info["sweep_file"]
+            if not (table.exists() and sweep_file.exists()):
+                continue
+            with table.open() as stream:
+                ids = {row["case_id"] for row in csv.DictReader(stream)}
+            expanded = {case.case_id for case in load_sweep(sweep_file).cases}
+            assert ids <= expanded, (provenance.parent.name, part, sorted(ids - expanded)[:3])
+            checked += 1
+    assert checked >= 5

@@ -253,7 +253,20 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
     for level in indenter.get("levels") or ():
         for key in [k for k, v in level.items() if v is None]:
             del level[key]
-    for table in ("roughness", "profile"):
+    for table in ("roughness", "profile", "tip", "tilt", "grading", "viscoelastic", "pillar_law"):
         if isinstance(indenter.get(table), dict):
             indenter[table] = {k: v for k, v in indenter[table].items() if v is not None}
+    for level in indenter.get("levels") or ():
+        if isinstance(level.get("grading"), dict):
+            level["grading"] = {k: v for k, v in level["grading"].items() if v is not None}
+    # Keys added to the schema later are left out while unset, so the resolved
+    # configuration, and with it every sweep's case hashes, stays what it was
+    # for a configuration that does not use them (a sweep folder resumes).
+    for key in _LATER_PROTOCOL_KEYS:
+        if data["protocol"].get(key) is None:
+            data["protocol"].pop(key, None)
     return to_json_safe(data)
+
+
+#: Protocol keys that arrived after sweeps were first recorded (omitted when unset).
+_LATER_PROTOCOL_KEYS = ("speed",)
