@@ -11,10 +11,10 @@ import pytest
 from conftest import run_quick_study
 
 from brushbem.studies._ch5_7 import FIS, K, finished
-from brushbem.studies.beyond import ANGLE, CAP, SPEED
+from brushbem.studies.beyond import ANGLE, CAP, SPEED, _brush_kind
 
 
-@pytest.fixture(scope="module", params=["tip_shape", "grading", "tilt", "viscoelastic"])
+@pytest.fixture(scope="module", params=["tip_shape", "grading", "tilt", "viscoelastic", "robustness"])
 def quick(request, tmp_path_factory):
     return run_quick_study(request.param, tmp_path_factory)
 
@@ -50,3 +50,12 @@ def test_every_part_runs_and_is_drawn(quick):
         limit = work[0] * (1 + 1 / (10 * k_inf)) / (1 + 1 / k_inf)
         assert np.all(np.diff(work) < 0) and work[-1] > limit * (1 - 1e-3)
         assert work[0] == pytest.approx(float(punch["theory.work_of_separation"].iloc[0]), rel=0.05)
+    if study.name == "robustness":
+        for part, key in (("roughness", "indenter.roughness.sigma"), ("tilt", ANGLE)):
+            frame = finished(results, part)
+            frame = frame.assign(kind=_brush_kind(frame))
+            for _, group in frame[frame[key] == 0].groupby(K):
+                best = group.groupby("kind")[FIS].mean()
+                # Unperturbed, the design beats the flat and the concave brush (it puts every edge at the
+                # criterion at once; measured 0.899 against 0.850-0.895 here).
+                assert best["designed"] >= best[["flat", "concave"]].max() - 1e-9, best

@@ -75,6 +75,7 @@ STUDIES: dict[str, Study] = {
             beyond.GRADING,
             beyond.TILT,
             beyond.VISCOELASTIC,
+            beyond.ROBUSTNESS,
         ),
         key=lambda study: study.name,
     )

@@ -17,6 +17,10 @@ and ``tests/test_pillar_laws.py``.
 * ``viscoelastic``: F_A and the work of separation against the pulling
   speed, for one flat pillar and a brush on standard-linear-solid
   connections, between the relaxed and the instantaneous elastic limits.
+* ``robustness``: the equal-load-sharing design of `brushbem.design`
+  against the flat and the concave brush, under added roughness and tilt
+  (its designs are shipped as lengths files, written by
+  ``docs/studies/make_robustness_sweeps.py``).
 """
 
 from __future__ import annotations
@@ -185,4 +189,57 @@ VISCOELASTIC = Study(
     draw_tables=_draw_viscoelastic,
     notes="No thesis numbers; the slow and fast limits and the one-pillar closed form are tested in "
           "tests/test_viscoelastic.py.",
+)
+
+
+# -- the robustness of the equal-load-sharing design (brushbem design) ----------------
+
+LENGTHS = "indenter.lengths_file"
+PROFILE = "indenter.profile.amplification"
+SIGMA_KEY = "indenter.roughness.sigma"
+
+
+def _brush_kind(frame: pd.DataFrame) -> pd.Series:
+    """flat, concave or designed, from the lengths file and the profile of each case."""
+    designed = frame[LENGTHS].astype(str).str.contains(r"\.k[0-9.e-]+\.npy$", regex=True)
+    concave = frame[PROFILE].astype(float) > 0
+    return pd.Series(np.where(designed, "designed", np.where(concave, "concave", "flat")), index=frame.index)
+
+
+def _draw_robustness(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    written: list[Path] = []
+    styles = {"designed": "o-", "concave": "s--", "flat": "^:"}
+    for part, key, xlabel, scale_by_dc in (("roughness", SIGMA_KEY, "added roughness sigma~ = sigma / |d_c|", True),
+                                           ("tilt", ANGLE, "tilt angle (degrees)", False)):
+        frame = finished(results, part)
+        stiffnesses = sorted(frame[K].unique()) if has(frame, K, key, LENGTHS, PROFILE, FIS) else []
+        fig, ax = figure(max(1, len(stiffnesses)), 1)
+        if not stiffnesses:
+            empty_note(ax[0, 0])
+        for a_, k in zip(ax[0], stiffnesses):
+            sub = frame[np.isclose(frame[K], k)]
+            sub = sub.assign(kind=_brush_kind(sub),
+                             x=(sub[key] / sub[RIGID_DC].abs()).round(4) if scale_by_dc else sub[key])
+            for kind, group in sub.groupby("kind"):
+                stats = group.groupby("x")[FIS].agg(["mean", "std", "size"])
+                error = stats["std"].fillna(0.0) / np.sqrt(stats["size"])
+                a_.errorbar(stats.index, stats["mean"], yerr=error, fmt=styles.get(kind, "o-"), ms=4, capsize=2,
+                            label=kind)
+            a_.axhline(1.0, ls=":", color="0.5", lw=0.8)
+            a_.set(xlabel=xlabel, ylabel="F~ = F_A / (N F_K)", title=f"k~ = {k:g}, φ = 0.06, circle", ylim=(0, 1.1))
+            a_.legend(fontsize=7)
+        save(fig, Path(figures_dir) / f"robustness_{part}.png", written)
+    return written
+
+
+ROBUSTNESS = Study(
+    name="robustness",
+    title="Design for equal load sharing (brushbem design) against the flat and the concave brush, "
+          "under roughness and tilt",
+    figures=(),
+    parts=("roughness", "tilt"),
+    draw=_draw_robustness,
+    draw_tables=_draw_robustness,
+    notes="No thesis numbers; the designs are shipped as lengths files written by "
+          "docs/studies/make_robustness_sweeps.py.",
 )
