@@ -100,7 +100,14 @@ class PullOffSummary(MappingRecord):
     reason : str
     n_solves, n_cg_iterations, n_states, attached_pillars_at_pull_off : int
     mean_cg_iterations_per_solve, wall_time_s : float
+    stages_not_reached : dict or None
+        Snapshot stages the path does not pass through (``zero_force`` where
+        the force jumps across zero in a cascade, ``half_detached`` where the
+        pillars all come off at once), with the reason; not a key when every
+        stage was reached.
     """
+
+    _ABSENT_WHEN_NONE = frozenset({"stages_not_reached"})
 
     adhesive_force: float
     pull_off_displacement: float | None
@@ -117,6 +124,7 @@ class PullOffSummary(MappingRecord):
     attached_pillars_at_pull_off: int
     n_states: int
     wall_time_s: float
+    stages_not_reached: dict | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -238,7 +246,7 @@ class RunSummary(PullOffSummary):
         (`brushbem.refine.Refinement`); not a key otherwise.
     """
 
-    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement"})
+    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement", "stages_not_reached"})
 
     critical_stress: float
     normalized: Mapping[str, Any] | None = None

@@ -95,6 +95,8 @@ class _Recorder:
         self.rows: list[State] = []
         self.path_points: list[tuple[float, float, bool]] = []  # (d, F, loading), cascades included
         self.snapshots: dict[str, Snapshot] = {}
+        #: Stages (snapshot names) that the path does not pass through, with the reason.
+        self.not_reached: dict[str, str] = {}
         self.last_contact_state: State | None = None
         self.last_loading_state: State | None = None
         self.best: State | None = None
@@ -136,6 +138,7 @@ class _Recorder:
             self.last_loading_state = state
             self.attached_at_preload = state.attached_pillars
         elif state.contact_area > 0:
+            previous = self.last_contact_state or self.last_loading_state
             self.last_contact_state = state
             forces, attached = self.pillar_forces(state)
             self.last_attached_d[attached] = state.displacement
@@ -144,13 +147,42 @@ class _Recorder:
             self.max_tension_d[larger] = state.displacement
             if self.best is None or state.force < self.best.force:
                 self.best = state
-            if "zero_force" not in self.snapshots and state.force <= 0:
-                self._take("zero_force", state)
+            if "zero_force" not in self.snapshots and "zero_force" not in self.not_reached and state.force <= 0:
+                self._zero_force(previous, state)
             if ("half_detached" not in self.snapshots and self.n_pillars > 1
                     and 2 * state.attached_pillars <= self.attached_at_preload):
                 self._take("half_detached", state)
         self.max_area = max(self.max_area, state.contact_area)
         return True
+
+    def _zero_force(self, previous: State | None, state: State) -> None:
+        """The zero-force stage: interpolated where F crosses 0 on one contact set, else not reached.
+
+        Between two states with the same contact set the pressure is affine
+        in d, so the state at F = 0 is their exact interpolation.  Where the
+        force jumps across 0 in a detachment cascade (at one d), no
+        equilibrium has zero force: the stage is recorded as not reached.
+        """
+        if state.force == 0.0:
+            self._take("zero_force", state)
+            return
+        if previous is None or not previous.force > 0:
+            self.not_reached["zero_force"] = "the unloading starts in tension: no state at zero force"
+            return
+        same_set = previous.displacement != state.displacement and bool(np.array_equal(
+            np.asarray(self.to_numpy(previous.contact)), np.asarray(self.to_numpy(state.contact))))
+        if not same_set:
+            self.not_reached["zero_force"] = (
+                f"the force jumps from {previous.force:.6g} to {state.force:.6g} at d = {state.displacement:.6g} "
+                "(the contact set changes there): no equilibrium at zero force")
+            return
+        t = previous.force / (previous.force - state.force)
+        pressure = previous.pressure + t * (state.pressure - previous.pressure)
+        zero = dataclasses.replace(
+            state, displacement=previous.displacement + t * (state.displacement - previous.displacement),
+            force=float(self.h2 * np.sum(np.asarray(self.to_numpy(pressure)))), pressure=pressure, kind="event",
+            reason="zero-force crossing, interpolated on a fixed contact set")
+        self._take("zero_force", zero)
 
     def interrupt(self, state: State) -> None:
         self.interrupted = True
@@ -176,6 +208,12 @@ class _Recorder:
                 self._take(name, state)
         order = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
         snapshots = tuple(self.snapshots[name] for name in order if name in self.snapshots)
+        if self.n_pillars > 1 and "half_detached" not in self.snapshots and self.separated:
+            last = self.last_contact_state
+            attached = last.attached_pillars if last is not None else 0
+            self.not_reached["half_detached"] = (
+                f"the attached pillars go from {attached} (of {self.attached_at_preload} at the preload) to 0 in one "
+                "detachment cascade: no state with half of them attached")
         pillars = {"separation_displacement": self.last_attached_d, "max_tension": self.max_tension,
                    "max_tension_displacement": self.max_tension_d}
         return PullOffRecord(curve=_curve(self.rows), snapshots=snapshots,
@@ -206,6 +244,7 @@ class _Recorder:
             "attached_pillars_at_pull_off": best.attached_pillars if best is not None else 0,
             "n_states": len(rows),
             "wall_time_s": wall_time,
+            "stages_not_reached": dict(self.not_reached) or None,
         }
         overflowed = [key for key in _FINITE_SUMMARY if summary[key] is not None and not math.isfinite(summary[key])]
         if overflowed and summary["converged"]:

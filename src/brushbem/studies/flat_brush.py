@@ -94,6 +94,10 @@ def _draw_curves(results, figures_dir):
                 if d is not None and f is not None:
                     ax.plot([d / d_scale], [f / f_scale], "o", ms=4)
                     ax.annotate(str(j + 1), (d / d_scale, f / f_scale), fontsize=7)
+            else:
+                # A stage the path does not pass through (summary.json: stages_not_reached says why).
+                sub.text(0.5, 0.5, "not reached", transform=sub.transAxes, ha="center", va="center",
+                         fontsize=7, color="0.4")
             sub.set_title(f"{j + 1}: {name}", fontsize=7)
         phi = float(row.phi)
         ax.axhline(-phi ** -0.25, color="k", ls="--", lw=0.7, label="-phi^-1/4 (eq. 4.9)")
