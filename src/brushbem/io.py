@@ -239,6 +239,39 @@ def netcdf_attributes(attributes: dict[str, Any]) -> dict[str, Any]:
     return {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
 
 
+#: What brushbem's equations and figures refer to (the NetCDF ``references`` attribute).
+REFERENCES = (
+    "X. He, The Boundary Element Method Simulation of Adhesion of Brush-Structures (doctoral thesis; brushbem's "
+    "eq., Fig. and sec. numbers refer to it); X. He, Q. Li, V. L. Popov, Lubricants 8 (2020) 94, "
+    "doi:10.3390/lubricants8100094; X. He, Q. Li, V. L. Popov, The Journal of Adhesion (2021), "
+    "doi:10.1080/00218464.2021.1939017; R. Pohrt, V. L. Popov, Facta Universitatis, Series: Mechanical "
+    "Engineering (2015) (the detachment criterion)"
+)
+
+#: The physical dimension of each unit name brushbem writes.  The quantities are in the units of the
+#: configuration's inputs (E* sets the stress, grid.size the length): written as CF's dimensionless "1",
+#: with the dimension kept in the attribute ``dimension``.
+_DIMENSIONS = {"length", "force", "stress", "length^2", "force / length"}
+
+
+def _cf_variables(variables: dict[str, xr.Variable], coords: dict[str, xr.Variable]) -> None:
+    """CF-1.10 attributes: parseable units, flags for masks and booleans."""
+    for variable in (*variables.values(), *coords.values()):
+        attrs = variable.attrs
+        unit = attrs.get("units")
+        if unit in _DIMENSIONS:
+            attrs["dimension"] = unit
+            attrs["units"] = "1"
+        elif variable.dtype == np.int8 and "contact" in attrs.get("long_name", ""):
+            attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
+            attrs["flag_meanings"] = "not_in_contact in_contact"
+        elif variable.dtype == bool:  # stored as int8 0 / 1 (xarray's encoding of booleans)
+            attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
+            attrs["flag_meanings"] = "false true"
+        elif unit is None and np.issubdtype(variable.dtype, np.number):
+            attrs["units"] = "1"
+
+
 def to_dataset(result: CaseResult, config: RunConfig | None = None) -> xr.Dataset:
     """The ``result.nc`` content of one run as an in-memory `xarray.Dataset`.
 
@@ -329,7 +362,14 @@ def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
             ("y", "x"), np.asarray(snapshot.contact, dtype=np.int8),
             {"long_name": f"contact set at {snapshot.name} (1 = in contact)", **moment},
         )
+    coords["step"] = xr.Variable("step", np.arange(len(curve.displacement), dtype=np.int64),
+                                 {"long_name": "index of the recorded state along the load path", "units": "1"})
+    _cf_variables(variables, coords)
     attributes: dict[str, Any] = {
+        "Conventions": "CF-1.10",
+        "title": "brushbem pull-off: force-displacement curve, contact snapshots and per-pillar results",
+        "source": f"brushbem {__version__}",
+        "references": REFERENCES,
         "brushbem_version": __version__,
         # JSON null: not recorded by the caller (not "no seeds" or "no config").
         "config": "null",
