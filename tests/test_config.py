@@ -512,3 +512,28 @@ def test_one_mutated_key_parses_or_names_itself(tmp_path_factory, section_key, v
         assert any(p.startswith(named) for p in error.problems), error.problems
     else:
         assert getattr(config, section) is not None
+
+
+def test_three_mistakes_are_reported_in_one_pass_each_once(tmp_path):
+    """A negative modulus, a misspelt key and overlapping pillars: three lines, one per mistake, one pass.
+
+    The misspelt ``stifness_ratio`` gets a "did you mean" and its twin's
+    "give exactly one of stiffness_ratio and stiffness" (which follows from
+    it) is not repeated; the overlap is found on the layout keys although
+    other indenter keys failed.
+    """
+    from brushbem.assembly import load_config as full_check
+
+    path = tmp_path / "three.toml"
+    path.write_text(
+        "[halfspace]\ncontact_modulus = -1.0\nwork_of_adhesion = 1.0e-4\n[grid]\nsize = 1.0\nelements = 256\n"
+        '[indenter]\nshape = "brush"\nlayout = "square"\npillars_per_side = 16\npillar_radius = 0.04\n'
+        "stifness_ratio = 0.455\n[protocol]\npreload_displacement = 0.002\n")
+    with pytest.raises(ConfigError) as info:
+        full_check(path)
+    lines = info.value.problems
+    assert len(lines) == 3, lines
+    assert lines[0].startswith("`halfspace.contact_modulus`")
+    assert lines[1].startswith("`indenter.stifness_ratio`") and "did you mean `stiffness_ratio`" in lines[1]
+    assert lines[2].startswith("`indenter.pillar_radius`") and "overlap" in lines[2]
+    assert not any("None" in line for line in lines)

@@ -160,9 +160,10 @@ def _problem_lines(
         field = _field_at(model, loc)
         if kind == "extra_forbidden":
             parent = _field_at(model, loc[:-1]) if len(loc) > 1 else None
-            owner = parent.annotation if parent is not None else model
-            known = ", ".join(owner.model_fields) if hasattr(owner, "model_fields") else ""
-            lines.append(f"`{key}`: {_show(item['input'])} — unknown key (allowed: {known})")
+            owner = _model_of(parent.annotation) if parent is not None else model
+            names = list(owner.model_fields) if hasattr(owner, "model_fields") else []
+            lines.append(f"`{key}`: {_show(item['input'])} — unknown key{did_you_mean(str(loc[-1]), names)} "
+                         f"(allowed: {', '.join(names)})")
         elif kind == "missing":
             allowed = _describe_allowed(field) if field is not None else "a value"
             lines.append(f"`{key}`: missing — required, {allowed}")
@@ -185,3 +186,24 @@ def _capped(problems: list[str]) -> list[str]:
     if len(problems) <= _MAX_PROBLEMS:
         return problems
     return [*problems[:_MAX_PROBLEMS], f"`...`: {len(problems) - _MAX_PROBLEMS} more problems not shown"]
+
+
+def did_you_mean(name: str, candidates) -> str:
+    """`` — did you mean `x`?`` for the closest known name, or "" when none is close."""
+    import difflib
+
+    match = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.75)
+    return f" — did you mean `{match[0]}`?" if match else ""
+
+
+def _model_of(annotation):
+    """The model class of an annotation (``X | None`` and ``tuple[X, ...]`` unwrapped), or the annotation."""
+    import typing
+
+    for arg in typing.get_args(annotation) or ():
+        if hasattr(arg, "model_fields"):
+            return arg
+        inner = _model_of(arg)
+        if hasattr(inner, "model_fields"):
+            return inner
+    return annotation

@@ -10,6 +10,7 @@ that re-parses to an equal `RunConfig`.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -19,10 +20,10 @@ from typing import Any, Union, get_args, get_origin
 import numpy as np
 from pydantic import BaseModel, ValidationError
 
-from .errors import ConfigError, _capped, _dotted, _problem_lines, _show
+from .errors import ConfigError, _capped, _dotted, _problem_lines, _show, did_you_mean
 from .limits import _MAX_DEPTH, MAX_CONFIG_BYTES
 from .rules import StructureRules, _cross_section_problems
-from .schema import _SECTIONS, RunConfig, _Section
+from .schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
 
 __all__ = ["config_to_dict", "load_config", "parse_config", "to_json_safe"]
 
@@ -105,7 +106,8 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
     for key in mapping:
         if key not in _SECTIONS:
             problems.append(
-                f"`{key}`: {_show(mapping[key])} — unknown key (allowed: {', '.join(_SECTIONS)})"
+                f"`{key}`: {_show(mapping[key])} — unknown key{did_you_mean(str(key), _SECTIONS)} "
+                f"(allowed: {', '.join(_SECTIONS)})"
             )
     sections: dict[str, BaseModel] = {}
     for name, model in _SECTIONS.items():
@@ -126,13 +128,50 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
             sections.get("grid"), sections.get("indenter"), sections.get("halfspace"), rules
         ):
             problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
-        raise ConfigError(_capped(problems))
+        if "indenter" not in sections and "grid" in sections and rules is not None:
+            # The layout's own keys may be valid where other indenter keys are not: its rasterised
+            # checks (overlap, resolution, tiling) are reported in the same pass.
+            geometry = _geometry_only(mapping.get("indenter"), context)
+            if geometry is not None:
+                halfspace = sections.get("halfspace") or HalfSpaceConfig(contact_modulus=1.0, work_of_adhesion=0.0)
+                for problem in rules.structure_problems(sections["grid"], geometry, halfspace):
+                    problems.append(f"`{problem.key}`: {problem.value} — {problem.allowed}")
+        raise ConfigError(_capped(_one_line_per_mistake(problems)))
     try:
         # The sections are already validated instances: this runs only the
         # rules between sections.
         return RunConfig.model_validate(sections, context={"rules": rules})
     except ValidationError as exc:
         raise ConfigError(_problem_lines(exc, RunConfig, ())) from None
+
+
+#: The brush keys that decide its rasterised layout (checked on their own when other keys fail).
+_GEOMETRY_KEYS = ("shape", "layout", "region", "region_size", "pillars_per_side", "spacing", "pillar_count",
+                  "min_gap", "pillar_radius", "seed")
+
+
+def _geometry_only(raw: Any, context: dict) -> IndenterConfig | None:
+    """A brush's layout keys alone, as a valid indenter table (rigid pillars), or None if they fail too."""
+    if not isinstance(raw, Mapping) or raw.get("shape") != "brush":
+        return None
+    table = {key: raw[key] for key in _GEOMETRY_KEYS if key in raw}
+    table["stiffness"] = math.inf
+    levels = raw.get("levels")
+    if isinstance(levels, list) and all(isinstance(lv, Mapping) and isinstance(lv.get("cluster"), int)
+                                        and not isinstance(lv.get("cluster"), bool) for lv in levels):
+        table["levels"] = [{"cluster": lv["cluster"], "stiffness": math.inf} for lv in levels]
+    try:
+        return IndenterConfig.model_validate(table, context=context)
+    except ValidationError:
+        return None
+
+
+def _one_line_per_mistake(problems: list[str]) -> list[str]:
+    """Drops what follows from a misspelt key: its known twin reported missing or not given."""
+    suggested = set(re.findall(r"^`([^`]*)\.[^.`]*`: .* did you mean `([^`]*)`\?", "\n".join(problems), re.M))
+    twins = {f"{section}.{name}" for section, name in suggested}
+    return [line for line in problems
+            if not (line.split("`")[1] in twins and ("not given" in line or "missing" in line))]
 
 
 def _too_deep(document: Any) -> tuple[Any, ...] | None:
