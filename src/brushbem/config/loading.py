@@ -168,7 +168,7 @@ def _geometry_only(raw: Any, context: dict) -> IndenterConfig | None:
 
 def _one_line_per_mistake(problems: list[str]) -> list[str]:
     """Drops what follows from a misspelt key: its known twin reported missing or not given."""
-    suggested = set(re.findall(r"^`([^`]*)\.[^.`]*`: .* did you mean `([^`]*)`\?", "\n".join(problems), re.M))
+    suggested = set(re.findall(r"^`([^`]*)\.[^.`]*`: .* did you mean `([^`]*)`\?", "\n".join(problems), re.MULTILINE))
     twins = {f"{section}.{name}" for section, name in suggested}
     return [line for line in problems
             if not (line.split("`")[1] in twins and ("not given" in line or "missing" in line))]
