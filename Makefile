@@ -6,7 +6,7 @@ VENV := .venv
 PYTHON ?= $(shell for candidate in python3.11 python3; do \
 	  if $$candidate -c "" >/dev/null 2>&1; then echo $$candidate; break; fi; done)
 
-.PHONY: run test clean chromium
+.PHONY: run test test-fast clean chromium
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -22,13 +22,19 @@ $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
 	touch $@
 
 run: $(VENV)/.installed
-	$(VENV)/bin/brushbem run examples/default.toml --out out/default
+	$(VENV)/bin/brushbem run examples/default.toml --out out/default --overwrite
+	@echo "brushbem is installed in $(VENV): 'source $(VENV)/bin/activate' puts it on the PATH"
 
 # The report test renders report.html in headless Chromium: install Debian's
 # chromium when no such browser is on PATH (as root, with apt-get), else warn
 # (the test is then skipped, or fails when BRUSHBEM_REQUIRE_CHROMIUM is set).
 test: $(VENV)/.installed-test chromium
 	$(VENV)/bin/python -m pytest -q
+
+# The tests not marked slow (the physics against closed forms on small grids, the
+# configuration, the CLI): a few minutes; `make test` runs everything.
+test-fast: $(VENV)/.installed-test
+	$(VENV)/bin/python -m pytest -q -m "not slow" -p no:cacheprovider
 
 chromium:
 	@if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 \

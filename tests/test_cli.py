@@ -276,10 +276,13 @@ def test_result_nc_round_trips(tmp_path, fake_run_case):
 
 
 def test_run_again_replaces_files_and_leaves_no_temporaries(tmp_path, fake_run_case):
+    """A second run into a folder of results is refused unless --overwrite; with it, it replaces them."""
     path = write(tmp_path, VALID_TOML)
     out = tmp_path / "out"
-    for _ in range(2):
-        assert invoke("run", str(path), "--out", str(out), "--quiet").exit_code == 0
+    assert invoke("run", str(path), "--out", str(out), "--quiet").exit_code == 0
+    refused = invoke("run", str(path), "--out", str(out), "--quiet")
+    assert refused.exit_code == 2 and "--overwrite" in refused.output
+    assert invoke("run", str(path), "--out", str(out), "--quiet", "--overwrite").exit_code == 0
     # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
     assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
 
@@ -324,3 +327,20 @@ def test_python_dash_m_brushbem(tmp_path):
     assert completed.returncode == 2
     assert "grid.size" in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+@pytest.mark.parametrize("width", [50, 80, 200])
+def test_tables_never_cut_the_names_a_user_types(width, monkeypatch):
+    """``study --list`` and ``sweep --dry-run`` show every study name, case id and swept key whole."""
+    from brushbem.studies import STUDIES, sweep_file
+
+    monkeypatch.setenv("COLUMNS", str(width))
+    listed = CliRunner().invoke(main, ["study", "--list"])
+    assert listed.exit_code == 0
+    for name in STUDIES:
+        assert name in listed.output, (width, name)
+    path = sweep_file("concave", "curves", quick=True)
+    dry = CliRunner().invoke(main, ["sweep", str(path), "--dry-run", "--out", "unused"])
+    assert dry.exit_code == 0
+    for key in ("indenter.profile.amplification", "protocol.preload_force", "0000-"):
+        assert key in dry.output, (width, key)

@@ -248,7 +248,7 @@ def test_writer_killed_between_its_two_files(tmp_path):
     assert (out / "summary.json").read_text() == old_summary  # the old summary beside a new dataset
     with pytest.raises(InconsistentCaseError, match="different runs"):
         read_case(out)
-    rerun = CliRunner().invoke(main, ["run", str(config), "--out", str(out), "--quiet"])
+    rerun = CliRunner().invoke(main, ["run", str(config), "--out", str(out), "--quiet", "--overwrite"])
     assert rerun.exit_code == 0, rerun.output
     read_case(out)
     _no_leftovers(out)

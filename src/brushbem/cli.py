@@ -203,6 +203,10 @@ class _Stop:
         return 128 + int(self.signal or signal.SIGINT)
 
 
+#: The files of a run's output folder (`brushbem run` refuses to replace them without --overwrite).
+RESULT_FILES = ("summary.json", "result.nc", "pulloff.png")
+
+
 def _prepare_out(out_dir: Path) -> None:
     """Create ``out_dir`` and check that it takes files, before anything is computed; else exit 2."""
     from brushbem.io import check_writable
@@ -229,7 +233,8 @@ def _prepare_out(out_dir: Path) -> None:
 @click.option("--refine", "grids", type=click.IntRange(2, 3), default=None,
               help="Also run on the coarser grids N/2 (and N/4) and report the Richardson-extrapolated F_A and "
                    "work with error estimates in summary.json (refinement).")
-def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None) -> None:
+@click.option("--overwrite", is_flag=True, help="Replace the results of an earlier run in --out.")
+def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwrite: bool) -> None:
     """Run the pull-off in CONFIG; write the results into --out.
 
     Ctrl-C (or SIGTERM) stops after the current state and writes the partial
@@ -237,6 +242,11 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None) -> Non
     """
     built = _load_or_exit(config_path, build=True)
     config = built.config
+    earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
+    if earlier and not overwrite:
+        click.echo(f"--out {out_dir} holds the results of an earlier run ({', '.join(earlier)}); --overwrite "
+                   "replaces them, or choose another --out", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     if grids is not None:
         from brushbem.refine import refined_configs
 
@@ -416,9 +426,27 @@ def sweep(
     for warning in study.warnings:
         click.echo(f"warning: {warning}", err=True)
     if dry_run:
+        console = Console()
+        rows = [(case.case_id, str(case.realization), f"{case.seed}{'' if case.seed_applied else '*'}",
+                 *(_number(case.values[key]) for key in study.keys)) for case in study.cases]
+        headers = ("case", "realization", "seed", *study.keys)
+        widths = [max([len(h), *(len(str(r[i])) for r in rows)]) for i, h in enumerate(headers)]
+        if sum(widths) + 3 * len(widths) + 1 > console.width:
+            # Too narrow for a table that shows every name whole: one line per case, key = value.
+            console.print(f"{len(study.cases)} cases", highlight=False)
+            for row in rows:
+                values = "  ".join(f"{key} = {value}" for key, value in zip(study.keys, row[3:]))
+                console.print(f"{row[0]}  realization {row[1]}  seed {row[2]}  {values}", highlight=False,
+                              soft_wrap=True)
+            if not all(case.seed_applied for case in study.cases):
+                click.echo("* recorded only: the indenter of this case takes no seed")
+            return
         table = Table(title=f"{len(study.cases)} cases")
         for column in ("case", "realization", "seed", *study.keys):
-            table.add_column(column, no_wrap=column == "case")
+            # Case ids and the swept keys are typed by users: folded, never cut with an ellipsis.
+            table.add_column(column, no_wrap=column == "case", overflow="fold",
+                             min_width=max((len(c.case_id) for c in study.cases), default=4) if column == "case"
+                             else None)
         for case in study.cases:
             table.add_row(case.case_id, str(case.realization),
                           f"{case.seed}{'' if case.seed_applied else '*'}",
@@ -562,8 +590,10 @@ def _list_studies() -> None:
     from brushbem import studies
 
     table = Table(title=f"{len(studies.STUDIES)} studies")
-    for column in ("study", "title", "thesis figures", "parts"):
-        table.add_column(column)
+    # The names a user types are never cut: the study column is as wide as the longest name, the rest folds.
+    table.add_column("study", no_wrap=True, min_width=max(len(name) for name in studies.STUDIES))
+    for column in ("title", "thesis figures", "parts"):
+        table.add_column(column, overflow="fold")
     for study in studies.STUDIES.values():
         table.add_row(study.name, study.title, ", ".join(study.figures), ", ".join(study.parts))
     Console().print(table)
