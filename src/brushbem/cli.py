@@ -330,6 +330,46 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
 
 
+#: The examples `brushbem init` writes (shipped in brushbem/examples/), and what each is.
+EXAMPLES = {
+    "default": ("default.toml", "a 16 x 16 brush of flat pillars on springs (thesis Fig. 4-3 a)"),
+    "punch": ("punch.toml", "Kendall's flat punch, rigid"),
+    "punch_spring": ("punch_spring.toml", "a flat punch on a spring (thesis sec. 2.3)"),
+    "sphere_spring": ("sphere_spring.toml", "a JKR sphere on a spring"),
+    "sweep": ("sweep.toml", "a parameter sweep over the punch's spring stiffness (with punch_spring.toml)"),
+}
+
+
+@main.command()
+@click.argument("name", required=False, default="default", type=click.Choice(list(EXAMPLES)))
+@click.option("--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=Path("."),
+              show_default=True, help="Folder to write the example into.")
+@click.option("--force", is_flag=True, help="Replace files of the same name.")
+@click.option("--list", "list_only", is_flag=True, help="List the examples and exit.")
+def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
+    """Write a commented example configuration NAME (default: the default brush) to start from."""
+    from importlib.resources import files
+
+    if list_only:
+        for key, (file, text) in EXAMPLES.items():
+            click.echo(f"{key:14s} {file:20s} {text}")
+        return
+    names = [EXAMPLES[name][0]] + (["punch_spring.toml"] if name == "sweep" else [])
+    targets = [out_dir / file for file in names]
+    existing = [str(t) for t in targets if t.exists()]
+    if existing and not force:
+        click.echo(f"{', '.join(existing)} exists; --force replaces it, or choose another --out", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for file, target in zip(names, targets):
+        target.write_text(files("brushbem.examples").joinpath(file).read_text(encoding="utf-8"), encoding="utf-8")
+        click.echo(f"wrote {target}")
+    first = targets[0]
+    check = f"brushbem sweep {first} --dry-run" if name == "sweep" else f"brushbem validate {first}"
+    command = "sweep" if name == "sweep" else "run"
+    click.echo(f"next: {check} && brushbem {command} {first} --out out/{first.stem}")
+
+
 @main.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
