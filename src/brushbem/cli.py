@@ -26,7 +26,13 @@ from typing import Any, Self
 
 import click
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
 from rich.table import Table
 
 from brushbem import __version__, assembly
@@ -284,6 +290,8 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
             BarColumn(),
             TextColumn("{task.percentage:>3.0f}%"),
             TimeElapsedColumn(),
+            TextColumn("remaining"),
+            TimeRemainingColumn(),
             console=stderr,
             transient=True,
             disable=quiet,

@@ -188,6 +188,7 @@ def run_study(
     brushbem.sweep.SweepFolderError
         A part's folder holds a different sweep.
     """
+    import sys
     import traceback
 
     from brushbem.studies.base import sweep_file
@@ -221,7 +222,11 @@ def run_study(
         "brushbem_version": __version__,
     })
     runs: dict[str, SweepRun] = {}
-    for part, path in files.items():
+    for number, (part, path) in enumerate(files.items(), start=1):
+        if progress:
+            # Which part runs: the sweep's own progress below it counts that part's cases.
+            print(f"study {study.name}: part {number} of {len(files)}, {part!r} ({Path(path).name})",
+                  file=sys.stderr, flush=True)
         runs[part] = run_sweep(path, out_dir / part, executor, workers=workers,
                                retry_failed=retry_failed, progress=progress)
     figures: list[Path] = []
