@@ -6,7 +6,7 @@ VENV := .venv
 PYTHON ?= $(shell for candidate in python3.11 python3; do \
 	  if $$candidate -c "" >/dev/null 2>&1; then echo $$candidate; break; fi; done)
 
-.PHONY: run test test-fast clean chromium
+.PHONY: run test test-fast docs clean chromium
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,10 @@ test: $(VENV)/.installed-test chromium
 # configuration, the CLI): a few minutes; `make test` runs everything.
 test-fast: $(VENV)/.installed-test
 	$(VENV)/bin/python -m pytest -q -m "not slow" -p no:cacheprovider
+
+# The documentation site into out/site (warnings are errors); open out/site/index.html.
+docs: $(VENV)/.installed-test
+	$(VENV)/bin/python -m mkdocs build --strict
 
 chromium:
 	@if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 \

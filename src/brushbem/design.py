@@ -252,6 +252,8 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
     progress : callable, optional
         ``progress(fraction, message)``.
 
+    Notes
+    -----
     Why these parameters: the problem and the path are the configuration's; target and iterations are the
     design's only choices.
     """

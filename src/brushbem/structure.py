@@ -864,6 +864,8 @@ def brush(
         A tilted base (default none).  Where the tilt puts an element below
         the lowest pillar's tip, every height is shifted so the lowest is 0.
 
+    Notes
+    -----
     The pillar length is the sum of the three contributions; the offsets are
     g_n = max(length) - length_n >= 0, so the longest pillar touches first.
 

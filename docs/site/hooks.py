@@ -1,0 +1,61 @@
+"""MkDocs hooks of the brushbem site: pages drawn from the README's sections and from the studies.
+
+A page line ``{{ readme: ## Heading }}`` is replaced by that README section
+(up to the next heading of the same or a higher level), so the README and the
+site say the same thing from one source; ``{{ gallery }}`` becomes one
+section per study figure found in ``docs/figures/<study>/``, with the numbers
+the thesis states for that study and the command that recomputes them.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _readme_section(heading: str) -> str:
+    """The README's section under ``heading`` (without it), to the next heading of its level or higher."""
+    lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    level = len(heading) - len(heading.lstrip("#"))
+    start = lines.index(heading) + 1
+    fenced = False
+    for index in range(start, len(lines)):
+        line = lines[index]
+        if line.startswith("```"):
+            fenced = not fenced  # a TOML comment in a code block is not a heading
+        match = None if fenced else re.match(r"(#{1,6}) ", line)
+        if match and len(match.group(1)) <= level:
+            return "\n".join(lines[start:index])
+    return "\n".join(lines[start:])
+
+
+def _gallery() -> str:
+    from brushbem.studies import STUDIES
+
+    lines = []
+    for name, study in STUDIES.items():
+        folder = ROOT / "docs" / "figures" / name
+        images = sorted(folder.glob("*.png")) if folder.is_dir() else []
+        if not images:
+            continue
+        lines.append(f"## {name}\n\n{study.title}\n")
+        lines.append(f"Recompute: `brushbem study {name} --out out/{name}` (add `--quick` for the coarse grids); "
+                     f"the tables behind these figures are in `docs/reproduction/{name}/`.\n")
+        if study.numbers:
+            lines.append("| quantity | where | thesis |\n| --- | --- | --- |")
+            lines += [f"| {n.quantity} | {n.where} | {n.thesis:g} |" for n in study.numbers]
+            lines.append("")
+        for image in images:
+            lines.append(f"### {image.stem}\n\n![{image.stem}](../figures/{name}/{image.name})\n")
+    lines.append('<script>window.addEventListener("load", () => document.querySelectorAll("img").forEach('
+                 'img => img.setAttribute("data-loaded", String(img.complete && img.naturalWidth > 0))));</script>')
+    return "\n".join(lines)
+
+
+def on_page_markdown(markdown: str, page, config, files) -> str:
+    markdown = re.sub(r"^\{\{ readme: (#+ .+?) \}\}$", lambda m: _readme_section(m.group(1)), markdown, flags=re.M)
+    if "{{ gallery }}" in markdown:
+        markdown = markdown.replace("{{ gallery }}", _gallery())
+    return markdown
