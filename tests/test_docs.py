@@ -40,8 +40,8 @@ def test_the_site_builds_with_warnings_as_errors(site):
 
 def test_the_tutorial_runs_as_written(tmp_path):
     text = TUTORIAL.read_text(encoding="utf-8")
-    shell = re.findall(r"```sh\n(.*?)```", text, re.S)
-    python = re.findall(r"```python\n(.*?)```", text, re.S)
+    shell = re.findall(r"```sh\n(.*?)```", text, re.DOTALL)
+    python = re.findall(r"```python\n(.*?)```", text, re.DOTALL)
     assert shell and python
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
     for block in shell:

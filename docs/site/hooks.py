@@ -55,7 +55,7 @@ def _gallery() -> str:
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
-    markdown = re.sub(r"^\{\{ readme: (#+ .+?) \}\}$", lambda m: _readme_section(m.group(1)), markdown, flags=re.M)
+    markdown = re.sub(r"^\{\{ readme: (#+ .+?) \}\}$", lambda m: _readme_section(m.group(1)), markdown, flags=re.MULTILINE)
     if "{{ gallery }}" in markdown:
         markdown = markdown.replace("{{ gallery }}", _gallery())
     return markdown
