@@ -20,6 +20,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+from make_beyond_sweeps import _toml
 
 from brushbem.case import brush_scales
 from brushbem.design import design
@@ -30,16 +31,6 @@ SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / 
 DGAMMA, PHI = 1e-4, 0.06
 GRIDS = {"full": (512, 16), "quick": (64, 4)}
 STIFFNESS = {6e-4: 0.2, 10.0: 0.04}  # k~ -> the concave brush's h~
-
-
-def _toml(value) -> str:
-    if isinstance(value, str):
-        return f'"{value}"'
-    if isinstance(value, dict):
-        return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }"
-    if isinstance(value, list):
-        return "[" + ", ".join(_toml(v) for v in value) + "]"
-    return repr(float(value)) if isinstance(value, float) else str(value)
 
 
 def main() -> None:
