@@ -21,7 +21,10 @@ from matplotlib.figure import Figure
 from brushbem.io import atomic_path
 from brushbem.results import CaseResult
 
-__all__ = ["plot_pull_off", "pull_off_figure"]
+__all__ = ["STAGES", "plot_pull_off", "pull_off_figure"]
+
+#: The snapshot stages of a pull-off (thesis Fig. 4-3), numbered on the figure in this order.
+STAGES = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
 
 _LOADING_COLOUR = "tab:blue"
 _UNLOADING_COLOUR = "tab:red"
@@ -82,7 +85,9 @@ def pull_off_figure(result: CaseResult, reference: Mapping[str, Any] | None = No
             label=str(reference.get("label", "reference")),
         )
     if np.any(loading):
-        axes.plot(displacement[loading], force[loading], color=_LOADING_COLOUR, label="loading")
+        # Wide and light beneath the unloading line, so both branches show where they coincide.
+        axes.plot(displacement[loading], force[loading], color=_LOADING_COLOUR, linewidth=3.0, alpha=0.45,
+                  label="loading")
     unloading = np.flatnonzero(~loading)
     if unloading.size:
         # Start the unloading line at the turning point so the branches join.
@@ -100,12 +105,50 @@ def pull_off_figure(result: CaseResult, reference: Mapping[str, Any] | None = No
             label=f"adhesive force $F_A$ = {-force[weakest]:.4g}",
         )
 
-    axes.set_xlabel("d (presses > 0)")
-    axes.set_ylabel("F (compressive > 0)")
+    _detachment_inset(axes, displacement, force, loading)
+    for number, name in enumerate(STAGES, start=1):
+        snapshot = next((snap for snap in result.snapshots if snap.name == name), None)
+        if snapshot is not None:
+            axes.annotate(str(number), (snapshot.displacement, snapshot.force), textcoords="offset points",
+                          xytext=(4, 4), fontsize="small", color="0.25")
+            axes.plot(snapshot.displacement, snapshot.force, marker=".", color="0.25", linestyle="none")
+    summary = result.summary if isinstance(result.summary, Mapping) else {}
+    missing = summary.get("stages_not_reached") or {}
+    stages = ", ".join(f"{n} {name.replace('_', ' ')}" + (" (not reached)" if name in missing else "")
+                       for n, name in enumerate(STAGES, start=1))
+    axes.set_title(f"pull-off: F_A = {summary.get('adhesive_force', float('nan')):.4g}, "
+                   f"W = {summary.get('work_of_separation', float('nan')):.4g}\nstages: {stages}", fontsize="small")
+    axes.set_xlabel("base displacement d (presses > 0; units of the inputs' length)")
+    axes.set_ylabel("force F (compressive > 0; units of the inputs)")
     axes.grid(True, linewidth=0.4, alpha=0.5)
     if axes.get_legend_handles_labels()[0]:
         axes.legend(loc="best", fontsize="small")
     return figure
+
+
+def _detachment_inset(axes, displacement: np.ndarray, force: np.ndarray, loading: np.ndarray) -> None:
+    """An inset around the detachment (the states near the adhesive force) when it is a sliver of the curve."""
+    unloading = np.flatnonzero(~loading)
+    if unloading.size < 3 or not np.any(force < 0):
+        return
+    near = unloading[force[unloading] <= 0.7 * float(force.min())]
+    span = float(np.ptp(displacement)) or 1.0
+    if near.size < 2:
+        return
+    lo, hi = float(displacement[near].min()), float(displacement[near].max())
+    if hi - lo > 0.2 * span or hi == lo:
+        return
+    inset = axes.inset_axes([0.08, 0.42, 0.38, 0.36])
+    rows = np.arange(max(int(near[0]) - 1, 0), min(int(near[-1]) + 2, force.size))
+    inset.plot(displacement[rows], force[rows], color=_UNLOADING_COLOUR, linewidth=1.0)
+    margin = 0.1 * (hi - lo)
+    inset.set_xlim(lo - margin, hi + margin)
+    low, high = float(force[near].min()), float(force[near].max())
+    pad = max(0.15 * (high - low), 0.01 * abs(low))
+    inset.set_ylim(low - pad, high + pad)
+    inset.set_title("detachment (zoom)", fontsize="x-small")
+    inset.tick_params(labelsize="x-small")
+    axes.indicate_inset_zoom(inset, edgecolor="0.5")
 
 
 def _draw_pattern(axes, snapshot, element_size: float) -> None:
