@@ -246,7 +246,32 @@ def _per_pillar_file(value: Any, info: ValidationInfo) -> Any:
     return str(path)
 
 
-_TIP_KEY = {"spherical_cap": "radius", "concave": "depth", "profile": "file", "flat": None}
+def _choice_problems(table: _Section, choice: str, uses: dict[str, tuple[tuple[str, ...], tuple[str, ...]]],
+                     prefix: str) -> list[Problem]:
+    """The keys a choice key's value needs and allows: ``uses[value] = (required, optional)``.
+
+    A required key that is absent and a given key that this value does not
+    use are problems; a value outside ``uses`` is the choice key's own
+    problem (reported by its field).
+    """
+    value = getattr(table, choice, None)
+    if value not in uses:
+        return []
+    required, optional = uses[value]
+    keys = sorted({key for need, allow in uses.values() for key in (*need, *allow)})
+    problems = []
+    for key in keys:
+        given = getattr(table, key, None)
+        if key in required and given is None:
+            problems.append(Problem(key, "missing", f"required when {prefix}.{choice} = {value!r}"))
+        elif key not in required and key not in optional and given is not None:
+            users = " or ".join(repr(v) for v, (need, allow) in uses.items() if key in need or key in allow)
+            problems.append(Problem(key, _show(given), f"only used with {prefix}.{choice} = {users}; remove it"))
+    return problems
+
+
+_TIP_USES = {"flat": ((), ()), "spherical_cap": (("radius",), ()), "concave": (("depth",), ()),
+             "profile": (("file",), ())}
 
 
 class TipConfig(_Section):
@@ -301,19 +326,7 @@ class TipConfig(_Section):
         return str(path)
 
     def _rule_problems(self) -> list[Problem]:
-        shape = getattr(self, "shape", None)
-        if shape not in _TIP_KEY:
-            return []
-        problems = []
-        for key in ("radius", "depth", "file"):
-            given = getattr(self, key, None) is not None
-            if key == _TIP_KEY[shape] and not given:
-                problems.append(Problem(key, "missing", f"required when tip.shape = {shape!r}"))
-            elif key != _TIP_KEY[shape] and given:
-                users = next(s for s, k in _TIP_KEY.items() if k == key)
-                problems.append(Problem(key, _show(getattr(self, key)), f"only used with tip.shape = {users!r}; "
-                                        "remove it"))
-        return problems
+        return _choice_problems(self, "shape", _TIP_USES, "tip")
 
 
 class TiltConfig(_Model):
@@ -369,17 +382,9 @@ class GradingConfig(_Section):
 
     def _rule_problems(self) -> list[Problem]:
         rule = getattr(self, "rule", None)
-        uses = {"radial": ("amplitude", "exponent"), "linear": ("amplitude", "azimuth"), "file": ("file",)}
-        if rule not in uses:
-            return []
-        problems = []
-        needed = "file" if rule == "file" else "amplitude"
-        for key in ("amplitude", "exponent", "azimuth", "file"):
-            value = getattr(self, key, None)
-            if key == needed and value is None:
-                problems.append(Problem(key, "missing", f"required when grading.rule = {rule!r}"))
-            elif key not in uses[rule] and value is not None:
-                problems.append(Problem(key, _show(value), f"not used when grading.rule = {rule!r}; remove it"))
+        problems = _choice_problems(self, "rule", {"radial": (("amplitude",), ("exponent",)),
+                                                   "linear": (("amplitude",), ("azimuth",)),
+                                                   "file": (("file",), ())}, "grading")
         amplitude = getattr(self, "amplitude", None)
         if isinstance(amplitude, float) and rule == "radial" and not amplitude > -1:
             problems.append(Problem("amplitude", _show(amplitude),
@@ -413,14 +418,9 @@ class ViscoelasticConfig(_Section):
     instantaneous_factor: float | None = Field(None, gt=1, allow_inf_nan=False)
 
     def _rule_problems(self) -> list[Problem]:
-        model = getattr(self, "model", None)
-        factor = getattr(self, "instantaneous_factor", None)
-        if model == "standard_linear_solid" and factor is None:
-            return [Problem("instantaneous_factor", "missing", "required when model = 'standard_linear_solid'")]
-        if model == "kelvin_voigt" and factor is not None:
-            return [Problem("instantaneous_factor", _show(factor),
-                            "only used with model = 'standard_linear_solid'; remove it")]
-        return []
+        return _choice_problems(self, "model", {"kelvin_voigt": ((), ()),
+                                                "standard_linear_solid": (("instantaneous_factor",), ())},
+                                "viscoelastic")
 
 
 class PillarLawConfig(_Section):
