@@ -140,6 +140,26 @@ def test_ids_stable_and_kept_when_realizations_grow():
     assert not {c.case_id for c in other_seed.cases} & {c.case_id for c in first.cases}
 
 
+def test_ids_follow_file_contents_not_paths(tmp_path):
+    """A case that reads a file is the same case wherever the file lies (a moved
+    study, the package installed elsewhere), and another case when the file changes."""
+    document = spec(sweep={"indenter.stiffness_ratio": [1.0, 0.1]})
+    document["base"] = {
+        **BASE, "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 2, "pillar_radius": 0.1,
+                             "spacing": 0.4, "region_size": 1.0, "stiffness_ratio": 1.0,
+                             "lengths_file": "lengths.npy"},
+    }
+
+    def ids(folder: Path, lengths) -> list[str]:
+        folder.mkdir()
+        np.save(folder / "lengths.npy", np.asarray(lengths, dtype=float))
+        return [case.case_id for case in parse_sweep(document, folder).cases]
+
+    here = ids(tmp_path / "here", [0.0, 1e-3, 0.0, 1e-3])
+    assert ids(tmp_path / "there", [0.0, 1e-3, 0.0, 1e-3]) == here
+    assert not set(ids(tmp_path / "changed", [0.0, 2e-3, 0.0, 1e-3])) & set(here)
+
+
 def test_seed_written_where_the_indenter_takes_one(monkeypatch):
     """An indenter that accepts ``indenter.seed`` (as the brush will) receives it as an int."""
     seen = []

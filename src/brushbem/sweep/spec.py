@@ -15,6 +15,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import os
 import re
 import tomllib
 from collections.abc import Mapping, Sequence
@@ -260,10 +261,30 @@ def _realization_seeds(seed: int, realizations: int) -> list[int]:
     return [int(child.generate_state(1, dtype=np.uint32)[0]) for child in children]
 
 
+def _file_contents(node: Any) -> Any:
+    """``node`` with every file it names replaced by the SHA-256 of the file's bytes.
+
+    A validated configuration names its files (lengths, per-pillar radii, height
+    maps) by absolute path; a case is what it computes, so its id must not
+    change when the same file is read from another folder (a moved study, the
+    package installed elsewhere).
+    """
+    if isinstance(node, dict):
+        return {key: _file_contents(value) for key, value in node.items()}
+    if isinstance(node, list):
+        return [_file_contents(value) for value in node]
+    if isinstance(node, str) and os.path.isabs(node) and os.path.isfile(node):
+        return "sha256:" + hashlib.sha256(Path(node).read_bytes()).hexdigest()
+    return node
+
+
 def _case_hash(config: RunConfig, seed: int) -> str:
-    """First 10 hex digits of SHA-256 over the resolved configuration and the seed."""
+    """First 10 hex digits of SHA-256 over the resolved configuration and the seed.
+
+    Files named by the configuration enter by their contents, not their paths.
+    """
     text = json.dumps(
-        {"config": config_to_dict(config), "seed": seed},
+        {"config": _file_contents(config_to_dict(config)), "seed": seed},
         sort_keys=True, separators=(",", ":"), allow_nan=False,
     )
     return hashlib.sha256(text.encode()).hexdigest()[:10]
