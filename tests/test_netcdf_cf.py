@@ -5,12 +5,16 @@
 * every dimension has a coordinate variable (``step``, ``x``, ``y``,
   ``pillar``);
 * every numeric variable has a ``units`` that UDUNITS parses: brushbem's
-  quantities are in the units of the configuration's inputs, written as the
-  dimensionless ``"1"`` with the physical ``dimension`` beside it; or it is
-  a flag variable with ``flag_values`` and as many ``flag_meanings``.
+  quantities are in the units of the configuration's inputs, named by its
+  ``[units]`` table (``"mm"``, ``"N"``) or, without it, the dimensionless
+  ``"1"``, with the physical ``dimension`` beside it; or it is a flag
+  variable with ``flag_values`` and as many ``flag_meanings``.
 """
 
 from __future__ import annotations
+
+import json
+import re
 
 import h5py
 import numpy as np
@@ -18,22 +22,36 @@ import pytest
 
 from brushbem.assembly import load_config
 from brushbem.case import run_case
+from brushbem.config.schema import UnitsConfig
 from brushbem.io import write_case
 
-#: Unit strings UDUNITS-2 accepts that brushbem may write.
-PARSEABLE_UNITS = {"1"}
+#: A product of SI-prefixed UDUNITS-2 symbols with integer powers ("N mm-1", "MPa cm2", "um2"): the
+#: subset of the UDUNITS-2 grammar brushbem writes, or the dimensionless "1".
+_SYMBOL = re.compile(r"^(p|n|u|m|c|k|M|G)?(m|Pa|N|J)(-?[1-9])?$")
 
 
-@pytest.fixture(scope="module")
-def result_file(tmp_path_factory):
+def parseable(unit: str) -> bool:
+    return unit == "1" or all(_SYMBOL.match(token) for token in unit.split(" "))
+
+
+@pytest.fixture(scope="module", params=[None, ("mm", "MPa"), ("um", "kPa")], ids=["dimensionless", "mm-MPa",
+                                                                                 "um-kPa"])
+def result_file(request, tmp_path_factory):
     config = load_config("examples/default.toml")
-    config = config.model_copy(update={"grid": config.grid.model_copy(update={"elements": 64}),
-                                       "indenter": config.indenter.model_copy(update={"pillars_per_side": 4,
-                                                                                      "pillar_radius": 0.0489})})
+    update = {"grid": config.grid.model_copy(update={"elements": 64}),
+              "indenter": config.indenter.model_copy(update={"pillars_per_side": 4, "pillar_radius": 0.0489})}
+    if request.param is not None:
+        update["units"] = UnitsConfig(length=request.param[0], stress=request.param[1])
+    config = config.model_copy(update=update)
     result, _ = run_case(config)
     out = tmp_path_factory.mktemp("cf")
     write_case(result, out, config=config)
     return out / "result.nc"
+
+
+def test_the_unit_grammar_check_refuses_what_udunits_refuses():
+    assert parseable("N mm-1") and parseable("MPa cm2") and parseable("um2") and parseable("1")
+    assert not parseable("length") and not parseable("force / length") and not parseable("N/mm")
 
 
 def _text(value) -> str:
@@ -62,7 +80,20 @@ def test_every_dimension_has_a_coordinate_and_every_variable_parseable_units(res
                 assert len(values) == len(meanings), name
                 continue
             if np.issubdtype(variable.dtype, np.number):
-                assert _text(attrs.get("units")) in PARSEABLE_UNITS, (name, attrs.get("units"))
+                assert parseable(_text(attrs.get("units"))), (name, attrs.get("units"))
         # The physical dimension is kept for readers (e.g. plotting labels).
         assert ds["displacement"].attrs["dimension"] == "length"
         assert ds["force"].attrs["dimension"] == "force"
+
+
+def test_declared_units_name_every_dimension(result_file):
+    """[units] length = "mm", stress = "MPa": forces in N, stresses in MPa, lengths in mm (an MPa mm^2 is
+    a newton); um and kPa: forces in nN (1e3 Pa x 1e-12 m^2); no [units]: all dimensionless."""
+    import xarray as xr
+
+    expected = {"dimensionless": ("1", "1", "1"), "mm-MPa": ("mm", "N", "MPa"), "um-kPa": ("um", "nN", "kPa")}
+    with xr.open_dataset(result_file, decode_cf=False) as ds:
+        config = json.loads(ds.attrs["config"])
+        key = "dimensionless" if "units" not in config else f"{config['units']['length']}-{config['units']['stress']}"
+        units = tuple(ds[name].attrs["units"] for name in ("displacement", "force", "pressure_adhesive_force"))
+    assert units == expected[key]

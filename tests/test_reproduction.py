@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pandas as pd
@@ -100,6 +101,42 @@ def test_a_number_that_fails_is_reported_in_its_row():
     row = ComparisonRow("s", "q", "w", 1.0, math.nan, math.nan, 0, "KeyError: 'x'")
     text = render([row], {"s": {"quick": True, "parts": {}}})
     assert "n/a (KeyError: 'x')" in text
+
+
+def test_a_row_beyond_five_percent_links_the_notes_that_explain_it():
+    rows = [ComparisonRow("s", "near", "w", 1.0, 1.04, math.nan, 1, ""),
+            ComparisonRow("s", "far", "w", 1.0, 1.2, math.nan, 1, ""),
+            ComparisonRow("t", "far", "w", 1.0, 0.5, math.nan, 1, "")]
+    notes = "## Grids of `s` (part `a`)\n\nmeasured.\n\n## Why\n\nExplains: `u`.\n"
+    text = render(rows, {"s": {"quick": True, "parts": {}}, "t": {"quick": True, "parts": {}}}, notes)
+    near, far, unexplained = (line for line in text.splitlines() if line.startswith(("| near", "| far")))
+    assert near.endswith("|  |")
+    assert "[Grids of `s` (part `a`)](#notes-grids-of-s-part-a)" in far
+    assert "no explanation in the notes" in unexplained
+    assert '<a id="notes-grids-of-s-part-a"></a>' in text
+
+
+def test_every_committed_row_beyond_five_percent_is_explained():
+    text = (ROOT / "docs" / "thesis-comparison.md").read_text(encoding="utf-8")
+    assert "no explanation in the notes" not in text
+    for target in set(re.findall(r"\]\(#(notes-[a-z0-9-]+)\)", text)):
+        assert f'<a id="{target}"></a>' in text, target
+
+
+def test_a_study_report_shows_the_explanation_beside_an_amber_number():
+    from brushbem.report import _explanation, _notes_text, _numbers_table
+
+    notes = _notes_text()
+    assert "## Why the ch. 5–7 deviations" in notes  # found from a clone
+    text = _explanation("concave", notes)
+    assert "Chapter 7 at the thesis&#x27;s grid" in text and "Why the ch. 5–7 deviations" in text
+    assert "<details>" in text and "Explains:" in text
+    far = ThesisNumber("far", "Fig. 0", 1.0, lambda results: 1.5)
+    near = ThesisNumber("near", "Fig. 0", 1.0, lambda results: 1.01)
+    study = type("S", (), {"name": "concave", "numbers": (far, near)})()
+    table = _numbers_table(study, {})
+    far_row, near_row = table.split("<tr>")[2:4]
+    assert "explained in docs/thesis-comparison.md" in far_row and "explained" not in near_row
 
 
 def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):

@@ -59,6 +59,7 @@ import xarray as xr
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict, to_json_safe
 from brushbem.results import CaseResult
+from brushbem.units import DIMENSIONS, Units
 
 __all__ = [
     "DATASET_FILE",
@@ -69,6 +70,8 @@ __all__ = [
     "atomic_path",
     "check_writable",
     "exclusive_folder",
+    "from_dataset",
+    "load_result",
     "netcdf_attributes",
     "read_case",
     "remove_stale_temporaries",
@@ -248,20 +251,33 @@ REFERENCES = (
     "Engineering (2015) (the detachment criterion)"
 )
 
-#: The physical dimension of each unit name brushbem writes.  The quantities are in the units of the
-#: configuration's inputs (E* sets the stress, grid.size the length): written as CF's dimensionless "1",
-#: with the dimension kept in the attribute ``dimension``.
-_DIMENSIONS = {"length", "force", "stress", "length^2", "force / length"}
+def _units_of(result: CaseResult, config: RunConfig | None) -> Units:
+    """The configuration's ``[units]`` (`brushbem.units`): from ``config``, else from the provenance."""
+    if config is not None:
+        return Units.from_config(config)
+    recorded = result.attributes.get("config")
+    if isinstance(recorded, str):
+        try:
+            recorded = json.loads(recorded)
+        except ValueError:
+            recorded = None
+    return Units.from_config(recorded) if isinstance(recorded, dict) else Units()
 
 
-def _cf_variables(variables: dict[str, xr.Variable], coords: dict[str, xr.Variable]) -> None:
-    """CF-1.10 attributes: parseable units, flags for masks and booleans."""
+def _cf_variables(variables: dict[str, xr.Variable], coords: dict[str, xr.Variable], units: Units) -> None:
+    """CF-1.10 attributes: parseable units, flags for masks and booleans.
+
+    The quantities are in the units of the configuration's inputs (E* sets the
+    stress, grid.size the length): with ``[units]`` their UDUNITS names, without
+    it CF's dimensionless ``"1"``; the physical dimension is always kept in the
+    attribute ``dimension``.
+    """
     for variable in (*variables.values(), *coords.values()):
         attrs = variable.attrs
         unit = attrs.get("units")
-        if unit in _DIMENSIONS:
+        if unit in DIMENSIONS:
             attrs["dimension"] = unit
-            attrs["units"] = "1"
+            attrs["units"] = units.of(unit)
         elif variable.dtype == np.int8 and "contact" in attrs.get("long_name", ""):
             attrs["flag_values"] = np.array([0, 1], dtype=np.int8)
             attrs["flag_meanings"] = "not_in_contact in_contact"
@@ -364,7 +380,7 @@ def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
         )
     coords["step"] = xr.Variable("step", np.arange(len(curve.displacement), dtype=np.int64),
                                  {"long_name": "index of the recorded state along the load path", "units": "1"})
-    _cf_variables(variables, coords)
+    _cf_variables(variables, coords, _units_of(result, config))
     attributes: dict[str, Any] = {
         "Conventions": "CF-1.10",
         "title": "brushbem pull-off: force-displacement curve, contact snapshots and per-pillar results",
@@ -481,3 +497,71 @@ def read_case(out_dir: str | Path) -> xr.Dataset:
                 f"{out_dir}: {SUMMARY_FILE} and {DATASET_FILE} come from different runs (a run stopped "
                 "between writing them); rerun the case")
     return dataset
+
+
+def _attribute(value: Any) -> Any:
+    """A NetCDF attribute as `to_dataset` wrote it: JSON strings decoded, the rest as is."""
+    if isinstance(value, str) and (value.startswith(("{", "[")) or value == "null"):
+        try:
+            return json.loads(value)
+        except ValueError:
+            return value
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def from_dataset(dataset: xr.Dataset) -> CaseResult:
+    """The `CaseResult` of a ``result.nc`` (`to_dataset`'s layout), for figures and analysis.
+
+    The curve, the snapshots (pressure, contact and per-pillar forces with
+    their moment), the per-pillar arrays, the summary and the provenance
+    attributes are read back; nothing is recomputed.
+    """
+    from brushbem.results import Curve, Snapshot
+
+    def column(name: str, dtype: Any, default: Any = 0) -> np.ndarray:
+        if name in dataset:
+            return np.asarray(dataset[name].to_numpy(), dtype=dtype)
+        return np.full(dataset.sizes.get("step", 0), default, dtype=dtype)
+
+    curve = Curve(
+        displacement=column("displacement", float), force=column("force", float),
+        contact_area=column("contact_area", float), cg_iterations=column("cg_iterations", np.int64),
+        converged=column("converged", bool, True), loading=column("loading", bool, False),
+        attached_pillars=column("attached_pillars", np.int64),
+    )
+    snapshots = []
+    for name in dataset.data_vars:
+        if not str(name).startswith("pressure_"):
+            continue
+        stage = str(name)[len("pressure_"):]
+        pressure = dataset[name]
+        pillar_force = dataset.get(f"pillar_force_{stage}")
+        contact = dataset.get(f"contact_{stage}")
+        snapshots.append(Snapshot(
+            name=stage, displacement=float(pressure.attrs["displacement"]), force=float(pressure.attrs["force"]),
+            pressure=np.asarray(pressure.to_numpy(), dtype=float),
+            contact=(np.asarray(contact.to_numpy(), dtype=bool) if contact is not None
+                     else np.zeros(pressure.shape, dtype=bool)),
+            pillar_force=None if pillar_force is None else np.asarray(pillar_force.to_numpy(), dtype=float),
+        ))
+    pillars = {str(name)[len("pillar_"):]: dataset[name].to_numpy() for name in dataset.data_vars
+               if str(name).startswith("pillar_") and not str(name).startswith("pillar_force_")}
+    x = dataset["x"].to_numpy() if "x" in dataset.coords else np.array([])
+    attributes = {str(key): _attribute(value) for key, value in dataset.attrs.items()}
+    summary = attributes.pop("summary", {})
+    return CaseResult(
+        curve=curve, snapshots=tuple(snapshots), summary=summary if isinstance(summary, dict) else {},
+        attributes=attributes, element_size=float(x[1] - x[0]) if x.size > 1 else 1.0, pillars=pillars,
+    )
+
+
+def load_result(path: str | Path) -> CaseResult:
+    """The `CaseResult` of a case folder (``brushbem run --out``) or of one ``.nc`` file (a sweep's case)."""
+    path = Path(path)
+    if path.is_dir():
+        dataset = read_case(path)
+    elif path.is_file():
+        dataset = xr.load_dataset(path, engine="h5netcdf")
+    else:
+        raise FileNotFoundError(f"{path}: no such case folder or result file")
+    return from_dataset(dataset)

@@ -15,13 +15,15 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from brushbem.io import atomic_path
 from brushbem.results import CaseResult
+from brushbem.units import Units
 
-__all__ = ["STAGES", "plot_pull_off", "pull_off_figure"]
+__all__ = ["STAGES", "as_case_result", "draw_with_jumps", "plot_pull_off", "pull_off_figure"]
 
 #: The snapshot stages of a pull-off (thesis Fig. 4-3), numbered on the figure in this order.
 STAGES = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
@@ -32,47 +34,102 @@ _REFERENCE_COLOUR = "0.2"
 
 
 def plot_pull_off(
-    result: CaseResult,
+    result: Any,
     path: str | Path,
     reference: Mapping[str, Any] | None = None,
+    *,
+    units: Units | None = None,
 ) -> None:
     """Draw `pull_off_figure` and save it as a PNG at ``path`` (replaced atomically)."""
-    figure = pull_off_figure(result, reference)
+    figure = pull_off_figure(result, reference, units=units)
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=150)
 
 
-def pull_off_figure(result: CaseResult, reference: Mapping[str, Any] | None = None) -> Figure:
+def as_case_result(result: Any) -> CaseResult:
+    """A `CaseResult` from any form of a run.
+
+    Accepts a `CaseResult`, a `brushbem.PullOff` (``brushbem.run``'s
+    result), an `xarray.Dataset` read from a ``result.nc``, or the path of a
+    case folder or of a ``.nc`` file (a sweep's ``cases/<case-id>.nc``).
+    """
+    if isinstance(result, CaseResult):
+        return result
+    inner = getattr(result, "result", None)
+    if isinstance(inner, CaseResult):
+        return inner
+    import xarray as xr
+
+    from brushbem.io import from_dataset, load_result
+
+    if isinstance(result, xr.Dataset):
+        return from_dataset(result)
+    if isinstance(result, (str, Path)):
+        return load_result(result)
+    raise TypeError(f"result: {type(result).__name__} is not a run (a CaseResult, a PullOff, an xarray.Dataset "
+                    "of a result.nc, or the path of a case folder or .nc file)")
+
+
+def _units(result: CaseResult, given: Units | None) -> Units:
+    if given is not None:
+        return given
+    config = result.attributes.get("config")
+    return Units.from_config(config) if isinstance(config, dict) else Units()
+
+
+def pull_off_figure(
+    result: Any,
+    reference: Mapping[str, Any] | None = None,
+    *,
+    ax: Axes | None = None,
+    units: Units | None = None,
+) -> Figure:
     """Force against base displacement, as a `matplotlib.figure.Figure` (no pyplot, no window).
 
     The loading branch and the unloading (pull-off) branch are drawn in
-    different colours and the adhesive-force point (the minimum force) is
-    marked.  Beside the curve: the pressure on the contact set at the
-    adhesive-force moment (the detachment pattern).
+    different colours, the adhesive-force point (the minimum force) and the
+    five stages of thesis Fig. 4-3 are marked; a jump to separation (or into
+    contact) is drawn as a vertical step, not a slope.  Without ``ax``, the
+    pressure on the contact set at the adhesive-force moment (the detachment
+    pattern) is drawn beside the curve.
 
     Parameters
     ----------
-    result : CaseResult
-        The run; its ``curve`` is drawn (displacement in units of length,
-        force in units of force, compressive positive).
+    result : CaseResult, PullOff, xarray.Dataset or path
+        The run (see `as_case_result`); its ``curve`` is drawn.
     reference : mapping, optional
         A closed-form curve drawn dashed: ``displacement`` and ``force``
         (array-like of equal length, same units as the curve) and ``label``
         (str).
+    ax : matplotlib.axes.Axes, optional
+        Draw the curve on these axes (of any figure, pyplot's included) and
+        return their figure; the pattern is not drawn then.
+    units : brushbem.units.Units, optional
+        The unit system of the axis labels; by default the run's
+        configuration's ``[units]`` (dimensionless without it).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
+    result = as_case_result(result)
+    units = _units(result, units)
     curve = result.curve
     displacement = np.asarray(curve.displacement, dtype=float)
     force = np.asarray(curve.force, dtype=float)
     loading = np.asarray(curve.loading, dtype=bool)
 
     pattern = next((snap for snap in result.snapshots if snap.name == "adhesive_force"), None)
-    figure = Figure(figsize=(11.0, 4.8) if pattern is not None else (6.4, 4.8), layout="constrained")
-    FigureCanvasAgg(figure)
-    if pattern is not None:
-        axes, map_axes = figure.subplots(1, 2, width_ratios=[1.35, 1.0])
-        _draw_pattern(map_axes, pattern, float(result.element_size))
+    if ax is not None:
+        axes, figure = ax, ax.figure
     else:
-        axes = figure.add_subplot()
+        figure = Figure(figsize=(11.0, 4.8) if pattern is not None else (6.4, 4.8), layout="constrained")
+        FigureCanvasAgg(figure)
+        if pattern is not None:
+            axes, map_axes = figure.subplots(1, 2, width_ratios=[1.35, 1.0])
+            _draw_pattern(map_axes, pattern, float(result.element_size), units)
+        else:
+            axes = figure.add_subplot()
     axes.axhline(0.0, color="0.7", linewidth=0.8)
 
     if reference is not None:
@@ -118,12 +175,45 @@ def pull_off_figure(result: CaseResult, reference: Mapping[str, Any] | None = No
                        for n, name in enumerate(STAGES, start=1))
     axes.set_title(f"pull-off: F_A = {summary.get('adhesive_force', float('nan')):.4g}, "
                    f"W = {summary.get('work_of_separation', float('nan')):.4g}\nstages: {stages}", fontsize="small")
-    axes.set_xlabel("base displacement d (presses > 0; units of the inputs' length)")
-    axes.set_ylabel("force F (compressive > 0; units of the inputs)")
+    axes.set_xlabel(units.axis("base displacement d, presses > 0", "length"))
+    axes.set_ylabel(units.axis("force F, compressive > 0", "force"))
     axes.grid(True, linewidth=0.4, alpha=0.5)
     if axes.get_legend_handles_labels()[0]:
         axes.legend(loc="best", fontsize="small")
     return figure
+
+
+def draw_with_jumps(axes: Axes, x: Any, y: Any, displacement: Any, **style: Any) -> None:
+    """Draw y against x with the jumps as jumps: a step taken at a fixed base displacement.
+
+    Where two consecutive recorded states share the same displacement d, the
+    system jumped between them (a detachment cascade, a jump to separation):
+    no state lies between them, so the step is drawn dotted and thin, not as
+    part of the solid curve.  Against d itself such a step is vertical; against
+    the contact radius (thesis Fig. 2-5, 2-8) it would otherwise read as a
+    slope.  ``style`` is passed to every segment (``label`` only to the first).
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    d = np.asarray(displacement, dtype=float)
+    if x.size < 2:
+        axes.plot(x, y, **style)
+        return
+    scale = float(np.max(np.abs(d))) or 1.0
+    jump = np.abs(np.diff(d)) <= 1e-12 * scale  # segment i joins states i and i + 1 at the same d
+    label = style.pop("label", None)
+    colour = style.pop("color", None)
+    start = 0
+    for i in range(x.size - 1):
+        if jump[i]:
+            if i > start:
+                line = axes.plot(x[start:i + 1], y[start:i + 1], color=colour, label=label, **style)[0]
+                colour, label = line.get_color(), None
+            line = axes.plot(x[i:i + 2], y[i:i + 2], color=colour, linestyle=":", linewidth=0.8,
+                             label=label)[0]
+            colour, label = line.get_color(), None
+            start = i + 1
+    if start < x.size - 1:
+        axes.plot(x[start:], y[start:], color=colour, label=label, **style)
 
 
 def _detachment_inset(axes, displacement: np.ndarray, force: np.ndarray, loading: np.ndarray) -> None:
@@ -151,7 +241,7 @@ def _detachment_inset(axes, displacement: np.ndarray, force: np.ndarray, loading
     axes.indicate_inset_zoom(inset, edgecolor="0.5")
 
 
-def _draw_pattern(axes, snapshot, element_size: float) -> None:
+def _draw_pattern(axes, snapshot, element_size: float, units: Units) -> None:
     """The pressure on the contact set at the adhesive-force moment (grey: not in contact)."""
     pressure = np.asarray(snapshot.pressure, dtype=float)
     contact = np.asarray(snapshot.contact, dtype=bool)
@@ -164,7 +254,7 @@ def _draw_pattern(axes, snapshot, element_size: float) -> None:
         shown, origin="lower", extent=(-half, half, -half, half), cmap="RdBu_r",
         vmin=-limit, vmax=limit, interpolation="nearest",
     )
-    axes.figure.colorbar(image, ax=axes, shrink=0.8, label="p (compressive > 0)")
+    axes.figure.colorbar(image, ax=axes, shrink=0.8, label=units.axis("p, compressive > 0", "stress"))
     axes.set_title(f"contact at the adhesive force (d = {snapshot.displacement:.4g})", fontsize="small")
-    axes.set_xlabel("x")
-    axes.set_ylabel("y")
+    axes.set_xlabel(units.axis("x", "length"))
+    axes.set_ylabel(units.axis("y", "length"))

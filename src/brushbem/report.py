@@ -130,8 +130,16 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
     return _save(figure, path)
 
 
-def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path) -> Path | None:
-    """The force-displacement curves of (at most `MAX_CURVES`) finished cases, overlaid."""
+def _case_label(row: pd.Series, keys: Sequence[str], realizations: bool) -> str:
+    """A curve's legend entry: its swept values (``stiffness_ratio = 0.01, sigma = 0.002``), not its id."""
+    parts = [f"{key.rsplit('.', 1)[-1]} = {_cell(row[key])}" for key in keys if key in row.index]
+    if realizations and "realization" in row.index:
+        parts.append(f"realization {int(row['realization'])}")
+    return ", ".join(parts) or str(row["case_id"])
+
+
+def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path, keys: Sequence[str] = ()) -> Path | None:
+    """The force-displacement curves of (at most `MAX_CURVES`) finished cases, overlaid, labelled by swept value."""
     import xarray as xr
 
     figure = _new_figure((7.2, 5.0))
@@ -139,7 +147,9 @@ def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path) -> Path | Non
     axes.axhline(0.0, color="0.7", linewidth=0.8)
     drawn = 0
     rows = frame.head(MAX_CURVES)
-    for case_id in rows["case_id"]:
+    realizations = "realization" in rows and rows["realization"].nunique() > 1
+    for _, row in rows.iterrows():
+        case_id = row["case_id"]
         file = cases_dir / f"{case_id}.nc"
         if not file.is_file():
             continue
@@ -150,7 +160,7 @@ def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path) -> Path | Non
                 displacement, force = dataset["displacement"].to_numpy(), dataset["force"].to_numpy()
         except Exception:  # noqa: BLE001, S112 - a file damaged since the summary was read: not drawn
             continue
-        axes.plot(displacement, force, linewidth=0.9, label=str(case_id))
+        axes.plot(displacement, force, linewidth=0.9, label=_case_label(row, keys, realizations))
         drawn += 1
     if not drawn:
         return None
@@ -195,7 +205,7 @@ def draw_sweep_figures(out_dir: str | Path, figures_dir: str | Path | None = Non
             others = [k for k in keys if k != key]
             name = f"{_slug(column)}_vs_{_slug(key)}.png"
             written.append(_plot_against(frame, key, others, column, figures_dir / name))
-    curves = _plot_curves(frame, out_dir / CASES_DIR, figures_dir / "pulloff_curves.png")
+    curves = _plot_curves(frame, out_dir / CASES_DIR, figures_dir / "pulloff_curves.png", keys)
     if curves is not None:
         written.append(curves)
     return written
@@ -278,6 +288,7 @@ tr.case-missing td{background:#eee;color:#666}tr.case-corrupt td{background:#f4d
 .ok{color:#070}.na{color:#a00}.far{color:#b60}
 figure{display:inline-block;margin:.5em}figure img{max-width:640px;border:1px solid #ddd}
 figcaption{font-size:.8em;color:#555}code{font-size:.9em}
+pre.note{white-space:pre-wrap;max-width:60em;font-size:.8em;background:#fafafa;padding:.5em}
 .scroll{overflow-x:auto}table.summary td:first-child{white-space:nowrap}
 """
 
@@ -342,7 +353,30 @@ def _figures_html(paths: Sequence[Path]) -> str:
     return "\n".join(parts) or "<p>No figures (no finished case to draw).</p>"
 
 
+def _notes_text() -> str:
+    """The reproduction notes (``docs/reproduction/notes.md``) when brushbem runs from a clone, else ""."""
+    path = Path(__file__).resolve().parents[2] / "docs" / "reproduction" / "notes.md"
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError:
+        return ""
+
+
+def _explanation(study: str, notes: str) -> str:
+    """Where a deviation above 5 % of ``study`` is explained, with the notes' text when it is at hand."""
+    from brushbem.reproduction import explaining_sections
+
+    sections = explaining_sections(study, notes)
+    if not sections:
+        return (f"explained in docs/thesis-comparison.md (the notes on <code>{_e(study)}</code>; "
+                "the thesis-grid rows and the measurements behind them)")
+    return "".join(f"<details><summary>explained in docs/thesis-comparison.md: {_e(heading)}</summary>"
+                   f"<pre class=\"note\">{_e(body)}</pre></details>" for heading, body in sections)
+
+
 def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
+    notes = _notes_text()
+    far_rows = 0
     rows = []
     for number in study.numbers:
         try:
@@ -356,13 +390,18 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             css = "ok" if math.isfinite(deviation) and abs(deviation) <= 0.05 else "far"
         except Exception as exc:  # noqa: BLE001 - reported, not raised
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"
+        explanation = _explanation(study.name, notes) if css == "far" else ""
+        far_rows += css == "far"
         rows.append(f"<tr><td>{_e(number.quantity)}</td><td>{_e(number.where)}</td>"
                     f"<td>{_e(f'{number.thesis:.6g}')}</td><td class=\"{css}\">{_e(ours_text)}</td>"
-                    f"<td class=\"{css}\">{_e(deviation_text)}</td></tr>")
+                    f"<td class=\"{css}\">{_e(deviation_text)}</td><td>{explanation}</td></tr>")
     if not rows:
         return "<p>This study states no numbers to compare.</p>"
-    return ('<table class="numbers"><thead><tr><th>quantity</th><th>where</th><th>thesis</th>'
-            "<th>ours</th><th>relative deviation</th></tr></thead>"
+    legend = ("<p>Amber: more than 5 % from the thesis; each such row says where the deviation is measured "
+              "and explained (grid, realisations, the thesis's fixed steps, or a parameter it leaves open).</p>"
+              if far_rows else "")
+    return (legend + '<table class="numbers"><thead><tr><th>quantity</th><th>where</th><th>thesis</th>'
+            "<th>ours</th><th>relative deviation</th><th>explanation</th></tr></thead>"
             f"<tbody>{''.join(rows)}</tbody></table>")
 
 

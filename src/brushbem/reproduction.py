@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import statistics
 import subprocess
 from collections.abc import Mapping
@@ -206,6 +207,38 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
 
 
+def notes_sections(notes: str) -> list[tuple[str, str]]:
+    """The ``## `` sections of the notes: (heading, body) in order."""
+    sections: list[tuple[str, str]] = []
+    for block in re.split(r"^## ", notes, flags=re.MULTILINE)[1:]:
+        heading, _, body = block.partition("\n")
+        sections.append((heading.strip(), body.strip()))
+    return sections
+
+
+def note_anchor(heading: str) -> str:
+    """The HTML id written before a notes heading (the same on GitHub and on the docs site)."""
+    return "notes-" + re.sub(r"[^a-z0-9]+", "-", heading.lower()).strip("-")
+
+
+def explaining_sections(study: str, notes: str) -> list[tuple[str, str]]:
+    """The notes sections that explain ``study``'s deviations: those whose heading names it in
+    backticks, or with a line ``Explains: `study`, ...``."""
+    tag = f"`{study}`"
+    found = []
+    for heading, body in notes_sections(notes):
+        explains = any(line.startswith("Explains:") and tag in line for line in body.splitlines())
+        if tag in heading or explains:
+            found.append((heading, body))
+    return found
+
+
+def _anchored(notes: str) -> str:
+    """The notes with an ``<a id>`` before every ``## `` heading, the targets of the rows' links."""
+    return re.sub(r"^## (.+)$", lambda m: f'<a id="{note_anchor(m.group(1))}"></a>\n\n## {m.group(1)}', notes,
+                  flags=re.MULTILINE)
+
+
 def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any]], notes: str = "",
            figures: Mapping[str, list[str]] | None = None) -> str:
     """The comparison document (Markdown) of `compare`'s rows, then ``notes``.
@@ -256,22 +289,26 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             )
         lines += [
             "",
-            "| quantity | where | thesis | ours | standard error | deviation |",
-            "| --- | --- | --- | --- | --- | --- |",
+            "| quantity | where | thesis | ours | standard error | deviation | explained in |",
+            "| --- | --- | --- | --- | --- | --- | --- |",
         ]
+        explained = "; ".join(f"[{_cell(heading)}](#{note_anchor(heading)})"
+                              for heading, _ in explaining_sections(name, notes))
         for row in by_study[name]:
             ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
             error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
             deviation = f"{100 * row.deviation:+.1f} %" if math.isfinite(row.deviation) else "—"
+            far = math.isfinite(row.deviation) and abs(row.deviation) > EXPLAIN_ABOVE
+            where = (explained or "**no explanation in the notes**") if far else ""
             lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
-                         f"{error} | {deviation} |")
+                         f"{error} | {deviation} | {where} |")
         lines.append("")
         if figures.get(name):
             lines += ["Figures drawn from these tables (`brushbem compare-thesis ... --figures DIR`):", ""]
             lines += [f"![{Path(path).stem}]({path})" for path in figures[name]]
             lines.append("")
     if notes.strip():
-        lines += [notes.strip(), ""]
+        lines += [_anchored(notes.strip()), ""]
     return "\n".join(lines)
 
 

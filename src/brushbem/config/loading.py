@@ -304,6 +304,8 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
     for key in _LATER_PROTOCOL_KEYS:
         if data["protocol"].get(key) is None:
             data["protocol"].pop(key, None)
+    if not any(value is not None for value in data.get("units", {}).values()):
+        data.pop("units", None)  # names only: the default (dimensionless) leaves case hashes as they were
     return to_json_safe(data)
 
 

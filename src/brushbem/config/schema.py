@@ -748,8 +748,35 @@ class SolverConfig(_Model):
     cascade: Literal["local", "global"] = "local"
 
 
+class UnitsConfig(_Section):
+    """The unit system of the inputs (`brushbem.units`): names only, the numbers do not change.
+
+    Attributes
+    ----------
+    length : {"m", "cm", "mm", "um", "nm"} or None
+        The unit of ``grid.size`` and every length.
+    stress : {"Pa", "kPa", "MPa", "GPa"} or None
+        The unit of E* and every stress; forces, works and the work of
+        adhesion follow.  Both or neither; neither (the default) is
+        dimensionless.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    length: Literal["m", "cm", "mm", "um", "nm"] | None = None
+    stress: Literal["Pa", "kPa", "MPa", "GPa"] | None = None
+
+    def _rule_problems(self) -> list[Problem]:
+        length, stress = getattr(self, "length", None), getattr(self, "stress", None)
+        if (length is None) == (stress is None):
+            return []
+        missing = "stress" if stress is None else "length"
+        return [Problem(missing, "missing", "give units.length and units.stress together, or neither "
+                                            "(dimensionless)")]
+
+
 class RunConfig(BaseModel):
-    """One run: half-space, grid, indenter, load path and solver settings."""
+    """One run: half-space, grid, indenter, load path, solver settings and the inputs' units."""
 
     model_config = _MODEL_CONFIG
 
@@ -758,6 +785,7 @@ class RunConfig(BaseModel):
     indenter: IndenterConfig
     protocol: ProtocolConfig
     solver: SolverConfig = SolverConfig()
+    units: UnitsConfig = UnitsConfig()
 
     @model_validator(mode="after")
     def _consistent(self, info: ValidationInfo) -> RunConfig:
@@ -836,4 +864,5 @@ _SECTIONS: dict[str, type[BaseModel]] = {
     "indenter": IndenterConfig,
     "protocol": ProtocolConfig,
     "solver": SolverConfig,
+    "units": UnitsConfig,
 }

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from brushbem import theory
+from brushbem.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
     column,
@@ -79,7 +80,8 @@ def draw(results, figures_dir: Path) -> list[Path]:
         f = ds["force"].values / fk
         a = np.sqrt(ds["contact_area"].values / math.pi) / r
         line, = ax4.plot(d, f, label=label)
-        ax5.plot(a, f, color=line.get_color(), label=label)
+        # The jump to separation at fixed d drawn as a jump (dotted), not as a slope in a.
+        draw_with_jumps(ax5, a, f, d, color=line.get_color(), label=label)
         ax5.plot([a[0]], [f[ds["loading"].values][-1] if ds["loading"].values.any() else f[0]],
                  marker="^", color=line.get_color(), linestyle="none")
     ax4.axhline(-1.0, color="k", linestyle="--", lw=0.8, label="Kendall F_A (eq. 2.4)")

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from brushbem import theory
+from brushbem.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
     column,
@@ -78,7 +79,8 @@ def draw(results, figures_dir: Path) -> list[Path]:
         label = "rigid" if not math.isfinite(k) else f"k~ = {k_tilde:.2g} (k_bar = {row.k_bar:.2g})"
         f = ds["force"].values / f_jkr
         ax7.plot(ds["displacement"].values / d_jkr, f, label=label)
-        ax8.plot(np.sqrt(ds["contact_area"].values / math.pi) / a_jkr, f, label=label)
+        draw_with_jumps(ax8, np.sqrt(ds["contact_area"].values / math.pi) / a_jkr, f, ds["displacement"].values,
+                        color=ax7.lines[-1].get_color(), label=label)
     if a_tilde_nor is not None:
         modulus, dgamma, radius = a_tilde_nor
         a_jkr = theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
