@@ -33,7 +33,7 @@ def test_the_site_builds_with_warnings_as_errors(site):
                  "site/gallery/index.html", "site/api/index.html", "thesis-comparison/index.html"):
         assert (site / page).is_file(), page
     configuration = (site / "site/configuration/index.html").read_text()
-    assert "stiffness_ratio" in configuration and "pillar_law" in configuration  # every key, from the README
+    assert "stiffness_ratio" in configuration and "pillar_law" in configuration  # every key
     assert "record_pull_off" in (site / "site/api/index.html").read_text() or \
         "pull_off" in (site / "site/api/index.html").read_text()
 

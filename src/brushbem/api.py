@@ -74,7 +74,7 @@ class PullOff:
 
     @property
     def summary(self) -> dict[str, Any]:
-        """The ``summary.json`` contract (README): F_A, d_A, work, convergence, theory ratios, warnings."""
+        """The ``summary.json`` contract (docs/site/outputs.md): F_A, d_A, work, convergence, theory ratios, warnings."""
         return self.result.summary
 
     @property
@@ -181,7 +181,7 @@ def pull_off(
     preload_displacement, preload_force : float
         Exactly one: press to this base displacement or until this force.
     method : {"events", "element_events", "fixed"}
-        The load path (README, "Protocol"); ``step`` is the fixed method's step.
+        The load path (docs/site/configuration.md, `[protocol]`); ``step`` is the fixed method's step.
     tolerance : float
         Relative residual of every CG solve.
     speed : float, optional

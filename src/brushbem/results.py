@@ -264,7 +264,7 @@ class CaseResult:
     curve : Curve
     snapshots : tuple of Snapshot
     summary : RunSummary
-        The ``summary.json`` contract (see README; a mapping of these keys): adhesive_force,
+        The ``summary.json`` contract (docs/site/outputs.md; a mapping of these keys): adhesive_force,
         pull_off_displacement, separation_displacement, work_of_separation,
         preload_force, max_displacement, converged, n_solves,
         n_cg_iterations, wall_time_s, theory {...}.

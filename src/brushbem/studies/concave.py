@@ -164,7 +164,7 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         for phi, g in (mx.groupby(PHI) if len(mx) else []):
             g = g.sort_values(K)
             ax[0, 0].semilogx(g[K], g["max"], "o-", label=f"φ = {phi:g}")
-        ax[0, 0].set(xlabel="k~", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
+        ax[0, 0].set(xlabel="k~ = k / (E* L)", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
         if len(mx):
             ax[0, 0].legend(fontsize=7)
         else:

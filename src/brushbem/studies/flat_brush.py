@@ -104,7 +104,7 @@ def _draw_curves(results, figures_dir):
         if abs(row.k_tilde - 0.455) < 1e-3:
             ax.axhline(-1.8, color="red", ls=":", lw=0.8)
             mark(ax, float(row.pull_off_displacement) / d_scale, -1.8, "thesis F~_A ~ 1.8")
-        ax.set_title(f"k~ = {row.k_tilde:.3g}, N = {int(row.n)}", fontsize=8)
+        ax.set_title(f"k~ = {row.k_tilde:.3g}, N_p = {int(row.n)} pillars", fontsize=8)
         ax.set_xlabel("d~ (eq. 4.12)", fontsize=7)
         ax.set_ylabel("F~ (eq. 4.11)", fontsize=7)
         ax.legend(fontsize=6)
@@ -118,13 +118,13 @@ def _draw_force_vs_stiffness(results, figures_dir):
         frame = _frame(results, part)
         for n, group in (frame.groupby("n") if len(frame) else ()):
             g = group.sort_values("k_tilde")
-            line, = ax.plot(g.k_tilde, g.F, "o-", ms=3, label=f"N = {int(n)}")
+            line, = ax.plot(g.k_tilde, g.F, "o-", ms=3, label=f"N_p = {int(n)}")
             ax.axhline(n**0.25, color=line.get_color(), ls=":", lw=0.7)
         if len(frame):
             phi = float(np.nanmean(frame.phi))
             ax.axhline(phi ** -0.25, color="k", ls="--", label=f"phi^-1/4 = {phi ** -0.25:.2f} (eq. 4.9)")
         ax.set(xscale="log", xlabel="k~ = k / (E* L)", ylabel="F~_A (eq. 4.11)", title=f"Fig. 4-4 {label}")
-        ax.legend(fontsize=6, title="dotted: N^1/4 (eq. 4.10)", title_fontsize=6)
+        ax.legend(fontsize=6, title="dotted: N_p^1/4 (eq. 4.10)", title_fontsize=6)
         ax.grid(alpha=0.3, which="both")
     mark(axes[0, 0], 10.0, 1.7, "thesis: k~ > 1 ~ phi^-1/4 = 1.7")
     return save(fig, Path(figures_dir) / "fig4-4_force_vs_stiffness.png")
@@ -134,14 +134,14 @@ def _draw_plateau(results, figures_dir):
     fig, axes = new_figure()
     ax = axes[0, 0]
     nn = np.logspace(0.5, 3.6, 50)
-    ax.plot(nn, nn**0.25, "k-", label="N^1/4 (eq. 4.10)")
+    ax.plot(nn, nn**0.25, "k-", label="N_p^1/4 (eq. 4.10)")
     ax.plot(nn, nn**0.25 / 1.25, "k:", label="thesis: 1.2-1.3 x below")
     for part, marker in (("regular", "o"), ("random", "s")):
         n, f, _ = _plateau(_frame(results, part))
         if len(n):
             ax.plot(n, f, marker, label=f"BEM {part}, smallest k~")
-    mark(ax, 2304, 6.0, "thesis: x6 at N = 2304")
-    ax.set(xscale="log", yscale="log", xlabel="N", ylabel="F~_A at the plateau", title="Fig. 4-5")
+    mark(ax, 2304, 6.0, "thesis: x6 at N_p = 2304")
+    ax.set(xscale="log", yscale="log", xlabel="N_p (pillars; the thesis's N)", ylabel="F~_A at the plateau", title="Fig. 4-5")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3, which="both")
     return save(fig, Path(figures_dir) / "fig4-5_plateau.png")
@@ -152,14 +152,14 @@ def _draw_phi(results, figures_dir):
     ax = axes[0, 0]
     frame = _frame(results, "phi")
     nn = np.logspace(0.5, 3.6, 50)
-    ax.plot(nn, nn**0.25, "k-", label="N^1/4 (eq. 4.10)")
+    ax.plot(nn, nn**0.25, "k-", label="N_p^1/4 (eq. 4.10)")
     if len(frame):
         frame = frame.assign(phi_set=column(frame, "phi_nominal") if "phi_nominal" in frame else
                              np.round(frame.phi, 2))
         for phi, group in frame.groupby(np.round(frame.phi, 2)):
             g = group.sort_values("n")
             ax.plot(g.n, g.F, "o-", label=f"phi = {phi:.2f}")
-    ax.set(xscale="log", yscale="log", xlabel="N", ylabel="F~_A at the plateau", title="Fig. 4-6: filling factor")
+    ax.set(xscale="log", yscale="log", xlabel="N_p (pillars; the thesis's N)", ylabel="F~_A at the plateau", title="Fig. 4-6: filling factor")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3, which="both")
     return save(fig, Path(figures_dir) / "fig4-6_filling_factor.png")
@@ -174,11 +174,11 @@ def _draw_work(results, figures_dir):
             kk = np.logspace(np.log10(np.nanmin(frame.k_tilde)), np.log10(np.nanmax(frame.k_tilde)), 50)
             for n, group in frame.groupby("n"):
                 g = group.sort_values("k_tilde")
-                line, = ax.plot(g.k_tilde, g.W, "o-", ms=3, label=f"N = {int(n)}")
+                line, = ax.plot(g.k_tilde, g.W, "o-", ms=3, label=f"N_p = {int(n)}")
                 phi = float(np.nanmean(g.phi))
                 ax.plot(kk, n**-0.5 * phi**0.5 / kk, ls="--", lw=0.7, color=line.get_color())
         ax.axhline(1.0, color="k", ls=":", lw=0.7, label="rigid compact punch")
-        ax.set(xscale="log", yscale="log", xlabel="k~", ylabel="W~ = W / W_K (eq. 4.15)", title=f"Fig. 4-7 {label}")
+        ax.set(xscale="log", yscale="log", xlabel="k~ = k / (E* L)", ylabel="W~ = W / W_K (eq. 4.15)", title=f"Fig. 4-7 {label}")
         ax.legend(fontsize=6, title="dashed: eq. 4.18", title_fontsize=6)
         ax.grid(alpha=0.3, which="both")
     return save(fig, Path(figures_dir) / "fig4-7_work.png")

@@ -85,8 +85,9 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax5.plot([a[0]], [f[ds["loading"].values][-1] if ds["loading"].values.any() else f[0]],
                  marker="^", color=line.get_color(), linestyle="none")
     ax4.axhline(-1.0, color="k", linestyle="--", lw=0.8, label="Kendall F_A (eq. 2.4)")
-    ax4.set(xlabel="d~ = d / d_K", ylabel="F~ = F / F_K", title="Fig. 2-4: flat punch on a spring")
-    ax5.set(xlabel="a~ = a / r", ylabel="F~ = F / F_K", title="Fig. 2-5: force vs contact radius")
+    ax4.set(xlabel="d~ = d / d_K", ylabel="F~ = F / F_K", title="Fig. 2-4: flat punch on a spring, k~ = k / (2 E* r)")
+    ax5.set(xlabel="a~ = a / r", ylabel="F~ = F / F_K",
+            title="Fig. 2-5: force vs contact radius, k~ = k / (2 E* r) (dotted: jumps)")
     for ax in (ax4, ax5):
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)

@@ -175,7 +175,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     if len(table):
         ax[0, 0].semilogx(table["stiffness_ratio"], table["critical_roughness"], "o-", label="ours σ~_c = α/β")
         ax[0, 0].semilogx(table["stiffness_ratio"], 10 * table["alpha"], "v-", label="ours 10 α")
-    ax[0, 0].set(xlabel="k~", ylabel="σ~_c, 10 α", title="Table 1: α, β, σ~_c vs k~")
+    ax[0, 0].set(xlabel="k~ = k / (E* L)", ylabel="σ~_c, 10 α", title="Table 1: α, β, σ~_c vs k~")
     ax[0, 0].legend(fontsize=7)
     save(fig, figures_dir / "table1.png", written)
 
@@ -188,7 +188,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         g = g.sort_values(K)
         ax[0, 1].semilogx(g[K], g["plateau"], "o-", ms=3, label=f"σ~ = {g['sigma'].mean():.2f}")
     ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 5-6 a")
-    ax[0, 1].set(xlabel="k~", ylabel="F~_A (plateau)", title="Fig. 5-6 b")
+    ax[0, 1].set(xlabel="k~ = k / (E* L)", ylabel="F~_A (plateau)", title="Fig. 5-6 b")
     for a_ in ax[0]:
         a_.axhline(1, ls=":", color="0.5")
         if len(coeff):
@@ -204,7 +204,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         fig.colorbar(mesh, ax=ax[0, 0], label="F~_A (plateau)")
     else:
         empty_note(ax[0, 0], "needs several k~ and σ~")
-    ax[0, 0].set(xlabel="log10 k~", ylabel="σ~", title="Fig. 5-7: combined influence")
+    ax[0, 0].set(xlabel="log10 k~, k~ = k / (E* L)", ylabel="σ~", title="Fig. 5-7: combined influence")
     save(fig, figures_dir / "fig5-7_map.png", written)
     return written
 

@@ -94,8 +94,8 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax8.plot(a / a_jkr, f, "k--", label="JKR rigid")
         a_s = a_sep / a_jkr
         mark(ax8, a_s, -5 / 9, "thesis: F~(a_s) = -5/9 (point D)")
-    ax7.set(xlabel="d~ = d / |d_JKR|", ylabel="F~ = F / F_JKR", title="Fig. 2-7: sphere on a spring")
-    ax8.set(xlabel="a~ = a / a_JKR", ylabel="F~ = F / F_JKR", title="Fig. 2-8: force vs contact radius")
+    ax7.set(xlabel="d~ = d / |d_JKR|", ylabel="F~ = F / F_JKR", title="Fig. 2-7: sphere on a spring, k~ = k / (E* a_JKR)")
+    ax8.set(xlabel="a~ = a / a_JKR", ylabel="F~ = F / F_JKR", title="Fig. 2-8: force vs contact radius (dotted: jumps)")
     for ax in (ax7, ax8):
         ax.legend(fontsize=6)
         ax.grid(alpha=0.3)
