@@ -133,6 +133,7 @@ def test_no_import_cycles():
     assert _cycles(graph) == []
 
 
+@pytest.mark.slow
 def test_every_module_imports_alone():
     names = sorted(_modules())
 

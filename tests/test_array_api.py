@@ -75,6 +75,7 @@ CASES = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(CASES))
 def test_pull_off_on_the_strict_array_api_equals_numpy(name):
     make, dgamma, method = CASES[name]

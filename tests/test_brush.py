@@ -445,6 +445,7 @@ def brush_16x16():
     return out
 
 
+@pytest.mark.slow
 def test_16x16_brush_force_is_near_the_rigid_estimate_for_stiff_pillars(brush_16x16):
     # Thesis Fig. 4-3a: F~ ~ 1.8 at k~ = 0.455; rigid estimate phi^-1/4 = 1.7.
     for ratio in (10.0, 1.0):
@@ -453,6 +454,7 @@ def test_16x16_brush_force_is_near_the_rigid_estimate_for_stiff_pillars(brush_16
         assert 1.6 <= normalized["force_by_compact_punch"] <= 2.1, (ratio, normalized)
 
 
+@pytest.mark.slow
 def test_rigid_brush_force_is_resolved_at_four_elements_per_pillar_radius():
     """A rigid 4 x 4 brush (phi = 0.12): F_A / F_c at 4, 8, 16 elements per pillar radius.
 
@@ -510,6 +512,7 @@ def test_brush_outputs(brush_16x16, tmp_path):
     assert result.summary["mean_cg_iterations_per_solve"] > 0
 
 
+@pytest.mark.slow
 def test_nested_loop_per_pillar_equals_the_coupled_operator():
     """Thesis Fig. 3-5 c: the nested loop extended pillar by pillar solves the same equations.
 
@@ -541,6 +544,7 @@ def test_nested_loop_per_pillar_equals_the_coupled_operator():
     assert 0 < int(c1.sum()) < int(indenter.footprint.sum())  # some detachment happened
 
 
+@pytest.mark.slow
 def test_nested_vs_convolution_study_agrees(tmp_path):
     from brushbem.studies import nested_vs_convolution as study
 

@@ -164,6 +164,7 @@ def test_fixed_steps_converge_to_the_event_path(stiffness, sigma):
     assert w_errors[-1] < 0.02
 
 
+@pytest.mark.slow
 def test_level_brushes_keep_the_element_path():
     """A brush of level tips touches with every element at once: one loading event, no contact problems.
 

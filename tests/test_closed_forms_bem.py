@@ -185,6 +185,7 @@ def test_kendall_punch_at_a_over_h_64():
 # ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_jkr_sphere_pull_off_force_convergence():
     """Paraboloid R = 1, dgamma = 1e-3: a_JKR = (9 pi dgamma R^2 / 8 E*)^(1/3) = 0.152.
 
@@ -263,6 +264,7 @@ def _sphere_work_errors(size, sizes, stiffness=math.inf, **preload):
         ("k_bar = 5", 0.5, (33, 66), 5.0 * 0.11624474, {"preload_force": 0.0075}, 0.15),
     ],
 )
+@pytest.mark.slow
 def test_sphere_work_of_separation_converges_to_theory(case, size, sizes, stiffness, preload, bound):
     """The work from the zero-force crossing to separation tends to the closed form of its path.
 

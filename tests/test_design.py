@@ -17,7 +17,13 @@ from click.testing import CliRunner
 
 from brushbem.case import brush_scales
 from brushbem.cli import main
-from brushbem.design import DesignError, critical_forces, design, prescribed_force_state
+from brushbem.design import (
+    DesignError,
+    critical_forces,
+    design,
+    prescribed_force_state,
+    sharing_bound,
+)
 from brushbem.halfspace import HalfSpace
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
 from brushbem.structure import Grid, Profile, brush, flat_punch
@@ -59,6 +65,33 @@ def test_critical_forces_put_every_pillar_edge_at_the_criterion():
     np.maximum.at(tension, indenter.pillar[indenter.pillar >= 0], -pressure[indenter.pillar >= 0])
     np.testing.assert_allclose(tension, problem.critical_stress, rtol=1e-7)
     assert total == pytest.approx(-forces.sum())
+
+
+def test_the_sharing_bound_of_one_punch_is_its_pull_off():
+    """One rigid flat punch: the largest tension with no element past Sigma_c is the event path's F_A
+    (which detaches it when its edge element reaches Sigma_c), to the CG tolerance (1e-6)."""
+    punch = flat_punch(GRID, 0.2)
+    problem = ContactProblem(GRID, punch, contact_modulus=1.0, work_of_adhesion=1e-4)
+    halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
+    bound, tension = sharing_bound(halfspace, punch.pillar, problem.critical_stress)
+    pulled = record_pull_off(problem, LoadPath(method="events", preload_displacement=1e-3, max_steps=10**6))
+    assert bound == pytest.approx(float(pulled.summary["adhesive_force"]), rel=1e-6)
+    assert tension[0] == pytest.approx(bound, rel=1e-12)
+
+
+def test_no_design_beats_all_edges_at_the_criterion_at_once():
+    """The linear programme over every force vector (every length or stiffness design in full contact)
+    finds nothing above the state with every pillar's edge at Sigma_c: that state is optimal (1e-6), and
+    the programme's optimum is feasible (no element past Sigma_c, to the CG tolerance)."""
+    problem = _problem(10.0)
+    indenter = problem.indenter
+    halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
+    _, _, at_once = critical_forces(halfspace, indenter.pillar, -np.full(indenter.n_pillars, 1e-4),
+                                    problem.critical_stress)
+    bound, tension = sharing_bound(halfspace, indenter.pillar, problem.critical_stress)
+    assert bound == pytest.approx(at_once, rel=1e-6)
+    pressure, _ = prescribed_force_state(halfspace, indenter.pillar, -tension)
+    assert float(np.max(-pressure[indenter.pillar >= 0])) <= problem.critical_stress * (1 + 1e-7)
 
 
 @pytest.mark.parametrize("stiffness", [6e-4, 10.0])
@@ -123,11 +156,17 @@ def test_cli_design_writes_the_design(tmp_path):
         f"pillar_radius = {math.sqrt(0.06 / math.pi) / 4}\nstiffness_ratio = 10.0\n"
         "[protocol]\npreload_force = 0.005\n")
     out = tmp_path / "design"
-    result = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--quiet"])
+    result = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--bound"])
     assert result.exit_code == 0, result.output
+    assert "no design exceeds" in result.output
     assert {p.name for p in out.iterdir()} == {"design.npy", "design.csv", "design.json", "design.png"}
     scalars = json.loads((out / "design.json").read_text())
     assert scalars["verified_force_ratio"] > 0.5 and scalars["pillars"] == np.load(out / "design.npy").size
+    # The bound is the prediction (every edge critical at once is optimal).  At phi = 0.06 partial
+    # detachment adds nothing: the verified F~ stays below the bound up to the event path's resolution
+    # of the criterion (1e-3 here, a 4-element pillar radius).
+    assert scalars["bound_force_ratio"] == pytest.approx(scalars["predicted_force_ratio"], rel=1e-6)
+    assert scalars["verified_force_ratio"] <= scalars["bound_force_ratio"] * (1 + 1e-3)
     punch = tmp_path / "punch.toml"
     punch.write_text("[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\n"
                      'elements = 64\n[indenter]\nshape = "flat_punch"\nradius = 0.2\n[protocol]\n'

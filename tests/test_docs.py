@@ -38,6 +38,7 @@ def test_the_site_builds_with_warnings_as_errors(site):
         "pull_off" in (site / "site/api/index.html").read_text()
 
 
+@pytest.mark.slow
 def test_the_tutorial_runs_as_written(tmp_path):
     text = TUTORIAL.read_text(encoding="utf-8")
     shell = re.findall(r"```sh\n(.*?)```", text, re.DOTALL)

@@ -61,6 +61,7 @@ def _relative_max(a, b) -> float:
         (64, (64, 64)),  # large enough that the wrap-around would be visible if wrong
     ],
 )
+@pytest.mark.slow
 def test_padded_fft_equals_dense_product(elements, window):
     h, modulus = 0.37, 2.5  # arbitrary units: nothing here may depend on h = 1 or E* = 1
     halfspace = HalfSpace(elements, h, modulus)

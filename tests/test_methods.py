@@ -452,6 +452,7 @@ def _assert_converging(f_events, slope, force_differences, work_differences, lab
     assert force_differences[-1] < 5e-3 * f_events and work_differences[-1] < 5e-3, message
 
 
+@pytest.mark.slow
 def test_fixed_steps_tend_to_events_for_a_punch_on_a_spring():
     """Punch k~ = 1.5 at a/h = 8, preload 0.002.
 
@@ -465,6 +466,7 @@ def test_fixed_steps_tend_to_events_for_a_punch_on_a_spring():
     _assert_converging(*_fixed_to_events(problem, 0.002), "punch on a spring")
 
 
+@pytest.mark.slow
 def test_fixed_steps_tend_to_events_for_a_sphere():
     """Rigid sphere at a_JKR/h ~ 10, preload 1.2 a_JKR^2/R.
 

@@ -53,6 +53,7 @@ def _brush(law=None, stiffness=0.05):
     return dataclasses.replace(indenter, pillar_law=law)
 
 
+@pytest.mark.slow
 def test_linear_laws_are_the_linear_spring():
     """One piece of factor 1 is the spring itself; pieces of factor 1 around breakpoints too, state for state.
 
@@ -85,6 +86,7 @@ def test_law_pieces_compress_as_integrated():
         assert force / slope[0] + offset[0] == pytest.approx(law.compression(np.array([force]), k)[0], abs=1e-15)
 
 
+@pytest.mark.slow
 def test_a_punch_on_a_three_piece_law_solves_its_scalar_equation():
     """Softer in tension, linear around 0, buckled (5 % slope) beyond F = 0.002: F = k_h (d - s(F)) at every state.
 
@@ -141,6 +143,7 @@ def test_the_piece_iteration_of_a_buckling_brush_ends_on_the_law():
     assert forces.max() < buckling + 0.02 * 0.05 * path.preload_displacement
 
 
+@pytest.mark.slow
 def test_a_tension_cut_off_breaks_the_punch_at_the_cut_off():
     """A cut-off at half Kendall's force: the punch breaks there, one step after the tension passes it at most."""
     kendall = _record(_punch()).summary["adhesive_force"]

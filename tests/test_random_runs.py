@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
@@ -185,6 +186,7 @@ def _run_or_refuse(tmp_path_factory, drawn):
     assert dataset.sizes["step"] == result.curve.displacement.size
 
 
+@pytest.mark.slow
 def test_random_configurations_run_or_are_refused(tmp_path_factory):
     """Every draw ends refused, converged and sound, or unconverged with a reason; most converge."""
     _OUTCOMES.clear()

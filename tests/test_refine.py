@@ -45,6 +45,7 @@ def test_richardson_is_exact_on_a_first_order_sequence():
         richardson([1.0])
 
 
+@pytest.mark.slow
 def test_jkr_extrapolates_to_the_closed_form():
     """A JKR sphere (R = 1, dgamma = 1e-2, a_JKR = 0.33) on N = 64, 128, 256 over L = 2: a / h = 10.5 to 42.
 
@@ -115,6 +116,7 @@ def test_refinement_refuses_grids_it_cannot_build():
         refined_configs(_punch(64), 4)
 
 
+@pytest.mark.slow
 def test_cli_run_refine_writes_the_refinement(tmp_path):
     path = tmp_path / "punch.toml"
     path.write_text('[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-3\n[grid]\nsize = 1.0\n'

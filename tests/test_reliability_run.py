@@ -187,6 +187,7 @@ def test_read_only_out_is_refused_before_computing(tmp_path):
     assert result.exception is None or isinstance(result.exception, SystemExit)
 
 
+@pytest.mark.slow
 def test_full_disk_is_a_message_not_a_crash(tmp_path):
     out = tmp_path / "tiny"
     if not _mount_tmpfs(out, "size=64k"):
@@ -222,6 +223,7 @@ def test_full_disk_is_a_message_not_a_crash(tmp_path):
         _unmount(out)
 
 
+@pytest.mark.slow
 def test_writer_killed_between_its_two_files(tmp_path):
     """A run killed after result.nc but before summary.json: the pair is refused, a rerun repairs it."""
     out = tmp_path / "out"

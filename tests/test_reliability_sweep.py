@@ -178,6 +178,7 @@ def corrupt(path: Path, how: str, other: Path) -> None:
         path.write_bytes(other.read_bytes())
 
 
+@pytest.mark.slow
 def test_corrupt_case_files_are_listed_then_set_aside_and_recomputed(tmp_path):
     path = write_sweep(tmp_path)
     out = tmp_path / "out"
@@ -222,6 +223,7 @@ def test_corrupt_case_files_are_listed_then_set_aside_and_recomputed(tmp_path):
     assert_every_case_once(out)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("damage", ["garbage", "truncated", "empty"])
 def test_unreadable_summary_is_rebuilt_with_a_notice(tmp_path, damage):
     out = tmp_path / "out"
@@ -250,6 +252,7 @@ def test_unreadable_summary_is_rebuilt_with_a_notice(tmp_path, damage):
 # ----------------------------------------------------------------------------- one folder, one sweep
 
 
+@pytest.mark.slow
 def test_a_different_sweep_into_the_folder_is_refused(tmp_path):
     first = write_sweep(tmp_path, name="first.toml")
     out = tmp_path / "out"
@@ -278,6 +281,7 @@ def test_a_different_sweep_into_the_folder_is_refused(tmp_path):
         "the sweep grew from 4 to 8 cases"]
 
 
+@pytest.mark.slow
 def test_an_unreadable_sweep_record_is_judged_by_the_case_files(tmp_path):
     document = {"base": tomllib_base(), "sweep": {"indenter.stiffness": STIFFNESSES}}
     out = tmp_path / "out"
@@ -305,6 +309,7 @@ def tomllib_base() -> dict:
 # ----------------------------------------------------------------------------- stale temporaries
 
 
+@pytest.mark.slow
 def test_temporaries_of_a_killed_driver_are_removed(tmp_path):
     document = {"base": tomllib_base(), "sweep": {"indenter.stiffness": STIFFNESSES[:2]}}
     out = tmp_path / "out"
@@ -340,6 +345,7 @@ class Scripted(ThreadPoolExecutor):
         return future
 
 
+@pytest.mark.slow
 def test_infrastructure_losses_are_missing_not_failed(tmp_path):
     from distributed.comm.core import CommClosedError
     from distributed.scheduler import KilledWorker
@@ -422,6 +428,7 @@ def test_dask_worker_dying_on_a_case_leaves_it_missing_for_the_rerun(tmp_path, m
 # ----------------------------------------------------------------------------- killed driver, signals
 
 
+@pytest.mark.slow
 def test_killed_driver_takes_its_workers_along(tmp_path):
     path = write_sweep(tmp_path)
     log = tmp_path / "calls"
@@ -438,6 +445,7 @@ def test_killed_driver_takes_its_workers_along(tmp_path):
         stop_group(driver)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("number", "status", "said"), [
     (signal.SIGTERM, 143, "terminated (SIGTERM)"), (signal.SIGINT, 130, "interrupted")])
 def test_signal_keeps_the_finished_cases_and_stops_the_workers(tmp_path, number, status, said):
@@ -468,6 +476,7 @@ def test_signal_keeps_the_finished_cases_and_stops_the_workers(tmp_path, number,
     assert_every_case_once(out)
 
 
+@pytest.mark.slow
 def test_folder_conflict_in_a_study_names_the_part(tmp_path, monkeypatch):
     from brushbem import studies
 

@@ -39,6 +39,7 @@ def punch_study(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow
 def test_tables_give_the_numbers_of_the_study_folder(punch_study, tmp_path):
     folder = export_tables(punch_study, tmp_path)
     provenance, tables = load_tables(folder)
@@ -56,6 +57,7 @@ def test_tables_give_the_numbers_of_the_study_folder(punch_study, tmp_path):
     assert all(math.isnan(row.standard_error) for row in rows)
 
 
+@pytest.mark.slow
 def test_the_document_is_the_same_bytes_for_the_same_tables(punch_study, tmp_path):
     export_tables(punch_study, tmp_path / "tables")
     (tmp_path / "tables" / "notes.md").write_text("## Notes\n\nHand-written.\n")
@@ -202,6 +204,7 @@ def test_a_sampled_study_is_labelled_and_recomputed_with_its_flag():
     assert "brushbem study rough_brush --out out/rough_brush --sampled" in text
 
 
+@pytest.mark.slow
 def test_committed_tables_keep_their_case_ids():
     """Every committed table's case ids are those its shipped sweep file expands to today.
 

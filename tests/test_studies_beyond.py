@@ -13,6 +13,9 @@ from conftest import run_quick_study
 from brushbem.studies._ch5_7 import FIS, K, finished
 from brushbem.studies.beyond import ANGLE, CAP, SPEED, _brush_kind
 
+# Whole quick studies: `make test` runs them, `make test-fast` leaves them out.
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module", params=["tip_shape", "grading", "tilt", "viscoelastic", "robustness"])
 def quick(request, tmp_path_factory):

@@ -13,6 +13,9 @@ import numpy as np
 import pytest
 from conftest import run_quick_study
 
+# Whole quick studies: `make test` runs them, `make test-fast` leaves them out.
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def punch(tmp_path_factory):

@@ -12,6 +12,9 @@ from conftest import run_quick_study
 
 from brushbem.studies._ch5_7 import FA, FIS, PRELOAD, REGION, SIGMA, H, K, finished
 
+# Whole quick studies: `make test` runs them, `make test-fast` leaves them out.
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def rough(tmp_path_factory):

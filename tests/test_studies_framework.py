@@ -147,6 +147,7 @@ def test_finished_filters_status() -> None:
     assert finished(pd.DataFrame()).empty
 
 
+@pytest.mark.slow
 def test_run_study_layout_and_resume(study_dir: Path, calls: list[float]) -> None:
     record = json.loads((study_dir / "study.json").read_text())
     assert record["study"] == "fake" and record["quick"] is False
@@ -296,6 +297,7 @@ def _browser(binary: str, *arguments: str, cwd: Path) -> subprocess.CompletedPro
     )
 
 
+@pytest.mark.slow
 def test_report_renders_in_headless_chromium(study_dir: Path, tmp_path: Path) -> None:
     binary = _chromium()
     report = write_report(study_dir)

@@ -279,6 +279,7 @@ def test_cli_invalid_sweep_exits_2(tmp_path):
 # ----------------------------------------------------------------------------- running
 
 
+@pytest.mark.slow
 def test_failures_recorded_and_others_finish(tmp_path, monkeypatch):
     real = brushbem.case.run_case
     calls = []
@@ -361,6 +362,7 @@ def study_spec():
     return document
 
 
+@pytest.mark.slow
 def test_local_processes_and_dask_agree_bit_for_bit(tmp_path):
     pytest.importorskip("dask.distributed")
     document = study_spec()
@@ -374,6 +376,7 @@ def test_local_processes_and_dask_agree_bit_for_bit(tmp_path):
     assert_bit_identical(tmp_path / "local", tmp_path / "dask")
 
 
+@pytest.mark.slow
 def test_rerun_gives_bit_identical_results(tmp_path):
     document = study_spec()
     for name in ("a", "b"):
@@ -431,6 +434,7 @@ def run_cli(args: list[str], hooks: Path, calls: Path, sleep: float) -> subproce
     )
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes_exactly_the_missing_cases(tmp_path):
     hooks = tmp_path / "hooks"
     hooks.mkdir()

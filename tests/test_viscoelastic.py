@@ -172,6 +172,7 @@ def _continuous_work(model: str, speed: float, k_h: float, f_k: float) -> float:
     ("standard_linear_solid", (1e-3, 5e-4, 2.5e-4)),
     ("kelvin_voigt", (2e-3, 1e-3)),
 ])
+@pytest.mark.slow
 def test_a_punch_on_a_connection_is_the_one_degree_of_freedom_model(model, steps):
     """At a speed where the connection relaxes during the pull-off (the path lasts 2 tau), three checks.
 
@@ -211,6 +212,7 @@ def test_a_punch_on_a_connection_is_the_one_degree_of_freedom_model(model, steps
         assert abs(exact / relaxed - 1) > 0.02
 
 
+@pytest.mark.slow
 def test_a_brush_pulled_at_three_speeds():
     """A 4 x 4 brush of SLS connections: F_A rises from the relaxed towards the instantaneous brush with speed.
 

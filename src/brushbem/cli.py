@@ -386,8 +386,11 @@ def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
               help="Design the pillars' length offsets, or their stiffnesses.")
 @click.option("--iterations", type=click.IntRange(0, 50), default=2, show_default=True,
               help="Corrective pull-offs after the direct solve.")
+@click.option("--bound", is_flag=True,
+              help="Also compute the most any length or stiffness design in full contact can reach (a linear "
+                   "programme over the pillar forces; one solve per pillar).")
 @click.option("--quiet", is_flag=True, help="No progress output.")
-def design(config_path: Path, out_dir: Path, target: str, iterations: int, quiet: bool) -> None:
+def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound: bool, quiet: bool) -> None:
     """Design CONFIG's brush for equal load sharing (lengths or stiffnesses), verified by pull-offs.
 
     Every pillar is brought to the criterion at the same moment by a direct
@@ -399,7 +402,7 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, quiet
     from brushbem.design import design as run_design
 
     try:
-        result = run_design(built.problem, built.path, target=target, iterations=iterations,
+        result = run_design(built.problem, built.path, target=target, iterations=iterations, bound=bound,
                             progress=None if quiet else lambda f, m: click.echo(m, err=True))
     except DesignError as exc:
         click.echo(f"cannot design {config_path}: {exc}", err=True)
@@ -413,6 +416,10 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, quiet
         click.echo(f"predicted F~ = {result.predicted_force_ratio:.4f} (every pillar's edge critical at once), "
                    f"verified F~ = {result.verified_force_ratio:.4f} after {result.iterations} corrective pull-offs; "
                    f"detachment spread {result.spread:.3g} |d_c|; written to {out_dir}")
+        if result.bound_force_ratio is not None:
+            click.echo(f"no design exceeds F~ = {result.bound_force_ratio:.4f} while every pillar is in full "
+                       "contact (the load-sharing bound; partial detachments, which the verification includes, "
+                       "may add to it in dense arrays)")
     if not result.converged:
         click.echo("warning: a verification pull-off did not converge", err=True)
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
