@@ -32,7 +32,7 @@ test: $(VENV)/.installed-test chromium
 	$(VENV)/bin/python -m pytest -q
 
 # The tests not marked slow (the physics against closed forms on small grids, the
-# configuration, the CLI): a few minutes; `make test` runs everything.
+# configuration, the CLI): about a minute; `make test` runs everything.
 test-fast: $(VENV)/.installed-test
 	$(VENV)/bin/python -m pytest -q -m "not slow" -p no:cacheprovider
 
