@@ -36,19 +36,26 @@ def _gallery() -> str:
 
     lines = []
     for name, study in STUDIES.items():
-        folder = ROOT / "docs" / "figures" / name
-        images = sorted(folder.glob("*.png")) if folder.is_dir() else []
+        # The thesis's studies draw into docs/figures from docs/reproduction; the studies beyond the
+        # thesis into docs/beyond/figures from docs/beyond.
+        for tables, figures in (("docs/reproduction", ROOT / "docs" / "figures"),
+                                ("docs/beyond", ROOT / "docs" / "beyond" / "figures")):
+            folder = figures / name
+            images = sorted(folder.glob("*.png")) if folder.is_dir() else []
+            if images:
+                break
         if not images:
             continue
         lines.append(f"## {name}\n\n{study.title}\n")
         lines.append(f"Recompute: `brushbem study {name} --out out/{name}` (add `--quick` for the coarse grids); "
-                     f"the tables behind these figures are in `docs/reproduction/{name}/`.\n")
+                     f"the tables behind these figures are in `{tables}/{name}/`.\n")
         if study.numbers:
             lines.append("| quantity | where | thesis |\n| --- | --- | --- |")
             lines += [f"| {n.quantity} | {n.where} | {n.thesis:g} |" for n in study.numbers]
             lines.append("")
         for image in images:
-            lines.append(f"### {image.stem}\n\n![{image.stem}](../figures/{name}/{image.name})\n")
+            relative = image.relative_to(ROOT / "docs").as_posix()
+            lines.append(f"### {image.stem}\n\n![{image.stem}](../{relative})\n")
     lines.append('<script>window.addEventListener("load", () => document.querySelectorAll("img").forEach('
                  'img => img.setAttribute("data-loaded", String(img.complete && img.naturalWidth > 0))));</script>')
     return "\n".join(lines)
