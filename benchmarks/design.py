@@ -5,7 +5,7 @@ pressed to 2 N F_K.  For every --pillars-per-side it prints one JSON line:
 the wall time of the design (direct solve and --iterations verifying
 pull-offs), its ratio to one ordinary pull-off of the flat brush measured in
 the same run, the predicted and verified F~ = F_A / (N F_K) and the flat
-brush's F~.
+brush's F~, and the spread of the pillars' detachment displacements over |d_c|.
 
     python benchmarks/design.py --elements 512 --pillars-per-side 16 32
 """
@@ -51,7 +51,7 @@ def main() -> None:
             "design_vs_one_pull_off": round(seconds / baseline, 2), "pull_off_seconds": round(baseline, 2),
             "predicted_force_ratio": result.predicted_force_ratio, "verified_force_ratio": result.verified_force_ratio,
             "flat_force_ratio": flat["adhesive_force"] / ideal, "verification_pull_offs": len(result.history),
-            "converged": result.converged,
+            "detachment_spread_by_dc": result.spread, "converged": result.converged,
         }), flush=True)
 
 
