@@ -86,14 +86,15 @@ def test_every_dimension_has_a_coordinate_and_every_variable_parseable_units(res
         assert ds["force"].attrs["dimension"] == "force"
 
 
-def test_declared_units_name_every_dimension(result_file):
+def test_declared_units_name_every_dimension(result_file, request):
     """[units] length = "mm", stress = "MPa": forces in N, stresses in MPa, lengths in mm (an MPa mm^2 is
     a newton); um and kPa: forces in nN (1e3 Pa x 1e-12 m^2); no [units]: all dimensionless."""
     import xarray as xr
 
-    expected = {"dimensionless": ("1", "1", "1"), "mm-MPa": ("mm", "N", "MPa"), "um-kPa": ("um", "nN", "kPa")}
+    expected = {None: ("1", "1", "1"), ("mm", "MPa"): ("mm", "N", "MPa"), ("um", "kPa"): ("um", "nN", "kPa")}
+    declared = request.node.callspec.params["result_file"]  # what the fixture configured, not what the file says
     with xr.open_dataset(result_file, decode_cf=False) as ds:
-        config = json.loads(ds.attrs["config"])
-        key = "dimensionless" if "units" not in config else f"{config['units']['length']}-{config['units']['stress']}"
         units = tuple(ds[name].attrs["units"] for name in ("displacement", "force", "pressure_adhesive_force"))
-    assert units == expected[key]
+        recorded = json.loads(ds.attrs["config"]).get("units")
+    assert units == expected[declared]
+    assert recorded == (None if declared is None else {"length": declared[0], "stress": declared[1]})

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import matplotlib
 import numpy as np
 import pytest
@@ -78,6 +80,30 @@ def test_a_jump_at_fixed_displacement_is_drawn_dotted():
     assert solid.get_linestyle() == "-" and jump.get_linestyle() == ":"
     assert jump.get_color() == solid.get_color() == "tab:green"
     assert [line.get_label() for line in axes.lines].count("case") == 1
+
+
+def test_jump_styles_take_aliases_and_the_label_goes_to_a_solid_piece():
+    figure = Figure()
+    axes = figure.add_subplot()
+    d = np.array([0.0, 0.0, 0.1, 0.2])  # the curve starts with a jump
+    draw_with_jumps(axes, d, d, d, c="r", lw=2.0, label="case")
+    jump, solid = axes.lines
+    assert jump.get_linestyle() == ":" and solid.get_linestyle() == "-"
+    assert solid.get_label() == "case" and jump.get_label().startswith("_")
+    assert solid.get_linewidth() == 2.0 and jump.get_color() == solid.get_color() == "r"
+
+
+def test_a_pull_off_draws_its_closed_form_and_a_reloaded_nan_is_a_number(punch):
+    run, _ = punch
+    assert run.reference is not None
+    labels = [line.get_label() for line in pull_off_figure(run).axes[0].lines]
+    assert str(run.reference["label"]) in labels
+    from brushbem.io import from_dataset, to_dataset
+
+    result = dataclasses.replace(run.result, summary={**run.result.summary, "work_of_separation": float("nan")})
+    reloaded = from_dataset(to_dataset(result))
+    assert np.isnan(reloaded.summary["work_of_separation"])
+    pull_off_figure(reloaded)  # the title formats a nan
 
 
 def test_units_name_forces_works_and_refuse_half_a_system():

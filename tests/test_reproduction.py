@@ -139,6 +139,13 @@ def test_a_study_report_shows_the_explanation_beside_an_amber_number():
     table = _numbers_table(study, {})
     far_row, near_row = table.split("<tr>")[2:4]
     assert "explained in docs/thesis-comparison.md" in far_row and "explained" not in near_row
+    # The comparison document's rules: a study the notes do not cover says so; a deviation that is
+    # not a number (thesis value 0) is not "far"; without the notes (an installed package), a pointer.
+    unknown = type("S", (), {"name": "not_in_the_notes", "numbers": (far,)})()
+    assert "no explanation in the notes" in _numbers_table(unknown, {})
+    zero = type("S", (), {"name": "concave", "numbers": (ThesisNumber("zero", "Fig. 0", 0.0, lambda r: 1.0),)})()
+    assert 'class="far"' not in _numbers_table(zero, {})
+    assert "see docs/thesis-comparison.md" in _explanation("concave", "")
 
 
 def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):

@@ -160,6 +160,13 @@ def test_ids_follow_file_contents_not_paths(tmp_path):
     assert not set(ids(tmp_path / "changed", [0.0, 2e-3, 0.0, 1e-3])) & set(here)
 
 
+def test_units_leave_the_case_ids_alone():
+    """[units] only names the units: the same cases, the same ids (a folder resumes with or without it)."""
+    document = spec(sweep={"indenter.stiffness": [1.0, 2.0]})
+    named = {**document, "base": {**BASE, "units": {"length": "mm", "stress": "MPa"}}}
+    assert [c.case_id for c in parse_sweep(named).cases] == [c.case_id for c in parse_sweep(document).cases]
+
+
 def test_seed_written_where_the_indenter_takes_one(monkeypatch):
     """An indenter that accepts ``indenter.seed`` (as the brush will) receives it as an int."""
     seen = []

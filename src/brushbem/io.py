@@ -253,15 +253,7 @@ REFERENCES = (
 
 def _units_of(result: CaseResult, config: RunConfig | None) -> Units:
     """The configuration's ``[units]`` (`brushbem.units`): from ``config``, else from the provenance."""
-    if config is not None:
-        return Units.from_config(config)
-    recorded = result.attributes.get("config")
-    if isinstance(recorded, str):
-        try:
-            recorded = json.loads(recorded)
-        except ValueError:
-            recorded = None
-    return Units.from_config(recorded) if isinstance(recorded, dict) else Units()
+    return Units.from_config(config) if config is not None else Units.of_record(result.attributes)
 
 
 def _cf_variables(variables: dict[str, xr.Variable], coords: dict[str, xr.Variable], units: Units) -> None:
@@ -499,6 +491,19 @@ def read_case(out_dir: str | Path) -> xr.Dataset:
     return dataset
 
 
+#: How `to_json_safe` writes the non-finite numbers JSON has no literal for.
+_NON_FINITE = {"nan": float("nan"), "inf": float("inf"), "-inf": float("-inf")}
+
+
+def _numbers(node: Any) -> Any:
+    """A decoded summary with its non-finite numbers ("nan", "inf") numbers again."""
+    if isinstance(node, dict):
+        return {key: _numbers(value) for key, value in node.items()}
+    if isinstance(node, list):
+        return [_numbers(value) for value in node]
+    return _NON_FINITE.get(node, node) if isinstance(node, str) else node
+
+
 def _attribute(value: Any) -> Any:
     """A NetCDF attribute as `to_dataset` wrote it: JSON strings decoded, the rest as is."""
     if isinstance(value, str) and (value.startswith(("{", "[")) or value == "null"):
@@ -550,7 +555,7 @@ def from_dataset(dataset: xr.Dataset) -> CaseResult:
     attributes = {str(key): _attribute(value) for key, value in dataset.attrs.items()}
     summary = attributes.pop("summary", {})
     return CaseResult(
-        curve=curve, snapshots=tuple(snapshots), summary=summary if isinstance(summary, dict) else {},
+        curve=curve, snapshots=tuple(snapshots), summary=_numbers(summary) if isinstance(summary, dict) else {},
         attributes=attributes, element_size=float(x[1] - x[0]) if x.size > 1 else 1.0, pillars=pillars,
     )
 

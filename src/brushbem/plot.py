@@ -70,13 +70,6 @@ def as_case_result(result: Any) -> CaseResult:
                     "of a result.nc, or the path of a case folder or .nc file)")
 
 
-def _units(result: CaseResult, given: Units | None) -> Units:
-    if given is not None:
-        return given
-    config = result.attributes.get("config")
-    return Units.from_config(config) if isinstance(config, dict) else Units()
-
-
 def pull_off_figure(
     result: Any,
     reference: Mapping[str, Any] | None = None,
@@ -103,7 +96,8 @@ def pull_off_figure(
         (str).
     ax : matplotlib.axes.Axes, optional
         Draw the curve on these axes (of any figure, pyplot's included) and
-        return their figure; the pattern is not drawn then.
+        return their figure (``ax.figure``: a `SubFigure` where the axes
+        lie in one); the pattern is not drawn then.
     units : brushbem.units.Units, optional
         The unit system of the axis labels; by default the run's
         configuration's ``[units]`` (dimensionless without it).
@@ -112,8 +106,10 @@ def pull_off_figure(
     -------
     matplotlib.figure.Figure
     """
+    if reference is None:
+        reference = getattr(result, "reference", None)  # a PullOff's closed-form curve, as its figure() draws
     result = as_case_result(result)
-    units = _units(result, units)
+    units = units if units is not None else Units.of_record(result.attributes)
     curve = result.curve
     displacement = np.asarray(curve.displacement, dtype=float)
     force = np.asarray(curve.force, dtype=float)
@@ -191,29 +187,43 @@ def draw_with_jumps(axes: Axes, x: Any, y: Any, displacement: Any, **style: Any)
     no state lies between them, so the step is drawn dotted and thin, not as
     part of the solid curve.  Against d itself such a step is vertical; against
     the contact radius (thesis Fig. 2-5, 2-8) it would otherwise read as a
-    slope.  ``style`` is passed to every segment (``label`` only to the first).
+    slope.  ``style`` (matplotlib's line keywords, aliases such as ``c`` and
+    ``lw`` included) applies to the solid pieces; the jumps take its colour.
+    The ``label`` goes to the first solid piece (to the first jump only when
+    the curve is nothing but jumps).
     """
+    from matplotlib import cbook
+    from matplotlib.lines import Line2D
+
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     d = np.asarray(displacement, dtype=float)
+    style = cbook.normalize_kwargs(style, Line2D)
+    label = style.pop("label", None)
+    colour = style.pop("color", None)
     if x.size < 2:
-        axes.plot(x, y, **style)
+        axes.plot(x, y, color=colour, label=label, **style)
         return
     scale = float(np.max(np.abs(d))) or 1.0
     jump = np.abs(np.diff(d)) <= 1e-12 * scale  # segment i joins states i and i + 1 at the same d
-    label = style.pop("label", None)
-    colour = style.pop("color", None)
+    pieces: list[tuple[int, int, bool]] = []  # (first state, last state, is a jump)
     start = 0
     for i in range(x.size - 1):
         if jump[i]:
             if i > start:
-                line = axes.plot(x[start:i + 1], y[start:i + 1], color=colour, label=label, **style)[0]
-                colour, label = line.get_color(), None
-            line = axes.plot(x[i:i + 2], y[i:i + 2], color=colour, linestyle=":", linewidth=0.8,
-                             label=label)[0]
-            colour, label = line.get_color(), None
+                pieces.append((start, i, False))
+            pieces.append((i, i + 1, True))
             start = i + 1
     if start < x.size - 1:
-        axes.plot(x[start:], y[start:], color=colour, label=label, **style)
+        pieces.append((start, x.size - 1, False))
+    labelled = next((n for n, piece in enumerate(pieces) if not piece[2]), 0)
+    for n, (first, last, is_jump) in enumerate(pieces):
+        rows = slice(first, last + 1)
+        text = label if n == labelled else None
+        if is_jump:
+            line = axes.plot(x[rows], y[rows], color=colour, linestyle=":", linewidth=0.8, label=text)[0]
+        else:
+            line = axes.plot(x[rows], y[rows], color=colour, label=text, **style)[0]
+        colour = line.get_color()  # the axes' next colour, taken once, for every piece
 
 
 def _detachment_inset(axes, displacement: np.ndarray, force: np.ndarray, loading: np.ndarray) -> None:

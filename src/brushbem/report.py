@@ -132,7 +132,10 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
 
 def _case_label(row: pd.Series, keys: Sequence[str], realizations: bool) -> str:
     """A curve's legend entry: its swept values (``stiffness_ratio = 0.01, sigma = 0.002``), not its id."""
-    parts = [f"{key.rsplit('.', 1)[-1]} = {_cell(row[key])}" for key in keys if key in row.index]
+    present = [key for key in keys if key in row.index]
+    short = [key.rsplit(".", 1)[-1] for key in present]
+    names = short if len(set(short)) == len(short) else present  # the last part alone where it is unambiguous
+    parts = [f"{name} = {_cell(row[key])}" for name, key in zip(names, present)]
     if realizations and "realization" in row.index:
         parts.append(f"realization {int(row['realization'])}")
     return ", ".join(parts) or str(row["case_id"])
@@ -363,18 +366,28 @@ def _notes_text() -> str:
 
 
 def _explanation(study: str, notes: str) -> str:
-    """Where a deviation above 5 % of ``study`` is explained, with the notes' text when it is at hand."""
+    """Where a deviation above 5 % of ``study`` is explained: the notes' sections, as `render` links them.
+
+    With the notes at hand and no section for the study, it says so, as the
+    comparison document does; without the notes (an installed package) it
+    points to the document.
+    """
     from brushbem.reproduction import explaining_sections
 
+    if not notes:
+        return (f"see docs/thesis-comparison.md (the notes on <code>{_e(study)}</code>) in brushbem's "
+                "repository")
     sections = explaining_sections(study, notes)
     if not sections:
-        return (f"explained in docs/thesis-comparison.md (the notes on <code>{_e(study)}</code>; "
-                "the thesis-grid rows and the measurements behind them)")
+        return "<strong>no explanation in the notes</strong>"
     return "".join(f"<details><summary>explained in docs/thesis-comparison.md: {_e(heading)}</summary>"
                    f"<pre class=\"note\">{_e(body)}</pre></details>" for heading, body in sections)
 
 
 def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
+    # The comparison document's rule for "far".
+    from brushbem.reproduction import EXPLAIN_ABOVE
+
     notes = _notes_text()
     far_rows = 0
     rows = []
@@ -386,8 +399,9 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             deviation = (ours - number.thesis) / number.thesis if number.thesis else math.nan
             ours_text = f"{ours:.6g}"
             deviation_text = f"{100.0 * deviation:+.2f} %" if math.isfinite(deviation) else "n/a"
-            # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md.
-            css = "ok" if math.isfinite(deviation) and abs(deviation) <= 0.05 else "far"
+            # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md (the same rule
+            # as the comparison document's); a deviation that is not a number (thesis value 0) is not.
+            css = "far" if math.isfinite(deviation) and abs(deviation) > EXPLAIN_ABOVE else "ok"
         except Exception as exc:  # noqa: BLE001 - reported, not raised
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"
         explanation = _explanation(study.name, notes) if css == "far" else ""

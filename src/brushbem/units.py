@@ -18,6 +18,7 @@ CF-1.10 asks (``um`` is the micrometre; figures show it as µm).
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass
 
@@ -102,6 +103,18 @@ class Units:
         if self.dimensionless:
             return f"{name} (units of the inputs)"
         return f"{name} ({self.label(dimension)})"
+
+    @classmethod
+    def of_record(cls, attributes: dict) -> Units:
+        """The units of a run's provenance attributes: ``attributes["config"]`` as a mapping or as the
+        JSON text a ``result.nc`` stores; dimensionless when absent or unreadable."""
+        config = attributes.get("config")
+        if isinstance(config, str):
+            try:
+                config = json.loads(config)
+            except ValueError:
+                config = None
+        return cls.from_config(config) if isinstance(config, dict) else cls()
 
     @classmethod
     def from_config(cls, config: object) -> Units:

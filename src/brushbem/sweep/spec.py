@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import functools
 import hashlib
 import itertools
 import json
@@ -274,17 +275,28 @@ def _file_contents(node: Any) -> Any:
     if isinstance(node, list):
         return [_file_contents(value) for value in node]
     if isinstance(node, str) and os.path.isabs(node) and os.path.isfile(node):
-        return "sha256:" + hashlib.sha256(Path(node).read_bytes()).hexdigest()
+        stat = os.stat(node)
+        return _file_digest(node, stat.st_size, stat.st_mtime_ns)
     return node
+
+
+@functools.lru_cache(maxsize=256)
+def _file_digest(path: str, size: int, mtime_ns: int) -> str:
+    """SHA-256 of a file, read once per (path, size, modification time): a sweep names the same file
+    in every case."""
+    return "sha256:" + hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def _case_hash(config: RunConfig, seed: int) -> str:
     """First 10 hex digits of SHA-256 over the resolved configuration and the seed.
 
-    Files named by the configuration enter by their contents, not their paths.
+    Files named by the configuration enter by their contents, not their paths;
+    ``[units]`` does not enter (it names the units, the case is the same).
     """
+    resolved = config_to_dict(config)
+    resolved.pop("units", None)
     text = json.dumps(
-        {"config": _file_contents(config_to_dict(config)), "seed": seed},
+        {"config": _file_contents(resolved), "seed": seed},
         sort_keys=True, separators=(",", ":"), allow_nan=False,
     )
     return hashlib.sha256(text.encode()).hexdigest()[:10]
