@@ -173,3 +173,16 @@ def test_cli_design_writes_the_design(tmp_path):
                      "preload_displacement = 0.01\n")
     refused = CliRunner().invoke(main, ["design", str(punch), "--out", str(tmp_path / "no")])
     assert refused.exit_code == 2
+
+
+def test_the_design_figure_draws_on_given_axes():
+    from matplotlib.figure import Figure
+
+    from brushbem.design import design_figure
+
+    problem = _problem(10.0)
+    result = design(problem, _path(problem), iterations=0)
+    figure = Figure()
+    axes = figure.subplots(1, 2)
+    assert design_figure(problem, result, axes=axes) is figure and len(figure.axes) == 2
+    assert axes[0].lines and axes[1].lines

@@ -422,8 +422,13 @@ def thesis_profile_fit(problem: ContactProblem, offsets: np.ndarray) -> tuple[np
     return fitted - fitted.min() + (offsets.min() if scale >= 0 else 0.0), scale
 
 
-def design_figure(problem: ContactProblem, result: Design):
-    """The designed profile against the distance from the centre, beside the thesis's S_c shape (a Figure)."""
+def design_figure(problem: ContactProblem, result: Design, axes=None):
+    """The designed profile against the distance from the centre, beside the thesis's S_c shape (a Figure).
+
+    ``axes``: a pair of matplotlib axes to draw on (the profile, the
+    verification history); their figure is returned.  By default a new
+    Figure (no pyplot).
+    """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -431,9 +436,13 @@ def design_figure(problem: ContactProblem, result: Design):
     centres = np.asarray(info.centres)
     radial = np.hypot(centres[:, 0], centres[:, 1])
     outer = float(radial.max()) or 1.0
-    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
-    FigureCanvasAgg(fig)
-    left, right = fig.subplots(1, 2)
+    if axes is None:
+        fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+        FigureCanvasAgg(fig)
+        left, right = fig.subplots(1, 2)
+    else:
+        left, right = axes
+        fig = left.figure
     d_c = result.rigid_brush_displacement
     if result.target == "lengths":
         fitted, amplification = thesis_profile_fit(problem, result.values)
@@ -451,6 +460,9 @@ def design_figure(problem: ContactProblem, result: Design):
     right.plot(range(1, len(result.history) + 1), result.history, "o-")
     right.axhline(result.predicted_force_ratio, ls="--", color="tab:red", lw=0.8,
                   label=f"predicted (every edge critical at once): {result.predicted_force_ratio:.4f}")
+    if result.bound_force_ratio is not None:
+        right.axhline(result.bound_force_ratio, ls="-.", color="tab:green", lw=0.8,
+                      label=f"bound in full contact (any design): {result.bound_force_ratio:.4f}")
     right.axhline(1.0, ls=":", color="0.5", lw=0.8, label="F~ = 1 (isolated Kendall pillars, eq. 7.4)")
     right.set(xlabel="verification pull-off", ylabel="F~ = F_A / (N F_K)", title="verified by the ordinary pull-off")
     right.legend(fontsize=8)
