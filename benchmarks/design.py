@@ -7,7 +7,7 @@ pull-offs), its ratio to one ordinary pull-off of the flat brush measured in
 the same run, the predicted and verified F~ = F_A / (N F_K) and the flat
 brush's F~, and the spread of the pillars' detachment displacements over |d_c|.
 
-    python benchmarks/design.py --elements 512 --pillars-per-side 16 32
+    python benchmarks/design.py --elements 512 --pillars-per-side 16 32 [--bound]
 """
 
 from __future__ import annotations
@@ -30,6 +30,8 @@ def main() -> None:
     parser.add_argument("--filling-factor", type=float, default=0.06)
     parser.add_argument("--stiffness-ratio", type=float, default=6e-4)
     parser.add_argument("--iterations", type=int, default=2)
+    parser.add_argument("--bound", action="store_true",
+                        help="also the load-sharing bound (brushbem.design.sharing_bound; one solve per pillar)")
     args = parser.parse_args()
     grid = Grid(1.0, args.elements)
     for n in args.pillars_per_side:
@@ -43,7 +45,7 @@ def main() -> None:
         flat = record_pull_off(problem, path).summary
         baseline = time.perf_counter() - start
         start = time.perf_counter()
-        result = design(problem, path, iterations=args.iterations)
+        result = design(problem, path, iterations=args.iterations, bound=args.bound)
         seconds = time.perf_counter() - start
         print(json.dumps({
             "elements": args.elements, "pillars": indenter.n_pillars, "filling_factor": args.filling_factor,
@@ -51,7 +53,8 @@ def main() -> None:
             "design_vs_one_pull_off": round(seconds / baseline, 2), "pull_off_seconds": round(baseline, 2),
             "predicted_force_ratio": result.predicted_force_ratio, "verified_force_ratio": result.verified_force_ratio,
             "flat_force_ratio": flat["adhesive_force"] / ideal, "verification_pull_offs": len(result.history),
-            "detachment_spread_by_dc": result.spread, "converged": result.converged,
+            "detachment_spread_by_dc": result.spread, "bound_force_ratio": result.bound_force_ratio,
+            "converged": result.converged,
         }), flush=True)
 
 
