@@ -1,5 +1,7 @@
 """Write the sampled subsets of the full thesis sweeps (``*.sampled.toml``).
 
+Chapter 5 (``rough_brush.preload``):
+
 The full chapter-5 preload sweep (``rough_brush.preload.toml``, 1188 points x 10
 realisations) costs hundreds of CPU hours at the thesis's grid.  The thesis's
 stated numbers need only some of its points (``plan.md``, section 3):
@@ -15,6 +17,16 @@ stated numbers need only some of its points (``plan.md``, section 3):
   taken, as the thesis's c at its smallest preload.  A (k~, sigma~) beyond
   sigma~_c (c <= 0) has no linear region and is left out.
 
+Chapter 6 (``hierarchy.one``, ``.two``, ``.three``; 81 points x 10
+realisations each, 30-75 s per case at N = 1024): the points of the numbers
+the text states (L1176-L1197), in this order:
+
+* sigma~ = 0.04, F~_P = 20 and 14.3: the plateaus 1.6 / 1.65 / 1.9, and "the
+  strongest adhesive forces ... appear" at F~_P = 14.3;
+* sigma~ = 1.6 at the "small preload" of Fig. 6-4 e, which the thesis does not
+  state: F~_P = 1 and 0.2, to show how much the open preload carries (three
+  levels "nearly 0.4", one and two "tend to zero").
+
 Every point is copied from the full sweep with its base, seed and realisations,
 so a sampled case has the full sweep's seed and case id.  The order puts the
 points that carry numbers first (a sweep runs realisation by realisation, in
@@ -26,6 +38,7 @@ plateau preloads, then the Table 1 points by k~.
 
 from __future__ import annotations
 
+import itertools
 import math
 import tomllib
 from pathlib import Path
@@ -93,17 +106,39 @@ def select(points: list[dict]) -> list[dict]:
     return chosen
 
 
+H_F_C = 0.00331177  # the hierarchy sweeps' header: F_c and d_c of one level
+H_D_C = 0.00293498
+HIERARCHY_POINTS = ((0.04, 20.0), (1.6, 1.0), (0.04, 14.3), (1.6, 0.2))  # (sigma~, F~_P), in run order
+
+
+def select_hierarchy(points: list[dict]) -> list[dict]:
+    chosen = []
+    for sigma_tilde, preload in HIERARCHY_POINTS:
+        found = [p for p in points if _close(p[SIGMA] / H_D_C, sigma_tilde) and _close(p[PRELOAD] / H_F_C, preload)]
+        if len(found) != 1:
+            raise SystemExit(f"hierarchy: {len(found)} points at sigma~ = {sigma_tilde}, F~_P = {preload}")
+        chosen += found
+    return chosen
+
+
+def _points(spec: dict) -> list[dict]:
+    keys = list(spec["sweep"])
+    if spec.get("mode", "zip") == "product":
+        return [dict(zip(keys, values)) for values in itertools.product(*spec["sweep"].values())]
+    return [dict(zip(keys, values)) for values in zip(*spec["sweep"].values())]
+
+
 def _value(x) -> str:
     return repr(float(x))
 
 
-def write(study: str, part: str) -> Path:
+def write(study: str, part: str, rule=select) -> Path:
     full = SWEEPS / f"{study}.{part}.toml"
     text = full.read_text(encoding="utf-8")
     spec = tomllib.loads(text)
     keys = list(spec["sweep"])
-    points = [dict(zip(keys, values)) for values in zip(*spec["sweep"].values())]
-    chosen = select(points)
+    points = _points(spec)
+    chosen = rule(points)
     header = [line for line in text.splitlines() if line.startswith("#")]
     base_line = next(line for line in text.splitlines() if line.startswith("base = "))
     lines = header + [
@@ -111,7 +146,7 @@ def write(study: str, part: str) -> Path:
         "# realisations, so the same case ids): the points that carry the thesis's stated numbers, written",
         "# by docs/reproduction/make_sampled.py (which states the rule); plateaus first.",
         base_line,
-        f'mode = "{spec.get("mode", "zip")}"',
+        'mode = "zip"',
         f"realizations = {spec['realizations']}",
         f"seed = {spec['seed']}",
         "",
@@ -126,3 +161,5 @@ def write(study: str, part: str) -> Path:
 
 if __name__ == "__main__":
     print(write("rough_brush", "preload"))
+    for level in ("one", "two", "three"):
+        print(write("hierarchy", level, select_hierarchy))

@@ -665,6 +665,9 @@ def _list_studies() -> None:
 @click.option("--sampled", is_flag=True,
               help="Run, for the parts that ship one, the sampled subset of the full sweep (the parameter "
                    "points that carry the thesis's stated numbers, at its grid).")
+@click.option("--parts", "part_names", default=None, metavar="P1,P2,...",
+              help="Run only these parts of the study (comma-separated; `--list` names them); the parts "
+                   "already run in --out are kept.")
 @click.option("--list", "list_studies", is_flag=True, help="List the studies and exit.")
 @click.option("--estimate", is_flag=True,
               help="Run a few sampled cases of every part and print the expected CPU time of the study "
@@ -678,6 +681,7 @@ def study(
     out_dir: Path | None,
     quick: bool,
     sampled: bool,
+    part_names: str | None,
     list_studies: bool,
     estimate: bool,
     samples: int,
@@ -702,9 +706,17 @@ def study(
     except studies.StudyError as error:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    parts = found.parts
+    if part_names is not None:
+        parts = tuple(part.strip() for part in part_names.split(",") if part.strip())
+        unknown = [part for part in parts if part not in found.parts]
+        if unknown or not parts:
+            click.echo(f"--parts: study {name} has no part(s) {', '.join(unknown) or '(none given)'}; "
+                       f"its parts: {', '.join(found.parts)}", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     if estimate:
         estimates = {}
-        for part in found.parts:
+        for part in [part for part in found.parts if part in parts]:
             path = studies.sweep_file(name, part, quick, sampled)
             loaded = _load_sweep_or_exit(path, f"invalid sweep file {path.name}:")
             estimates[part] = _estimate(loaded, samples, quiet)
@@ -718,6 +730,7 @@ def study(
         try:
             outcome = studies.run_study(
                 name, out_dir, quick=quick, executor=executor, workers=workers, sampled=sampled,
+                parts=None if part_names is None else parts,
                 retry_failed=retry_failed, progress=not quiet,
             )
         except sweep_module.SweepFolderError:

@@ -20,6 +20,7 @@ The registry `STUDIES` lists them explicitly, by name.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -98,16 +99,28 @@ def get_study(name: str) -> Study:
 
 
 def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any = None, *,
-              sampled: bool = False, **options: Any) -> StudyRun:
+              sampled: bool = False, parts: Sequence[str] | None = None, **options: Any) -> StudyRun:
     """Run every part of the study ``name`` into ``out_dir`` (resuming), then draw it.
 
     ``sampled`` runs a part's ``.sampled.toml`` subset where one is shipped
-    (`brushbem.studies.base.sweep_file`).  The other options are those of
-    `brushbem.studies._framework.run_study` (``workers``, ``retry_failed``,
-    ``progress``, ``draw``).
+    (`brushbem.studies.base.sweep_file`).  ``parts`` runs only those parts (in
+    the study's order); the parts run before in ``out_dir`` are kept.  The
+    other options are those of `brushbem.studies._framework.run_study`
+    (``workers``, ``retry_failed``, ``progress``, ``draw``).
+
+    Raises
+    ------
+    StudyError
+        An unknown study, or a part it does not have (the message lists its parts).
     """
     study = get_study(name)
-    files = {part: sweep_file(study.name, part, quick, sampled) for part in study.parts}
+    if parts is not None:
+        unknown = [part for part in parts if part not in study.parts]
+        if unknown or not parts:
+            raise StudyError(f"study {name!r} has no part(s) {', '.join(map(repr, unknown)) or '(none given)'}; "
+                             f"its parts: {', '.join(study.parts)}")
+    chosen = [part for part in study.parts if parts is None or part in parts]
+    files = {part: sweep_file(study.name, part, quick, sampled) for part in chosen}
     return _framework.run_study(study, out_dir, quick, executor, files=files, **options)
 
 

@@ -172,7 +172,8 @@ def run_study(
         As for `brushbem.sweep.run_sweep`.
     files : mapping, optional
         Part -> sweep file; by default the shipped files
-        (`brushbem.studies.base.sweep_file`).
+        (`brushbem.studies.base.sweep_file`) of every part.  Only these parts
+        run; the parts an earlier run recorded in ``out_dir`` stay recorded.
     draw : bool
         Draw the figures afterwards (from whatever finished).  An exception of
         the study's ``draw`` is recorded in `StudyRun.draw_error`, not raised:
@@ -201,6 +202,7 @@ def run_study(
     if absent:
         raise StudyError(f"study {study.name!r}: missing sweep file(s): {', '.join(absent)}")
     out_dir.mkdir(parents=True, exist_ok=True)
+    previous = None
     if (out_dir / STUDY_FILE).exists():
         try:
             previous = read_study_record(out_dir)
@@ -212,13 +214,17 @@ def run_study(
                 f"not {study.name!r} (quick: {bool(quick)}): run it into a new --out folder")
     for stale in out_dir.glob(f".{STUDY_FILE}.*.tmp"):  # of a driver killed while writing
         stale.unlink(missing_ok=True)
+    # A run of some parts keeps the parts an earlier run recorded (and their sweep files).
+    run_before = dict(previous.get("sweep_files", {})) if previous is not None else {}
+    sweep_files = {**{part: str(path) for part, path in run_before.items() if part in study.parts},
+                   **{part: str(path) for part, path in files.items()}}
     _write_json(out_dir / STUDY_FILE, {
         "study": study.name,
         "title": study.title,
         "figures": list(study.figures),
         "quick": bool(quick),
-        "parts": list(study.parts),
-        "sweep_files": {part: str(path) for part, path in files.items()},
+        "parts": [part for part in study.parts if part in sweep_files],
+        "sweep_files": {part: sweep_files[part] for part in study.parts if part in sweep_files},
         "brushbem_version": __version__,
     })
     runs: dict[str, SweepRun] = {}
