@@ -8,6 +8,7 @@ alone.  The committed ``docs/thesis-comparison.md`` must be what the committed
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import re
@@ -182,7 +183,8 @@ def _points(path: Path) -> tuple[dict, set[tuple]]:
 
     spec = tomllib.loads(path.read_text(encoding="utf-8"))
     keys = list(spec["sweep"])
-    return spec, {tuple(zip(keys, values)) for values in zip(*spec["sweep"].values())}
+    combine = itertools.product if spec.get("mode", "zip") == "product" else zip
+    return spec, {tuple(zip(keys, values)) for values in combine(*spec["sweep"].values())}
 
 
 def test_sampled_sweeps_are_subsets_of_the_full_sweeps():
@@ -199,7 +201,7 @@ def test_sampled_sweeps_are_subsets_of_the_full_sweeps():
         full_path = path.with_name(path.name.replace(".sampled.toml", ".toml"))
         spec, points = _points(path)
         full, full_points = _points(full_path)
-        for key in ("base", "mode", "realizations", "seed"):
+        for key in ("base", "realizations", "seed"):  # the mode may differ: a sampled file lists points (zip)
             assert spec.get(key) == full.get(key), (path.name, key)
         assert points and points <= full_points, path.name
         assert len(points) < len(full_points)
@@ -251,3 +253,36 @@ def test_committed_tables_keep_their_case_ids():
             assert ids <= expanded, (provenance.parent.name, part, sorted(ids - expanded)[:3])
             checked += 1
     assert checked >= 7  # the thesis's studies and the robustness study (lengths files: ids by content)
+
+
+def test_the_hierarchy_sampled_sweeps_carry_every_chapter_6_number():
+    """Each chapter-6 number is computable from the cases of the sampled files alone.
+
+    A table with one finished row per sampled case (sigma~ and F~_P from the
+    sweep header's nominal d_c and F_c, any F~_A) must give every number a
+    value: a sampled file that lost a point a number reads would leave it n/a.
+    """
+    from brushbem.studies import get_study
+    from brushbem.studies.base import SWEEPS_DIR
+    from brushbem.sweep import load_sweep
+
+    f_c, d_c = 0.00331177, 0.00293498  # the hierarchy sweeps' header
+    tables = {}
+    for level in ("one", "two", "three"):
+        cases = load_sweep(SWEEPS_DIR / f"hierarchy.{level}.sampled.toml").cases
+        tables[level] = pd.DataFrame([{
+            "case_id": case.case_id, "status": "finished", "realization": case.realization,
+            "indenter.roughness.sigma": case.values["indenter.roughness.sigma"],
+            "protocol.preload_force": case.values["protocol.preload_force"],
+            "normalized.roughness_by_rigid_brush": case.values["indenter.roughness.sigma"] / d_c,
+            "normalized.preload_by_rigid_brush": case.values["protocol.preload_force"] / f_c,
+            "normalized.force_by_rigid_brush": 1.0 + case.realization,
+            "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
+        } for case in cases])
+        assert tables[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
+    for number in get_study("hierarchy").numbers:
+        assert math.isfinite(number.compute(tables)), number.quantity
+    # The matching is strict: a table without the sigma~ = 1.6 points has no small-preload number.
+    rough = {level: frame[frame["normalized.roughness_by_rigid_brush"] < 1] for level, frame in tables.items()}
+    small_preload = [n for n in get_study("hierarchy").numbers if "sigma~ = 1.6" in n.quantity]
+    assert small_preload and all(math.isnan(n.compute(rough)) for n in small_preload)

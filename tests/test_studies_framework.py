@@ -177,6 +177,38 @@ def test_quick_runs_the_quick_files(tmp_path: Path, fake_study: Path, calls: lis
     assert len(list((tmp_path / "q" / "a" / "cases").glob("*.nc"))) == 1
 
 
+def test_parts_run_only_those_parts_and_keep_the_others(
+    tmp_path: Path, fake_study: Path, calls: list[float], monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``parts`` runs some parts; a later run of another part keeps the first in study.json."""
+    out = tmp_path / "p"
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", out, executor=pool, parts=["b"])
+    assert sorted(calls) == [0.15, BAD_RADIUS]  # part a never ran
+    assert not (out / "a").exists()
+    assert json.loads((out / "study.json").read_text())["parts"] == ["b"]
+    calls.clear()
+    monkeypatch.setattr(sweep_execution, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
+    result = CliRunner().invoke(main, ["study", "fake", "--out", str(out), "--parts", "a", "--workers", "1",
+                                       "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert sorted(calls) == [0.1, 0.25]
+    record = json.loads((out / "study.json").read_text())
+    assert record["parts"] == ["a", "b"] and set(record["sweep_files"]) == {"a", "b"}
+    assert set(studies.load_results(out)) == {"a", "b"}
+
+
+def test_parts_that_the_study_lacks_are_refused(tmp_path: Path, fake_study: Path) -> None:
+    with pytest.raises(studies.StudyError, match="no part.*'c'.*its parts: a, b"):
+        run_study("fake", tmp_path / "x", parts=["a", "c"])
+    result = CliRunner().invoke(main, ["study", "fake", "--out", str(tmp_path / "x"), "--parts", "a,c"])
+    assert result.exit_code == 2
+    assert "--parts: study fake has no part(s) c; its parts: a, b" in result.output
+    result = CliRunner().invoke(main, ["study", "fake", "--out", str(tmp_path / "x"), "--parts", ","])
+    assert result.exit_code == 2 and "(none given)" in result.output
+    assert not (tmp_path / "x").exists()  # refused before anything is written
+
+
 def test_unknown_study(tmp_path: Path, fake_study: Path) -> None:
     with pytest.raises(studies.StudyError, match="known studies: fake"):
         run_study("nope", tmp_path / "x")

@@ -28,9 +28,9 @@ the text states (L1176-L1197), in this order:
   levels "nearly 0.4", one and two "tend to zero").
 
 Every point is copied from the full sweep with its base, seed and realisations,
-so a sampled case has the full sweep's seed and case id.  The order puts the
-points that carry numbers first (a sweep runs realisation by realisation, in
-this order): the largest-preload plateaus, c at sigma~ = 0.01, the other
+so a sampled case has the full sweep's seed and case hash (its id after the
+index).  The order puts the points that carry numbers first (a sweep runs
+realisation by realisation, in this order); chapter 5: the largest-preload plateaus, c at sigma~ = 0.01, the other
 plateau preloads, then the Table 1 points by k~.
 
     python docs/reproduction/make_sampled.py      # rewrites the sampled files
@@ -143,8 +143,8 @@ def write(study: str, part: str, rule=select) -> Path:
     base_line = next(line for line in text.splitlines() if line.startswith("base = "))
     lines = header + [
         f"# SAMPLED subset of {full.name} ({len(chosen)} of its {len(points)} points, the same base, seed and",
-        "# realisations, so the same case ids): the points that carry the thesis's stated numbers, written",
-        "# by docs/reproduction/make_sampled.py (which states the rule); plateaus first.",
+        "# realisations, so the same case hashes after the index): the points that carry the thesis's",
+        "# stated numbers, written by docs/reproduction/make_sampled.py (which states the rule); plateaus first.",
         base_line,
         'mode = "zip"',
         f"realizations = {spec['realizations']}",
