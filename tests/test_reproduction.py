@@ -31,6 +31,7 @@ from brushbem.reproduction import (
 from brushbem.studies import ThesisNumber, get_study, load_results, run_study
 
 ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
 
 
 @pytest.fixture(scope="module")
@@ -286,3 +287,97 @@ def test_the_hierarchy_sampled_sweeps_carry_every_chapter_6_number():
     rough = {level: frame[frame["normalized.roughness_by_rigid_brush"] < 1] for level, frame in tables.items()}
     small_preload = [n for n in get_study("hierarchy").numbers if "sigma~ = 1.6" in n.quantity]
     assert small_preload and all(math.isnan(n.compute(rough)) for n in small_preload)
+
+
+@pytest.mark.slow  # expands the 2 310 sampled cases
+def test_the_rough_brush_sampled_sweep_carries_every_chapter_5_number():
+    """Every chapter-5 number is computable from the sampled file's cases, and Table 1 comes back.
+
+    A synthetic table gives each sampled case the thesis's own response:
+    F~_A = min(c F~_P, plateau) with c = alpha / sigma~ - beta of Table 1
+    (eq. 5.8), plateau 1 for k~ >= 0.55 and 2 for k~ = 0.001 (Fig. 5-3, 5-4).
+    Computed from it, Table 1's alpha and sigma~_c must return to 1e-9: the
+    sampled points lie in the linear region (the rule of make_sampled.py), so
+    the fit of eq. 5.8 through them is exact.  The plateaus must come back too.
+    """
+    from brushbem.studies import get_study
+    from brushbem.studies.base import SWEEPS_DIR
+    from brushbem.studies.rough_brush import TABLE_1
+    from brushbem.sweep import load_sweep
+
+    f_c, d_c = 0.00849802, 0.00753117  # the sweep's header
+    rows = []
+    for case in load_sweep(SWEEPS_DIR / "rough_brush.preload.sampled.toml").cases:
+        k = case.values["indenter.stiffness_ratio"]
+        sigma = case.values["indenter.roughness.sigma"] / d_c
+        preload = case.values["protocol.preload_force"] / f_c
+        alpha, critical = TABLE_1[min(k, 0.55)]
+        plateau = 2.0 if k < 0.01 else 1.0
+        force = max(min((alpha / sigma - alpha / critical) * preload, plateau), 0.0)
+        rows.append({"case_id": case.case_id, "status": "finished", "realization": case.realization,
+                     "indenter.stiffness_ratio": k, "indenter.roughness.sigma": case.values["indenter.roughness.sigma"],
+                     "protocol.preload_force": case.values["protocol.preload_force"],
+                     "normalized.roughness_by_rigid_brush": sigma, "normalized.preload_by_rigid_brush": preload,
+                     "normalized.force_by_rigid_brush": force})
+    tables = {"curves": pd.DataFrame(columns=["case_id", "status"]), "preload": pd.DataFrame(rows)}
+    values = {n.quantity: n.compute(tables) for n in get_study("rough_brush").numbers}
+    assert all(math.isfinite(v) for v in values.values()), [q for q, v in values.items() if not math.isfinite(v)]
+    for k, (alpha, critical) in TABLE_1.items():
+        assert values[f"alpha of eq. 5.8 at k~ = {k:g}"] == pytest.approx(alpha, rel=1e-9)
+        assert values[f"sigma~_c = alpha/beta at k~ = {k:g}"] == pytest.approx(critical, rel=1e-9)
+    assert values["plateau F~_A, k~ = 0.001, sigma~ = 2.1"] == 2.0
+    assert values["plateau F~_A, k~ = 1, sigma~ = 0.07"] == 1.0
+
+
+def test_a_run_in_progress_says_so_and_counts_its_begun_realisations():
+    """A table with missing cases is labelled in progress, with the cases and realisations done so far."""
+    provenance = {"quick": False, "parts": {"preload": {
+        "sweep_file": "rough_brush.preload.sampled.toml", "cases": 20, "realizations": 10,
+        "finished_realizations": 1, "statuses": {"finished": 2, "missing": 18}}}}
+    row = ComparisonRow("rough_brush", "q", "Table 1", 1.0, 1.0, math.nan, 1, "")
+    text = render([row], {"rough_brush": provenance}, "", {})
+    assert "## `rough_brush` (thesis grid, sampled; in progress, 2 of 20 cases)" in text
+    assert "18 cases are missing (not yet computed, not failed)" in text
+    assert "| 20 (2 finished, 18 missing) | 1 of 10 begun |" in text
+    provenance["parts"]["preload"].update(finished_realizations=10, statuses={"finished": 20})
+    text = render([row], {"rough_brush": provenance}, "", {})
+    assert "in progress" not in text and "| 20 (20 finished) | 10 |" in text
+
+
+def test_a_row_is_planned_from_the_cases_its_number_reads():
+    """plan_row keeps only the points the number needs: one punch, the four plateau lattices."""
+    from brushbem.reproduction import plan_row
+
+    plan = plan_row(DOCS / "reproduction", "punch_spring", "w~ of a punch at k~ = 0.3")
+    assert plan.points == {"stiffness": [{"indenter.stiffness": 0.18}]} and plan.cases == 1
+    exponent = plan_row(DOCS / "reproduction", "flat_brush", "exponent of F~_A against N")
+    lattices = sorted(point["indenter.pillars_per_side"] for point in exponent.points["regular"])
+    assert lattices == [8, 16, 24, 48]  # eq. 4.10's fit over the four brushes, at the smallest k~
+    assert {point["indenter.stiffness_ratio"] for point in exponent.points["regular"]} == {1e-6}
+    assert exponent.recorded_seconds > 0 and len(exponent.case_hashes["regular"]) == 4
+
+
+def test_a_row_that_cannot_be_recomputed_says_why():
+    from brushbem.reproduction import ReproduceError, plan_row
+
+    with pytest.raises(ReproduceError, match="no quantities match 'nothing'; its quantities: 'w~ of a punch"):
+        plan_row(DOCS / "reproduction", "punch_spring", "nothing")
+    with pytest.raises(ReproduceError, match="2 quantities match"):
+        plan_row(DOCS / "reproduction", "concave", "max F~_A, phi = 0.06")  # also "h~ at max F~_A, ..."
+    with pytest.raises(ReproduceError, match="unknown study 'nope'"):
+        plan_row(DOCS / "reproduction", "nope", "x")
+    with pytest.raises(ReproduceError, match="a closed form"):
+        plan_row(DOCS / "reproduction", "hierarchy", "k~2 = k~1/phi1")
+
+
+@pytest.mark.slow  # one N = 256 punch pull-off
+def test_reproduce_recomputes_the_committed_number(tmp_path):
+    """`brushbem reproduce` runs the one case of the row and gets the committed number again."""
+    from brushbem.cli import main
+
+    result = CliRunner().invoke(main, ["reproduce", "punch_spring", "w~ of a punch at k~ = 0.3", "--out",
+                                       str(tmp_path / "row"), "--tables", str(DOCS / "reproduction"), "--quiet",
+                                       "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    assert "1 case(s)" in result.output and "committed 4.367424572, recomputed 4.367424572" in result.output
+    assert len(list((tmp_path / "row" / "stiffness" / "cases").glob("*.nc"))) == 1

@@ -18,6 +18,7 @@ they cannot read.
 from __future__ import annotations
 
 import contextlib
+import math
 import numbers
 import signal
 import threading
@@ -834,6 +835,57 @@ def export_tables(study_dir: Path, tables_root: Path) -> None:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     click.echo(str(folder))
+
+
+@main.command()
+@click.argument("study_name", metavar="STUDY")
+@click.argument("quantity")
+@click.option("--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=None,
+              help="Folder for the row's cases, one sweep folder per part (resumed if there).")
+@click.option("--tables", "tables_root", type=click.Path(path_type=Path, file_okay=False),
+              default=Path("docs/reproduction"), show_default=True,
+              help="The committed tables the row comes from.")
+@click.option("--realizations", type=click.IntRange(min=1), default=None,
+              help="Run only the first R seeds (default: every seed the tables have finished).")
+@click.option("--dry-run", is_flag=True, help="Print the cases the row reads and their recorded time; run nothing.")
+@click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes.")
+@click.option("--quiet", is_flag=True, help="No progress output.")
+def reproduce(study_name: str, quantity: str, out_dir: Path | None, tables_root: Path, realizations: int | None,
+              dry_run: bool, workers: int | None, quiet: bool) -> None:
+    """Recompute one row of the thesis comparison: only the cases its number reads.
+
+    QUANTITY is the row's quantity as printed (or a part of it that names one
+    row).  The cases are the shipped sweep's (same configurations and seeds as
+    the committed tables); with every seed the tables have, the recomputed
+    number must equal the committed one (exit status 1 if not).
+    """
+    from brushbem.reproduction import ReproduceError, plan_row, reproduce_row
+
+    if out_dir is None and not dry_run:
+        raise click.UsageError("give --out DIR (or --dry-run)")
+    try:
+        plan = plan_row(tables_root, study_name, quantity, realizations)
+    except ReproduceError as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    click.echo(f"{plan.study}: {plan.quantity}")
+    for part, points in plan.points.items():
+        click.echo(f"  part {part} ({plan.sweep_files[part].name}): {len(points)} point(s)")
+        for point in points:
+            click.echo("    " + ", ".join(f"{key} = {value}" for key, value in point.items()))
+    click.echo(f"  {plan.cases} case(s), {plan.realizations} seed(s); recorded wall time {plan.recorded_seconds:.0f} s")
+    if dry_run:
+        return
+    try:
+        value = reproduce_row(plan, out_dir, workers=workers, progress=not quiet)
+    except ReproduceError as error:
+        click.echo(str(error), err=True)
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED) from None
+    click.echo(f"committed {plan.committed:.10g}, recomputed {value:.10g}")
+    committed_seeds = plan.realizations if realizations is None else None
+    if committed_seeds is not None and not math.isclose(value, plan.committed, rel_tol=1e-9, abs_tol=1e-15):
+        click.echo("the recomputed number differs from the committed one", err=True)
+        raise click.exceptions.Exit(1)
 
 
 @main.command("compare-thesis")

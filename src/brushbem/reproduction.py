@@ -23,6 +23,7 @@ tables give the same bytes, which a test checks for the committed ones.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -113,6 +114,9 @@ def export_tables(study_dir: str | Path, tables_root: str | Path) -> Path:
             "statuses": {str(k): int(v) for k, v in sorted(statuses.items())},
             "seeds": sorted({int(s) for s in table["seed"].tolist()}) if "seed" in table.columns else [],
             "realizations": int(table["realization"].nunique()) if "realization" in table.columns else 1,
+            # the realisations with at least one finished case (a run in progress goes seed by seed)
+            "finished_realizations": (int(table.loc[table["status"] == "finished", "realization"].nunique())
+                                      if {"realization", "status"} <= set(table.columns) else 1),
             "grid": _grid(sweep_record, table),
             "wall_time_s": float(wall.sum()) if len(wall) else 0.0,
         }
@@ -268,13 +272,29 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         sampled = any(str(info.get("sweep_file", "")).endswith(".sampled.toml")
                       for info in provenance["parts"].values())
         label = "quick" if quick else "thesis grid, sampled" if sampled else "thesis grid"
+        cases = sum(int(info.get("cases", 0)) for info in provenance["parts"].values())
+        done = sum(int(info.get("statuses", {}).get("finished", 0)) for info in provenance["parts"].values())
+        missing = sum(int(info.get("statuses", {}).get("missing", 0)) for info in provenance["parts"].values())
+        if missing:
+            label += f"; in progress, {done} of {cases} cases"
         lines += [f"## `{name}` ({label})", ""]
         flags = " --quick" if quick else " --sampled" if sampled else ""
         command = f"brushbem study {name} --out out/{name}{flags}"
         lines += [
             f"Recompute: `{command}`, then `brushbem export-tables out/{name} --to docs/reproduction`.",
+            f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
+            "(`--dry-run` lists them with their recorded time).",
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",
             "",
+        ]
+        if missing:
+            lines += [
+                f"The run is in progress: {missing} cases are missing (not yet computed, not failed), and the",
+                "same command resumes them.  A sweep runs seed by seed, so the rows below are of the",
+                "realisations that have finished; a number whose points are not yet computed is n/a.",
+                "",
+            ]
+        lines += [
             "| part | sweep file | grid | cases | realisations | seeds | wall time |",
             "| --- | --- | --- | --- | --- | --- | --- |",
         ]
@@ -282,9 +302,12 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             statuses = ", ".join(f"{n} {s}" for s, n in info.get("statuses", {}).items())
             seeds = info.get("seeds", [])
             seed_text = ", ".join(str(s) for s in seeds[:4]) + (" ..." if len(seeds) > 4 else "")
+            realizations = str(info.get("realizations", 1))
+            if info.get("finished_realizations", info.get("realizations", 1)) != info.get("realizations", 1):
+                realizations = f"{info['finished_realizations']} of {realizations} begun"
             lines.append(
                 f"| {part} | {info.get('sweep_file', '')} | {_cell(info.get('grid', ''))} | "
-                f"{info.get('cases', 0)} ({statuses}) | {info.get('realizations', 1)} | {seed_text} | "
+                f"{info.get('cases', 0)} ({statuses}) | {realizations} | {seed_text} | "
                 f"{info.get('wall_time_s', 0.0):.0f} s |"
             )
         lines += [
@@ -349,3 +372,198 @@ def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dic
             continue  # quick grids test the machinery: no figure beside the thesis's
         drawn[study.name] = study.draw_tables(tables, Path(figures_root) / study.name)
     return drawn
+
+
+class ReproduceError(ValueError):
+    """A row that cannot be recomputed: unknown study or quantity, or no finished case it reads."""
+
+
+@dataclass(frozen=True)
+class RowPlan:
+    """What recomputing one row runs: per part, the parameter points the row reads.
+
+    Attributes
+    ----------
+    study, quantity : str
+    committed : float
+        The row's value from the committed tables.
+    points : dict
+        Part -> list of swept-value mappings (one per parameter point the row reads).
+    sweep_files : dict
+        Part -> the shipped sweep file those points come from.
+    realizations : int
+        How many realisations (the first ones, with the sweep's own seeds) are run.
+    cases : int
+        The cases that makes.
+    recorded_seconds : float
+        Their wall time as recorded in the tables (an estimate of the run's).
+    case_hashes : dict
+        Part -> the committed cases' hashes (their ids after the index) that the run must give again.
+    """
+
+    study: str
+    quantity: str
+    committed: float
+    points: dict[str, list[dict[str, Any]]]
+    sweep_files: dict[str, Path]
+    realizations: int
+    cases: int
+    recorded_seconds: float
+    case_hashes: dict[str, list[str]] = dataclasses.field(default_factory=dict)
+
+
+def _same(a: float, b: float) -> bool:
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    return math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-300)
+
+
+def _plain(value: Any) -> Any:
+    """A table cell as the sweep file writes it (numpy scalars as Python numbers)."""
+    return value.item() if hasattr(value, "item") else value
+
+
+def _find_number(study, quantity: str):
+    exact = [n for n in study.numbers if n.quantity == quantity]
+    found = exact or [n for n in study.numbers if quantity.lower() in n.quantity.lower()]
+    if len(found) != 1:
+        known = "; ".join(repr(n.quantity) for n in study.numbers)
+        what = "no" if not found else f"{len(found)}"
+        raise ReproduceError(f"study {study.name!r}: {what} quantities match {quantity!r}; its quantities: {known}")
+    return found[0]
+
+
+def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizations: int | None = None) -> RowPlan:
+    """The cases that recompute one row of the comparison: the parameter points its number reads.
+
+    Starting from every finished point of the committed tables, each point
+    whose cases can be left out without changing the number is left out; the
+    points that remain give the committed number by themselves.  The number
+    is a function of the tables, so this finds what it reads without the
+    study declaring it.  The cases
+    are the shipped sweep file's (same configurations, seeds and case hashes),
+    for the first ``realizations`` seeds (default: as many as the tables have
+    finished).
+
+    Raises
+    ------
+    ReproduceError
+        Unknown study or quantity, or a number that no finished case determines.
+    """
+    import tomllib
+
+    from .studies import StudyError, get_study
+    from .studies.base import SWEEPS_DIR
+
+    try:
+        study = get_study(study_name)
+    except StudyError as exc:  # the message lists the known studies
+        raise ReproduceError(str(exc)) from None
+    folder = Path(tables_root) / study.name
+    if not (folder / PROVENANCE_FILE).is_file():
+        raise ReproduceError(f"no tables of study {study.name!r} in {tables_root} (no {PROVENANCE_FILE})")
+    number = _find_number(study, quantity)
+    provenance, tables = load_tables(folder)
+    committed, _ = _compute(number, tables)
+    if not math.isfinite(committed):
+        raise ReproduceError(f"{number.quantity!r} is n/a in the committed tables: no finished case determines it")
+    # Every finished case's parameter point, by the shipped sweep's case hashes.
+    point_of: dict[str, dict[str, tuple]] = {}
+    paths: dict[str, Path] = {}
+    finished_realizations = 1
+    for part, frame in tables.items():
+        if not {"status", "case_id"} <= set(frame.columns):
+            continue
+        done = frame[frame["status"] == "finished"]
+        if not len(done):
+            continue
+        paths[part] = SWEEPS_DIR / provenance["parts"][part]["sweep_file"]
+        keys = sorted(tomllib.loads(paths[part].read_text(encoding="utf-8")).get("sweep", {}))
+        missing = [key for key in keys if key not in done.columns]
+        if missing:
+            raise ReproduceError(f"the table of part {part!r} lacks the swept column(s) {', '.join(missing)}")
+        point_of[part] = {case_id: tuple((key, _plain(value)) for key, value in zip(keys, values))
+                          for case_id, *values in done[["case_id", *keys]].itertuples(index=False)}
+        if "realization" in done.columns:
+            finished_realizations = max(finished_realizations, int(done["realization"].nunique()))
+
+    def restricted(keep: set[tuple[str, tuple]]) -> dict[str, pd.DataFrame]:
+        return {part: frame[frame["case_id"].map(lambda i, part=part: (part, point_of.get(part, {}).get(i)) in keep)]
+                if part in point_of else frame for part, frame in tables.items()}
+
+    # Leave out, one by one, every point whose cases the number does not need: what is left
+    # gives the committed value by itself (of equal plateau preloads, one is kept).
+    keep = {(part, point) for part, ids in point_of.items() for point in set(ids.values())}
+    for candidate in sorted(keep, key=repr):
+        value, _ = _compute(number, restricted(keep - {candidate}))
+        if _same(value, committed):
+            keep.discard(candidate)
+    points: dict[str, list[dict[str, Any]]] = {}
+    for part, point in sorted(keep, key=repr):
+        points.setdefault(part, []).append(dict(point))
+    sweep_files = {part: paths[part] for part in points}
+    selected = restricted(keep)
+    selected_rows = {part: frame[frame["status"] == "finished"] for part, frame in selected.items() if part in points}
+    if not points:
+        raise ReproduceError(f"{number.quantity!r} depends on no single case of the tables (a closed form): "
+                             "there is nothing to recompute")
+    realizations = realizations or finished_realizations
+    chosen_by_part = {}
+    for part, frame in selected_rows.items():
+        if "realization" in frame.columns:
+            frame = frame[frame["realization"] < realizations]
+        chosen_by_part[part] = frame
+    chosen = pd.concat(list(chosen_by_part.values()))
+    case_hashes = {part: sorted(str(i).split("-", 1)[1] for i in frame["case_id"])
+                   for part, frame in chosen_by_part.items()}
+    seconds = float(pd.to_numeric(chosen.get("wall_time_s", pd.Series(dtype=float)), errors="coerce").sum())
+    cases = 0
+    for part, part_points in points.items():
+        spec_realizations = int(tomllib.loads(sweep_files[part].read_text(encoding="utf-8")).get("realizations", 1))
+        cases += len(part_points) * min(realizations, spec_realizations)
+    return RowPlan(study.name, number.quantity, committed, points, sweep_files, realizations, cases, seconds,
+                   case_hashes)
+
+
+def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, workers: int | None = None,
+                  progress: bool = False) -> float:
+    """Run the cases of ``plan`` into ``out_dir/<part>`` (resuming) and return the number from them.
+
+    Each part runs as a sweep of the plan's points with the shipped file's
+    base, seed and mode of seeding, so its cases are the committed ones
+    (``SeedSequence.spawn`` gives the first seeds alike for any count).
+    """
+    import tomllib
+
+    from .studies import get_study
+    from .sweep import load_summary, run_sweep
+
+    study = get_study(plan.study)
+    number = _find_number(study, plan.quantity)
+    tables: dict[str, pd.DataFrame] = {}
+    for part, path in plan.sweep_files.items():
+        spec = tomllib.loads(path.read_text(encoding="utf-8"))
+        keys = list(plan.points[part][0])
+        subset = {
+            "base": spec["base"],
+            "mode": "zip",
+            "realizations": min(plan.realizations, int(spec.get("realizations", 1))),
+            "seed": spec.get("seed", 0),
+            "sweep": {key: [point[key] for point in plan.points[part]] for key in keys},
+        }
+        if "refine" in spec:
+            subset["refine"] = spec["refine"]
+        run = run_sweep(subset, Path(out_dir) / part, executor, workers=workers, progress=progress,
+                        base_dir=path.parent)
+        tables[part] = load_summary(Path(out_dir) / part)
+        del run
+        if plan.case_hashes.get(part) and not set(plan.case_hashes[part]) <= {
+                str(case_id).split("-", 1)[1] for case_id in tables[part]["case_id"]}:
+            raise ReproduceError(f"part {part!r}: the recomputed cases are not the committed ones (their "
+                                 "configurations or seeds differ: the sweep file changed since the tables)")
+    for part in study.parts:
+        tables.setdefault(part, pd.DataFrame(columns=["case_id", "status"]))
+    value, note = _compute(number, tables)
+    if not math.isfinite(value):
+        raise ReproduceError(f"{plan.quantity!r}: the recomputed cases give n/a ({note})")
+    return value

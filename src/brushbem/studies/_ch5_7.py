@@ -65,22 +65,35 @@ def mean_std(frame: pd.DataFrame, keys: list[str], value: str, x: str | None = N
     return out
 
 
+#: F~_A at the smallest preload of a group at this fraction of the group's largest mean F~_A or
+#: more is saturated: the group samples no linear region, and its c is undefined (NaN).
+SATURATED = 0.9
+
+
 def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     """c = F~_A / F~_P in the linear region: at the smallest preload of each group (eq. 5.6).
 
-    Returns one row per group with ``c`` (mean over realizations), ``sigma`` (sigma~) and
-    ``plateau`` (the largest mean F~_A over the preloads).
+    Returns one row per group with ``c`` (mean over realizations), ``sigma`` (sigma~),
+    ``plateau`` (the largest mean F~_A over the preloads) and ``largest_preload`` (the
+    largest mean F~_P, which tells whether ``plateau`` is one).  ``c`` is NaN where the
+    group's smallest preload already gives `SATURATED` of its largest force: a group
+    sampled only at plateau preloads (the thesis-grid sampled sweep ships such groups
+    for the plateaus) has no linear region to read c from.
     """
     if not has(frame, FA, FP, PRELOAD):
-        return pd.DataFrame(columns=[*keys, "c", "sigma", "plateau"])
+        return pd.DataFrame(columns=[*keys, "c", "sigma", "plateau", "largest_preload"])
     rows = []
     for key, group in frame.groupby(keys, dropna=False):
         key = key if isinstance(key, tuple) else (key,)
         smallest = group[group[PRELOAD] == group[PRELOAD].min()]
         c = float((smallest[FA] / smallest[FP]).mean())
-        plateau = float(group.groupby(PRELOAD)[FA].mean().max())
+        means = group.groupby(PRELOAD).agg(fa=(FA, "mean"), fp=(FP, "mean"))
+        plateau = float(means["fa"].max())
+        if len(means) > 1 and float(smallest[FA].mean()) >= SATURATED * plateau:
+            c = math.nan
         sigma = float(group[SIG].mean()) if SIG in group else math.nan
-        rows.append({**dict(zip(keys, key)), "c": c, "sigma": sigma, "plateau": plateau})
+        rows.append({**dict(zip(keys, key)), "c": c, "sigma": sigma, "plateau": plateau,
+                     "largest_preload": float(means["fp"].max())})
     return pd.DataFrame(rows)
 
 

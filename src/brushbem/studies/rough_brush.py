@@ -43,15 +43,36 @@ TABLE_1 = {
 }
 
 
+#: Table 1 is read from eq. 5.8 fitted over sigma~ 0.01 to 3: a fit counts only with c > 0 at this
+#: many roughnesses, spanning at least `FIT_SPAN` (two or three points fit any two-parameter curve).
+FIT_POINTS = 5
+FIT_SPAN = 10.0
+#: A group's largest preload must reach this F~_P for its largest F~_A to be read as the plateau
+#: (the thesis's plateau preloads are 10 to 20, Fig. 5-3; the sampled sweep's are 9.6 to 19.3 as
+#: rasterised).
+PLATEAU_PRELOAD = 9.0
+#: sigma~ of the tables (by the rasterised d_c) within this fraction of the thesis's nominal value.
+SIGMA_RTOL = 0.1
+
+
 def table_1(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
-    """Our Table 1: alpha, beta (eq. 5.8 fitted by linear least squares) and sigma~_c = alpha/beta per k~ (NaN where beta <= 0)."""
+    """Our Table 1: alpha, beta (eq. 5.8 fitted by linear least squares) and sigma~_c = alpha/beta per k~.
+
+    NaN where beta <= 0, and every column NaN for a k~ whose c > 0 is known at fewer than
+    `FIT_POINTS` roughnesses or over less than a factor `FIT_SPAN` in sigma~.
+    """
     coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
     rows = []
     for k, group in (coeff.groupby(K) if len(coeff) else []):
-        alpha, beta = fit_eq58(group["sigma"].to_numpy(), group["c"].to_numpy())
+        usable = group[np.isfinite(group["c"]) & (group["c"] > 0) & (group["sigma"] > 0)]
+        if len(usable) < FIT_POINTS or usable["sigma"].max() < FIT_SPAN * usable["sigma"].min():
+            alpha = beta = math.nan
+        else:
+            alpha, beta = fit_eq58(usable["sigma"].to_numpy(), usable["c"].to_numpy())
         sc = alpha / beta if beta and beta > 0 and math.isfinite(alpha) else math.nan
-        rows.append({"stiffness_ratio": float(k), "alpha": alpha, "beta": beta, "critical_roughness": sc})
-    return pd.DataFrame(rows, columns=["stiffness_ratio", "alpha", "beta", "critical_roughness"])
+        rows.append({"stiffness_ratio": float(k), "alpha": alpha, "beta": beta, "critical_roughness": sc,
+                     "roughnesses": len(usable)})
+    return pd.DataFrame(rows, columns=["stiffness_ratio", "alpha", "beta", "critical_roughness", "roughnesses"])
 
 
 def _table_value(column: str, k: float):
@@ -62,25 +83,36 @@ def _table_value(column: str, k: float):
     return compute
 
 
+def _group(results, k: float, sigma_tilde: float) -> pd.Series | None:
+    """The adhesion-coefficient row of (k~, sigma~), or None where the tables have no sigma~ within
+    `SIGMA_RTOL` of it (never the row of another roughness)."""
+    coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
+    sel = coeff[np.isclose(coeff[K], k, rtol=1e-6)] if len(coeff) else coeff
+    if not len(sel):
+        return None
+    row = sel.iloc[np.argmin(np.abs(sel["sigma"] - sigma_tilde))]
+    return row if abs(row["sigma"] - sigma_tilde) <= SIGMA_RTOL * sigma_tilde else None
+
+
 def _plateau(k: float, sigma_tilde: float):
     def compute(results):
-        coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
-        if not len(coeff):
+        row = _group(results, k, sigma_tilde)
+        if row is None or row["largest_preload"] < PLATEAU_PRELOAD:
             return math.nan
-        sel = coeff[np.isclose(coeff[K], k, rtol=1e-6)]
-        if not len(sel):
-            return math.nan
-        return float(sel.iloc[np.argmin(np.abs(sel["sigma"] - sigma_tilde))]["plateau"])
+        return float(row["plateau"])
     return compute
 
 
 def _coefficient(k: float, sigma_tilde: float):
     def compute(results):
-        coeff = adhesion_coefficients(finished(results, "preload"), [K, SIGMA])
-        sel = coeff[np.isclose(coeff[K], k, rtol=1e-6)] if len(coeff) else coeff
-        if not len(sel):
-            return math.nan
-        return float(sel.iloc[np.argmin(np.abs(sel["sigma"] - sigma_tilde))]["c"])
+        row = _group(results, k, sigma_tilde)
+        return math.nan if row is None else float(row["c"])
+    return compute
+
+
+def _ratio(first, second):
+    def compute(results):
+        return first(results) / second(results)
     return compute
 
 
@@ -229,6 +261,14 @@ NUMBERS = [
                  _table_value("critical_roughness", 10.0)),
     ThesisNumber("c at sigma~ = 0.01, k~ = 0.001", "text before Fig. 5-5", 204.0, _coefficient(0.001, 0.01)),
     ThesisNumber("c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10)", "text before Fig. 5-5", 8.0, _coefficient(10.0, 0.01)),
+    ThesisNumber("c at sigma~ = 0.01, k~ = 0.001 over k~ = 10 (204 / 8: 'more than 25 times')",
+                 "text before Fig. 5-5", 204.0 / 8.0, _ratio(_coefficient(0.001, 0.01), _coefficient(10.0, 0.01))),
+    ThesisNumber("c at sigma~ = 0.01, k~ = 0.55 over k~ = 10 (collapse for k~ >= 0.55)", "text before Fig. 5-5",
+                 1.0, _ratio(_coefficient(0.55, 0.01), _coefficient(10.0, 0.01))),
+    ThesisNumber("plateau F~_A, k~ = 10, sigma~ = 0.07 ('approaches one')", "Fig. 5-3, text", 1.0,
+                 _plateau(10.0, 0.07)),
+    ThesisNumber("plateau F~_A, k~ = 0.55 over k~ = 10, sigma~ = 0.07 (collapse for k~ >= 0.55)",
+                 "Fig. 5-4, text", 1.0, _ratio(_plateau(0.55, 0.07), _plateau(10.0, 0.07))),
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 0.07", "Fig. 5-4 a, text", 1.0, _plateau(1.0, 0.07)),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ -> 0", "Fig. 5-4 d, text", 2.0, _plateau(0.001, 0.01)),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ = 2.1", "Fig. 5-4 d, text", 1.5, _plateau(0.001, 2.1)),
