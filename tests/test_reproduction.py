@@ -256,12 +256,15 @@ def test_committed_tables_keep_their_case_ids():
     assert checked >= 7  # the thesis's studies and the robustness study (lengths files: ids by content)
 
 
-def test_the_hierarchy_sampled_sweeps_carry_every_chapter_6_number():
-    """Each chapter-6 number is computable from the cases of the sampled files alone.
+def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_plateaus():
+    """Each chapter-6 plateau number is computable from the cases of the sampled files alone.
 
     A table with one finished row per sampled case (sigma~ and F~_P from the
-    sweep header's nominal d_c and F_c, any F~_A) must give every number a
-    value: a sampled file that lost a point a number reads would leave it n/a.
+    sweep header's nominal d_c and F_c, any F~_A) must give every number but
+    the small-preload ones at sigma~ = 1.6 a value: a sampled file that lost a
+    point a number reads would leave it n/a.  The sigma~ = 1.6 points are left
+    to a later set (make_sampled.py says why), so those rows must stay n/a,
+    never read off the plateau points.
     """
     from brushbem.studies import get_study
     from brushbem.studies.base import SWEEPS_DIR
@@ -281,12 +284,13 @@ def test_the_hierarchy_sampled_sweeps_carry_every_chapter_6_number():
             "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
         } for case in cases])
         assert tables[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
-    for number in get_study("hierarchy").numbers:
-        assert math.isfinite(number.compute(tables)), number.quantity
-    # The matching is strict: a table without the sigma~ = 1.6 points has no small-preload number.
-    rough = {level: frame[frame["normalized.roughness_by_rigid_brush"] < 1] for level, frame in tables.items()}
     small_preload = [n for n in get_study("hierarchy").numbers if "sigma~ = 1.6" in n.quantity]
-    assert small_preload and all(math.isnan(n.compute(rough)) for n in small_preload)
+    plateaus = [n for n in get_study("hierarchy").numbers if "plateau" in n.quantity]
+    assert len(small_preload) == 4 and len(plateaus) == 3
+    for number in get_study("hierarchy").numbers:
+        assert math.isfinite(number.compute(tables)) != (number in small_preload), number.quantity
+    # The sampled plateaus are the means over the ten seeds (F~_A = 1 + realisation here).
+    assert all(number.compute(tables) == pytest.approx(5.5) for number in plateaus)
 
 
 @pytest.mark.slow  # expands the 2 310 sampled cases

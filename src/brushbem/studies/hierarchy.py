@@ -99,6 +99,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
     colours = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green", "equivalent": "tab:red"}
+    written += draw_tables(results, figures_dir)
     # Fig. 6-4: curves at the smallest and largest preload, for each roughness
     frames = {p: finished(results, p) for p in LEVELS}
     sigmas = sorted(frames["three"][SIGMA].unique()) if has(frames["three"], SIGMA) else []
@@ -211,12 +212,47 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     return written
 
 
+#: The plateaus the thesis states at sigma~ = 0.04 (L1197).
+THESIS_PLATEAUS = {"one": 1.6, "two": 1.65, "three": 1.9}
+
+
+def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    """The figure the per-case tables alone determine: the plateau at sigma~ = 0.04 of each level,
+    mean and standard error over the seeds, beside the thesis's values (Fig. 6-5, text)."""
+    written: list[Path] = []
+    fig, ax = figure(1, 1)
+    drawn = 0
+    for i, part in enumerate(LEVELS):
+        frame = finished(results, part)
+        if has(frame, FA, SIG, PRELOAD, "realization"):
+            smooth = frame[np.isclose(frame[SIG], 0.04, rtol=0.1)]
+            if len(smooth):
+                # per seed, the largest F~_A over the plateau preloads; then mean and standard error
+                per_seed = smooth.groupby("realization")[FA].max()
+                error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else 0.0
+                ax[0, 0].errorbar([i], [per_seed.mean()], yerr=[error], fmt="o", color="tab:blue", capsize=3,
+                                  label="ours (N = 1024, mean ± s.e.)" if not drawn else None)
+                ax[0, 0].annotate(f"{per_seed.mean():.3f}\n{len(per_seed)} seeds", (i, per_seed.mean()),
+                                  textcoords="offset points", xytext=(8, -4), fontsize=7)
+                drawn += 1
+        ax[0, 0].plot([i], [THESIS_PLATEAUS[part]], "s", color="tab:red", mfc="none",
+                      label="thesis (text, L1197)" if i == 0 else None)
+    ax[0, 0].set_xticks(range(len(LEVELS)), [f"{part} level{'s' if part != 'one' else ''}" for part in LEVELS])
+    ax[0, 0].set(ylabel="F~_A = F_A / F_c (plateau)", title="Fig. 6-5: plateau at σ~ = 0.04", xlim=(-0.5, 2.8))
+    ax[0, 0].legend(fontsize=7)
+    if not drawn:
+        empty_note(ax[0, 0])
+    save(fig, Path(figures_dir) / "fig6-5_plateaus.png", written)
+    return written
+
+
 STUDY = Study(
     name="hierarchy",
     title="Ch. 6: one-, two- and three-level rough brushes, equivalent single-level stiffness eq. 6.28 (Fig. 6-4 to 6-8)",
     figures=("6-4", "6-5", "6-6", "6-7", "6-8"),
     parts=("one", "two", "three", "equivalent", "stiffness_one", "stiffness_three", "stiffness_k3"),
     draw=draw,
+    draw_tables=draw_tables,
     numbers=(
         ThesisNumber("equivalent single-level stiffness k~1' (eq. 6.28)", "text after eq. 6.28", 0.4e-4, _eq628_value),
         ThesisNumber("k~2 = k~1/phi1 (eq. 6.26)", "eq. 6.26", 9e-3,

@@ -147,7 +147,13 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     else:
         empty_note(ax[0, 0])
     save(fig, figures_dir / "fig5-2_curves.png", written)
+    return [*written, *draw_tables(results, figures_dir)]
 
+
+def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
+    """The figures the per-case tables alone determine: Fig. 5-3 to 5-7 and Table 1 (thesis's dotted)."""
+    figures_dir = Path(figures_dir)
+    written: list[Path] = []
     pre = finished(results, "preload")
     # Fig. 5-3 / 5-4: F~_A vs F~_P per k~, mean +- std over realisations
     ks = sorted(pre[K].unique(), reverse=True) if has(pre, K, FA, FP, PRELOAD, SIGMA) else []
@@ -161,9 +167,11 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             m = mean_std(g, [PRELOAD], FA, x=FP).sort_values("x")
             a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1,
                         label=f"σ~ = {g[SIG].mean():.2f}")
-        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"k~ = {k:g}")
+        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"k~ = {k:g}", xscale="log")  # preloads span 0.005 to 20
         a_.axhline(1, ls=":", color="0.5")
         a_.legend(fontsize=6)
+    for a_ in ax.flat[len(ks):] if ks else ():
+        a_.set_axis_off()
     if not ks:
         empty_note(ax[0, 0])
     fig.suptitle("Fig. 5-3 / 5-4: adhesive force vs preload (mean ± std over realisations)")
@@ -282,6 +290,7 @@ STUDY = Study(
     parts=("curves", "preload"),
     draw=draw,
     numbers=tuple(NUMBERS),
+    draw_tables=draw_tables,
     notes="c is F~_A/F~_P at the smallest preload of each (k~, sigma~); the plateau is the largest mean F~_A over "
           "the preloads. The k~ >= 0.55 column of Table 1 is compared with our k~ = 10.",
 )
