@@ -385,3 +385,29 @@ def test_reproduce_recomputes_the_committed_number(tmp_path):
     assert result.exit_code == 0, result.output
     assert "1 case(s)" in result.output and "committed 4.367424572, recomputed 4.367424572" in result.output
     assert len(list((tmp_path / "row" / "stiffness" / "cases").glob("*.nc"))) == 1
+
+
+def test_c_is_read_only_where_a_linear_region_is_sampled():
+    """c = F~_A / F~_P at the smallest preload, unless that preload already gives 90 % of the force.
+
+    Three groups: a linear point below a plateau (c = 3), a group sampled only on its plateau
+    (F~_A at F~_P = 10 is 99 % of that at 20: no linear region, c n/a) and a lone preload (kept:
+    nothing says it is saturated).  The plateau is the largest mean force in every case.
+    """
+    from brushbem.studies._ch5_7 import (
+        FA,
+        FP,
+        PRELOAD,
+        SIG,
+        SIGMA,
+        adhesion_coefficients,
+    )
+
+    frame = pd.DataFrame({
+        SIGMA: [1, 1, 2, 2, 3], SIG: [0.1, 0.1, 0.2, 0.2, 0.3],
+        PRELOAD: [0.1, 20, 10, 20, 0.5], FP: [0.1, 20, 10, 20, 0.5], FA: [0.3, 1.0, 0.99, 1.0, 0.2],
+    })
+    coeff = adhesion_coefficients(frame, [SIGMA]).set_index(SIGMA)
+    assert coeff.loc[1, "c"] == pytest.approx(3.0) and coeff.loc[1, "plateau"] == 1.0
+    assert math.isnan(coeff.loc[2, "c"]) and coeff.loc[2, "plateau"] == 1.0
+    assert coeff.loc[3, "c"] == pytest.approx(0.4) and coeff.loc[3, "largest_preload"] == 0.5
