@@ -385,6 +385,12 @@ def test_reproduce_recomputes_the_committed_number(tmp_path):
     assert result.exit_code == 0, result.output
     assert "1 case(s)" in result.output and "committed 4.367424572, recomputed 4.367424572" in result.output
     assert len(list((tmp_path / "row" / "stiffness" / "cases").glob("*.nc"))) == 1
+    # Another row into the same folder: refused with the reason (exit 2), nothing computed.
+    other = CliRunner().invoke(main, ["reproduce", "punch_spring", "w~ of a punch at k~ = 1.5", "--out",
+                                      str(tmp_path / "row"), "--tables", str(DOCS / "reproduction"), "--quiet"])
+    assert other.exit_code == 2, other.output
+    assert "holds a different sweep" in other.output and "new --out folder" in other.output
+    assert len(list((tmp_path / "row" / "stiffness" / "cases").glob("*.nc"))) == 1
 
 
 def test_c_is_read_only_where_a_linear_region_is_sampled():

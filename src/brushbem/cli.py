@@ -876,11 +876,12 @@ def reproduce(study_name: str, quantity: str, out_dir: Path | None, tables_root:
     click.echo(f"  {plan.cases} case(s), {plan.realizations} seed(s); recorded wall time {plan.recorded_seconds:.0f} s")
     if dry_run:
         return
-    try:
-        value = reproduce_row(plan, out_dir, workers=workers, progress=not quiet)
-    except ReproduceError as error:
-        click.echo(str(error), err=True)
-        raise click.exceptions.Exit(EXIT_NOT_CONVERGED) from None
+    with _sweep_errors(out_dir):
+        try:
+            value = reproduce_row(plan, out_dir, workers=workers, progress=not quiet)
+        except ReproduceError as error:
+            click.echo(str(error), err=True)
+            raise click.exceptions.Exit(EXIT_NOT_CONVERGED) from None
     click.echo(f"committed {plan.committed:.10g}, recomputed {value:.10g}")
     committed_seeds = plan.realizations if realizations is None else None
     if committed_seeds is not None and not math.isclose(value, plan.committed, rel_tol=1e-9, abs_tol=1e-15):
