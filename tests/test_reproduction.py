@@ -417,3 +417,17 @@ def test_c_is_read_only_where_a_linear_region_is_sampled():
     assert coeff.loc[1, "c"] == pytest.approx(3.0) and coeff.loc[1, "plateau"] == 1.0
     assert math.isnan(coeff.loc[2, "c"]) and coeff.loc[2, "plateau"] == 1.0
     assert coeff.loc[3, "c"] == pytest.approx(0.4) and coeff.loc[3, "largest_preload"] == 0.5
+
+
+def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(tmp_path):
+    from brushbem.cli import main
+
+    tables = ["--tables", str(DOCS / "reproduction")]
+    result = CliRunner().invoke(main, ["reproduce", "flat_brush", "exponent of F~_A", "--dry-run", *tables])
+    assert result.exit_code == 0, result.output
+    assert "part regular (flat_brush.regular.toml): 4 point(s)" in result.output
+    assert "indenter.pillars_per_side = 48" in result.output and "4 case(s)" in result.output
+    missing = CliRunner().invoke(main, ["reproduce", "flat_brush", "exponent of F~_A", *tables])
+    assert missing.exit_code == 2 and "--out" in missing.output
+    unknown = CliRunner().invoke(main, ["reproduce", "flat_brush", "no such row", "--dry-run", *tables])
+    assert unknown.exit_code == 2 and "no quantities match 'no such row'" in unknown.output
