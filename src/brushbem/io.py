@@ -411,20 +411,29 @@ def write_dataset(
     dataset = _dataset(result, config)
     target = Path(target)
     size = int(sum(variable.nbytes for variable in dataset.variables.values())) + 2**16
-    _check_free_space(target.parent, size)
+    _check_free_space(target.parent, size)  # uncompressed: an upper bound
+    encoding = _field_compression(dataset)
     with atomic_path(target) as temporary:
         if size <= IN_MEMORY_LIMIT:
             # HDF5 writes to memory; Python writes the bytes, so that a full
             # disk raises here instead of failing inside the library (which
             # then crashes the interpreter when it closes the file).
             buffer = io.BytesIO()
-            dataset.to_netcdf(buffer, engine="h5netcdf")
+            dataset.to_netcdf(buffer, engine="h5netcdf", encoding=encoding)
             with open(temporary, "wb") as handle:
                 handle.write(buffer.getbuffer())
                 handle.flush()
                 os.fsync(handle.fileno())
         else:
-            dataset.to_netcdf(temporary, engine="h5netcdf")
+            dataset.to_netcdf(temporary, engine="h5netcdf", encoding=encoding)
+
+
+def _field_compression(dataset: Any) -> dict[str, dict[str, Any]]:
+    """Lossless gzip (with byte shuffling) for the 2-D fields of a result: the pressure and contact
+    snapshots are mostly zeros outside the pillars, so a brush's file shrinks many times; curves and
+    per-pillar arrays stay uncompressed (small, and read whole)."""
+    return {str(name): {"zlib": True, "complevel": 4, "shuffle": True}
+            for name, variable in dataset.data_vars.items() if variable.ndim >= 2}
 
 
 def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
