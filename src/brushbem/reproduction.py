@@ -553,10 +553,9 @@ def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, w
         }
         if "refine" in spec:
             subset["refine"] = spec["refine"]
-        run = run_sweep(subset, Path(out_dir) / part, executor, workers=workers, progress=progress,
-                        base_dir=path.parent)
+        run_sweep(subset, Path(out_dir) / part, executor, workers=workers, progress=progress,
+                  base_dir=path.parent)
         tables[part] = load_summary(Path(out_dir) / part)
-        del run
         if plan.case_hashes.get(part) and not set(plan.case_hashes[part]) <= {
                 str(case_id).split("-", 1)[1] for case_id in tables[part]["case_id"]}:
             raise ReproduceError(f"part {part!r}: the recomputed cases are not the committed ones (their "
