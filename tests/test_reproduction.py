@@ -199,7 +199,8 @@ def test_sampled_sweeps_are_subsets_of_the_full_sweeps():
     sampled = sorted(SWEEPS_DIR.glob("*.sampled.toml"))
     assert sampled, "no sampled sweep is shipped"
     for path in sampled:
-        full_path = path.with_name(path.name.replace(".sampled.toml", ".toml"))
+        study, part = path.name.split(".")[:2]  # <study>.<part>[.<set>].sampled.toml
+        full_path = path.with_name(f"{study}.{part}.toml")
         spec, points = _points(path)
         full, full_points = _points(full_path)
         for key in ("base", "realizations", "seed"):  # the mode may differ: a sampled file lists points (zip)
@@ -222,6 +223,15 @@ def test_a_sampled_study_is_labelled_and_recomputed_with_its_flag():
     text = render([row], {"rough_brush": provenance}, "", {})
     assert "## `rough_brush` (thesis grid, sampled)" in text
     assert "brushbem study rough_brush --out out/rough_brush --sampled" in text
+    # A part merged from a named sampled set: both files listed, both commands printed.
+    provenance = {"quick": False, "parts": {"three": {
+        "sweep_file": "hierarchy.three.sampled.toml",
+        "sweep_files": ["hierarchy.three.sampled.toml", "hierarchy.three.small_preload.sampled.toml"]}}}
+    row = ComparisonRow("hierarchy", "q", "Fig. 6-5", 1.0, 1.0, math.nan, 1, "")
+    text = render([row], {"hierarchy": provenance}, "", {})
+    assert "| three | hierarchy.three.sampled.toml, hierarchy.three.small_preload.sampled.toml |" in text
+    assert ("`brushbem study hierarchy --sampled-set small_preload --out out/hierarchy-small_preload`, then "
+            "`brushbem export-tables out/hierarchy out/hierarchy-small_preload --to docs/reproduction`") in text
 
 
 @pytest.mark.slow
@@ -245,52 +255,61 @@ def test_committed_tables_keep_their_case_ids():
         record = json.loads(provenance.read_text())
         for part, info in (record.get("parts") or {}).items():
             table = provenance.parent / f"{part}.csv"
-            sweep_file = SWEEPS_DIR / info["sweep_file"]
-            if not (table.exists() and sweep_file.exists()):
+            files = [SWEEPS_DIR / name for name in info.get("sweep_files", [info["sweep_file"]])]
+            if not (table.exists() and all(path.exists() for path in files)):
                 continue
             with table.open() as stream:
                 ids = {row["case_id"] for row in csv.DictReader(stream)}
-            expanded = {case.case_id for case in load_sweep(sweep_file).cases}
+            expanded = {case.case_id for path in files for case in load_sweep(path).cases}
             assert ids <= expanded, (provenance.parent.name, part, sorted(ids - expanded)[:3])
             checked += 1
     assert checked >= 7  # the thesis's studies and the robustness study (lengths files: ids by content)
 
 
-def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_plateaus():
-    """Each chapter-6 plateau number is computable from the cases of the sampled files alone.
+def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
+    """Each chapter-6 number is computable from the cases of its sampled file alone.
 
     A table with one finished row per sampled case (sigma~ and F~_P from the
-    sweep header's nominal d_c and F_c, any F~_A) must give every number but
-    the small-preload ones at sigma~ = 1.6 a value: a sampled file that lost a
-    point a number reads would leave it n/a.  The sigma~ = 1.6 points are left
-    to a later set (make_sampled.py says why), so those rows must stay n/a,
-    never read off the plateau points.
+    sweep header's nominal d_c and F_c, any F~_A) must give each number a
+    value: a sampled file that lost a point a number reads would leave it
+    n/a.  The plateau files carry the plateaus and must leave the sigma~ = 1.6
+    rows n/a (never read off the plateau points); the ``small_preload`` set
+    carries those four rows and no plateau.
     """
     from brushbem.studies import get_study
     from brushbem.studies.base import SWEEPS_DIR
     from brushbem.sweep import load_sweep
 
     f_c, d_c = 0.00331177, 0.00293498  # the hierarchy sweeps' header
-    tables = {}
-    for level in ("one", "two", "three"):
-        cases = load_sweep(SWEEPS_DIR / f"hierarchy.{level}.sampled.toml").cases
-        tables[level] = pd.DataFrame([{
-            "case_id": case.case_id, "status": "finished", "realization": case.realization,
-            "indenter.roughness.sigma": case.values["indenter.roughness.sigma"],
-            "protocol.preload_force": case.values["protocol.preload_force"],
-            "normalized.roughness_by_rigid_brush": case.values["indenter.roughness.sigma"] / d_c,
-            "normalized.preload_by_rigid_brush": case.values["protocol.preload_force"] / f_c,
-            "normalized.force_by_rigid_brush": 1.0 + case.realization,
-            "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
-        } for case in cases])
-        assert tables[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
-    small_preload = [n for n in get_study("hierarchy").numbers if "sigma~ = 1.6" in n.quantity]
-    plateaus = [n for n in get_study("hierarchy").numbers if "plateau" in n.quantity]
+
+    def tables(kind: str) -> dict[str, pd.DataFrame]:
+        found = {}
+        for level in ("one", "two", "three"):
+            cases = load_sweep(SWEEPS_DIR / f"hierarchy.{level}.{kind}toml").cases
+            found[level] = pd.DataFrame([{
+                "case_id": case.case_id, "status": "finished", "realization": case.realization,
+                "indenter.roughness.sigma": case.values["indenter.roughness.sigma"],
+                "protocol.preload_force": case.values["protocol.preload_force"],
+                "normalized.roughness_by_rigid_brush": case.values["indenter.roughness.sigma"] / d_c,
+                "normalized.preload_by_rigid_brush": case.values["protocol.preload_force"] / f_c,
+                "normalized.force_by_rigid_brush": 1.0 + case.realization,
+                "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
+            } for case in cases])
+            assert found[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
+        return found
+
+    numbers = get_study("hierarchy").numbers
+    small_preload = [n for n in numbers if "sigma~ = 1.6" in n.quantity]
+    plateaus = [n for n in numbers if "plateau" in n.quantity]
     assert len(small_preload) == 4 and len(plateaus) == 3
-    for number in get_study("hierarchy").numbers:
-        assert math.isfinite(number.compute(tables)) != (number in small_preload), number.quantity
-    # The sampled plateaus are the means over the ten seeds (F~_A = 1 + realisation here).
-    assert all(number.compute(tables) == pytest.approx(5.5) for number in plateaus)
+    plateau_tables, small_tables = tables("sampled."), tables("small_preload.sampled.")
+    for number in numbers:
+        assert math.isfinite(number.compute(plateau_tables)) != (number in small_preload), number.quantity
+    for number in [*small_preload, *plateaus]:
+        assert math.isfinite(number.compute(small_tables)) == (number in small_preload), number.quantity
+    # The sampled numbers are the means over the ten seeds (F~_A = 1 + realisation here).
+    assert all(number.compute(plateau_tables) == pytest.approx(5.5) for number in plateaus)
+    assert all(number.compute(small_tables) == pytest.approx(5.5) for number in small_preload)
 
 
 @pytest.mark.slow  # expands the 2 310 sampled cases

@@ -100,11 +100,10 @@ def fake_study(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
             BASE_TOML + f'\n[sweep]\n"indenter.radius" = {radii}\n')
         (sweeps / f"fake.b{suffix}.toml").write_text(
             BASE_TOML + f'\n[sweep]\n"indenter.radius" = [0.15, {BAD_RADIUS}]\n')
+    # A named sampled set of part a only: its radius 0.25 is a case of the full sweep (same hash).
+    (sweeps / "fake.a.small.sampled.toml").write_text(BASE_TOML + '\n[sweep]\n"indenter.radius" = [0.25]\n')
     monkeypatch.setattr(studies, "STUDIES", {"fake": FAKE})
-    monkeypatch.setattr(
-        studies, "sweep_file",
-        lambda study, part, quick, sampled=False: sweeps / f"{study}.{part}{'.quick' if quick else ''}.toml",
-    )
+    monkeypatch.setattr(studies.base, "SWEEPS_DIR", sweeps)
     return sweeps
 
 
@@ -207,6 +206,66 @@ def test_parts_that_the_study_lacks_are_refused(tmp_path: Path, fake_study: Path
     result = CliRunner().invoke(main, ["study", "fake", "--out", str(tmp_path / "x"), "--parts", ","])
     assert result.exit_code == 2 and "(none given)" in result.output
     assert not (tmp_path / "x").exists()  # refused before anything is written
+
+
+def test_a_named_sampled_set_runs_its_parts_into_its_own_folder(
+    tmp_path: Path, fake_study: Path, calls: list[float], monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``--sampled-set NAME`` runs ``<study>.<part>.NAME.sampled.toml`` of the parts that ship it."""
+    assert studies.sampled_sets("fake") == {"small": ("a",)}
+    monkeypatch.setattr(sweep_execution, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
+    result = CliRunner().invoke(main, ["study", "fake", "--sampled-set", "small", "--out", str(tmp_path / "s"),
+                                       "--workers", "1", "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert calls == [0.25]  # part a's set only; part b ships none
+    record = json.loads((tmp_path / "s" / "study.json").read_text())
+    assert record["parts"] == ["a"] and record["sweep_files"]["a"].endswith("fake.a.small.sampled.toml")
+
+
+def test_a_sampled_set_the_study_lacks_is_refused(tmp_path: Path, fake_study: Path) -> None:
+    with pytest.raises(studies.StudyError, match="no sampled set 'big'; its sets: small \\(parts a\\)"):
+        run_study("fake", tmp_path / "x", sampled_set="big")
+    with pytest.raises(studies.StudyError, match="part.*'b'.*no sampled set 'small'.*have it: a"):
+        run_study("fake", tmp_path / "x", sampled_set="small", parts=["b"])
+    runner = CliRunner()
+    result = runner.invoke(main, ["study", "fake", "--sampled-set", "big", "--out", str(tmp_path / "x")])
+    assert result.exit_code == 2 and "ships no set 'big' for any part; its sets: small: parts a" in result.output
+    result = runner.invoke(main, ["study", "fake", "--sampled-set", "small", "--parts", "b",
+                                  "--out", str(tmp_path / "x")])
+    assert result.exit_code == 2 and "for these parts" in result.output
+    result = runner.invoke(main, ["study", "fake", "--sampled-set", "small", "--quick", "--out", str(tmp_path / "x")])
+    assert result.exit_code == 2 and "--quick" in result.output
+    assert not (tmp_path / "x").exists()  # refused before anything is written
+
+
+@pytest.mark.slow
+def test_export_merges_a_sampled_set_with_the_study_run(
+    tmp_path: Path, fake_study: Path, calls: list[float], monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Two folders of one study export as one table per part; a case in both is one row."""
+    from brushbem.reproduction import export_tables, load_tables
+
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", tmp_path / "full", executor=pool, parts=["a"], draw=False)
+        run_study("fake", tmp_path / "set", executor=pool, sampled_set="small", draw=False)
+    assert sorted(calls) == [0.1, 0.25, 0.25]
+    provenance, tables = load_tables(export_tables([tmp_path / "full", tmp_path / "set"], tmp_path / "tables"))
+    table = tables["a"]
+    assert sorted(table["indenter.radius"]) == [0.1, 0.25]  # the 0.25 case once
+    assert provenance["parts"]["a"]["cases"] == 2
+    assert provenance["parts"]["a"]["sweep_files"] == ["fake.a.toml", "fake.a.small.sampled.toml"]
+    # A finished record wins over a missing one of the same case, whichever folder holds it.
+    (tmp_path / "set" / "a" / "cases").rename(tmp_path / "set-cases")
+    (tmp_path / "set" / "a" / "summary.parquet").unlink()
+    assert studies.load_results(tmp_path / "set")["a"]["status"].tolist() == ["missing"]
+    _, tables = load_tables(export_tables([tmp_path / "set", tmp_path / "full"], tmp_path / "tables"))
+    assert sorted(tables["a"]["status"]) == ["finished", "finished"]
+    # Folders of two studies are refused.
+    quick = tmp_path / "quick"
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", quick, quick=True, executor=pool, parts=["a"], draw=False)
+    with pytest.raises(studies.StudyError, match="not 'fake' of"):
+        export_tables([tmp_path / "full", quick], tmp_path / "tables")
 
 
 def test_unknown_study(tmp_path: Path, fake_study: Path) -> None:

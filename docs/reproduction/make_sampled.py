@@ -23,9 +23,14 @@ states (L1176-L1197), sigma~ = 0.04 at F~_P = 20 and 14.3 -- the plateaus
 1.6 / 1.65 / 1.9, and "the strongest adhesive forces ... appear" at
 F~_P = 14.3.  One to two CPU-minutes a case.  The small-preload points at
 sigma~ = 1.6 (Fig. 6-4 e; the thesis does not state the preload) take 3 to 8
-CPU-minutes a case at this grid; they are left to a later sampled set (a sweep
-runs seed by seed, so with them in this file no level would reach ten seeds of
-its plateau in a working day on two cores).
+CPU-minutes a case at this grid; they are a second sampled set,
+``hierarchy.<level>.small_preload.sampled.toml`` (a sweep runs seed by seed, so
+with them in the plateau file no level would have reached ten seeds of its
+plateau in a working day on two cores): sigma~ = 1.6 at F~_P = 1 for every
+level (one and two levels "tend to zero", three "nearly 0.4") and at F~_P = 0.2
+for three levels, the rows of Fig. 6-4 e.  A study runs a named set with
+``brushbem study hierarchy --sampled-set small_preload``, into its own folder;
+``brushbem export-tables`` takes both folders and writes one table per level.
 
 Every point is copied from the full sweep with its base, seed and realisations,
 so a sampled case has the full sweep's seed and case hash (its id after the
@@ -109,11 +114,13 @@ def select(points: list[dict]) -> list[dict]:
 H_F_C = 0.00331177  # the hierarchy sweeps' header: F_c and d_c of one level
 H_D_C = 0.00293498
 HIERARCHY_POINTS = ((0.04, 20.0), (0.04, 14.3))  # (sigma~, F~_P), in run order
+#: The second set, Fig. 6-4 e's small preload at sigma~ = 1.6, per level.
+HIERARCHY_SMALL_PRELOAD = {"one": ((1.6, 1.0),), "two": ((1.6, 1.0),), "three": ((1.6, 1.0), (1.6, 0.2))}
 
 
-def select_hierarchy(points: list[dict]) -> list[dict]:
+def select_hierarchy(points: list[dict], wanted=HIERARCHY_POINTS) -> list[dict]:
     chosen = []
-    for sigma_tilde, preload in HIERARCHY_POINTS:
+    for sigma_tilde, preload in wanted:
         found = [p for p in points if _close(p[SIGMA] / H_D_C, sigma_tilde) and _close(p[PRELOAD] / H_F_C, preload)]
         if len(found) != 1:
             raise SystemExit(f"hierarchy: {len(found)} points at sigma~ = {sigma_tilde}, F~_P = {preload}")
@@ -132,7 +139,7 @@ def _value(x) -> str:
     return repr(float(x))
 
 
-def write(study: str, part: str, rule=select) -> Path:
+def write(study: str, part: str, rule=select, subset: str = "") -> Path:
     full = SWEEPS / f"{study}.{part}.toml"
     text = full.read_text(encoding="utf-8")
     spec = tomllib.loads(text)
@@ -144,7 +151,8 @@ def write(study: str, part: str, rule=select) -> Path:
     lines = header + [
         f"# SAMPLED subset of {full.name} ({len(chosen)} of its {len(points)} points, the same base, seed and",
         "# realisations, so the same case hashes after the index): the points that carry the thesis's",
-        "# stated numbers, written by docs/reproduction/make_sampled.py (which states the rule); plateaus first.",
+        "# stated numbers, written by docs/reproduction/make_sampled.py (which states the rule)"
+        + (f"; the set {subset!r}." if subset else "; plateaus first."),
         base_line,
         'mode = "zip"',
         f"realizations = {spec['realizations']}",
@@ -154,7 +162,7 @@ def write(study: str, part: str, rule=select) -> Path:
     ]
     for key in keys:
         lines.append(f'"{key}" = [' + ", ".join(_value(p[key]) for p in chosen) + "]")
-    out = SWEEPS / f"{study}.{part}.sampled.toml"
+    out = SWEEPS / f"{study}.{part}.{subset + '.' if subset else ''}sampled.toml"
     out.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return out
 
@@ -163,3 +171,5 @@ if __name__ == "__main__":
     print(write("rough_brush", "preload"))
     for level in ("one", "two", "three"):
         print(write("hierarchy", level, select_hierarchy))
+        print(write("hierarchy", level, lambda points, level=level: select_hierarchy(
+            points, HIERARCHY_SMALL_PRELOAD[level]), subset="small_preload"))

@@ -666,6 +666,9 @@ def _list_studies() -> None:
 @click.option("--sampled", is_flag=True,
               help="Run, for the parts that ship one, the sampled subset of the full sweep (the parameter "
                    "points that carry the thesis's stated numbers, at its grid).")
+@click.option("--sampled-set", "sampled_set", default=None, metavar="SET",
+              help="Run the named sampled set (`<study>.<part>.<SET>.sampled.toml`) of the parts that ship it, "
+                   "into its own --out; `brushbem export-tables` merges it with the study's other folders.")
 @click.option("--parts", "part_names", default=None, metavar="P1,P2,...",
               help="Run only these parts of the study (comma-separated; `--list` names them); the parts "
                    "already run in --out are kept.")
@@ -682,6 +685,7 @@ def study(
     out_dir: Path | None,
     quick: bool,
     sampled: bool,
+    sampled_set: str | None,
     part_names: str | None,
     list_studies: bool,
     estimate: bool,
@@ -715,10 +719,22 @@ def study(
             click.echo(f"--parts: study {name} has no part(s) {', '.join(unknown) or '(none given)'}; "
                        f"its parts: {', '.join(found.parts)}", err=True)
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    if sampled_set is not None:
+        if quick:
+            raise click.UsageError("--sampled-set is a subset of the thesis's grid; it does not go with --quick")
+        sets = studies.sampled_sets(name)
+        if sampled_set not in sets or any(part not in sets[sampled_set] for part in (
+                parts if part_names is not None else ())):
+            shipped = "; ".join(f"{s}: parts {', '.join(p)}" for s, p in sets.items()) or "none"
+            click.echo(f"--sampled-set: study {name} ships no set {sampled_set!r} for "
+                       f"{'these parts' if sampled_set in sets else 'any part'}; its sets: {shipped}", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+        if part_names is None:
+            parts = sets[sampled_set]
     if estimate:
         estimates = {}
         for part in [part for part in found.parts if part in parts]:
-            path = studies.sweep_file(name, part, quick, sampled)
+            path = studies.sweep_file(name, part, quick, sampled, sampled_set)
             loaded = _load_sweep_or_exit(path, f"invalid sweep file {path.name}:")
             estimates[part] = _estimate(loaded, samples, quiet)
         _print_estimates(estimates, workers)
@@ -731,7 +747,7 @@ def study(
         try:
             outcome = studies.run_study(
                 name, out_dir, quick=quick, executor=executor, workers=workers, sampled=sampled,
-                parts=None if part_names is None else parts,
+                parts=None if part_names is None else parts, sampled_set=sampled_set,
                 retry_failed=retry_failed, progress=not quiet,
             )
         except sweep_module.SweepFolderError:
@@ -821,16 +837,21 @@ def report(out_dir: Path, redraw: bool) -> None:
 
 
 @main.command("export-tables")
-@click.argument("study_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
+@click.argument("study_dirs", metavar="DIR...", nargs=-1, required=True,
+                type=click.Path(path_type=Path, file_okay=False, exists=True))
 @click.option("--to", "tables_root", required=True, type=click.Path(path_type=Path, file_okay=False),
               help="Folder of the comparison tables (e.g. docs/reproduction); DIR's study goes to a subfolder.")
-def export_tables(study_dir: Path, tables_root: Path) -> None:
-    """Write the compact tables (CSV per part, provenance.json) of the study run folder DIR."""
+def export_tables(study_dirs: tuple[Path, ...], tables_root: Path) -> None:
+    """Write the compact tables (CSV per part, provenance.json) of the study run folder DIR.
+
+    Several folders of one study (its sampled run and a `--sampled-set` run)
+    merge into one table per part.
+    """
     from brushbem import studies
     from brushbem.reproduction import export_tables as export
 
     try:
-        folder = export(study_dir, tables_root)
+        folder = export(list(study_dirs), tables_root)
     except studies.StudyError as error:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None

@@ -29,7 +29,7 @@ import math
 import re
 import statistics
 import subprocess
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -82,34 +82,70 @@ def _grid(record: Mapping[str, Any], frame: pd.DataFrame) -> str:
     return text
 
 
-def export_tables(study_dir: str | Path, tables_root: str | Path) -> Path:
-    """Write the compact tables of the study run folder ``study_dir`` under ``tables_root/<study>``.
+def _case_hash(case_id: Any) -> str:
+    """A case's hash, its id without the index (the same case in two sweep files of one part)."""
+    return str(case_id).split("-", 1)[-1]
 
-    Returns the folder written.  Existing tables of the study are replaced.
+
+def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str | Path) -> Path:
+    """Write the compact tables of the study run folder(s) ``study_dir`` under ``tables_root/<study>``.
+
+    Several folders of one study (e.g. its sampled run and a named sampled
+    set's, `brushbem.studies.sampled_sets`) merge into one table per part: a
+    case in two of them (the same hash) is kept once, finished before
+    anything else.  Returns the folder written.  Existing tables of the study
+    are replaced.
+
+    Raises
+    ------
+    StudyError
+        The folders are of different studies, or of quick and thesis grids.
     """
-    from .studies import load_results
+    from .studies import StudyError, load_results
     from .studies._framework import read_study_record
     from .sweep import SWEEP_FILE
 
-    study_dir = Path(study_dir)
-    record = read_study_record(study_dir)
-    name = record["study"]
-    results = load_results(study_dir, tuple(record["parts"]))
-    folder = Path(tables_root) / name
-    folder.mkdir(parents=True, exist_ok=True)
+    dirs = [Path(study_dir)] if isinstance(study_dir, (str, Path)) else [Path(d) for d in study_dir]
+    if not dirs:
+        raise StudyError("export-tables: no study folder given")
+    records = [read_study_record(folder) for folder in dirs]
+    name = records[0]["study"]
+    quick = bool(records[0].get("quick", False))
+    for folder, record in zip(dirs, records):
+        if record["study"] != name or bool(record.get("quick", False)) != quick:
+            raise StudyError(f"export-tables: {folder} holds study {record['study']!r}"
+                             f"{' (quick)' if record.get('quick') else ''}, not {name!r}"
+                             f"{' (quick)' if quick else ''} of {dirs[0]}: export one study's folders together")
+    frames: dict[str, list[pd.DataFrame]] = {}
+    sources: dict[str, list[tuple[Path, dict[str, Any]]]] = {}
+    for folder, record in zip(dirs, records):
+        for part, frame in load_results(folder, tuple(record["parts"])).items():
+            table = frame.drop(columns=[c for c in ("case_file",) if c in frame.columns])
+            if "index" in table.columns:
+                table = table.sort_values("index", kind="stable")
+            frames.setdefault(part, []).append(table)
+            sources.setdefault(part, []).append((folder, record))
+    folder_out = Path(tables_root) / name
+    folder_out.mkdir(parents=True, exist_ok=True)
     parts: dict[str, Any] = {}
-    for part, frame in results.items():
-        table = frame.drop(columns=[c for c in ("case_file",) if c in frame.columns])
-        if "index" in table.columns:
-            table = table.sort_values("index", kind="stable")
-        table.to_csv(folder / f"{part}.csv", index=False)
+    for part, tables in frames.items():
+        table = pd.concat(tables, ignore_index=True) if len(tables) > 1 else tables[0]
+        if len(tables) > 1 and "case_id" in table.columns:
+            # One row per case: a finished one before any other record of the same case.
+            order = (table["status"] != "finished") if "status" in table.columns else pd.Series(False, table.index)
+            table = table.assign(_hash=table["case_id"].map(_case_hash), _rank=order.astype(int))
+            table = (table.sort_values("_rank", kind="stable").drop_duplicates("_hash")
+                     .sort_index().drop(columns=["_hash", "_rank"]))
+        table.to_csv(folder_out / f"{part}.csv", index=False)
+        first = sources[part][0][0]
         sweep_record = {}
-        if (study_dir / part / SWEEP_FILE).is_file():
-            sweep_record = json.loads((study_dir / part / SWEEP_FILE).read_text(encoding="utf-8"))
+        if (first / part / SWEEP_FILE).is_file():
+            sweep_record = json.loads((first / part / SWEEP_FILE).read_text(encoding="utf-8"))
         statuses = table["status"].value_counts().to_dict() if "status" in table.columns else {}
         wall = pd.to_numeric(table.get("wall_time_s", pd.Series(dtype=float)), errors="coerce")
+        files = [Path(record.get("sweep_files", {}).get(part, "")).name for _, record in sources[part]]
         parts[part] = {
-            "sweep_file": Path(record.get("sweep_files", {}).get(part, "")).name,
+            "sweep_file": files[0],
             "cases": len(table),
             "statuses": {str(k): int(v) for k, v in sorted(statuses.items())},
             "seeds": sorted({int(s) for s in table["seed"].tolist()}) if "seed" in table.columns else [],
@@ -120,15 +156,18 @@ def export_tables(study_dir: str | Path, tables_root: str | Path) -> Path:
             "grid": _grid(sweep_record, table),
             "wall_time_s": float(wall.sum()) if len(wall) else 0.0,
         }
+        if len(files) > 1:
+            parts[part]["sweep_files"] = files
     provenance = {
         "study": name,
-        "quick": bool(record.get("quick", False)),
-        "brushbem_version": record.get("brushbem_version", __version__),
+        "quick": quick,
+        "brushbem_version": records[0].get("brushbem_version", __version__),
         "commit": _commit(),
         "parts": parts,
     }
-    (folder / PROVENANCE_FILE).write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    return folder
+    (folder_out / PROVENANCE_FILE).write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n",
+                                              encoding="utf-8")
+    return folder_out
 
 
 def load_tables(folder: str | Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:
@@ -279,9 +318,15 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             label += f"; in progress, {done} of {cases} cases"
         lines += [f"## `{name}` ({label})", ""]
         flags = " --quick" if quick else " --sampled" if sampled else ""
-        command = f"brushbem study {name} --out out/{name}{flags}"
+        command = f"`brushbem study {name} --out out/{name}{flags}`"
+        folders = f"out/{name}"
+        named_sets = sorted({file.split(".")[2] for info in provenance["parts"].values()
+                             for file in info.get("sweep_files", [])[1:] if file.count(".") == 4})
+        for subset in named_sets:
+            command += f" and `brushbem study {name} --sampled-set {subset} --out out/{name}-{subset}`"
+            folders += f" out/{name}-{subset}"
         lines += [
-            f"Recompute: `{command}`, then `brushbem export-tables out/{name} --to docs/reproduction`.",
+            f"Recompute: {command}, then `brushbem export-tables {folders} --to docs/reproduction`.",
             f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
             "(`--dry-run` lists them with their recorded time).",
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",
@@ -306,7 +351,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             if info.get("finished_realizations", info.get("realizations", 1)) != info.get("realizations", 1):
                 realizations = f"{info['finished_realizations']} of {realizations} begun"
             lines.append(
-                f"| {part} | {info.get('sweep_file', '')} | {_cell(info.get('grid', ''))} | "
+                f"| {part} | {', '.join(info.get('sweep_files', [info.get('sweep_file', '')]))} | "
+                f"{_cell(info.get('grid', ''))} | "
                 f"{info.get('cases', 0)} ({statuses}) | {realizations} | {seed_text} | "
                 f"{info.get('wall_time_s', 0.0):.0f} s |"
             )

@@ -42,7 +42,14 @@ from brushbem.studies._framework import (
     load_results,
     read_study_record,
 )
-from brushbem.studies.base import SWEEPS_DIR, Study, ThesisNumber, finished, sweep_file
+from brushbem.studies.base import (
+    SWEEPS_DIR,
+    Study,
+    ThesisNumber,
+    finished,
+    sampled_sets,
+    sweep_file,
+)
 
 __all__ = [
     "STUDIES",
@@ -57,6 +64,7 @@ __all__ = [
     "get_study",
     "load_results",
     "run_study",
+    "sampled_sets",
     "sweep_file",
 ]
 
@@ -99,11 +107,15 @@ def get_study(name: str) -> Study:
 
 
 def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any = None, *,
-              sampled: bool = False, parts: Sequence[str] | None = None, **options: Any) -> StudyRun:
+              sampled: bool = False, parts: Sequence[str] | None = None, sampled_set: str | None = None,
+              **options: Any) -> StudyRun:
     """Run every part of the study ``name`` into ``out_dir`` (resuming), then draw it.
 
     ``sampled`` runs a part's ``.sampled.toml`` subset where one is shipped
-    (`brushbem.studies.base.sweep_file`).  ``parts`` runs only those parts (in
+    (`brushbem.studies.base.sweep_file`); ``sampled_set`` runs a named sampled
+    set instead (`brushbem.studies.base.sampled_sets`), by default on every
+    part that ships it, into its own folder (``brushbem.export_tables`` merges
+    the folders of one study).  ``parts`` runs only those parts (in
     the study's order); the parts run before in ``out_dir`` are kept.  The
     other options are those of `brushbem.studies._framework.run_study`
     (``workers``, ``retry_failed``, ``progress``, ``draw``).
@@ -111,16 +123,29 @@ def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any
     Raises
     ------
     StudyError
-        An unknown study, or a part it does not have (the message lists its parts).
+        An unknown study, a part it does not have (the message lists its
+        parts), or a sampled set it does not ship for a part asked for.
     """
     study = get_study(name)
+    if sampled_set is not None:
+        sets = sampled_sets(study.name)
+        if sampled_set not in sets:
+            raise StudyError(f"study {name!r} ships no sampled set {sampled_set!r}; its sets: "
+                             + (", ".join(f"{s} (parts {', '.join(p)})" for s, p in sets.items()) or "(none)"))
+        lacking = [part for part in parts or () if part not in sets[sampled_set]]
+        if lacking:
+            raise StudyError(f"study {name!r}: part(s) {', '.join(map(repr, lacking))} have no sampled set "
+                             f"{sampled_set!r}; the parts that have it: {', '.join(sets[sampled_set])}")
+        if quick:
+            raise StudyError("a sampled set is of the thesis's grid: it cannot be run --quick")
+        parts = parts or sets[sampled_set]
     if parts is not None:
         unknown = [part for part in parts if part not in study.parts]
         if unknown or not parts:
             raise StudyError(f"study {name!r} has no part(s) {', '.join(map(repr, unknown)) or '(none given)'}; "
                              f"its parts: {', '.join(study.parts)}")
     chosen = [part for part in study.parts if parts is None or part in parts]
-    files = {part: sweep_file(study.name, part, quick, sampled) for part in chosen}
+    files = {part: sweep_file(study.name, part, quick, sampled, sampled_set) for part in chosen}
     return _framework.run_study(study, out_dir, quick, executor, files=files, **options)
 
 

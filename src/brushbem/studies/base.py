@@ -14,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-__all__ = ["SWEEPS_DIR", "Study", "ThesisNumber", "finished", "sweep_file"]
+__all__ = ["SWEEPS_DIR", "Study", "ThesisNumber", "finished", "sampled_sets", "sweep_file"]
 
 #: Where the shipped sweep files live.
 SWEEPS_DIR = Path(__file__).resolve().parent / "sweeps"
@@ -84,14 +84,39 @@ class Study:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
-def sweep_file(study: str, part: str, quick: bool, sampled: bool = False) -> Path:
+def sampled_sets(study: str) -> dict[str, tuple[str, ...]]:
+    """The named sampled sets a study ships: set name -> the parts that have it.
+
+    A named set is a further subset of a part's full sweep,
+    ``<study>.<part>.<set>.sampled.toml`` (e.g. chapter 6's small-preload
+    points, too slow to share the plateau file), run into its own folder.
+    """
+    sets: dict[str, list[str]] = {}
+    for path in sorted(SWEEPS_DIR.glob(f"{study}.*.*.sampled.toml")):
+        _, part, name, *_ = path.name.split(".")
+        sets.setdefault(name, []).append(part)
+    return {name: tuple(parts) for name, parts in sets.items()}
+
+
+def sweep_file(study: str, part: str, quick: bool, sampled: bool = False, subset: str | None = None) -> Path:
     """The shipped sweep file of one part of a study.
 
     ``sampled`` asks for the part's ``.sampled.toml``: the parameter points of
     the full sweep (same grid, seeds and case ids) that carry the thesis's
     stated numbers, where the full product is unaffordable.  A part without
-    one runs its full sweep.
+    one runs its full sweep.  ``subset`` asks for the part's named sampled set
+    ``<set>.sampled.toml`` (`sampled_sets`); a part without it is an error.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``subset`` is given and the part does not ship that set.
     """
+    if subset is not None:
+        path = SWEEPS_DIR / f"{study}.{part}.{subset}.sampled.toml"
+        if not path.is_file():
+            raise FileNotFoundError(path)
+        return path
     if sampled and not quick:
         subset = SWEEPS_DIR / f"{study}.{part}.sampled.toml"
         if subset.is_file():
