@@ -12,6 +12,7 @@ import itertools
 import json
 import math
 import re
+import statistics
 from pathlib import Path
 
 import pandas as pd
@@ -99,6 +100,40 @@ def test_standard_error_over_realizations(tmp_path, monkeypatch):
     # Means per realisation 2 and 6: stdev 2.828, over sqrt(2): 2.
     assert row.standard_error == pytest.approx(2.0)
     assert "| mean value | nowhere | 4 | 4 | 2 | +0.0 % |" in render(rows, provenances)
+
+
+def test_a_realisation_counts_only_where_it_has_the_points_the_number_reads():
+    """A seed begun but not finished leaves out the numbers whose points it lacks, only those.
+
+    Seeds 0 and 2 have both points x = 1 and 2, seed 1 only x = 2 (a run in
+    progress).  A number read at the smallest x would, on seed 1 alone, be
+    read at x = 2: seed 1 must not enter its mean or standard error.  A
+    number read at x = 2 counts all three seeds.
+    """
+    from brushbem.reproduction import _counted_realizations, _points, _standard_error
+
+    table = pd.DataFrame({"realization": [0, 0, 1, 1, 2, 2], "x": [1, 2, 1, 2, 1, 2],
+                          "status": ["finished", "finished", "missing", "finished", "finished", "finished"],
+                          "value": [1.0, 10.0, math.nan, 30.0, 3.0, 20.0]})
+    tables = {"part": table}
+    points = _points(tables, {"part": ["x"]})
+
+    def at_smallest(results):
+        done = results["part"][results["part"]["status"] == "finished"]
+        return float(done[done["x"] == done["x"].min()]["value"].mean())
+
+    def at_two(results):
+        done = results["part"][results["part"]["status"] == "finished"]
+        return float(done[done["x"] == 2]["value"].mean())
+
+    at_smallest = ThesisNumber("value at the smallest x", "nowhere", 1.0, at_smallest)
+    at_two = ThesisNumber("value at x = 2", "nowhere", 1.0, at_two)
+    assert _counted_realizations(at_smallest, tables, points) == [0, 2]
+    assert _counted_realizations(at_two, tables, points) == [0, 1, 2]
+    assert _standard_error(at_smallest, tables, [0, 2]) == (pytest.approx(1.0), 2)  # values 1 and 3
+    assert _standard_error(at_smallest, tables)[0] == pytest.approx(statistics.stdev([1, 30, 3]) / math.sqrt(3))
+    # Without the swept keys every realisation counts (nothing tells the points apart).
+    assert _counted_realizations(at_smallest, tables, None) == [0, 1, 2]
 
 
 def test_a_number_that_fails_is_reported_in_its_row():

@@ -206,17 +206,95 @@ def _compute(number, tables: Mapping[str, pd.DataFrame]) -> tuple[float, str]:
     return value, "" if math.isfinite(value) else "not computable from these cases"
 
 
-def _standard_error(number, tables: Mapping[str, pd.DataFrame]) -> tuple[float, int]:
-    """Standard error of the number over the realisations of its tables (nan below two)."""
+def _swept_keys(provenance: Mapping[str, Any]) -> dict[str, list[str]]:
+    """Part -> the swept keys of its shipped sweep file(s): what tells one parameter point from another."""
+    import tomllib
+
+    from .studies.base import SWEEPS_DIR
+
+    keys: dict[str, list[str]] = {}
+    for part, info in provenance.get("parts", {}).items():
+        found: set[str] = set()
+        for name in info.get("sweep_files", [info.get("sweep_file", "")]):
+            path = SWEEPS_DIR / str(name)
+            if name and path.is_file():
+                found |= set(tomllib.loads(path.read_text(encoding="utf-8")).get("sweep", {}))
+        keys[part] = sorted(found)
+    return keys
+
+
+def _realization(tables: Mapping[str, pd.DataFrame], r: int) -> dict[str, pd.DataFrame]:
+    return {part: frame[frame["realization"] == r] if "realization" in frame.columns else frame
+            for part, frame in tables.items()}
+
+
+@dataclass(frozen=True)
+class _Points:
+    """Each table row's parameter point, and the points each realisation has finished."""
+
+    realizations: list[int]
+    point: dict[str, pd.Series]
+    have: dict[int, dict[str, set]]
+
+
+def _points(tables: Mapping[str, pd.DataFrame], keys: Mapping[str, list[str]]) -> _Points:
     realizations = sorted({int(r) for frame in tables.values() if "realization" in frame.columns
                            for r in frame["realization"].tolist()})
+    point, have = {}, {r: {} for r in realizations}
+    for part, frame in tables.items():
+        columns = [key for key in keys.get(part, []) if key in frame.columns]
+        values = zip(*(frame[c].map(_plain) for c in columns)) if columns else ((None,) for _ in range(len(frame)))
+        point[part] = pd.Series(list(values), index=frame.index, dtype=object)
+        finished_rows = frame["status"] == "finished" if "status" in frame.columns else pd.Series(True, frame.index)
+        for r in realizations:
+            rows = finished_rows & (frame["realization"] == r) if "realization" in frame.columns else finished_rows
+            have[r][part] = set(point[part][rows])
+    return _Points(realizations, point, have)
+
+
+def _counted_realizations(number, tables: Mapping[str, pd.DataFrame], points: _Points | None = None) -> list[int]:
+    """The realisations that have finished every point the number reads.
+
+    A run in progress goes seed by seed, so its last seed has some points
+    only; read alone, a number would there come from other points (c read at
+    a plateau preload, say) and its spread would not be a standard error.
+    The reference is the realisation with the most finished points: a
+    realisation lacking some of them counts when the reference, without those
+    points, gives the same number (the number does not read them).  Without
+    ``points`` (the tables' swept keys unknown) every realisation counts.
+    """
+    realizations = sorted({int(r) for frame in tables.values() if "realization" in frame.columns
+                           for r in frame["realization"].tolist()})
+    if len(realizations) < 2 or points is None:
+        return realizations
+    have = points.have
+    reference = max(realizations, key=lambda r: (sum(len(v) for v in have[r].values()), -r))
+    subset = _realization(tables, reference)
+    full, _ = _compute(number, subset)
+    counted = []
+    for r in realizations:
+        lacking = {part: have[reference][part] - have[r][part] for part in tables}
+        if any(lacking.values()):
+            # (not Series.isin: it reads a set of tuples as a 2-D array)
+            without = {part: frame[~points.point[part].loc[frame.index].map(lacking[part].__contains__).astype(bool)]
+                       if lacking[part] else frame for part, frame in subset.items()}
+            value, _ = _compute(number, without)
+            if not _same(value, full):
+                continue
+        counted.append(r)
+    return counted
+
+
+def _standard_error(number, tables: Mapping[str, pd.DataFrame],
+                    counted: list[int] | None = None) -> tuple[float, int]:
+    """Standard error of the number over the ``counted`` realisations of its tables (nan below two)."""
+    realizations = counted if counted is not None else sorted(
+        {int(r) for frame in tables.values() if "realization" in frame.columns for r in frame["realization"].tolist()})
     if len(realizations) < 2:
         return math.nan, len(realizations)
     values = []
     for r in realizations:
-        subset = {part: frame[frame["realization"] == r] if "realization" in frame.columns else frame
-                  for part, frame in tables.items()}
-        value, _ = _compute(number, subset)
+        value, _ = _compute(number, _realization(tables, r))
         if math.isfinite(value):
             values.append(value)
     if len(values) < 2:
@@ -234,9 +312,20 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
         provenance, tables = load_tables(folder)
         study = get_study(provenance["study"])
         provenances[study.name] = provenance
+        keys = _swept_keys(provenance)
+        points = _points(tables, keys) if any(keys.values()) else None
         for number in study.numbers:
             ours, note = _compute(number, tables)
-            error, realizations = _standard_error(number, tables) if math.isfinite(ours) else (math.nan, 0)
+            error, realizations = math.nan, 0
+            if math.isfinite(ours):
+                counted = _counted_realizations(number, tables, points)
+                every = {int(r) for frame in tables.values() if "realization" in frame.columns
+                         for r in frame["realization"].tolist()}
+                if every - set(counted):  # the number of the realisations that have all its points
+                    ours, note = _compute(number, {part: frame[frame["realization"].isin(counted)]
+                                                   if "realization" in frame.columns else frame
+                                                   for part, frame in tables.items()})
+                error, realizations = _standard_error(number, tables, counted)
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note))
     return rows, provenances

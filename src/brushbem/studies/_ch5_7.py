@@ -80,21 +80,27 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     sampled only at plateau preloads (the thesis-grid sampled sweep ships such groups
     for the plateaus) has no linear region to read c from.
     """
+    columns = [*keys, "c", "sigma", "plateau", "largest_preload"]
     if not has(frame, FA, FP, PRELOAD):
-        return pd.DataFrame(columns=[*keys, "c", "sigma", "plateau", "largest_preload"])
-    rows = []
-    for key, group in frame.groupby(keys, dropna=False):
-        key = key if isinstance(key, tuple) else (key,)
-        smallest = group[group[PRELOAD] == group[PRELOAD].min()]
-        c = float((smallest[FA] / smallest[FP]).mean())
-        means = group.groupby(PRELOAD).agg(fa=(FA, "mean"), fp=(FP, "mean"))
-        plateau = float(means["fa"].max())
-        if len(means) > 1 and float(smallest[FA].mean()) >= SATURATED * plateau:
-            c = math.nan
-        sigma = float(group[SIG].mean()) if SIG in group else math.nan
-        rows.append({**dict(zip(keys, key)), "c": c, "sigma": sigma, "plateau": plateau,
-                     "largest_preload": float(means["fp"].max())})
-    return pd.DataFrame(rows)
+        return pd.DataFrame(columns=columns)
+    # One pass of groupbys over every group (a loop of per-group aggregations is 100 x slower).
+    frame = frame.assign(_ratio=frame[FA] / frame[FP], _sig=frame.get(SIG, math.nan))
+    groups = frame.groupby(keys, dropna=False, sort=True)
+    smallest = frame[frame[PRELOAD] == groups[PRELOAD].transform("min")].groupby(keys, dropna=False, sort=True)
+    means = frame.groupby([*keys, PRELOAD], dropna=False).agg(fa=(FA, "mean"), fp=(FP, "mean"))
+    by_group = means.groupby(level=list(range(len(keys))), dropna=False, sort=True)
+    out = pd.DataFrame({
+        "c": smallest["_ratio"].mean(),
+        "sigma": groups["_sig"].mean(),
+        "plateau": by_group["fa"].max(),
+        "largest_preload": by_group["fp"].max(),
+        "_preloads": by_group["fa"].size(),
+        "_smallest": smallest[FA].mean(),
+    })
+    saturated = (out["_preloads"] > 1) & (out["_smallest"] >= SATURATED * out["plateau"])
+    out.loc[saturated, "c"] = math.nan
+    out = out.drop(columns=["_preloads", "_smallest"]).reset_index()
+    return out[columns].astype({"c": float, "sigma": float, "plateau": float, "largest_preload": float})
 
 
 def fit_eq58(sigma: np.ndarray, c: np.ndarray) -> tuple[float, float]:
