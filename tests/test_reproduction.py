@@ -144,13 +144,17 @@ def test_a_number_that_fails_is_reported_in_its_row():
 
 def test_a_row_beyond_five_percent_links_the_notes_that_explain_it():
     rows = [ComparisonRow("s", "near", "w", 1.0, 1.04, math.nan, 1, ""),
+            ComparisonRow("s", "near zero", "w", 0.0, 0.03, math.nan, 1, ""),
             ComparisonRow("s", "far", "w", 1.0, 1.2, math.nan, 1, ""),
+            ComparisonRow("s", "far from zero", "w", 0.0, 0.4, math.nan, 1, ""),
             ComparisonRow("t", "far", "w", 1.0, 0.5, math.nan, 1, "")]
     notes = "## Grids of `s` (part `a`)\n\nmeasured.\n\n## Why\n\nExplains: `u`.\n"
     text = render(rows, {"s": {"quick": True, "parts": {}}, "t": {"quick": True, "parts": {}}}, notes)
-    near, far, unexplained = (line for line in text.splitlines() if line.startswith(("| near", "| far")))
-    assert near.endswith("|  |")
+    near, near_zero, far, far_zero, unexplained = (
+        line for line in text.splitlines() if line.startswith(("| near", "| far")))
+    assert near.endswith("|  |") and near_zero.endswith("| +0.03 (absolute; thesis 0) |  |")
     assert "[Grids of `s` (part `a`)](#notes-grids-of-s-part-a)" in far
+    assert "| +0.4 (absolute; thesis 0) | [Grids of `s` (part `a`)]" in far_zero
     assert "no explanation in the notes" in unexplained
     assert '<a id="notes-grids-of-s-part-a"></a>' in text
 
@@ -176,12 +180,16 @@ def test_a_study_report_shows_the_explanation_beside_an_amber_number():
     table = _numbers_table(study, {})
     far_row, near_row = table.split("<tr>")[2:4]
     assert "explained in docs/thesis-comparison.md" in far_row and "explained" not in near_row
-    # The comparison document's rules: a study the notes do not cover says so; a deviation that is
-    # not a number (thesis value 0) is not "far"; without the notes (an installed package), a pointer.
+    # The comparison document's rules: a study the notes do not cover says so; where the thesis states
+    # 0 the deviation is absolute (0.05 of the normalising force is far, 0.01 is not); without the
+    # notes (an installed package), a pointer.
     unknown = type("S", (), {"name": "not_in_the_notes", "numbers": (far,)})()
     assert "no explanation in the notes" in _numbers_table(unknown, {})
-    zero = type("S", (), {"name": "concave", "numbers": (ThesisNumber("zero", "Fig. 0", 0.0, lambda r: 1.0),)})()
-    assert 'class="far"' not in _numbers_table(zero, {})
+    for value, is_far in ((0.4, True), (-0.06, True), (0.01, False)):
+        zero = type("S", (), {"name": "concave", "numbers": (
+            ThesisNumber("zero", "Fig. 0", 0.0, lambda r, value=value: value),)})()
+        table = _numbers_table(zero, {})
+        assert ('class="far"' in table) == is_far and "(absolute; thesis 0)" in table
     assert "see docs/thesis-comparison.md" in _explanation("concave", "")
 
 

@@ -386,7 +386,7 @@ def _explanation(study: str, notes: str) -> str:
 
 def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
     # The comparison document's rule for "far".
-    from brushbem.reproduction import EXPLAIN_ABOVE
+    from brushbem.reproduction import deviation_of
 
     notes = _notes_text()
     far_rows = 0
@@ -396,12 +396,11 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             ours = float(number.compute(results))
             if not math.isfinite(ours):
                 raise ValueError(f"not finite: {ours}")
-            deviation = (ours - number.thesis) / number.thesis if number.thesis else math.nan
             ours_text = f"{ours:.6g}"
-            deviation_text = f"{100.0 * deviation:+.2f} %" if math.isfinite(deviation) else "n/a"
             # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md (the same rule
-            # as the comparison document's); a deviation that is not a number (thesis value 0) is not.
-            css = "far" if math.isfinite(deviation) and abs(deviation) > EXPLAIN_ABOVE else "ok"
+            # as the comparison document's; where the thesis states 0, 0.05 of the normalising force).
+            _, far, deviation_text = deviation_of(number.thesis, ours)
+            css = "far" if far else "ok"
         except Exception as exc:  # noqa: BLE001 - reported, not raised
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"
         explanation = _explanation(study.name, notes) if css == "far" else ""
@@ -415,7 +414,7 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
               "and explained (grid, realisations, the thesis's fixed steps, or a parameter it leaves open).</p>"
               if far_rows else "")
     return (legend + '<table class="numbers"><thead><tr><th>quantity</th><th>where</th><th>thesis</th>'
-            "<th>ours</th><th>relative deviation</th><th>explanation</th></tr></thead>"
+            "<th>ours</th><th>deviation</th><th>explanation</th></tr></thead>"
             f"<tbody>{''.join(rows)}</tbody></table>")
 
 

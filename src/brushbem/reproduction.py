@@ -42,8 +42,24 @@ __all__ = ["ComparisonRow", "compare", "export_tables", "load_tables", "render"]
 
 PROVENANCE_FILE = "provenance.json"
 NOTES_FILE = "notes.md"
-#: Deviations above this need the explanation of a measurement (the notes).
+#: Deviations above this need the explanation of a measurement (the notes): relative to the
+#: thesis's value, or, where the thesis states 0 ("tends to zero", "vanishes": every such number is
+#: a force normalised by the rigid brush's F_c), absolute, in units of that normalising force.
 EXPLAIN_ABOVE = 0.05
+
+
+def deviation_of(thesis: float, ours: float) -> tuple[float, bool, str]:
+    """(deviation, far, text): relative to ``thesis``, absolute where the thesis states 0.
+
+    ``far`` is a deviation above `EXPLAIN_ABOVE`; a number that is not
+    computable (NaN) is not far and its text is "—".
+    """
+    if not math.isfinite(ours):
+        return math.nan, False, "—"
+    if thesis == 0:
+        return ours, abs(ours) > EXPLAIN_ABOVE, f"{ours:+.3g} (absolute; thesis 0)"
+    deviation = (ours - thesis) / thesis
+    return deviation, abs(deviation) > EXPLAIN_ABOVE, f"{100 * deviation:+.1f} %"
 
 
 def _commit() -> str | None:
@@ -388,7 +404,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         "`*.quick.toml` sweeps, which test the machinery, not the thesis's numbers;",
         "\"sampled\" studies ran, at the thesis's grid, the `*.sampled.toml` subsets of the",
         "full sweeps that carry the stated numbers (`docs/reproduction/plan.md`).",
-        f"Deviations above {100 * EXPLAIN_ABOVE:.0f} % are explained in the notes below.",
+        f"Deviations above {100 * EXPLAIN_ABOVE:.0f} % are explained in the notes below (where the thesis states",
+        f"0, an absolute {EXPLAIN_ABOVE:g} of the normalising force).",
         "",
     ]
     by_study: dict[str, list[ComparisonRow]] = {}
@@ -455,8 +472,7 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         for row in by_study[name]:
             ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
             error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
-            deviation = f"{100 * row.deviation:+.1f} %" if math.isfinite(row.deviation) else "—"
-            far = math.isfinite(row.deviation) and abs(row.deviation) > EXPLAIN_ABOVE
+            _, far, deviation = deviation_of(row.thesis, row.ours)
             where = (explained or "**no explanation in the notes**") if far else ""
             lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
                          f"{error} | {deviation} | {where} |")
