@@ -493,3 +493,15 @@ def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(tmp_path):
     assert missing.exit_code == 2 and "--out" in missing.output
     unknown = CliRunner().invoke(main, ["reproduce", "flat_brush", "no such row", "--dry-run", *tables])
     assert unknown.exit_code == 2 and "no quantities match 'no such row'" in unknown.output
+
+
+def test_a_row_of_a_merged_part_runs_from_the_sweep_file_that_lists_its_points(tmp_path):
+    """A part exported from two sampled sets names, for a row, the set that holds the row's points."""
+    from brushbem.reproduction import _file_with
+
+    first, second = tmp_path / "s.p.sampled.toml", tmp_path / "s.p.small.sampled.toml"
+    first.write_text('mode = "zip"\n[sweep]\n"a" = [1.0, 2.0]\n"b" = [0.5, 0.5]\n')
+    second.write_text('mode = "product"\n[sweep]\n"a" = [3.0]\n"b" = [0.1, 0.2]\n')
+    assert _file_with([{"a": 2.0, "b": 0.5}], [first, second]) == first
+    assert _file_with([{"a": 3.0, "b": 0.2}], [first, second]) == second
+    assert _file_with([{"a": 3.0, "b": 0.2}, {"a": 1.0, "b": 0.5}], [first, second]) == first  # none has both

@@ -584,6 +584,25 @@ def _find_number(study, quantity: str):
     return found[0]
 
 
+def _file_with(points: list[dict[str, Any]], files: list[Path]) -> Path:
+    """The first of a part's sweep files that lists every one of ``points`` (else the first file).
+
+    A part merged from several sampled sets (same base and seed) can run a
+    row's points from any of them; the one that holds them names it truthfully.
+    """
+    import itertools
+    import tomllib
+
+    for path in files:
+        spec = tomllib.loads(path.read_text(encoding="utf-8"))
+        keys, values = list(spec.get("sweep", {})), list(spec.get("sweep", {}).values())
+        combine = itertools.product if spec.get("mode", "zip") == "product" else zip
+        listed = {tuple(_plain(v) for v in row) for row in combine(*values)}
+        if all(tuple(_plain(point.get(key)) for key in keys) in listed for point in points):
+            return path
+    return files[0]
+
+
 def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizations: int | None = None) -> RowPlan:
     """The cases that recompute one row of the comparison: the parameter points its number reads.
 
@@ -652,7 +671,8 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     points: dict[str, list[dict[str, Any]]] = {}
     for part, point in sorted(keep, key=repr):
         points.setdefault(part, []).append(dict(point))
-    sweep_files = {part: paths[part] for part in points}
+    sweep_files = {part: _file_with(part_points, [SWEEPS_DIR / name for name in provenance["parts"][part].get(
+        "sweep_files", [])] or [paths[part]]) for part, part_points in points.items()}
     selected = restricted(keep)
     selected_rows = {part: frame[frame["status"] == "finished"] for part, frame in selected.items() if part in points}
     if not points:
