@@ -79,6 +79,8 @@ def test_rough_brush(rough):
 def test_hierarchy(hierarchy):
     study, results, written = hierarchy
     _common(study, results, written)
+    # The quick grid has sigma~ = 1.6 at F~_P = 1: Fig. 6-4 e's small preload is drawn beside Fig. 6-5.
+    assert {"fig6-5_plateaus.png", "fig6-4e_small_preload.png"} <= {path.name for path in written}
     three = finished(results, "three")
     # k~1' reported by every run is eq. 6.28b by hand, with the part's level
     # stiffnesses as written in its sweep (the thesis's printed k~1 = 1e-3,
