@@ -480,7 +480,7 @@ def test_signal_keeps_the_finished_cases_and_stops_the_workers(tmp_path, number,
 def test_folder_conflict_in_a_study_names_the_part(tmp_path, monkeypatch):
     from brushbem import studies
 
-    monkeypatch.setattr(studies, "sweep_file", lambda study, part, quick, sampled=False: write_sweep(
+    monkeypatch.setattr(studies, "sweep_file", lambda study, part, quick, sampled=False, subset=None: write_sweep(
         tmp_path, STIFFNESSES[:2] if quick else STIFFNESSES[2:], name=f"{part}{quick}.toml"))
     monkeypatch.setitem(studies.STUDIES, "tiny", studies.Study(
         name="tiny", title="tiny", figures=(), parts=("a",), draw=lambda results, folder: []))
