@@ -399,7 +399,7 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
             ours_text = f"{ours:.6g}"
             # Above 5 % a deviation needs the explanation of docs/thesis-comparison.md (the same rule
             # as the comparison document's; where the thesis states 0, 0.05 of the normalising force).
-            _, far, deviation_text = deviation_of(number.thesis, ours)
+            _, far, deviation_text = deviation_of(number.thesis, ours, digits=2)
             css = "far" if far else "ok"
         except Exception as exc:  # noqa: BLE001 - reported, not raised
             ours_text, deviation_text, css = f"n/a ({type(exc).__name__}: {exc})", "n/a", "na"

@@ -48,18 +48,19 @@ NOTES_FILE = "notes.md"
 EXPLAIN_ABOVE = 0.05
 
 
-def deviation_of(thesis: float, ours: float) -> tuple[float, bool, str]:
+def deviation_of(thesis: float, ours: float, digits: int = 1) -> tuple[float, bool, str]:
     """(deviation, far, text): relative to ``thesis``, absolute where the thesis states 0.
 
     ``far`` is a deviation above `EXPLAIN_ABOVE`; a number that is not
-    computable (NaN) is not far and its text is "—".
+    computable (NaN) is not far and its text is "—".  ``digits``: of the
+    percentage.
     """
     if not math.isfinite(ours):
         return math.nan, False, "—"
     if thesis == 0:
         return ours, abs(ours) > EXPLAIN_ABOVE, f"{ours:+.3g} (absolute; thesis 0)"
     deviation = (ours - thesis) / thesis
-    return deviation, abs(deviation) > EXPLAIN_ABOVE, f"{100 * deviation:+.1f} %"
+    return deviation, abs(deviation) > EXPLAIN_ABOVE, f"{100 * deviation:+.{digits}f} %"
 
 
 def _commit() -> str | None:
