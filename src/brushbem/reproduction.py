@@ -29,7 +29,7 @@ import math
 import re
 import statistics
 import subprocess
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -240,8 +240,15 @@ def _swept_keys(provenance: Mapping[str, Any]) -> dict[str, list[str]]:
     return keys
 
 
-def _realization(tables: Mapping[str, pd.DataFrame], r: int) -> dict[str, pd.DataFrame]:
-    return {part: frame[frame["realization"] == r] if "realization" in frame.columns else frame
+def _realizations(tables: Mapping[str, pd.DataFrame]) -> list[int]:
+    """Every realisation the tables hold (a part without the column has none)."""
+    return sorted({int(r) for frame in tables.values() if "realization" in frame.columns
+                           for r in frame["realization"].tolist()})
+
+
+def _of_realizations(tables: Mapping[str, pd.DataFrame], keep: Collection[int]) -> dict[str, pd.DataFrame]:
+    """The tables' rows of the realisations ``keep`` (a part without the column whole)."""
+    return {part: frame[frame["realization"].isin(list(keep))] if "realization" in frame.columns else frame
             for part, frame in tables.items()}
 
 
@@ -249,14 +256,12 @@ def _realization(tables: Mapping[str, pd.DataFrame], r: int) -> dict[str, pd.Dat
 class _Points:
     """Each table row's parameter point, and the points each realisation has finished."""
 
-    realizations: list[int]
     point: dict[str, pd.Series]
     have: dict[int, dict[str, set]]
 
 
 def _points(tables: Mapping[str, pd.DataFrame], keys: Mapping[str, list[str]]) -> _Points:
-    realizations = sorted({int(r) for frame in tables.values() if "realization" in frame.columns
-                           for r in frame["realization"].tolist()})
+    realizations = _realizations(tables)
     point, have = {}, {r: {} for r in realizations}
     for part, frame in tables.items():
         columns = [key for key in keys.get(part, []) if key in frame.columns]
@@ -266,7 +271,7 @@ def _points(tables: Mapping[str, pd.DataFrame], keys: Mapping[str, list[str]]) -
         for r in realizations:
             rows = finished_rows & (frame["realization"] == r) if "realization" in frame.columns else finished_rows
             have[r][part] = set(point[part][rows])
-    return _Points(realizations, point, have)
+    return _Points(point, have)
 
 
 def _counted_realizations(number, tables: Mapping[str, pd.DataFrame], points: _Points | None = None) -> list[int]:
@@ -280,13 +285,12 @@ def _counted_realizations(number, tables: Mapping[str, pd.DataFrame], points: _P
     points, gives the same number (the number does not read them).  Without
     ``points`` (the tables' swept keys unknown) every realisation counts.
     """
-    realizations = sorted({int(r) for frame in tables.values() if "realization" in frame.columns
-                           for r in frame["realization"].tolist()})
+    realizations = _realizations(tables)
     if len(realizations) < 2 or points is None:
         return realizations
     have = points.have
     reference = max(realizations, key=lambda r: (sum(len(v) for v in have[r].values()), -r))
-    subset = _realization(tables, reference)
+    subset = _of_realizations(tables, [reference])
     full, _ = _compute(number, subset)
     counted = []
     for r in realizations:
@@ -305,13 +309,12 @@ def _counted_realizations(number, tables: Mapping[str, pd.DataFrame], points: _P
 def _standard_error(number, tables: Mapping[str, pd.DataFrame],
                     counted: list[int] | None = None) -> tuple[float, int]:
     """Standard error of the number over the ``counted`` realisations of its tables (nan below two)."""
-    realizations = counted if counted is not None else sorted(
-        {int(r) for frame in tables.values() if "realization" in frame.columns for r in frame["realization"].tolist()})
+    realizations = counted if counted is not None else _realizations(tables)
     if len(realizations) < 2:
         return math.nan, len(realizations)
     values = []
     for r in realizations:
-        value, _ = _compute(number, _realization(tables, r))
+        value, _ = _compute(number, _of_realizations(tables, [r]))
         if math.isfinite(value):
             values.append(value)
     if len(values) < 2:
@@ -336,12 +339,8 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
             error, realizations = math.nan, 0
             if math.isfinite(ours):
                 counted = _counted_realizations(number, tables, points)
-                every = {int(r) for frame in tables.values() if "realization" in frame.columns
-                         for r in frame["realization"].tolist()}
-                if every - set(counted):  # the number of the realisations that have all its points
-                    ours, note = _compute(number, {part: frame[frame["realization"].isin(counted)]
-                                                   if "realization" in frame.columns else frame
-                                                   for part, frame in tables.items()})
+                if set(_realizations(tables)) - set(counted):  # the number of the seeds with all its points
+                    ours, note = _compute(number, _of_realizations(tables, counted))
                 error, realizations = _standard_error(number, tables, counted)
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note))
