@@ -268,6 +268,75 @@ def test_export_merges_a_sampled_set_with_the_study_run(
         export_tables([tmp_path / "full", quick], tmp_path / "tables")
 
 
+def _tables_of_a_run_in_progress(tmp_path: Path) -> Path:
+    """Part a of the fake study exported to ``tmp_path/tables`` as a run stopped before its 0.25 case;
+    the run's folder is gone (another session's).  Returns the study's table folder."""
+    from brushbem.reproduction import export_tables
+
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", tmp_path / "earlier", executor=pool, parts=["a"], draw=False)
+    folder = export_tables([tmp_path / "earlier"], tmp_path / "tables")
+    recorded = pd.read_csv(folder / "a.csv")
+    recorded.loc[recorded["indenter.radius"] == 0.25, "status"] = "missing"
+    recorded.to_csv(folder / "a.csv", index=False)
+    shutil.rmtree(tmp_path / "earlier")
+    return folder
+
+
+@pytest.mark.slow
+def test_export_update_merges_a_folder_into_the_recorded_tables(
+    tmp_path: Path, fake_study: Path, calls: list[float],
+) -> None:
+    """``update``: the recorded tables stay, whose run folder is gone; a folder adds what it finished."""
+    from brushbem.reproduction import export_tables, load_tables
+
+    folder = _tables_of_a_run_in_progress(tmp_path)
+    kept = (folder / "a.csv").read_text().splitlines()[1]
+    provenance = json.loads((folder / "provenance.json").read_text())
+    provenance["commit"] = "0" * 40  # an earlier commit's export
+    (folder / "provenance.json").write_text(json.dumps(provenance))
+    with ThreadPoolExecutor(1) as pool:
+        run_study("fake", tmp_path / "set", executor=pool, sampled_set="small", draw=False)
+    provenance, tables = load_tables(export_tables([tmp_path / "set"], tmp_path / "tables", update=True))
+    table = tables["a"]
+    assert table["indenter.radius"].tolist() == [0.1, 0.25]  # the recorded order, one row a case
+    assert table["status"].tolist() == ["finished", "finished"]  # the set's finished record wins
+    assert (folder / "a.csv").read_text().splitlines()[1] == kept  # the recorded row, to the digit
+    assert provenance["parts"]["a"]["statuses"] == {"finished": 2}
+    assert provenance["parts"]["a"]["sweep_files"] == ["fake.a.toml", "fake.a.small.sampled.toml"]
+    assert provenance["earlier_commits"] == ["0" * 40]
+    # Without update, the folder's tables replace the recorded ones.
+    _, tables = load_tables(export_tables([tmp_path / "set"], tmp_path / "tables"))
+    assert tables["a"]["indenter.radius"].tolist() == [0.25]
+    # Tables of the quick grids are not updated with a thesis-grid folder.
+    provenance = json.loads((folder / "provenance.json").read_text())
+    (folder / "provenance.json").write_text(json.dumps({**provenance, "quick": True}))
+    with pytest.raises(studies.StudyError, match="--update.*'fake' \\(quick\\), not 'fake'"):
+        export_tables([tmp_path / "set"], tmp_path / "tables", update=True)
+
+
+@pytest.mark.slow
+def test_a_study_goes_on_from_its_recorded_tables(
+    tmp_path: Path, fake_study: Path, calls: list[float], monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``--skip-recorded``: a fresh folder computes only what the committed tables lack."""
+    from brushbem.reproduction import export_tables, load_tables, recorded_cases
+
+    _tables_of_a_run_in_progress(tmp_path)
+    assert [len(v) for v in recorded_cases(tmp_path / "tables", "fake").values()] == [1]
+    assert recorded_cases(tmp_path / "nothing", "fake") == {}
+    calls.clear()
+    monkeypatch.setattr(sweep_execution, "_process_pool", lambda workers: ThreadPoolExecutor(workers))
+    result = CliRunner().invoke(main, ["study", "fake", "--parts", "a", "--out", str(tmp_path / "now"),
+                                       "--skip-recorded", str(tmp_path / "tables"), "--workers", "1"])
+    assert result.exit_code == 0, result.output  # the recorded case counts as done
+    assert calls == [0.25]
+    assert "1 finished, 1 recorded; computed 1, kept 1" in result.output
+    _, tables = load_tables(export_tables([tmp_path / "now"], tmp_path / "tables", update=True))
+    assert tables["a"]["status"].tolist() == ["finished", "finished"]
+    assert tables["a"]["indenter.radius"].tolist() == [0.1, 0.25]
+
+
 def test_unknown_study(tmp_path: Path, fake_study: Path) -> None:
     with pytest.raises(studies.StudyError, match="known studies: fake"):
         run_study("nope", tmp_path / "x")

@@ -111,6 +111,37 @@ def select(points: list[dict]) -> list[dict]:
     return chosen
 
 
+#: Chapter 5's second set, ``plateau_c``: the cheap points of the plateau and c rows, for the
+#: standard errors of those rows over ten seeds (the Table 1 points run seed by seed in the main
+#: file, 20-30 CPU-hours a seed).  The plateaus at the largest preload (F~_P = 10, 15 and 20 give
+#: the same F~_A to 12 digits on seed 0, so the largest alone reads the plateau) without the stiff
+#: sigma~ = 2.1 points (one pillar's force, 20 CPU-minutes a case), and c at sigma~ = 0.01.
+RESOLVED_PLATEAUS = ((10.0, 0.01), (10.0, 0.07), (1.0, 0.01), (1.0, 0.07), (0.55, 0.01), (0.55, 0.07),
+                     (0.001, 0.01), (0.001, 0.07), (0.001, 2.1))
+
+
+def select_plateau_c(points: list[dict]) -> list[dict]:
+    """The ``plateau_c`` set of chapter 5: `RESOLVED_PLATEAUS` at F~_P = 20, then c at sigma~ = 0.01
+    (the main file's points, in its order)."""
+    chosen = [p for p in select(points) if any(
+        _close(p[K], k) and _close(p[SIGMA] / D_C, s) and _close(p[PRELOAD] / F_C, PLATEAU_PRELOAD[0])
+        for k, s in RESOLVED_PLATEAUS)]
+    return chosen + [p for p in select(points) if _close(p[SIGMA] / D_C, 0.01) and p[PRELOAD] / F_C < 1.0]
+
+
+#: Chapter 5's third set, ``table1_soft``: the Table 1 points of the soft brushes, whose c stays
+#: linear over the decade of sigma~ a fit needs (seed 0: 5 to 7 CPU-minutes a k~ and seed, against
+#: 15 to 45 for k~ >= 0.055, whose sigma~ >= 1 points pull off one pillar after another).  With
+#: ``plateau_c`` (c at sigma~ = 0.01) they give alpha and sigma~_c of these k~ over the seeds.
+SOFT_TABLE_1 = (0.001, 0.002, 0.004, 0.008, 0.01, 0.02)
+
+
+def select_table1_soft(points: list[dict]) -> list[dict]:
+    """The ``table1_soft`` set of chapter 5: the main file's Table 1 points of `SOFT_TABLE_1`, sigma~ > 0.01."""
+    return [p for p in select(points) if any(_close(p[K], k) for k in SOFT_TABLE_1)
+            and not _close(p[SIGMA] / D_C, 0.01) and p[PRELOAD] / F_C < 9.0]
+
+
 H_F_C = 0.00331177  # the hierarchy sweeps' header: F_c and d_c of one level
 H_D_C = 0.00293498
 HIERARCHY_POINTS = ((0.04, 20.0), (0.04, 14.3))  # (sigma~, F~_P), in run order
@@ -169,6 +200,8 @@ def write(study: str, part: str, rule=select, subset: str = "") -> Path:
 
 if __name__ == "__main__":
     print(write("rough_brush", "preload"))
+    print(write("rough_brush", "preload", select_plateau_c, subset="plateau_c"))
+    print(write("rough_brush", "preload", select_table1_soft, subset="table1_soft"))
     for level in ("one", "two", "three"):
         print(write("hierarchy", level, select_hierarchy))
         print(write("hierarchy", level, lambda points, level=level: select_hierarchy(

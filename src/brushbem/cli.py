@@ -672,6 +672,10 @@ def _list_studies() -> None:
 @click.option("--parts", "part_names", default=None, metavar="P1,P2,...",
               help="Run only these parts of the study (comma-separated; `--list` names them); the parts "
                    "already run in --out are kept.")
+@click.option("--skip-recorded", "recorded_root", default=None, metavar="TABLES",
+              type=click.Path(path_type=Path, file_okay=False, exists=True),
+              help="Leave out the cases finished in the study's tables under TABLES (e.g. docs/reproduction: "
+                   "a run of an earlier session or machine); `brushbem export-tables --update` merges the rest in.")
 @click.option("--list", "list_studies", is_flag=True, help="List the studies and exit.")
 @click.option("--estimate", is_flag=True,
               help="Run a few sampled cases of every part and print the expected CPU time of the study "
@@ -687,6 +691,7 @@ def study(
     sampled: bool,
     sampled_set: str | None,
     part_names: str | None,
+    recorded_root: Path | None,
     list_studies: bool,
     estimate: bool,
     samples: int,
@@ -700,6 +705,7 @@ def study(
     """Run the thesis study NAME into --out and draw its figures (``--list``: the studies)."""
     from brushbem import studies
     from brushbem import sweep as sweep_module
+    from brushbem.reproduction import recorded_cases
 
     if list_studies:
         _list_studies()
@@ -749,6 +755,7 @@ def study(
                 name, out_dir, quick=quick, executor=executor, workers=workers, sampled=sampled,
                 parts=None if part_names is None else parts, sampled_set=sampled_set,
                 retry_failed=retry_failed, progress=not quiet,
+                recorded=None if recorded_root is None else recorded_cases(recorded_root, name),
             )
         except sweep_module.SweepFolderError:
             raise
@@ -841,17 +848,21 @@ def report(out_dir: Path, redraw: bool) -> None:
                 type=click.Path(path_type=Path, file_okay=False, exists=True))
 @click.option("--to", "tables_root", required=True, type=click.Path(path_type=Path, file_okay=False),
               help="Folder of the comparison tables (e.g. docs/reproduction); DIR's study goes to a subfolder.")
-def export_tables(study_dirs: tuple[Path, ...], tables_root: Path) -> None:
+@click.option("--update", is_flag=True,
+              help="Merge DIR into the study's tables already under --to instead of replacing them: the cases "
+                   "they record stay (their run folder need not be here), DIR adds what it finished.")
+def export_tables(study_dirs: tuple[Path, ...], tables_root: Path, update: bool) -> None:
     """Write the compact tables (CSV per part, provenance.json) of the study run folder DIR.
 
     Several folders of one study (its sampled run and a `--sampled-set` run)
-    merge into one table per part.
+    merge into one table per part; with --update, into the tables recorded
+    under --to (a run of an earlier session or another machine).
     """
     from brushbem import studies
     from brushbem.reproduction import export_tables as export
 
     try:
-        folder = export(list(study_dirs), tables_root)
+        folder = export(list(study_dirs), tables_root, update=update)
     except studies.StudyError as error:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None

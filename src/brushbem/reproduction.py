@@ -37,8 +37,9 @@ from typing import Any
 import pandas as pd
 
 from . import __version__
+from .io import atomic_path
 
-__all__ = ["ComparisonRow", "compare", "export_tables", "load_tables", "render"]
+__all__ = ["ComparisonRow", "compare", "export_tables", "load_tables", "recorded_cases", "render"]
 
 PROVENANCE_FILE = "provenance.json"
 NOTES_FILE = "notes.md"
@@ -104,19 +105,24 @@ def _case_hash(case_id: Any) -> str:
     return str(case_id).split("-", 1)[-1]
 
 
-def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str | Path) -> Path:
+def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str | Path, *,
+                  update: bool = False) -> Path:
     """Write the compact tables of the study run folder(s) ``study_dir`` under ``tables_root/<study>``.
 
     Several folders of one study (e.g. its sampled run and a named sampled
     set's, `brushbem.studies.sampled_sets`) merge into one table per part: a
     case in two of them (the same hash) is kept once, finished before
-    anything else.  Returns the folder written.  Existing tables of the study
-    are replaced.
+    anything else, at the place of its first record.  Returns the folder
+    written.  Existing tables of the study are replaced, unless ``update``:
+    then they are merged as one more folder, recorded first, so a case that
+    an earlier run (of another machine or session, whose folder is gone)
+    recorded stays, and the folders add what they finished.
 
     Raises
     ------
     StudyError
-        The folders are of different studies, or of quick and thesis grids.
+        The folders are of different studies, or of quick and thesis grids,
+        or ``update`` finds tables of another study there.
     """
     from .studies import StudyError, load_results
     from .studies._framework import read_study_record
@@ -135,6 +141,18 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
                              f"{' (quick)' if quick else ''} of {dirs[0]}: export one study's folders together")
     frames: dict[str, list[pd.DataFrame]] = {}
     sources: dict[str, list[tuple[Path, dict[str, Any]]]] = {}
+    folder_out = Path(tables_root) / name
+    recorded: dict[str, Any] = {}
+    if update and (folder_out / PROVENANCE_FILE).is_file():
+        recorded = json.loads((folder_out / PROVENANCE_FILE).read_text(encoding="utf-8"))
+        if recorded.get("study") != name or bool(recorded.get("quick", False)) != quick:
+            raise StudyError(f"export-tables --update: {folder_out} holds study {recorded.get('study')!r}"
+                             f"{' (quick)' if recorded.get('quick') else ''}, not {name!r}"
+                             f"{' (quick)' if quick else ''}")
+        for part in recorded["parts"]:
+            # (pandas reads back the digits it wrote: the recorded rows are rewritten unchanged)
+            frames[part] = [pd.read_csv(folder_out / f"{part}.csv")]
+            sources[part] = []
     for folder, record in zip(dirs, records):
         for part, frame in load_results(folder, tuple(record["parts"])).items():
             table = frame.drop(columns=[c for c in ("case_file",) if c in frame.columns])
@@ -142,25 +160,30 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
                 table = table.sort_values("index", kind="stable")
             frames.setdefault(part, []).append(table)
             sources.setdefault(part, []).append((folder, record))
-    folder_out = Path(tables_root) / name
     folder_out.mkdir(parents=True, exist_ok=True)
     parts: dict[str, Any] = {}
     for part, tables in frames.items():
         table = pd.concat(tables, ignore_index=True) if len(tables) > 1 else tables[0]
         if len(tables) > 1 and "case_id" in table.columns:
-            # One row per case: a finished one before any other record of the same case.
+            # One row per case: a finished one before any other record of the same case, at the
+            # place of the case's first record.
             order = (table["status"] != "finished") if "status" in table.columns else pd.Series(False, table.index)
-            table = table.assign(_hash=table["case_id"].map(_case_hash), _rank=order.astype(int))
+            hashes = table["case_id"].map(_case_hash)
+            first_place = dict(zip(hashes[::-1], hashes.index[::-1]))  # reversed: the first record wins
+            table = table.assign(_rank=order.astype(int), _hash=hashes, _place=hashes.map(first_place))
             table = (table.sort_values("_rank", kind="stable").drop_duplicates("_hash")
-                     .sort_index().drop(columns=["_hash", "_rank"]))
-        table.to_csv(folder_out / f"{part}.csv", index=False)
-        first = sources[part][0][0]
+                     .sort_values("_place", kind="stable").drop(columns=["_hash", "_rank", "_place"]))
+        with atomic_path(folder_out / f"{part}.csv") as temporary:
+            table.to_csv(temporary, index=False)
+        earlier = recorded.get("parts", {}).get(part, {})
         sweep_record = {}
-        if (first / part / SWEEP_FILE).is_file():
-            sweep_record = json.loads((first / part / SWEEP_FILE).read_text(encoding="utf-8"))
+        if sources[part] and (sources[part][0][0] / part / SWEEP_FILE).is_file():
+            sweep_record = json.loads((sources[part][0][0] / part / SWEEP_FILE).read_text(encoding="utf-8"))
         statuses = table["status"].value_counts().to_dict() if "status" in table.columns else {}
         wall = pd.to_numeric(table.get("wall_time_s", pd.Series(dtype=float)), errors="coerce")
-        files = [Path(record.get("sweep_files", {}).get(part, "")).name for _, record in sources[part]]
+        files = list(earlier.get("sweep_files", [earlier["sweep_file"]] if "sweep_file" in earlier else []))
+        files += [Path(record.get("sweep_files", {}).get(part, "")).name for _, record in sources[part]]
+        files = list(dict.fromkeys(files))
         parts[part] = {
             "sweep_file": files[0],
             "cases": len(table),
@@ -170,7 +193,7 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
             # the realisations with at least one finished case (a run in progress goes seed by seed)
             "finished_realizations": (int(table.loc[table["status"] == "finished", "realization"].nunique())
                                       if {"realization", "status"} <= set(table.columns) else 1),
-            "grid": _grid(sweep_record, table),
+            "grid": _grid(sweep_record, table) if sweep_record or not earlier else earlier.get("grid", ""),
             "wall_time_s": float(wall.sum()) if len(wall) else 0.0,
         }
         if len(files) > 1:
@@ -182,9 +205,28 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
         "commit": _commit(),
         "parts": parts,
     }
-    (folder_out / PROVENANCE_FILE).write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n",
-                                              encoding="utf-8")
+    earlier_commits = [*recorded.get("earlier_commits", []), recorded.get("commit")] if recorded else []
+    if earlier_commits := [c for c in dict.fromkeys(earlier_commits) if c and c != provenance["commit"]]:
+        provenance["earlier_commits"] = earlier_commits
+    with atomic_path(folder_out / PROVENANCE_FILE) as temporary:
+        temporary.write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     return folder_out
+
+
+def recorded_cases(tables_root: str | Path, study: str) -> dict[str, set[str]]:
+    """Part -> the hashes of the cases finished in the committed tables of ``study``.
+
+    What `brushbem.sweep.run_sweep` leaves out as ``recorded`` (``brushbem
+    study --skip-recorded``), so that a sampled run goes on across sessions and
+    machines from its committed tables instead of from zero; empty where the
+    study has no tables under ``tables_root``.
+    """
+    folder = Path(tables_root) / study
+    if not (folder / PROVENANCE_FILE).is_file():
+        return {}
+    _, tables = load_tables(folder)
+    return {part: {_case_hash(case_id) for case_id in frame.loc[frame["status"] == "finished", "case_id"]}
+            for part, frame in tables.items() if {"status", "case_id"} <= set(frame.columns)}
 
 
 def load_tables(folder: str | Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from concurrent.futures import Executor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -157,6 +157,7 @@ def run_study(
     progress: bool = False,
     draw: bool = True,
     files: Mapping[str, str | Path] | None = None,
+    recorded: Mapping[str, Collection[str]] | None = None,
 ) -> StudyRun:
     """Run every part of a study into ``out_dir`` (resuming what is there), then draw it.
 
@@ -174,6 +175,10 @@ def run_study(
         Part -> sweep file; by default the shipped files
         (`brushbem.studies.base.sweep_file`) of every part.  Only these parts
         run; the parts an earlier run recorded in ``out_dir`` stay recorded.
+    recorded : mapping, optional
+        Part -> the case hashes finished in the tables of an earlier run
+        (`brushbem.reproduction.recorded_cases`): not computed again
+        (`brushbem.sweep.run_sweep`).
     draw : bool
         Draw the figures afterwards (from whatever finished).  An exception of
         the study's ``draw`` is recorded in `StudyRun.draw_error`, not raised:
@@ -234,7 +239,8 @@ def run_study(
             print(f"study {study.name}: part {number} of {len(files)}, {part!r} ({Path(path).name})",
                   file=sys.stderr, flush=True)
         runs[part] = run_sweep(path, out_dir / part, executor, workers=workers,
-                               retry_failed=retry_failed, progress=progress)
+                               retry_failed=retry_failed, progress=progress,
+                               recorded=(recorded or {}).get(part, ()))
     figures: list[Path] = []
     draw_error = ""
     if draw:

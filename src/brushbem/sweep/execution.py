@@ -14,7 +14,7 @@ import dataclasses
 import math
 import traceback
 from collections import Counter
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from concurrent.futures import (
     FIRST_COMPLETED,
     Executor,
@@ -63,7 +63,8 @@ class SweepRun:
     computed : dict
         Case id -> status, for the cases computed by this call.
     skipped : dict
-        Case id -> status, for the cases found already recorded.
+        Case id -> status, for the cases found already recorded (``recorded``:
+        finished in the tables of an earlier run elsewhere, not computed here).
     lost : tuple of str
         Cases whose worker died (a crashed process pool); a rerun computes them.
     summary : pandas.DataFrame or None
@@ -85,7 +86,11 @@ class SweepRun:
     @property
     def complete(self) -> bool:
         """Every case of the sweep finished (converged)."""
-        return not self.lost and set(self.counts) <= {"finished"}
+        return not self.lost and set(self.counts) <= {"finished", RECORDED}
+
+
+#: The status of a case that `run_sweep` leaves to the tables of an earlier run (``recorded``).
+RECORDED = "recorded"
 
 
 def _as_sweep(sweep: Sweep | str | Path | Mapping[str, Any], base_dir: str | Path | None) -> Sweep:
@@ -106,6 +111,7 @@ def run_sweep(
     progress: bool = False,
     console: Console | None = None,
     base_dir: str | Path | None = None,
+    recorded: Collection[str] = (),
 ) -> SweepRun:
     """Run every case of a sweep not yet recorded in ``out_dir``.
 
@@ -130,6 +136,12 @@ def run_sweep(
         Where progress goes (default: stderr).
     base_dir : path, optional
         For a mapping ``sweep``: the folder its file names are relative to.
+    recorded : collection of str
+        Case hashes (a case id without its index) finished in the tables of
+        an earlier run whose folder is not here (another session or machine,
+        `brushbem.reproduction.recorded_cases`): these cases are not computed,
+        stay missing in ``out_dir`` and count as ``"recorded"``;
+        ``brushbem export-tables --update`` merges the rest into those tables.
 
     Returns
     -------
@@ -159,8 +171,12 @@ def run_sweep(
 
         skipped: dict[str, str] = {}
         todo: list[SweepCase] = []
+        recorded = set(recorded)
         for case in sweep.cases:
             path = _case_path(out_dir, case.case_id)
+            if case.case_id.split("-", 1)[-1] in recorded and not path.exists():
+                skipped[case.case_id] = RECORDED
+                continue
             if path.exists():
                 attributes, problem = _read_case_record(path, case.case_id)
                 if attributes is None:
