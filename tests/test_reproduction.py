@@ -481,6 +481,24 @@ def test_c_is_read_only_where_a_linear_region_is_sampled():
     assert coeff.loc[3, "c"] == pytest.approx(0.4) and coeff.loc[3, "largest_preload"] == 0.5
 
 
+def test_the_plateau_is_the_mean_of_every_seeds_largest_force():
+    """A seed sampled at the plateau's largest preload only counts alike (the ``plateau_c`` set).
+
+    Seed 0 has F~_P = 10 and 20 (the same force), seeds 1 and 2 only 20: the plateau is the mean
+    of the three seeds' largest forces, 1.0, not the largest of the per-preload means (seed 0's
+    1.2 alone at F~_P = 10).
+    """
+    from brushbem.studies._ch5_7 import FA, FP, PRELOAD, SIG, SIGMA, adhesion_coefficients
+
+    frame = pd.DataFrame({
+        "realization": [0, 0, 1, 2], SIGMA: [1, 1, 1, 1], SIG: [0.1] * 4,
+        PRELOAD: [10, 20, 20, 20], FP: [10, 20, 20, 20], FA: [1.2, 1.2, 0.9, 0.9],
+    })
+    coeff = adhesion_coefficients(frame, [SIGMA]).set_index(SIGMA)
+    assert coeff.loc[1, "plateau"] == pytest.approx(1.0, rel=1e-15)
+    assert coeff.loc[1, "plateau"] == pytest.approx(statistics.mean([1.2, 0.9, 0.9]), rel=1e-15)
+
+
 def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(tmp_path):
     from brushbem.cli import main
 

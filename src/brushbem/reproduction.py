@@ -482,9 +482,11 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         ]
         if missing:
             lines += [
-                f"The run is in progress: {missing} cases are missing (not yet computed, not failed), and the",
-                "same command resumes them.  A sweep runs seed by seed, so the rows below are of the",
-                "realisations that have finished; a number whose points are not yet computed is n/a.",
+                f"The run is in progress: {missing} cases are missing (not yet computed, not failed).  On any",
+                "machine, the commands above with `--skip-recorded docs/reproduction` compute only those, and",
+                "`export-tables ... --update` merges them into these tables.  A sweep runs seed by seed, so the",
+                "rows below are of the realisations that have finished; a number whose points are not yet",
+                "computed is n/a.",
                 "",
             ]
         lines += [

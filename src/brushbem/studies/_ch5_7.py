@@ -74,8 +74,11 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     """c = F~_A / F~_P in the linear region: at the smallest preload of each group (eq. 5.6).
 
     Returns one row per group with ``c`` (mean over realizations), ``sigma`` (sigma~),
-    ``plateau`` (the largest mean F~_A over the preloads) and ``largest_preload`` (the
-    largest mean F~_P, which tells whether ``plateau`` is one).  ``c`` is NaN where the
+    ``plateau`` (each realization's largest F~_A over the preloads, averaged over the
+    realizations: a realization sampled at fewer preloads, the plateau's largest only,
+    counts alike, and the mean is that of the per-seed values whose spread is the
+    standard error) and ``largest_preload`` (the largest mean F~_P, which tells
+    whether ``plateau`` is one).  ``c`` is NaN where the
     group's smallest preload already gives `SATURATED` of its largest force: a group
     sampled only at plateau preloads (the thesis-grid sampled sweep ships such groups
     for the plateaus) has no linear region to read c from.
@@ -89,10 +92,15 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     smallest = frame[frame[PRELOAD] == groups[PRELOAD].transform("min")].groupby(keys, dropna=False, sort=True)
     means = frame.groupby([*keys, PRELOAD], dropna=False).agg(fa=(FA, "mean"), fp=(FP, "mean"))
     by_group = means.groupby(level=list(range(len(keys))), dropna=False, sort=True)
+    if "realization" in frame.columns:
+        largest = frame.groupby([*keys, "realization"], dropna=False)[FA].max()
+        plateau = largest.groupby(level=list(range(len(keys))), dropna=False, sort=True).mean()
+    else:
+        plateau = by_group["fa"].max()
     out = pd.DataFrame({
         "c": smallest["_ratio"].mean(),
         "sigma": groups["_sig"].mean(),
-        "plateau": by_group["fa"].max(),
+        "plateau": plateau,
         "largest_preload": by_group["fp"].max(),
         "_preloads": by_group["fa"].size(),
         "_smallest": smallest[FA].mean(),
