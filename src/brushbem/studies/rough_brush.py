@@ -219,7 +219,9 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     ax[0, 0].legend(fontsize=7)
     save(fig, figures_dir / "table1.png", written)
 
-    # Fig. 5-6: plateau vs sigma~ (a) and k~ (b)
+    # Fig. 5-6: plateau vs sigma~ (a) and k~ (b), only where a plateau preload was run (a group
+    # sampled at small preloads only, for c, has no plateau to show)
+    coeff = coeff[coeff["largest_preload"] >= PLATEAU_PRELOAD] if len(coeff) else coeff
     fig, ax = figure(2, 1)
     for k, g in (coeff.groupby(K) if len(coeff) else []):
         g = g.sort_values("sigma")
@@ -227,21 +229,22 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     for s, g in (coeff.groupby(SIGMA) if len(coeff) else []):
         g = g.sort_values(K)
         ax[0, 1].semilogx(g[K], g["plateau"], "o-", ms=3, label=f"σ~ = {g['sigma'].mean():.2f}")
-    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 5-6 a")
-    ax[0, 1].set(xlabel="k~ = k / (E* L)", ylabel="F~_A (plateau)", title="Fig. 5-6 b")
+    ax[0, 0].set(xlabel="σ~", ylabel=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})", title="Fig. 5-6 a")
+    ax[0, 1].set(xlabel="k~ = k / (E* L)", ylabel=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})",
+                 title="Fig. 5-6 b")
     for a_ in ax[0]:
         a_.axhline(1, ls=":", color="0.5")
         if len(coeff):
             a_.legend(fontsize=6)
     save(fig, figures_dir / "fig5-6_plateau.png", written)
 
-    # Fig. 5-7: combined map
+    # Fig. 5-7: combined map, one square per computed (k~, sigma~) point (cells stretched between
+    # sparse points would show values nothing computed)
     fig, ax = figure(1, 1)
     if len(coeff) and coeff[K].nunique() > 1 and coeff[SIGMA].nunique() > 1:
-        grid = coeff.pivot_table(index=SIGMA, columns=K, values="plateau")
-        sig = coeff.groupby(SIGMA)["sigma"].mean().reindex(grid.index).to_numpy()
-        mesh = ax[0, 0].pcolormesh(np.log10(grid.columns.to_numpy(float)), sig, grid.to_numpy(), shading="nearest")
-        fig.colorbar(mesh, ax=ax[0, 0], label="F~_A (plateau)")
+        points = ax[0, 0].scatter(np.log10(coeff[K].to_numpy(float)), coeff["sigma"], c=coeff["plateau"],
+                                  marker="s", s=90, edgecolors="0.3")
+        fig.colorbar(points, ax=ax[0, 0], label=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})")
     else:
         empty_note(ax[0, 0], "needs several k~ and σ~")
     ax[0, 0].set(xlabel="log10 k~, k~ = k / (E* L)", ylabel="σ~", title="Fig. 5-7: combined influence")
