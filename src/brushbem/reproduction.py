@@ -38,6 +38,7 @@ import pandas as pd
 
 from . import __version__
 from .io import atomic_path
+from .sweep.spec import case_hash
 
 __all__ = ["ComparisonRow", "compare", "export_tables", "load_tables", "recorded_cases", "render"]
 
@@ -98,11 +99,6 @@ def _grid(record: Mapping[str, Any], frame: pd.DataFrame) -> str:
     elif shape:
         text += f"; {shape}"
     return text
-
-
-def _case_hash(case_id: Any) -> str:
-    """A case's hash, its id without the index (the same case in two sweep files of one part)."""
-    return str(case_id).split("-", 1)[-1]
 
 
 def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str | Path, *,
@@ -168,7 +164,7 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
             # One row per case: a finished one before any other record of the same case, at the
             # place of the case's first record.
             order = (table["status"] != "finished") if "status" in table.columns else pd.Series(False, table.index)
-            hashes = table["case_id"].map(_case_hash)
+            hashes = table["case_id"].map(case_hash)
             first_place = dict(zip(hashes[::-1], hashes.index[::-1]))  # reversed: the first record wins
             table = table.assign(_rank=order.astype(int), _hash=hashes, _place=hashes.map(first_place))
             table = (table.sort_values("_rank", kind="stable").drop_duplicates("_hash")
@@ -176,9 +172,8 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
         with atomic_path(folder_out / f"{part}.csv") as temporary:
             table.to_csv(temporary, index=False)
         earlier = recorded.get("parts", {}).get(part, {})
-        sweep_record = {}
-        if sources[part] and (sources[part][0][0] / part / SWEEP_FILE).is_file():
-            sweep_record = json.loads((sources[part][0][0] / part / SWEEP_FILE).read_text(encoding="utf-8"))
+        first = sources[part][0][0] / part / SWEEP_FILE if sources[part] else None
+        sweep_record = json.loads(first.read_text(encoding="utf-8")) if first and first.is_file() else {}
         statuses = table["status"].value_counts().to_dict() if "status" in table.columns else {}
         wall = pd.to_numeric(table.get("wall_time_s", pd.Series(dtype=float)), errors="coerce")
         files = list(earlier.get("sweep_files", [earlier["sweep_file"]] if "sweep_file" in earlier else []))
@@ -225,7 +220,7 @@ def recorded_cases(tables_root: str | Path, study: str) -> dict[str, set[str]]:
     if not (folder / PROVENANCE_FILE).is_file():
         return {}
     _, tables = load_tables(folder)
-    return {part: {_case_hash(case_id) for case_id in frame.loc[frame["status"] == "finished", "case_id"]}
+    return {part: {case_hash(case_id) for case_id in frame.loc[frame["status"] == "finished", "case_id"]}
             for part, frame in tables.items() if {"status", "case_id"} <= set(frame.columns)}
 
 
@@ -729,7 +724,7 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
             frame = frame[frame["realization"] < realizations]
         chosen_by_part[part] = frame
     chosen = pd.concat(list(chosen_by_part.values()))
-    case_hashes = {part: sorted(str(i).split("-", 1)[1] for i in frame["case_id"])
+    case_hashes = {part: sorted(case_hash(i) for i in frame["case_id"])
                    for part, frame in chosen_by_part.items()}
     seconds = float(pd.to_numeric(chosen.get("wall_time_s", pd.Series(dtype=float)), errors="coerce").sum())
     cases = 0
@@ -772,7 +767,7 @@ def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, w
                   base_dir=path.parent)
         tables[part] = load_summary(Path(out_dir) / part)
         if plan.case_hashes.get(part) and not set(plan.case_hashes[part]) <= {
-                str(case_id).split("-", 1)[1] for case_id in tables[part]["case_id"]}:
+                case_hash(case_id) for case_id in tables[part]["case_id"]}:
             raise ReproduceError(f"part {part!r}: the recomputed cases are not the committed ones (their "
                                  "configurations or seeds differ: the sweep file changed since the tables)")
     for part in study.parts:

@@ -32,7 +32,7 @@ from brushbem.sweep.executors import (
     default_workers,
 )
 from brushbem.sweep.progress import _Reporter
-from brushbem.sweep.spec import Sweep, SweepCase, load_sweep, parse_sweep
+from brushbem.sweep.spec import Sweep, SweepCase, case_hash, load_sweep, parse_sweep
 from brushbem.sweep.store import (
     CASES_DIR,
     SWEEP_FILE,
@@ -174,7 +174,7 @@ def run_sweep(
         recorded = set(recorded)
         for case in sweep.cases:
             path = _case_path(out_dir, case.case_id)
-            if case.case_id.split("-", 1)[-1] in recorded and not path.exists():
+            if case_hash(case.case_id) in recorded and not path.exists():
                 skipped[case.case_id] = RECORDED
                 continue
             if path.exists():

@@ -82,6 +82,12 @@ _ALLOWED = {
 }
 
 
+def case_hash(case_id: Any) -> str:
+    """A case's hash, its id ``<index>-<hash>`` without the index: the same case in two sweep files
+    (a sampled subset and its full sweep) or in a committed table."""
+    return str(case_id).split("-", 1)[-1]
+
+
 @dataclasses.dataclass(frozen=True)
 class SweepCase:
     """One case of a sweep.
