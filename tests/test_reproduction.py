@@ -252,6 +252,24 @@ def test_sampled_sweeps_are_subsets_of_the_full_sweeps():
         assert len(points) < len(full_points)
 
 
+def test_the_chapter_5_sweep_is_the_thesis_product_then_the_added_roughnesses():
+    """rough_brush.preload: the thesis's 11 k~ x 9 sigma~ x 12 F~_P first (their indices, hence
+    the recorded case ids, unchanged), then only sigma~ {0.03, 0.12, 0.28, 0.5} at the stiff k~
+    (added for the Table 1 fits where those brushes adhere, make_sampled.EXTRA_SIGMA)."""
+    from brushbem.studies.base import SWEEPS_DIR
+
+    d_c = 0.00753117  # the sweep's header
+    spec, _ = _points(SWEEPS_DIR / "rough_brush.preload.toml")
+    rows = list(zip(*(spec["sweep"][key] for key in ("indenter.stiffness_ratio", "indenter.roughness.sigma",
+                                                      "protocol.preload_force"))))
+    thesis, added = rows[:1188], rows[1188:]
+    assert len(set(thesis)) == 1188 == 11 * 9 * 12
+    assert sorted({round(s / d_c, 3) for _, s, _ in thesis}) == [0.01, 0.07, 0.2, 0.4, 0.7, 1.0, 1.4, 2.1, 3.0]
+    assert {k for k, _, _ in added} == {10.0, 0.55, 0.1, 0.055}
+    assert sorted({round(s / d_c, 3) for _, s, _ in added}) == [0.03, 0.12, 0.28, 0.5]
+    assert len(added) == 4 * 4 * 12 and not set(added) & set(thesis)
+
+
 def test_the_sampled_flag_picks_a_parts_sampled_file_or_its_full_one():
     from brushbem.studies.base import sweep_file
 

@@ -123,3 +123,27 @@ def test_eq58_fit_recovers_alpha_and_beta():
     # Two points determine the line; one does not.
     assert fit_eq58(sigma[:2], c[:2]) == pytest.approx((0.12, 0.04), rel=1e-12)
     assert all(math.isnan(v) for v in fit_eq58(sigma[:1], c[:1]))
+    assert fit_eq58(sigma, c, weighting="absolute") == pytest.approx((0.12, 0.04), rel=1e-12)
+
+
+def test_eq58_fit_minimises_the_relative_residuals():
+    """On scattered data the fit is the minimum of sum((alpha/sigma~ - beta)/c - 1)^2.
+
+    Checked against scipy's nonlinear least squares on that objective (an independent
+    method; 1e-8: both converge to the same minimum of a quadratic).  On c spanning four
+    decades the absolute fit follows the largest c and misses the small ones by far more.
+    """
+    from scipy.optimize import least_squares
+
+    from brushbem.studies._ch5_7 import fit_eq58
+
+    sigma = np.array([0.01, 0.07, 0.2, 0.4, 0.7, 1.0, 1.4, 2.1])
+    c = (2.0 / sigma - 0.3) * np.array([0.8, 1.3, 1.1, 0.9, 1.2, 0.85, 1.1, 0.95])
+    alpha, beta = fit_eq58(sigma, c)
+    reference = least_squares(lambda p: (p[0] / sigma - p[1]) / c - 1.0, x0=[1.0, 0.0],
+                              xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    assert (alpha, beta) == pytest.approx(tuple(reference), rel=1e-8)
+    worst = lambda a, b: np.max(np.abs((a / sigma - b) / c - 1.0))
+    assert worst(alpha, beta) < worst(*fit_eq58(sigma, c, weighting="absolute"))
+    with pytest.raises(ValueError, match="weighting must be"):
+        fit_eq58(sigma, c, weighting="log")

@@ -2,8 +2,8 @@
 
 Chapter 5 (``rough_brush.preload``):
 
-The full chapter-5 preload sweep (``rough_brush.preload.toml``, 1188 points x 10
-realisations) costs hundreds of CPU hours at the thesis's grid.  The thesis's
+The full chapter-5 preload sweep (``rough_brush.preload.toml``: the thesis's 1188
+points, then the 192 of `EXTRA_SIGMA` that this script appends; x 10 realisations) costs hundreds of CPU hours at the thesis's grid.  The thesis's
 stated numbers need only some of its points (``plan.md``, section 3):
 
 * the plateaus (5a-5e, 5m): k~ {10, 1, 0.55, 0.001} x sigma~ {0.01, 0.07, 2.1}
@@ -15,7 +15,8 @@ stated numbers need only some of its points (``plan.md``, section 3):
   linear.  Where no shipped preload is small enough (the soft brushes at
   sigma~ = 0.01: c F~_P = 1.7 at F~_P = 0.005, k~ = 0.001) the smallest one is
   taken, as the thesis's c at its smallest preload.  A (k~, sigma~) beyond
-  sigma~_c (c <= 0) has no linear region and is left out.
+  sigma~_c (c <= 0) has no linear region and is left out.  The points of the
+  added roughnesses (`EXTRA_SIGMA`) come last, after the thesis's.
 
 Chapter 6 (``hierarchy.one``, ``.two``, ``.three``; 81 points x 10
 realisations each, N = 1024): the plateau points of the numbers the text
@@ -71,6 +72,54 @@ def thesis_c(k: float, sigma_tilde: float) -> float:
     return alpha / sigma_tilde - alpha / critical
 
 
+#: Roughnesses added to the full chapter-5 sweep between the thesis's, for the stiff brushes only
+#: (`EXTRA_K`: the Table 1 rows k~ >= 0.055 and the rigid case k~ = 10).  Our stiff brushes stop
+#: adhering at sigma~ ~ 0.5 (notes: "Table 1 at k~ >= 0.55"), so of the thesis's sigma~ only 0.01,
+#: 0.07, 0.2 and 0.4 have c > 0 there: four points, one fewer than a fit of eq. 5.8 counts
+#: (`FIT_POINTS` in brushbem.studies.rough_brush).  These four put eight into the adhering range.
+#: They are appended to the full sweep (its points and indices before them unchanged) and run
+#: after the thesis's points in every sampled file.
+EXTRA_SIGMA = (0.03, 0.12, 0.28, 0.5)
+EXTRA_K = (10.0, 0.55, 0.1, 0.055)
+EXTRA_HEADER = ("# Added after the thesis's points: sigma~ {0.03, 0.12, 0.28, 0.5} at k~ {10, 0.55, 0.1, 0.055},"
+                " every F~_P,\n# for the fit of eq. 5.8 where the stiff brushes adhere (sigma~ < 0.5;"
+                " docs/reproduction/make_sampled.py).")
+
+
+def _sigma_value(sigma_tilde: float) -> float:
+    return float(f"{sigma_tilde * D_C:.6g}")
+
+
+def extend_full_sweep() -> Path:
+    """Append the `EXTRA_SIGMA` points to ``rough_brush.preload.toml`` (once; idempotent)."""
+    path = SWEEPS / "rough_brush.preload.toml"
+    text = path.read_text(encoding="utf-8")
+    spec = tomllib.loads(text)
+    points = _points(spec)
+    have = {(p[K], p[SIGMA], p[PRELOAD]) for p in points}
+    steps = {p[K]: p[STEP] for p in points}
+    preloads = sorted({p[PRELOAD] for p in points})
+    added = [{K: k, STEP: steps[k], SIGMA: _sigma_value(s), PRELOAD: f}
+             for k in EXTRA_K for s in EXTRA_SIGMA for f in preloads]
+    added = [p for p in added if (p[K], p[SIGMA], p[PRELOAD]) not in have]
+    if not added:
+        return path
+    lines = text.splitlines()
+    if EXTRA_HEADER.splitlines()[0] not in lines:
+        at = next(i for i, line in enumerate(lines) if line.startswith("base = "))
+        lines[at:at] = EXTRA_HEADER.splitlines()
+    every = points + added
+    keys = list(spec["sweep"])
+    start = next(i for i, line in enumerate(lines) if line.strip() == "[sweep]")
+    lines = lines[:start + 1] + ['"%s" = [' % key + ", ".join(_value(p[key]) for p in every) + "]" for key in keys]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def _extra(p: dict) -> bool:
+    return any(_close(p[SIGMA] / D_C, s) for s in EXTRA_SIGMA)
+
+
 def select(points: list[dict]) -> list[dict]:
     def tilde(p):
         return p[K], p[SIGMA] / D_C, p[PRELOAD] / F_C
@@ -106,7 +155,8 @@ def select(points: list[dict]) -> list[dict]:
     for p in linear([p for p in points if _close(tilde(p)[1], 0.01)]):
         take(p)
     plateau(PLATEAU_PRELOAD[1:])
-    for p in sorted(linear(points), key=lambda p: (-p[K], p[SIGMA], p[PRELOAD])):
+    table = sorted(linear(points), key=lambda p: (-p[K], p[SIGMA], p[PRELOAD]))
+    for p in [p for p in table if not _extra(p)] + [p for p in table if _extra(p)]:
         take(p)
     return chosen
 
@@ -140,6 +190,17 @@ def select_table1_soft(points: list[dict]) -> list[dict]:
     """The ``table1_soft`` set of chapter 5: the main file's Table 1 points of `SOFT_TABLE_1`, sigma~ > 0.01."""
     return [p for p in select(points) if any(_close(p[K], k) for k in SOFT_TABLE_1)
             and not _close(p[SIGMA] / D_C, 0.01) and p[PRELOAD] / F_C < 9.0]
+
+
+#: Chapter 5's fourth set, ``table1_stiff``: the Table 1 points of the stiff brushes (`EXTRA_K`) where
+#: they adhere, sigma~ between 0.01 and 1 (the thesis's 0.07 to 0.7 and `EXTRA_SIGMA`), at the
+#: main file's preloads.  With ``plateau_c`` (c at sigma~ = 0.01) they give alpha, beta and
+#: sigma~_c of k~ >= 0.055 over the seeds; sigma~ >= 1 is left out (one pillar's force there, 20
+#: CPU-minutes a case, and no c: seed 0 has them all saturated).
+def select_table1_stiff(points: list[dict]) -> list[dict]:
+    """The ``table1_stiff`` set of chapter 5: the main file's Table 1 points of `EXTRA_K`, 0.01 < sigma~ < 1."""
+    return [p for p in select(points) if any(_close(p[K], k) for k in EXTRA_K)
+            and 0.02 < p[SIGMA] / D_C < 0.9 and p[PRELOAD] / F_C < 9.0]
 
 
 H_F_C = 0.00331177  # the hierarchy sweeps' header: F_c and d_c of one level
@@ -199,9 +260,11 @@ def write(study: str, part: str, rule=select, subset: str = "") -> Path:
 
 
 if __name__ == "__main__":
+    print(extend_full_sweep())
     print(write("rough_brush", "preload"))
     print(write("rough_brush", "preload", select_plateau_c, subset="plateau_c"))
     print(write("rough_brush", "preload", select_table1_soft, subset="table1_soft"))
+    print(write("rough_brush", "preload", select_table1_stiff, subset="table1_stiff"))
     for level in ("one", "two", "three"):
         print(write("hierarchy", level, select_hierarchy))
         print(write("hierarchy", level, lambda points, level=level: select_hierarchy(

@@ -111,20 +111,33 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     return out[columns].astype({"c": float, "sigma": float, "plateau": float, "largest_preload": float})
 
 
-def fit_eq58(sigma: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+def fit_eq58(sigma: np.ndarray, c: np.ndarray, weighting: str = "relative") -> tuple[float, float]:
     """alpha, beta of eq. 5.8, c = alpha / sigma~ - beta, by linear least squares.
 
     The model is linear in (alpha, beta), so the fit is ``numpy.linalg.lstsq``
     on the columns 1/sigma~ and -1 (exact through two points).  Only points
     with sigma~ > 0 and c > 0 (the adhering side) enter; NaN when fewer than
     two distinct sigma~ remain.
+
+    ``weighting = "relative"`` (the default) minimises the relative residuals
+    sum((alpha/sigma~ - beta)/c - 1)^2: c spans four decades over sigma~ = 0.01
+    to 3 (Fig. 5-5 b draws it, and the fit, in double-logarithmic coordinates),
+    and beta, which sets sigma~_c = alpha/beta, is read where c approaches zero.
+    ``"absolute"`` minimises sum(alpha/sigma~ - beta - c)^2, in which the
+    sigma~ = 0.01 point (c ~ 100) alone sets alpha and beta carries that
+    point's residual (the notes compare the two).
     """
+    if weighting not in ("relative", "absolute"):
+        raise ValueError(f"weighting must be 'relative' or 'absolute', got {weighting!r}")
     sigma, c = np.asarray(sigma, float), np.asarray(c, float)
     ok = np.isfinite(sigma) & np.isfinite(c) & (sigma > 0) & (c > 0)
     if np.unique(sigma[ok]).size < 2:
         return math.nan, math.nan
     design = np.stack([1.0 / sigma[ok], -np.ones(int(ok.sum()))], axis=1)
-    (alpha, beta), *_ = np.linalg.lstsq(design, c[ok], rcond=None)
+    target = c[ok]
+    if weighting == "relative":
+        design, target = design / target[:, None], np.ones_like(target)
+    (alpha, beta), *_ = np.linalg.lstsq(design, target, rcond=None)
     return float(alpha), float(beta)
 
 

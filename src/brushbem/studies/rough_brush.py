@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from matplotlib import colormaps
 
 from brushbem.io import atomic_path
 from brushbem.studies._ch5_7 import (
@@ -56,7 +57,8 @@ SIGMA_RTOL = 0.1
 
 
 def table_1(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
-    """Our Table 1: alpha, beta (eq. 5.8 fitted by linear least squares) and sigma~_c = alpha/beta per k~.
+    """Our Table 1: alpha, beta (eq. 5.8 fitted by least squares of the relative residuals, `fit_eq58`)
+    and sigma~_c = alpha/beta per k~.
 
     NaN where beta <= 0, and every column NaN for a k~ whose c > 0 is known at fewer than
     `FIT_POINTS` roughnesses or over less than a factor `FIT_SPAN` in sigma~.
@@ -181,16 +183,20 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     coeff = adhesion_coefficients(pre, [K, SIGMA])
     table = table_1(results)
     fig, ax = figure(2, 1)
-    for k, g in (coeff.groupby(K) if len(coeff) else []):
+    groups = list(coeff.groupby(K)) if len(coeff) else []
+    # One colour per k~ along a sequential map (eleven stiffnesses outrun a ten-colour cycle).
+    colours = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(groups), 1)))
+    for (k, g), colour in zip(groups, colours):
         g = g.sort_values("sigma")
-        line = ax[0, 0].plot(g["sigma"], g["c"], "o", ms=4, label=f"k~ = {k:g}")[0]
-        ax[0, 1].loglog(g["sigma"], g["c"].clip(lower=1e-4), "o", ms=4, color=line.get_color())
+        ax[0, 0].plot(g["sigma"], g["c"], "o", ms=4, color=colour, label=f"k~ = {k:g}")
+        ax[0, 1].loglog(g["sigma"], g["c"].clip(lower=1e-4), "o", ms=4, color=colour)
         row = table[np.isclose(table["stiffness_ratio"], k)]
         if len(row) and math.isfinite(row["alpha"].iloc[0]):
-            s = np.geomspace(max(g["sigma"].min(), 1e-3), max(g["sigma"].max(), 1e-3) * 1.5, 100)
-            c = row["alpha"].iloc[0] / s - row["beta"].iloc[0]  # eq. 5.8 (beta may come out < 0 on few points)
-            ax[0, 0].plot(s, c, "--", color=line.get_color(), lw=1)
-            ax[0, 1].loglog(s, np.clip(c, 1e-4, None), "--", color=line.get_color(), lw=1)
+            s = np.geomspace(max(g["sigma"].min(), 1e-3), max(g["sigma"].max(), 1e-3) * 1.5, 400)
+            c = row["alpha"].iloc[0] / s - row["beta"].iloc[0]  # eq. 5.8 (beta < 0 where c never vanishes)
+            c = np.where(c > 0, c, np.nan)  # the fit ends at its sigma~_c, where c reaches 0
+            ax[0, 0].plot(s, c, "--", color=colour, lw=1)
+            ax[0, 1].loglog(s, c, "--", color=colour, lw=1)
     for k, (alpha, sc) in TABLE_1.items():
         s = np.geomspace(0.01, sc, 60)
         ax[0, 1].loglog(s, np.clip(adhesion_coefficient(s, alpha, alpha / sc), 1e-4, None), ":", color="0.6", lw=0.7)
