@@ -16,7 +16,7 @@ stated numbers need only some of its points (``plan.md``, section 3):
   sigma~ = 0.01: c F~_P = 1.7 at F~_P = 0.005, k~ = 0.001) the smallest one is
   taken, as the thesis's c at its smallest preload.  A (k~, sigma~) beyond
   sigma~_c (c <= 0) has no linear region and is left out.  The points of the
-  added roughnesses (`EXTRA_SIGMA`) come last, after the thesis's.
+  added roughnesses (`EXTRA_SIGMA`) are in the set ``table1_stiff`` only.
 
 Chapter 6 (``hierarchy.one``, ``.two``, ``.three``; 81 points x 10
 realisations each, N = 1024): the plateau points of the numbers the text
@@ -78,7 +78,7 @@ def thesis_c(k: float, sigma_tilde: float) -> float:
 #: 0.07, 0.2 and 0.4 have c > 0 there: four points, one fewer than a fit of eq. 5.8 counts
 #: (`FIT_POINTS` in brushbem.studies.rough_brush).  These four put eight into the adhering range.
 #: They are appended to the full sweep (its points and indices before them unchanged) and run
-#: after the thesis's points in every sampled file.
+#: in the set ``table1_stiff`` (`select_table1_stiff`), after the thesis's points there.
 EXTRA_SIGMA = (0.03, 0.12, 0.28, 0.5)
 EXTRA_K = (10.0, 0.55, 0.1, 0.055)
 EXTRA_HEADER = ("# Added after the thesis's points: sigma~ {0.03, 0.12, 0.28, 0.5} at k~ {10, 0.55, 0.1, 0.055},"
@@ -120,7 +120,14 @@ def _extra(p: dict) -> bool:
     return any(_close(p[SIGMA] / D_C, s) for s in EXTRA_SIGMA)
 
 
-def select(points: list[dict]) -> list[dict]:
+def select(points: list[dict], extra: bool = False) -> list[dict]:
+    """The main sampled file's points (the thesis's roughnesses), with ``extra`` also those of
+    `EXTRA_SIGMA`, after them (the main file leaves them out: a sweep's case index runs over its
+    points realisation by realisation, so points added to it would renumber the recorded cases
+    of every realisation after the first)."""
+    if not extra:
+        points = [p for p in points if not _extra(p)]
+
     def tilde(p):
         return p[K], p[SIGMA] / D_C, p[PRELOAD] / F_C
 
@@ -199,7 +206,7 @@ def select_table1_soft(points: list[dict]) -> list[dict]:
 #: CPU-minutes a case, and no c: seed 0 has them all saturated).
 def select_table1_stiff(points: list[dict]) -> list[dict]:
     """The ``table1_stiff`` set of chapter 5: the main file's Table 1 points of `EXTRA_K`, 0.01 < sigma~ < 1."""
-    return [p for p in select(points) if any(_close(p[K], k) for k in EXTRA_K)
+    return [p for p in select(points, extra=True) if any(_close(p[K], k) for k in EXTRA_K)
             and 0.02 < p[SIGMA] / D_C < 0.9 and p[PRELOAD] / F_C < 9.0]
 
 
