@@ -3,8 +3,8 @@
 Chapter 5 (``rough_brush.preload``):
 
 The full chapter-5 preload sweep (``rough_brush.preload.toml``: the thesis's 1188
-points, then the 192 of `EXTRA_SIGMA` that this script appends; x 10 realisations) costs hundreds of CPU hours at the thesis's grid.  The thesis's
-stated numbers need only some of its points (``plan.md``, section 3):
+points, then the 192 of `EXTRA_SIGMA` that this script appends; x 10 realisations)
+costs hundreds of CPU hours at the thesis's grid.  The thesis's stated numbers need only some of its points (``plan.md``, section 3):
 
 * the plateaus (5a-5e, 5m): k~ {10, 1, 0.55, 0.001} x sigma~ {0.01, 0.07, 2.1}
   x F~_P {20, 15, 10};
@@ -76,7 +76,7 @@ def thesis_c(k: float, sigma_tilde: float) -> float:
 #: (`EXTRA_K`: the Table 1 rows k~ >= 0.055 and the rigid case k~ = 10).  Our stiff brushes stop
 #: adhering at sigma~ ~ 0.5 (notes: "Table 1 at k~ >= 0.55"), so of the thesis's sigma~ only 0.01,
 #: 0.07, 0.2 and 0.4 have c > 0 there: four points, one fewer than a fit of eq. 5.8 counts
-#: (`FIT_POINTS` in brushbem.studies.rough_brush).  These four put eight into the adhering range.
+#: (`FIT_POINTS` in brushbem.studies.rough_brush).  With these four, seven or eight are in the adhering range.
 #: They are appended to the full sweep (its points and indices before them unchanged) and run
 #: in the set ``table1_stiff`` (`select_table1_stiff`), after the thesis's points there.
 EXTRA_SIGMA = (0.03, 0.12, 0.28, 0.5)
