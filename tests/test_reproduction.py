@@ -342,6 +342,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     from brushbem.sweep import load_sweep
 
     f_c, d_c = 0.00331177, 0.00293498  # the hierarchy sweeps' header
+    level_factor = {"one": 1.0, "two": 1.5, "three": 2.0}  # so a ratio of levels is told from 1
 
     def tables(kind: str) -> dict[str, pd.DataFrame]:
         found = {}
@@ -353,7 +354,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
                 "protocol.preload_force": case.values["protocol.preload_force"],
                 "normalized.roughness_by_rigid_brush": case.values["indenter.roughness.sigma"] / d_c,
                 "normalized.preload_by_rigid_brush": case.values["protocol.preload_force"] / f_c,
-                "normalized.force_by_rigid_brush": 1.0 + case.realization,
+                "normalized.force_by_rigid_brush": level_factor[level] * (1.0 + case.realization),
                 "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
             } for case in cases])
             assert found[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
@@ -361,16 +362,24 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
 
     numbers = get_study("hierarchy").numbers
     small_preload = [n for n in numbers if "sigma~ = 1.6" in n.quantity]
-    plateaus = [n for n in numbers if "plateau" in n.quantity]
-    assert len(small_preload) == 4 and len(plateaus) == 3
-    plateau_tables, small_tables = tables("sampled."), tables("small_preload.sampled.")
+    rough = [n for n in numbers if "sigma~ = 2.5" in n.quantity]
+    ratios = [n for n in numbers if "over one level" in n.quantity]
+    plateaus = [n for n in numbers if "plateau" in n.quantity and n not in ratios]
+    assert len(small_preload) == 4 and len(plateaus) == 3 and len(rough) == 1 and len(ratios) == 2
+    sets = {"plateaus": tables("sampled."), "small_preload": tables("small_preload.sampled."),
+            "rough": tables("rough.sampled.")}
+    carried = {"small_preload": small_preload, "rough": rough}
     for number in numbers:
-        assert math.isfinite(number.compute(plateau_tables)) != (number in small_preload), number.quantity
-    for number in [*small_preload, *plateaus]:
-        assert math.isfinite(number.compute(small_tables)) == (number in small_preload), number.quantity
-    # The sampled numbers are the means over the ten seeds (F~_A = 1 + realisation here).
-    assert all(number.compute(plateau_tables) == pytest.approx(5.5) for number in plateaus)
-    assert all(number.compute(small_tables) == pytest.approx(5.5) for number in small_preload)
+        elsewhere = any(number in carried[s] for s in carried)
+        assert math.isfinite(number.compute(sets["plateaus"])) != elsewhere, number.quantity
+    for name, own in carried.items():
+        for number in [*small_preload, *plateaus, *rough]:
+            assert math.isfinite(number.compute(sets[name])) == (number in own), (name, number.quantity)
+    # The sampled numbers are the means over the ten seeds (F~_A = factor x (1 + realisation) here),
+    # the ratios those of the levels' factors.
+    assert [number.compute(sets["plateaus"]) for number in plateaus] == pytest.approx([5.5, 8.25, 11.0])
+    assert [n.compute(sets["small_preload"]) for n in small_preload] == pytest.approx([11.0, 11.0, 5.5, 8.25])
+    assert [n.compute(sets["plateaus"] if n not in rough else sets["rough"]) for n in ratios] == pytest.approx([2.0, 2.0])
 
 
 @pytest.mark.slow  # expands the 2 310 sampled cases

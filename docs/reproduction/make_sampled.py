@@ -215,6 +215,9 @@ H_D_C = 0.00293498
 HIERARCHY_POINTS = ((0.04, 20.0), (0.04, 14.3))  # (sigma~, F~_P), in run order
 #: The second set, Fig. 6-4 e's small preload at sigma~ = 1.6, per level.
 HIERARCHY_SMALL_PRELOAD = {"one": ((1.6, 1.0),), "two": ((1.6, 1.0),), "three": ((1.6, 1.0), (1.6, 0.2))}
+#: The third set, ``rough``: sigma~ = 2.5 at the largest preload, F~_P = 20, every level -- "when
+#: roughness becomes large (sigma~ > 2) ... all curves go close to each other" (L1201, Fig. 6-6 b).
+HIERARCHY_ROUGH = ((2.5, 20.0),)
 
 
 def select_hierarchy(points: list[dict], wanted=HIERARCHY_POINTS) -> list[dict]:
@@ -276,3 +279,4 @@ if __name__ == "__main__":
         print(write("hierarchy", level, select_hierarchy))
         print(write("hierarchy", level, lambda points, level=level: select_hierarchy(
             points, HIERARCHY_SMALL_PRELOAD[level]), subset="small_preload"))
+        print(write("hierarchy", level, lambda points: select_hierarchy(points, HIERARCHY_ROUGH), subset="rough"))

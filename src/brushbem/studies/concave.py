@@ -204,6 +204,15 @@ def _stiff_value(k: float, h: float, phi: float = 0.06):
     return compute
 
 
+def _max_ratio(what: str, top: tuple[float, float], bottom: tuple[float, float]):
+    """``what`` ("max" or "h_at_max") of the circle's F~_A over h~ (part ``stiffness``) at (phi, k~)
+    ``top`` over that at ``bottom``."""
+    def compute(results):
+        a, b = (_max_of("stiffness", phi, what, k=k)(results) for phi, k in (top, bottom))
+        return a / b if math.isfinite(b) and b > 0 else math.nan
+    return compute
+
+
 STUDY = Study(
     name="concave",
     title="Ch. 7: concave brushes, F~_A (by N F_K, eq. 7.4) vs amplification h~, form and stiffness (Fig. 7-3 to 7-7)",
@@ -222,6 +231,15 @@ STUDY = Study(
         ThesisNumber("h~ at max F~_A, phi = 0.06", "Fig. 7-5, text", 0.5, _max_of("amplification", 0.06, "h_at_max")),
         ThesisNumber("F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06", "Fig. 7-6 a, text", 0.94, _stiff_value(10.0, 0.04)),
         ThesisNumber("F~_A at k~ = 10, h~ = 0.05, circle, phi = 0.06", "Fig. 7-6 a, text", 0.77, _stiff_value(10.0, 0.05)),
+        ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06 ('almost same for all "
+                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.06, 6e-4), (0.06, 10.0))),
+        ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15 ('almost same for all "
+                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.15, 6e-4), (0.15, 10.0))),
+        ThesisNumber("h~ at max F~_A, k~ = 6e-4 over k~ = 10, phi = 0.06 (grows as k~ falls; thesis "
+                     "0.5 / 0.04)", "Fig. 7-5, 7-6 a, text", 0.5 / 0.04, _max_ratio("h_at_max", (0.06, 6e-4), (0.06, 10.0))),
+        ThesisNumber("max F~_A over h~, phi = 0.06 over phi = 0.15, k~ = 6e-4, circle (smaller phi, better "
+                     "load sharing; thesis 0.95 / 0.88)", "Fig. 7-5, 7-7, text", 0.95 / 0.88,
+                     _max_ratio("max", (0.06, 6e-4), (0.15, 6e-4))),
     ),
     notes="Pressed to 2 N F_K rather than to 'complete contact'; phi is the nominal square-lattice value.",
 )

@@ -95,6 +95,16 @@ def _plateau(part: str, sigma_tilde: float, preload: float | None = None):
     return compute
 
 
+def _plateau_ratio(part: str, over: str, sigma_tilde: float, preload: float | None = None):
+    """F~_A of ``part`` over that of ``over`` at sigma~ (and F~_P), each as `_plateau` reads it."""
+    top, bottom = _plateau(part, sigma_tilde, preload), _plateau(over, sigma_tilde, preload)
+
+    def compute(results):
+        b = bottom(results)
+        return top(results) / b if math.isfinite(b) and b > 0 else math.nan
+    return compute
+
+
 def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
@@ -309,6 +319,11 @@ STUDY = Study(
                      _plateau("two", 0.04)),
         ThesisNumber("plateau F~_A of three levels, sigma~ = 0.04", "Fig. 6-5, text (L1197)", 1.9,
                      _plateau("three", 0.04)),
+        ThesisNumber("plateau F~_A, three levels over one level, sigma~ = 0.04 (1.9 / 1.6: more levels, "
+                     "stronger)", "Fig. 6-5, text (L1197)", 1.9 / 1.6, _plateau_ratio("three", "one", 0.04)),
+        ThesisNumber("F~_A at sigma~ = 2.5, F~_P = 20, three levels over one level ('all curves go close to "
+                     "each other' for sigma~ > 2)", "Fig. 6-6 b, text (L1201)", 1.0,
+                     _plateau_ratio("three", "one", 2.5, preload=20.0)),
         ThesisNumber("three-level F~_A at sigma~ = 1.6, small preload (F~_P = 1)", "Fig. 6-4 e, text", 0.4,
                      _plateau("three", 1.6, preload=1.0)),
         ThesisNumber("three-level F~_A at sigma~ = 1.6, small preload (F~_P = 0.2)", "Fig. 6-4 e, text", 0.4,
