@@ -328,14 +328,16 @@ def test_committed_tables_keep_their_case_ids():
 
 
 def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
-    """Each chapter-6 number is computable from the cases of its sampled file alone.
+    """Each chapter-6 number is computable from the cases of its sampled files.
 
     A table with one finished row per sampled case (sigma~ and F~_P from the
-    sweep header's nominal d_c and F_c, any F~_A) must give each number a
-    value: a sampled file that lost a point a number reads would leave it
+    sweep header's nominal d_c and F_c, a made-up F~_A) must give each number
+    a value: a sampled file that lost a point a number reads would leave it
     n/a.  The plateau files carry the plateaus and must leave the sigma~ = 1.6
     rows n/a (never read off the plateau points); the ``small_preload`` set
-    carries those four rows and no plateau.
+    carries those four rows and no plateau, the ``rough`` set the sigma~ = 2.5
+    row, and the ``stiffness`` set, with the plateau files' sigma~ = 0.04, the
+    rows of Fig. 6-7 b and 6-8 b.
     """
     from brushbem.studies import get_study
     from brushbem.studies.base import SWEEPS_DIR
@@ -344,42 +346,62 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     f_c, d_c = 0.00331177, 0.00293498  # the hierarchy sweeps' header
     level_factor = {"one": 1.0, "two": 1.5, "three": 2.0}  # so a ratio of levels is told from 1
 
-    def tables(kind: str) -> dict[str, pd.DataFrame]:
+    def made_up_force(part: str, case) -> float:
+        seed = 1.0 + case.realization
+        if part == "stiffness_one":  # falls with k~1, equal to three levels' 2 (1 + r) at k~1 = 1e-3
+            return 2.0 * seed * (1.0 + math.log10(1e-3 / case.values["indenter.stiffness_ratio"]) / 10.0)
+        if part == "stiffness_k3":  # falls with sigma~
+            return seed * (1.0 - case.values["indenter.roughness.sigma"] / d_c)
+        return level_factor[part] * seed
+
+    def tables(kind: str, parts=("one", "two", "three")) -> dict[str, pd.DataFrame]:
         found = {}
-        for level in ("one", "two", "three"):
-            cases = load_sweep(SWEEPS_DIR / f"hierarchy.{level}.{kind}toml").cases
-            found[level] = pd.DataFrame([{
+        for part in parts:
+            sweep = load_sweep(SWEEPS_DIR / f"hierarchy.{part}.{kind}toml")
+            preload = sweep.base.get("protocol", {}).get("preload_force")
+            found[part] = pd.DataFrame([{
                 "case_id": case.case_id, "status": "finished", "realization": case.realization,
-                "indenter.roughness.sigma": case.values["indenter.roughness.sigma"],
-                "protocol.preload_force": case.values["protocol.preload_force"],
+                **{key: value for key, value in case.values.items() if key != "protocol.step"},
+                "protocol.preload_force": case.values.get("protocol.preload_force", preload),
                 "normalized.roughness_by_rigid_brush": case.values["indenter.roughness.sigma"] / d_c,
-                "normalized.preload_by_rigid_brush": case.values["protocol.preload_force"] / f_c,
-                "normalized.force_by_rigid_brush": level_factor[level] * (1.0 + case.realization),
+                "normalized.preload_by_rigid_brush": case.values.get("protocol.preload_force", preload) / f_c,
+                "normalized.force_by_rigid_brush": made_up_force(part, case),
                 "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
-            } for case in cases])
-            assert found[level]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
+            } for case in sweep.cases])
+            assert found[part]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
         return found
 
     numbers = get_study("hierarchy").numbers
     small_preload = [n for n in numbers if "sigma~ = 1.6" in n.quantity]
     rough = [n for n in numbers if "sigma~ = 2.5" in n.quantity]
     ratios = [n for n in numbers if "over one level" in n.quantity]
-    plateaus = [n for n in numbers if "plateau" in n.quantity and n not in ratios]
-    assert len(small_preload) == 4 and len(plateaus) == 3 and len(rough) == 1 and len(ratios) == 2
-    sets = {"plateaus": tables("sampled."), "small_preload": tables("small_preload.sampled."),
-            "rough": tables("rough.sampled.")}
-    carried = {"small_preload": small_preload, "rough": rough}
+    stiffness = [n for n in numbers if "Fig. 6-7 b" in n.where or "Fig. 6-8 b" in n.where]
+    plateaus = [n for n in numbers if "plateau" in n.quantity and n not in ratios and n not in stiffness]
+    assert (len(small_preload), len(plateaus), len(rough), len(ratios), len(stiffness)) == (4, 3, 1, 2, 2)
+    plateau_tables = tables("sampled.")
+    stiffness_tables = tables("stiffness.sampled.", ("three", "stiffness_one", "stiffness_k3"))
+    sets = {"plateaus": plateau_tables, "small_preload": tables("small_preload.sampled."),
+            "rough": tables("rough.sampled."), "stiffness": stiffness_tables,
+            "plateaus and stiffness": {**plateau_tables, **stiffness_tables,
+                                       "three": pd.concat([plateau_tables["three"], stiffness_tables["three"]])}}
+    carried = {"small_preload": small_preload, "rough": rough, "plateaus and stiffness": stiffness}
     for number in numbers:
         elsewhere = any(number in carried[s] for s in carried)
         assert math.isfinite(number.compute(sets["plateaus"])) != elsewhere, number.quantity
     for name, own in carried.items():
-        for number in [*small_preload, *plateaus, *rough]:
-            assert math.isfinite(number.compute(sets[name])) == (number in own), (name, number.quantity)
+        for number in [*small_preload, *plateaus, *rough, *stiffness]:
+            computed = math.isfinite(number.compute(sets[name]))
+            assert computed == (number in own or (name == "plateaus and stiffness" and number in plateaus)), \
+                (name, number.quantity)
+    for number in stiffness:  # the stiffness set alone lacks the three-level plateau at sigma~ = 0.04
+        assert math.isfinite(number.compute(sets["stiffness"])) == ("k~3" in number.quantity), number.quantity
     # The sampled numbers are the means over the ten seeds (F~_A = factor x (1 + realisation) here),
-    # the ratios those of the levels' factors.
+    # the ratios those of the levels' factors; one level meets three at k~1 = 1e-3; the k~3 row is
+    # (1 - 0.2) / (1 - 0.04).
     assert [number.compute(sets["plateaus"]) for number in plateaus] == pytest.approx([5.5, 8.25, 11.0])
     assert [n.compute(sets["small_preload"]) for n in small_preload] == pytest.approx([11.0, 11.0, 5.5, 8.25])
     assert [n.compute(sets["plateaus"] if n not in rough else sets["rough"]) for n in ratios] == pytest.approx([2.0, 2.0])
+    assert [n.compute(sets["plateaus and stiffness"]) for n in stiffness] == pytest.approx([1e-3, 0.8 / 0.96], rel=1e-3)
 
 
 @pytest.mark.slow  # expands the 2 310 sampled cases

@@ -43,7 +43,10 @@ EXPECTED_NAN = {
     "rough_brush": {number.quantity for number in get_study("rough_brush").numbers},
     "concave": {"F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06"},  # not in the quick grid
     # the quick hierarchy has F~_P {1, 14.3}, not the small preload 0.2, and sigma~ {0.04, 1.6}, not 2.5
+    # nor (stiffness_k3) 0.2
     "hierarchy": {"three-level F~_A at sigma~ = 1.6, small preload (F~_P = 0.2)",
+                  "F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 ('roughness has "
+                  "little effect ... when sigma~ < 0.3')",
                   "F~_A at sigma~ = 2.5, F~_P = 20, three levels over one level ('all curves go close to "
                   "each other' for sigma~ > 2)"},
 }

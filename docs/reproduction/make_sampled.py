@@ -230,6 +230,29 @@ def select_hierarchy(points: list[dict], wanted=HIERARCHY_POINTS) -> list[dict]:
     return chosen
 
 
+#: The fourth set, ``stiffness``: Fig. 6-7 b (the single-level k~1' whose plateau equals the three
+#: levels', eq. 6.28 "only under a very smooth contact", L1226) and Fig. 6-8 b (k~3 alone, "for the
+#: structure with 0.1 k3, roughness has little effect ... when sigma~ < 0.3", L1249), at the full
+#: sweeps' preload F~_P = 14.3: one level at k~1 from 2e-5 to 2e-3 (brackets the three-level plateau)
+#: at sigma~ 0.04 and 0.8, three levels at sigma~ = 0.8 (0.04 is the plateau file's), and k~3 of 2e-3
+#: and 2e-2 at sigma~ 0.04, 0.2 and 0.4.
+HIERARCHY_STIFFNESS = {
+    "stiffness_one": {K: (2e-5, 4e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3), SIGMA: (0.04, 0.8)},
+    "stiffness_k3": {"indenter.levels.1.stiffness_ratio": (2e-3, 2e-2), SIGMA: (0.04, 0.2, 0.4)},
+}
+
+
+def select_stiffness(points: list[dict], wanted: dict) -> list[dict]:
+    """The points of a ``stiffness_*`` part whose values are all among ``wanted`` (sigma~ by d_c), by sigma~."""
+    def among(p, key, values):
+        x = p[key] / H_D_C if key == SIGMA else p[key]
+        return any(_close(x, v) for v in values)
+    chosen = [p for p in points if all(among(p, key, values) for key, values in wanted.items())]
+    if len(chosen) != math.prod(len(v) for v in wanted.values()):
+        raise SystemExit(f"hierarchy: {len(chosen)} points for {wanted}")
+    return sorted(chosen, key=lambda p: p[SIGMA])
+
+
 def _points(spec: dict) -> list[dict]:
     keys = list(spec["sweep"])
     if spec.get("mode", "zip") == "product":
@@ -280,3 +303,6 @@ if __name__ == "__main__":
         print(write("hierarchy", level, lambda points, level=level: select_hierarchy(
             points, HIERARCHY_SMALL_PRELOAD[level]), subset="small_preload"))
         print(write("hierarchy", level, lambda points: select_hierarchy(points, HIERARCHY_ROUGH), subset="rough"))
+    print(write("hierarchy", "three", lambda points: select_hierarchy(points, ((0.8, 14.3),)), subset="stiffness"))
+    for part, wanted in HIERARCHY_STIFFNESS.items():
+        print(write("hierarchy", part, lambda points, wanted=wanted: select_stiffness(points, wanted), subset="stiffness"))

@@ -37,6 +37,7 @@ from brushbem.theory import equivalent_single_level_stiffness
 
 LEVELS = ("one", "two", "three")
 KEQ = "normalized.equivalent_single_level_stiffness_ratio"
+K3 = "indenter.levels.1.stiffness_ratio"
 
 
 def effective_stiffness(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
@@ -102,6 +103,47 @@ def _plateau_ratio(part: str, over: str, sigma_tilde: float, preload: float | No
     def compute(results):
         b = bottom(results)
         return top(results) / b if math.isfinite(b) and b > 0 else math.nan
+    return compute
+
+
+def _nearest_sigma(frame: pd.DataFrame, sigma_tilde: float) -> float | None:
+    """The swept sigma (raw) of ``frame`` whose sigma~ lies within 10 % of ``sigma_tilde``, else None."""
+    if not has(frame, SIG, SIGMA):
+        return None
+    nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
+    return float(nearest[SIGMA]) if abs(nearest[SIG] - sigma_tilde) <= 0.1 * sigma_tilde else None
+
+
+def _effective_k1(sigma_tilde: float):
+    """Fig. 6-7 b: the one-level k~1' whose F~_A equals the three-level plateau at sigma~."""
+    def compute(results):
+        sigma = _nearest_sigma(finished(results, "three"), sigma_tilde)
+        eff = effective_stiffness(results)
+        if sigma is None or not len(eff):
+            return math.nan
+        three = finished(results, "three")
+        sig = float(three[np.isclose(three[SIGMA], sigma)][SIG].mean())
+        row = eff[np.isclose(eff["sigma"], sig, rtol=1e-6)]
+        return float(row["effective_stiffness"].iloc[0]) if len(row) else math.nan
+    return compute
+
+
+def _top_stiffness_ratio(k3: float, sigma_tilde: float, over_sigma_tilde: float):
+    """Fig. 6-8 b: F~_A at k~3 and sigma~ over that at the same k~3 and ``over_sigma_tilde``."""
+    def value(frame, sigma_tilde):
+        sigma = _nearest_sigma(frame, sigma_tilde)
+        if sigma is None:
+            return math.nan
+        rows = frame[np.isclose(frame[SIGMA], sigma)]
+        return float(rows[FA].mean()) if len(rows) else math.nan
+
+    def compute(results):
+        frame = finished(results, "stiffness_k3")
+        if not has(frame, K3, FA):
+            return math.nan
+        frame = frame[np.isclose(frame[K3], k3)]
+        a, b = value(frame, sigma_tilde), value(frame, over_sigma_tilde)
+        return a / b if math.isfinite(b) and b > 0 else math.nan
     return compute
 
 
@@ -207,18 +249,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         empty_note(ax[0, 0], "parts stiffness_one, stiffness_three not run")
     save(fig, figures_dir / "fig6-8_stiffness.png", written)
 
-    # Fig. 6-8 b: plateau vs sigma~ for several k3 alone (k1, k2 fixed)
-    frame = finished(results, "stiffness_k3")
-    k3 = "indenter.levels.1.stiffness_ratio"
-    if has(frame, k3, SIGMA, FA):
-        fig, ax = figure(1, 1)
-        for value, g in frame.groupby(k3):
-            m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
-            ax[0, 0].plot(m["s"], m["fa"], "-", marker="o", ms=3, label=f"k~3 = {value:g}")
-        ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)",
-                     title="Fig. 6-8 b: influence of k~3 (k~1 = 1e-3, k~2 = k~1/φ1)")
-        ax[0, 0].legend(fontsize=6)
-        save(fig, figures_dir / "fig6-8b_top_stiffness.png", written)
+    _draw_top_stiffness(results, figures_dir, written)
     return written
 
 
@@ -269,6 +300,58 @@ def _draw_small_preload(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
     save(fig, Path(figures_dir) / "fig6-4e_small_preload.png", written)
 
 
+def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
+    """Fig. 6-8 b: F~_A (F~_P = 14.3) against sigma~ for several k~3 alone (k~1, k~2 fixed), mean over
+    the seeds (not drawn when the part has not run)."""
+    frame = finished(results, "stiffness_k3")
+    k3 = K3
+    if has(frame, k3, SIGMA, FA):
+        fig, ax = figure(1, 1)
+        for value, g in frame.groupby(k3):
+            m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
+            ax[0, 0].plot(m["s"], m["fa"], "-", marker="o", ms=3, label=f"k~3 = {value:g}")
+        ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)",
+                     title="Fig. 6-8 b: influence of k~3 (k~1 = 1e-3, k~2 = k~1/φ1)")
+        ax[0, 0].legend(fontsize=6)
+        save(fig, Path(figures_dir) / "fig6-8b_top_stiffness.png", written)
+
+
+def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
+    """Fig. 6-7 b from the tables: (a) one level's F~_A (F~_P = 14.3) against k~1 at each sigma~, the
+    three-level plateau at that sigma~ as a line and the k~1' where they meet; (b) k~1' against
+    sigma~ beside eq. 6.28 and k~1 (not drawn when ``stiffness_one`` has not run)."""
+    one = finished(results, "stiffness_one")
+    if not has(one, K, SIGMA, SIG, FA):
+        return
+    eff = effective_stiffness(results)
+    fig, ax = figure(2, 1)
+    colours = iter(("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"))
+    for sigma, g in one.groupby(SIGMA):
+        colour = next(colours, "0.3")
+        m = g.groupby(K)[FA].mean().sort_index()
+        sig = float(g[SIG].mean())
+        ax[0, 0].semilogx(m.index, m.to_numpy(), "o-", ms=3, color=colour, label=f"one level, σ~ = {sig:.2g}")
+        row = eff[np.isclose(eff["sigma"], sig, rtol=0.05)] if len(eff) else eff  # one and three levels rasterise alike
+        if len(row):
+            ax[0, 0].axhline(float(row["plateau_three"].iloc[0]), ls="--", color=colour, lw=0.8,
+                             label=f"three levels, σ~ = {sig:.2g}")
+            if math.isfinite(float(row["effective_stiffness"].iloc[0])):
+                ax[0, 0].plot(row["effective_stiffness"], row["plateau_three"], "*", ms=10, color=colour)
+    ax[0, 0].set(xlabel="k~1 (one level)", ylabel="F~_A (F~_P = 14.3; three levels: plateau)",
+                 title="Fig. 6-7 b: the one level matching three (stars: k~1')")
+    ax[0, 0].legend(fontsize=6)
+    if len(eff):
+        ax[0, 1].semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
+    keq = _eq628_value(results)
+    if math.isfinite(keq):
+        ax[0, 1].axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
+    ax[0, 1].axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
+    ax[0, 1].axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4 (smooth)")
+    ax[0, 1].set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
+    ax[0, 1].legend(fontsize=7)
+    save(fig, Path(figures_dir) / "fig6-7b_effective_stiffness.png", written)
+
+
 def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     """The figures the per-case tables alone determine: the plateau at sigma~ = 0.04 of each level
     (Fig. 6-5) and, where the small-preload set has run, Fig. 6-4 e's small preload at sigma~ = 1.6;
@@ -298,6 +381,8 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         empty_note(ax[0, 0])
     save(fig, Path(figures_dir) / "fig6-5_plateaus.png", written)
     _draw_small_preload(results, figures_dir, written)
+    _draw_effective_stiffness(results, figures_dir, written)
+    _draw_top_stiffness(results, figures_dir, written)
     return written
 
 
@@ -324,6 +409,12 @@ STUDY = Study(
         ThesisNumber("F~_A at sigma~ = 2.5, F~_P = 20, three levels over one level ('all curves go close to "
                      "each other' for sigma~ > 2)", "Fig. 6-6 b, text (L1201)", 1.0,
                      _plateau_ratio("three", "one", 2.5, preload=20.0)),
+        ThesisNumber("effective single-level k~1' at sigma~ = 0.04 (one level at F~_P = 14.3 matching the "
+                     "three-level plateau; eq. 6.28 'only under a very smooth contact')", "Fig. 6-7 b, text (L1226)",
+                     0.4e-4, _effective_k1(0.04)),
+        ThesisNumber("F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 ('roughness has "
+                     "little effect ... when sigma~ < 0.3')", "Fig. 6-8 b, text (L1249)", 1.0,
+                     _top_stiffness_ratio(2e-3, 0.2, 0.04)),
         ThesisNumber("three-level F~_A at sigma~ = 1.6, small preload (F~_P = 1)", "Fig. 6-4 e, text", 0.4,
                      _plateau("three", 1.6, preload=1.0)),
         ThesisNumber("three-level F~_A at sigma~ = 1.6, small preload (F~_P = 0.2)", "Fig. 6-4 e, text", 0.4,
