@@ -32,6 +32,12 @@ level (one and two levels "tend to zero", three "nearly 0.4") and at F~_P = 0.2
 for three levels, the rows of Fig. 6-4 e.  A study runs a named set with
 ``brushbem study hierarchy --sampled-set small_preload``, into its own folder;
 ``brushbem export-tables`` takes both folders and writes one table per level.
+Two more sets: ``rough`` (sigma~ = 2.5 at F~_P = 20, every level: "all curves
+go close to each other" for sigma~ > 2) and ``stiffness`` (Fig. 6-7 b and
+6-8 b: one level at seven k~1 from 2e-5 to 2e-3 and three levels, at sigma~
+0.04 and 0.8, F~_P = 14.3, for the k~1' that matches the three-level plateau;
+k~3 of 2e-3 and 2e-2 alone at sigma~ 0.04, 0.2 and 0.4), the parts of a set
+run as processes of their own (``--parts``).
 
 Every point is copied from the full sweep with its base, seed and realisations,
 so a sampled case has the full sweep's seed and case hash (its id after the

@@ -220,16 +220,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 6-7 a")
     if ax[0, 0].get_legend_handles_labels()[0]:
         ax[0, 0].legend(fontsize=7)
-    eff = effective_stiffness(results)
-    if len(eff):
-        ax[0, 1].semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="fitted k~1'")
-    keq = _eq628_value(results)
-    if math.isfinite(keq):
-        ax[0, 1].axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
-    ax[0, 1].axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
-    ax[0, 1].axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4")
-    ax[0, 1].set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
-    ax[0, 1].legend(fontsize=7)
+    _effective_stiffness_panel(ax[0, 1], results, effective_stiffness(results))
     save(fig, figures_dir / "fig6-7_equivalent.png", written)
 
     # Fig. 6-8 a: plateau vs sigma~ for several k1, one and three levels
@@ -316,6 +307,19 @@ def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
         save(fig, Path(figures_dir) / "fig6-8b_top_stiffness.png", written)
 
 
+def _effective_stiffness_panel(ax, results: Mapping[str, pd.DataFrame], eff: pd.DataFrame) -> None:
+    """Fig. 6-7 b: the fitted k~1' against sigma~, beside eq. 6.28, k~1 and the thesis's smooth-contact value."""
+    if len(eff):
+        ax.semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
+    keq = _eq628_value(results)
+    if math.isfinite(keq):
+        ax.axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
+    ax.axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
+    ax.axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4 (smooth)")
+    ax.set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
+    ax.legend(fontsize=7)
+
+
 def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
     """Fig. 6-7 b from the tables: (a) one level's F~_A (F~_P = 14.3) against k~1 at each sigma~, the
     three-level plateau at that sigma~ as a line and the k~1' where they meet; (b) k~1' against
@@ -340,15 +344,7 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
     ax[0, 0].set(xlabel="k~1 (one level)", ylabel="F~_A (F~_P = 14.3; three levels: plateau)",
                  title="Fig. 6-7 b: the one level matching three (stars: k~1')")
     ax[0, 0].legend(fontsize=6)
-    if len(eff):
-        ax[0, 1].semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
-    keq = _eq628_value(results)
-    if math.isfinite(keq):
-        ax[0, 1].axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
-    ax[0, 1].axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
-    ax[0, 1].axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4 (smooth)")
-    ax[0, 1].set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
-    ax[0, 1].legend(fontsize=7)
+    _effective_stiffness_panel(ax[0, 1], results, eff)
     save(fig, Path(figures_dir) / "fig6-7b_effective_stiffness.png", written)
 
 
