@@ -47,7 +47,7 @@ EXPECTED_NAN = {
     "hierarchy": {"three-level F~_A at sigma~ = 1.6, small preload (F~_P = 0.2)",
                   "F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 ('roughness has "
                   "little effect ... when sigma~ < 0.3')",
-                  "F~_A at sigma~ = 2.5, F~_P = 20, three levels over one level ('all curves go close to "
+                  "F~_A at sigma~ = 2.5, F~_P = 20, three levels less one level ('all curves go close to "
                   "each other' for sigma~ > 2)"},
 }
 
