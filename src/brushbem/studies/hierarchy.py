@@ -316,7 +316,7 @@ def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
 def _effective_stiffness_panel(ax, results: Mapping[str, pd.DataFrame], eff: pd.DataFrame) -> None:
     """Fig. 6-7 b: the fitted k~1' against sigma~, beside eq. 6.28, k~1 and the thesis's smooth-contact value."""
     if len(eff):
-        ax.semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
+        ax.loglog(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
     keq = _eq628_value(results)
     if math.isfinite(keq):
         ax.axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
@@ -333,6 +333,12 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
     one = finished(results, "stiffness_one")
     if not has(one, K, SIGMA, SIG, FA):
         return
+    seeds = ""
+    if "realization" in one.columns:  # the three-level plateau of the seeds the one level has run
+        kept = sorted(set(one["realization"]))
+        results = {part: frame[frame["realization"].isin(kept)] if "realization" in frame.columns else frame
+                   for part, frame in results.items()}
+        seeds = f", {len(kept)} seed{'s' if len(kept) > 1 else ''}"
     eff = effective_stiffness(results)
     fig, ax = figure(2, 1)
     colours = iter(("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"))
@@ -348,7 +354,7 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
             if math.isfinite(float(row["effective_stiffness"].iloc[0])):
                 ax[0, 0].plot(row["effective_stiffness"], row["plateau_three"], "*", ms=10, color=colour)
     ax[0, 0].set(xlabel="k~1 (one level)", ylabel="F~_A (F~_P = 14.3; three levels: plateau)",
-                 title="Fig. 6-7 b: the one level matching three (stars: k~1')")
+                 title=f"Fig. 6-7 b: the one level matching three (stars: k~1'{seeds})")
     ax[0, 0].legend(fontsize=6)
     _effective_stiffness_panel(ax[0, 1], results, eff)
     save(fig, Path(figures_dir) / "fig6-7b_effective_stiffness.png", written)
