@@ -24,22 +24,29 @@ from brushbem.sweep import load_sweep
 CLUSTERINGS = ((5, 4), (4, 5), (2, 10), (10, 2))
 
 
+def run_clustered(case, first: int, second: int) -> tuple[brushbem.PullOff, float]:
+    """Run a three-level sweep case with clusters ``first`` x ``first`` (level 2), then ``second`` x
+    ``second`` (level 3); returns the result and its wall time in seconds."""
+    config = case.config.model_dump(mode="json", exclude_unset=True)
+    levels = config["indenter"]["levels"]
+    levels[0]["cluster"], levels[1]["cluster"] = first, second
+    start = time.perf_counter()
+    result = brushbem.run(config)
+    return result, time.perf_counter() - start
+
+
 def main(realizations: int) -> None:
     sweep = load_sweep(SWEEPS_DIR / "hierarchy.three.sampled.toml")
     cases = [case for case in sweep.cases if case.realization < realizations
              and abs(case.values["protocol.preload_force"] - 0.0662355) < 1e-9]
     for first, second in CLUSTERINGS:
         for case in cases:
-            config = case.config.model_dump(mode="json", exclude_unset=True)
-            levels = config["indenter"]["levels"]
-            levels[0]["cluster"], levels[1]["cluster"] = first, second
-            start = time.perf_counter()
-            result = brushbem.run(config)
+            result, seconds = run_clustered(case, first, second)
             normalized = result.summary.get("normalized") or {}
             print(f"clusters {first} x {first}, then {second} x {second} (N1 N2 = {(first * second) ** 2}); "
                   f"seed {case.seed}: F~_A = {normalized.get('force_by_rigid_brush'):.4f}, k~1' (eq. 6.28) = "
                   f"{normalized.get('equivalent_single_level_stiffness_ratio'):.3g}, converged {result.converged}, "
-                  f"{time.perf_counter() - start:.0f} s", flush=True)
+                  f"{seconds:.0f} s", flush=True)
 
 
 if __name__ == "__main__":

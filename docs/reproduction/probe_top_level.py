@@ -13,11 +13,10 @@ ratio sigma~ = 0.2 over 0.04 that the comparison's row reads:
 """
 
 import math
-import time
 
-import brushbem
 from brushbem.studies import SWEEPS_DIR
 from brushbem.sweep import load_sweep
+from probe_clusters import run_clustered  # this folder's probe of the level-2 and -3 cluster sizes
 
 D_C = 0.00293498  # nominal (the sweeps' header)
 K3 = "indenter.levels.1.stiffness_ratio"
@@ -27,17 +26,13 @@ cases = [c for c in load_sweep(SWEEPS_DIR / "hierarchy.stiffness_k3.stiffness.sa
 for first, second in CLUSTERINGS:
     forces = {}
     for case in cases:
-        config = case.config.model_dump(mode="json", exclude_unset=True)
-        levels = config["indenter"]["levels"]
-        levels[0]["cluster"], levels[1]["cluster"] = first, second
-        start = time.perf_counter()
-        result = brushbem.run(config)
+        result, seconds = run_clustered(case, first, second)
         sigma_tilde = round(case.values["indenter.roughness.sigma"] / D_C, 3)
         forces[(case.values[K3], sigma_tilde)] = force = result.summary["normalized"]["force_by_rigid_brush"]
         units = (40 // (first * second)) ** 2
         print(f"clusters {first} x {first} then {second} x {second} ({units} top units): k~3 = {case.values[K3]:g}, "
               f"sigma~ = {sigma_tilde}: F~_A = {force:.4f}, converged {result.converged}, "
-              f"{time.perf_counter() - start:.0f} s", flush=True)
+              f"{seconds:.0f} s", flush=True)
     for k3 in sorted({k for k, _ in forces}):
         low, high = (forces.get((k3, s), math.nan) for s in (0.04, 0.2))
         print(f"  k~3 = {k3:g}: F~_A(sigma~ = 0.2) / F~_A(0.04) = {high / low:.4f}", flush=True)

@@ -123,11 +123,11 @@ def _nearest_sigma(frame: pd.DataFrame, sigma_tilde: float) -> float | None:
 def _effective_k1(sigma_tilde: float):
     """Fig. 6-7 b: the one-level k~1' whose F~_A equals the three-level plateau at sigma~."""
     def compute(results):
-        sigma = _nearest_sigma(finished(results, "three"), sigma_tilde)
+        three = finished(results, "three")
+        sigma = _nearest_sigma(three, sigma_tilde)
         eff = effective_stiffness(results)
         if sigma is None or not len(eff):
             return math.nan
-        three = finished(results, "three")
         sig = float(three[np.isclose(three[SIGMA], sigma)][SIG].mean())
         row = eff[np.isclose(eff["sigma"], sig, rtol=1e-6)]
         return float(row["effective_stiffness"].iloc[0]) if len(row) else math.nan
@@ -301,10 +301,9 @@ def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
     """Fig. 6-8 b: F~_A (F~_P = 14.3) against sigma~ for several k~3 alone (k~1, k~2 fixed), mean over
     the seeds (not drawn when the part has not run)."""
     frame = finished(results, "stiffness_k3")
-    k3 = K3
-    if has(frame, k3, SIGMA, FA):
+    if has(frame, K3, SIGMA, FA):
         fig, ax = figure(1, 1)
-        for value, g in frame.groupby(k3):
+        for value, g in frame.groupby(K3):
             m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
             ax[0, 0].plot(m["s"], m["fa"], "-", marker="o", ms=3, label=f"k~3 = {value:g}")
         ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)",
