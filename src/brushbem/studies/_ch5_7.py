@@ -8,10 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from brushbem.io import atomic_path
+from brushbem.studies._common import case_path as common_case_path
+from brushbem.studies._common import finished, new_figure  # noqa: F401 (finished: re-exported)
+from brushbem.studies._common import save as save_figure
 
 FA = "normalized.force_by_rigid_brush"
 FP = "normalized.preload_by_rigid_brush"
@@ -25,26 +26,14 @@ REGION = "indenter.region"
 RADIUS = "indenter.pillar_radius"
 
 
-def finished(results: Mapping[str, pd.DataFrame], part: str) -> pd.DataFrame:
-    """The finished cases of one part (an empty frame when the part is missing)."""
-    frame = results.get(part)
-    if frame is None or len(frame) == 0 or "status" not in frame:
-        return pd.DataFrame()
-    return frame[frame["status"] == "finished"].copy()
-
-
 def figure(ncols: int = 1, nrows: int = 1, size=(5.2, 4.0)):
-    fig = Figure(figsize=(size[0] * ncols, size[1] * nrows), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(nrows, ncols, squeeze=False)
-    return fig, axes
+    """``new_figure`` with the chapter 5–7 panel size."""
+    return new_figure(ncols, nrows, *size)
 
 
 def save(fig: Figure, path: Path, written: list[Path]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(path) as temporary:
-        fig.savefig(temporary, format="png", dpi=110)
-    written.append(path)
+    """Write the figure atomically (``_common.save``) and append its path to ``written``."""
+    written.append(save_figure(fig, path))
 
 
 def empty_note(ax, text: str = "no finished cases") -> None:
@@ -142,10 +131,10 @@ def fit_eq58(sigma: np.ndarray, c: np.ndarray, weighting: str = "relative") -> t
 
 
 def case_path(figures_dir: Path, part: str, case_id: str, row: pd.Series | None = None) -> Path:
-    """The case file of a case: ``DIR/<part>/cases/<case_id>.nc`` (DIR = figures_dir's parent)."""
-    if row is not None and "case_file" in row and isinstance(row["case_file"], str):
-        return Path(row["case_file"])
-    return Path(figures_dir).parent / part / "cases" / f"{case_id}.nc"
+    """``_common.case_path`` by case id: the row's ``case_file``, else ``DIR/<part>/cases/<case_id>.nc``."""
+    if row is None or not isinstance(row.get("case_file"), str):
+        row = pd.Series({"case_id": case_id})
+    return common_case_path(row, part, figures_dir)
 
 
 def read_curve(path: Path):

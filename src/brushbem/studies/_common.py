@@ -15,16 +15,20 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from brushbem.io import atomic_path
+from brushbem.studies.base import finished as finished_rows
 
 NAN = float("nan")
 
 
 def finished(results: Mapping[str, pd.DataFrame], part: str) -> pd.DataFrame:
-    """Rows of ``part`` with status == "finished" (empty frame when the part is missing)."""
+    """The finished cases of one part (``base.finished``), renumbered from 0.
+
+    An empty frame, without columns, when the part is missing or has no status.
+    """
     frame = results.get(part)
     if frame is None or len(frame) == 0 or "status" not in frame:
         return pd.DataFrame()
-    return frame[frame["status"] == "finished"].reset_index(drop=True)
+    return finished_rows(frame).reset_index(drop=True)
 
 
 def case_path(row: pd.Series, part: str, figures_dir: Path) -> Path:
