@@ -147,11 +147,17 @@ def test_a_row_beyond_five_percent_links_the_notes_that_explain_it():
             ComparisonRow("s", "near zero", "w", 0.0, 0.03, math.nan, 1, ""),
             ComparisonRow("s", "far", "w", 1.0, 1.2, math.nan, 1, ""),
             ComparisonRow("s", "far from zero", "w", 0.0, 0.4, math.nan, 1, ""),
-            ComparisonRow("t", "far", "w", 1.0, 0.5, math.nan, 1, "")]
+            ComparisonRow("t", "far", "w", 1.0, 0.5, math.nan, 1, ""),
+            ComparisonRow("s", "not given", "w", 1.0, math.nan, math.nan, 1, "no line crosses zero"),
+            ComparisonRow("t", "not given", "w", 1.0, math.nan, math.nan, 1, "no line crosses zero")]
     notes = "## Grids of `s` (part `a`)\n\nmeasured.\n\n## Why\n\nExplains: `u`.\n"
     text = render(rows, {"s": {"quick": True, "parts": {}}, "t": {"quick": True, "parts": {}}}, notes)
-    near, near_zero, far, far_zero, unexplained = (
-        line for line in text.splitlines() if line.startswith(("| near", "| far")))
+    near, near_zero, far, far_zero, not_given, unexplained, not_given_t = (
+        line for line in text.splitlines() if line.startswith(("| near", "| far", "| not given")))
+    # A number the cases cannot give links the notes that explain its study, like a far one; where
+    # none explains the study, it is left blank (n/a says it is missing).
+    assert "n/a (no line crosses zero)" in not_given and "](#notes-grids-of-s-part-a)" in not_given
+    assert not_given_t.endswith("| — | — |  |")
     assert near.endswith("|  |") and near_zero.endswith("| +0.03 (absolute; thesis 0) |  |")
     assert "[Grids of `s` (part `a`)](#notes-grids-of-s-part-a)" in far
     assert "| +0.4 (absolute; thesis 0) | [Grids of `s` (part `a`)]" in far_zero

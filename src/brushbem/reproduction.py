@@ -512,7 +512,9 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
             error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
             _, far, deviation = deviation_of(row.thesis, row.ours)
-            where = (explained or "**no explanation in the notes**") if far else ""
+            # a number the cases cannot give (n/a) is explained like a far one, where the notes explain the study
+            unexplained = "**no explanation in the notes**" if far else ""
+            where = (explained or unexplained) if far or not math.isfinite(row.ours) else ""
             lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
                          f"{error} | {deviation} | {where} |")
         lines.append("")
