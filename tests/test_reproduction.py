@@ -358,6 +358,9 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
             return 2.0 * seed * (1.0 + math.log10(1e-3 / case.values["indenter.stiffness_ratio"]) / 10.0)
         if part == "stiffness_k3":  # falls with sigma~
             return seed * (1.0 - case.values["indenter.roughness.sigma"] / d_c)
+        if part == "three" and 0.5 < case.values["indenter.roughness.sigma"] / d_c < 1.0:  # sigma~ = 0.8: one
+            # level's force at k~1 = 5e-4
+            return 2.0 * seed * (1.0 + math.log10(2.0) / 10.0)
         return level_factor[part] * seed
 
     def tables(kind: str, parts=("one", "two", "three")) -> dict[str, pd.DataFrame]:
@@ -373,6 +376,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
                 "normalized.preload_by_rigid_brush": case.values.get("protocol.preload_force", preload) / f_c,
                 "normalized.force_by_rigid_brush": made_up_force(part, case),
                 "normalized.equivalent_single_level_stiffness_ratio": 4e-4,
+                "normalized.stiffness_ratio": case.values.get("indenter.stiffness_ratio", 1e-3),
             } for case in sweep.cases])
             assert found[part]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
         return found
@@ -383,7 +387,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     ratios = [n for n in numbers if "over one level" in n.quantity]
     stiffness = [n for n in numbers if "Fig. 6-7 b" in n.where or "Fig. 6-8 b" in n.where]
     plateaus = [n for n in numbers if "plateau" in n.quantity and n not in ratios and n not in stiffness]
-    assert (len(small_preload), len(plateaus), len(rough), len(ratios), len(stiffness)) == (4, 3, 1, 1, 2)
+    assert (len(small_preload), len(plateaus), len(rough), len(ratios), len(stiffness)) == (4, 3, 1, 1, 3)
     plateau_tables = tables("sampled.")
     stiffness_tables = tables("stiffness.sampled.", ("three", "stiffness_one", "stiffness_k3"))
     sets = {"plateaus": plateau_tables, "small_preload": tables("small_preload.sampled."),
@@ -400,15 +404,17 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
             assert computed == (number in own or (name == "plateaus and stiffness" and number in plateaus)), \
                 (name, number.quantity)
     for number in stiffness:  # the stiffness set alone lacks the three-level plateau at sigma~ = 0.04
-        assert math.isfinite(number.compute(sets["stiffness"])) == ("k~3" in number.quantity), number.quantity
+        alone = "k~3" in number.quantity or "sigma~ = 0.8" in number.quantity
+        assert math.isfinite(number.compute(sets["stiffness"])) == alone, number.quantity
     # The sampled numbers are the means over the ten seeds (F~_A = factor x (1 + realisation) here),
     # the ratio that of the levels' factors, the difference three less one levels 11 - 5.5; one level
-    # meets three at k~1 = 1e-3; the k~3 row is (1 - 0.2) / (1 - 0.04).
+    # meets three at k~1 = 1e-3 at sigma~ = 0.04 and at 5e-4 (half the three levels' k~1) at 0.8; the
+    # k~3 row is (1 - 0.2) / (1 - 0.04).
     assert [number.compute(sets["plateaus"]) for number in plateaus] == pytest.approx([5.5, 8.25, 11.0])
     assert [n.compute(sets["small_preload"]) for n in small_preload] == pytest.approx([11.0, 11.0, 5.5, 8.25])
     assert [n.compute(sets["plateaus"]) for n in ratios] == pytest.approx([2.0])
     assert [n.compute(sets["rough"]) for n in rough] == pytest.approx([5.5])
-    assert [n.compute(sets["plateaus and stiffness"]) for n in stiffness] == pytest.approx([1e-3, 0.8 / 0.96], rel=1e-3)
+    assert [n.compute(sets["plateaus and stiffness"]) for n in stiffness] == pytest.approx([1e-3, 0.5, 0.8 / 0.96], rel=1e-3)
 
 
 @pytest.mark.slow  # expands the 2 310 sampled cases

@@ -38,6 +38,7 @@ from brushbem.theory import equivalent_single_level_stiffness
 LEVELS = ("one", "two", "three")
 KEQ = "normalized.equivalent_single_level_stiffness_ratio"
 K3 = "indenter.levels.1.stiffness_ratio"
+K1 = "normalized.stiffness_ratio"  # a brush's bottom-level k~1
 
 
 def effective_stiffness(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
@@ -120,17 +121,26 @@ def _nearest_sigma(frame: pd.DataFrame, sigma_tilde: float) -> float | None:
     return float(nearest[SIGMA]) if abs(nearest[SIG] - sigma_tilde) <= 0.1 * sigma_tilde else None
 
 
-def _effective_k1(sigma_tilde: float):
-    """Fig. 6-7 b: the one-level k~1' whose F~_A equals the three-level plateau at sigma~."""
+def _effective_k1(sigma_tilde: float, over_k1: bool = False):
+    """Fig. 6-7 b: the one-level k~1' whose F~_A equals the three-level plateau at sigma~.
+
+    With ``over_k1``, k~1' over the three-level brush's own bottom stiffness k~1, the value
+    k~1' "gradually tends to" as roughness grows (L1226).
+    """
     def compute(results):
         three = finished(results, "three")
         sigma = _nearest_sigma(three, sigma_tilde)
         eff = effective_stiffness(results)
         if sigma is None or not len(eff):
             return math.nan
-        sig = float(three[np.isclose(three[SIGMA], sigma)][SIG].mean())
-        row = eff[np.isclose(eff["sigma"], sig, rtol=1e-6)]
-        return float(row["effective_stiffness"].iloc[0]) if len(row) else math.nan
+        at_sigma = three[np.isclose(three[SIGMA], sigma)]
+        row = eff[np.isclose(eff["sigma"], float(at_sigma[SIG].mean()), rtol=1e-6)]
+        if not len(row):
+            return math.nan
+        value = float(row["effective_stiffness"].iloc[0])
+        if not over_k1:
+            return value
+        return value / float(at_sigma[K1].mean()) if has(at_sigma, K1) else math.nan
     return compute
 
 
@@ -419,6 +429,9 @@ STUDY = Study(
         ThesisNumber("effective single-level k~1' at sigma~ = 0.04 (one level at F~_P = 14.3 matching the "
                      "three-level plateau; eq. 6.28 'only under a very smooth contact')", "Fig. 6-7 b, text (L1226)",
                      0.4e-4, _effective_k1(0.04)),
+        ThesisNumber("effective single-level k~1' at sigma~ = 0.8 over the three levels' k~1 = 1e-3 ('increases "
+                     "rapidly with roughness, and then gradually tends to k1'; the limit, its value at sigma~ = 0.8 "
+                     "is not stated)", "Fig. 6-7 b, text (L1226)", 1.0, _effective_k1(0.8, over_k1=True)),
         ThesisNumber("F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 ('roughness has "
                      "little effect ... when sigma~ < 0.3')", "Fig. 6-8 b, text (L1249)", 1.0,
                      _top_stiffness_ratio(2e-3, 0.2, 0.04)),
