@@ -325,7 +325,8 @@ def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
 def _effective_stiffness_panel(ax, results: Mapping[str, pd.DataFrame], eff: pd.DataFrame) -> None:
     """Fig. 6-7 b: the fitted k~1' against sigma~, beside eq. 6.28, k~1 and the thesis's smooth-contact value."""
     if len(eff):
-        ax.loglog(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")
+        ax.semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")  # sigma~ linear
+        ax.set_xlim(left=0.0)
     keq = _eq628_value(results)
     if math.isfinite(keq):
         ax.axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
