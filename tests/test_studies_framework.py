@@ -322,7 +322,11 @@ def test_a_study_goes_on_from_its_recorded_tables(
     """``--skip-recorded``: a fresh folder computes only what the committed tables lack."""
     from brushbem.reproduction import export_tables, load_tables, recorded_cases
 
-    _tables_of_a_run_in_progress(tmp_path)
+    folder = _tables_of_a_run_in_progress(tmp_path)
+    kept = (folder / "a.csv").read_text().splitlines()[1]
+    provenance = json.loads((folder / "provenance.json").read_text())
+    provenance["parts"]["a"]["computed_on"] = "the machine of an earlier session"
+    (folder / "provenance.json").write_text(json.dumps(provenance))
     assert [len(v) for v in recorded_cases(tmp_path / "tables", "fake").values()] == [1]
     assert recorded_cases(tmp_path / "nothing", "fake") == {}
     calls.clear()
@@ -332,9 +336,13 @@ def test_a_study_goes_on_from_its_recorded_tables(
     assert result.exit_code == 0, result.output  # the recorded case counts as done
     assert calls == [0.25]
     assert "1 finished, 1 recorded; computed 1, kept 1" in result.output
-    _, tables = load_tables(export_tables([tmp_path / "now"], tmp_path / "tables", update=True))
+    provenance, tables = load_tables(export_tables([tmp_path / "now"], tmp_path / "tables", update=True))
     assert tables["a"]["status"].tolist() == ["finished", "finished"]
     assert tables["a"]["indenter.radius"].tolist() == [0.1, 0.25]
+    # The run's row of the recorded case is "missing" (NaN): the recorded row stays to the
+    # digit (its integer columns integers), and what the earlier record stated stays.
+    assert (folder / "a.csv").read_text().splitlines()[1] == kept
+    assert provenance["parts"]["a"]["computed_on"] == "the machine of an earlier session"
 
 
 def test_unknown_study(tmp_path: Path, fake_study: Path) -> None:

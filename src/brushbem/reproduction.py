@@ -169,6 +169,14 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
             table = table.assign(_rank=order.astype(int), _hash=hashes, _place=hashes.map(first_place))
             table = (table.sort_values("_rank", kind="stable").drop_duplicates("_hash")
                      .sort_values("_place", kind="stable").drop(columns=["_hash", "_rank", "_place"]))
+            # A run's rows of cases it left to the tables ("missing", NaN) make integer columns
+            # float in the concatenation; where the kept rows are whole again, they are integers
+            # again, so an update rewrites the recorded rows unchanged.
+            for column, dtype in tables[0].dtypes.items():
+                if pd.api.types.is_integer_dtype(dtype) and column in table.columns:
+                    values = table[column]
+                    if values.notna().all() and (values == values.round()).all():
+                        table[column] = values.astype(dtype)
         with atomic_path(folder_out / f"{part}.csv") as temporary:
             table.to_csv(temporary, index=False)
         earlier = recorded.get("parts", {}).get(part, {})
@@ -193,6 +201,8 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
         }
         if len(files) > 1:
             parts[part]["sweep_files"] = files
+        # what the earlier record states beyond the computed keys (where it was computed, ...)
+        parts[part] |= {key: v for key, v in earlier.items() if key not in parts[part]}
     provenance = {
         "study": name,
         "quick": quick,
