@@ -276,6 +276,29 @@ def test_the_chapter_5_sweep_is_the_thesis_product_then_the_added_roughnesses():
     assert len(added) == 4 * 4 * 12 and not set(added) & set(thesis)
 
 
+def test_the_chapter_7_sweeps_are_the_coarse_grid_then_the_refinement():
+    """concave.amplification and .stiffness: the coarse h~ grid first (13 and 17 values from 0
+    to 2; its indices, hence the recorded case ids, unchanged), then, for the circle only, the
+    h~ of refine_concave.FINE between each maximum's coarse neighbours, and (stiffness) the
+    softer k~ of refine_concave.SOFTER.  Every (form, phi, k~, h~) point once."""
+    from brushbem.studies.base import SWEEPS_DIR
+
+    keys = ("indenter.pillar_radius", "indenter.stiffness_ratio", "indenter.region", "indenter.profile.amplification")
+    for part, coarse, ks in (("amplification", 52, {6e-4}), ("stiffness", 204, {10.0, 1.0, 0.1, 0.01, 1e-3, 6e-4})):
+        spec, _ = _points(SWEEPS_DIR / f"concave.{part}.toml")
+        rows = list(zip(*(spec["sweep"][key] for key in keys)))
+        first, added = rows[:coarse], rows[coarse:]
+        assert len(set(rows)) == len(rows), part
+        h_coarse = {h for *_, h in first}
+        assert min(h_coarse) == 0.0 and max(h_coarse) == 2.0 and len(h_coarse) == (13 if part == "amplification" else 17)
+        assert {k for _, k, _, _ in first} == ks
+        assert added and {region for _, _, region, _ in added} == {"circle"}
+        refined = [r for r in added if r[1] in ks]
+        assert refined and all(h not in h_coarse for *_, h in refined), part  # between the coarse values
+        softer = {k for _, k, _, _ in added} - ks
+        assert softer == (set() if part == "amplification" else {3e-4, 1.5e-4})
+
+
 def test_the_sampled_flag_picks_a_parts_sampled_file_or_its_full_one():
     from brushbem.studies.base import sweep_file
 

@@ -8,6 +8,8 @@ lies and caps its height.  This script appends, for the circle form (the rows' f
 h~ values `FINE` between the coarse grid's neighbours of each maximum: the full sweep's
 points and indices before them stay as they are (the committed cases keep their ids), and
 a study run with ``--skip-recorded docs/reproduction`` computes only the added ones.
+After them, ``concave.stiffness.toml`` gets two brushes softer than the thesis's softest
+(`SOFTER`), whose maxima show how the position of the maximum goes on with k~.
 
 The neighbours come from the committed run of the coarse grid (``docs/reproduction/
 concave``, commit 82c39a9): per (phi, k~), the coarse argmax and the grid points on
@@ -50,6 +52,15 @@ FINE = {
 HEADER = ("# Added after the coarse points: h~ refined around each circle curve's maximum"
           " (docs/reproduction/refine_concave.py).")
 
+#: Softer brushes than the thesis's softest (k~ = 6e-4), circle, both phi, on `SOFTER_H`
+#: (``stiffness`` only): how the position of the maximum goes on with k~, to read at which
+#: k~ our maximum sits where the thesis puts its k~ = 6e-4 one (h~ = 0.5 at phi = 0.06).
+SOFTER = (3e-4, 1.5e-4)
+SOFTER_H = (0.0, 0.04, 0.08, 0.12, 0.16, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0, 1.2, 1.4,
+            1.7, 2.0)
+SOFTER_HEADER = ("# Added after those: k~ = 3e-4 and 1.5e-4 (softer than the thesis's softest), circle, both phi"
+                 " (docs/reproduction/refine_concave.py).")
+
 
 def _points(spec: dict) -> list[dict]:
     return [dict(zip(spec["sweep"], values)) for values in zip(*spec["sweep"].values())]
@@ -57,6 +68,23 @@ def _points(spec: dict) -> list[dict]:
 
 def _group(p: dict) -> tuple:
     return (p[RADIUS], p[K], p[REGION], p[PRELOAD])
+
+
+def _softer(points: list[dict], have: set) -> list[dict]:
+    """The `SOFTER` points, circle, per pillar radius; the h~ = 0 step follows the sweep's
+    a + b / k~ (through its k~ = 10 and 6e-4 steps), times (1 + 2 h~)."""
+    added = []
+    for radius in PHI_RADIUS.values():
+        flat = {p[K]: p for p in points if p[H] == 0.0 and p[REGION] == "circle" and math.isclose(p[RADIUS], radius)}
+        stiff, soft = flat[10.0], flat[0.0006]
+        b = (soft[STEP] - stiff[STEP]) / (1 / 0.0006 - 1 / 10.0)
+        a = stiff[STEP] - b / 10.0
+        for k in SOFTER:
+            for h in SOFTER_H:
+                p = {**soft, K: k, H: h, STEP: float(f"{(a + b / k) * (1 + 2 * h):.6g}")}
+                if (*_group(p), h) not in have:
+                    added.append(p)
+    return added
 
 
 def refine(part: str) -> Path:
@@ -75,12 +103,15 @@ def refine(part: str) -> Path:
         for h in FINE.get((phi, p0[K]), ()):
             if (*group, h) not in have:
                 added.append({**p0, H: h, STEP: float(f"{p0[STEP] * (1 + 2 * h):.6g}")})
+    if part == "stiffness":
+        added += _softer(points, have | {(*_group(p), p[H]) for p in added})
     if not added:
         return path
     lines = text.splitlines()
-    if HEADER not in lines:
-        at = next(i for i, line in enumerate(lines) if line.startswith("base = "))
-        lines.insert(at, HEADER)
+    for header in (HEADER, SOFTER_HEADER) if part == "stiffness" else (HEADER,):
+        if header not in lines:
+            at = next(i for i, line in enumerate(lines) if line.startswith("base = "))
+            lines.insert(at, header)
     start = next(i for i, line in enumerate(lines) if line.strip() == "[sweep]")
 
     def value(x):
