@@ -108,16 +108,25 @@ def extend_full_sweep() -> Path:
     added = [{K: k, STEP: steps[k], SIGMA: _sigma_value(s), PRELOAD: f}
              for k in EXTRA_K for s in EXTRA_SIGMA for f in preloads]
     added = [p for p in added if (p[K], p[SIGMA], p[PRELOAD]) not in have]
+    return append_points(path, added, EXTRA_HEADER.splitlines())
+
+
+def append_points(path: Path, added: list[dict], header: list[str]) -> Path:
+    """Append the points ``added`` to the zip sweep file ``path`` after its own (whose indices,
+    hence the recorded case ids, stay as they are), with the ``header`` comment lines put
+    before its base line once.  Nothing to add leaves the file untouched."""
     if not added:
         return path
+    text = path.read_text(encoding="utf-8")
+    spec = tomllib.loads(text)
     lines = text.splitlines()
-    if EXTRA_HEADER.splitlines()[0] not in lines:
+    if header and header[0] not in lines:
         at = next(i for i, line in enumerate(lines) if line.startswith("base = "))
-        lines[at:at] = EXTRA_HEADER.splitlines()
-    every = points + added
-    keys = list(spec["sweep"])
+        lines[at:at] = header
+    every = _points(spec) + added
     start = next(i for i, line in enumerate(lines) if line.strip() == "[sweep]")
-    lines = lines[:start + 1] + ['"%s" = [' % key + ", ".join(_value(p[key]) for p in every) + "]" for key in keys]
+    lines = lines[:start + 1] + ['"%s" = [' % key + ", ".join(_value(p[key]) for p in every) + "]"
+                                 for key in spec["sweep"]]
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
 
@@ -267,7 +276,7 @@ def _points(spec: dict) -> list[dict]:
 
 
 def _value(x) -> str:
-    return repr(float(x))
+    return f'"{x}"' if isinstance(x, str) else repr(float(x))
 
 
 def write(study: str, part: str, rule=select, subset: str = "") -> Path:

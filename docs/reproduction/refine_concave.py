@@ -25,6 +25,8 @@ import math
 import tomllib
 from pathlib import Path
 
+from make_sampled import _points, append_points  # this folder's writer of the sampled sweeps
+
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 RADIUS, K, REGION, H, PRELOAD, STEP = ("indenter.pillar_radius", "indenter.stiffness_ratio", "indenter.region",
                                        "indenter.profile.amplification", "protocol.preload_force", "protocol.step")
@@ -62,10 +64,6 @@ SOFTER_HEADER = ("# Added after those: k~ = 3e-4 and 1.5e-4 (softer than the the
                  " (docs/reproduction/refine_concave.py).")
 
 
-def _points(spec: dict) -> list[dict]:
-    return [dict(zip(spec["sweep"], values)) for values in zip(*spec["sweep"].values())]
-
-
 def _group(p: dict) -> tuple:
     return (p[RADIUS], p[K], p[REGION], p[PRELOAD])
 
@@ -90,9 +88,7 @@ def _softer(points: list[dict], have: set) -> list[dict]:
 def refine(part: str) -> Path:
     """Append the `FINE` points to ``concave.<part>.toml`` (once; idempotent)."""
     path = SWEEPS / f"concave.{part}.toml"
-    text = path.read_text(encoding="utf-8")
-    spec = tomllib.loads(text)
-    points = _points(spec)
+    points = _points(tomllib.loads(path.read_text(encoding="utf-8")))
     have = {(*_group(p), p[H]) for p in points}
     flat = {_group(p): p for p in points if p[H] == 0.0}
     added = []
@@ -103,24 +99,9 @@ def refine(part: str) -> Path:
         for h in FINE.get((phi, p0[K]), ()):
             if (*group, h) not in have:
                 added.append({**p0, H: h, STEP: float(f"{p0[STEP] * (1 + 2 * h):.6g}")})
+    append_points(path, added, [HEADER])
     if part == "stiffness":
-        added += _softer(points, have | {(*_group(p), p[H]) for p in added})
-    if not added:
-        return path
-    lines = text.splitlines()
-    for header in (HEADER, SOFTER_HEADER) if part == "stiffness" else (HEADER,):
-        if header not in lines:
-            at = next(i for i, line in enumerate(lines) if line.startswith("base = "))
-            lines.insert(at, header)
-    start = next(i for i, line in enumerate(lines) if line.strip() == "[sweep]")
-
-    def value(x):
-        return f'"{x}"' if isinstance(x, str) else repr(float(x))
-
-    every = points + added
-    lines = lines[:start + 1] + ['"%s" = [' % key + ", ".join(value(p[key]) for p in every) + "]"
-                                 for key in spec["sweep"]]
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        append_points(path, _softer(points, have | {(*_group(p), p[H]) for p in added}), [SOFTER_HEADER])
     return path
 
 
