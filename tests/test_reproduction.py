@@ -508,6 +508,34 @@ def test_a_row_is_planned_from_the_cases_its_number_reads():
     assert exponent.recorded_seconds > 0 and len(exponent.case_hashes["regular"]) == 4
 
 
+def test_a_maximum_is_recomputed_with_its_runners_up():
+    """The position of chapter 7's maximum is planned with the next-largest points, each within 2 % of it.
+
+    Without them the recomputed argmax of one point would agree by construction.
+    """
+    from brushbem.reproduction import RIVAL_STEPS, load_tables, plan_row
+    from brushbem.studies.concave import FIS, H
+
+    plan = plan_row(DOCS / "reproduction", "concave", "h~ at max F~_A, phi = 0.06")
+    points, rivals = plan.points["amplification"], plan.rivals["amplification"]
+    read = [point for point in points if point not in rivals]
+    assert len(read) == 1 and read[0][H] == plan.committed and 1 <= len(rivals) <= 2
+    _, tables = load_tables(DOCS / "reproduction" / "concave")
+    frame = tables["amplification"]
+    frame = frame[(frame["status"] == "finished") & (frame["indenter.stiffness_ratio"] == 6e-4)
+                  & (frame["indenter.region"] == "circle")]
+
+    def force(point):
+        return float(frame.loc[(frame[H] == point[H]) & (frame["indenter.pillar_radius"] == point[
+            "indenter.pillar_radius"]), FIS].iloc[0])
+
+    for rival in rivals:
+        assert 0 < 1 - force(rival) / force(read[0]) <= RIVAL_STEPS[-1]
+    assert plan.cases == len(points)
+    alone = plan_row(DOCS / "reproduction", "concave", "h~ at max F~_A, phi = 0.06", rivals=0)
+    assert alone.points["amplification"] == read and alone.rivals == {"amplification": []}
+
+
 def test_a_row_that_cannot_be_recomputed_says_why():
     from brushbem.reproduction import ReproduceError, plan_row
 

@@ -880,15 +880,20 @@ def export_tables(study_dirs: tuple[Path, ...], tables_root: Path, update: bool)
 @click.option("--realizations", type=click.IntRange(min=1), default=None,
               help="Run only the first R seeds (default: every seed the tables have finished).")
 @click.option("--dry-run", is_flag=True, help="Print the cases the row reads and their recorded time; run nothing.")
+@click.option("--rivals", type=click.IntRange(min=0), default=2, show_default=True,
+              help="Also run this many runners-up: points the number would read if their results changed by "
+              "up to 2 % (for a maximum, the next-largest).")
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes.")
 @click.option("--quiet", is_flag=True, help="No progress output.")
 def reproduce(study_name: str, quantity: str, out_dir: Path | None, tables_root: Path, realizations: int | None,
-              dry_run: bool, workers: int | None, quiet: bool) -> None:
+              dry_run: bool, rivals: int, workers: int | None, quiet: bool) -> None:
     """Recompute one row of the thesis comparison: only the cases its number reads.
 
     QUANTITY is the row's quantity as printed (or a part of it that names one
     row).  The cases are the shipped sweep's (same configurations and seeds as
-    the committed tables); with every seed the tables have, the recomputed
+    the committed tables), with the runners-up that could change the number
+    (so a maximum's position is checked against its neighbours, not only
+    recomputed at itself); with every seed the tables have, the recomputed
     number must equal the committed one (exit status 1 if not).
     """
     from brushbem.reproduction import ReproduceError, plan_row, reproduce_row
@@ -896,7 +901,7 @@ def reproduce(study_name: str, quantity: str, out_dir: Path | None, tables_root:
     if out_dir is None and not dry_run:
         raise click.UsageError("give --out DIR (or --dry-run)")
     try:
-        plan = plan_row(tables_root, study_name, quantity, realizations)
+        plan = plan_row(tables_root, study_name, quantity, realizations, rivals)
     except ReproduceError as error:
         click.echo(str(error), err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
@@ -904,7 +909,8 @@ def reproduce(study_name: str, quantity: str, out_dir: Path | None, tables_root:
     for part, points in plan.points.items():
         click.echo(f"  part {part} ({plan.sweep_files[part].name}): {len(points)} point(s)")
         for point in points:
-            click.echo("    " + ", ".join(f"{key} = {value}" for key, value in point.items()))
+            rival = " (runner-up: read if its results changed)" if point in plan.rivals.get(part, []) else ""
+            click.echo("    " + ", ".join(f"{key} = {value}" for key, value in point.items()) + rival)
     click.echo(f"  {plan.cases} case(s), {plan.realizations} seed(s); recorded wall time {plan.recorded_seconds:.0f} s")
     if dry_run:
         return

@@ -481,7 +481,7 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         lines += [
             f"Recompute: {command}, then `brushbem export-tables {folders} --to docs/reproduction`.",
             f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
-            "(`--dry-run` lists them with their recorded time).",
+            "and those closest to changing it (`--dry-run` lists them with their recorded time).",
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",
             "",
         ]
@@ -601,6 +601,9 @@ class RowPlan:
         Their wall time as recorded in the tables (an estimate of the run's).
     case_hashes : dict
         Part -> the committed cases' hashes (their ids after the index) that the run must give again.
+    rivals : dict
+        Part -> those of ``points`` that the number does not read but would
+        if their results changed by a little (the runners-up of a maximum).
     """
 
     study: str
@@ -612,6 +615,7 @@ class RowPlan:
     cases: int
     recorded_seconds: float
     case_hashes: dict[str, list[str]] = dataclasses.field(default_factory=dict)
+    rivals: dict[str, list[dict[str, Any]]] = dataclasses.field(default_factory=dict)
 
 
 def _same(a: float, b: float) -> bool:
@@ -623,6 +627,58 @@ def _same(a: float, b: float) -> bool:
 def _plain(value: Any) -> Any:
     """A table cell as the sweep file writes it (numpy scalars as Python numbers)."""
     return value.item() if hasattr(value, "item") else value
+
+
+RIVALS = 2
+"""Points a row's plan adds beyond those its number reads: the ones closest to changing it."""
+
+RIVAL_STEPS = (0.0025, 0.005, 0.01, 0.02)
+"""Relative changes of a point's results tried, smallest first, to rank the points that could change a number.
+
+The largest, 2 %, is above the spread of neighbouring points around the
+thesis's maxima (chapter 7's refined ĥ points differ by under 1 %), and
+below the 5 % at which a deviation needs explaining.
+"""
+
+_NOT_RESULTS = {"index", "realization", "seed", "wall_time_s"}
+
+
+def _rivals(number, tables: Mapping[str, pd.DataFrame], point_of: Mapping[str, Mapping[str, tuple]],
+            candidates: set, committed: float, limit: int) -> set:
+    """The (at most ``limit``) points left out of a plan whose results, changed least, change the number.
+
+    Each candidate's float results (every float column but its swept values
+    and bookkeeping) are scaled by ``1 ± step`` for the steps of
+    :data:`RIVAL_STEPS`, smallest first, in the full tables; the step at which
+    the number first moves ranks it.  A point that no step moves is no rival.
+    For a number that reads every point (a mean, a fit) there are none left to
+    add; for the position of a maximum they are the points whose value is
+    within a step of the maximum's.
+    """
+    if limit <= 0 or not candidates:
+        return set()
+
+    def scaled(candidate: tuple[str, tuple], factor: float) -> dict[str, pd.DataFrame]:
+        part, point = candidate
+        frame = tables[part].copy()
+        rows = frame["case_id"].map(lambda i: point_of[part].get(i) == point).to_numpy()
+        keys = {key for key, _ in point}
+        columns = [c for c in frame.columns if c not in keys and c not in _NOT_RESULTS
+                   and pd.api.types.is_float_dtype(frame[c])]
+        frame.loc[rows, columns] = frame.loc[rows, columns] * factor
+        return {**tables, part: frame}
+
+    def moves(candidate, step: float) -> bool:
+        return any(not _same(_compute(number, scaled(candidate, factor))[0], committed)
+                   for factor in (1 + step, 1 - step))
+
+    ranked = []
+    for candidate in sorted(candidates, key=repr):
+        if not moves(candidate, RIVAL_STEPS[-1]):
+            continue
+        step = next(s for s in RIVAL_STEPS if s == RIVAL_STEPS[-1] or moves(candidate, s))
+        ranked.append((step, repr(candidate), candidate))
+    return {candidate for _, _, candidate in sorted(ranked)[:limit]}
 
 
 def _find_number(study, quantity: str):
@@ -654,14 +710,19 @@ def _file_with(points: list[dict[str, Any]], files: list[Path]) -> Path:
     return files[0]
 
 
-def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizations: int | None = None) -> RowPlan:
+def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizations: int | None = None,
+             rivals: int = RIVALS) -> RowPlan:
     """The cases that recompute one row of the comparison: the parameter points its number reads.
 
     Starting from every finished point of the committed tables, each point
     whose cases can be left out without changing the number is left out; the
     points that remain give the committed number by themselves.  The number
     is a function of the tables, so this finds what it reads without the
-    study declaring it.  The cases
+    study declaring it.  To these come up to ``rivals`` points the number
+    would read if their results were a little different (see
+    :func:`_rivals`): for a maximum or its position, the runners-up, so the
+    recomputed number is a check of the ranking and not only of one case.
+    The cases
     are the shipped sweep file's (same configurations, seeds and case hashes),
     for the first ``realizations`` seeds (default: as many as the tables have
     finished).
@@ -714,11 +775,14 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
 
     # Leave out, one by one, every point whose cases the number does not need: what is left
     # gives the committed value by itself (of equal plateau preloads, one is kept).
-    keep = {(part, point) for part, ids in point_of.items() for point in set(ids.values())}
+    everything = {(part, point) for part, ids in point_of.items() for point in set(ids.values())}
+    keep = set(everything)
     for candidate in sorted(keep, key=repr):
         value, _ = _compute(number, restricted(keep - {candidate}))
         if _same(value, committed):
             keep.discard(candidate)
+    runners_up = _rivals(number, tables, point_of, everything - keep, committed, rivals)
+    keep |= runners_up
     points: dict[str, list[dict[str, Any]]] = {}
     for part, point in sorted(keep, key=repr):
         points.setdefault(part, []).append(dict(point))
@@ -744,7 +808,8 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
         spec_realizations = int(tomllib.loads(sweep_files[part].read_text(encoding="utf-8")).get("realizations", 1))
         cases += len(part_points) * min(realizations, spec_realizations)
     return RowPlan(study.name, number.quantity, committed, points, sweep_files, realizations, cases, seconds,
-                   case_hashes)
+                   case_hashes, {part: [dict(point) for p, point in sorted(runners_up, key=repr) if p == part]
+                                 for part in points})
 
 
 def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, workers: int | None = None,
