@@ -536,6 +536,23 @@ def test_a_maximum_is_recomputed_with_its_runners_up():
     assert alone.points["amplification"] == read and alone.rivals == {"amplification": []}
 
 
+def test_a_row_of_ten_seeds_is_checked_on_its_first_seed():
+    """With --realizations 1 the plan's number is the first seed's (a cell of the committed table), not ten seeds'."""
+    from brushbem.reproduction import case_hash, load_tables, plan_row
+
+    quantity = "plateau F~_A of one level, sigma~ = 0.04"
+    every = plan_row(DOCS / "reproduction", "hierarchy", quantity)
+    first = plan_row(DOCS / "reproduction", "hierarchy", quantity, realizations=1)
+    assert every.realizations == 10 and first.realizations == 1 and first.cases * 10 == every.cases
+    assert first.every_seed == every.committed == every.every_seed and first.committed != every.committed
+    _, tables = load_tables(DOCS / "reproduction" / "hierarchy")
+    frame = tables["one"]
+    rows = frame[frame["case_id"].map(case_hash).isin(first.case_hashes["one"])]
+    assert set(rows["realization"]) == {0} and len(rows) == first.cases
+    cells = rows.select_dtypes("float").to_numpy().ravel()
+    assert any(math.isclose(cell, first.committed, rel_tol=1e-12) for cell in cells)  # one seed: no mean
+
+
 def test_a_row_that_cannot_be_recomputed_says_why():
     from brushbem.reproduction import ReproduceError, plan_row
 

@@ -481,7 +481,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         lines += [
             f"Recompute: {command}, then `brushbem export-tables {folders} --to docs/reproduction`.",
             f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
-            "and those closest to changing it (`--dry-run` lists them with their recorded time).",
+            "and those closest to changing it (`--dry-run` lists them with their recorded time;",
+            "`--realizations 1` checks the row as its first seed gives it, for a row that reads ten).",
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",
             "",
         ]
@@ -588,7 +589,7 @@ class RowPlan:
     ----------
     study, quantity : str
     committed : float
-        The row's value from the committed tables.
+        The row's value from the committed tables' first ``realizations`` seeds: what the run must give.
     points : dict
         Part -> list of swept-value mappings (one per parameter point the row reads).
     sweep_files : dict
@@ -601,6 +602,8 @@ class RowPlan:
         Their wall time as recorded in the tables (an estimate of the run's).
     case_hashes : dict
         Part -> the committed cases' hashes (their ids after the index) that the run must give again.
+    every_seed : float
+        The row's value from every seed of the tables (the one the comparison prints).
     rivals : dict
         Part -> those of ``points`` that the number does not read but would
         if their results changed by a little (the runners-up of a maximum).
@@ -615,6 +618,7 @@ class RowPlan:
     cases: int
     recorded_seconds: float
     case_hashes: dict[str, list[str]] = dataclasses.field(default_factory=dict)
+    every_seed: float = math.nan
     rivals: dict[str, list[dict[str, Any]]] = dataclasses.field(default_factory=dict)
 
 
@@ -725,7 +729,8 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     The cases
     are the shipped sweep file's (same configurations, seeds and case hashes),
     for the first ``realizations`` seeds (default: as many as the tables have
-    finished).
+    finished); with fewer, the plan and its committed number are those of the
+    tables' first seeds, so a run of a few seeds is checked too.
 
     Raises
     ------
@@ -746,9 +751,15 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
         raise ReproduceError(f"no tables of study {study.name!r} in {tables_root} (no {PROVENANCE_FILE})")
     number = _find_number(study, quantity)
     provenance, tables = load_tables(folder)
+    every_seed, _ = _compute(number, tables)
+    if realizations is not None:  # the row as the first seeds give it: planned, run and checked on those
+        tables = {part: frame[frame["realization"] < realizations] if "realization" in frame.columns else frame
+                  for part, frame in tables.items()}
     committed, _ = _compute(number, tables)
     if not math.isfinite(committed):
-        raise ReproduceError(f"{number.quantity!r} is n/a in the committed tables: no finished case determines it")
+        seeds = "" if realizations is None else f" of the first {realizations} seed(s)"
+        raise ReproduceError(f"{number.quantity!r} is n/a in the committed tables{seeds}: no finished case "
+                             "determines it")
     # Every finished case's parameter point, by the shipped sweep's case hashes.
     point_of: dict[str, dict[str, tuple]] = {}
     paths: dict[str, Path] = {}
@@ -808,7 +819,7 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
         spec_realizations = int(tomllib.loads(sweep_files[part].read_text(encoding="utf-8")).get("realizations", 1))
         cases += len(part_points) * min(realizations, spec_realizations)
     return RowPlan(study.name, number.quantity, committed, points, sweep_files, realizations, cases, seconds,
-                   case_hashes, {part: [dict(point) for p, point in sorted(runners_up, key=repr) if p == part]
+                   case_hashes, every_seed, {part: [dict(point) for p, point in sorted(runners_up, key=repr) if p == part]
                                  for part in points})
 
 
