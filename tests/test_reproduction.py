@@ -536,6 +536,24 @@ def test_a_maximum_is_recomputed_with_its_runners_up():
     assert alone.points["amplification"] == read and alone.rivals == {"amplification": []}
 
 
+def test_runners_up_are_the_points_a_small_change_would_make_the_maximum():
+    """Of the points a maximum does not read, those within 2 % of it, nearest first, are its rivals."""
+    from types import SimpleNamespace
+
+    from brushbem.reproduction import _rivals
+
+    forces = {"a": 1.0, "b": 0.995, "c": 0.985, "d": 0.97, "e": 0.5}
+    frame = pd.DataFrame({"case_id": [f"{i}-{name}" for i, name in enumerate(forces)], "h": [0.1, 0.2, 0.3, 0.4, 0.5],
+                          "force": list(forces.values())})
+    number = SimpleNamespace(compute=lambda tables: float(tables["p"].loc[tables["p"]["force"].idxmax(), "h"]))
+    point_of = {"p": {case_id: (("h", h),) for case_id, h in zip(frame["case_id"], frame["h"])}}
+    others = {("p", (("h", h),)) for h in (0.2, 0.3, 0.4, 0.5)}
+    # b moves the argmax at +1 %, c at +2 %, d (3 % below) and e at no step of RIVAL_STEPS.
+    assert _rivals(number, {"p": frame}, point_of, others, 0.1, 1) == {("p", (("h", 0.2),))}
+    assert _rivals(number, {"p": frame}, point_of, others, 0.1, 5) == {("p", (("h", 0.2),)), ("p", (("h", 0.3),))}
+    assert _rivals(number, {"p": frame}, point_of, others, 0.1, 0) == set()
+
+
 def test_a_row_of_ten_seeds_is_checked_on_its_first_seed():
     """With --realizations 1 the plan's number is the first seed's (a cell of the committed table), not ten seeds'."""
     from brushbem.reproduction import case_hash, load_tables, plan_row
