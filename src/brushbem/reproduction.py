@@ -662,26 +662,26 @@ def _rivals(number, tables: Mapping[str, pd.DataFrame], point_of: Mapping[str, M
     if limit <= 0 or not candidates:
         return set()
 
-    def scaled(candidate: tuple[str, tuple], factor: float) -> dict[str, pd.DataFrame]:
+    ranked = []
+    for candidate in sorted(candidates, key=repr):
         part, point = candidate
-        frame = tables[part].copy()
-        rows = frame["case_id"].map(lambda i: point_of[part].get(i) == point).to_numpy()
+        frame = tables[part]
+        rows = frame["case_id"].map(lambda i, part=part, point=point: point_of[part].get(i) == point).to_numpy()
         keys = {key for key, _ in point}
         columns = [c for c in frame.columns if c not in keys and c not in _NOT_RESULTS
                    and pd.api.types.is_float_dtype(frame[c])]
-        frame.loc[rows, columns] = frame.loc[rows, columns] * factor
-        return {**tables, part: frame}
 
-    def moves(candidate, step: float) -> bool:
-        return any(not _same(_compute(number, scaled(candidate, factor))[0], committed)
-                   for factor in (1 + step, 1 - step))
+        def moves(step: float, frame=frame, rows=rows, columns=columns, part=part) -> bool:
+            for factor in (1 + step, 1 - step):
+                changed = frame.copy()
+                changed.loc[rows, columns] = frame.loc[rows, columns] * factor
+                if not _same(_compute(number, {**tables, part: changed})[0], committed):
+                    return True
+            return False
 
-    ranked = []
-    for candidate in sorted(candidates, key=repr):
-        if not moves(candidate, RIVAL_STEPS[-1]):
-            continue
-        step = next(s for s in RIVAL_STEPS if s == RIVAL_STEPS[-1] or moves(candidate, s))
-        ranked.append((step, repr(candidate), candidate))
+        if moves(RIVAL_STEPS[-1]):  # then the smallest step that moves it ranks it
+            ranked.append((next(s for s in RIVAL_STEPS if s == RIVAL_STEPS[-1] or moves(s)), repr(candidate),
+                           candidate))
     return {candidate for _, _, candidate in sorted(ranked)[:limit]}
 
 
@@ -818,9 +818,10 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     for part, part_points in points.items():
         spec_realizations = int(tomllib.loads(sweep_files[part].read_text(encoding="utf-8")).get("realizations", 1))
         cases += len(part_points) * min(realizations, spec_realizations)
+    rival_points = {part: [dict(point) for p, point in sorted(runners_up, key=repr) if p == part]
+                    for part in points}
     return RowPlan(study.name, number.quantity, committed, points, sweep_files, realizations, cases, seconds,
-                   case_hashes, every_seed, {part: [dict(point) for p, point in sorted(runners_up, key=repr) if p == part]
-                                 for part in points})
+                   case_hashes, every_seed, rival_points)
 
 
 def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, workers: int | None = None,
