@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import io
 import json
+import logging
 import os
 import signal
 import subprocess
@@ -14,6 +15,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -541,3 +543,26 @@ def test_brush_realizations_get_their_seeds_and_differ(tmp_path):
     forces = first.sort_values("case_id")["adhesive_force"].to_numpy()
     assert forces[0] != forces[1]
     np.testing.assert_array_equal(forces, again.sort_values("case_id")["adhesive_force"].to_numpy())
+
+
+def test_a_closing_dask_worker_drops_only_its_heartbeat_failure():
+    """The shutdown race's one record goes; the same record from a running worker, or any other, stays."""
+    pytest.importorskip("dask.distributed")
+    from distributed.core import Status
+
+    from brushbem.sweep.dask_quiet import HEARTBEAT_FAILED, QuietShutdown
+
+    worker = SimpleNamespace(status=Status.running)
+    plugin = QuietShutdown()
+    plugin.setup(worker)
+    try:
+        def kept(message: str) -> bool:
+            record = logging.LogRecord("distributed.worker", logging.ERROR, __file__, 1, message, None, None)
+            return logging.getLogger("distributed.worker").filter(record)
+
+        assert kept(HEARTBEAT_FAILED)
+        worker.status = Status.closing
+        assert not kept(HEARTBEAT_FAILED)
+        assert kept("Compute Failed")
+    finally:
+        logging.getLogger("distributed.worker").removeFilter(plugin.filter)

@@ -132,6 +132,12 @@ def dask_client(
         ) as cluster,
         Client(cluster) as client,
     ):
+        if processes:
+            # Worker processes log to the user's terminal; threads log to the
+            # driver's own loggers, which the plugin's filter would outlive.
+            from brushbem.sweep.dask_quiet import QuietShutdown
+
+            client.register_plugin(QuietShutdown())
         yield client
 
 
