@@ -365,7 +365,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     n/a.  The plateau files carry the plateaus and must leave the sigma~ = 1.6
     rows n/a (never read off the plateau points); the ``small_preload`` set
     carries those four rows and no plateau, the ``rough`` set the sigma~ = 2.5
-    row, and the ``stiffness`` set, with the plateau files' sigma~ = 0.04, the
+    rows, and the ``stiffness`` set, with the plateau files' sigma~ = 0.04, the
     rows of Fig. 6-7 b and 6-8 b.
     """
     from brushbem.studies import get_study
@@ -410,7 +410,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     ratios = [n for n in numbers if "over one level" in n.quantity]
     stiffness = [n for n in numbers if "Fig. 6-7 b" in n.where or "Fig. 6-8 b" in n.where]
     plateaus = [n for n in numbers if "plateau" in n.quantity and n not in ratios and n not in stiffness]
-    assert (len(small_preload), len(plateaus), len(rough), len(ratios), len(stiffness)) == (4, 3, 1, 1, 3)
+    assert (len(small_preload), len(plateaus), len(rough), len(ratios), len(stiffness)) == (4, 3, 2, 1, 3)
     plateau_tables = tables("sampled.")
     stiffness_tables = tables("stiffness.sampled.", ("three", "stiffness_one", "stiffness_k3"))
     sets = {"plateaus": plateau_tables, "small_preload": tables("small_preload.sampled."),
@@ -430,13 +430,14 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
         alone = "k~3" in number.quantity or "sigma~ = 0.8" in number.quantity
         assert math.isfinite(number.compute(sets["stiffness"])) == alone, number.quantity
     # The sampled numbers are the means over the ten seeds (F~_A = factor x (1 + realisation) here),
-    # the ratio that of the levels' factors, the difference three less one levels 11 - 5.5; one level
+    # the ratio that of the levels' factors, the differences three less one and two levels 11 - 5.5 and
+    # 11 - 8.25; one level
     # meets three at k~1 = 1e-3 at sigma~ = 0.04 and at 5e-4 (half the three levels' k~1) at 0.8; the
     # k~3 row is (1 - 0.2) / (1 - 0.04).
     assert [number.compute(sets["plateaus"]) for number in plateaus] == pytest.approx([5.5, 8.25, 11.0])
     assert [n.compute(sets["small_preload"]) for n in small_preload] == pytest.approx([11.0, 11.0, 5.5, 8.25])
     assert [n.compute(sets["plateaus"]) for n in ratios] == pytest.approx([2.0])
-    assert [n.compute(sets["rough"]) for n in rough] == pytest.approx([5.5])
+    assert [n.compute(sets["rough"]) for n in rough] == pytest.approx([5.5, 2.75])
     assert [n.compute(sets["plateaus and stiffness"]) for n in stiffness] == pytest.approx([1e-3, 0.5, 0.8 / 0.96], rel=1e-3)
 
 

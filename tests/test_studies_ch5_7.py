@@ -49,6 +49,8 @@ EXPECTED_NAN = {
                   "little effect ... when sigma~ < 0.3')",
                   "F~_A at sigma~ = 2.5, F~_P = 20, three levels less one level ('all curves go close to "
                   "each other' for sigma~ > 2)",
+                  "F~_A at sigma~ = 2.5, F~_P = 20, three levels less two levels ('all curves go close to "
+                  "each other' for sigma~ > 2)",
                   "effective single-level k~1' at sigma~ = 0.8 over the three levels' k~1 = 1e-3 ('increases "
                   "rapidly with roughness, and then gradually tends to k1'; the limit, its value at sigma~ = 0.8 "
                   "is not stated)"},

@@ -427,6 +427,9 @@ STUDY = Study(
         ThesisNumber("F~_A at sigma~ = 2.5, F~_P = 20, three levels less one level ('all curves go close to "
                      "each other' for sigma~ > 2)", "Fig. 6-6 b, text (L1201)", 0.0,
                      _plateau_difference("three", "one", 2.5, preload=20.0)),
+        ThesisNumber("F~_A at sigma~ = 2.5, F~_P = 20, three levels less two levels ('all curves go close to "
+                     "each other' for sigma~ > 2)", "Fig. 6-6 b, text (L1201)", 0.0,
+                     _plateau_difference("three", "two", 2.5, preload=20.0)),
         ThesisNumber("effective single-level k~1' at sigma~ = 0.04 (one level at F~_P = 14.3 matching the "
                      "three-level plateau; eq. 6.28 'only under a very smooth contact')", "Fig. 6-7 b, text (L1226)",
                      0.4e-4, _effective_k1(0.04)),
