@@ -109,6 +109,38 @@ def test_hierarchy(hierarchy):
     assert by_sigma.iloc[-1] < by_sigma.iloc[0]
 
 
+def test_fig_6_6b_is_drawn_from_the_large_preload_points_only(tmp_path, monkeypatch):
+    """Fig. 6-6 b needs two roughnesses at F~_P = 20 for a level; a point at another preload (the
+    stiffness set's sigma~ = 0.8 at F~_P = 14.3) never stands in, and each marker is the mean over
+    the seeds with its standard error."""
+    import pandas as pd
+
+    from brushbem.studies import hierarchy
+    from brushbem.studies._ch5_7 import FP, SIG
+
+    def table(points):  # (sigma raw, sigma~, F~_P, realisation, F~_A)
+        return pd.DataFrame([{"status": "finished", SIGMA: s, SIG: st, FP: fp, "realization": r, FA: fa}
+                             for s, st, fp, r, fa in points])
+
+    drawn = []
+    monkeypatch.setattr(hierarchy, "save", lambda fig, path, written: drawn.append(fig) or written.append(path))
+    one_roughness = {"three": table([(1e-4, 0.04, 20.0, 0, 1.8), (2e-3, 0.8, 14.3, 0, 1.0)])}
+    written: list = []
+    hierarchy._draw_roughness_plateaus(one_roughness, tmp_path, written)
+    assert written == []  # sigma~ = 0.8 is at F~_P = 14.3: one roughness at F~_P = 20, nothing to draw
+    two = {"three": table([(1e-4, 0.04, 20.0, 0, 1.8), (1e-4, 0.04, 20.1, 1, 1.7),
+                           (7e-3, 2.5, 19.9, 0, 0.3), (7e-3, 2.5, 20.0, 1, 0.1)])}
+    hierarchy._draw_roughness_plateaus(two, tmp_path, written)
+    assert [p.name for p in written] == ["fig6-6b_roughness.png"]
+    (bars,) = drawn[0].axes[0].containers
+    x, y = bars.lines[0].get_data()
+    # means 1.75 and 0.2 (three levels drawn 0.04 to the right); standard errors over the two seeds
+    # 0.0707 / sqrt(2) = 0.05 and 0.141 / sqrt(2) = 0.1, each bar twice as long
+    assert y == pytest.approx([1.75, 0.2]) and x == pytest.approx([0.04, 2.5] + np.array(0.04))
+    (segments,) = [c for c in bars.lines[2]]
+    assert [seg[1, 1] - seg[0, 1] for seg in segments.get_segments()] == pytest.approx([0.1, 0.2])
+
+
 def test_concave(concave):
     study, results, written = concave
     _common(study, results, written)

@@ -268,6 +268,50 @@ THESIS_PLATEAUS = {"one": 1.6, "two": 1.65, "three": 1.9}
 THESIS_SMALL_PRELOAD = {"one": 0.0, "two": 0.0, "three": 0.4}
 
 
+#: Fig. 6-6 b's large preload: the sampled sets run sigma~ = 0.04 and 2.5 at F~_P = 20 for every level.
+ROUGHNESS_PRELOAD = 20.0
+
+
+def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
+    """Fig. 6-6 b: F~_A at the large preload F~_P = 20 against sigma~ for each level, mean and
+    standard error over the seeds, beside the thesis's plateaus at sigma~ = 0.04 and its "all curves go
+    close to each other" for sigma~ > 2 (not drawn when no level has two roughnesses at that preload)."""
+    colours = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
+    points = {}
+    for part in LEVELS:
+        frame = finished(results, part)
+        if has(frame, FA, SIG, FP, SIGMA, "realization"):
+            # F~_P by the rasterised F_c differs by a few per mille between seeds: within 10 % counts
+            at_preload = frame[np.isclose(frame[FP], ROUGHNESS_PRELOAD, rtol=0.1)]
+            if at_preload[SIGMA].nunique() > 1:
+                points[part] = at_preload
+    if not points:
+        return
+    fig, ax = figure(1, 1)
+    for i, part in enumerate(LEVELS):
+        ax[0, 0].plot([0.04], [THESIS_PLATEAUS[part]], "s", color=colours[part], mfc="none",
+                      label="thesis, σ~ = 0.04, open squares in the level's colour (text, L1197)"
+                      if i == 0 else None)
+        frame = points.get(part)
+        if frame is None:
+            continue
+        rows = []
+        for _, group in frame.groupby(SIGMA):
+            per_seed = group.groupby("realization")[FA].mean()
+            error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else 0.0
+            rows.append((float(group[SIG].mean()), per_seed.mean(), error, len(per_seed)))
+        x, y, e, n = (np.array(v) for v in zip(*sorted(rows)))
+        name = f"{part} level{'s' if part != 'one' else ''}"
+        # markers only: two roughnesses do not say how F~_A falls between them; the levels side by side
+        ax[0, 0].errorbar(x + 0.04 * (i - 1), y, yerr=e, fmt="o", color=colours[part], capsize=3,
+                          label=f"{name} (N = 1024, mean ± s.e.; seeds {', '.join(map(str, n))})")
+    ax[0, 0].axvspan(2.0, 3.0, color="0.9", zorder=0, label="thesis: 'all curves go close to each other' (σ~ > 2)")
+    ax[0, 0].set(xlabel="σ~", ylabel=f"F~_A = F_A / F_c (F~_P = {ROUGHNESS_PRELOAD:g})",
+                 title="Fig. 6-6 b: the large-preload force against roughness", xlim=(-0.1, 3), ylim=(0, None))
+    ax[0, 0].legend(fontsize=6)
+    save(fig, Path(figures_dir) / "fig6-6b_roughness.png", written)
+
+
 def _draw_small_preload(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
     """Fig. 6-4 e's small preload at sigma~ = 1.6: F~_A per level and preload, mean and standard error
     over the seeds, beside the thesis's statement (not drawn when the tables have no such point)."""
@@ -372,8 +416,9 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
 
 def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     """The figures the per-case tables alone determine: the plateau at sigma~ = 0.04 of each level
-    (Fig. 6-5) and, where the small-preload set has run, Fig. 6-4 e's small preload at sigma~ = 1.6;
-    mean and standard error over the seeds, beside the thesis's values (text)."""
+    (Fig. 6-5), the large-preload force against sigma~ (Fig. 6-6 b) and, where the small-preload set
+    has run, Fig. 6-4 e's small preload at sigma~ = 1.6; mean and standard error over the seeds,
+    beside the thesis's values (text)."""
     written: list[Path] = []
     fig, ax = figure(1, 1)
     drawn = 0
@@ -398,6 +443,7 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     if not drawn:
         empty_note(ax[0, 0])
     save(fig, Path(figures_dir) / "fig6-5_plateaus.png", written)
+    _draw_roughness_plateaus(results, figures_dir, written)
     _draw_small_preload(results, figures_dir, written)
     _draw_effective_stiffness(results, figures_dir, written)
     _draw_top_stiffness(results, figures_dir, written)
