@@ -141,6 +141,36 @@ def test_fig_6_6b_is_drawn_from_the_large_preload_points_only(tmp_path, monkeypa
     assert [seg[1, 1] - seg[0, 1] for seg in segments.get_segments()] == pytest.approx([0.1, 0.2])
 
 
+def test_fig_6_7b_compares_one_and_three_levels_over_the_same_seeds(tmp_path, monkeypatch):
+    """A run in progress has seed 1's one-level curve at sigma~ = 0.04 only: at 0.8 the three-level
+    line and k~1' use seed 0 alone, so seed 1's three-level force there never moves them."""
+    import pandas as pd
+
+    from brushbem.studies import hierarchy
+    from brushbem.studies._ch5_7 import FP, SIG, K
+
+    smooth, rough = 1e-4, 2e-3  # raw sigma; sigma~ 0.04 and 0.8
+    rows = []
+    for seed in (0, 1):
+        for k, fa_smooth, fa_rough in ((1e-4, 2.0, 1.6), (1e-3, 1.6, 1.0)):
+            rows.append({SIGMA: smooth, SIG: 0.04, K: k, FA: fa_smooth, "realization": seed})
+            if seed == 0:
+                rows.append({SIGMA: rough, SIG: 0.8, K: k, FA: fa_rough, "realization": seed})
+    one = pd.DataFrame(rows).assign(status="finished")
+    points = ((smooth, 0.04, 1.8, 0), (smooth, 0.04, 1.8, 1), (rough, 0.8, 1.3, 0), (rough, 0.8, 0.1, 1))
+    three = pd.DataFrame([{SIGMA: s, SIG: st, FP: 14.3, PRELOAD: 1.0, FA: fa, "realization": seed}
+                          for s, st, fa, seed in points]).assign(status="finished")
+    drawn = []
+    monkeypatch.setattr(hierarchy, "save", lambda fig, path, written: drawn.append(fig) or written.append(path))
+    hierarchy._draw_effective_stiffness({"stiffness_one": one, "three": three}, tmp_path, [])
+    lines = {line.get_label(): line for line in drawn[0].axes[0].get_lines()}
+    assert lines["three levels, σ~ = 0.8"].get_ydata()[0] == pytest.approx(1.3)  # seed 0 only, not 0.7
+    assert "one level, σ~ = 0.04, 2 seeds" in lines and "one level, σ~ = 0.8, 1 seed" in lines
+    # k~1' at 0.8: 1.3 lies halfway between 1.6 and 1.0 in log k~ from 1e-4 to 1e-3
+    stars = [line for line in drawn[0].axes[0].get_lines() if line.get_marker() == "*"]
+    assert [float(star.get_xdata()[0]) for star in stars] == pytest.approx([10 ** -3.5, 10 ** -3.5])
+
+
 def test_concave(concave):
     study, results, written = concave
     _common(study, results, written)

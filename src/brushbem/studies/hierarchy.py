@@ -382,17 +382,29 @@ def _effective_stiffness_panel(ax, results: Mapping[str, pd.DataFrame], eff: pd.
 
 def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
     """Fig. 6-7 b from the tables: (a) one level's F~_A (F~_P = 14.3) against k~1 at each sigma~, the
-    three-level plateau at that sigma~ as a line and the k~1' where they meet; (b) k~1' against
-    sigma~ beside eq. 6.28 and k~1 (not drawn when ``stiffness_one`` has not run)."""
+    three-level plateau at that sigma~ (over the same seeds) as a line and the k~1' where they meet;
+    (b) k~1' against sigma~ beside eq. 6.28 and k~1 (not drawn when ``stiffness_one`` has not run)."""
     one = finished(results, "stiffness_one")
     if not has(one, K, SIGMA, SIG, FA):
         return
-    seeds = ""
-    if "realization" in one.columns:  # the three-level plateau of the seeds the one level has run
-        kept = sorted(set(one["realization"]))
-        results = {part: frame[frame["realization"].isin(kept)] if "realization" in frame.columns else frame
-                   for part, frame in results.items()}
-        seeds = f", {len(kept)} seed{'s' if len(kept) > 1 else ''}"
+    seeds: dict[float, int] = {}
+    if "realization" in one.columns:
+        # At each sigma~, only the seeds whose one-level curve is complete there, and the three-level
+        # plateau of those same seeds: a run in progress has seeds complete at one roughness only.
+        complete = one.groupby([SIGMA, "realization"])[K].transform("nunique") == one[K].nunique()
+        one = one[complete]
+        kept = {float(sigma): set(g["realization"]) for sigma, g in one.groupby(SIGMA)}
+        seeds = {sigma: len(r) for sigma, r in kept.items()}
+
+        def same_seeds(frame: pd.DataFrame) -> pd.DataFrame:
+            if not has(frame, SIGMA, "realization"):
+                return frame
+            mask = np.zeros(len(frame), dtype=bool)
+            for sigma, realizations in kept.items():
+                mask |= np.isclose(frame[SIGMA], sigma, rtol=1e-6) & frame["realization"].isin(realizations)
+            return frame[mask]
+
+        results = {part: same_seeds(frame) for part, frame in results.items()}
     eff = effective_stiffness(results)
     fig, ax = figure(2, 1)
     colours = iter(("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"))
@@ -400,7 +412,9 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
         colour = next(colours, "0.3")
         m = g.groupby(K)[FA].mean().sort_index()
         sig = float(g[SIG].mean())
-        ax[0, 0].semilogx(m.index, m.to_numpy(), "o-", ms=3, color=colour, label=f"one level, σ~ = {sig:.2g}")
+        n = seeds.get(float(sigma))
+        count = f", {n} seed{'s' if n > 1 else ''}" if n else ""
+        ax[0, 0].semilogx(m.index, m.to_numpy(), "o-", ms=3, color=colour, label=f"one level, σ~ = {sig:.2g}{count}")
         row = eff[np.isclose(eff["sigma"], sig, rtol=0.05)] if len(eff) else eff  # one and three levels rasterise alike
         if len(row):
             ax[0, 0].axhline(float(row["plateau_three"].iloc[0]), ls="--", color=colour, lw=0.8,
@@ -408,7 +422,7 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
             if math.isfinite(float(row["effective_stiffness"].iloc[0])):
                 ax[0, 0].plot(row["effective_stiffness"], row["plateau_three"], "*", ms=10, color=colour)
     ax[0, 0].set(xlabel="k~1 (one level)", ylabel="F~_A (F~_P = 14.3; three levels: plateau)",
-                 title=f"Fig. 6-7 b: the one level matching three (stars: k~1'{seeds})")
+                 title="Fig. 6-7 b: the one level matching three (stars: k~1')")
     ax[0, 0].legend(fontsize=6)
     _effective_stiffness_panel(ax[0, 1], results, eff)
     save(fig, Path(figures_dir) / "fig6-7b_effective_stiffness.png", written)
