@@ -431,9 +431,8 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
         assert math.isfinite(number.compute(sets["stiffness"])) == alone, number.quantity
     # The sampled numbers are the means over the ten seeds (F~_A = factor x (1 + realisation) here),
     # the ratio that of the levels' factors, the differences three less one and two levels 11 - 5.5 and
-    # 11 - 8.25; one level
-    # meets three at k~1 = 1e-3 at sigma~ = 0.04 and at 5e-4 (half the three levels' k~1) at 0.8; the
-    # k~3 row is (1 - 0.2) / (1 - 0.04).
+    # 11 - 8.25; one level meets three at k~1 = 1e-3 at sigma~ = 0.04 and at 5e-4 (half the three
+    # levels' k~1) at 0.8; the k~3 row is (1 - 0.2) / (1 - 0.04).
     assert [number.compute(sets["plateaus"]) for number in plateaus] == pytest.approx([5.5, 8.25, 11.0])
     assert [n.compute(sets["small_preload"]) for n in small_preload] == pytest.approx([11.0, 11.0, 5.5, 8.25])
     assert [n.compute(sets["plateaus"]) for n in ratios] == pytest.approx([2.0])

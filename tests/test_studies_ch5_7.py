@@ -137,7 +137,7 @@ def test_fig_6_6b_is_drawn_from_the_large_preload_points_only(tmp_path, monkeypa
     # means 1.75 and 0.2 (three levels drawn 0.04 to the right); standard errors over the two seeds
     # 0.0707 / sqrt(2) = 0.05 and 0.141 / sqrt(2) = 0.1, each bar twice as long
     assert y == pytest.approx([1.75, 0.2]) and x == pytest.approx([0.04, 2.5] + np.array(0.04))
-    (segments,) = [c for c in bars.lines[2]]
+    (segments,) = bars.lines[2]
     assert [seg[1, 1] - seg[0, 1] for seg in segments.get_segments()] == pytest.approx([0.1, 0.2])
 
 

@@ -36,6 +36,7 @@ from brushbem.studies.base import Study, ThesisNumber
 from brushbem.theory import equivalent_single_level_stiffness
 
 LEVELS = ("one", "two", "three")
+LEVEL_COLOURS = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
 KEQ = "normalized.equivalent_single_level_stiffness_ratio"
 K3 = "indenter.levels.1.stiffness_ratio"
 K1 = "normalized.stiffness_ratio"  # a brush's bottom-level k~1
@@ -71,6 +72,11 @@ def _eq628_value(results):
     if has(three, KEQ):
         return float(three[KEQ].mean())
     return math.nan
+
+
+def _standard_error(per_seed: pd.Series) -> float:
+    """Standard error of the mean over the seeds (0 for a single seed)."""
+    return float(per_seed.std() / math.sqrt(len(per_seed))) if len(per_seed) > 1 else 0.0
 
 
 def _plateau(part: str, sigma_tilde: float, preload: float | None = None):
@@ -166,7 +172,7 @@ def _top_stiffness_ratio(k3: float, sigma_tilde: float, over_sigma_tilde: float)
 def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
-    colours = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green", "equivalent": "tab:red"}
+    colours = {**LEVEL_COLOURS, "equivalent": "tab:red"}
     written += draw_tables(results, figures_dir)
     # Fig. 6-4: curves at the smallest and largest preload, for each roughness
     frames = {p: finished(results, p) for p in LEVELS}
@@ -276,7 +282,6 @@ def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: P
     """Fig. 6-6 b: F~_A at the large preload F~_P = 20 against sigma~ for each level, mean and
     standard error over the seeds, beside the thesis's plateaus at sigma~ = 0.04 and its "all curves go
     close to each other" for sigma~ > 2 (not drawn when no level has two roughnesses at that preload)."""
-    colours = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
     points = {}
     for part in LEVELS:
         frame = finished(results, part)
@@ -289,7 +294,7 @@ def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: P
         return
     fig, ax = figure(1, 1)
     for i, part in enumerate(LEVELS):
-        ax[0, 0].plot([0.04], [THESIS_PLATEAUS[part]], "s", color=colours[part], mfc="none",
+        ax[0, 0].plot([0.04], [THESIS_PLATEAUS[part]], "s", color=LEVEL_COLOURS[part], mfc="none",
                       label="thesis, σ~ = 0.04, open squares in the level's colour (text, L1197)"
                       if i == 0 else None)
         frame = points.get(part)
@@ -298,12 +303,11 @@ def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: P
         rows = []
         for _, group in frame.groupby(SIGMA):
             per_seed = group.groupby("realization")[FA].mean()
-            error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else 0.0
-            rows.append((float(group[SIG].mean()), per_seed.mean(), error, len(per_seed)))
+            rows.append((float(group[SIG].mean()), per_seed.mean(), _standard_error(per_seed), len(per_seed)))
         x, y, e, n = (np.array(v) for v in zip(*sorted(rows)))
         name = f"{part} level{'s' if part != 'one' else ''}"
         # markers only: two roughnesses do not say how F~_A falls between them; the levels side by side
-        ax[0, 0].errorbar(x + 0.04 * (i - 1), y, yerr=e, fmt="o", color=colours[part], capsize=3,
+        ax[0, 0].errorbar(x + 0.04 * (i - 1), y, yerr=e, fmt="o", color=LEVEL_COLOURS[part], capsize=3,
                           label=f"{name} (N = 1024, mean ± s.e.; seeds {', '.join(map(str, n))})")
     ax[0, 0].axvspan(2.0, 3.0, color="0.9", zorder=0, label="thesis: 'all curves go close to each other' (σ~ > 2)")
     ax[0, 0].set(xlabel="σ~", ylabel=f"F~_A = F_A / F_c (F~_P = {ROUGHNESS_PRELOAD:g})",
@@ -335,7 +339,7 @@ def _draw_small_preload(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
         # F~_P by the rasterised F_c differs by a few per mille between seeds: grouped by its nominal value
         for preload, group in rough.groupby(rough[FP].round(1)):
             per_seed = group.groupby("realization")[FA].mean()
-            error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else 0.0
+            error = _standard_error(per_seed)
             colour = "tab:blue" if preload > 0.5 else "tab:cyan"
             label = f"ours, F~_P = {preload:.2g} (N = 1024, mean ± s.e.)"
             x = i + (0.12 if preload < 0.5 else 0.0)
@@ -443,7 +447,7 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
             if len(smooth):
                 # per seed, the largest F~_A over the plateau preloads; then mean and standard error
                 per_seed = smooth.groupby("realization")[FA].max()
-                error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else 0.0
+                error = _standard_error(per_seed)
                 ax[0, 0].errorbar([i], [per_seed.mean()], yerr=[error], fmt="o", color="tab:blue", capsize=3,
                                   label="ours (N = 1024, mean ± s.e.)" if not drawn else None)
                 ax[0, 0].annotate(f"{per_seed.mean():.3f}\n{len(per_seed)} seeds", (i, per_seed.mean()),
