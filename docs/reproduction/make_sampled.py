@@ -185,7 +185,7 @@ def select(points: list[dict], extra: bool = False) -> list[dict]:
 
 #: Chapter 5's second set, ``plateau_c``: the cheap points of the plateau and c rows, for the
 #: standard errors of those rows over ten seeds (the Table 1 points run seed by seed in the main
-#: file, 20-30 CPU-hours a seed).  The plateaus at the largest preload (F~_P = 10, 15 and 20 give
+#: file, 5.8 CPU-hours for seed 0).  The plateaus at the largest preload (F~_P = 10, 15 and 20 give
 #: the same F~_A to 12 digits on seed 0, so the largest alone reads the plateau) without the stiff
 #: sigma~ = 2.1 points (one pillar's force, 20 CPU-minutes a case), and c at sigma~ = 0.01.
 RESOLVED_PLATEAUS = ((10.0, 0.01), (10.0, 0.07), (1.0, 0.01), (1.0, 0.07), (0.55, 0.01), (0.55, 0.07),
