@@ -2,14 +2,15 @@
 
 The sampled preload file (``rough_brush.preload.sampled.toml``) is complete for
 seed 0 only; seeds 1-9 lack the same 75 points each (curve preloads, and the
-stiff brushes at sigma~ >= 0.96; 4.3 CPU-hours a seed at seed 0's times), and their rows read the sets ``plateau_c``,
-``table1_soft`` and ``table1_stiff`` instead.  Seed 0 has those 75 points, so a
-row that pools the seeds (c of a point is the mean over the seeds that have it)
-reads them on seed 0 alone.  This recomputes every chapter-5 row without seed 0's
-copies of the 75 points and prints, per row, whether its number changes: a row
-that does not change is the same whether or not seeds 1-9 ever run those points
-(as long as they behave there as seed 0 does: the plateau reached at the largest
-preload, one pillar's force at the stiff sigma~ >= 0.96).  No computation: seconds.
+stiff brushes at sigma~ >= 0.96; 4.3 CPU-hours a seed at seed 0's times), and
+their rows read the sets ``plateau_c``, ``table1_soft`` and ``table1_stiff``
+instead.  Seed 0 has those 75 points, so a row that pools the seeds (c of a
+point is the mean over the seeds that have it) reads them on seed 0 alone.
+This recomputes every chapter-5 row without seed 0's copies of the 75 points
+and prints, per row, whether its number changes: a row that does not change is
+the same whether or not seeds 1-9 ever run those points (as long as they behave
+there as seed 0 does: the plateau reached at the largest preload, one pillar's
+force at the stiff sigma~ >= 0.96).  No computation: seconds.
 
     python docs/reproduction/probe_missing_cases.py
 """
@@ -19,18 +20,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from brushbem.reproduction import load_tables
+from brushbem.reproduction import _compute, load_tables
 from brushbem.studies import get_study
 
 TABLES = Path(__file__).resolve().parent / "rough_brush"
 POINT = ["indenter.stiffness_ratio", "indenter.roughness.sigma", "protocol.preload_force"]
-
-
-def _number(number, tables) -> float:
-    try:
-        return float(number.compute(tables))
-    except (ValueError, ZeroDivisionError, KeyError):
-        return math.nan
 
 
 def main() -> None:
@@ -42,7 +36,7 @@ def main() -> None:
     print(f"{len(missing)} points missing on some seed; seed 0 has {int(only_seed_0.sum())} of them")
     without = {**tables, "preload": preload[~only_seed_0]}
     for number in get_study("rough_brush").numbers:
-        a, b = _number(number, tables), _number(number, without)
+        (a, _), (b, _) = _compute(number, tables), _compute(number, without)  # n/a as the doc has it
         same = (math.isnan(a) and math.isnan(b)) or math.isclose(a, b, rel_tol=1e-9)
         print(f"{'same   ' if same else 'CHANGES'}  {a:.6g} -> {b:.6g}  {number.quantity}")
 
