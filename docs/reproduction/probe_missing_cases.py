@@ -1,12 +1,12 @@
 """Chapter 5: which rows the main preload file's missing cases could change, on the committed cases.
 
 The sampled preload file (``rough_brush.preload.sampled.toml``) is complete for
-seed 0 only; seeds 1-9 lack the same 75 points each (curve preloads, and the
+seed 0 only; seeds 1-9 lack up to 75 points each (curve preloads, and the
 stiff brushes at sigma~ >= 0.96; 4.3 CPU-hours a seed at seed 0's times), and
-their rows read the sets ``plateau_c``, ``table1_soft`` and ``table1_stiff``
-instead.  Seed 0 has those 75 points, so a row that pools the seeds (c of a
+their rows read the sets ``plateau_c``, ``table1_soft``, ``table1_stiff`` and
+``rough_plateau`` instead.  Seed 0 has those points, so a row that pools the seeds (c of a
 point is the mean over the seeds that have it) reads them on seed 0 alone.
-This recomputes every chapter-5 row without seed 0's copies of the 75 points
+This recomputes every chapter-5 row without seed 0's copies of those points
 and prints, per row, whether its number changes: a row that does not change is
 the same whether or not seeds 1-9 ever run those points (as long as they behave
 there as seed 0 does: the plateau reached at the largest preload, one pillar's
