@@ -18,8 +18,8 @@ costs hundreds of CPU hours at the thesis's grid.  The thesis's stated numbers n
   sigma~_c (c <= 0) has no linear region and is left out.  The points of the
   added roughnesses (`EXTRA_SIGMA`) are in the set ``table1_stiff`` only.
 
-Its other sets run the points of the rows over ten seeds, as sampled sets of
-their own: ``plateau_c``, ``table1_soft``, ``table1_stiff`` and
+Chapter 5's other sets run the points of the rows over the seeds, as sampled
+sets of their own: ``plateau_c``, ``table1_soft``, ``table1_stiff`` and
 ``rough_plateau`` (the comments at their rules below).
 
 Chapter 6 (``hierarchy.one``, ``.two``, ``.three``; 81 points x 10
@@ -196,26 +196,17 @@ RESOLVED_PLATEAUS = ((10.0, 0.01), (10.0, 0.07), (1.0, 0.01), (1.0, 0.07), (0.55
                      (0.001, 0.01), (0.001, 0.07), (0.001, 2.1))
 
 
+def _largest_preload(points: list[dict], plateaus) -> list[dict]:
+    """The main file's points at F~_P = 20 of the (k~, sigma~) in ``plateaus``, in its order."""
+    return [p for p in select(points) if any(
+        _close(p[K], k) and _close(p[SIGMA] / D_C, s) and _close(p[PRELOAD] / F_C, PLATEAU_PRELOAD[0])
+        for k, s in plateaus)]
+
+
 def select_plateau_c(points: list[dict]) -> list[dict]:
     """The ``plateau_c`` set of chapter 5: `RESOLVED_PLATEAUS` at F~_P = 20, then c at sigma~ = 0.01
     (the main file's points, in its order)."""
-    chosen = [p for p in select(points) if any(
-        _close(p[K], k) and _close(p[SIGMA] / D_C, s) and _close(p[PRELOAD] / F_C, PLATEAU_PRELOAD[0])
-        for k, s in RESOLVED_PLATEAUS)]
-    return chosen + [p for p in select(points) if _close(p[SIGMA] / D_C, 0.01) and p[PRELOAD] / F_C < 1.0]
-
-
-#: Chapter 5's fifth set, ``rough_plateau``: the one plateau row that `RESOLVED_PLATEAUS` leaves to the
-#: main file, k~ = 1 at sigma~ = 2.1 ("almost vanishes"), at F~_P = 20 alone, for its standard error
-#: over the seeds (seed 0: 21 CPU-minutes; the main file reaches it only after its k~ = 10 point).
-ROUGH_PLATEAUS = ((1.0, 2.1),)
-
-
-def select_rough_plateau(points: list[dict]) -> list[dict]:
-    """The ``rough_plateau`` set of chapter 5: `ROUGH_PLATEAUS` at F~_P = 20 (the main file's points)."""
-    return [p for p in select(points) if any(
-        _close(p[K], k) and _close(p[SIGMA] / D_C, s) and _close(p[PRELOAD] / F_C, PLATEAU_PRELOAD[0])
-        for k, s in ROUGH_PLATEAUS)]
+    return _largest_preload(points, RESOLVED_PLATEAUS) + [p for p in select(points) if _close(p[SIGMA] / D_C, 0.01) and p[PRELOAD] / F_C < 1.0]
 
 
 #: Chapter 5's third set, ``table1_soft``: the Table 1 points of the soft brushes, whose c stays
@@ -240,6 +231,17 @@ def select_table1_stiff(points: list[dict]) -> list[dict]:
     """The ``table1_stiff`` set of chapter 5: the main file's Table 1 points of `EXTRA_K`, 0.01 < sigma~ < 1."""
     return [p for p in select(points, extra=True) if any(_close(p[K], k) for k in EXTRA_K)
             and 0.02 < p[SIGMA] / D_C < 0.9 and p[PRELOAD] / F_C < 9.0]
+
+
+#: Chapter 5's fifth set, ``rough_plateau``: the one plateau row that `RESOLVED_PLATEAUS` leaves to the
+#: main file, k~ = 1 at sigma~ = 2.1 ("almost vanishes"), at F~_P = 20 alone, for its standard error
+#: over the seeds (seed 0: 21 CPU-minutes; the main file reaches it only after its k~ = 10 point).
+ROUGH_PLATEAUS = ((1.0, 2.1),)
+
+
+def select_rough_plateau(points: list[dict]) -> list[dict]:
+    """The ``rough_plateau`` set of chapter 5: `ROUGH_PLATEAUS` at F~_P = 20 (the main file's points)."""
+    return _largest_preload(points, ROUGH_PLATEAUS)
 
 
 H_F_C = 0.00331177  # the hierarchy sweeps' header: F_c and d_c of one level
