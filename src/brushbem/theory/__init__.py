@@ -26,7 +26,10 @@ Contents (by thesis chapter; equation numbers are the thesis's)
     Flat rigid and soft brushes (eq. 4.5-4.18, 5.3-5.4): ``rigid_brush_*``,
     ``compact_punch_force``, ``soft_brush_*``, and ``ideal_sharing_force`` (eq. 7.4).
 ``rough`` (ch. 5)
-    Rough brushes (eq. 5.8): ``adhesion_coefficient``, ``critical_roughness``.
+    Rough brushes (eq. 5.8): ``adhesion_coefficient``, ``critical_roughness``; the
+    brush of independent pillars (eq. 5.7's model with each punch's compliance):
+    ``independent_pillars_pull_off``, ``independent_rough_brush``,
+    ``independent_gaussian_plateau``.
 ``hierarchy`` (ch. 6)
     Hierarchical brushes (eq. 6.20-6.28): ``hierarchy_stiffnesses``,
     ``total_filling_factor``, ``equivalent_single_level_stiffness``.
@@ -85,8 +88,14 @@ from .punch import (
     punch_stiffness,
 )
 from .rough import (
+    ROUGHNESS_SCALES,
+    IndependentPullOff,
+    IndependentRoughBrush,
     adhesion_coefficient,
     critical_roughness,
+    independent_gaussian_plateau,
+    independent_pillars_pull_off,
+    independent_rough_brush,
 )
 from .sphere import (
     dmt_pull_off_force,
@@ -191,6 +200,12 @@ __all__ = [  # noqa: RUF022 - grouped by thesis chapter
     "soft_brush_work_normalized",
     "adhesion_coefficient",
     "critical_roughness",
+    "ROUGHNESS_SCALES",
+    "IndependentPullOff",
+    "IndependentRoughBrush",
+    "independent_pillars_pull_off",
+    "independent_rough_brush",
+    "independent_gaussian_plateau",
     # hierarchy
     "hierarchy_stiffnesses",
     "total_filling_factor",
