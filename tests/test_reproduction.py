@@ -157,12 +157,33 @@ def test_a_row_beyond_five_percent_links_the_notes_that_explain_it():
     # A number the cases cannot give links the notes that explain its study, like a far one; where
     # none explains the study, it is left blank (n/a says it is missing).
     assert "n/a (no line crosses zero)" in not_given and "](#notes-grids-of-s-part-a)" in not_given
-    assert not_given_t.endswith("| — | — |  |")
-    assert near.endswith("|  |") and near_zero.endswith("| +0.03 (absolute; thesis 0) |  |")
+    assert not_given_t.endswith("| — | — | **open** |  |")
+    assert near.endswith("| **reproduced** |  |") and near_zero.endswith("| +0.03 (absolute; thesis 0) | **open** |  |")
     assert "[Grids of `s` (part `a`)](#notes-grids-of-s-part-a)" in far
-    assert "| +0.4 (absolute; thesis 0) | [Grids of `s` (part `a`)]" in far_zero
+    assert "| +0.4 (absolute; thesis 0) | **open** | [Grids of `s` (part `a`)]" in far_zero
     assert "no explanation in the notes" in unexplained
     assert '<a id="notes-grids-of-s-part-a"></a>' in text
+
+
+def test_a_verdict_follows_the_tolerance_the_standard_errors_then_the_declaration():
+    from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE, count_by_chapter, judge
+
+    assert judge(1.0, 1.049, math.nan, CONTRADICTED) == REPRODUCED  # within 5 %: the rule wins
+    assert judge(1.0, 1.2, 0.11, None) == REPRODUCED  # within two standard errors
+    assert judge(1.0, 1.2, 0.09, None) == OPEN  # neither, and nothing declared
+    assert judge(1.0, 1.2, 0.09, STATED_CHOICE) == STATED_CHOICE
+    # A thesis 0 (a trend: "go close to each other") is met only within the standard errors.
+    assert judge(0.0, 0.0385, 0.0046, None) == OPEN
+    assert judge(0.0, 0.0385, 0.02, None) == REPRODUCED
+    assert judge(1.0, math.nan, math.nan, None) == OPEN
+    with pytest.raises(ValueError, match="declared verdict"):
+        judge(1.0, 2.0, math.nan, "plausible")
+    counts = count_by_chapter([("rough_brush", OPEN), ("rough_brush", REPRODUCED), ("hierarchy", CONTRADICTED)])
+    assert counts[5][OPEN] == counts[5][REPRODUCED] == counts[6][CONTRADICTED] == 1
+    text = render([ComparisonRow("rough_brush", "q", "w", 1.0, 2.0, math.nan, 1, "", CONTRADICTED, "a limit")],
+                  {"rough_brush": {"quick": False, "parts": {}}})
+    assert "| 5 | 0 | 0 | 1 | 0 | 1 |" in text and "**contradicted**: a limit" in text
+    assert "grid ours: the thesis states none" in text
 
 
 def test_every_committed_row_beyond_five_percent_is_explained():
@@ -311,7 +332,7 @@ def test_a_sampled_study_is_labelled_and_recomputed_with_its_flag():
     provenance = {"quick": False, "parts": {"preload": {"sweep_file": "rough_brush.preload.sampled.toml"}}}
     row = ComparisonRow("rough_brush", "q", "Table 1", 1.0, 1.0, math.nan, 1, "")
     text = render([row], {"rough_brush": provenance}, "", {})
-    assert "## `rough_brush` (thesis grid, sampled)" in text
+    assert "## `rough_brush` (grid ours: the thesis states none, sampled)" in text
     assert "brushbem study rough_brush --out out/rough_brush --sampled" in text
     # A part merged from a named sampled set: both files listed, both commands printed.
     provenance = {"quick": False, "parts": {"three": {
@@ -487,7 +508,7 @@ def test_a_run_in_progress_says_so_and_counts_its_begun_realisations():
         "finished_realizations": 1, "statuses": {"finished": 2, "missing": 18}}}}
     row = ComparisonRow("rough_brush", "q", "Table 1", 1.0, 1.0, math.nan, 1, "")
     text = render([row], {"rough_brush": provenance}, "", {})
-    assert "## `rough_brush` (thesis grid, sampled; in progress, 2 of 20 cases)" in text
+    assert "## `rough_brush` (grid ours: the thesis states none, sampled; in progress, 2 of 20 cases)" in text
     assert "18 cases are missing (not yet computed, not failed)" in text
     assert "| 20 (2 finished, 18 missing) | 1 of 10 begun |" in text
     provenance["parts"]["preload"].update(finished_realizations=10, statuses={"finished": 20})

@@ -73,6 +73,9 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
 
     Converts the stiffness ratios k~ = k / (E* L), L = grid.size, to
     stiffnesses; a `StructureError` names the ``indenter`` key it comes from.
+    A clustered layout (``layout = "clustered"``) derives its pillar radius
+    from ``filling_factors`` and records the filling factor of every level as
+    rasterised (`brushbem.structure.BrushGeometry.level_filling_factors`).
     """
     spec = indenter_config
     grid = Grid(grid_config.size, grid_config.elements)
@@ -109,6 +112,7 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
             tip=_tip(spec.tip),
             tilt=Tilt(spec.tilt.angle, spec.tilt.azimuth) if spec.tilt is not None else None,
             grading=_grading(spec.grading),
+            filling_factors=spec.filling_factors,
         )
     except StructureError as exc:
         if exc.key == "lengths_file":  # name the file, not only its count

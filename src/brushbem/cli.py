@@ -662,7 +662,7 @@ def _list_studies() -> None:
     help="Folder for study.json, one sweep folder per part and figures/ (created if absent; "
     "cases already there are not recomputed).",
 )
-@click.option("--quick", is_flag=True, help="Run the coarse sweep files (a quick check, not the thesis's grids).")
+@click.option("--quick", is_flag=True, help="Run the coarse sweep files (a quick check, not the full grids).")
 @click.option("--sampled", is_flag=True,
               help="Run, for the parts that ship one, the sampled subset of the full sweep (the parameter "
                    "points that carry the thesis's stated numbers, at its grid).")
@@ -727,7 +727,7 @@ def study(
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     if sampled_set is not None:
         if quick:
-            raise click.UsageError("--sampled-set is a subset of the thesis's grid; it does not go with --quick")
+            raise click.UsageError("--sampled-set is a subset of the full grid; it does not go with --quick")
         sets = studies.sampled_sets(name)
         if sampled_set not in sets or any(part not in sets[sampled_set] for part in (
                 parts if part_names is not None else ())):

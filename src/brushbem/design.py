@@ -234,7 +234,7 @@ def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float) -> 
     whose pillars stay in full contact up to the adhesive force.  In a dense
     array a pillar can keep part of its contact after its first elements
     let go, and the ordinary pull-off may then pass the bound: at the
-    thesis's grid (N = 512, 16 x 16 in a circle) the verified design meets
+    chapter-7 grid (N = 512, 16 x 16 in a circle; ours) the verified design meets
     it at phi = 0.06 (0.942 both) and exceeds it by 2-3 % at phi = 0.15
     (0.853 and 0.866 against 0.839).  Returns the bound and the optimal
     tensions.  Costs one solve per pillar and a dense elements-in-footprints

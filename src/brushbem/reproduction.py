@@ -38,6 +38,7 @@ import pandas as pd
 
 from . import __version__
 from .io import atomic_path
+from .studies.verdicts import REPRODUCED, REPRODUCED_WITHIN, STANDARD_ERRORS, VERDICTS, count_by_chapter, judge
 from .sweep.spec import case_hash
 
 __all__ = ["ComparisonRow", "compare", "export_tables", "load_tables", "recorded_cases", "render"]
@@ -48,6 +49,8 @@ NOTES_FILE = "notes.md"
 #: thesis's value, or, where the thesis states 0 ("tends to zero", "vanishes": every such number is
 #: a force normalised by the rigid brush's F_c), absolute, in units of that normalising force.
 EXPLAIN_ABOVE = 0.05
+#: The studies whose grid the thesis states (the section label); every other grid is ours.
+THESIS_GRIDS = {"flat_brush": "the thesis's grid, N = 512 (L736)"}
 
 
 def deviation_of(thesis: float, ours: float, digits: int = 1) -> tuple[float, bool, str]:
@@ -254,6 +257,8 @@ class ComparisonRow:
     standard_error: float
     realizations: int
     note: str
+    verdict: str | None = None  # None: judged on the numbers alone (`judge` with nothing declared)
+    evidence: str = ""
 
     @property
     def deviation(self) -> float:
@@ -389,8 +394,10 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                 if set(_realizations(tables)) - set(counted):  # the number of the seeds with all its points
                     ours, note = _compute(number, _of_realizations(tables, counted))
                 error, realizations = _standard_error(number, tables, counted)
+            verdict = judge(float(number.thesis), ours, error, number.verdict)
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
-                                      error, realizations, note))
+                                      error, realizations, note, verdict,
+                                      number.evidence if verdict == number.verdict else ""))
     return rows, provenances
 
 
@@ -449,12 +456,28 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         "recompute a study and export its tables).  Each study's section names its",
         "grids and the command that recomputes it; \"quick\" studies ran the coarse",
         "`*.quick.toml` sweeps, which test the machinery, not the thesis's numbers;",
-        "\"sampled\" studies ran, at the thesis's grid, the `*.sampled.toml` subsets of the",
-        "full sweeps that carry the stated numbers (`docs/reproduction/plan.md`).",
+        "\"sampled\" studies ran the `*.sampled.toml` subsets of the full sweeps that carry",
+        "the stated numbers (`docs/reproduction/plan.md`).  The thesis states a grid for",
+        "chapter 4 only (512 x 512, L736); every other grid, pillar count and step is ours",
+        "(the thesis states none), and the notes show how much the choice matters.",
         f"Deviations above {100 * EXPLAIN_ABOVE:.0f} % are explained in the notes below (where the thesis states",
         f"0, an absolute {EXPLAIN_ABOVE:g} of the normalising force).",
         "",
+        "Every row has a verdict: *reproduced* (within "
+        f"{100 * REPRODUCED_WITHIN:.0f} % or {STANDARD_ERRORS:g} standard errors;",
+        "a thesis 0 only within the standard errors), *reproduced with a stated choice* (of a",
+        "parameter the thesis leaves open, named in the row), *contradicted* (the row names the",
+        "closed form, limit or run that shows the thesis's number cannot hold for the model it",
+        "states), or *open* (the row names what was tried).",
+        "",
+        "| chapter | " + " | ".join(VERDICTS) + " | rows |",
+        "| --- | " + " | ".join("---" for _ in VERDICTS) + " | --- |",
     ]
+    verdicts = {id(row): row.verdict or judge(row.thesis, row.ours, row.standard_error, None) for row in rows}
+    for chapter, counts in count_by_chapter((row.study, verdicts[id(row)]) for row in rows).items():
+        lines.append(f"| {chapter or 'other'} | " + " | ".join(str(counts[v]) for v in VERDICTS)
+                     + f" | {sum(counts.values())} |")
+    lines.append("")
     by_study: dict[str, list[ComparisonRow]] = {}
     for row in rows:
         by_study.setdefault(row.study, []).append(row)
@@ -463,7 +486,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         quick = bool(provenance.get("quick"))
         sampled = any(str(info.get("sweep_file", "")).endswith(".sampled.toml")
                       for info in provenance["parts"].values())
-        label = "quick" if quick else "thesis grid, sampled" if sampled else "thesis grid"
+        grid = THESIS_GRIDS.get(name, "grid ours: the thesis states none")
+        label = "quick" if quick else f"{grid}, sampled" if sampled else grid
         cases = sum(int(info.get("cases", 0)) for info in provenance["parts"].values())
         done = sum(int(info.get("statuses", {}).get("finished", 0)) for info in provenance["parts"].values())
         missing = sum(int(info.get("statuses", {}).get("missing", 0)) for info in provenance["parts"].values())
@@ -514,8 +538,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             )
         lines += [
             "",
-            "| quantity | where | thesis | ours | standard error | deviation | explained in |",
-            "| --- | --- | --- | --- | --- | --- | --- |",
+            "| quantity | where | thesis | ours | standard error | deviation | verdict | explained in |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- |",
         ]
         explained = "; ".join(f"[{_cell(heading)}](#{note_anchor(heading)})"
                               for heading, _ in explaining_sections(name, notes))
@@ -526,8 +550,9 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             # a number the cases cannot give (n/a) is explained like a far one, where the notes explain the study
             unexplained = "**no explanation in the notes**" if far else ""
             where = (explained or unexplained) if far or not math.isfinite(row.ours) else ""
+            verdict = f"**{verdicts[id(row)]}**" + (f": {_cell(row.evidence)}" if row.evidence else "")
             lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
-                         f"{error} | {deviation} | {where} |")
+                         f"{error} | {deviation} | {verdict} | {where} |")
         lines.append("")
         if figures.get(name):
             lines += ["Figures drawn from these tables (`brushbem compare-thesis ... --figures DIR`):", ""]

@@ -17,6 +17,7 @@ A compact punch or a sphere is a structure with one pillar.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -27,6 +28,7 @@ from .records import MappingRecord
 
 __all__ = [
     "BrushGeometry",
+    "ClusteredLattice",
     "Geometry",
     "Grading",
     "Grid",
@@ -41,6 +43,8 @@ __all__ = [
     "Tilt",
     "Tip",
     "brush",
+    "clustered_filling_factors",
+    "clustered_lattice",
     "flat_punch",
     "graded_stiffness",
     "height_map",
@@ -189,7 +193,8 @@ class BrushGeometry(Geometry):
     Attributes
     ----------
     layout, region : str
-        ``square`` / ``random`` placement in a ``square`` / ``circle`` region.
+        ``square`` / ``random`` / ``clustered`` placement in a ``square`` /
+        ``circle`` region.
     region_size : float
         Side (square) or diameter (circle) of the placement region.
     n_pillars : int
@@ -220,6 +225,15 @@ class BrushGeometry(Geometry):
         The base's tilt, degrees (`Tilt`).
     graded : bool
         Whether some level's springs differ from pillar to pillar.
+    nominal_level_filling_factors, level_filling_factors : tuple of float
+        ``layout = "clustered"`` only (else empty): the filling factor of every
+        level, bottom-up (phi1, phi2, ...; eq. 6.22), as configured and as
+        rasterised (`clustered_filling_factors`: phi1 from the sub-pillars'
+        elements, the higher levels' exact squares; the product is
+        ``filling_factor``).
+    cluster_sides : tuple of float
+        ``layout = "clustered"`` only: the side 2 r_l of the square clusters
+        of every level above the pillars, bottom-up.
     """
 
     shape: str = "brush"
@@ -245,6 +259,9 @@ class BrushGeometry(Geometry):
     tilt_angle: float = 0.0
     tilt_azimuth: float = 0.0
     graded: bool = False
+    nominal_level_filling_factors: tuple[float, ...] = ()
+    level_filling_factors: tuple[float, ...] = ()
+    cluster_sides: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -624,6 +641,163 @@ def square_lattice(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, n
     return centres, index
 
 
+@dataclass(frozen=True)
+class ClusteredLattice:
+    """Sub-pillars on square lattices inside square clusters (thesis Fig. 6-3): see `clustered_lattice`.
+
+    Attributes
+    ----------
+    centres : ndarray, shape (M, 2)
+        Sub-pillar centres (y, x), in lattice order (rows, then columns of the
+        ``pillars_per_side`` x ``pillars_per_side`` lattice), as `square_lattice`.
+    index : ndarray of int, shape (M, 2)
+        The (row, column) of every sub-pillar on that lattice: `hierarchy_clusters`
+        groups them into the clusters below.
+    pillar_radius : float
+        r1, derived from the filling factors.
+    filling_factors : tuple of float
+        The nominal phi1, phi2, ..., bottom-up (eq. 6.22).
+    sides : tuple of float
+        Side 2 r_l of the square clusters of every level above the pillars, bottom-up.
+    pitches : tuple of float
+        The sub-pillars' pitch 2 r1 + 2 w inside a level-2 cluster, then the pitch
+        of every level's clusters inside the next level's (the top level's: in the
+        region), bottom-up.
+    square_centres : tuple of ndarray, shape (n_l, 2)
+        Centres (y, x) of every level's clusters, in the order of the cluster
+        indices of `hierarchy_clusters` (row-major over that level's clusters).
+    region_size : float
+        Side of the square region the top-level clusters tile.
+    """
+
+    centres: np.ndarray
+    index: np.ndarray
+    pillar_radius: float
+    filling_factors: tuple[float, ...]
+    sides: tuple[float, ...]
+    pitches: tuple[float, ...]
+    square_centres: tuple[np.ndarray, ...]
+    region_size: float
+
+    @property
+    def gaps(self) -> tuple[float, ...]:
+        """2 w between adjacent sub-pillars, then 2 D between adjacent clusters of every level, bottom-up."""
+        return (self.pitches[0] - 2.0 * self.pillar_radius,
+                *(pitch - side for pitch, side in zip(self.pitches[1:], self.sides)))
+
+
+def clustered_lattice(pillars_per_side: int, clusters: Sequence[int], filling_factors: Sequence[float],
+                      region_size: float) -> ClusteredLattice:
+    """Sub-pillars regularly distributed inside square clusters of clusters (thesis Fig. 6-3, eq. 6.22).
+
+    ``clusters[l]`` x ``clusters[l]`` units of level l+1 form one square cluster
+    of level l+2 (level 1: the sub-pillars), as in `hierarchy_clusters`.  The
+    top level's clusters, ``pillars_per_side / prod(clusters)`` per side, are
+    squares centred in the cells of a regular lattice that tiles the square
+    region (side ``region_size``, centred on the origin); every cluster holds
+    the units of the level below centred in the cells of a regular lattice of
+    its own square.  ``filling_factors`` holds one value per level, bottom-up:
+
+    * phi1 = pi r1^2 n^2 / (2 r2)^2: the sub-pillars' cross-sections in a
+      level-2 cluster over its square, n sub-pillars per side, so the
+      sub-pillar pitch is 2 r2 / n = 2 r1 + 2 w and r1 = pitch sqrt(phi1 / pi);
+    * phi_l (1 < l < top) = m^2 (2 r_l)^2 / (2 r_(l+1))^2: the level-l squares in a
+      level-(l+1) square, m per side, so the gap between adjacent level-l
+      clusters is 2 D_l = pitch - 2 r_l = pitch (1 - sqrt(phi_l));
+    * the last: the top level's squares over the region's area.
+
+    The product is the brush's filling factor (eq. 6.22), and r1 =
+    (region_size / pillars_per_side) sqrt(phi1 phi2 ... / pi): the radius of
+    the uniform lattice of the same count and filling factor.
+
+    Raises StructureError (naming ``levels``, ``filling_factors`` or
+    ``pillars_per_side``) for no level above the pillars, a count of filling
+    factors that is not one per level, a filling factor outside (0, 1),
+    sub-pillars that would overlap or touch (phi1 >= pi / 4, 2 r1 >= pitch), or
+    a ``pillars_per_side`` that the product of the cluster sizes does not
+    divide.
+
+    Notes
+    -----
+    Fig. 6-3's caption assumes gaps at least the pillars' size, r1 <= w and
+    r2 <= D.  On a square lattice of clusters phi2 = (2 r2)^2 / (2 r2 + 2 D)^2
+    = (r2 / (r2 + D))^2, so r2 <= D needs phi2 <= 1/4: the thesis's phi2 =
+    phi3 = 0.45 (sec. 6.2) give D = r2 (1 / sqrt(0.45) - 1) = 0.49 r2 (and
+    D3 = 0.49 r3), so the caption's assumption cannot hold with its own
+    parameters.  The sub-pillars do satisfy r1 <= w, which needs phi1 =
+    pi r1^2 / (2 r1 + 2 w)^2 <= pi / 16 = 0.196: phi1 = 0.12 gives w = 1.56 r1.
+    The segment sums (``solver.coupling = "segments"``) need no such gap; the
+    discriminant matrix needs a box that covers a cluster's footprint (about
+    2 r2 - 2 w) and reaches no other (about 2 D + 2 w away), which the
+    thesis's brush misses (`brushbem.operator.discriminant_half_width`
+    refuses it).
+    """
+    factors = tuple(float(f) for f in filling_factors)
+    sizes = tuple(int(c) for c in clusters)
+    if not sizes:
+        raise StructureError("levels", [], "layout = 'clustered' needs at least one level above the pillars")
+    if len(factors) != len(sizes) + 1:
+        raise StructureError(
+            "filling_factors", list(factors),
+            f"must hold {len(sizes) + 1} values, one per level bottom-up (the sub-pillars in a level-2 cluster, "
+            f"then each level's clusters in the next level's, the top level's in the region) for "
+            f"{len(sizes)} level(s) above the pillars",
+        )
+    for level, phi in enumerate(factors, start=1):
+        if not (math.isfinite(phi) and 0.0 < phi < 1.0):
+            raise StructureError("filling_factors", list(factors),
+                                 f"phi{level} = {phi:g} must lie in (0, 1) (a cluster's content over its area)")
+    if not factors[0] < math.pi / 4.0:
+        raise StructureError(
+            "filling_factors", list(factors),
+            f"phi1 = {factors[0]:g}: the sub-pillars overlap or touch (2 r1 >= the pitch 2 r1 + 2 w); a square "
+            f"lattice of disks needs phi1 < pi / 4 = {math.pi / 4:.4f}",
+        )
+    n = int(pillars_per_side)
+    blocks = np.cumprod(sizes)  # sub-pillars per side of a cluster of level 2, 3, ...
+    if n < 1 or n % int(blocks[-1]):
+        raise StructureError(
+            "pillars_per_side", pillars_per_side,
+            f"must be a positive multiple of {int(blocks[-1])}, "
+            + (f"the product of the cluster sizes {' x '.join(map(str, sizes))}" if len(sizes) > 1
+               else "the cluster size")
+            + " (the clusters tile the lattice)",
+        )
+    if not (math.isfinite(region_size) and region_size > 0):
+        raise StructureError("region_size", region_size, "must be finite and > 0")
+    i = np.arange(n)
+    # Along one axis, top down: the centre of the square holding sub-pillar i at every level.
+    pitch = region_size / (n // int(blocks[-1]))
+    side = pitch * math.sqrt(factors[-1])
+    centre = -0.5 * region_size + (i // blocks[-1] + 0.5) * pitch
+    sides, pitches, axis_centres = [side], [pitch], [centre]
+    for level in range(len(sizes) - 1, 0, -1):  # clusters of level level+1 inside those of level level+2
+        pitch = side / sizes[level]
+        centre = centre - 0.5 * side + ((i // blocks[level - 1]) % sizes[level] + 0.5) * pitch
+        side = pitch * math.sqrt(factors[level])
+        sides.insert(0, side)
+        pitches.insert(0, pitch)
+        axis_centres.insert(0, centre)
+    pitch = side / sizes[0]
+    axis = centre - 0.5 * side + (i % sizes[0] + 0.5) * pitch
+    pitches.insert(0, pitch)
+    _, index = square_lattice(n, 1.0)
+    squares = []
+    for block, along in zip(blocks, axis_centres):
+        first = along[:: int(block)]  # the centre of each cluster of the level along the axis
+        squares.append(np.stack(np.meshgrid(first, first, indexing="ij"), axis=-1).reshape(-1, 2))
+    return ClusteredLattice(
+        centres=np.stack([axis[index[:, 0]], axis[index[:, 1]]], axis=1),
+        index=index,
+        pillar_radius=float(pitch * math.sqrt(factors[0] / math.pi)),
+        filling_factors=factors,
+        sides=tuple(float(s) for s in sides),
+        pitches=tuple(float(p) for p in pitches),
+        square_centres=tuple(squares),
+        region_size=float(region_size),
+    )
+
+
 # Densest packing of equal disks in the plane, pi / (2 sqrt 3): no layout of
 # disks in a container covers a larger fraction of it (Groemer, Oler), so a
 # random layout asking for more is refused before any draw.
@@ -755,14 +929,19 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     return labels
 
 
-def _check_pillar_radius(grid: Grid, radius: float) -> None:
-    """StructureError if a pillar of ``radius`` is under `MIN_PILLAR_RADIUS_ELEMENTS` elements."""
+def _check_pillar_radius(grid: Grid, radius: float, key: str = "pillar_radius", value: object = None,
+                         origin: str = "") -> None:
+    """StructureError if a pillar of ``radius`` is under `MIN_PILLAR_RADIUS_ELEMENTS` elements.
+
+    A derived radius names the key it comes from (``key``, ``value``) and
+    says how it follows from it (``origin``).
+    """
     h = grid.element_size
     if not radius >= MIN_PILLAR_RADIUS_ELEMENTS * h:
         raise StructureError(
-            "pillar_radius", radius,
-            f"is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = grid.size / grid.elements = {h:g}); a pillar "
-            f"needs at least {MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
+            key, radius if value is None else value,
+            f"{origin}is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = grid.size / grid.elements = {h:g}); a "
+            f"pillar needs at least {MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
         )
 
 
@@ -791,11 +970,36 @@ def hierarchy_clusters(index: np.ndarray, pillars_per_side: int, clusters: tuple
     return maps
 
 
+def clustered_filling_factors(grid: Grid, pillar: np.ndarray, lattice: ClusteredLattice) -> tuple[float, ...]:
+    """The filling factor of every level of a clustered brush as rasterised, bottom-up (phi1, phi2, ...).
+
+    ``pillar`` is the brush's element labels (`rasterise_pillars`, ``Indenter.pillar``).
+    Only the sub-pillars are rasterised: phi1 is the area of their elements
+    (count x h^2) over the area (2 r2)^2 of the level-2 squares.  The squares of
+    the clusters are no part of the raster (the solver sees the sub-pillars'
+    footprints and the cluster each belongs to) and the sub-pillars' centres are
+    not snapped to the grid, so the higher factors are the exact area ratios:
+    phi_l = the level-l squares over the level-(l+1) squares, the last the top
+    level's over the region's area A0.  The product is the rasterised filling
+    factor A / A0 of the brush (eq. 6.22 on the raster).
+
+    phi1 converges to its nominal value at first order in h: a disk of radius r
+    covers the elements of an area in [pi (r - h / sqrt 2)^2, pi (r + h / sqrt 2)^2]
+    (every element whose centre lies inside lies within r + h / sqrt 2 of the
+    centre, and every point within r - h / sqrt 2 lies in such an element).
+    """
+    h2 = grid.element_size**2
+    areas = [float(np.count_nonzero(pillar >= 0)) * h2]
+    areas += [len(centres) * side * side for centres, side in zip(lattice.square_centres, lattice.sides)]
+    areas.append(lattice.region_size**2)
+    return tuple(inner / outer for inner, outer in itertools.pairwise(areas))
+
+
 def brush(
     grid: Grid,
     *,
     layout: str,
-    pillar_radius: float,
+    pillar_radius: float | None = None,
     contact_modulus: float,
     work_of_adhesion: float,
     stiffness: float = math.inf,
@@ -813,17 +1017,22 @@ def brush(
     tip: Tip | Sequence[Tip] | None = None,
     tilt: Tilt | None = None,
     grading: Grading | None = None,
+    filling_factors: Sequence[float] | None = None,
 ) -> Indenter:
     """A brush of flat-ended cylindrical pillars on springs (thesis ch. 3-7).
 
     Parameters
     ----------
     grid : Grid
-    layout : {"square", "random"}
-        Regular n x n lattice of pitch ``spacing`` centred on the domain, or
-        ``pillar_count`` random non-overlapping positions (seeded).
+    layout : {"square", "random", "clustered"}
+        Regular n x n lattice of pitch ``spacing`` centred on the domain,
+        ``pillar_count`` random non-overlapping positions (seeded), or the
+        ``pillars_per_side`` x ``pillars_per_side`` sub-pillars distributed in
+        square clusters of the ``levels`` (thesis Fig. 6-3, `clustered_lattice`).
     pillar_radius : float
-        Radius r of every pillar, units of length (>= 2 elements).
+        Radius r of every pillar, units of length (>= 2 elements).  Required
+        by ``square`` and ``random``; ``clustered`` derives it from
+        ``filling_factors`` and refuses it.
     contact_modulus, work_of_adhesion : float
         E* and dgamma: they set the reference stress of the concave profile.
     stiffness : float or array of M floats
@@ -841,6 +1050,10 @@ def brush(
         region, one pillar per cell).
     pillar_count, min_gap : random layout
         Number of pillars and the smallest edge-to-edge gap (default 2 h).
+    filling_factors : sequence of float, clustered layout
+        phi1, phi2, ... bottom-up, one per level (len(levels) + 1; eq. 6.22):
+        the sub-pillars in a level-2 cluster, each level's clusters in the
+        next's, the top level's clusters in the region (square only).
     seed : int
         Seeds the random layout and the roughness through independent child
         streams of ``numpy.random.SeedSequence(seed)``: changing sigma rescales
@@ -854,7 +1067,8 @@ def brush(
     lengths : array of M floats, optional
         Explicit extra pillar lengths (units of length), added to the above.
     levels : tuple of Level
-        Hierarchy above the pillars, bottom-up (square layout only).
+        Hierarchy above the pillars, bottom-up (square or clustered layout;
+        the clustered layout needs at least one).
     tip : Tip or sequence of M Tips, optional
         The tip shape of every pillar, or of each (default flat).
     grading : Grading, optional
@@ -870,20 +1084,26 @@ def brush(
     g_n = max(length) - length_n >= 0, so the longest pillar touches first.
 
     Why one function: every parameter is one key of the config's `indenter` section (layout, region, counts,
-    radius, materials, roughness, profile, levels, seed, tip, tilt), and the body is the sequence positions,
-    footprints, offsets, springs, description that each of them enters once; the steps are in
-    `random_positions`, `rasterise_pillars`, `hierarchy_clusters`, `Profile`, `_tip_heights` and
-    `_level_stiffness`.
+    radius, materials, roughness, profile, levels, seed, tip, tilt, filling factors), and the body is the sequence
+    positions, footprints, offsets, springs, description that each of them enters once; the steps are in
+    `random_positions`, `clustered_lattice`, `rasterise_pillars`, `hierarchy_clusters`, `Profile`, `_tip_heights`
+    and `_level_stiffness`.
     """
-    if layout not in ("square", "random"):
-        raise StructureError("layout", layout, "must be 'square' or 'random'")
+    if layout not in ("square", "random", "clustered"):
+        raise StructureError("layout", layout, "must be 'square', 'random' or 'clustered'")
     if region not in ("square", "circle"):
         raise StructureError("region", region, "must be 'square' or 'circle'")
     h = grid.element_size
-    _check_pillar_radius(grid, pillar_radius)  # before a random layout is searched for
     size = grid.size if region_size is None else float(region_size)
     if not (0 < size <= grid.size * (1 + 1e-12)):
         raise StructureError("region_size", region_size, f"must be in (0, grid.size = {grid.size:g}]")
+    lattice = _clustered(grid, layout, pillar_radius, region, size, pillars_per_side, levels, filling_factors)
+    if lattice is not None:
+        pillar_radius = lattice.pillar_radius
+    elif pillar_radius is None:
+        raise StructureError("pillar_radius", None, f"required with layout = {layout!r}")
+    else:
+        _check_pillar_radius(grid, pillar_radius)  # before a random layout is searched for
     layout_seed, roughness_seed = np.random.SeedSequence(int(seed)).spawn(2)
     index = None
     if layout == "square":
@@ -908,9 +1128,12 @@ def brush(
             if not keep.any():
                 raise StructureError("pillar_radius", pillar_radius, "no pillar fits inside the circular region")
             centres, index = centres[keep], index[keep]
+    elif lattice is not None:
+        centres, index = lattice.centres, lattice.index
     else:
         if levels:
-            raise StructureError("levels", [lv.cluster for lv in levels], "a hierarchy needs layout = 'square'")
+            raise StructureError("levels", [lv.cluster for lv in levels],
+                                 "a hierarchy needs layout = 'square' or 'clustered'")
         if pillar_count is None or pillar_count < 1:
             raise StructureError("pillar_count", pillar_count, "must be an integer >= 1")
         gap = 2.0 * h if min_gap is None else float(min_gap)
@@ -1006,8 +1229,39 @@ def brush(
         tilt_angle=float(tilt.angle) if tilt is not None else 0.0,
         tilt_azimuth=float(tilt.azimuth) if tilt is not None else 0.0,
         graded=any(not level.uniform for level in spring_levels),
+        **({} if lattice is None else {
+            "nominal_level_filling_factors": lattice.filling_factors,
+            "level_filling_factors": clustered_filling_factors(grid, labels, lattice),
+            "cluster_sides": lattice.sides,
+        }),
     )
     return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
+
+
+def _clustered(grid: Grid, layout: str, pillar_radius: float | None, region: str, size: float,
+               pillars_per_side: int | None, levels: tuple[Level, ...],
+               filling_factors: Sequence[float] | None) -> ClusteredLattice | None:
+    """The `ClusteredLattice` of a clustered brush (None for another layout), the keys it reads checked."""
+    if layout != "clustered":
+        if filling_factors is not None:
+            raise StructureError("filling_factors", list(filling_factors), "only used with layout = 'clustered'")
+        return None
+    if pillar_radius is not None:
+        raise StructureError("pillar_radius", pillar_radius,
+                             "layout = 'clustered' derives it from filling_factors and pillars_per_side; remove it")
+    if region != "square":
+        raise StructureError("region", region, "layout = 'clustered' tiles a square region")
+    if filling_factors is None:
+        raise StructureError("filling_factors", None, "required with layout = 'clustered' (one per level)")
+    if pillars_per_side is None:
+        raise StructureError("pillars_per_side", None, "required with layout = 'clustered'")
+    lattice = clustered_lattice(pillars_per_side, [lv.cluster for lv in levels], filling_factors, size)
+    _check_pillar_radius(
+        grid, lattice.pillar_radius, "filling_factors", list(lattice.filling_factors),
+        f"the sub-pillar radius r1 = (region_size / pillars_per_side) sqrt(phi1 phi2 ... / pi) = "
+        f"{lattice.pillar_radius:.4g} ",
+    )
+    return lattice
 
 
 def _level_stiffness(stiffness, n_springs: int, key: str) -> float | np.ndarray:

@@ -146,7 +146,7 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
 
 
 #: The brush keys that decide its rasterised layout (checked on their own when other keys fail).
-_GEOMETRY_KEYS = ("shape", "layout", "region", "region_size", "pillars_per_side", "spacing", "pillar_count",
+_GEOMETRY_KEYS = ("shape", "layout", "region", "region_size", "pillars_per_side", "filling_factors", "spacing", "pillar_count",
                   "min_gap", "pillar_radius", "seed")
 
 

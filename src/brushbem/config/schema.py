@@ -168,7 +168,7 @@ _SHAPE_KEYS: dict[str, tuple[str, ...]] = {
     "flat_punch": ("radius",),
     "sphere": ("radius",),
     "height_map": ("file",),
-    "brush": ("layout", "pillar_radius"),
+    "brush": ("layout",),
 }
 
 # Keys a shape accepts but does not require (rejected by the other shapes).
@@ -177,20 +177,24 @@ _SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
     "sphere": ("viscoelastic", "pillar_law"),
     "height_map": ("viscoelastic", "pillar_law"),
     "brush": (
-        "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap",
-        "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt", "grading",
-        "viscoelastic", "pillar_law",
+        "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap", "pillar_radius",
+        "filling_factors", "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt",
+        "grading", "viscoelastic", "pillar_law",
     ),
 }
 
-# Keys of a brush that belong to one layout only.
+# Keys of a brush that belong to some layouts only: required by the first
+# table's layouts, accepted by the second's, rejected by the others.  A
+# clustered brush derives its pillar radius from its filling factors.
 _LAYOUT_KEYS: dict[str, tuple[str, ...]] = {
-    "square": ("pillars_per_side",),
-    "random": ("pillar_count",),
+    "square": ("pillars_per_side", "pillar_radius"),
+    "random": ("pillar_count", "pillar_radius"),
+    "clustered": ("pillars_per_side", "levels", "filling_factors"),
 }
 _LAYOUT_OPTIONAL: dict[str, tuple[str, ...]] = {
     "square": ("spacing", "levels"),
     "random": ("min_gap",),
+    "clustered": (),
 }
 
 
@@ -529,17 +533,22 @@ class IndenterConfig(_Section):
 
     Brush keys (``shape = "brush"``, thesis ch. 3-7; k~ = k / (E* L) with L = grid.size)
         layout : ``"square"`` (regular lattice, ``pillars_per_side``, optional
-        ``spacing``, default region_size / pillars_per_side) or ``"random"``
+        ``spacing``, default region_size / pillars_per_side), ``"random"``
         (``pillar_count`` non-overlapping positions, optional ``min_gap``
-        between pillar edges, default 2 h); region : ``"square"`` (default) or
-        ``"circle"``, where pillars are placed, of side / diameter
-        ``region_size`` (default grid.size), whose area is the apparent area
-        A0; pillar_radius; stiffness_ratio or stiffness (exactly one, the
+        between pillar edges, default 2 h) or ``"clustered"`` (thesis Fig.
+        6-3: ``pillars_per_side`` sub-pillars per side in square clusters of
+        the ``levels``, ``filling_factors`` phi1, phi2, ... one per level
+        bottom-up, the pillar radius derived from them;
+        `brushbem.structure.clustered_lattice`); region : ``"square"``
+        (default) or ``"circle"`` (not clustered), where pillars are placed, of
+        side / diameter ``region_size`` (default grid.size), whose area is the
+        apparent area A0; pillar_radius (square and random layouts);
+        stiffness_ratio or stiffness (exactly one, the
         pillars' own springs); seed (random layout and roughness, default 0);
         ``[indenter.roughness] sigma``; ``[indenter.profile] amplification``
         (and optionally ``reference_stress``); lengths_file (``.npy`` of one
         extra length per pillar); ``[[indenter.levels]]`` ``cluster`` and
-        ``stiffness_ratio`` or ``stiffness``, bottom-up (square layout only),
+        ``stiffness_ratio`` or ``stiffness``, bottom-up (square or clustered layout),
         each with an optional ``grading``; ``[indenter.tip]`` (`TipConfig`),
         ``[indenter.tilt]`` (`TiltConfig`), ``[indenter.grading]``
         (`GradingConfig`, the pillars' own springs).
@@ -558,7 +567,7 @@ class IndenterConfig(_Section):
     radius: float | None = Field(None, gt=0, allow_inf_nan=False)
     stiffness: float = Field(math.inf, gt=0)
     file: str | None = None
-    layout: Literal["square", "random"] | None = None
+    layout: Literal["square", "random", "clustered"] | None = None
     region: Literal["square", "circle"] | None = None
     region_size: float | None = Field(None, gt=0, allow_inf_nan=False)
     pillars_per_side: int | None = Field(None, ge=1, le=4096)
@@ -566,6 +575,7 @@ class IndenterConfig(_Section):
     pillar_count: int | None = Field(None, ge=1, le=1_000_000)
     min_gap: float | None = Field(None, ge=0, allow_inf_nan=False)
     pillar_radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    filling_factors: tuple[float, ...] | None = None
     stiffness_ratio: float | None = Field(None, gt=0)
     seed: int | None = Field(None, ge=0, le=2**63 - 1)
     roughness: RoughnessConfig | None = None
@@ -588,6 +598,30 @@ class IndenterConfig(_Section):
     def _levels_list(cls, value: Any) -> Any:
         # TOML arrays of tables arrive as lists; the frozen model stores a tuple.
         return tuple(value) if isinstance(value, list) else value
+
+    @field_validator("filling_factors", mode="before")
+    @classmethod
+    def _numbers_list(cls, value: Any) -> Any:
+        value = tuple(value) if isinstance(value, list) else value
+        if value is not None and not (isinstance(value, tuple) and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+            raise ValueError("must be an array of numbers in (0, 1), one filling factor per level bottom-up "
+                             "(phi1, phi2, ...)")
+        return value
+
+    @field_validator("filling_factors")
+    @classmethod
+    def _filling_factors(cls, value: tuple[float, ...] | None) -> tuple[float, ...] | None:
+        if value is None:
+            return None
+        if not value:
+            raise ValueError("must hold one filling factor per level, bottom-up (phi1, phi2, ...)")
+        smallest = MAGNITUDE_RANGE[0]
+        bad = [i for i, phi in enumerate(value, start=1) if not (math.isfinite(phi) and smallest <= phi < 1)]
+        if bad:
+            raise ValueError(f"phi{bad[0]} = {value[bad[0] - 1]!r}: every filling factor must be a finite number in "
+                             f"(0, 1), at least {smallest:g}")
+        return value
 
     @field_validator("lengths_file")
     @classmethod
@@ -652,13 +686,34 @@ class IndenterConfig(_Section):
                     users = " or ".join(
                         repr(s) for s in _LAYOUT_KEYS if key in _LAYOUT_KEYS[s] or key in _LAYOUT_OPTIONAL[s]
                     )
-                    problems.append(Problem(key, _show(value), f"only used when layout = {users}; remove it"))
+                    derived = (" (layout = 'clustered' derives it from filling_factors and pillars_per_side)"
+                               if key == "pillar_radius" else "")
+                    problems.append(Problem(key, _show(value), f"only used when layout = {users}{derived}; remove it"))
+        if self.layout == "clustered":
+            problems.extend(self._clustered_problems())
         if ("stiffness" in self.model_fields_set) == (self.stiffness_ratio is not None):
             problems.append(Problem(
                 "stiffness_ratio",
                 f"stiffness_ratio = {_show(self.stiffness_ratio)}, stiffness = "
                 f"{_show(self.stiffness) if 'stiffness' in self.model_fields_set else 'not given'}",
                 "give exactly one of stiffness_ratio (k / (E* L)) and stiffness (inf = rigid)",
+            ))
+        return problems
+
+    def _clustered_problems(self) -> list[Problem]:
+        """A clustered brush tiles a square region, with one filling factor per level (the sub-pillars' too)."""
+        problems = []
+        if self.region not in (None, "square"):
+            problems.append(Problem("region", _show(self.region), "layout = 'clustered' tiles a square region"))
+        levels, factors = self.levels, self.filling_factors
+        # Read as given: the values may not have passed their own checks (`loading._skipped_rule_lines`).
+        if isinstance(levels, (tuple, list)) and levels and isinstance(factors, (tuple, list)) and factors \
+                and len(factors) != len(levels) + 1:
+            problems.append(Problem(
+                "filling_factors", _show(list(factors)),
+                f"must hold {len(levels) + 1} values for {len(levels)} level(s) above the pillars: phi1 (the "
+                "sub-pillars in a level-2 cluster), then each level's clusters in the next level's, the last the "
+                "top level's clusters in the region",
             ))
         return problems
 

@@ -137,7 +137,7 @@ def run_study(name: str, out_dir: str | Path, quick: bool = False, executor: Any
             raise StudyError(f"study {name!r}: part(s) {', '.join(map(repr, lacking))} have no sampled set "
                              f"{sampled_set!r}; the parts that have it: {', '.join(sets[sampled_set])}")
         if quick:
-            raise StudyError("a sampled set is of the thesis's grid: it cannot be run --quick")
+            raise StudyError("a sampled set is of the full grid: it cannot be run --quick")
         parts = parts or sets[sampled_set]
     if parts is not None:
         unknown = [part for part in parts if part not in study.parts]

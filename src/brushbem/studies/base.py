@@ -35,12 +35,21 @@ class ThesisNumber:
     compute : callable
         ``compute(results) -> float`` with ``results`` the part name ->
         summary DataFrame mapping (as `brushbem.sweep.load_summary` returns).
+    verdict : str, optional
+        The verdict where ours does not meet the thesis's value within the
+        tolerance or the standard errors (`brushbem.studies.verdicts`): "reproduced
+        with a stated choice", "contradicted", or "open"; None: open.
+    evidence : str
+        What decides the verdict: the closed form, limit or run that shows it
+        (or, for open, what was tried), in one or two sentences.
     """
 
     quantity: str
     where: str
     thesis: float
     compute: Callable[[Mapping[str, pd.DataFrame]], float]
+    verdict: str | None = None
+    evidence: str = ""
 
 
 @dataclass(frozen=True)
