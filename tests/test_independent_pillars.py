@@ -140,3 +140,18 @@ def test_soft_rough_brush_approaches_the_independent_limit():
         limit = theory.independent_pillars_pull_off(-indenter.description["offsets"], 6 * single,
                                                     series_stiffness=series, critical_force=single)
         assert pull_off(indenter, 6 * single) / limit.adhesive_force == pytest.approx(1.0, abs=coupling + 0.005)
+
+
+def test_the_shipped_table_1_limit_is_what_the_limit_gives():
+    """rough_brush.INDEPENDENT_LIMIT (docs/reproduction/identify_table1.py) recomputed for one stiff and one soft k~."""
+    from brushbem.studies._ch5_7 import fit_eq58
+    from brushbem.studies.rough_brush import INDEPENDENT_LIMIT
+
+    roughnesses = np.array([0.01, 0.03, 0.07, 0.12, 0.2, 0.28, 0.4, 0.5, 0.7, 1.0, 1.4, 2.1, 3.0])
+    for k, stiffness in ((0.55, 10.0), (0.001, 0.001)):
+        preload, alpha, critical = INDEPENDENT_LIMIT[k]
+        c = [theory.independent_rough_brush(s, preload, pillar_count=1024, filling_factor=0.16, stiffness_ratio=stiffness,
+                                            realizations=10, seed=1).adhesion_coefficient for s in roughnesses]
+        fitted_alpha, beta = fit_eq58(roughnesses, np.array(c))
+        assert fitted_alpha == pytest.approx(alpha, rel=5e-3)  # the table keeps three digits
+        assert (fitted_alpha / beta if beta > 0 else math.inf) == pytest.approx(critical, rel=5e-3)

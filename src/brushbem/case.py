@@ -38,7 +38,9 @@ def theory_for(problem: ContactProblem, summary: Mapping[str, Any],
     A flat punch is compared with Kendall (eq. 2.4) at the radius of the
     rasterised footprint's area, sqrt(A/pi), and, on a spring, with the work
     of separation of eq. 2.18-2.19; a sphere with JKR (eq. 2.20) and, on a
-    spring, the work of eq. 2.37-2.39.  The sphere's work counts from the
+    spring, the work of eq. 2.37 at the exact separation (dD/da = 0 for the
+    sphere on its spring, `theory.sphere_spring_work`; not the thesis's
+    piecewise eq. 2.38-2.39, up to 12 % low).  The sphere's work counts from the
     zero-force crossing of the unloading: from B (eq. 2.27) where the
     preload (``path``, Hertz loading) pressed the contact beyond a_o, from
     the fixed-contact line below it (`theory.sphere_spring_work_from_preload`).
@@ -101,7 +103,7 @@ def _punch_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
 
 def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
                    path: LoadPath | None) -> tuple[SphereTheory, ReferenceCurve]:
-    """JKR (eq. 2.20-2.24) on a spring (eq. 2.32-2.39), with the JKR curve (eq. 2.22)."""
+    """JKR (eq. 2.20-2.24) on a spring (eq. 2.32-2.37, exact separation), with the JKR curve (eq. 2.22)."""
     modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, _stiffness(problem)
     radius = problem.indenter.description.radius
     force = theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma)

@@ -411,7 +411,7 @@ def _numbers_table(study: Any, results: Mapping[str, pd.DataFrame]) -> str:
     if not rows:
         return "<p>This study states no numbers to compare.</p>"
     legend = ("<p>Amber: more than 5 % from the thesis; each such row says where the deviation is measured "
-              "and explained (grid, realisations, the thesis's fixed steps, or a parameter it leaves open).</p>"
+              "and explained (grid, realisations, a fixed step, or a parameter it leaves open).</p>"
               if far_rows else "")
     return (legend + '<table class="numbers"><thead><tr><th>quantity</th><th>where</th><th>thesis</th>'
             "<th>ours</th><th>deviation</th><th>explanation</th></tr></thead>"

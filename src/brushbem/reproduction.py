@@ -259,6 +259,7 @@ class ComparisonRow:
     note: str
     verdict: str | None = None  # None: judged on the numbers alone (`judge` with nothing declared)
     evidence: str = ""
+    claim: str | None = None  # ">" or "<": a trend the thesis asserts against ``thesis``
 
     @property
     def deviation(self) -> float:
@@ -394,10 +395,10 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                 if set(_realizations(tables)) - set(counted):  # the number of the seeds with all its points
                     ours, note = _compute(number, _of_realizations(tables, counted))
                 error, realizations = _standard_error(number, tables, counted)
-            verdict = judge(float(number.thesis), ours, error, number.verdict)
+            verdict = judge(float(number.thesis), ours, error, number.verdict, number.claim)
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note, verdict,
-                                      number.evidence if verdict == number.verdict else ""))
+                                      number.evidence if number.verdict in (None, verdict) else "", number.claim))
     return rows, provenances
 
 
@@ -473,7 +474,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         "| chapter | " + " | ".join(VERDICTS) + " | rows |",
         "| --- | " + " | ".join("---" for _ in VERDICTS) + " | --- |",
     ]
-    verdicts = {id(row): row.verdict or judge(row.thesis, row.ours, row.standard_error, None) for row in rows}
+    verdicts = {id(row): row.verdict or judge(row.thesis, row.ours, row.standard_error, None, row.claim)
+                for row in rows}
     for chapter, counts in count_by_chapter((row.study, verdicts[id(row)]) for row in rows).items():
         lines.append(f"| {chapter or 'other'} | " + " | ".join(str(counts[v]) for v in VERDICTS)
                      + f" | {sum(counts.values())} |")
@@ -547,6 +549,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
             ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
             error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
             _, far, deviation = deviation_of(row.thesis, row.ours)
+            if row.claim:  # a trend: judged by its side of the threshold, not by its distance
+                far, deviation = verdicts[id(row)] != REPRODUCED, f"trend ({row.claim} {_number(row.thesis)})"
             # a number the cases cannot give (n/a) is explained like a far one, where the notes explain the study
             unexplained = "**no explanation in the notes**" if far else ""
             where = (explained or unexplained) if far or not math.isfinite(row.ours) else ""

@@ -157,7 +157,11 @@ class PunchTheory(MappingRecord):
 
 @dataclass(frozen=True, kw_only=True)
 class SphereTheory(MappingRecord):
-    """A sphere against JKR (eq. 2.20-2.24) and, on a spring, the work of eq. 2.32-2.39.
+    """A sphere against JKR (eq. 2.20-2.24) and, on a spring, the work of eq. 2.32-2.37.
+
+    The work is eq. 2.37's energy at the exact separation of the sphere on its
+    spring (where the base displacement stops decreasing, dD/da = 0,
+    `theory.sphere_spring_work`), not the thesis's piecewise eq. 2.38-2.39.
 
     Attributes
     ----------
@@ -182,7 +186,7 @@ class SphereTheory(MappingRecord):
     zero_force_radius: float | None = None
     work_counted_from: str | None = None
     normalized_stiffness: float | None = None
-    model: str = "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.39)"
+    model: str = "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.37; work to the exact separation, dD/da = 0)"
     adhesive_force: float
     pull_off_displacement: float
     work_of_separation: float

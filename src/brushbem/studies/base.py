@@ -42,6 +42,9 @@ class ThesisNumber:
     evidence : str
         What decides the verdict: the closed form, limit or run that shows it
         (or, for open, what was tried), in one or two sentences.
+    claim : str, optional
+        ``">"`` or ``"<"``: the row is a trend the text asserts, ours above or
+        below ``thesis`` (`brushbem.studies.verdicts.judge`); None: a value.
     """
 
     quantity: str
@@ -50,6 +53,7 @@ class ThesisNumber:
     compute: Callable[[Mapping[str, pd.DataFrame]], float]
     verdict: str | None = None
     evidence: str = ""
+    claim: str | None = None
 
 
 @dataclass(frozen=True)

@@ -114,6 +114,15 @@ def _coefficient(k: float, sigma_tilde: float, part: str = "preload"):
     return compute
 
 
+def _curve_ratio(results):
+    """F~_A of the roughest curve of Fig. 5-2 over the smoothest's (part ``curves``)."""
+    curves = finished(results, "curves")
+    if not has(curves, FA, SIG):
+        return math.nan
+    ordered = curves.sort_values(SIG)
+    return float(ordered[FA].iloc[-1] / ordered[FA].iloc[0])
+
+
 def _ratio(first, second):
     def compute(results):
         return first(results) / second(results)
@@ -350,6 +359,12 @@ NUMBERS = [
                  CONTRADICTED, "the same pillars without half-space coupling (independent-pillar limit, F~_P = 20, "
                  "40 draws) give 1.262 +- 0.006, and coupling only lowers F~_A (coupled/limit <= 1.04 on every "
                  "committed point); N = 1024 lowers ours further (1.136)"),
+    ThesisNumber("F~_A at the roughest over the smoothest sigma~ of Fig. 5-2 (k~ = 10, F~_P = 6.5: 'the adhesive "
+                 "force decreases with roughness', L883)", "Fig. 5-2, text (L883)", 1.0, _curve_ratio, claim="<"),
+    ThesisNumber("plateau F~_A at sigma~ = 2.1 over sigma~ = 0.01-0.07: k~ = 0.001 over k~ = 1 ('very soft structure "
+                 "lets roughness' effect reduce', L944)", "Fig. 5-6 b, text (L944)", 1.0,
+                 _ratio(_ratio(_plateau(0.001, 2.1), _plateau(0.001, 0.01)), _ratio(_plateau(1.0, 2.1),
+                                                                                 _plateau(1.0, 0.07))), claim=">"),
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 2.1 (almost vanishes)", "Fig. 5-4 a, text", 0.0, _plateau(1.0, 2.1),
                  REPRODUCED, "'almost vanishes': 0.0035 is one pillar's Kendall force, F_K / F_c, the least "
                  "non-zero F~_A of 1024 pillars (theory.independent_rough_brush's single_pillar_force)"),
@@ -359,7 +374,7 @@ STUDY = Study(
     name="rough_brush",
     title="Ch. 5: rough brushes on springs, F~_A vs preload, adhesion coefficient (eq. 5.8), Table 1 (Fig. 5-2 to 5-7)",
     figures=("5-2", "5-3", "5-4", "5-5", "5-6", "5-7", "Table 1"),
-    parts=("curves", "preload", "identification"),
+    parts=("curves", "preload", "identification", "identification_preload"),
     draw=draw,
     numbers=tuple(NUMBERS),
     draw_tables=draw_tables,

@@ -38,8 +38,10 @@ def _frame(results):
     if len(frame):
         k = column(frame, "indenter.stiffness")
         kbar = np.where(np.isfinite(k), column(frame, "theory.normalized_stiffness"), math.inf)
-        # theory.work_of_separation = w_rigid * w_bar(k_bar) (eq. 2.37-2.39).
-        w_bar = column(frame, "theory.ratios.work_of_separation") * np.asarray(theory.sphere_spring_work(kbar))
+        # w_bar = W / W_rigid with the rigid sphere's closed form (eq. 2.27) of the study's material
+        # (R = 1, E* = 1, dgamma = 1e-3: the sweep's base), whichever closed form the run compared with.
+        w_rigid = theory.jkr_work_of_separation(1.0, contact_modulus=1.0, work_of_adhesion=1.0e-3)
+        w_bar = column(frame, "work_of_separation") / w_rigid
         f_jkr = column(frame, "theory.adhesive_force")
         frame = frame.assign(k_bar=kbar, w_bar=w_bar, force_ratio=column(frame, "adhesive_force") / f_jkr)
     return frame
@@ -48,6 +50,17 @@ def _frame(results):
 def _softest_force_ratio(results) -> float:
     frame = _frame(results)
     return float(frame.sort_values("k_bar").force_ratio.iloc[0])
+
+
+def _separation_over_pull_off(k_bar: float):
+    """d_D / d_C (complete separation over the pull-off force's displacement) at the k_bar nearest ``k_bar``."""
+    def compute(results) -> float:
+        frame = _frame(results)
+        frame = frame[np.isfinite(frame.k_bar)]
+        row = frame.iloc[int(np.argmin(np.abs(np.log(frame.k_bar / k_bar))))]
+        return float(column(row.to_frame().T, "separation_displacement")[0]
+                     / column(row.to_frame().T, "pull_off_displacement")[0])
+    return compute
 
 
 def _rigid_force_ratio(results) -> float:
@@ -112,7 +125,9 @@ def draw_tables(results, figures_dir: Path) -> list[Path]:
     kk = np.logspace(-1, 2, 300)
     ax9.plot(kk, theory.sphere_spring_work_high(kk), "k:", lw=0.8, label="eq. 2.38 (w_bar_h)")
     ax9.plot(kk, theory.sphere_spring_work_low(kk), "k-.", lw=0.8, label="eq. 2.39 (w_bar_l)")
-    ax9.plot(kk, theory.sphere_spring_work(kk), "k-", label="thesis fit: l below k_bar = 1.7, h above")
+    ax9.plot(kk, theory.sphere_spring_work(kk, switch=theory.SPHERE_WORK_SWITCH), "k--", lw=0.8,
+             label="thesis fit: l below k_bar = 1.7, h above")
+    ax9.plot(kk, theory.sphere_spring_work(kk), "k-", label="exact: separation where dD/da = 0")
     if len(frame):
         soft = frame[np.isfinite(frame.k_bar)]
         ax9.plot(soft.k_bar, soft.w_bar, "o", label="BEM")
@@ -132,6 +147,9 @@ NUMBERS = (
                  "sec. 2.3.2.1, Fig. 2-7", 1.0, safe(_softest_force_ratio)),
     ThesisNumber("F_A / F_JKR of the rigid sphere (eq. 2.20a)", "sec. 2.3.2.1, eq. 2.20a", 1.0,
                  safe(_rigid_force_ratio)),
+    ThesisNumber("separation over pull-off displacement at k_bar = 0.25 (C and D 'approach each other as "
+                 "stiffness decreases': separation 'close to' the pull-off force's moment, L363)",
+                 "sec. 2.3.2.1, Fig. 2-7", 1.0, safe(_separation_over_pull_off(0.25))),
 )
 
 STUDY = Study(

@@ -45,10 +45,28 @@ CHAPTERS = {
 }
 
 
-def judge(thesis: float, ours: float, standard_error: float, declared: str | None) -> str:
-    """The verdict of one row (module docstring); ``declared`` is the study's verdict, or None."""
+def judge(thesis: float, ours: float, standard_error: float, declared: str | None,
+          claim: str | None = None) -> str:
+    """The verdict of one row (module docstring); ``declared`` is the study's verdict, or None.
+
+    ``claim`` ``">"`` or ``"<"`` makes the row a trend the text asserts (ours above or below
+    ``thesis``): reproduced when ours lies on the asserted side by more than `STANDARD_ERRORS`
+    standard errors (by any margin where there are none), contradicted when it lies on the other
+    side by as much, and else the declared verdict.
+    """
     if declared is not None and declared not in VERDICTS:
         raise ValueError(f"declared verdict must be one of {VERDICTS}; got {declared!r}")
+    if claim is not None:
+        if claim not in (">", "<"):
+            raise ValueError(f"claim must be '>' or '<'; got {claim!r}")
+        if math.isfinite(ours):
+            margin = STANDARD_ERRORS * standard_error if math.isfinite(standard_error) else 0.0
+            above = ours - thesis if claim == ">" else thesis - ours
+            if above > margin:
+                return REPRODUCED
+            if -above > margin:
+                return CONTRADICTED
+        return declared if declared is not None else OPEN
     if math.isfinite(ours):
         gap = abs(ours - thesis)
         if thesis != 0 and gap <= REPRODUCED_WITHIN * abs(thesis):
