@@ -23,6 +23,8 @@ adhesive force is reported as a positive magnitude, F_A = -min F.
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -150,12 +152,27 @@ def run(
     return PullOff(result, reference, built if isinstance(built, RunConfig) else built.config)
 
 
+def _material(name: str, given: float | None, indenter: Indenter) -> float:
+    """``given``, or the value ``indenter`` was built with; ValueError if they differ or neither exists."""
+    recorded = getattr(indenter.description, name, None) if indenter.description is not None else None
+    if given is None:
+        if recorded is None:
+            allowed = ("dgamma >= 0, energy per area (0: no adhesion)" if name == "work_of_adhesion"
+                       else "E* > 0, in units of stress")
+            raise ValueError(f"{name} is required: {allowed}")
+        return float(recorded)
+    if recorded is not None and not math.isclose(float(given), float(recorded), rel_tol=1e-12):
+        raise ValueError(f"{name} = {given!r} differs from the {name} = {recorded!r} the brush was built with "
+                         "(one material per run: give it once, to brushbem.brush, or the same value to both)")
+    return float(given)
+
+
 def pull_off(
     grid: Grid,
     indenter: Indenter,
     *,
-    contact_modulus: float,
-    work_of_adhesion: float = 0.0,
+    contact_modulus: float | None = None,
+    work_of_adhesion: float | None = None,
     preload_displacement: float | None = None,
     preload_force: float | None = None,
     method: str = "events",
@@ -175,9 +192,16 @@ def pull_off(
         From `brushbem.flat_punch`, `brushbem.sphere`, `brushbem.height_map`
         or `brushbem.brush` on the same grid.
     contact_modulus : float
-        E*, in units of stress.
+        E*, in units of stress.  Optional for a brush, which records the E* it was
+        built with (`brushbem.brush`); a different value is refused.
     work_of_adhesion : float
-        dgamma, energy per area (0: no adhesion).
+        dgamma, energy per area (0: no adhesion, given explicitly).  Optional for a
+        brush, like ``contact_modulus``; required otherwise.
+
+    Raises
+    ------
+    ValueError
+        A material is missing, or differs from the one the brush was built with.
     preload_displacement, preload_force : float
         Exactly one: press to this base displacement or until this force.
     method : {"events", "element_events", "fixed"}
@@ -193,6 +217,8 @@ def pull_off(
     from .case import run_problem
     from .protocol import ContactProblem, LoadPath
 
+    contact_modulus = _material("contact_modulus", contact_modulus, indenter)
+    work_of_adhesion = _material("work_of_adhesion", work_of_adhesion, indenter)
     problem = ContactProblem(grid, indenter, contact_modulus, work_of_adhesion, xp=xp)
     path = LoadPath(method=method, preload_displacement=preload_displacement, preload_force=preload_force,
                     step=step, tolerance=tolerance, speed=speed)

@@ -262,6 +262,8 @@ class BrushGeometry(Geometry):
     nominal_level_filling_factors: tuple[float, ...] = ()
     level_filling_factors: tuple[float, ...] = ()
     cluster_sides: tuple[float, ...] = ()
+    contact_modulus: float | None = None
+    work_of_adhesion: float | None = None
 
 
 @dataclass(frozen=True)
@@ -1003,6 +1005,7 @@ def brush(
     contact_modulus: float,
     work_of_adhesion: float,
     stiffness: float = math.inf,
+    stiffness_ratio: float | None = None,
     region: str = "square",
     region_size: float | None = None,
     pillars_per_side: int | None = None,
@@ -1038,6 +1041,10 @@ def brush(
     stiffness : float or array of M floats
         k of every pillar's own spring (level 1), or of each pillar's
         (`graded_stiffness`); inf = rigid.
+    stiffness_ratio : float, optional
+        The same as the dimensionless k~ = k / (E* L) of the configuration key
+        ``indenter.stiffness_ratio`` (thesis eq. 4.13, L = ``grid.size``); give
+        this or ``stiffness``, not both.
     region : {"square", "circle"}
         Where pillars are placed: a square of side ``region_size`` or a circle
         of that diameter, centred on the domain.  Its area is the apparent area
@@ -1104,6 +1111,13 @@ def brush(
         raise StructureError("pillar_radius", None, f"required with layout = {layout!r}")
     else:
         _check_pillar_radius(grid, pillar_radius)  # before a random layout is searched for
+    if stiffness_ratio is not None:
+        if not (isinstance(stiffness, (int, float)) and math.isinf(stiffness)):
+            raise StructureError("stiffness_ratio", stiffness_ratio,
+                                 "give stiffness (k) or stiffness_ratio (k~ = k / (E* L)), not both")
+        if not (isinstance(stiffness_ratio, (int, float)) and stiffness_ratio > 0):
+            raise StructureError("stiffness_ratio", stiffness_ratio, "must be a number > 0 (inf: rigid)")
+        stiffness = float(stiffness_ratio) * float(contact_modulus) * grid.size
     layout_seed, roughness_seed = np.random.SeedSequence(int(seed)).spawn(2)
     index = None
     if layout == "square":
@@ -1229,6 +1243,8 @@ def brush(
         tilt_angle=float(tilt.angle) if tilt is not None else 0.0,
         tilt_azimuth=float(tilt.azimuth) if tilt is not None else 0.0,
         graded=any(not level.uniform for level in spring_levels),
+        contact_modulus=float(contact_modulus),
+        work_of_adhesion=float(work_of_adhesion),
         **({} if lattice is None else {
             "nominal_level_filling_factors": lattice.filling_factors,
             "level_filling_factors": clustered_filling_factors(grid, labels, lattice),

@@ -1,0 +1,51 @@
+"""The Python API without traps (issue: one material per run, no silent zero adhesion, the file's keys).
+
+Each test states the promise it keeps; the grids are the smallest that build the objects (no physics
+is measured here beyond one tiny pull-off).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import brushbem
+from brushbem.structure import StructureError
+
+GRID = brushbem.Grid(1.0, 32)
+
+
+def _pillars(**kwargs):
+    args = {"layout": "square", "pillars_per_side": 2, "pillar_radius": 0.1, "contact_modulus": 1.0,
+            "work_of_adhesion": 1e-4}
+    return brushbem.brush(GRID, **{**args, **kwargs})
+
+
+def test_a_brush_takes_the_files_stiffness_ratio():
+    """brush(stiffness_ratio=k~) is k = k~ E* L, as indenter.stiffness_ratio in a configuration file."""
+    by_ratio = _pillars(stiffness_ratio=0.01, contact_modulus=2.0)
+    by_stiffness = _pillars(stiffness=0.01 * 2.0 * GRID.size, contact_modulus=2.0)
+    assert by_ratio.levels[0].stiffness == pytest.approx(by_stiffness.levels[0].stiffness)
+    with pytest.raises(StructureError, match="stiffness_ratio"):
+        _pillars(stiffness=1.0, stiffness_ratio=0.01)
+
+
+def test_a_brush_keeps_its_material_and_a_different_one_is_refused():
+    pillars = _pillars()
+    with pytest.raises(ValueError, match="contact_modulus = 2.0 differs"):
+        brushbem.pull_off(GRID, pillars, contact_modulus=2.0, work_of_adhesion=1e-4, preload_force=1e-3)
+    with pytest.raises(ValueError, match="work_of_adhesion = 0.001 differs"):
+        brushbem.pull_off(GRID, pillars, contact_modulus=1.0, work_of_adhesion=1e-3, preload_force=1e-3)
+    implied = brushbem.pull_off(GRID, pillars, preload_force=1e-3)  # the brush's own E* and dgamma
+    given = brushbem.pull_off(GRID, pillars, contact_modulus=1.0, work_of_adhesion=1e-4, preload_force=1e-3)
+    assert implied.adhesive_force == given.adhesive_force > 0
+
+
+def test_a_missing_work_of_adhesion_is_refused_not_taken_as_zero():
+    punch = brushbem.flat_punch(GRID, 0.2)
+    with pytest.raises(ValueError, match="work_of_adhesion is required"):
+        brushbem.pull_off(GRID, punch, contact_modulus=1.0, preload_displacement=1e-3)
+    no_adhesion = brushbem.pull_off(GRID, punch, contact_modulus=1.0, work_of_adhesion=0.0,
+                                    preload_displacement=1e-3)
+    assert no_adhesion.adhesive_force == 0.0 and math.isfinite(no_adhesion.work_of_separation)
