@@ -49,3 +49,11 @@ def test_a_missing_work_of_adhesion_is_refused_not_taken_as_zero():
     no_adhesion = brushbem.pull_off(GRID, punch, contact_modulus=1.0, work_of_adhesion=0.0,
                                     preload_displacement=1e-3)
     assert no_adhesion.adhesive_force == 0.0 and math.isfinite(no_adhesion.work_of_separation)
+
+
+def test_a_result_prints_its_headline_not_its_arrays():
+    result = brushbem.pull_off(GRID, brushbem.flat_punch(GRID, 0.2), contact_modulus=1.0, work_of_adhesion=1e-4,
+                               preload_displacement=1e-3)
+    text = repr(result)
+    assert len(text) < 400 and "adhesive force F_A=" in text and "array" not in text
+    assert "<table>" in result._repr_html_() and "work of separation W" in result._repr_html_()

@@ -98,6 +98,39 @@ class PullOff:
         """d_A, the base displacement at the adhesive force, in units of length."""
         return _number(self.summary.get("pull_off_displacement"))
 
+    def _headline(self) -> list[tuple[str, str]]:
+        """The few numbers a reader wants first: (label, value with unit words), in order."""
+        from .units import Units
+
+        summary = self.summary
+        units = Units.from_config(self.config) if self.config is not None else Units()
+
+        def unit(dimension: str) -> str:
+            return "" if units.dimensionless else f" {units.of(dimension)}"
+
+        rows = [
+            ("adhesive force F_A", f"{self.adhesive_force:.6g}{unit('force')}"),
+            ("pull-off displacement d_A", f"{self.pull_off_displacement:.6g}{unit('length')}"),
+            ("work of separation W", f"{self.work_of_separation:.6g}{unit('energy')}"),
+            ("converged", f"{self.converged} ({summary.get('reason', '')})"),
+            ("states recorded", f"{len(self.curve.displacement)}"),
+        ]
+        if summary.get("warnings"):
+            rows.append(("warnings", f"{len(summary['warnings'])}"))
+        return rows
+
+    def __repr__(self) -> str:
+        """One line per headline number (the arrays are in ``curve`` and ``snapshots``)."""
+        return "PullOff(" + ", ".join(f"{label}={value}" for label, value in self._headline()) + ")"
+
+    def _repr_html_(self) -> str:
+        """A small table for notebooks."""
+        from html import escape
+
+        rows = "".join(f"<tr><th style='text-align:left'>{escape(label)}</th><td>{escape(value)}</td></tr>"
+                       for label, value in self._headline())
+        return f"<table><caption>brushbem pull-off</caption>{rows}</table>"
+
     def to_xarray(self) -> xr.Dataset:
         """The ``result.nc`` content as an in-memory `xarray.Dataset`."""
         from .io import to_dataset
