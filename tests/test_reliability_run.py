@@ -366,3 +366,92 @@ def test_fixed_step_beyond_the_domain_is_refused(tmp_path):
     result = CliRunner().invoke(main, ["validate", str(path)])
     assert result.exit_code == 2, result.output
     assert "`protocol.step`" in result.output and "grid.size" in result.output
+
+
+# ------------------------------------------------------------------ the lock file and the folder's other files
+
+
+def _lock_as(kind: str, lock: Path, victim: Path) -> None:
+    """Put a hostile or foreign file where the run's lock goes."""
+    if kind == "symlink":  # in a shared folder, aimed at someone else's file
+        lock.symlink_to(victim)
+    elif kind == "dangling symlink":  # would create the file it names
+        lock.symlink_to(victim.parent / "created-through-the-link")
+    elif kind == "hard link":
+        os.link(victim, lock)
+    elif kind == "folder":
+        lock.mkdir()
+    elif kind == "fifo":  # opening it for writing would block
+        os.mkfifo(lock)
+    elif kind == "foreign file":  # a regular file that brushbem did not write
+        lock.write_text("my notes\n")
+
+
+@pytest.mark.parametrize("kind", ["symlink", "dangling symlink", "hard link", "folder", "fifo", "foreign file"])
+def test_a_lock_that_is_a_link_or_not_brushbems_is_refused_and_left_untouched(tmp_path, kind):
+    """A lock that is a symlink (or a hard link, a folder, a FIFO, a file brushbem did not write) is
+    refused with exit 2 naming its path, before anything is computed, and its target is untouched:
+    the lock used to be opened through links, truncated and overwritten with a pid."""
+    out = tmp_path / "out"
+    out.mkdir()
+    victim = tmp_path / "someone-elses-file"
+    victim.write_text("precious\n")
+    lock = out / ".brushbem.lock"
+    _lock_as(kind, lock, victim)
+    before = lock.read_text() if kind == "foreign file" else None
+
+    result = CliRunner().invoke(main, ["run", str(_punch(tmp_path, elements=16)), "--out", str(out), "--quiet"])
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output and str(lock) in result.output, result.output
+    assert "lock" in result.output
+    assert victim.read_text() == "precious\n"
+    assert not (tmp_path / "created-through-the-link").exists()
+    assert not (out / "summary.json").exists()  # refused before the computation
+    if kind == "foreign file":
+        assert lock.read_text() == before
+
+
+class _Computed(Exception):
+    """Raised where the computation would start: what the run did to its folder before is final."""
+
+
+def test_only_the_runs_own_temporaries_are_removed(tmp_path, monkeypatch):
+    """A killed run's temporaries (``.<result file>.<random>.tmp``) are removed; other hidden
+    ``*.tmp`` files in --out (an editor's swap file, another program's temporaries) are kept:
+    every hidden ``*.tmp`` used to be deleted, in the working folder with ``--out .``.  The lock a
+    killed run left (its pid) is taken over."""
+    from brushbem import case
+
+    def stop(*args, **kwargs):
+        raise _Computed
+
+    monkeypatch.setattr(case, "run_case", stop)
+    monkeypatch.chdir(tmp_path)
+    config = _punch(tmp_path, elements=16)
+    ours = [".summary.json.k2x9_abc.tmp", ".result.nc.zz01ab3c.tmp", ".pulloff.png.q7w8e9r0.tmp",
+            ".write-check.a1b2c3d4.tmp"]
+    theirs = [".vimswap.tmp", ".notes.json.a1b2c3d4.tmp", ".summary.json.tmp", ".result.nc.Upper.tmp"]
+    for name in ours + theirs:
+        (tmp_path / name).write_text("x")
+    (tmp_path / ".result.nc.link0001.tmp").symlink_to(tmp_path / ".vimswap.tmp")
+    (tmp_path / ".brushbem.lock").write_text("4711")
+
+    result = CliRunner().invoke(main, ["run", str(config), "--out", ".", "--quiet"])
+    assert isinstance(result.exception, _Computed), result.output
+    left = {path.name for path in tmp_path.iterdir()}
+    assert not left & set(ours), left
+    assert set(theirs) | {".result.nc.link0001.tmp"} <= left
+    assert all((tmp_path / name).read_text() == "x" for name in theirs)
+    assert (tmp_path / ".brushbem.lock").read_text() == str(os.getpid())
+
+
+def test_an_empty_out_is_refused(tmp_path, monkeypatch):
+    """``--out ""`` (almost surely an unset variable) is refused with exit 2, and nothing is written
+    into the working folder it used to stand for."""
+    monkeypatch.chdir(tmp_path)
+    config = _punch(tmp_path, elements=16)
+    before = sorted(tmp_path.iterdir())
+    result = CliRunner().invoke(main, ["run", str(config), "--out", "", "--quiet"])
+    assert result.exit_code == 2, result.output
+    assert "--out" in result.output and "empty path" in result.output
+    assert sorted(tmp_path.iterdir()) == before

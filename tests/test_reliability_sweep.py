@@ -497,3 +497,170 @@ def test_folder_conflict_in_a_study_names_the_part(tmp_path, monkeypatch):
 def test_incidents_survive_a_torn_last_line(tmp_path):
     (tmp_path / INCIDENTS_FILE).write_text('{"event": "lost", "case_id": "0001-x", "detail": "d"}\n{"ev')
     assert [i["case_id"] for i in read_incidents(tmp_path)] == ["0001-x"]
+
+
+# ----------------------------------------------------------------------------- the lock file, other files
+
+
+@pytest.mark.parametrize("dangling", [False, True])
+def test_a_sweep_lock_that_is_a_symlink_is_refused_and_its_target_untouched(tmp_path, dangling):
+    """``.sweep.lock`` as a symlink (in a shared folder, aimed at someone else's file) is refused with
+    exit 2 naming it, before any case runs; the file it points to keeps its content (it used to be
+    emptied), and a dangling link does not create one."""
+    out = tmp_path / "out"
+    out.mkdir()
+    victim = tmp_path / "someone-elses-file"
+    victim.write_text("precious\n")
+    lock = out / ".sweep.lock"
+    lock.symlink_to(tmp_path / "nothing-here" if dangling else victim)
+    result = cli("sweep", str(write_sweep(tmp_path)), "--out", str(out), "--workers", "1", "--quiet")
+    assert result.exit_code == 2, result.output
+    assert str(lock) in result.output and "symbolic link" in result.output
+    assert victim.read_text() == "precious\n" and not (tmp_path / "nothing-here").exists()
+    assert not list((out / "cases").glob("*.nc")) and not (out / "sweep.json").exists()
+
+
+def test_only_the_drivers_own_temporaries_are_removed(tmp_path):
+    """A killed driver's temporaries (``.<its file>.<random>.tmp``) are removed; a user's hidden
+    ``*.tmp`` files, in the folder or in ``cases/``, are kept (every one in ``cases/`` used to go)."""
+    from brushbem.sweep.store import _remove_stale_temporaries
+
+    out = tmp_path / "out"
+    (out / "cases").mkdir(parents=True)
+    ours = [out / ".sweep.json.k3j4.tmp", out / ".summary.parquet.x9y8.tmp",
+            out / "cases" / ".0000-6efc536def.nc.ab_12cd3.tmp"]
+    theirs = [out / ".vimswap.tmp", out / ".sweep.json.tmp", out / "cases" / ".notes.tmp",
+              out / "cases" / ".draft.txt.abcd1234.tmp"]
+    for path in ours + theirs:
+        path.write_text("x")
+    _remove_stale_temporaries(out)
+    assert not any(path.exists() for path in ours)
+    assert all(path.read_text() == "x" for path in theirs)
+    (incident,) = read_incidents(out)
+    assert "3 half-written" in incident["detail"]
+
+
+def test_an_empty_out_is_refused_for_a_sweep(tmp_path, monkeypatch):
+    """``sweep --out ""`` is refused with exit 2 instead of running into the working folder."""
+    path = write_sweep(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    before = sorted(tmp_path.iterdir())
+    result = cli("sweep", str(path), "--out", "", "--dry-run")
+    assert result.exit_code == 2 and "empty path" in result.output, result.output
+    assert sorted(tmp_path.iterdir()) == before
+
+
+# ----------------------------------------------------------------------------- bounds on the sweep file
+
+
+def test_an_oversized_sweep_file_is_refused_before_it_is_parsed(tmp_path, monkeypatch):
+    """A sweep file over MAX_SWEEP_BYTES (a 2.9 MB one used to be accepted) is refused with exit 2,
+    naming the file, its size and the limit; tomllib never sees it."""
+    import tomllib
+
+    from brushbem.config import MAX_SWEEP_BYTES
+
+    path = write_sweep(tmp_path)
+    with path.open("a") as stream:
+        stream.write(f"# {'x' * 98}\n" * (MAX_SWEEP_BYTES // 100 + 1))
+    size = path.stat().st_size
+
+    def parse(*args, **kwargs):
+        raise AssertionError("parsed")
+
+    monkeypatch.setattr(tomllib, "loads", parse)
+    result = cli("sweep", str(path), "--dry-run")
+    assert result.exit_code == 2, result.output
+    assert str(path) in result.output and f"{size} bytes" in result.output
+    assert f"larger than {MAX_SWEEP_BYTES} bytes" in result.output
+
+
+def test_an_oversized_base_file_is_refused(tmp_path):
+    """The sweep's base file is read within a run configuration's limit (MAX_CONFIG_BYTES)."""
+    from brushbem.config import MAX_CONFIG_BYTES
+
+    path = write_sweep(tmp_path)
+    with (tmp_path / "base.toml").open("a") as stream:
+        stream.write(f"# {'x' * 98}\n" * (MAX_CONFIG_BYTES // 100 + 1))
+    result = cli("sweep", str(path), "--dry-run")
+    assert result.exit_code == 2, result.output
+    assert "`base`" in result.output and f"larger than {MAX_CONFIG_BYTES} bytes" in result.output
+
+
+@pytest.mark.parametrize(("levels", "found"), [
+    (2000, "nested too deeply (2000 levels"),  # beyond tomllib's recursion: a RecursionError, exit 1, before
+    (100, "nested 101 levels deep"),  # parsed (sweep > key > 99 more lists), then refused
+])
+def test_a_deeply_nested_sweep_file_is_refused(tmp_path, levels, found):
+    """A sweep file nested deeper than MAX_SWEEP_DEPTH is refused with exit 2, naming the file, the
+    depth found and the limit (2000 levels used to end in a RecursionError and exit 1)."""
+    from brushbem.config import MAX_SWEEP_DEPTH
+
+    path = tmp_path / "deep.toml"
+    (tmp_path / "base.toml").write_text(BASE_TOML)
+    path.write_text(f'base = "base.toml"\n[sweep]\n"indenter.stiffness" = {"[" * levels}{"]" * levels}\n')
+    result = cli("sweep", str(path), "--dry-run")
+    assert result.exit_code == 2, result.output
+    assert str(path) in result.output and found in result.output
+    assert f"more than {MAX_SWEEP_DEPTH} levels" in result.output
+
+
+def test_a_deeply_nested_sweep_mapping_is_refused(tmp_path):
+    """`parse_sweep` on a mapping: the same limit, a SweepError naming where, never a RecursionError."""
+    from brushbem.sweep import SweepError, parse_sweep
+
+    value: list = []
+    for _ in range(5000):
+        value = [value]
+    with pytest.raises(SweepError, match=r"nested 5002 levels deep — a sweep nests at most \d+"):
+        parse_sweep({"base": tomllib_base(), "sweep": {"indenter.stiffness": value}}, tmp_path)
+
+
+@pytest.mark.parametrize(("settings", "sweep", "says"), [
+    ("realizations = 1000000", {"indenter.stiffness": "[0.1]"}, "`realizations`: 1000000 cases"),
+    ("", {"indenter.stiffness": "[" + ", ".join(f"0.{i + 1:04d}" for i in range(3000)) + "]",
+          "indenter.radius": "[" + ", ".join(f"0.{i + 1:04d}" for i in range(3000)) + "]"},
+     '`sweep."indenter.stiffness"` x `sweep."indenter.radius"`: 3000 x 3000 = 9000000 cases'),
+    ("", {"solver.max_iterations": "[" + "1," * 100_001 + "]"},
+     '`sweep."solver.max_iterations"`: 100001 cases'),
+    ('mode = "zip"\nrealizations = 7', {"solver.max_iterations": "[" + "1," * 20_000 + "]",
+                                        "protocol.max_steps": "[" + "1," * 20_000 + "]"},
+     "x `realizations`: 20000 x 7 = 140000 cases"),
+], ids=["realizations", "product", "long-list", "zip"])
+def test_a_sweep_of_too_many_cases_is_refused_before_any_case_is_built(tmp_path, monkeypatch, settings, sweep,
+                                                                        says):
+    """A sweep expanding to more than MAX_SWEEP_CASES cases is refused with exit 2, naming the keys,
+    the count and the limit, from the counts alone: no seed drawn, no case built, so --dry-run answers
+    at once (it used to be silent past 120 s)."""
+    from brushbem.config import MAX_SWEEP_CASES
+    from brushbem.sweep import spec
+
+    def built(*args, **kwargs):
+        raise AssertionError("a case was built")
+
+    monkeypatch.setattr(spec, "_realization_seeds", built)
+    monkeypatch.setattr(spec, "_validate_case", built)
+    (tmp_path / "base.toml").write_text(BASE_TOML)
+    path = tmp_path / "many.toml"
+    path.write_text("\n".join(['base = "base.toml"', settings, "[sweep]",
+                               *(f'"{key}" = {values}' for key, values in sweep.items())]) + "\n")
+    result = cli("sweep", str(path), "--dry-run")
+    assert result.exit_code == 2, result.output
+    assert says in result.output and f"at most {MAX_SWEEP_CASES} cases" in result.output
+
+
+def test_the_case_limit_admits_every_shipped_sweep():
+    """MAX_SWEEP_CASES is above the largest shipped sweep (counted, not expanded)."""
+    import math
+    import tomllib
+
+    from brushbem.config import MAX_SWEEP_CASES
+
+    sweeps = Path(__file__).resolve().parents[1] / "src" / "brushbem" / "studies" / "sweeps"
+    counts = {}
+    for path in sweeps.glob("*.toml"):
+        document = tomllib.loads(path.read_text())
+        lengths = [len(values) for values in document.get("sweep", {}).values()]
+        points = (lengths[0] if lengths else 1) if document.get("mode") == "zip" else math.prod(lengths)
+        counts[path.name] = points * document.get("realizations", 1)
+    assert counts and max(counts.values()) <= MAX_SWEEP_CASES, max(counts.items(), key=lambda item: item[1])

@@ -214,6 +214,18 @@ class _Stop:
 RESULT_FILES = ("summary.json", "result.nc", "pulloff.png")
 
 
+class _OutFolder(click.Path):
+    """An output folder; the empty path (which would write into the current folder) is refused."""
+
+    def __init__(self) -> None:
+        super().__init__(path_type=Path, file_okay=False)
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, str) and not value.strip():
+            self.fail(f"{value!r} is an empty path; give a folder (--out . for the current folder)", param, ctx)
+        return super().convert(value, param, ctx)
+
+
 def _prepare_out(out_dir: Path) -> None:
     """Create ``out_dir`` and check that it takes files, before anything is computed; else exit 2."""
     from brushbem.io import check_writable
@@ -233,7 +245,7 @@ def _prepare_out(out_dir: Path) -> None:
 @main.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
-    "--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+    "--out", "out_dir", required=True, type=_OutFolder(),
     help="Folder for summary.json, result.nc and pulloff.png (created if absent).",
 )
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
@@ -284,7 +296,13 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
         except FolderBusyError as exc:
             click.echo(f"--out {exc}; wait for it or choose another folder", err=True)
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
-        remove_stale_temporaries(out_dir)  # a killed run's leftovers: never a complete file
+        except OSError as exc:  # a lock file that is a link or not brushbem's (UnsafeLockError), unreadable
+            detail = f"{exc.filename}: {exc.strerror}" if exc.filename and exc.strerror else str(exc)
+            click.echo(f"--out {out_dir}: cannot take the folder's lock ({detail})", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        # A killed run's leftovers, by the names of the temporaries of its own files: never a complete
+        # file, nor anything else in the folder.
+        remove_stale_temporaries(out_dir, RESULT_FILES)
         stop = stack.enter_context(_Stop())
         with Progress(
             TextColumn("{task.description}"),
@@ -351,7 +369,7 @@ EXAMPLES = {
 
 @main.command()
 @click.argument("name", required=False, default="default", type=click.Choice(list(EXAMPLES)))
-@click.option("--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=Path("."),
+@click.option("--out", "out_dir", type=_OutFolder(), default=Path("."),
               show_default=True, help="Folder to write the example into.")
 @click.option("--force", is_flag=True, help="Replace files of the same name.")
 @click.option("--list", "list_only", is_flag=True, help="List the examples and exit.")
@@ -381,7 +399,7 @@ def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
 
 @main.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
-@click.option("--out", "out_dir", required=True, type=click.Path(path_type=Path, file_okay=False),
+@click.option("--out", "out_dir", required=True, type=_OutFolder(),
               help="Folder for design.npy, design.csv, design.json and design.png.")
 @click.option("--target", type=click.Choice(["lengths", "stiffness"]), default="lengths", show_default=True,
               help="Design the pillars' length offsets, or their stiffnesses.")
@@ -437,7 +455,7 @@ def validate(config_path: Path) -> None:
 @main.command()
 @click.argument("sweep_path", metavar="SWEEP", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
-    "--out", "out_dir", default=None, type=click.Path(path_type=Path, file_okay=False),
+    "--out", "out_dir", default=None, type=_OutFolder(),
     help="Folder for sweep.json, cases/ and summary.parquet (created if absent; "
     "cases already there are not recomputed).",
 )
@@ -658,7 +676,7 @@ def _list_studies() -> None:
 @main.command()
 @click.argument("name", required=False)
 @click.option(
-    "--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=None,
+    "--out", "out_dir", type=_OutFolder(), default=None,
     help="Folder for study.json, one sweep folder per part and figures/ (created if absent; "
     "cases already there are not recomputed).",
 )
@@ -872,7 +890,7 @@ def export_tables(study_dirs: tuple[Path, ...], tables_root: Path, update: bool)
 @main.command()
 @click.argument("study_name", metavar="STUDY")
 @click.argument("quantity")
-@click.option("--out", "out_dir", type=click.Path(path_type=Path, file_okay=False), default=None,
+@click.option("--out", "out_dir", type=_OutFolder(), default=None,
               help="Folder for the row's cases, one sweep folder per part (resumed if there).")
 @click.option("--tables", "tables_root", type=click.Path(path_type=Path, file_okay=False),
               default=Path("docs/reproduction"), show_default=True,

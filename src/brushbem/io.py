@@ -46,7 +46,9 @@ import errno
 import io
 import json
 import os
+import re
 import shutil
+import stat
 import tempfile
 import uuid
 from collections.abc import Iterator
@@ -67,6 +69,7 @@ __all__ = [
     "SUMMARY_FILE",
     "FolderBusyError",
     "InconsistentCaseError",
+    "UnsafeLockError",
     "atomic_path",
     "check_writable",
     "exclusive_folder",
@@ -75,6 +78,7 @@ __all__ = [
     "netcdf_attributes",
     "read_case",
     "remove_stale_temporaries",
+    "temporary_of",
     "to_dataset",
     "write_case",
     "write_dataset",
@@ -94,10 +98,26 @@ class InconsistentCaseError(ValueError):
     """A case folder whose ``summary.json`` and ``result.nc`` are not one result."""
 
 
-def remove_stale_temporaries(folder: str | Path) -> list[Path]:
+#: A temporary of `atomic_path` (``.<final name>.<random>.tmp``; `tempfile.mkstemp`'s random part is
+#: lower-case letters, digits and underscores) or of `check_writable` (``.write-check.<random>.tmp``).
+_TEMPORARY = re.compile(r"\.(?P<final>.+)\.[a-z0-9_]+\.tmp")
+_WRITE_CHECK = "write-check"
+
+
+def temporary_of(name: str) -> str | None:
+    """The final name whose temporary ``name`` is (``".summary.json.x1y2.tmp"`` -> ``"summary.json"``), or None."""
+    match = _TEMPORARY.fullmatch(name)
+    return match["final"] if match else None
+
+
+def remove_stale_temporaries(folder: str | Path,
+                             names: tuple[str, ...] = (SUMMARY_FILE, DATASET_FILE)) -> list[Path]:
     """Delete the temporary files that a killed writer left in ``folder`` (never a complete file).
 
-    Only names `atomic_path` creates (``.<name>.<random>.tmp``) are removed.
+    Only the names `atomic_path` creates for the files ``names``
+    (``.<name>.<random>.tmp``) and those of `check_writable` are removed:
+    nothing else in the folder, hidden ``*.tmp`` files of other programs
+    included, is touched, nor a link of such a name.
 
     Returns
     -------
@@ -105,8 +125,9 @@ def remove_stale_temporaries(folder: str | Path) -> list[Path]:
         The files removed.
     """
     removed = []
+    finals = {*names, _WRITE_CHECK}
     for stale in Path(folder).glob(".*.tmp"):
-        if stale.is_file():
+        if temporary_of(stale.name) in finals and stale.is_file() and not stale.is_symlink():
             stale.unlink(missing_ok=True)
             removed.append(stale)
     return removed
@@ -116,37 +137,99 @@ class FolderBusyError(RuntimeError):
     """Another process holds a folder's lock (`exclusive_folder`)."""
 
 
+class UnsafeLockError(OSError):
+    """A lock file that brushbem will not write: a link, not a regular file, or not a lock it wrote.
+
+    ``filename`` is the lock file, ``strerror`` what is wrong with it.
+    """
+
+    def __str__(self) -> str:
+        return f"{self.filename}: {self.strerror}"
+
+
+def _open_lock(path: Path) -> int:
+    """Open the lock file ``path`` for reading and writing, creating it; never through a link.
+
+    Raises `UnsafeLockError` (naming ``path``) when it is a symbolic link, not a
+    regular file, or a file with other names (a hard link): writing it would
+    change a file that the package did not create.
+    """
+    refusal = "the lock file is {}; brushbem never writes through it (remove it, or choose another folder)"
+    try:
+        before = os.lstat(path)
+    except FileNotFoundError:
+        before = None
+    if before is not None and stat.S_ISLNK(before.st_mode):
+        raise UnsafeLockError(errno.ELOOP, refusal.format("a symbolic link"), str(path))
+    if before is not None and not stat.S_ISREG(before.st_mode):
+        raise UnsafeLockError(errno.EINVAL, refusal.format("not a regular file"), str(path))
+    flags = os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
+    try:
+        handle = os.open(path, flags, 0o644)
+    except OSError as exc:  # replaced by a link or a folder since the check
+        if exc.errno in (errno.ELOOP, errno.EISDIR, errno.ENXIO):
+            raise UnsafeLockError(exc.errno, refusal.format("a symbolic link or not a regular file"),
+                                  str(path)) from None
+        raise
+    opened = os.fstat(handle)
+    if not stat.S_ISREG(opened.st_mode) or opened.st_nlink != 1:
+        os.close(handle)
+        what = "not a regular file" if not stat.S_ISREG(opened.st_mode) else "a hard link (a file with other names)"
+        raise UnsafeLockError(errno.EINVAL, refusal.format(what), str(path))
+    return handle
+
+
+@contextlib.contextmanager
+def _locked(path: Path, folder: str | Path) -> Iterator[None]:
+    """Hold an ``flock`` on the lock file ``path`` (its holder's pid written in it)."""
+    import fcntl
+
+    handle = _open_lock(path)
+    try:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(handle, 64, 0).decode("ascii", "replace").strip() or "unknown"
+            raise FolderBusyError(f"{folder}: another brushbem process (pid {holder}) is writing into "
+                                  "this folder") from None
+        content = os.pread(handle, 64, 0).strip()
+        if content and not content.isdigit():
+            # Not a process id: a file of that name that brushbem did not write.
+            raise UnsafeLockError(errno.EEXIST, "the lock file holds something other than a process id; "
+                                  "brushbem does not overwrite it (remove it, or choose another folder)", str(path))
+        os.ftruncate(handle, 0)
+        os.pwrite(handle, str(os.getpid()).encode(), 0)
+        yield
+    finally:
+        os.close(handle)
+
+
 @contextlib.contextmanager
 def exclusive_folder(folder: str | Path, lock_name: str = ".brushbem.lock") -> Iterator[None]:
     """Hold an exclusive lock on ``folder`` while writing into it.
 
     The lock is an ``flock`` on ``folder/lock_name`` (POSIX; elsewhere no
     lock is taken): the kernel releases it when the holder ends, killed or
-    not, so a stale lock never blocks a rerun.
+    not, so a stale lock never blocks a rerun.  The lock file is opened
+    without following links (``O_NOFOLLOW``) and written (the holder's pid)
+    only if it is a regular file of one name that is empty or holds a pid:
+    a lock file that is a link, or any other file, is refused and left as it
+    is.
 
     Raises
     ------
     FolderBusyError
         When another process holds the lock (its pid in the message).
+    UnsafeLockError
+        When the lock file is a symbolic or hard link, not a regular file, or
+        holds something other than a pid (its path in the message).
     """
     try:
-        import fcntl
+        import fcntl  # noqa: F401 - only whether it exists
     except ImportError:  # not on POSIX: no lock
         yield
         return
-    path = Path(folder) / lock_name
-    with open(path, "a+") as handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            handle.seek(0)
-            holder = handle.read().strip() or "unknown"
-            raise FolderBusyError(f"{folder}: another brushbem process (pid {holder}) is writing into "
-                                  "this folder") from None
-        handle.seek(0)
-        handle.truncate()
-        handle.write(str(os.getpid()))
-        handle.flush()
+    with _locked(Path(folder) / lock_name, folder):
         yield
 
 

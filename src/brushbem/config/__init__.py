@@ -24,7 +24,8 @@ Modules (each imports only those above it; `rules` names the models for
 type checking only):
 
 - `brushbem.config.limits`: the bounds on input (`MAGNITUDE_RANGE`,
-  `MAX_CONFIG_BYTES`, the deepest nesting, the most problems listed, the
+  `MAX_CONFIG_BYTES`, `MAX_SWEEP_BYTES`, `MAX_SWEEP_DEPTH`,
+  `MAX_SWEEP_CASES`, the deepest nesting, the most problems listed, the
   longest value shown).
 - `brushbem.config.errors`: `ConfigError` and the problem lines:
   `show_value`, what a field allows, pydantic errors turned into lines.
@@ -35,7 +36,8 @@ type checking only):
 - `brushbem.config.schema`: the section models (`HalfSpaceConfig`,
   `GridConfig`, `IndenterConfig` and its tables, `ProtocolConfig`,
   `SolverConfig`, `RunConfig`) with the rules between a table's keys.
-- `brushbem.config.loading`: `load_config`, `parse_config`,
+- `brushbem.config.loading`: `load_config`, `parse_config`, `read_toml`
+  (a TOML file within size and nesting limits), `nesting_depth`,
   `config_to_dict` and `to_json_safe`.
 """
 
@@ -44,7 +46,10 @@ from __future__ import annotations
 from .errors import ConfigError, show_value
 from .limits import MAGNITUDE_RANGE as MAGNITUDE_RANGE
 from .limits import MAX_CONFIG_BYTES as MAX_CONFIG_BYTES
-from .loading import config_to_dict, load_config, parse_config, to_json_safe
+from .limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
+from .limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
+from .limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH
+from .loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml, to_json_safe
 from .rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
 from .rules import Problem, StructureRules
 from .schema import (
@@ -84,7 +89,9 @@ __all__ = [
     "ViscoelasticConfig",
     "config_to_dict",
     "load_config",
+    "nesting_depth",
     "parse_config",
+    "read_toml",
     "show_value",
     "to_json_safe",
 ]

@@ -1,12 +1,14 @@
-"""The bounds on a run configuration: magnitudes, size, nesting, and how much is echoed back.
+"""The bounds on a run configuration and a sweep file: magnitudes, size, nesting, case count,
+and how much is echoed back.
 
 Each bound keeps hostile or mistaken input (random bytes, a pasted array, a
-number of 1e300) from reaching the numerics or flooding the problem report.
+number of 1e300, a sweep of millions of cases) from reaching the numerics,
+exhausting memory or recursion, or flooding the problem report.
 """
 
 from __future__ import annotations
 
-__all__ = ["MAGNITUDE_RANGE", "MAX_CONFIG_BYTES"]
+__all__ = ["MAGNITUDE_RANGE", "MAX_CONFIG_BYTES", "MAX_SWEEP_BYTES", "MAX_SWEEP_CASES", "MAX_SWEEP_DEPTH"]
 
 
 # Longest value representation echoed back in a problem line; random or
@@ -28,6 +30,29 @@ _MAX_DEPTH = 32
 
 # Largest configuration file read: a run configuration is a few kB.
 MAX_CONFIG_BYTES = 1 << 20
+
+# Largest sweep file read, checked before it is parsed.  The largest shipped
+# sweep file, ``studies/sweeps/rough_brush.preload.toml`` (1380 zipped points
+# of 4 keys), is 58 kB; 1 MiB is 18 times that, and still parses in a fraction
+# of a second.
+MAX_SWEEP_BYTES = 1 << 20
+
+# Deepest nesting of a sweep file: a run configuration's own limit
+# (`_MAX_DEPTH`) one level down under ``base``, or three levels down as a swept
+# value (``sweep`` > key > list > value), so that any value a configuration
+# takes can be swept.  A shipped sweep file nests at most 5.
+MAX_SWEEP_DEPTH = _MAX_DEPTH + 3
+
+# Most cases one sweep may expand to (the product of its lists' lengths, or
+# their common length with mode "zip", times the realizations), checked
+# before any case is built.  The largest shipped sweep,
+# ``rough_brush.preload``, has 13 800 (1380 points x 10 realizations); the
+# limit leaves seven times that.  Expanding a sweep validates every case (a
+# few ms to tens of ms each) and records it in ``sweep.json`` (about 2 kB
+# each), so 100 000 cases already take minutes to expand and some 200 MB to
+# record before the first one runs; a larger study is split into several
+# sweep files.
+MAX_SWEEP_CASES = 100_000
 
 # Most problem lines reported for one document; the rest are counted.
 _MAX_PROBLEMS = 100

@@ -1,6 +1,7 @@
 """Reading a configuration (a TOML file or a mapping) into a `RunConfig`, and writing one back.
 
-`load_config` reads the file within its limits (`brushbem.config.limits`);
+`load_config` reads the file within its limits (`brushbem.config.limits`,
+`read_toml`, which reads sweep files within theirs too);
 `parse_config` validates each section on its own and the rules between
 sections on those that validated, so that one `ConfigError` lists every
 problem.  `config_to_dict` gives the resolved configuration as JSON-able data
@@ -10,6 +11,7 @@ that re-parses to an equal `RunConfig`.
 from __future__ import annotations
 
 import math
+import os
 import re
 import tomllib
 from collections.abc import Mapping
@@ -25,7 +27,7 @@ from .limits import _MAX_DEPTH, MAX_CONFIG_BYTES
 from .rules import StructureRules, _cross_section_problems
 from .schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
 
-__all__ = ["config_to_dict", "load_config", "parse_config", "to_json_safe"]
+__all__ = ["config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml", "to_json_safe"]
 
 
 def _skipped_rule_lines(
@@ -188,6 +190,138 @@ def _too_deep(document: Any) -> tuple[Any, ...] | None:
     return None
 
 
+#: What a run configuration is, in the messages of `read_toml`.
+_CONFIG_KIND = "a run configuration (a few kB of TOML)"
+_CONFIG_NESTING = "a configuration nests at most 4"
+
+# The tokens of TOML text that matter for its nesting: brackets and braces, and
+# the strings and comments in which they do not count.
+_TOML_TOKENS = re.compile(
+    r'''"""(?:[^\\]|\\.)*?"""|\'\'\'.*?\'\'\'|"(?:[^"\\\n]|\\.)*"|'[^'\n]*'|#[^\n]*|[\[\]{}]''',
+    re.DOTALL,
+)
+
+
+def _bracket_depth(text: str) -> tuple[int, int]:
+    """Deepest nesting of arrays and inline tables in TOML ``text``, and the line where it is reached.
+
+    Brackets inside strings and comments do not count.  Only for the message
+    when the TOML reader runs out of recursion: an approximate count of
+    invalid text is good enough there.
+    """
+    depth = deepest = position = 0
+    for token in _TOML_TOKENS.finditer(text):
+        mark = token.group()
+        if mark in "[{":
+            depth += 1
+            if depth > deepest:
+                deepest, position = depth, token.start()
+        elif mark in "]}":
+            depth = max(depth - 1, 0)
+    return deepest, text.count("\n", 0, position) + 1
+
+
+def nesting_depth(document: Any) -> tuple[int, tuple[Any, ...]]:
+    """Length of the longest key path in ``document``, and that path (iterative: no recursion).
+
+    ``{"a": {"b": 1}}`` nests 2 deep (``a.b``).  Only tables and arrays are
+    pushed on the stack, so a list of 100 000 numbers costs one pass over it.
+    """
+    def container(value: Any) -> bool:  # the common scalars first: the Mapping check is slow
+        return isinstance(value, (dict, list, tuple)) or (
+            not isinstance(value, (int, float, str)) and isinstance(value, Mapping))
+
+    deepest: tuple[Any, ...] = ()
+    stack: list[tuple[Any, tuple[Any, ...]]] = [(document, ())] if container(document) else []
+    while stack:
+        value, loc = stack.pop()
+        items = value.items() if isinstance(value, Mapping) else enumerate(value)
+        if len(loc) > len(deepest):
+            deepest = loc
+        below = len(loc) + 1
+        for key, item in items:
+            if container(item):
+                stack.append((item, (*loc, key)))
+            elif below > len(deepest):
+                deepest = (*loc, key)
+    return len(deepest), deepest
+
+
+def _where(loc: tuple[Any, ...]) -> str:
+    """A long key path shown by its first parts."""
+    shown = _dotted(loc[:6])
+    return shown if len(loc) <= 6 else f"{shown}...(+{len(loc) - 6})"
+
+
+def read_toml(
+    path: str | Path,
+    *,
+    max_bytes: int = MAX_CONFIG_BYTES,
+    max_depth: int = _MAX_DEPTH,
+    kind: str = _CONFIG_KIND,
+    nesting: str = _CONFIG_NESTING,
+) -> dict[str, Any]:
+    """Read a TOML file within a size and a nesting limit.
+
+    The size is checked before the file is parsed; the nesting of the parsed
+    document (and the TOML reader's own recursion) after.
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    max_bytes, max_depth : int
+        The limits (`brushbem.config.limits`): a run configuration's by default.
+    kind, nesting : str
+        What the file is and how deep it needs to nest, for the messages.
+
+    Returns
+    -------
+    dict
+        The TOML document.
+
+    Raises
+    ------
+    ConfigError
+        If the file is missing, unreadable, too large, not UTF-8, not valid
+        TOML or nested too deeply; each message names the file, the value
+        found and the limit.
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as stream:
+            data = stream.read(max_bytes + 1)
+            size = os.fstat(stream.fileno()).st_size
+    except FileNotFoundError:
+        raise ConfigError([f"`{path}`: file not found"]) from None
+    except OSError as exc:
+        raise ConfigError([f"`{path}`: cannot be read ({exc.strerror or exc})"]) from None
+    if len(data) > max_bytes:
+        found = f"{size} bytes" if size > max_bytes else f"more than {max_bytes} bytes"
+        raise ConfigError([f"`{path}`: {found} — larger than {max_bytes} bytes, the limit for {kind}"])
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError([f"`{path}`: not UTF-8 text ({exc.reason} at byte {exc.start})"]) from None
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError([f"`{path}`: not valid TOML ({exc})"]) from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        depth, line = _bracket_depth(text)
+        raise ConfigError([
+            f"`{path}`: arrays or tables nested too deeply ({depth} levels, line {line}) — must not be "
+            f"nested more than {max_depth} levels deep; {nesting}"
+        ]) from None
+    depth, loc = nesting_depth(document)
+    if depth > max_depth:
+        raise ConfigError([
+            f"`{path}`: nested {depth} levels deep (at `{_where(loc)}`) — must not be nested more than "
+            f"{max_depth} levels deep; {nesting}"
+        ])
+    return document
+
+
 def load_config(path: str | Path, *, rules: StructureRules | None = None) -> RunConfig:
     """Read and validate a TOML run configuration (``rules``: see `parse_config`).
 
@@ -204,33 +338,12 @@ def load_config(path: str | Path, *, rules: StructureRules | None = None) -> Run
     Raises
     ------
     ConfigError
-        If the file is missing or unreadable, is not valid TOML, or any value
-        is not allowed (every problem listed).
+        If the file is missing or unreadable, larger than `MAX_CONFIG_BYTES`,
+        nested too deeply, is not valid TOML, or any value is not allowed
+        (every problem listed).
     """
     path = Path(path)
-    try:
-        with path.open("rb") as stream:
-            data = stream.read(MAX_CONFIG_BYTES + 1)
-    except FileNotFoundError:
-        raise ConfigError([f"`{path}`: file not found"]) from None
-    except OSError as exc:
-        raise ConfigError([f"`{path}`: cannot be read ({exc.strerror or exc})"]) from None
-    if len(data) > MAX_CONFIG_BYTES:
-        raise ConfigError([
-            f"`{path}`: larger than {MAX_CONFIG_BYTES} bytes — not a run configuration (a few kB of TOML)"
-        ])
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ConfigError([f"`{path}`: not UTF-8 text ({exc.reason} at byte {exc.start})"]) from None
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError([f"`{path}`: not valid TOML ({exc})"]) from None
-    except RecursionError:  # tomllib recurses once per nested array or inline table
-        raise ConfigError([
-            f"`{path}`: arrays or tables nested too deeply (a configuration needs at most {_MAX_DEPTH} levels)"
-        ]) from None
+    document = read_toml(path)
     return parse_config(document, base_dir=path.resolve().parent, rules=rules)
 
 

@@ -5,7 +5,10 @@
 of every expanded case at once (`SweepError`), draw the per-realization
 seeds and give each case its id (index and hash of the resolved
 configuration and seed): a `Sweep` of
-`SweepCase` objects.
+`SweepCase` objects.  The file's size (`MAX_SWEEP_BYTES`), its nesting
+(`MAX_SWEEP_DEPTH`) and the number of cases it expands to
+(`MAX_SWEEP_CASES`, counted before any case is built) are bounded
+(`brushbem.config.limits`).
 """
 
 from __future__ import annotations
@@ -16,9 +19,9 @@ import functools
 import hashlib
 import itertools
 import json
+import math
 import os
 import re
-import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -29,9 +32,15 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from brushbem import __version__
 from brushbem.assembly import parse_config
 from brushbem.config import (
+    MAX_CONFIG_BYTES,
+    MAX_SWEEP_BYTES,
+    MAX_SWEEP_CASES,
+    MAX_SWEEP_DEPTH,
     ConfigError,
     RunConfig,
     config_to_dict,
+    nesting_depth,
+    read_toml,
     to_json_safe,
 )
 from brushbem.sweep.errors import SweepError, _show
@@ -226,13 +235,46 @@ def _key_problems(spec: SweepSpec) -> list[str]:
                 f"`{_quoted(key)}`: {_show(key)} — must be a dotted key of bare names, "
                 'e.g. "indenter.radius"'
             )
-    for a, b in itertools.permutations(keys, 2):
-        if b.startswith(a + "."):
-            problems.append(f"`{_quoted(b)}`: overlaps `{_quoted(a)}` — set each value once")
+    # Each key's dotted prefixes looked up, not every pair compared: a table of
+    # thousands of keys is checked at once.
+    order = {key: i for i, key in enumerate(keys)}
+    overlaps = sorted(
+        (order[a], order[b])
+        for b in keys
+        for a in (".".join(b.split(".")[:n]) for n in range(1, b.count(".") + 1))
+        if a in order
+    )
+    for i, j in overlaps:
+        problems.append(f"`{_quoted(keys[j])}`: overlaps `{_quoted(keys[i])}` — set each value once")
     if spec.mode == "zip" and len({len(values) for values in spec.sweep.values()}) > 1:
         lengths = ", ".join(f"{key} has {len(values)}" for key, values in spec.sweep.items())
         problems.append(f"`sweep`: lists of different lengths ({lengths}) — mode 'zip' needs equal lengths")
     return problems
+
+
+def _case_count_problem(spec: SweepSpec) -> str | None:
+    """The problem of a sweep expanding to more than `MAX_SWEEP_CASES` cases, counted without building one.
+
+    The count is the product of the lists' lengths (mode "product") or their
+    common length (mode "zip"), times ``realizations``; the keys that make it
+    are named.
+    """
+    lengths = {key: len(values) for key, values in spec.sweep.items()}
+    if spec.mode == "zip":
+        points = next(iter(lengths.values()), 1)
+        factors = [(f"`sweep` (mode 'zip': {', '.join(map(_quoted, lengths))})", points)] if points > 1 else []
+    else:
+        points = math.prod(lengths.values())
+        factors = [(f"`{_quoted(key)}`", n) for key, n in lengths.items() if n > 1]
+    if spec.realizations > 1:
+        factors.append(("`realizations`", spec.realizations))
+    count = points * spec.realizations
+    if count <= MAX_SWEEP_CASES:
+        return None
+    names = " x ".join(name for name, _ in factors)
+    product = " x ".join(str(n) for _, n in factors) + f" = {count}" if len(factors) > 1 else str(count)
+    return (f"{names}: {product} cases — a sweep expands to at most {MAX_SWEEP_CASES} cases "
+            "(brushbem.config.MAX_SWEEP_CASES); split it into several sweep files")
 
 
 def _set_dotted(mapping: dict[str, Any], key: str, value: Any) -> str | None:
@@ -351,12 +393,14 @@ def _read_base(base: str | dict[str, Any], folder: Path) -> tuple[dict[str, Any]
     if not isinstance(base, str):
         return copy.deepcopy(base), None, folder
     base_file = (folder / base).resolve()
+    if not base_file.exists():
+        raise SweepError([f"`base`: {_show(base)} — file not found (looked for {base_file})"])
     try:
-        document = tomllib.loads(base_file.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SweepError([f"`base`: {_show(base)} — file not found (looked for {base_file})"]) from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise SweepError([f"`base`: {_show(base)} — cannot be read as TOML ({exc})"]) from None
+        # A run configuration: read within a run configuration's limits.
+        document = read_toml(base_file, max_bytes=MAX_CONFIG_BYTES)
+    except ConfigError as error:
+        raise SweepError([f"`base`: {_show(base)} — cannot be read as a run configuration: {problem}"
+                          for problem in error.problems]) from None
     return document, base_file, base_file.parent
 
 
@@ -391,6 +435,11 @@ def parse_sweep(
     folder = Path(base_dir).resolve() if base_dir is not None else Path.cwd()
     if not isinstance(document, Mapping):
         raise SweepError([f"``: {_show(document)} — must be a table (the sweep file)"])
+    depth, deepest = nesting_depth(document)
+    if depth > MAX_SWEEP_DEPTH:
+        where = ".".join(str(part) for part in deepest[:6]) + (f"...(+{depth - 6})" if depth > 6 else "")
+        raise SweepError([f"`{where}`: nested {depth} levels deep — a sweep nests at most {MAX_SWEEP_DEPTH} "
+                          "levels (brushbem.config.MAX_SWEEP_DEPTH)"])
     try:
         spec = SweepSpec.model_validate(dict(document))
     except ValidationError as error:
@@ -411,6 +460,9 @@ def parse_sweep(
     problems = _key_problems(spec)
     if problems:
         raise SweepError(problems)
+    too_many = _case_count_problem(spec)  # before the base is read or any case is built
+    if too_many:
+        raise SweepError([too_many])
     base, base_file, case_dir = _read_base(spec.base, folder)
 
     keys = list(spec.sweep)
@@ -496,15 +548,17 @@ def load_sweep(path: str | Path) -> Sweep:
     Raises
     ------
     SweepError
-        If the file cannot be read or any case is invalid (every problem listed).
+        If the file cannot be read, is larger than `MAX_SWEEP_BYTES`, nests
+        deeper than `MAX_SWEEP_DEPTH`, expands to more than `MAX_SWEEP_CASES`
+        cases, or any case is invalid (every problem listed).
     """
     path = Path(path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SweepError([f"`{path}`: file not found"]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SweepError([f"`{path}`: cannot be read ({exc})"]) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepError([f"`{path}`: not valid TOML ({exc})"]) from None
+        document = read_toml(
+            path, max_bytes=MAX_SWEEP_BYTES, max_depth=MAX_SWEEP_DEPTH,
+            kind="a sweep file (the largest shipped one is 58 kB)",
+            nesting="a sweep file needs at most 7 (a configuration's 4, and 3 more for a swept value)",
+        )
+    except ConfigError as error:
+        raise SweepError(error.problems) from None
     return parse_sweep(document, path.resolve().parent, source=path)

@@ -246,17 +246,20 @@ def _check_folder(out_dir: Path, sweep: Sweep) -> None:
 
 @contextlib.contextmanager
 def _exclusive(out_dir: Path) -> Iterator[None]:
-    """Refuse a second sweep driver on the same folder (the kernel drops the lock if one is killed)."""
-    try:
-        import fcntl
-    except ImportError:  # not on POSIX: no lock
-        yield
-        return
-    with open(out_dir / _LOCK_FILE, "w") as handle:
+    """Refuse a second sweep driver on the same folder (the kernel drops the lock if one is killed).
+
+    The lock file is never written through a link (`brushbem.io.exclusive_folder`): one that is a
+    link or not a regular file is a `SweepFolderError`, and the file it points to is left as it is.
+    """
+    from brushbem.io import FolderBusyError, UnsafeLockError, exclusive_folder
+
+    with contextlib.ExitStack() as stack:
         try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
+            stack.enter_context(exclusive_folder(out_dir, _LOCK_FILE))
+        except FolderBusyError:
             raise RuntimeError(f"another sweep is running in {out_dir}") from None
+        except UnsafeLockError as exc:
+            raise SweepFolderError([f"`{exc.filename}`: {exc.strerror}"]) from None
         yield
 
 
@@ -269,8 +272,15 @@ def _write_json(path: Path, value: Any) -> None:
 
 def _remove_stale_temporaries(out_dir: Path) -> None:
     """Remove what a driver killed while writing left: temporaries of its files, never complete files."""
-    stale = [*(out_dir / CASES_DIR).glob(".*.tmp"),
-             *(path for name in (SWEEP_FILE, SUMMARY_FILE) for path in out_dir.glob(f".{name}.*.tmp"))]
+    from brushbem.io import temporary_of
+
+    # Only what `brushbem.io.atomic_path` names the temporaries of the driver's files
+    # (``.<name>.<random>.tmp``): a case file's, sweep.json's or summary.parquet's.
+    stale = [
+        *(path for path in (out_dir / CASES_DIR).glob(".*.tmp") if (temporary_of(path.name) or "").endswith(".nc")),
+        *(path for path in out_dir.glob(".*.tmp") if temporary_of(path.name) in (SWEEP_FILE, SUMMARY_FILE)),
+    ]
+    stale = [path for path in stale if path.is_file() and not path.is_symlink()]
     for path in stale:
         path.unlink(missing_ok=True)
     if stale:
