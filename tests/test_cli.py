@@ -344,3 +344,14 @@ def test_tables_never_cut_the_names_a_user_types(width, monkeypatch):
     assert dry.exit_code == 0
     for key in ("indenter.profile.amplification", "protocol.preload_force", "0000-"):
         assert key in dry.output, (width, key)
+
+
+def test_the_command_line_imports_no_numerics_until_a_command_runs():
+    """`brushbem --help` stays light: importing the command line loads neither numpy, pydantic nor rich."""
+    import subprocess
+    import sys
+
+    code = ("import sys, brushbem.cli; "
+            "print(sorted(m for m in ('numpy', 'pydantic', 'rich', 'scipy', 'xarray') if m in sys.modules))")
+    loaded = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout.strip()
+    assert loaded == "[]"

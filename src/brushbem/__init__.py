@@ -8,12 +8,15 @@ Sign convention: the base displacement d is positive when the indenter presses
 into the half-space; pressure and force are positive when compressive.
 """
 
-from importlib.metadata import PackageNotFoundError, version
 
-try:
-    __version__ = version("brushbem")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0+unknown"
+def _version() -> str:
+    """The installed distribution's version (importlib.metadata costs a tenth of a second: read on first use)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("brushbem")
+    except PackageNotFoundError:  # running from a source tree that is not installed
+        return "0+unknown"
 
 #: The public names and the module each lives in, imported on first use
 #: (PEP 562): ``import brushbem`` stays light, and ``brushbem validate`` does
@@ -48,6 +51,9 @@ __all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC
 
 
 def __getattr__(name: str):
+    if name == "__version__":
+        value = globals()["__version__"] = _version()
+        return value
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'brushbem' has no attribute {name!r}")
@@ -59,4 +65,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_PUBLIC))
+    return sorted(set(globals()) | set(_PUBLIC) | {"__version__"})

@@ -23,21 +23,25 @@ import numbers
 import signal
 import threading
 from pathlib import Path
-from typing import Any, Self
+from typing import TYPE_CHECKING, Any, Self
 
 import click
-from rich.console import Console
-from rich.progress import (
-    BarColumn,
-    Progress,
-    TextColumn,
-    TimeElapsedColumn,
-    TimeRemainingColumn,
-)
-from rich.table import Table
 
-from brushbem import __version__, assembly
-from brushbem.config import ConfigError, RunConfig
+if TYPE_CHECKING:  # the command line imports what a command needs when it runs (`brushbem --help` stays light)
+    from brushbem import assembly
+    from brushbem.config import RunConfig
+
+
+def Console(*args: Any, **kwargs: Any):  # noqa: N802 - stands in for rich's class, imported on first use
+    from rich.console import Console as RichConsole
+
+    return RichConsole(*args, **kwargs)
+
+
+def Table(*args: Any, **kwargs: Any):  # noqa: N802
+    from rich.table import Table as RichTable
+
+    return RichTable(*args, **kwargs)
 
 __all__ = ["main"]
 
@@ -52,6 +56,9 @@ def _load_or_exit(config_path: Path, build: bool = False) -> RunConfig | assembl
 
     On any problem print them all and exit with status 2.
     """
+    from brushbem import assembly
+    from brushbem.config import ConfigError
+
     try:
         return assembly.load(config_path) if build else assembly.load_config(config_path)
     except ConfigError as error:
@@ -172,7 +179,7 @@ def _executor_options(function: Any) -> Any:
 
 
 @click.group()
-@click.version_option(__version__, prog_name="brushbem")
+@click.version_option(package_name="brushbem", prog_name="brushbem")
 def main() -> None:
     """Adhesive pull-off of punches, spheres and brushes on an elastic half-space."""
 
@@ -267,6 +274,7 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
                    "replaces them, or choose another --out", err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     if grids is not None:
+        from brushbem.config import ConfigError
         from brushbem.refine import refined_configs
 
         try:
@@ -304,6 +312,8 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
         # file, nor anything else in the folder.
         remove_stale_temporaries(out_dir, RESULT_FILES)
         stop = stack.enter_context(_Stop())
+        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
         with Progress(
             TextColumn("{task.description}"),
             BarColumn(),

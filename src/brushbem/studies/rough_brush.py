@@ -335,6 +335,10 @@ NUMBERS = [
                  "pending the identification part"),
     ThesisNumber("c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10), read at F~_P = 0.1", "text before Fig. 5-5", 8.0,
                  _coefficient(10.0, 0.01, "identification"), OPEN, "pending the identification part"),
+    ThesisNumber("alpha of eq. 5.8 at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.2", "Table 1", 0.11,
+                 _table_value("alpha", 10.0, "identification_preload"), OPEN, "pending"),
+    ThesisNumber("sigma~_c = alpha/beta at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.2", "Table 1", 3.67,
+                 _table_value("critical_roughness", 10.0, "identification_preload"), OPEN, "pending"),
     ThesisNumber("c at sigma~ = 0.01, k~ = 0.001", "text before Fig. 5-5", 204.0, _coefficient(0.001, 0.01),
                  STATED_CHOICE, "c depends on the preload it is read at: the independent-pillar limit gives 216 at "
                  "F~_P = 0.016, where it also gives the thesis's alpha (3.3-3.9); this row reads c at F~_P = 0.005"),
