@@ -57,3 +57,27 @@ def test_a_result_prints_its_headline_not_its_arrays():
     text = repr(result)
     assert len(text) < 400 and "adhesive force F_A=" in text and "array" not in text
     assert "<table>" in result._repr_html_() and "work of separation W" in result._repr_html_()
+
+
+def test_the_spring_closed_forms_are_named_not_applicable_to_a_nonlinear_or_viscoelastic_spring():
+    """The theory block compares only what its closed form describes: F_A always, the base displacement
+    and the work of eq. 2.18-2.19 only on a linear elastic spring."""
+    import dataclasses
+
+    from brushbem.pillar_laws import PiecewiseLinear
+    from brushbem.viscoelastic import Viscoelastic
+
+    punch = brushbem.flat_punch(GRID, 0.2, 0.05)
+    linear = brushbem.pull_off(GRID, punch, contact_modulus=1.0, work_of_adhesion=1e-4, preload_displacement=1e-3)
+    assert set(linear.summary["theory"]["ratios"]) == {"adhesive_force", "pull_off_displacement", "work_of_separation"}
+    assert "not_applicable" not in linear.summary["theory"]
+    for changed, kwargs in (
+        (dataclasses.replace(punch, pillar_law=PiecewiseLinear(forces=(-0.005, 0.002), factors=(0.5, 1.0, 0.05))),
+         {"method": "fixed", "step": 2e-4}),
+        (dataclasses.replace(punch, viscoelastic=Viscoelastic("kelvin_voigt", 1.0)), {"speed": 1e-3, "method": "fixed",
+                                                                                     "step": 2e-4}),
+    ):
+        theory = brushbem.pull_off(GRID, changed, contact_modulus=1.0, work_of_adhesion=1e-4,
+                                   preload_displacement=1e-3, **kwargs).summary["theory"]
+        assert set(theory["ratios"]) == {"adhesive_force"}
+        assert set(theory["not_applicable"]) == {"pull_off_displacement", "work_of_separation"}

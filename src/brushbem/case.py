@@ -68,8 +68,33 @@ def _level_stiffness(level) -> float:
     return float(level.stiffnesses[0]) if level.uniform else float(np.mean(level.stiffnesses))
 
 
-def _ratios(summary: Mapping[str, Any], **closed_forms: float) -> dict[str, float]:
-    """Computed over closed form, for the quantities both have (and a non-zero closed form)."""
+#: The closed forms that assume a linear elastic spring: the base displacement and the work.
+_SPRING_QUANTITIES = ("pull_off_displacement", "work_of_separation")
+
+
+def _not_applicable_reasons(problem: ContactProblem, stiffness: float) -> dict[str, str] | None:
+    """Quantity -> why its closed form does not apply: a spring that is viscoelastic or nonlinear.
+
+    The adhesive force still compares (the contact detaches at its critical force whatever the spring
+    law); the base displacement and the work of eq. 2.18-2.19 and 2.37 are of a linear elastic spring.
+    """
+    if not math.isfinite(stiffness):
+        return None
+    kind = ("viscoelastic" if problem.indenter.viscoelastic is not None
+            else "nonlinear (indenter.pillar_law)" if problem.indenter.pillar_law is not None else None)
+    if kind is None:
+        return None
+    reason = f"the closed form is of a linear elastic spring; this spring is {kind}"
+    return dict.fromkeys(_SPRING_QUANTITIES, reason)
+
+
+def _not_applicable(problem: ContactProblem, stiffness: float) -> dict[str, None]:
+    """``_ratios`` keywords that drop the quantities whose closed form does not apply."""
+    return dict.fromkeys(_not_applicable_reasons(problem, stiffness) or {}, None)
+
+
+def _ratios(summary: Mapping[str, Any], **closed_forms: float | None) -> dict[str, float]:
+    """Computed over closed form, for the quantities both have (and a non-zero closed form; None: skipped)."""
     ratios = {}
     for key, value in closed_forms.items():
         computed = summary.get(key)
@@ -91,7 +116,9 @@ def _punch_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
         equivalent_radius=radius, adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
         normalized_stiffness=(theory.normalized_punch_stiffness(stiffness, radius, contact_modulus=modulus)
                               if math.isfinite(stiffness) else None),
-        ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
+        ratios=_ratios(summary, **({"adhesive_force": force, "pull_off_displacement": base,
+                                    "work_of_separation": work} | _not_applicable(problem, stiffness))),
+        not_applicable=_not_applicable_reasons(problem, stiffness),
     )
     compliance = (1.0 / theory.punch_stiffness(radius, contact_modulus=modulus)
                   + (1.0 / stiffness if math.isfinite(stiffness) else 0.0))
@@ -135,7 +162,9 @@ def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
                                                                  work_of_adhesion=dgamma)
                               if math.isfinite(stiffness) else None),
         adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
-        ratios=_ratios(summary, adhesive_force=force, pull_off_displacement=base, work_of_separation=work),
+        ratios=_ratios(summary, **({"adhesive_force": force, "pull_off_displacement": base,
+                                    "work_of_separation": work} | _not_applicable(problem, stiffness))),
+        not_applicable=_not_applicable_reasons(problem, stiffness),
     )
     a_sep = theory.jkr_separation_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     a_max = max(a_sep * 4.0, theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma) * 2.5)

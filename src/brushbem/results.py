@@ -141,10 +141,12 @@ class PunchTheory(MappingRecord):
     normalized_stiffness : float or None
         k / (2 E* a) on a finite spring (absent on a rigid punch).
     ratios : dict
-        Computed over closed form, per quantity.
+        Computed over closed form, per quantity (none where the closed form does not apply).
+    not_applicable : dict or None
+        Quantity -> why its closed form does not apply (a viscoelastic or nonlinear spring).
     """
 
-    _ABSENT_WHEN_NONE = frozenset({"normalized_stiffness"})
+    _ABSENT_WHEN_NONE = frozenset({"normalized_stiffness", "not_applicable"})
 
     model: str = "Kendall flat punch (thesis eq. 2.4, 2.18-2.19)"
     equivalent_radius: float
@@ -153,6 +155,7 @@ class PunchTheory(MappingRecord):
     work_of_separation: float
     normalized_stiffness: float | None = None
     ratios: dict = field(default_factory=dict)
+    not_applicable: dict | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -180,7 +183,7 @@ class SphereTheory(MappingRecord):
     """
 
     _ABSENT_WHEN_NONE = frozenset({"preload_contact_radius", "zero_force_radius", "work_counted_from",
-                                   "normalized_stiffness"})
+                                   "normalized_stiffness", "not_applicable"})
 
     preload_contact_radius: float | None = None
     zero_force_radius: float | None = None
@@ -191,6 +194,7 @@ class SphereTheory(MappingRecord):
     pull_off_displacement: float
     work_of_separation: float
     ratios: dict = field(default_factory=dict)
+    not_applicable: dict | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
