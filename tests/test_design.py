@@ -186,3 +186,32 @@ def test_the_design_figure_draws_on_given_axes():
     axes = figure.subplots(1, 2)
     assert design_figure(problem, result, axes=axes) is figure and len(figure.axes) == 2
     assert axes[0].lines and axes[1].lines
+
+
+def test_every_designed_pillar_touches_and_a_worse_design_says_so():
+    """4 x 4 pillars, N = 64, k~ = 0.01, preload_displacement = 0.004: the designed offsets recess tips
+    beyond the preload.  The verification presses every pillar (the preload raised, with a warning), the
+    spread is over all of them, and the design is compared with the brush as given."""
+    grid = Grid(1.0, 64)
+    indenter = brush(grid, layout="square", pillars_per_side=4, pillar_radius=4 * grid.element_size,
+                     contact_modulus=1.0, work_of_adhesion=1e-4, stiffness_ratio=0.01)
+    problem = ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+    result = design(problem, LoadPath(method="events", preload_displacement=0.004), iterations=2)
+    assert result.values.max() > 0.004  # the case of the report: offsets beyond the preload
+    assert result.preload_displacement > result.values.max()
+    assert any("preload_displacement raised" in warning for warning in result.warnings)
+    assert np.all(np.isfinite(result.detachment)) and math.isfinite(result.spread)
+    assert result.start_force_ratio is not None
+    if result.verified_force_ratio <= result.start_force_ratio:
+        assert any("does not beat the brush as given" in warning for warning in result.warnings)
+
+
+def test_a_design_refuses_tips_it_does_not_model():
+    from brushbem.structure import Tip
+
+    indenter = brush(GRID, layout="square", pillars_per_side=4, pillar_radius=4 * GRID.element_size,
+                     contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=1.0,
+                     tip=Tip(shape="spherical_cap", radius=0.2))
+    problem = ContactProblem(GRID, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+    with pytest.raises(DesignError, match="indenter.tip"):
+        design(problem, LoadPath(preload_displacement=0.01))

@@ -441,7 +441,10 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
     except OSError as exc:
         click.echo(f"--out {out_dir}: could not write the design ({exc.strerror or exc})", err=True)
         raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+    for warning in result.warnings:
+        click.echo(f"warning: {warning}", err=True)
     if not quiet:
+        click.echo(f"the brush as given: F~ = {result.start_force_ratio:.4f}")
         click.echo(f"predicted F~ = {result.predicted_force_ratio:.4f} (every pillar's edge critical at once), "
                    f"verified F~ = {result.verified_force_ratio:.4f} after {result.iterations} corrective pull-offs; "
                    f"detachment spread {result.spread:.3g} |d_c|; written to {out_dir}")

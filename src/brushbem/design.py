@@ -81,6 +81,13 @@ class Design(MappingRecord):
     bound_force_ratio : float or None
         With ``bound=True``: `sharing_bound` over N F_K, the most any design
         reaches while every pillar is in full contact (None when not computed).
+    start_force_ratio : float or None
+        F~ of the brush as given (before the design), verified by the same pull-off.
+    preload_displacement : float or None
+        The preload the verification used, raised where the design's offsets
+        would have left pillars out of contact (None: a force-controlled preload).
+    warnings : tuple of str
+        What a user must know: a raised preload, a design that does not beat the brush as given.
     """
 
     target: str
@@ -96,6 +103,9 @@ class Design(MappingRecord):
     ideal_sharing_force: float
     rigid_brush_displacement: float
     bound_force_ratio: float | None = None
+    start_force_ratio: float | None = None
+    preload_displacement: float | None = None
+    warnings: tuple = ()
 
     def scalars(self) -> dict:
         """The JSON-able fields (arrays summarised)."""
@@ -107,6 +117,8 @@ class Design(MappingRecord):
             "ideal_sharing_force": self.ideal_sharing_force,
             "rigid_brush_displacement": self.rigid_brush_displacement,
             "pillars": int(self.values.size), "bound_force_ratio": self.bound_force_ratio,
+            "start_force_ratio": self.start_force_ratio, "preload_displacement": self.preload_displacement,
+            "warnings": list(self.warnings),
         }
 
 
@@ -325,6 +337,12 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
     if indenter.viscoelastic is not None or indenter.pillar_law is not None:
         raise DesignError("the design assumes linear elastic pillars: remove indenter.viscoelastic and "
                           "indenter.pillar_law")
+    if getattr(info, "tip", "flat") != "flat":
+        raise DesignError(f"indenter.tip: the design assumes flat tips in full contact (Kendall's force per "
+                          f"pillar); this brush's tips are {info.tip!r}")
+    if any(not level.uniform for level in indenter.levels[1:]):
+        raise DesignError("indenter.levels.grading: the design solves the pillars' forces for uniform springs "
+                          "above the pillars; remove the grading of the levels")
     if not (isinstance(iterations, int) and 0 <= iterations <= 50):
         raise DesignError(f"iterations = {iterations!r} must be an integer in [0, 50]")
     grid = problem.grid
@@ -363,19 +381,32 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
     scales_dc = abs(float(theory.rigid_brush_displacement(
         min(info.filling_factor, 1.0), info.apparent_area, contact_modulus=problem.contact_modulus,
         work_of_adhesion=problem.work_of_adhesion)))
-    history, best, converged = [], None, True
+    notes: list[str] = []
+    if progress is not None:
+        progress(0.0, "the brush as given: one pull-off to compare the design with")
+    start = record_pull_off(problem, path).summary
+    configured = path
+    start_ratio = float(start["adhesive_force"]) / ideal
+    history, best, converged = [], None, bool(start["converged"])
     for round_ in range(iterations + 1):
         if progress is not None:
             progress(round_ / (iterations + 1), f"verifying design {round_ + 1} of {iterations + 1}")
         trial = dataclasses.replace(problem, indenter=build(indenter, values))
+        path = _touching_path(trial, configured, values if target == "lengths" else None, notes)
         record = record_pull_off(trial, path)
         summary = record.summary
         converged &= bool(summary["converged"])
         ratio = float(summary["adhesive_force"]) / ideal
         detachment = np.asarray(record.pillars["max_tension_displacement"], float)
+        untouched = int(np.count_nonzero(~np.isfinite(detachment)))
+        if untouched:
+            raise DesignError(
+                f"{untouched} of {detachment.size} pillars never touch at the preload of the verification "
+                f"(protocol.preload_displacement = {path.preload_displacement}, protocol.preload_force = "
+                f"{path.preload_force}): press further so that every designed pillar is in contact")
         history.append(ratio)
         if best is None or ratio > best[0]:
-            best = (ratio, values.copy(), detachment, float(summary["adhesive_force"]))
+            best = (ratio, values.copy(), detachment, float(summary["adhesive_force"]), path.preload_displacement)
         spread_now = float(np.ptp(detachment)) if np.all(np.isfinite(detachment)) else math.inf
         if round_ == iterations or not math.isfinite(spread_now) or spread_now <= 1e-9 * max(scales_dc, 1e-300):
             break
@@ -389,18 +420,40 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
             if np.any(stretch >= 0):
                 break
             values = forces / stretch
-    ratio, values, detachment, force = best
+    ratio, values, detachment, force, preload = best
     bound_ratio = None
     if bound:
         if progress is not None:
             progress(1.0, f"the load-sharing bound: {indenter.n_pillars} prescribed-force solves")
         bound_ratio = sharing_bound(halfspace, np.asarray(indenter.pillar), problem.critical_stress)[0] / ideal
-    finite = detachment[np.isfinite(detachment)]
-    spread = float((finite.max() - finite.min()) / scales_dc) if finite.size else math.nan
+    spread = float(np.ptp(detachment) / scales_dc)  # every pillar touched (checked above)
+    if ratio <= start_ratio:
+        notes.append(f"the design does not beat the brush as given: verified F~ = {ratio:.4g} against "
+                     f"{start_ratio:.4g} undesigned (keep the brush as it is, or raise the iterations)")
     return Design(target=target, values=values, predicted_force_ratio=predicted / ideal, verified_force_ratio=ratio,
                   history=history, detachment=detachment, spread=spread, iterations=len(history) - 1,
                   converged=converged, adhesive_force=force, ideal_sharing_force=ideal,
-                  rigid_brush_displacement=scales_dc, bound_force_ratio=bound_ratio)
+                  rigid_brush_displacement=scales_dc, bound_force_ratio=bound_ratio, start_force_ratio=start_ratio,
+                  preload_displacement=preload, warnings=tuple(dict.fromkeys(notes)))
+
+
+def _touching_path(problem: ContactProblem, path: LoadPath, offsets: np.ndarray | None, notes: list[str]) -> LoadPath:
+    """``path``, with its preload displacement raised so that every pillar of the designed offsets is pressed.
+
+    Designed offsets recess some tips by more than the configured preload presses; such a pillar never
+    touches, never pulls, and the verification would rate a brush the design did not mean.  A
+    displacement preload is raised to the largest offset plus the configured preload (every tip then
+    pressed at least that much); a force preload is kept (the pull-off reports untouched pillars).
+    """
+    if offsets is None or path.preload_displacement is None:
+        return path
+    needed = float(np.max(offsets)) + float(path.preload_displacement)
+    if needed <= path.preload_displacement * (1 + 1e-12):
+        return path
+    notes[:] = [note for note in notes if not note.startswith("protocol.preload_displacement raised")]
+    notes.append(f"protocol.preload_displacement raised from {path.preload_displacement:g} to {needed:g}: the "
+                 "designed offsets recess tips by up to {:g}, beyond the configured preload".format(float(np.max(offsets))))
+    return dataclasses.replace(path, preload_displacement=needed)
 
 
 def thesis_profile_fit(problem: ContactProblem, offsets: np.ndarray) -> tuple[np.ndarray, float]:
