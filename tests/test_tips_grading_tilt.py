@@ -320,3 +320,19 @@ def test_config_refuses_a_discriminant_coupling_on_a_graded_brush(tmp_path):
     path.write_text(text)
     with pytest.raises(ConfigError, match="solver.coupling"):
         load(path)
+
+
+def test_a_cap_too_small_for_the_grid_is_refused_like_a_sphere():
+    """A spherical cap detaches as a JKR sphere of its radius: its pull-off contact needs 2 elements too
+    (N = 64, R = 0.05: a = 0.6 elements, refused; N = 256: 2.5 elements, accepted)."""
+    from brushbem.config import ConfigError
+
+    from brushbem.assembly import parse_config
+
+    config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 64},
+              "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 1, "pillar_radius": 0.1,
+                           "stiffness_ratio": 0.1, "tip": {"shape": "spherical_cap", "radius": 0.05}},
+              "protocol": {"preload_displacement": 0.002}}
+    with pytest.raises(ConfigError, match="indenter.tip.radius"):
+        parse_config(config)
+    parse_config({**config, "grid": {"size": 1.0, "elements": 256}})
