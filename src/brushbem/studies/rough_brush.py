@@ -291,23 +291,33 @@ INDEPENDENT_LIMIT = {
 COUPLED_OVER_LIMIT = "0.53-1.04"
 
 
+#: The rigid brush (k~ = 10) with c read at one preload (parts `identification`, `identification_preload`,
+#: three and two seeds): F~_P -> (alpha, beta, sigma~_c, c at sigma~ = 0.01).
+COUPLED_AT = {0.1: (0.150, 0.029, 5.20, 9.7), 0.2: (0.087, 0.019, 4.70, 5.4)}
+
+
 def _alpha_evidence(k: float) -> str:
     fp, alpha, _ = INDEPENDENT_LIMIT[k]
-    return (f"c read at F~_P = {fp:g} (ours; the thesis states no preload for its linear region, L907-911): "
-            f"the independent-pillar limit then gives alpha = {alpha:.3g}, and the coupled brush is "
-            f"{COUPLED_OVER_LIMIT} x that limit at small preloads; this row reads c at the smallest sampled "
-            "preload (0.005-0.3), the sensitivity: alpha falls ~5 x from F~_P = 0.005 to 0.1")
+    text = (f"alpha is set by the preload c is read at (the thesis states none for its linear region, L907-911; "
+            f"this row reads the smallest sampled one, 0.005-0.3): the independent-pillar limit gives the "
+            f"thesis's alpha at F~_P = {fp:g} ({alpha:.3g})")
+    if k >= 0.55:
+        text += ("; the coupled rigid brush gives 0.150 at F~_P = 0.1 and 0.087 at 0.2 (parts identification, "
+                 "identification_preload), the thesis's 0.11 at F~_P ~ 0.15")
+    return text
 
 
 def _critical_evidence(k: float, thesis: float) -> tuple[str, str]:
     fp, _, sc = INDEPENDENT_LIMIT[k]
-    if math.isfinite(sc) and abs(sc / thesis - 1.0) <= 0.25:
-        return STATED_CHOICE, (f"c read at F~_P = {fp:g} (ours): the independent-pillar limit gives "
-                               f"sigma~_c = {sc:.3g}; this row reads c at the smallest sampled preload")
-    limit = f"{sc:.3g}" if math.isfinite(sc) else "no crossing (beta <= 0)"
-    return OPEN, (f"two readings fail to give {thesis:g}: c at the smallest sampled preload (this row) and the "
-                  f"independent-pillar limit with c read where it gives the thesis's alpha (F~_P = {fp:g}): "
-                  f"{limit}; sigma~_c = alpha/beta extrapolates the fit beyond the roughnesses computed")
+    limit = f"{sc:.3g}" if math.isfinite(sc) else "no zero crossing"
+    text = (f"no reading gives {thesis:g} together with the thesis's alpha: c at the smallest sampled preload "
+            f"(this row); the independent-pillar limit read where it gives the thesis's alpha (F~_P = {fp:g}): "
+            f"{limit}")
+    if k >= 0.55:
+        text += "; the coupled rigid brush read at F~_P = 0.1 and 0.2: 5.2 and 4.7"
+    elif k == 0.01:
+        text += "; the coupled brush read at F~_P = 0.1: no zero crossing"
+    return OPEN, text + " (sigma~_c = alpha/beta extrapolates the fit beyond the roughnesses computed)"
 
 
 NUMBERS = [
@@ -324,30 +334,37 @@ NUMBERS = [
     ThesisNumber("critical roughness of the rigid case (k~ = 10)", "text p. 5.2 (after eq. 5.8)", 3.67,
                  _table_value("critical_roughness", 10.0), *_critical_evidence(0.55, 3.67)),
     ThesisNumber("alpha of eq. 5.8 at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.1", "Table 1", 0.11,
-                 _table_value("alpha", 10.0, "identification"), OPEN, "pending the identification part"),
+                 _table_value("alpha", 10.0, "identification"), STATED_CHOICE,
+                 "the preload c is read at (ours): 0.150 at F~_P = 0.1 and 0.087 at 0.2 bracket the thesis's 0.11 "
+                 "(F~_P ~ 0.15 by log interpolation), where c at sigma~ = 0.01 is ~6.9 (thesis 8)"),
     ThesisNumber("sigma~_c = alpha/beta at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.1", "Table 1", 3.67,
-                 _table_value("critical_roughness", 10.0, "identification"), OPEN,
-                 "pending the identification part"),
+                 _table_value("critical_roughness", 10.0, "identification"), *_critical_evidence(0.55, 3.67)),
     ThesisNumber("alpha of eq. 5.8 at k~ = 0.01, c read at F~_P = 0.1", "Table 1", 0.44,
-                 _table_value("alpha", 0.01, "identification"), OPEN, "pending the identification part"),
+                 _table_value("alpha", 0.01, "identification"), STATED_CHOICE,
+                 "the preload c is read at (ours): 0.27 at F~_P = 0.1; alpha rises as the preload falls, and the "
+                 "independent-pillar limit gives the thesis's 0.44 at F~_P = 0.13 (the coupling lowers it here)"),
     ThesisNumber("sigma~_c = alpha/beta at k~ = 0.01, c read at F~_P = 0.1", "Table 1", 5.5,
-                 _table_value("critical_roughness", 0.01, "identification"), OPEN,
-                 "pending the identification part"),
+                 _table_value("critical_roughness", 0.01, "identification"), *_critical_evidence(0.01, 5.5)),
     ThesisNumber("c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10), read at F~_P = 0.1", "text before Fig. 5-5", 8.0,
-                 _coefficient(10.0, 0.01, "identification"), OPEN, "pending the identification part"),
+                 _coefficient(10.0, 0.01, "identification"), STATED_CHOICE,
+                 "the preload c is read at (ours): 9.7 at F~_P = 0.1 and 5.4 at 0.2 bracket the thesis's 8"),
     ThesisNumber("alpha of eq. 5.8 at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.2", "Table 1", 0.11,
-                 _table_value("alpha", 10.0, "identification_preload"), OPEN, "pending"),
+                 _table_value("alpha", 10.0, "identification_preload"), STATED_CHOICE,
+                 "with the F~_P = 0.1 row (0.150) it brackets the thesis's 0.11: F~_P ~ 0.15"),
     ThesisNumber("sigma~_c = alpha/beta at k~ >= 0.55 (k~ = 10), c read at F~_P = 0.2", "Table 1", 3.67,
-                 _table_value("critical_roughness", 10.0, "identification_preload"), OPEN, "pending"),
+                 _table_value("critical_roughness", 10.0, "identification_preload"), *_critical_evidence(0.55, 3.67)),
     ThesisNumber("c at sigma~ = 0.01, k~ = 0.001", "text before Fig. 5-5", 204.0, _coefficient(0.001, 0.01),
-                 STATED_CHOICE, "c depends on the preload it is read at: the independent-pillar limit gives 216 at "
-                 "F~_P = 0.016, where it also gives the thesis's alpha (3.3-3.9); this row reads c at F~_P = 0.005"),
+                 STATED_CHOICE, "the preload c is read at: the committed tables give 204 at F~_P = 0.0096, the soft "
+                 "brush's knee (notes), and the independent-pillar limit 216 at F~_P = 0.016, where it also gives the "
+                 "thesis's alpha; this row reads F~_P = 0.005"),
     ThesisNumber("c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10)", "text before Fig. 5-5", 8.0, _coefficient(10.0, 0.01),
-                 OPEN, "c at F~_P = 0.005 (this row) and at 0.1 (the identification row) both exceed 8: see there"),
+                 STATED_CHOICE, "the preload c is read at: this row reads F~_P = 0.005 (48); the coupled brush gives "
+                 "9.7 at F~_P = 0.1 and 5.4 at 0.2 (identification rows), bracketing the thesis's 8"),
     ThesisNumber("c at sigma~ = 0.01, k~ = 0.001 over k~ = 10 (204 / 8: 'more than 25 times')",
                  "text before Fig. 5-5", 204.0 / 8.0, _ratio(_coefficient(0.001, 0.01), _coefficient(10.0, 0.01)),
-                 OPEN, "a ratio of two c read at preloads the thesis does not state: at one preload for both "
-                 "(this row, F~_P = 0.005) it is 6.6; the thesis's 204 and 8 need different preloads"),
+                 STATED_CHOICE, "read at each brush's knee (F~_A at 89-91 % of its plateau: F~_P = 0.0096 soft, ~0.12 "
+                 "stiff; notes) the committed tables give 203 / 8 = 25; read at one preload for both (this row, "
+                 "F~_P = 0.005) 6.6: softer brushes reach the plateau earlier (L905)"),
     ThesisNumber("c at sigma~ = 0.01, k~ = 0.55 over k~ = 10 (collapse for k~ >= 0.55)", "text before Fig. 5-5",
                  1.0, _ratio(_coefficient(0.55, 0.01), _coefficient(10.0, 0.01))),
     ThesisNumber("plateau F~_A, k~ = 10, sigma~ = 0.07 ('approaches one')", "Fig. 5-3, text", 1.0,
