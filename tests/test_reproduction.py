@@ -199,7 +199,7 @@ def test_a_study_report_shows_the_explanation_beside_an_amber_number():
     notes = _notes_text()
     assert "## Why the ch. 5–7 deviations" in notes  # found from a clone
     text = _explanation("concave", notes)
-    assert "Chapter 7 at the thesis&#x27;s grid" in text and "Why the ch. 5–7 deviations" in text
+    assert "Chapter 7 (`concave`" in text and "Why the ch. 5–7 deviations" in text
     assert "<details>" in text and "Explains:" in text
     far = ThesisNumber("far", "Fig. 0", 1.0, lambda results: 1.5)
     near = ThesisNumber("near", "Fig. 0", 1.0, lambda results: 1.01)
@@ -425,7 +425,15 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
             assert found[part]["realization"].nunique() == 10  # the thesis's 10 realisations (L1187)
         return found
 
-    numbers = get_study("hierarchy").numbers
+    every = get_study("hierarchy").numbers
+    # The uniform lattice's value rows here; the trend rows and the clustered layout's rows below.
+    numbers = [n for n in every if n.claim is None and "clustered" not in n.quantity]
+    clustered = [n for n in every if "clustered" in n.quantity]
+    assert len(clustered) == 5
+    clustered_tables = {part: frame for part, frame in
+                        zip(("clustered_one", "clustered_two", "clustered_three"), tables("sampled.").values())}
+    for number in clustered:
+        assert math.isfinite(number.compute(clustered_tables)), number.quantity
     small_preload = [n for n in numbers if "sigma~ = 1.6" in n.quantity]
     rough = [n for n in numbers if "sigma~ = 2.5" in n.quantity]
     ratios = [n for n in numbers if "over one level" in n.quantity]

@@ -272,7 +272,7 @@ def _config(tmp_path, indenter_extra: str):
 
 
 def test_config_builds_tips_tilt_and_grading(tmp_path):
-    np.save(tmp_path / "radii.npy", np.linspace(0.2, 0.5, 16))
+    np.save(tmp_path / "radii.npy", np.linspace(0.5, 1.0, 16))  # JKR contacts of 2.9-4.5 elements
     np.save(tmp_path / "factors.npy", np.linspace(0.5, 1.5, 16))
     path = _config(tmp_path, """
         tip = {shape = "spherical_cap", radius = "radii.npy"}
