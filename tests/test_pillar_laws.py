@@ -212,3 +212,16 @@ def test_config_names_a_non_monotone_law(tmp_path):
     path.write_text(path.read_text() + 'method = "fixed"\nstep = 5e-4\n')
     built = load(path)
     assert built.problem.indenter.pillar_law == PiecewiseLinear((0.002,), (1.0, 0.05), 0.01)
+
+
+def test_a_law_beyond_the_documented_magnitudes_is_refused():
+    """pillar_law.forces = [1e300] passed the documented 1e30 limit of every number; now refused by name."""
+    from brushbem.assembly import parse_config
+    from brushbem.config import ConfigError
+
+    config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+              "indenter": {"shape": "flat_punch", "radius": 0.2, "stiffness": 0.05,
+                           "pillar_law": {"forces": [1e300], "factors": [1.0, 0.5]}},
+              "protocol": {"method": "fixed", "preload_displacement": 1e-3, "step": 1e-4}}
+    with pytest.raises(ConfigError, match="pillar_law.forces"):
+        parse_config(config)

@@ -459,6 +459,12 @@ class PillarLawConfig(_Section):
         numbers = all(isinstance(f, (int, float)) and math.isfinite(f) for f in (*forces, *factors))
         if not numbers:
             return [Problem("forces", _show(list(forces)), "forces and factors must be finite numbers")]
+        smallest, largest = MAGNITUDE_RANGE
+        for key, values in (("forces", forces), ("factors", factors)):
+            if any(abs(v) > largest or (v != 0 and abs(v) < smallest) for v in values):
+                problems.append(Problem(key, _show(list(values)),
+                                        f"every value must lie within {smallest:g} to {largest:g} in magnitude "
+                                        "(0 allowed for forces)"))
         if any(b <= a for a, b in itertools.pairwise(forces)):
             problems.append(Problem("forces", _show(list(forces)), "must be strictly increasing"))
         if len(factors) != len(forces) + 1:
