@@ -500,7 +500,9 @@ def test_the_rough_brush_sampled_sweep_carries_every_chapter_5_number():
                      "normalized.roughness_by_rigid_brush": sigma, "normalized.preload_by_rigid_brush": preload,
                      "normalized.force_by_rigid_brush": force})
     tables = {"curves": pd.DataFrame(columns=["case_id", "status"]), "preload": pd.DataFrame(rows)}
-    values = {n.quantity: n.compute(tables) for n in get_study("rough_brush").numbers}
+    # The rows of the preload sweep (the identification parts and Fig. 5-2's curves have their own files).
+    values = {n.quantity: n.compute(tables) for n in get_study("rough_brush").numbers
+              if "read at F~_P" not in n.quantity and not n.where.startswith("Fig. 5-2")}
     assert all(math.isfinite(v) for v in values.values()), [q for q, v in values.items() if not math.isfinite(v)]
     for k, (alpha, critical) in TABLE_1.items():
         assert values[f"alpha of eq. 5.8 at k~ = {k:g}"] == pytest.approx(alpha, rel=1e-9)
