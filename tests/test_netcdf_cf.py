@@ -98,3 +98,23 @@ def test_declared_units_name_every_dimension(result_file, request):
         recorded = json.loads(ds.attrs["config"]).get("units")
     assert units == expected[declared]
     assert recorded == (None if declared is None else {"length": declared[0], "stress": declared[1]})
+
+
+def test_a_run_records_its_provenance(tmp_path):
+    """summary.json says which version, commit, time, units and configuration gave its numbers; result.nc its
+    creation date (ACDD date_created)."""
+    import json
+
+    import xarray as xr
+
+    import brushbem
+
+    out = tmp_path / "run"
+    brushbem.run({"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+                  "indenter": {"shape": "flat_punch", "radius": 0.2}, "protocol": {"preload_displacement": 1e-3},
+                  "units": {"length": "mm", "stress": "MPa"}}).save(out)
+    provenance = json.loads((out / "summary.json").read_text())["provenance"]
+    assert provenance["brushbem_version"] and provenance["created"].endswith("+00:00") and "commit" in provenance
+    assert provenance["units"]["force"] == "N" and provenance["config"]["grid"]["elements"] == 32
+    with xr.open_dataset(out / "result.nc") as dataset:
+        assert dataset.attrs["date_created"] == provenance["created"]

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import datetime
 import errno
 import io
 import json
@@ -519,6 +520,38 @@ def _field_compression(dataset: Any) -> dict[str, dict[str, Any]]:
             for name, variable in dataset.data_vars.items() if variable.ndim >= 2}
 
 
+def source_commit() -> str | None:
+    """The git commit of the checkout brushbem runs from, or None (an installed package, no git)."""
+    import subprocess
+
+    try:
+        done = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(__file__).resolve().parent,
+                              capture_output=True, text=True, timeout=10, check=False)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return (done.stdout.strip() or None) if done.returncode == 0 else None
+
+
+def _provenance(result: CaseResult, config: RunConfig | None, created: str, commit: str | None) -> dict[str, Any]:
+    """What ``summary.json`` records of where its numbers come from: version, commit, time, units, configuration."""
+    units = _units_of(result, config)
+    configuration = config_to_dict(config) if config is not None else result.attributes.get("config")
+    if isinstance(configuration, str):
+        try:
+            configuration = json.loads(configuration)
+        except ValueError:
+            pass
+    return {
+        "brushbem_version": result.attributes.get("brushbem_version", __version__),
+        "commit": commit,
+        "created": created,
+        "backend": result.attributes.get("backend"),
+        "units": ("dimensionless: the units of the inputs" if units.dimensionless else
+                  {dimension: units.of(dimension) for dimension in ("length", "stress", "force", "energy")}),
+        "config": configuration,
+    }
+
+
 def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
     """Write ``summary.json`` and ``result.nc`` of one case into ``out_dir``.
 
@@ -536,8 +569,12 @@ def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | N
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     run_id = uuid.uuid4().hex
-    result = dataclasses.replace(result, attributes={**result.attributes, "run_id": run_id})
-    summary = _json({**result.summary, "run_id": run_id}, indent=2) + "\n"
+    created = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+    commit = source_commit()
+    result = dataclasses.replace(result, attributes={**result.attributes, "run_id": run_id, "date_created": created,
+                                                     **({"commit": commit} if commit else {})})
+    summary = _json({**result.summary, "run_id": run_id,
+                     "provenance": _provenance(result, config, created, commit)}, indent=2) + "\n"
     _check_free_space(out_dir, len(summary))
     # The dataset first, the summary last: the summary is the pair's commit.
     write_dataset(result, out_dir / DATASET_FILE, config=config)
