@@ -225,3 +225,15 @@ def test_a_law_beyond_the_documented_magnitudes_is_refused():
               "protocol": {"method": "fixed", "preload_displacement": 1e-3, "step": 1e-4}}
     with pytest.raises(ConfigError, match="pillar_law.forces"):
         parse_config(config)
+
+
+def test_a_fixed_step_that_cannot_reach_the_preload_within_max_steps_is_refused():
+    """step = 1e-12 on a 1e-3 preload is 1e9 steps: refused up front, naming the step that would do."""
+    from brushbem.assembly import parse_config
+    from brushbem.config import ConfigError
+
+    config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+              "indenter": {"shape": "flat_punch", "radius": 0.2, "stiffness": 0.05},
+              "protocol": {"method": "fixed", "preload_displacement": 1e-3, "step": 1e-12}}
+    with pytest.raises(ConfigError, match="protocol.step.*at least 5e-09"):
+        parse_config(config)

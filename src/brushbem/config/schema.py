@@ -860,6 +860,19 @@ class RunConfig(BaseModel):
                 "protocol.step", _show(self.protocol.step),
                 f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
             ))
+        preload = self.protocol.preload_displacement
+        if self.protocol.method == "fixed" and preload is not None and self.protocol.step > 0:
+            # The pressing alone takes preload / step steps; more than max_steps cannot finish, and
+            # would run for hours before saying so (step = 1e-12 on a 1e-3 preload: 1e9 steps).
+            pressing = preload / self.protocol.step
+            if pressing > self.protocol.max_steps:
+                problems.append(Problem(
+                    "protocol.step", _show(self.protocol.step),
+                    f"presses to protocol.preload_displacement = {preload:g} in {pressing:.3g} steps, more than "
+                    f"protocol.max_steps = {self.protocol.max_steps}: raise the step to at least "
+                    f"{preload / self.protocol.max_steps:.3g} (or raise max_steps, knowing the run's length grows "
+                    "with it)",
+                ))
         problems.extend(self._time_stepping_problems())
         problems.extend(self._pillar_law_problems())
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
