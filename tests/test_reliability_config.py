@@ -581,7 +581,7 @@ def test_run_refuses_the_grid_before_computing(folder, monkeypatch, tmp_path):
     assert not (tmp_path / "out" / "result.nc").exists()
 
 
-@pytest.mark.parametrize("setting", ["lots", "-5G", "0", "1e400", "5 GB extra", "nan"])
+@pytest.mark.parametrize("setting", ["lots", "-5G", "0", "1e-3", "1e400", "5 GB extra", "nan"])
 def test_a_bad_memory_limit_is_refused_naming_the_variable(folder, monkeypatch, setting):
     monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, setting)
     result = validate(folder, to_toml(BASES["punch"]))

@@ -93,8 +93,8 @@ def parse_bytes(text: str) -> int:
     if match is None:
         raise ValueError("must be a number of bytes, optionally with a unit k, M, G or T (e.g. 16G), or off")
     amount = float(match.group(1)) * _UNITS[match.group(2).lower()]
-    if not (math.isfinite(amount) and amount > 0):
-        raise ValueError("must be a positive number of bytes")
+    if not (math.isfinite(amount) and amount >= 1):
+        raise ValueError(f"must be at least one byte (got {text.strip()!r}, {amount:g} bytes)")
     return int(amount)
 
 
