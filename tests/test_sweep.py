@@ -521,6 +521,16 @@ def test_one_driver_per_folder(tmp_path):
         run_sweep(spec(sweep={"indenter.radius": [0.2]}), out, pool)
 
 
+def test_a_busy_folder_is_refused_with_status_2(tmp_path):
+    """A second `brushbem sweep` on a folder in use exits 2 (a busy --out, as for `run`), not 1."""
+    out = tmp_path / "out"
+    out.mkdir()
+    path = write_sweep(tmp_path, '[sweep]\n"indenter.radius" = [0.2]\n')
+    with sweep_module._exclusive(out):
+        result = CliRunner().invoke(main, ["sweep", str(path), "--out", str(out), "--workers", "1", "--quiet"])
+    assert result.exit_code == 2 and "another sweep is running" in result.output
+
+
 def test_brush_realizations_get_their_seeds_and_differ(tmp_path):
     """With a real seeded indenter (a rough brush): realizations differ, reruns are bit-identical."""
     document = {

@@ -618,8 +618,9 @@ def _sweep_errors(out_dir: Path) -> Any:
         raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
     except (click.exceptions.Exit, click.exceptions.Abort):  # RuntimeErrors too, but already said
         raise
-    except RuntimeError as exc:  # another sweep runs in the same folder
-        raise click.ClickException(str(exc)) from None
+    except RuntimeError as exc:  # another sweep runs in the same folder: a busy --out, as for `run` (exit 2)
+        click.echo(f"--out {exc}; wait for it or choose another folder", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
