@@ -649,3 +649,8 @@ def test_an_accepted_extreme_value_runs_to_an_answer(tmp_path, base, loc, value)
         assert "did not converge (" in result.output
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["converged"] == (result.exit_code == 0)
+
+
+def test_a_byte_order_mark_is_refused_with_what_to_do(folder):
+    result = validate(folder, b"\xef\xbb\xbf" + to_toml(BASES["punch"]).encode(), name="bom.toml")
+    assert result.exit_code == 2 and "byte-order mark" in result.output and "without BOM" in result.output

@@ -303,6 +303,10 @@ def read_toml(
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ConfigError([f"`{path}`: not UTF-8 text ({exc.reason} at byte {exc.start})"]) from None
+    if text.startswith("\ufeff"):
+        raise ConfigError([f"`{path}`: starts with a byte-order mark (U+FEFF), which TOML does not allow; save the "
+                           "file as UTF-8 without BOM (e.g. in the editor's encoding menu, or: sed -i '1s/^\\xEF\\xBB"
+                           "\\xBF//' FILE)"])
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
