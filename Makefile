@@ -17,6 +17,10 @@ $(VENV)/.installed: pyproject.toml | $(VENV)/bin/python
 	$(VENV)/bin/python -m pip install --quiet -e .
 	touch $@
 
+$(VENV)/.installed-docs: pyproject.toml | $(VENV)/bin/python
+	$(VENV)/bin/python -m pip install --quiet -e '.[docs]'
+	touch $@
+
 $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
 	$(VENV)/bin/python -m pip install --quiet -e '.[test]'
 	touch $@
@@ -37,7 +41,7 @@ test-fast: $(VENV)/.installed-test
 	$(VENV)/bin/python -m pytest -q -m "not slow" -p no:cacheprovider
 
 # The documentation site into out/site (warnings are errors); open out/site/index.html.
-docs: $(VENV)/.installed-test
+docs: $(VENV)/.installed-docs
 	$(VENV)/bin/python -m mkdocs build --strict
 
 chromium:
