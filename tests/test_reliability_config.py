@@ -351,7 +351,7 @@ def test_unknown_sections_and_unicode_keys_and_values(folder):
         pytest.param("", "missing — required table", id="empty"),
         pytest.param("\n\n# only a comment\n", "missing — required table", id="comment"),
         pytest.param(bytes(range(256)) * 16, "not UTF-8", id="binary"),
-        pytest.param(b"\xef\xbb\xbf[grid]\nsize = 1.0\n", "not valid TOML", id="byte-order-mark"),
+        pytest.param(b"\xef\xbb\xbf[grid]\nsize = 1.0\n", "byte-order mark (U+FEFF)", id="byte-order-mark"),
         pytest.param("[grid\nsize = 1", "not valid TOML", id="truncated"),
         pytest.param("[grid]\nsize = 1.0\nsize = 2.0\n", "not valid TOML", id="duplicate-key"),
         pytest.param("x = " + "[" * 1000 + "]" * 1000, "nested too deeply", id="array-1000-deep"),
