@@ -40,7 +40,10 @@ def concave(tmp_path_factory):
 #: points in tests/test_reproduction.py (Table 1 recovered from the thesis's own eq. 5.8) and from
 #: the thesis-grid tables in docs/reproduction/rough_brush.
 EXPECTED_NAN = {
-    "rough_brush": {number.quantity for number in get_study("rough_brush").numbers},
+    # every row but the two the quick identification part and the quick curves give
+    "rough_brush": {number.quantity for number in get_study("rough_brush").numbers
+                    if number.quantity != "c at sigma~ = 0.01, k~ >= 0.55 (k~ = 10), read at F~_P = 0.1"
+                    and not number.where.startswith("Fig. 5-2")},
     "concave": {"F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06"},  # not in the quick grid
     # the quick hierarchy has F~_P {1, 14.3}, not the small preload 0.2, and sigma~ {0.04, 1.6}, not 2.5,
     # nor 0.8 (Fig. 6-7 b's rough point), nor (stiffness_k3) 0.2
