@@ -237,3 +237,17 @@ def test_a_fixed_step_that_cannot_reach_the_preload_within_max_steps_is_refused(
               "protocol": {"method": "fixed", "preload_displacement": 1e-3, "step": 1e-12}}
     with pytest.raises(ConfigError, match="protocol.step.*at least 5e-09"):
         parse_config(config)
+
+
+def test_no_work_without_adhesive_force_at_a_break():
+    """tension_limit = 1e-29 breaks the spring at once: F_A = 0, so the work must be 0 too (it integrated the
+    trial force from before the break)."""
+    import dataclasses
+
+    import brushbem
+
+    grid = brushbem.Grid(1.0, 32)
+    punch = dataclasses.replace(brushbem.flat_punch(grid, 0.2, 0.05), pillar_law=PiecewiseLinear(tension_limit=1e-29))
+    result = brushbem.pull_off(grid, punch, contact_modulus=1.0, work_of_adhesion=1e-4, preload_displacement=1e-3,
+                               method="fixed", step=2e-5)
+    assert result.adhesive_force == 0.0 and result.work_of_separation == 0.0

@@ -228,8 +228,13 @@ class _Recorder:
             unloading = start_point + _fixed_unloading_path([s for s in rows if not s.loading])
         else:
             unloading = start_point + [(d, f) for d, f, load in self.path_points if not load]
+        adhesive = max(0.0, -best.force) if best is not None else 0.0
+        # A trial force beyond the largest tension of an equilibrium is a fixed step's overshoot past the
+        # criterion (or a pillar law's break): the work counts no tension the pull-off never held, so
+        # that F_A > 0 exactly when W > 0.
+        unloading = [(d, max(f, -adhesive)) for d, f in unloading]
         summary = {
-            "adhesive_force": max(0.0, -best.force) if best is not None else 0.0,
+            "adhesive_force": adhesive,
             "pull_off_displacement": best.displacement if best is not None else None,
             "separation_displacement": last.displacement if last is not None else None,
             "work_of_separation": work_of_separation(unloading),
