@@ -28,7 +28,6 @@ import json
 import math
 import re
 import statistics
-import subprocess
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -69,13 +68,10 @@ def deviation_of(thesis: float, ours: float, digits: int = 1) -> tuple[float, bo
 
 
 def _commit() -> str | None:
-    """The git commit of the working tree this package runs from, if it is a checkout."""
-    try:
-        result = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(__file__).resolve().parent,
-                                capture_output=True, text=True, timeout=10, check=False)
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return result.stdout.strip() or None if result.returncode == 0 else None
+    """The git commit of the working tree this package runs from, if it is a checkout (`io.source_commit`)."""
+    from .io import source_commit
+
+    return source_commit()
 
 
 def _grid(record: Mapping[str, Any], frame: pd.DataFrame) -> str:
