@@ -102,6 +102,68 @@ def test_kendall_punch_error_estimates_bound_the_true_error(stiffness):
         assert work["extrapolated"] == pytest.approx(closed["work_of_separation"], rel=5e-3)
 
 
+def test_three_grids_extrapolate_with_the_observed_order_inside_the_asymptotic_range():
+    """A sequence f = exact + c h^0.8 (JKR's measured order) extrapolates exactly with its own order.
+
+    The formal first order leaves 0.8-order sequences 1.35 times the fine grid's error in f*
+    (1 / (2^0.8 - 1) against 1 / (2 - 1)): the observed order removes it.
+    """
+    exact, slope = 2.0, 0.3
+    values = [exact + slope * h**0.8 for h in (0.4, 0.2, 0.1)]
+    out = richardson(values)
+    assert out.basis == "observed order" and out.order == pytest.approx(0.8, rel=1e-12)
+    assert out.extrapolated == pytest.approx(exact, rel=1e-13)
+    formal = values[2] + (values[2] - values[1])
+    assert abs(out.extrapolated - exact) <= out.error_estimate and out.error_estimate >= abs(formal - exact)
+
+
+@pytest.mark.parametrize("values, reason", [
+    ([1.063, 1.022, 1.005], "observed 1.27"),  # in range: the punch's F_A at r / h = 8, 16, 32
+    ([1.129, 1.048, 1.025], "outside"),  # the punch's work: order 1.8, not yet asymptotic
+    ([1.022, 1.005, 1.007], "change sign"),  # the staircase: no asymptotic range
+])
+def test_the_order_used_says_why(values, reason):
+    """Kendall's punch sequences (probe_refine.py): the basis names the order and why; the bound holds at 1."""
+    out = richardson(values)
+    if reason == "observed 1.27":
+        assert out.basis == "observed order" and out.observed_order == pytest.approx(1.27, abs=0.01)
+    else:
+        assert reason in out.basis and out.order == 1.0
+    assert abs(out.extrapolated - 1.0) <= out.error_estimate
+
+
+def test_a_refinement_holds_a_random_layout_fixed():
+    """The default min_gap is 2 h: without holding it, N = 128 and 256 placed 13 of 20 pillars alike."""
+    from brushbem.assembly import build_indenter
+
+    config = parse_config({
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3},
+        "grid": {"size": 1.0, "elements": 256},
+        "indenter": {"shape": "brush", "layout": "random", "pillar_count": 20, "pillar_radius": 0.07,
+                     "stiffness_ratio": 0.455, "seed": 1},
+        "protocol": {"preload_displacement": 0.004},
+    })
+    coarse, fine = refined_configs(config, 2)
+    assert coarse.indenter.min_gap == fine.indenter.min_gap == 2.0 / 256
+    centres = [build_indenter(cfg).description.centres for cfg in (coarse, fine)]
+    np.testing.assert_array_equal(centres[0], centres[1])
+
+
+def test_a_refinement_refuses_a_coarsest_grid_outside_the_asymptotic_range():
+    """A punch at N = 16 refined on 2 grids (r / h = 2 and 4): the estimate was 2.5 times too small."""
+    with pytest.raises(ConfigError, match=r"spans 2 elements .* at least 8 .* grid.elements >= 64"):
+        refined_configs(_punch(16), 2)
+    cap = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 128},
+        "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 1, "pillar_radius": 0.3,
+                     "stiffness_ratio": 0.1, "tip": {"shape": "spherical_cap", "radius": 0.2}},
+        "protocol": {"preload_displacement": 0.002},
+    }
+    with pytest.raises(ConfigError, match="indenter.tip.radius"):  # the cap's JKR radius, 0.039, decides
+        refined_configs(parse_config(cap), 2)
+
+
 def test_refinement_refuses_grids_it_cannot_build():
     with pytest.raises(ConfigError, match="divisible by 4"):
         refined_configs(_punch(66), 3)
@@ -128,12 +190,11 @@ def test_cli_run_refine_writes_the_refinement(tmp_path):
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["refinement"]["elements"] == [32, 64]
     assert np.isfinite(summary["refinement"]["adhesive_force"]["error_estimate"])
-    bad = CliRunner().invoke(main, ["run", str(path), "--out", str(tmp_path / "bad"), "--refine", "3"])
-    assert bad.exit_code == 0  # 64 / 4 = 16: r = 4 elements, still valid
-    small = path.read_text().replace("radius = 0.25", "radius = 0.04")
-    path.write_text(small)
+    assert any("two grids observe no order" in w for w in summary["warnings"])
     refused = CliRunner().invoke(main, ["run", str(path), "--out", str(tmp_path / "refused"), "--refine", "3"])
-    assert refused.exit_code == 2 and "grid.elements" in refused.output + str(refused.stderr_bytes or b"")
+    # 64 / 4 = 16: r = 4 elements, under the 8 a refinement needs on its coarsest grid.
+    assert refused.exit_code == 2 and "grid.elements >= 128" in refused.output + str(refused.stderr_bytes or b"")
+    assert not (tmp_path / "refused" / "summary.json").exists()
 
 
 def test_a_sweep_refines_every_case(tmp_path):
