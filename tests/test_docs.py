@@ -1,8 +1,13 @@
-"""The documentation site: it builds with warnings as errors, its tutorial runs as written, its gallery renders.
+"""The documentation site: it builds with warnings as errors, its tutorial prints what it shows, its gallery renders.
 
 The site is MkDocs (``mkdocs.yml``; ``make docs``): pages drawn from the
 README's sections by ``docs/site/hooks.py``, the API reference from the
-numpydoc docstrings (mkdocstrings), the gallery from ``docs/figures``.
+numpydoc docstrings (mkdocstrings), the physics page's equations rendered by
+MathJax (pymdownx.arithmatex).  The tutorial's outputs are checked number by
+number; the gallery's values beside the thesis's are the rows of
+``docs/thesis-comparison.md`` and its figures every committed one under
+``docs/figures`` and ``docs/beyond/figures``; the robustness tables are the
+committed cases; N_p, never N, counts pillars.
 """
 
 from __future__ import annotations
@@ -36,24 +41,223 @@ def test_the_site_builds_with_warnings_as_errors(site):
     assert "stiffness_ratio" in configuration and "pillar_law" in configuration  # every key
     assert "record_pull_off" in (site / "site/api/index.html").read_text() or \
         "pull_off" in (site / "site/api/index.html").read_text()
+    # The physics page's equations are rendered mathematics (arithmatex output for MathJax).
+    physics = (site / "site/physics/index.html").read_text()
+    assert physics.count('class="arithmatex"') > 100 and "mathjax" in physics.lower()
+    assert "$" not in re.sub(r"<(script|code|pre)[^>]*>.*?</\1>", "", physics, flags=re.DOTALL)
+
+
+# The tutorial's outputs (docs/site/tutorial.md): every number of a ```text block that follows a
+# ```sh or ```python block must be what that block prints, to this relative tolerance.  The rows that
+# measure the machine or the solver rather than the result are not compared.
+TUTORIAL_TOLERANCE = 1e-3
+UNCHECKED = {"time (s)", "CG iterations per solve"}
+NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def _tutorial_blocks() -> list[tuple[str, str, str]]:
+    """(language, code, expected output) of every code block of the tutorial followed by a ```text block."""
+    text = TUTORIAL.read_text(encoding="utf-8")
+    blocks = re.findall(r"```(\w+)\n(.*?)```", text, re.DOTALL)
+    return [(language, code, blocks[index + 1][1]) for index, (language, code) in enumerate(blocks[:-1])
+            if language in ("sh", "python") and blocks[index + 1][0] == "text"]
+
+
+def _printed_numbers(output: str) -> dict[str, float]:
+    """Label -> number of every table row ``| label | number |`` and every ``label = number`` of ``output``."""
+    found: dict[str, float] = {}
+    for line in output.splitlines():
+        cells = [cell.strip() for cell in re.split(r"[│┃|]", line) if cell.strip()]
+        if len(cells) == 2 and re.fullmatch(NUMBER, cells[1]):
+            found[cells[0]] = float(cells[1])
+        for label, value in re.findall(rf"(\S+) = ({NUMBER})(?![\w.])", line):
+            found[label] = float(value)
+    return {label: value for label, value in found.items() if label not in UNCHECKED}
+
+
+def _assert_same_numbers(printed: dict[str, float], shown: dict[str, float], where: str) -> None:
+    assert shown, f"the tutorial shows no numbers for {where}"
+    assert set(printed) == set(shown), (where, sorted(set(printed) ^ set(shown)))
+    wrong = {label: (shown[label], printed[label]) for label in shown
+             if printed[label] != pytest.approx(shown[label], rel=TUTORIAL_TOLERANCE, abs=1e-300)}
+    assert not wrong, (f"{where}: numbers in tutorial.md (shown, printed) differ by more than "
+                       f"{TUTORIAL_TOLERANCE:g}: {wrong}")
+
+
+def _summary_numbers(summary: dict, table: dict[str, float]) -> dict[str, float]:
+    """The summary.json value behind every row of the `brushbem run` table (``theory: x`` is ``theory.x``)."""
+    values = {}
+    for label in table:
+        head, _, key = label.partition(": ")
+        value = summary[head][key] if key else summary[re.sub(r"[ -]", "_", label)]
+        values[label] = float(value)
+    return values
+
+
+def test_the_tutorial_shows_an_output_for_each_of_its_blocks():
+    languages = [language for language, _, _ in _tutorial_blocks()]
+    assert languages == ["sh", "python"], languages
+
+
+def test_the_tutorial_python_prints_what_it_shows(tmp_path, monkeypatch):
+    """The tutorial's Python block, run as written, prints the numbers shown below it (fast)."""
+    import contextlib
+    import io
+
+    import matplotlib.pyplot as plt
+
+    (code, expected), = [(code, expected) for language, code, expected in _tutorial_blocks() if language == "python"]
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        exec(compile(code, str(TUTORIAL), "exec"), namespace)  # noqa: S102
+    try:
+        assert namespace["result"].converged and namespace["figure"].axes
+        _assert_same_numbers(_printed_numbers(printed.getvalue()), _printed_numbers(expected), "the Python block")
+    finally:
+        plt.close("all")
+
+
+def test_the_tutorial_command_line_numbers_are_what_the_run_computes(tmp_path):
+    """The numbers of the `brushbem run` table shown in the tutorial are those of its configuration (fast).
+
+    The configuration is the one `brushbem init punch_spring` writes; the run goes through
+    `brushbem.run`, the computation behind `brushbem run`, without the files and the figure.
+    The slow test below runs the commands themselves.
+    """
+    from click.testing import CliRunner
+
+    import brushbem
+    from brushbem.cli import main
+
+    (code, expected), = [(code, expected) for language, code, expected in _tutorial_blocks() if language == "sh"]
+    init = next(line for line in code.strip().splitlines() if line.startswith("brushbem init "))
+    written = CliRunner().invoke(main, [*init.split()[1:3], "--out", str(tmp_path)])
+    assert written.exit_code == 0, written.output
+    shown = _printed_numbers(expected)
+    summary = brushbem.run(next(tmp_path.glob("*.toml"))).summary
+    _assert_same_numbers(_summary_numbers(summary, shown), shown, "`brushbem run` (through brushbem.run)")
 
 
 @pytest.mark.slow
-def test_the_tutorial_runs_as_written(tmp_path):
-    text = TUTORIAL.read_text(encoding="utf-8")
-    shell = re.findall(r"```sh\n(.*?)```", text, re.DOTALL)
-    python = re.findall(r"```python\n(.*?)```", text, re.DOTALL)
-    assert shell and python
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
-    for block in shell:
-        for line in block.strip().splitlines():
-            done = subprocess.run(line, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True,
-                                  timeout=600, check=False)
-            assert done.returncode == 0, (line, done.stdout[-2000:], done.stderr[-2000:])
+def test_the_tutorial_commands_print_what_it_shows(tmp_path):
+    """The tutorial's shell commands, run as written, print the numbers shown below them (about 5 s)."""
+    (code, expected), = [(code, expected) for language, code, expected in _tutorial_blocks() if language == "sh"]
+    env = dict(os.environ, COLUMNS="80",
+               PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
+    output = []
+    for line in code.strip().splitlines():
+        done = subprocess.run(line, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True,
+                              timeout=600, check=False)
+        assert done.returncode == 0, (line, done.stdout[-2000:], done.stderr[-2000:])
+        output.append(done.stdout)
     assert (tmp_path / "tutorial" / "out" / "summary.json").is_file()
-    namespace: dict = {}
-    exec(compile(python[0], str(TUTORIAL), "exec"), namespace)  # noqa: S102
-    assert namespace["result"].converged and namespace["figure"].axes
+    _assert_same_numbers(_printed_numbers("".join(output)), _printed_numbers(expected), "the shell commands")
+
+
+GALLERY = ROOT / "docs" / "site" / "gallery.md"
+COMPARISON = ROOT / "docs" / "thesis-comparison.md"
+
+
+def _table_rows(text: str, header: str) -> list[list[str]]:
+    """The cells of the rows of every Markdown table in ``text`` whose header line starts with ``header``."""
+    rows, inside = [], False
+    for line in text.splitlines():
+        if line.startswith(header):
+            inside = True
+        elif inside and line.startswith("| ") and not line.startswith("| ---"):
+            rows.append([cell.strip() for cell in re.split(r"(?<!\\)\|", line)[1:-1]])
+        elif not line.startswith("|"):
+            inside = False
+    return rows
+
+
+def _comparison_rows() -> dict[str, list[list[str]]]:
+    """Study -> rows (quantity, where, thesis, ours, standard error, deviation, verdict) of the comparison."""
+    rows: dict[str, list[list[str]]] = {}
+    for section in re.split(r"^## ", COMPARISON.read_text(encoding="utf-8"), flags=re.MULTILINE)[1:]:
+        study = re.match(r"`(\w+)`", section)
+        if study:
+            found = _table_rows(section, "| quantity | where | thesis | ours |")
+            rows[study.group(1)] = [row[:6] + [re.match(r"\*\*[^*]+\*\*", row[6]).group(0)] for row in found]
+    return rows
+
+
+def test_the_gallery_shows_every_comparison_row_with_the_comparisons_numbers():
+    """Our values beside the thesis's in the gallery are the rows of docs/thesis-comparison.md, all of them.
+
+    The comparison is generated from the committed tables; when it is regenerated, the gallery's rows
+    must follow (the message names the rows to copy).
+    """
+    gallery = GALLERY.read_text(encoding="utf-8")
+    shown = _table_rows(gallery, "| quantity | where | thesis | ours |")
+    assert shown
+    expected = [row for rows in _comparison_rows().values() for row in rows]
+    missing = [row for row in expected if row not in shown]
+    stale = [row for row in shown if row not in expected]
+    assert not missing and not stale, (
+        "docs/site/gallery.md differs from docs/thesis-comparison.md; "
+        f"rows to add (quantity, where, thesis, ours, s.e., deviation, verdict): {missing}; rows to remove: {stale}")
+    # Each row sits under its study's heading.
+    for study, rows in _comparison_rows().items():
+        section = re.search(rf"^## [^\n]*`{study}`\)$(.*?)(?=^## |\Z)", gallery, re.MULTILINE | re.DOTALL)
+        assert section, study
+        assert all(row in _table_rows(section.group(1), "| quantity | where |") for row in rows), study
+
+
+def test_the_gallery_shows_every_committed_figure():
+    gallery = GALLERY.read_text(encoding="utf-8")
+    linked = set(re.findall(r"!\[[^\]]*\]\(\.\./([^)]+)\)", gallery))
+    committed = {path.relative_to(ROOT / "docs").as_posix()
+                 for folder in ("figures", "beyond/figures") for path in (ROOT / "docs" / folder).rglob("*.png")}
+    assert linked == committed, (sorted(committed - linked), sorted(linked - committed))
+
+
+def test_the_robustness_tables_are_the_committed_cases():
+    """The robustness table of the gallery and of design.md: mean (standard error) of the committed cases."""
+    import pandas as pd
+
+    tables = ROOT / "docs" / "beyond" / "robustness"
+    frames = {part: pd.read_csv(tables / f"{part}.csv") for part in ("roughness", "tilt")}
+
+    def brush(frame):
+        designed = frame["indenter.lengths_file"] != "robustness.flat.npy"
+        concave = frame["indenter.profile.amplification"] > 0
+        return designed.map({True: "designed", False: ""}).where(
+            designed, concave.map({True: "concave", False: "flat"}))
+
+    for page in (GALLERY, ROOT / "docs" / "site" / "design.md"):
+        text = page.read_text(encoding="utf-8")
+        header = next(line for line in text.splitlines() if re.match(r"\| (k~|\$\\tilde k\$) \| brush \|", line))
+        columns, kind = [], None
+        for cell in [cell.strip() for cell in header.split("|")[3:-1]]:
+            kind = "tilt" if cell.startswith("tilt") else "roughness" if "sigma" in cell or "σ" in cell else kind
+            columns.append((kind, float(re.search(NUMBER, cell.split("=")[-1].replace("tilt", "")).group(0))))
+        rows = _table_rows(text, header)
+        assert len(rows) == 6, page
+        for row in rows:
+            stiffness, name = float(row[0]), row[1]
+            for (kind, x), cell in zip(columns, row[2:], strict=True):
+                frame = frames[kind]
+                key = "normalized.roughness_by_rigid_brush" if kind == "roughness" else "indenter.tilt.angle"
+                chosen = frame[(frame["indenter.stiffness_ratio"] == stiffness) & (brush(frame) == name)
+                               & ((frame[key] - x).abs() < 1e-3)]["normalized.force_by_ideal_sharing"]
+                assert len(chosen) >= 1, (page.name, row[:2], kind, x)
+                mean, error = re.fullmatch(rf"({NUMBER})(?: \(({NUMBER})\))?", cell).groups()
+                assert abs(float(mean) - chosen.mean()) <= 5e-4 + 1e-12, (page.name, row[:2], kind, x, chosen.mean())
+                shown_error = float(error) if error else 0.0
+                true_error = chosen.sem() if len(chosen) > 1 else 0.0
+                assert abs(shown_error - true_error) <= 5e-4 + 1e-12, (page.name, row[:2], kind, x, true_error)
+
+
+def test_one_notation_across_the_pages():
+    """N is the grid's elements per side everywhere; the number of pillars is N_p (notation table of physics.md)."""
+    physics = (ROOT / "docs" / "site" / "physics.md").read_text(encoding="utf-8")
+    assert "## Notation" in physics and "| symbol | meaning | config key (or output) | unit |" in physics
+    for page in [*(ROOT / "docs" / "site").glob("*.md"), ROOT / "docs" / "index.md"]:
+        text = page.read_text(encoding="utf-8")
+        assert not re.search(r"\(N F_K\)|/ \(N\s+F_K\)|N \* F_K", text), page.name
 
 
 def test_the_gallery_renders_its_figures_in_headless_chromium(site, tmp_path):
