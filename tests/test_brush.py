@@ -503,7 +503,7 @@ def test_brush_outputs(brush_16x16, tmp_path):
     data = read_case(tmp_path)
     assert data.sizes["pillar"] == 256
     for name in ("pillar_x", "pillar_y", "pillar_offset", "pillar_separation_displacement", "pillar_max_tension",
-                 "pillar_force_adhesive_force", "cross_section_adhesive_force", "attached_pillars"):
+                 "pillar_force", "cross_section_adhesive_force", "attached_pillars"):
         assert name in data, name
     # The pillar forces add up to the total force at the adhesive-force moment.
     snap = next(s for s in result.snapshots if s.name == "adhesive_force")
@@ -515,9 +515,10 @@ def test_brush_outputs(brush_16x16, tmp_path):
     import h5py
 
     with h5py.File(tmp_path / "result.nc") as handle:
-        assert handle["pressure_adhesive_force"].compression == "gzip"
+        assert handle["pressure"].compression == "gzip"
         assert handle["force"].compression is None
-    assert np.array_equal(data["pressure_adhesive_force"].to_numpy(), snap.pressure)
+    assert np.array_equal(data["pressure"].sel(stage="adhesive_force").to_numpy(), snap.pressure)
+    assert np.array_equal(data["pillar_force"].sel(stage="adhesive_force").to_numpy(), snap.pillar_force)
     assert (tmp_path / "result.nc").stat().st_size < 0.5 * sum(v.nbytes for v in data.variables.values())
 
 

@@ -11,7 +11,6 @@ which test the machinery, not the thesis's numbers.
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 from pathlib import Path
 
@@ -126,42 +125,25 @@ def test_an_unverified_loading_goes_on_by_element_events(monkeypatch):
     assert np.count_nonzero(partial.curve.loading) > 10
 
 
-def _observed_order(steps, errors) -> float:
-    """Order of convergence from the coarsest to the finest step (errors floored at the solver's 1e-9)."""
-    first, last = max(errors[0], 1e-9), max(errors[-1], 1e-9)
-    return math.log(first / last) / math.log(steps[0] / steps[-1])
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("stiffness, sigma", [(10.0, 0.3), (0.01, 1.0)])
-def test_fixed_steps_converge_to_the_event_path(stiffness, sigma):
-    """F_A and the work of fixed steps approach the event result as the step shrinks.
+def test_fixed_steps_give_the_event_path_at_every_step(stiffness, sigma):
+    """Every event inside a fixed step is located, so fixed steps give the event path's F_A and work.
 
     Measured (8 x 8 pillars, N = 128), steps d_c / 4.4 / 2^j for j = 0..3:
-    k~ = 10, sigma~ = 0.3: F_A errors 3.3e-2, 3.3e-2, 3.3e-2, 3e-9 (the
-    force minimum is the first detachment of its step once the step is
-    small enough, which is then located exactly), work errors 29 %, 13 %,
-    4.3 %, 1.4 % (order 1.2 to 1.6); k~ = 0.01, sigma~ = 1: F_A exact at
-    every step (the minimum is always a step's first detachment), work
-    errors 3.3 %, 1.7 %, 0.46 %, 0.21 % (order ~1).  Before, the same steps
-    left F_A errors of 2 % (from the adhesive loading steps, which hold
-    elements in tension that the exact branch never lets touch) and works
-    over-estimated by the tension overshoot of every step.
+    F_A within 1.4e-8 and the work within 1e-9 of the event path at every
+    step (the CG tolerance 1e-8), in 85 to 352 solves against the event
+    path's 123 and 158.  When only a step's first event was located, the
+    same steps left F_A 3.3 % off and the work 29 % off at the coarsest
+    step (k~ = 10, sigma~ = 0.3): a pillar that came off later in the step
+    lost its largest force.
     """
     problem, d_c, force = _problem(stiffness=stiffness, sigma=sigma)
     reference = _record(problem, "events", force).summary
-    steps = [d_c / 4.4 / 2**j for j in range(4)]
-    f_errors, w_errors = [], []
-    for step in steps:
-        s = _record(problem, "fixed", force, step=step).summary
-        f_errors.append(abs(s["adhesive_force"] / reference["adhesive_force"] - 1))
-        w_errors.append(abs(s["work_of_separation"] / reference["work_of_separation"] - 1))
-    print("F_A errors", f_errors, "order", _observed_order(steps, f_errors))
-    print("work errors", w_errors, "order", _observed_order(steps, w_errors))
-    assert all(b <= a + 1e-9 for a, b in itertools.pairwise(f_errors))
-    assert _observed_order(steps, f_errors) > 0.8 or max(f_errors) < 1e-6
-    assert _observed_order(steps, w_errors) > 0.8
-    assert w_errors[-1] < 0.02
+    for step in (d_c / 4.4, d_c / 4.4 / 8):
+        summary = _record(problem, "fixed", force, step=step).summary
+        assert summary["adhesive_force"] == pytest.approx(reference["adhesive_force"], rel=1e-7)
+        assert summary["work_of_separation"] == pytest.approx(reference["work_of_separation"], rel=1e-7)
 
 
 @pytest.mark.slow

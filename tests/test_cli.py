@@ -229,7 +229,7 @@ def test_run_writes_the_three_files(tmp_path, fake_run_case):
     assert isinstance(fake_run_case.calls[0].config, RunConfig)
 
     # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
-    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.pdf", "pulloff.png", "result.nc", "summary.json"]
     assert (out / "pulloff.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
     summary = json.loads((out / "summary.json").read_text())
@@ -256,15 +256,16 @@ def test_result_nc_round_trips(tmp_path, fake_run_case):
     h = expected.element_size
     np.testing.assert_allclose(dataset["x"], (np.arange(8) + 0.5) * h - 0.5)
     np.testing.assert_allclose(dataset["y"], dataset["x"])
+    assert list(dataset["stage"].values) == [snapshot.name for snapshot in expected.snapshots]
+    assert dataset["pressure"].dims == ("stage", "y", "x") and dataset["contact"].dims == ("stage", "y", "x")
+    assert dataset["contact"].dtype == np.int8
     for snapshot in expected.snapshots:
-        pressure = dataset[f"pressure_{snapshot.name}"]
-        contact = dataset[f"contact_{snapshot.name}"]
-        assert pressure.dims == ("y", "x") and contact.dims == ("y", "x")
-        assert contact.dtype == np.int8
+        pressure = dataset["pressure"].sel(stage=snapshot.name)
+        contact = dataset["contact"].sel(stage=snapshot.name)
         np.testing.assert_array_equal(pressure, snapshot.pressure)
         np.testing.assert_array_equal(contact.values.astype(bool), snapshot.contact)
-        assert pressure.attrs["displacement"] == snapshot.displacement
-        assert pressure.attrs["force"] == snapshot.force
+        assert float(pressure["stage_displacement"]) == snapshot.displacement
+        assert float(pressure["stage_force"]) == snapshot.force
 
     assert dataset.attrs["brushbem_version"] == brushbem.__version__
     assert dataset.attrs["backend"] == "numpy"
@@ -284,7 +285,7 @@ def test_run_again_replaces_files_and_leaves_no_temporaries(tmp_path, fake_run_c
     assert refused.exit_code == 2 and "--overwrite" in refused.output
     assert invoke("run", str(path), "--out", str(out), "--quiet", "--overwrite").exit_code == 0
     # .brushbem.lock: the run's lock on the folder (kept; the kernel releases the lock itself).
-    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.png", "result.nc", "summary.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".brushbem.lock", "pulloff.pdf", "pulloff.png", "result.nc", "summary.json"]
 
 
 def test_not_converged_writes_results_and_exits_3(tmp_path, fake_run_case):

@@ -159,7 +159,7 @@ def test_cli_design_writes_the_design(tmp_path):
     result = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--bound"])
     assert result.exit_code == 0, result.output
     assert "no design exceeds" in result.output
-    assert {p.name for p in out.iterdir()} == {"design.npy", "design.csv", "design.json", "design.png"}
+    assert {p.name for p in out.iterdir()} == {"design.npy", "design.csv", "design.json", "design.png", "design.pdf"}
     scalars = json.loads((out / "design.json").read_text())
     assert scalars["verified_force_ratio"] > 0.5 and scalars["pillars"] == np.load(out / "design.npy").size
     # The bound is the prediction (every edge critical at once is optimal).  At phi = 0.06 partial

@@ -94,7 +94,7 @@ def test_declared_units_name_every_dimension(result_file, request):
     expected = {None: ("1", "1", "1"), ("mm", "MPa"): ("mm", "N", "MPa"), ("um", "kPa"): ("um", "nN", "kPa")}
     declared = request.node.callspec.params["result_file"]  # what the fixture configured, not what the file says
     with xr.open_dataset(result_file, decode_cf=False) as ds:
-        units = tuple(ds[name].attrs["units"] for name in ("displacement", "force", "pressure_adhesive_force"))
+        units = tuple(ds[name].attrs["units"] for name in ("displacement", "force", "pressure"))
         recorded = json.loads(ds.attrs["config"]).get("units")
     assert units == expected[declared]
     assert recorded == (None if declared is None else {"length": declared[0], "stress": declared[1]})

@@ -654,3 +654,382 @@ def test_an_accepted_extreme_value_runs_to_an_answer(tmp_path, base, loc, value)
 def test_a_byte_order_mark_is_refused_with_what_to_do(folder):
     result = validate(folder, b"\xef\xbb\xbf" + to_toml(BASES["punch"]).encode(), name="bom.toml")
     assert result.exit_code == 2 and "byte-order mark" in result.output and "without BOM" in result.output
+
+
+# -- the newer keys under the same attacks --------------------------------------------
+#
+# One list of (TOML snippet, key the refusal must name), validated only (no pull-off).  A snippet's
+# lines ``dotted.key = value`` are set on a flat, elastic 4 x 4 brush (`NEW_BASE`), ``-dotted.key``
+# removes a key; the prefixes below switch the protocol or the shape a table needs.
+
+NEW_BASE = {
+    "halfspace.contact_modulus": "1.0", "halfspace.work_of_adhesion": "1e-3",
+    "grid.size": "1.0", "grid.elements": "32",
+    "indenter.shape": '"brush"', "indenter.layout": '"square"', "indenter.pillars_per_side": "4",
+    "indenter.pillar_radius": "0.07", "indenter.stiffness_ratio": "0.5",
+    "protocol.preload_displacement": "0.01",
+}
+PUNCH = ('indenter.shape = "flat_punch"\nindenter.radius = 0.25\nindenter.stiffness = 0.15\n-indenter.layout\n'
+         "-indenter.pillars_per_side\n-indenter.pillar_radius\n-indenter.stiffness_ratio\n")
+RIGID = "-indenter.stiffness_ratio\nindenter.stiffness = inf\n"
+FIXED = 'protocol.method = "fixed"\nprotocol.step = 1e-3\n'
+VISCO = FIXED + "protocol.speed = 0.01\n"
+KV = 'indenter.viscoelastic = {model = "kelvin_voigt", relaxation_time = 1.0}\n'
+LAW = "indenter.pillar_law = {forces = [0.002], factors = [1.0, 0.5]}\n"
+LEVEL = "indenter.levels = [{cluster = 2, stiffness_ratio = 0.1, grading = %s}]"
+
+
+def _tip(text: str) -> str:
+    return f'indenter.tip = {{shape = "spherical_cap", radius = {text}}}'
+
+
+def _grading(text: str) -> str:
+    return f'indenter.grading = {{rule = "radial", {text}}}'
+
+
+def _law(text: str) -> str:
+    return FIXED + f"indenter.pillar_law = {{{text}}}"
+
+
+def _visco(text: str) -> str:
+    return VISCO + f"indenter.viscoelastic = {{{text}}}"
+
+
+NEW_KEY_ATTACKS = [
+    # [indenter.tip]
+    ("indenter.tip = 5", "indenter.tip"),
+    ("indenter.tip = {}", "indenter.tip.shape"),
+    ("indenter.tip = {shape = 1}", "indenter.tip.shape"),
+    ('indenter.tip = {shape = ""}', "indenter.tip.shape"),
+    ('indenter.tip = {shape = "cone"}', "indenter.tip.shape"),
+    ('indenter.tip = {shape = ["flat"]}', "indenter.tip.shape"),
+    ('indenter.tip = {shape = "spherical_cap"}', "indenter.tip.radius"),
+    *((_tip(v), "indenter.tip.radius") for v in (
+        "nan", "inf", "-inf", "-0.5", "0.0", "0", "-3", "1e300", "1e-300", "true", "[0.5]", "{r = 1}", '""',
+        '"missing.npy"', '"negative.npy"', '"matrix.npy"', '"five.npy"', '"text.npy"')),
+    ('indenter.tip = {shape = "spherical_cap", radius = 0.5, colour = 1}', "indenter.tip.colour"),
+    ('indenter.tip = {shape = "spherical_cap", radius = 0.5, depth = 1e-3}', "indenter.tip.depth"),
+    *((f'indenter.tip = {{shape = "concave", depth = {v}}}', "indenter.tip.depth") for v in (
+        "nan", "-1e-3", "0.0", "1e300", '"five.npy"')),
+    *((f'indenter.tip = {{shape = "profile", file = {v}}}', "indenter.tip.file") for v in (
+        "3", '""', '"missing.npy"', '"matrix.npy"', '"negative.npy"', '["a.npy"]')),
+    ('indenter.tip = {shape = "flat", radius = 0.5}', "indenter.tip.radius"),
+    (PUNCH + 'indenter.tip = {shape = "spherical_cap", radius = 0.5}', "indenter.tip"),
+    # [indenter.tilt]
+    ("indenter.tilt = 5", "indenter.tilt"),
+    ("indenter.tilt = {}", "indenter.tilt.angle"),
+    *((f"indenter.tilt = {{angle = {v}}}", "indenter.tilt.angle") for v in (
+        "nan", "inf", "-1.0", "45.0", "1e300", "1e-300", '"1"', "true", "[1.0]")),
+    *((f"indenter.tilt = {{angle = 1.0, azimuth = {v}}}", "indenter.tilt.azimuth") for v in (
+        "nan", "-1.0", "360.0", "1e300", '"0"')),
+    ("indenter.tilt = {angle = 1.0, spin = 1.0}", "indenter.tilt.spin"),
+    (PUNCH + "indenter.tilt = {angle = 1.0}", "indenter.tilt"),
+    # [indenter.grading] and a level's grading
+    ("indenter.grading = 5", "indenter.grading"),
+    ("indenter.grading = {}", "indenter.grading.rule"),
+    *((f"indenter.grading = {{rule = {v}, amplitude = 0.5}}", "indenter.grading.rule") for v in (
+        "1", '""', '"spiral"', '["radial"]')),
+    ('indenter.grading = {rule = "radial"}', "indenter.grading.amplitude"),
+    *((_grading(f"amplitude = {v}"), "indenter.grading.amplitude") for v in (
+        "nan", "inf", "-1.0", "-2.0", "1e300", "1e-300", '"0.5"', "true", "[0.5]")),
+    *((_grading(f"amplitude = 0.5, exponent = {v}"), "indenter.grading.exponent") for v in (
+        "nan", "0.0", "-1.0", "1e300", '"2"')),
+    (_grading("amplitude = 0.5, azimuth = 10.0"), "indenter.grading.azimuth"),
+    ('indenter.grading = {rule = "linear", amplitude = 1.0}', "indenter.grading.amplitude"),
+    ('indenter.grading = {rule = "linear", amplitude = 0.5, azimuth = 360.0}', "indenter.grading.azimuth"),
+    ('indenter.grading = {rule = "linear", amplitude = 0.5, exponent = 2.0}', "indenter.grading.exponent"),
+    ('indenter.grading = {rule = "file"}', "indenter.grading.file"),
+    *((f'indenter.grading = {{rule = "file", file = {v}}}', "indenter.grading.file") for v in (
+        "3", '""', '"missing.npy"', '"five.npy"', '"negative.npy"', '"matrix.npy"', '"text.npy"')),
+    ('indenter.grading = {rule = "file", file = "ones.npy", amplitude = 0.5}', "indenter.grading.amplitude"),
+    (_grading("amplitude = 0.5, bogus = 1"), "indenter.grading.bogus"),
+    (RIGID + _grading("amplitude = 0.5"), "indenter.grading"),  # a rigid level stays rigid
+    ("indenter.pillars_per_side = 1\n" + _grading("amplitude = 0.5"), "indenter.grading"),  # one pillar
+    ('indenter.pillars_per_side = 1\nindenter.grading = {rule = "linear", amplitude = 0.5}', "indenter.grading"),
+    ("indenter.levels = 5", "indenter.levels"),
+    ("indenter.levels = [5]", "indenter.levels.0"),
+    (LEVEL % 7, "indenter.levels.0.grading"),
+    (LEVEL % '{rule = "radial", amplitude = nan}', "indenter.levels.0.grading.amplitude"),
+    (LEVEL % '{rule = "linear", amplitude = -1.5}', "indenter.levels.0.grading.amplitude"),
+    (LEVEL % '{rule = "file", file = "ones.npy"}', "indenter.levels.0.grading.file"),  # 16 for 4 clusters
+    ('indenter.levels = [{cluster = 4, stiffness_ratio = 0.1, grading = {rule = "radial", amplitude = 0.5}}]',
+     "indenter.levels.0.grading"),  # one cluster
+    ('indenter.levels = [{cluster = 2, stiffness = inf, grading = {rule = "radial", amplitude = 0.5}}]',
+     "indenter.levels.0.grading"),  # a rigid level
+    ('indenter.grading = {rule = "file", file = "one_soft.npy"}', "indenter.grading.file"),  # 1e-12: unresolvable
+    (_grading("amplitude = -0.999999999999"), "indenter.grading.amplitude"),
+    (PUNCH + _grading("amplitude = 0.5"), "indenter.grading"),
+    # [indenter.pillar_law]
+    ("indenter.pillar_law = 5", "indenter.pillar_law"),
+    *((_law(f"forces = {v}, factors = [1.0, 0.5]"), "indenter.pillar_law.forces") for v in (
+        "1.0", '"a"', "[true]", "[[1.0]]", "{a = 1}", "[nan]", "[inf]", "[1e300]", "[-1e300]", "[1e-300]", "[1e31]")),
+    (_law("forces = [0.2, 0.1], factors = [1.0, 0.5, 0.2]"), "indenter.pillar_law.forces"),
+    *((_law(f"forces = [0.002], factors = {v}"), "indenter.pillar_law.factors") for v in (
+        "2.0", "[]", "[nan, 1.0]", "[inf, 1.0]", "[0.0, 1.0]", "[-1.0, 1.0]", "[1e300, 1.0]", "[1e-300, 1.0]",
+        '["x", 1.0]', "[1.0]")),
+    *((_law(f"tension_limit = {v}"), "indenter.pillar_law.tension_limit") for v in (
+        "nan", "inf", "-1.0", "0.0", "1e300", "1e-300", '"1"', "true")),
+    (_law("slope = 1"), "indenter.pillar_law.slope"),
+    ("protocol.step = 1e-3\n" + LAW, "protocol.method"),  # the law is followed step by step
+    (FIXED + "-protocol.preload_displacement\nprotocol.preload_force = 0.01\n" + LAW, "protocol.preload_force"),
+    (FIXED + RIGID + LAW, "indenter.stiffness"),
+    # [indenter.viscoelastic]
+    (VISCO + "indenter.viscoelastic = 5", "indenter.viscoelastic"),
+    (_visco(""), "indenter.viscoelastic.model"),
+    *((_visco(f"model = {v}, relaxation_time = 1.0"), "indenter.viscoelastic.model") for v in (
+        "1", '""', '"maxwell"')),
+    (_visco('model = "kelvin_voigt"'), "indenter.viscoelastic.relaxation_time"),
+    *((_visco(f'model = "kelvin_voigt", relaxation_time = {v}'), "indenter.viscoelastic.relaxation_time")
+      for v in ("nan", "inf", "-1.0", "0.0", "1e300", "1e-300", '"1"', "true")),
+    (_visco('model = "kelvin_voigt", relaxation_time = 1.0, instantaneous_factor = 2.0'),
+     "indenter.viscoelastic.instantaneous_factor"),
+    *((_visco(f'model = "standard_linear_solid", relaxation_time = 1.0{v}'),
+       "indenter.viscoelastic.instantaneous_factor")
+      for v in ("", ", instantaneous_factor = 1.0", ", instantaneous_factor = 0.5", ", instantaneous_factor = inf",
+                ", instantaneous_factor = nan", ", instantaneous_factor = 1e300")),
+    (_visco('model = "kelvin_voigt", relaxation_time = 1.0, bogus = 2'), "indenter.viscoelastic.bogus"),
+    (FIXED + KV, "protocol.speed"),  # no pulling speed
+    ("protocol.speed = 0.01", "protocol.speed"),  # a speed without viscoelastic pillars
+    ("protocol.speed = 0.01\n" + KV, "protocol.method"),
+    (VISCO + KV + LAW, "indenter.pillar_law"),
+    (VISCO + RIGID + KV, "indenter.stiffness"),
+    # the protocol's extremes
+    *((f"protocol.preload_displacement = {v}", "protocol.preload_displacement") for v in ("1e29", "1001.0")),
+    *((f"-protocol.preload_displacement\nprotocol.preload_force = {v}", "protocol.preload_force")
+      for v in ("1e29", "1e12")),
+    *((f'protocol.method = "fixed"\nprotocol.step = {v}', "protocol.step") for v in ("1e-12", "2.0")),
+    ('protocol.method = "fixed"\nprotocol.step = 1e-12\n-protocol.preload_displacement\nprotocol.preload_force = '
+     "0.01", "protocol.step"),
+    ('protocol.method = "fixed"\nprotocol.max_steps = 5\nprotocol.preload_displacement = 100.0', "protocol.max_steps"),
+]
+
+
+def snippet_document(snippet: str) -> str:
+    """`NEW_BASE` with the snippet's keys set (``-key`` removes one), as TOML of dotted keys."""
+    document = dict(NEW_BASE)
+    for line in snippet.splitlines():
+        if line.startswith("-"):
+            document.pop(line[1:].strip(), None)
+        elif line.strip():
+            key, _, value = line.partition(" = ")
+            document[key.strip()] = value
+    return "".join(f"{key} = {value}\n" for key, value in document.items())
+
+
+@pytest.fixture(scope="module")
+def new_key_folder(tmp_path_factory) -> Path:
+    """A folder with the per-pillar files the attacks name (16 pillars of the 4 x 4 brush)."""
+    path = tmp_path_factory.mktemp("new_keys")
+    np.save(path / "ones.npy", np.ones(16))
+    np.save(path / "five.npy", np.ones(5))
+    np.save(path / "negative.npy", np.linspace(-1.0, 1.0, 16))
+    np.save(path / "matrix.npy", np.ones((4, 4)))
+    one_soft = np.ones(16)
+    one_soft[5] = 1e-12
+    np.save(path / "one_soft.npy", one_soft)
+    (path / "text.npy").write_text("1 2 3\n")
+    return path
+
+
+def assert_named_with_value_and_range(result: Any, key: str) -> None:
+    """Refused naming ``key``; every line names a key, a value and what is allowed, in words."""
+    assert_refused(result, key)
+    for line in problem_lines(result.output):
+        found = re.fullmatch(r"`([^`]+)`: (.+?) — (.+)", line)
+        assert found is not None, line
+        assert found.group(3) not in ("must be a value", "must be a string"), line
+    for mark in ("must be a value", "Config(", "``:", "Traceback"):
+        assert mark not in result.output, (mark, result.output)
+
+
+def test_the_attacks_reach_every_key_of_the_newer_tables():
+    """Each key of tip, tilt, grading, pillar law and viscoelastic tables is attacked at least once."""
+    tables = {"tip": TipConfig, "tilt": TiltConfig, "grading": GradingConfig, "pillar_law": PillarLawConfig,
+              "viscoelastic": ViscoelasticConfig}
+    named = {key for _, key in NEW_KEY_ATTACKS}
+    for table, model in tables.items():
+        for field in model.model_fields:
+            assert f"indenter.{table}.{field}" in named, (table, field)
+
+
+@pytest.mark.parametrize(("snippet", "key"), [pytest.param(s, k, id=f"{k}:{s.splitlines()[-1][-48:]}")
+                                              for s, k in NEW_KEY_ATTACKS])
+def test_a_bad_value_of_a_newer_key_is_refused_naming_key_value_and_range(new_key_folder, snippet, key):
+    result = validate(new_key_folder, snippet_document(snippet))
+    assert_named_with_value_and_range(result, key)
+
+
+def test_the_new_key_base_is_valid(new_key_folder):
+    assert validate(new_key_folder, snippet_document("")).exit_code == 0
+    for snippet in (_tip('"ones.npy"'), LEVEL % '{rule = "radial", amplitude = 0.5}', FIXED + LAW, VISCO + KV,
+                    'indenter.grading = {rule = "file", file = "ones.npy"}', "indenter.tilt = {angle = 1.0}"):
+        result = validate(new_key_folder, snippet_document(snippet))
+        assert result.exit_code == 0, (snippet, result.output)
+
+
+# `brushbem design` and `run --refine`: options refused by name before anything runs.
+CLI_ATTACKS = [
+    (("design", "--target", ""), "--target"),
+    (("design", "--target", "sideways"), "--target"),
+    (("design", "--target", "1"), "--target"),
+    *((("design", "--iterations", v), "--iterations") for v in ("-1", "51", "nan", "", "1e300", "2.5", "inf")),
+    *((("run", "--refine", v), "--refine") for v in ("1", "4", "-2", "", "nan", "x", "2.5")),
+]
+
+
+@pytest.mark.parametrize(("args", "option"), CLI_ATTACKS)
+def test_a_bad_design_or_refine_option_is_refused_naming_it(new_key_folder, tmp_path, args, option):
+    config = new_key_folder / "base.toml"
+    config.write_text(snippet_document(""))
+    result = invoke(args[0], str(config), "--out", str(tmp_path / "out"), *args[1:])
+    assert result.exit_code == 2, result.output
+    assert option in result.output, result.output
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(("snippet", "says"), [
+    ("indenter.pillars_per_side = 1", "one pillar"),
+    ('indenter.tip = {shape = "concave", depth = 1e-3}', "indenter.tip"),
+    ("halfspace.work_of_adhesion = 0.0", "work_of_adhesion"),
+    (VISCO + KV, "viscoelastic"),
+])
+def test_a_brush_the_design_cannot_handle_is_refused_before_any_pull_off(new_key_folder, tmp_path, snippet, says):
+    config = new_key_folder / "design.toml"
+    config.write_text(snippet_document(snippet))
+    result = invoke("design", str(config), "--out", str(tmp_path / "out"), "--quiet")
+    assert result.exit_code == 2, result.output
+    assert says in result.output, result.output
+
+
+# -- extremes refused with their range (issue: a preload of 1e29 ran to F_A = 0 "converged") ------------
+
+
+def test_an_extreme_preload_is_refused_with_its_range(folder):
+    """A preload beyond 1000 domain sizes: the displacement's rounding swamps the pull-off (a punch
+    pressed to 1e29 gave F_A = 0 "converged"; one pressed by a force of 1e12 was 0.5 % off)."""
+    result = validate(folder, to_toml(with_value(BASES["punch"], ("protocol", "preload_displacement"), 1e29)))
+    assert_refused(result, "protocol.preload_displacement")
+    assert "must be in (0, 1000]" in result.output and "1e+29" in result.output
+    document = copy.deepcopy(BASES["punch"])
+    del document["protocol"]["preload_displacement"]
+    document["protocol"]["preload_force"] = 1e29
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "protocol.preload_force")
+    assert "must be in (0, 1.41e+03]" in result.output
+    # The edge of the range and a force well inside it are accepted.
+    edge = with_value(BASES["punch"], ("protocol", "preload_displacement"), 1000.0)
+    edge["protocol"]["method"] = "events"
+    assert validate(folder, to_toml(edge)).exit_code == 0
+    document["protocol"]["preload_force"] = 1.0
+    assert validate(folder, to_toml(document)).exit_code == 0
+
+
+def test_a_fixed_step_too_small_for_max_steps_is_refused_with_its_range(folder):
+    """step = 1e-12 on a preload of 1e-3 is 1e9 steps: refused with the range of steps that fit."""
+    document = with_value(BASES["punch"], ("protocol", "step"), 1e-12)
+    document["protocol"]["max_steps"] = 200_000
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "protocol.step")
+    assert "must be in [5e-08, 1]" in result.output, result.output
+    # A preload force bounds the depth from below: the same refusal (it was accepted).
+    del document["protocol"]["preload_displacement"]
+    document["protocol"]["preload_force"] = 0.01
+    result = validate(folder, to_toml(document))
+    assert_refused(result, "protocol.step")
+    assert "must be in [" in result.output and "at least" in result.output, result.output
+
+
+@pytest.mark.parametrize(("law", "key"), [
+    ({"forces": [1e300], "factors": [1.0, 0.5]}, "forces"),
+    ({"forces": [-1e31], "factors": [1.0, 0.5]}, "forces"),
+    ({"forces": 1.0, "factors": [1.0, 0.5]}, "forces"),  # a traceback
+    ({"forces": [0.1], "factors": [math.nan, 0.5]}, "factors"),  # was reported under forces
+    ({"forces": [0.1], "factors": 2.0}, "factors"),
+])
+def test_pillar_law_values_beyond_the_documented_limit_are_refused_by_key(folder, law, key):
+    """Each of the law's arrays names its own key, the value and the documented range (1e30)."""
+    document = copy.deepcopy(BASES["law_punch"])
+    document["indenter"]["pillar_law"] = law
+    result = validate(folder, to_toml(document))
+    assert_refused(result, f"indenter.pillar_law.{key}")
+    assert "1e+30" in result.output and "must be a value" not in result.output, result.output
+    other = "factors" if key == "forces" else "forces"
+    assert not any(line.startswith(f"`indenter.pillar_law.{other}`") for line in problem_lines(result.output))
+
+
+# -- no silent no-ops, messages that name key, value and range ----------------------------------
+
+
+@pytest.mark.parametrize(("snippet", "says"), [
+    (RIGID + _grading("amplitude = 0.5"), "rigid"),
+    ("indenter.pillars_per_side = 1\n" + _grading("amplitude = 0.5"), "one spring"),
+    ('indenter.layout = "random"\n-indenter.pillars_per_side\nindenter.pillar_count = 1\n' + _grading("amplitude = 0.5"),
+     "one spring"),
+    ('indenter.levels = [{cluster = 4, stiffness_ratio = 0.1, grading = {rule = "radial", amplitude = 0.5}}]',
+     "one spring"),
+    ('indenter.levels = [{cluster = 2, stiffness = inf, grading = {rule = "linear", amplitude = 0.5}}]', "rigid"),
+])
+def test_a_grading_that_can_have_no_effect_is_refused(new_key_folder, snippet, says):
+    """Grading rigid springs, a single pillar or a single cluster did nothing, without a word."""
+    result = validate(new_key_folder, snippet_document(snippet))
+    assert_named_with_value_and_range(result, "indenter.levels.0.grading" if "levels" in snippet else "indenter.grading")
+    assert says in result.output and "{'rule': " in result.output, result.output
+
+
+def test_a_table_in_a_message_is_shown_as_given_not_as_a_model(new_key_folder):
+    result = validate(new_key_folder, snippet_document(PUNCH + _grading("amplitude = 0.5")))
+    assert_refused(result, "indenter.grading")
+    assert "`indenter.grading`: {'rule': 'radial', 'amplitude': 0.5} — only used when shape = 'brush'" in result.output
+    result = validate(new_key_folder, snippet_document(FIXED + RIGID + LAW))  # was "``: {'halfspace': ..."
+    assert problem_lines(result.output) == [
+        "`indenter.stiffness`: inf — must be finite with indenter.pillar_law (its slopes are factors of it)"]
+
+
+def test_a_per_pillar_file_names_its_key_its_file_and_what_is_wrong(new_key_folder):
+    result = validate(new_key_folder, snippet_document(_tip('"five.npy"')))  # was `indenter.tip`: '5 values'
+    assert_refused(result, "indenter.tip.radius")
+    assert "five.npy" in result.output and "holds 5 values; must hold one per pillar (16)" in result.output
+    result = validate(new_key_folder, snippet_document(_tip('"negative.npy"')))  # the shape was shown
+    assert "holds values down to -1" in result.output and "shape" not in result.output, result.output
+    result = validate(new_key_folder, snippet_document(LEVEL % '{rule = "file", file = "ones.npy"}'))
+    assert_refused(result, "indenter.levels.0.grading.file")  # was `indenter.levels.grading.file`: '16 values'
+    assert "ones.npy" in result.output and "holds 16 values" in result.output
+
+
+def test_the_memory_limit_message_shows_the_value_given(folder, monkeypatch):
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "1e-3")
+    result = validate(folder, to_toml(BASES["punch"]))
+    assert_refused(result, MEMORY_LIMIT_VARIABLE)
+    assert "'1e-3'" in result.output and "0 B" not in result.output, result.output
+
+
+# -- springs too soft for double precision: refused alike, however soft ---------------------------
+
+
+@pytest.mark.parametrize("factor", [3e-9, 1e-9, 1e-12, 1e-15, 1e-20, 1e-30])
+def test_every_pillar_too_soft_to_resolve_is_refused_alike(new_key_folder, factor):
+    """One pillar graded by 1e-9 failed its run (exit 3) while one graded by 1e-12 ran to "converged":
+    the solver's check sees only a residual that has not already rounded to zero.  Every factor
+    below the bound is now refused at validation, naming the grading file and the smallest k."""
+    factors = np.ones(16)
+    factors[5] = factor
+    np.save(new_key_folder / "soft.npy", factors)
+    result = validate(new_key_folder, snippet_document('indenter.grading = {rule = "file", file = "soft.npy"}'))
+    assert_named_with_value_and_range(result, "indenter.grading.file")
+    assert "too soft to resolve" in result.output and "k >= " in result.output, result.output
+
+
+def test_a_soft_pillar_the_solver_resolves_is_accepted(new_key_folder):
+    """The refusal has a margin below the solver's own floor: a factor of 1e-7 converges, and is accepted."""
+    factors = np.ones(16)
+    factors[5] = 1e-7
+    np.save(new_key_folder / "resolved.npy", factors)
+    assert validate(new_key_folder, snippet_document('indenter.grading = {rule = "file", file = "resolved.npy"}')
+                    ).exit_code == 0
+
+
+def test_the_spring_floor_is_the_solvers():
+    from brushbem.config.limits import SPRING_ROUNDING_FLOOR
+    from brushbem.solver import ROUNDING_FLOOR
+
+    assert SPRING_ROUNDING_FLOOR == ROUNDING_FLOOR

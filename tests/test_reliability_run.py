@@ -287,13 +287,26 @@ def test_soft_springs_solve_the_half_space_part_to_the_tolerance(tmp_path):
 
 
 @pytest.mark.parametrize(("modulus", "stiffness"), [(1.0, 1e-9), (1e12, 0.15)])
-def test_unresolvable_spring_is_reported_not_converged(tmp_path, modulus, stiffness):
+def test_unresolvable_spring_is_refused_before_the_run(tmp_path, modulus, stiffness):
     """k / (2 E* a) = 2e-9 and 3e-13: the tip's displacement lies below the rounding of d.
 
     Before, both ran to "converged" with F_A / Kendall = 1.03 and 1.0077 (4.4 at E* = 1e12,
-    k = 1e-9).  Now they say why they cannot be solved.
+    k = 1e-9); then the run said why it could not solve them, but only while its residual had not
+    already rounded to zero.  Now every spring that far below the solver's floor is refused at
+    validation, naming the key and the least stiffness that resolves.
     """
     result = CliRunner().invoke(main, ["run", str(_punch(tmp_path, modulus, stiffness)), "--out",
+                                       str(tmp_path / "out"), "--quiet"])
+    assert result.exit_code == 2, result.output
+    assert "`indenter.stiffness`" in result.output and "too soft to resolve" in result.output
+    assert "k >= " in result.output and "Traceback" not in result.output
+    assert not (tmp_path / "out" / "summary.json").exists()
+
+
+def test_a_spring_near_the_floor_is_run_and_reported_not_converged(tmp_path):
+    """k / (2 E* a) = 2e-7: above the validation's margin, below what the solver resolves at
+    solver.tolerance = 1e-8: the run says why it cannot be solved (exit 3)."""
+    result = CliRunner().invoke(main, ["run", str(_punch(tmp_path, 1.0, 1e-7, elements=16)), "--out",
                                        str(tmp_path / "out"), "--quiet"])
     assert result.exit_code == 3, result.output
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())

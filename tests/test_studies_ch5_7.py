@@ -167,8 +167,8 @@ def test_fig_6_7b_compares_one_and_three_levels_over_the_same_seeds(tmp_path, mo
     monkeypatch.setattr(hierarchy, "save", lambda fig, path, written: drawn.append(fig) or written.append(path))
     hierarchy._draw_effective_stiffness({"stiffness_one": one, "three": three}, tmp_path, [])
     lines = {line.get_label(): line for line in drawn[0].axes[0].get_lines()}
-    assert lines["three levels, σ~ = 0.8"].get_ydata()[0] == pytest.approx(1.3)  # seed 0 only, not 0.7
-    assert "one level, σ~ = 0.04, 2 seeds" in lines and "one level, σ~ = 0.8, 1 seed" in lines
+    assert lines[r"three levels, $\tilde\sigma$ = 0.8"].get_ydata()[0] == pytest.approx(1.3)  # seed 0 only, not 0.7
+    assert r"one level, $\tilde\sigma$ = 0.04, 2 seeds" in lines and r"one level, $\tilde\sigma$ = 0.8, 1 seed" in lines
     # k~1' at 0.8: 1.3 lies halfway between 1.6 and 1.0 in log k~ from 1e-4 to 1e-3
     stars = [line for line in drawn[0].axes[0].get_lines() if line.get_marker() == "*"]
     assert [float(star.get_xdata()[0]) for star in stars] == pytest.approx([10 ** -3.5, 10 ** -3.5])

@@ -119,6 +119,29 @@ def test_grading_rules():
         Grading("factors", factors=np.array([1.0, -1.0, 1.0, 1.0])).apply(1.0, centres, "grading")
 
 
+def test_a_grading_that_can_have_no_effect_is_refused_by_key():
+    """A rigid level stays rigid, one spring has nothing to be graded against, and springs that all
+    lie at s = 0 keep factor 1: each refused, naming the grading's key, instead of doing nothing."""
+    centres = np.array([[0.0, 0.0], [0.0, 0.5], [0.0, -1.0], [1.0, 0.0]])
+    with pytest.raises(StructureError, match="rigid") as info:
+        Grading("radial", 0.5).apply(math.inf, centres, "levels.1.grading")
+    assert info.value.key == "levels.1.grading" and info.value.value["rule"] == "radial"
+    with pytest.raises(StructureError, match="one spring"):
+        Grading("linear", 0.5).apply(1.0, centres[:1] + 0.3, "grading")
+    with pytest.raises(StructureError, match="s = 0"):  # a linear rule along x over centres on the y axis
+        Grading("linear", 0.5).apply(1.0, np.array([[-1.0, 0.0], [1.0, 0.0]]), "grading")
+    with pytest.raises(StructureError, match="rounding"):
+        Grading("radial", 1e-20).apply(1.0, centres, "grading")
+    # An amplitude of 0 is a baseline a sweep may hold on purpose, and a factors file scales one spring.
+    np.testing.assert_allclose(Grading("radial", 0.0).apply(2.0, centres, "grading"), 2.0)
+    np.testing.assert_allclose(Grading("factors", factors=np.array([3.0])).apply(2.0, centres[:1], "grading"), 6.0)
+    with pytest.raises(StructureError, match="grading"):
+        _brush(pillars_per_side=1, pillar_radius=0.1, grading=Grading("radial", -0.5))
+    with pytest.raises(StructureError) as info:
+        _brush(levels=(Level(4, 0.02, Grading("radial", 0.5)),))
+    assert info.value.key == "levels.0.grading"
+
+
 def test_discriminant_coupling_refuses_a_graded_level():
     with pytest.raises(ValueError, match="segments"):
         from brushbem.halfspace import HalfSpace

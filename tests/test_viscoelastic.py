@@ -170,7 +170,7 @@ def _continuous_work(model: str, speed: float, k_h: float, f_k: float) -> float:
 
 @pytest.mark.parametrize("model, steps", [
     ("standard_linear_solid", (1e-3, 5e-4, 2.5e-4)),
-    ("kelvin_voigt", (2e-3, 1e-3)),
+    ("kelvin_voigt", (2e-3, 1e-3, 5e-4)),
 ])
 @pytest.mark.slow
 def test_a_punch_on_a_connection_is_the_one_degree_of_freedom_model(model, steps):
@@ -178,19 +178,22 @@ def test_a_punch_on_a_connection_is_the_one_degree_of_freedom_model(model, steps
 
     F_A is the elastic punch's at every speed (it detaches at its own
     Kendall force; 1e-7: the crossing is located on pressures solved to the
-    CG tolerance 1e-8, measured 2e-8).  The BEM's work equals the stepped
-    one-degree-of-freedom recursion to 1e-6 (the same scheme; what is left
-    is the solver's tolerance).  For the standard linear solid, as the step
-    halves twice, the work approaches the exact continuous-time value with
-    an observed order > 0.8 (implicit Euler is first order) and the finest
-    step is within 1 % of it.
+    CG tolerance 1e-8, measured 2e-8).  For the standard linear solid the
+    BEM's work equals the stepped one-degree-of-freedom recursion to 1e-6
+    (the same scheme; what is left is the solver's tolerance), and as the
+    step halves twice it approaches the exact continuous-time value with an
+    observed order > 0.8 (implicit Euler is first order), the finest step
+    within 1 % of it.
 
     The one-degree-of-freedom model assumes that the punch comes off in one
-    cascade.  A Kelvin-Voigt connection stepped finely is stiff at the step
-    (k_eff = k (1 + tau / dt): 8.2 = 20 k_h at tau / dt = 40) and the mesh
-    then holds a partly peeled punch for a step or two (measured: +0.5 % work
-    at step 2.5e-4), a state the lumped model does not have; so Kelvin-Voigt
-    is checked at the steps (tau / dt = 5, 10) where it comes off at once.
+    cascade.  A Kelvin-Voigt connection is stiff at the step (k_eff = k (1 +
+    tau / dt): 8.2 = 20 k_h at tau / dt = 40), and with every event of a step
+    located, the mesh holds the punch partly peeled after its first ring
+    leaves (the event path's state, which the lumped model does not have):
+    the work is above the recursion's, by +1.7, +1.1, +0.67 % of the
+    continuous value at steps 2e-3, 1e-3, 5e-4.  What must hold for it is that
+    the work approaches the continuous value as the step shrinks and is within
+    1 % of it at the finest step.
     """
     rheology = Viscoelastic(model, TAU, MODELS[model])
     k_h, f_k = _punch_constants()
@@ -200,13 +203,15 @@ def test_a_punch_on_a_connection_is_the_one_degree_of_freedom_model(model, steps
     for step in steps:
         summary = _run(rheology, speed, step)
         assert summary["adhesive_force"] == pytest.approx(f_k, rel=1e-7)
-        assert summary["work_of_separation"] == pytest.approx(_discrete_work(model, speed, step, k_h, f_k),
-                                                              rel=1e-6)
+        if model == "standard_linear_solid":
+            assert summary["work_of_separation"] == pytest.approx(_discrete_work(model, speed, step, k_h, f_k),
+                                                                  rel=1e-6)
         errors.append(abs(summary["work_of_separation"] / exact - 1))
+    assert errors[-1] < 0.01, errors
+    assert all(e1 < e0 for e0, e1 in itertools.pairwise(errors)), errors
     if model == "standard_linear_solid":
         orders = [math.log(e0 / e1) / math.log(2) for e0, e1 in itertools.pairwise(errors)]
         assert min(orders) > 0.8, (errors, orders)
-        assert errors[-1] < 0.01, errors
         # Rate dependence is real: the viscous work differs from the relaxed spring's by 4 %.
         relaxed = _run(None, None, steps[-1])["work_of_separation"]
         assert abs(exact / relaxed - 1) > 0.02

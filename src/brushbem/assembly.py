@@ -27,6 +27,7 @@ import numpy as np
 
 from . import config as schema
 from .config import (
+    MAX_PRELOAD_DOMAIN_SIZES,
     GridConfig,
     HalfSpaceConfig,
     IndenterConfig,
@@ -34,6 +35,7 @@ from .config import (
     RunConfig,
     show_value,
 )
+from .config.limits import SPRING_RESOLUTION_MARGIN, SPRING_ROUNDING_FLOOR
 from .structure import (
     Grading,
     Grid,
@@ -115,9 +117,27 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
             filling_factors=spec.filling_factors,
         )
     except StructureError as exc:
-        if exc.key == "lengths_file":  # name the file, not only its count
-            raise StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})") from None
+        named = _named_file(exc, spec)
+        if named is not None:  # name the file, not only its count
+            raise named from None
         raise
+
+
+def _named_file(exc: StructureError, spec: IndenterConfig) -> StructureError | None:
+    """``exc`` about a file's values (lengths, per-pillar tips, grading factors) as one naming the file's key and name."""
+    if exc.key == "lengths_file":
+        return StructureError("lengths_file", spec.lengths_file, f"{exc.allowed} ({spec.lengths_file})")
+    if exc.key == "tip" and spec.tip is not None:
+        key = "radius" if spec.tip.shape == "spherical_cap" else "depth"
+        file = getattr(spec.tip, key, None)
+        if isinstance(file, str):
+            return StructureError(f"tip.{key}", file, f"{exc.allowed} ({file})")
+    tables = {"grading.file": spec.grading}
+    tables.update({f"levels.{i}.grading.file": lv.grading for i, lv in enumerate(spec.levels or ())})
+    grading = tables.get(exc.key)
+    if grading is not None and grading.file is not None:
+        return StructureError(exc.key, grading.file, f"{exc.allowed} ({grading.file})")
+    return None
 
 
 def _grading(spec) -> Grading | None:
@@ -144,7 +164,11 @@ def _tip(spec) -> Tip | list[Tip] | None:
 
 
 def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: HalfSpaceConfig) -> Indenter:
-    indenter = _rasterise_shape(grid_config, spec, halfspace_config)
+    return _with_rheology(_rasterise_shape(grid_config, spec, halfspace_config), spec)
+
+
+def _with_rheology(indenter: Indenter, spec: IndenterConfig) -> Indenter:
+    """The rasterised shape with the pillars' viscoelastic connection or nonlinear law of ``spec``."""
     if spec.viscoelastic is not None:
         from .viscoelastic import Viscoelastic
 
@@ -184,12 +208,20 @@ class Rules:
     def __init__(self) -> None:
         self._built: tuple[tuple[int, int, int], Indenter] | None = None
 
-    def indenter(self, grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig) -> Indenter:
-        """The rasterised indenter of these sections (built once; raises `StructureError`)."""
+    def shape(self, grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig) -> Indenter:
+        """The rasterised shape of these sections, springs included (built once; raises `StructureError`).
+
+        Without the pillars' rheology (`indenter`): a rule between sections (a law on rigid pillars) names
+        its keys, which the rasterisation's error would not.
+        """
         key = (id(grid), id(indenter), id(halfspace))
         if self._built is None or self._built[0] != key:
-            self._built = (key, _rasterise(grid, indenter, halfspace))
+            self._built = (key, _rasterise_shape(grid, indenter, halfspace))
         return self._built[1]
+
+    def indenter(self, grid: GridConfig, indenter: IndenterConfig, halfspace: HalfSpaceConfig) -> Indenter:
+        """The rasterised indenter of these sections (the shape built once; raises `StructureError`)."""
+        return _with_rheology(self.shape(grid, indenter, halfspace), indenter)
 
     def structure_problems(self, grid: GridConfig, indenter: IndenterConfig,
                            halfspace: HalfSpaceConfig) -> list[Problem]:
@@ -197,9 +229,11 @@ class Rules:
         if not indenter.is_brush:
             return []
         try:
-            self.indenter(grid, indenter, halfspace)
+            self.shape(grid, indenter, halfspace)
         except StructureError as exc:
             return [Problem(f"indenter.{exc.key}", show_value(exc.value), exc.allowed)]
+        except ValueError as exc:  # a structure no key-named check caught: still a refusal, not a traceback
+            return [Problem("indenter", show_value(indenter.layout), f"cannot be built: {exc}")]
         return []
 
     def rasterised_problems(self, config: RunConfig) -> list[Problem]:
@@ -212,11 +246,13 @@ class Rules:
         preload = config.protocol.preload_displacement
         lowest = indenter.lowest_height
         if preload is not None and preload <= lowest:
+            deepest = MAX_PRELOAD_DOMAIN_SIZES * config.grid.size
             problems.append(Problem(
                 "protocol.preload_displacement", show_value(preload),
-                f"must be > {lowest:.6g}, the height of the indenter's lowest element on this grid "
-                "(where it first touches); a smaller preload never reaches the surface",
+                f"must be > {lowest:.6g} (and at most {deepest:g}): {lowest:.6g} is the height of the indenter's "
+                "lowest element on this grid (where it first touches); a smaller preload never reaches the surface",
             ))
+        problems.extend(_unresolvable_spring_problems(config, indenter))
         if config.solver.coupling == "discriminant":
             from .operator import (
                 discriminant_half_width,  # the transforms: only for this coupling
@@ -236,6 +272,78 @@ class Rules:
                     problems.append(Problem("solver.coupling", show_value(config.solver.coupling), str(exc)))
                     break
         return problems
+
+
+def _unresolvable_spring_problems(config: RunConfig, indenter: Indenter) -> list[Problem]:
+    """Springs too soft for double precision to resolve the half-space's part of a solve.
+
+    Under a spring of stiffness k whose footprint (a pillar, a cluster's pillars, a punch) of area A is
+    in contact, the half-space carries the fraction k / (k + K) of the deflection, K >= 2 E* sqrt(A / pi)
+    (of all contacts of an area the disc is the least stiff).  The solver needs that fraction times
+    solver.tolerance above its rounding floor (`brushbem.solver.cg.ROUNDING_FLOOR`); below it a run
+    fails, or, where its residual rounds to zero, reports what it could not resolve (a pillar graded by
+    1e-9 failed, by 1e-12 "converged").  Refused here with a margin (`SPRING_RESOLUTION_MARGIN`), for
+    every value below alike.  Checked where the footprints are in full contact at the preload (flat
+    tips, no tilt: a pillar, a cluster, a punch); the run's own check covers curved contacts, and a
+    viscoelastic or nonlinear pillar is checked at its stiffest (the standard linear solid's
+    instantaneous stiffness, the law's largest factor; a Kelvin-Voigt dashpot has no bound).
+    """
+    spec = config.indenter
+    if spec.shape not in ("flat_punch", "brush"):
+        return []
+    if (spec.tip is not None and spec.tip.shape != "flat") or (spec.tilt is not None and spec.tilt.angle > 0):
+        return []
+    limit = SPRING_ROUNDING_FLOOR / config.solver.tolerance / SPRING_RESOLUTION_MARGIN
+    h2 = config.grid.element_size**2
+    modulus = config.halfspace.effective_modulus
+    problems = []
+    for i, level in enumerate(indenter.levels):
+        if level.rigid:
+            continue
+        stiffest = 1.0
+        if i == 0 and spec.viscoelastic is not None:
+            if spec.viscoelastic.instantaneous_factor is None:
+                continue
+            stiffest = spec.viscoelastic.instantaneous_factor
+        if i == 0 and spec.pillar_law is not None:
+            stiffest = max(spec.pillar_law.factors)
+        labels = indenter.element_clusters(level)
+        area = np.bincount(labels[labels >= 0], minlength=level.n_clusters) * h2
+        contact = 2.0 * modulus * np.sqrt(area / np.pi)
+        k = level.stiffnesses * stiffest
+        fraction = k / (k + contact)
+        n = int(np.argmin(fraction))
+        if fraction[n] >= limit:
+            continue
+        needed = limit / (1.0 - limit) * contact[n] / stiffest
+        key, value, scale = _spring_key(config, i)
+        which = "" if level.n_clusters == 1 else f" (spring {n} of {level.n_clusters})"
+        factor = f"; a factor of at least {needed / scale:.3g}" if scale is not None else ""
+        problems.append(Problem(
+            key, show_value(value),
+            f"too soft to resolve: the softest spring{which}, k = {level.stiffnesses[n]:.3g}, leaves the half-space "
+            f"{fraction[n]:.2g} of its deflection (2 E* sqrt(A / pi) = {contact[n]:.3g} under its footprint), and "
+            f"double precision resolves a solve with solver.tolerance = {config.solver.tolerance:g} only above "
+            f"{limit:.3g}: every spring must have k >= {needed:.3g}{factor} (or raise solver.tolerance)",
+        ))
+    return problems
+
+
+def _spring_key(config: RunConfig, index: int) -> tuple[str, Any, float | None]:
+    """The key that sets spring level ``index`` (0: the pillars' own), its value, and the ungraded k of a file."""
+    spec = config.indenter
+    if spec.shape != "brush":
+        return "indenter.stiffness", spec.stiffness, None
+    table, prefix = (spec, "indenter") if index == 0 else (spec.levels[index - 1], f"indenter.levels.{index - 1}")
+    ratio = table.stiffness_ratio
+    base = table.stiffness if ratio is None else ratio
+    if table.grading is not None:
+        grading = table.grading
+        ungraded = table.stiffness if ratio is None else ratio * config.halfspace.effective_modulus * config.grid.size
+        if grading.rule == "file":
+            return f"{prefix}.grading.file", grading.file, ungraded
+        return f"{prefix}.grading.amplitude", grading.amplitude, None
+    return (f"{prefix}.stiffness_ratio" if ratio is not None else f"{prefix}.stiffness"), base, None
 
 
 @dataclass(frozen=True)

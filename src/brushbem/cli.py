@@ -6,8 +6,9 @@ and validates, `brushbem.case.run_case` computes, `brushbem.io` and
 (or an --out that cannot be written, or is in use by another process),
 3 the run finished but some solve did not converge (results still written),
 4 the results could not be written (a full disk: nothing half-written is
-left); ``run`` interrupted by SIGINT / SIGTERM writes its partial result,
-marked interrupted, and exits 130 / 143;
+left), or for ``run`` only its figure (the message says that the result
+files were written); ``run`` interrupted by SIGINT / SIGTERM writes its
+partial result, marked interrupted, and exits 130 / 143;
 for ``sweep`` and ``study``, 2 also when --out holds a different sweep, 3
 also when some case failed or is still missing, and SIGINT / SIGTERM keep
 every finished case, end the local workers and exit 130 / 143 (a rerun
@@ -218,7 +219,7 @@ class _Stop:
 
 
 #: The files of a run's output folder (`brushbem run` refuses to replace them without --overwrite).
-RESULT_FILES = ("summary.json", "result.nc", "pulloff.png")
+RESULT_FILES = ("summary.json", "result.nc", "pulloff.png", "pulloff.pdf")
 
 
 class _OutFolder(click.Path):
@@ -252,38 +253,51 @@ def _prepare_out(out_dir: Path) -> None:
 @main.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
-    "--out", "out_dir", required=True, type=_OutFolder(),
-    help="Folder for summary.json, result.nc and pulloff.png (created if absent).",
+    "--out", "out_dir", default=None, type=_OutFolder(),
+    help="Folder for summary.json, result.nc and pulloff.png (created if absent); required unless --estimate.",
 )
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
 @click.option("--refine", "grids", type=click.IntRange(2, 3), default=None,
               help="Also run on the coarser grids N/2 (and N/4) and report the Richardson-extrapolated F_A and "
                    "work with error estimates in summary.json (refinement).")
 @click.option("--overwrite", is_flag=True, help="Replace the results of an earlier run in --out.")
-def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwrite: bool) -> None:
+@click.option("--estimate", is_flag=True,
+              help="Print the expected wall time and peak memory of the run, and their basis, from its first "
+                   "states (about two seconds); run no further and write nothing (--out is not needed).")
+def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None, overwrite: bool,
+        estimate: bool) -> None:
     """Run the pull-off in CONFIG; write the results into --out.
 
     Ctrl-C (or SIGTERM) stops after the current state and writes the partial
     result, marked ``interrupted`` and not converged (exit 130, or 143).
+    With --estimate, only the expected cost is printed (exit 0).
     """
+    if out_dir is None and not estimate:
+        raise click.UsageError("Missing option '--out' (only --estimate runs without it).")
     built = _load_or_exit(config_path, build=True)
     config = built.config
-    earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
-    if earlier and not overwrite:
-        click.echo(f"--out {out_dir} holds the results of an earlier run ({', '.join(earlier)}); --overwrite "
-                   "replaces them, or choose another --out", err=True)
-        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    if not estimate:
+        earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
+        if earlier and not overwrite:
+            click.echo(f"--out {out_dir} holds the results of an earlier run ({', '.join(earlier)}); --overwrite "
+                       "replaces them, or choose another --out", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    refined = None
     if grids is not None:
         from brushbem.config import ConfigError
         from brushbem.refine import refined_configs
 
         try:
-            refined_configs(config, grids)
+            refined = refined_configs(config, grids)
         except ConfigError as exc:
             click.echo(f"invalid refinement of {config_path}:", err=True)
             for line in exc.problems:
                 click.echo(f"  {line}", err=True)
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    if estimate:
+        _print_run_estimate(config_path, [built] if refined is None else refined)
+        return
+    assert out_dir is not None
     _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
 
     # Imported here so that `validate` and `--help` stay fast and do not need
@@ -310,7 +324,7 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
         # A killed run's leftovers, by the names of the temporaries of its own files: never a complete
         # file, nor anything else in the folder.
-        remove_stale_temporaries(out_dir, RESULT_FILES)
+        remove_stale_temporaries(out_dir, tuple(dict.fromkeys((*RESULT_FILES, *FIGURE_FILES, "report.html"))))
         stop = stack.enter_context(_Stop())
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
@@ -341,19 +355,25 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
 
         try:
             write_case(result, out_dir, config=config)
-            plot_pull_off(result, out_dir / "pulloff.png", reference)
         except OSError as exc:
             if not quiet:
                 Console().print(_summary_table(result.summary))
-            click.echo(f"--out {out_dir}: could not write the results ({exc.strerror or exc}); no file there "
+            click.echo(f"--out {out_dir}: could not write the results ({_os_error(exc)}); no file there "
                        "was left half-written", err=True)
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+        _remove_earlier_report(out_dir)
+        figure_error = _draw_run_figure(plot_pull_off, result, reference, out_dir)
 
     if not quiet:
         Console().print(_summary_table(result.summary))
-        click.echo(f"results written to {out_dir}")
+        click.echo(f"results written to {out_dir}" if figure_error is None else
+                   f"summary.json and result.nc written to {out_dir}")
     for warning in result.summary.get("warnings", []):
         click.echo(f"warning: {warning}", err=True)
+    if figure_error is not None:
+        click.echo(f"--out {out_dir}: could not write the figure pulloff.png ({figure_error}); the results "
+                   "summary.json and result.nc were written (`brushbem report` draws the figure from them)",
+                   err=True)
     if stop.signal is not None:
         click.echo(f"interrupted: the partial result in {out_dir} is marked interrupted and not converged",
                    err=True)
@@ -364,7 +384,96 @@ def run(config_path: Path, out_dir: Path, quiet: bool, grids: int | None, overwr
             f"results written to {out_dir} but they are not trustworthy",
             err=True,
         )
+    if figure_error is not None:
+        raise click.exceptions.Exit(EXIT_WRITE_FAILED)
+    if not result.summary.get("converged", False):
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+#: The figure files of a run (`brushbem.plot.plot_pull_off` writes the PNG and a PDF beside it).
+FIGURE_FILES = ("pulloff.png", "pulloff.pdf")
+
+
+def _os_error(exc: OSError) -> str:
+    """An ``OSError`` for a message: the file's name and the system's reason."""
+    reason = exc.strerror or str(exc)
+    return f"{Path(exc.filename).name}: {reason}" if exc.filename else reason
+
+
+def _remove_earlier_report(out_dir: Path) -> None:
+    """Remove the ``report.html`` of an earlier run in ``out_dir`` (it describes results just replaced).
+
+    Only a report that `brushbem.run_report` wrote (its generator mark) is
+    removed; any other file of that name is left as it is.
+    """
+    from brushbem.run_report import REPORT_FILE, is_run_report
+
+    report = out_dir / REPORT_FILE
+    if report.is_file() and not report.is_symlink() and is_run_report(report):
+        with contextlib.suppress(OSError):
+            report.unlink()
+
+
+def _draw_run_figure(plot: Any, result: Any, reference: Any, out_dir: Path) -> str | None:
+    """Draw the run's figure into ``out_dir``; on failure, why (and no figure of an earlier run is left).
+
+    The results are written before: a figure that cannot be drawn or written
+    loses nothing, and the message says so.  A figure file of an earlier run
+    (``--overwrite``) is removed, so that it is never taken for this run's.
+    """
+    try:
+        plot(result, out_dir / "pulloff.png", reference)
+    except Exception as exc:  # noqa: BLE001 - any failure of the figure: the results are safe, say what failed
+        for name in FIGURE_FILES:
+            with contextlib.suppress(OSError):
+                (out_dir / name).unlink(missing_ok=True)
+        return _os_error(exc) if isinstance(exc, OSError) else f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def _duration(seconds: float) -> str:
+    """A wall time in the unit that reads best (s, min, h, days, years)."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= 2 * size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+
+
+def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
+    """``run --estimate``: the expected cost of the run (of every grid of --refine), with its basis; no file."""
+    from brushbem.estimate import estimate_run
+    from brushbem.resources import available_memory, format_bytes
+
+    estimates = [estimate_run(config) for config in configs]
+    total = sum(estimate.seconds for estimate in estimates)
+    grids = f" on {len(estimates)} grids" if len(estimates) > 1 else ""
+    click.echo(f"estimate for {config_path}{grids} (nothing written; the path's first states computed to "
+               "measure the cost of a state):")
+    for estimate in estimates:
+        click.echo(f"  N = {estimate.elements}, method \"{estimate.method}\":")
+        if estimate.complete:
+            click.echo(f"    wall time    {_duration(estimate.seconds)} (measured: the sample ran the whole path, "
+                       f"{estimate.states} states)")
+        else:
+            click.echo(f"    wall time    {estimate.kind} {_duration(estimate.seconds)} = {estimate.states:,} states x "
+                       f"{estimate.seconds_per_state:.3g} s (mean of the {estimate.sampled_states - 1} sampled "
+                       f"states after the first) + {estimate.setup_seconds:.2g} s (set-up and first state)")
+            for line in estimate.basis:
+                click.echo(f"    basis        {line}")
+        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.resources.memory_estimate); "
+                   f"result.nc at most {format_bytes(estimate.result_bytes)}")
+        if estimate.stops:
+            click.echo(f"    note         {estimate.stops}")
+    if len(estimates) > 1:
+        kinds = {estimate.kind for estimate in estimates if estimate.kind != "measured"}
+        click.echo(f"  total wall time {kinds.pop() if len(kinds) == 1 else 'about'} {_duration(total)}")
+    try:
+        limit, source = available_memory()
+    except ValueError:
+        limit, source = None, "unknown"
+    if limit is not None:
+        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+    click.echo("  (the computation only: writing the files and the figure takes a few seconds more)")
 
 
 #: The examples `brushbem init` writes (shipped in brushbem/examples/), and what each is.
@@ -865,9 +974,29 @@ def figure(out_dir: Path) -> None:
 
 @main.command()
 @click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
-@click.option("--redraw", is_flag=True, help="Redraw the figures even if DIR/figures has some.")
+@click.option("--redraw", is_flag=True,
+              help="Redraw the figures even if DIR/figures has some (a run folder: the curve from result.nc).")
 def report(out_dir: Path, redraw: bool) -> None:
-    """Write DIR/report.html: figures, summary table, thesis numbers, provenance (one file)."""
+    """Write DIR/report.html: figures, summary table, thesis numbers, provenance (one file).
+
+    DIR is a study or sweep folder, or one run's folder (`brushbem run --out
+    DIR`): then the report shows its pull-off curve, the snapshots, the
+    summary with units, the comparison with the closed forms and the
+    provenance.
+    """
+    from brushbem.run_report import RunReportError, is_run_folder, write_run_report
+
+    if is_run_folder(out_dir):
+        try:
+            path = write_run_report(out_dir, redraw=redraw)
+        except RunReportError as error:
+            click.echo(str(error), err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except OSError as exc:
+            click.echo(f"cannot write {exc.filename or out_dir / 'report.html'} ({exc.strerror or exc})", err=True)
+            raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+        click.echo(str(path))
+        return
     from brushbem.report import write_report
 
     with _reading_results():

@@ -480,45 +480,52 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
 
     ``axes``: a pair of matplotlib axes to draw on (the profile, the
     verification history); their figure is returned.  By default a new
-    Figure (no pyplot).
+    Figure (no pyplot).  Offsets are drawn over |d_c| (eq. 4.12), stiffnesses
+    as k~ = k / (E* L), forces over N F_K (eq. 7.4): every axis normalised.
     """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    from . import figstyle
 
     info = problem.indenter.description
     centres = np.asarray(info.centres)
     radial = np.hypot(centres[:, 0], centres[:, 1])
     outer = float(radial.max()) or 1.0
-    if axes is None:
-        fig = Figure(figsize=(10.0, 4.2), layout="constrained")
-        FigureCanvasAgg(fig)
-        left, right = fig.subplots(1, 2)
-    else:
-        left, right = axes
-        fig = left.figure
-    d_c = result.rigid_brush_displacement
-    if result.target == "lengths":
-        fitted, amplification = thesis_profile_fit(problem, result.values)
-        order = np.argsort(radial)
-        left.plot(radial / outer, result.values / d_c, "o", ms=3, label="designed offsets g_n")
-        left.plot(radial[order] / outer, fitted[order] / d_c, "-", lw=1.2,
-                  label=f"thesis S_c (eq. 7.2), fitted h~ = {amplification:.3g}")
-        left.set(ylabel="offset g / |d_c|")
-    else:
-        left.plot(radial / outer, result.values, "o", ms=3, label="designed stiffness k_n")
-        left.set(ylabel="k (force / length)")
-    left.set(xlabel="r / R (distance of the pillar from the centre)",
-             title=f"ELS design ({result.target}): F~ = {result.verified_force_ratio:.4f}")
-    left.legend(fontsize=8)
-    right.plot(range(1, len(result.history) + 1), result.history, "o-")
-    right.axhline(result.predicted_force_ratio, ls="--", color="tab:red", lw=0.8,
-                  label=f"predicted (every edge critical at once): {result.predicted_force_ratio:.4f}")
-    if result.bound_force_ratio is not None:
-        right.axhline(result.bound_force_ratio, ls="-.", color="tab:green", lw=0.8,
-                      label=f"bound in full contact (any design): {result.bound_force_ratio:.4f}")
-    right.axhline(1.0, ls=":", color="0.5", lw=0.8, label="F~ = 1 (isolated Kendall pillars, eq. 7.4)")
-    right.set(xlabel="verification pull-off", ylabel="F~ = F_A / (N F_K)", title="verified by the ordinary pull-off")
-    right.legend(fontsize=8)
+    with figstyle.style():
+        if axes is None:
+            fig = figstyle.new_figure(7.2, 3.4)
+            left, right = fig.subplots(1, 2)
+        else:
+            left, right = axes
+            fig = left.figure
+        d_c = abs(result.rigid_brush_displacement)
+        if result.target == "lengths":
+            fitted, amplification = thesis_profile_fit(problem, result.values)
+            order = np.argsort(radial)
+            left.plot(radial / outer, result.values / d_c, "o", label=r"designed offsets $g_n$")
+            left.plot(radial[order] / outer, fitted[order] / d_c, "-",
+                      label=rf"thesis $S_\mathrm{{c}}$ (eq. 7.2), fitted $\tilde h$ = {amplification:.3g}")
+            left.set(ylabel=r"offset $g/|d_\mathrm{c}|$")
+        else:
+            left.plot(radial / outer, result.values / (problem.contact_modulus * problem.grid.size), "o",
+                      label=r"designed stiffness $k_n$")
+            left.set(ylabel=r"pillar stiffness $\tilde k_n = k_n/(E^* L)$")
+        left.set(xlabel=r"distance from the centre $\rho/\rho_\mathrm{max}$",
+                 title=rf"design ({result.target}): $\tilde F$ = {result.verified_force_ratio:.4f}")
+        left.legend()
+        right.plot(range(1, len(result.history) + 1), result.history, "o-", label="verified")
+        right.axhline(result.predicted_force_ratio, ls="--", color=figstyle.COLOURS[1], lw=0.8,
+                      label=f"predicted (every edge critical at once): {result.predicted_force_ratio:.4f}")
+        if result.bound_force_ratio is not None:
+            right.axhline(result.bound_force_ratio, ls="-.", color=figstyle.COLOURS[2], lw=0.8,
+                          label=f"bound in full contact (any design): {result.bound_force_ratio:.4f}")
+        right.axhline(1.0, ls=":", color="0.5", lw=0.8,
+                      label=r"$\tilde F$ = 1: isolated Kendall pillars (eq. 7.4)")
+        right.set(xlabel="verification pull-off", ylabel=r"$\tilde F = F_\mathrm{A}/(N_\mathrm{p} F_\mathrm{K})$",
+                  title="verified by the ordinary pull-off")
+        right.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))  # pull-offs are counted
+        right.set_xlim(0.5, max(len(result.history), 1) + 0.5)
+        right.legend()
     return fig
 
 
@@ -529,6 +536,7 @@ def write_design(problem: ContactProblem, result: Design, out_dir, config_path: 
     import json
     from pathlib import Path
 
+    from . import figstyle
     from .io import atomic_path
 
     out = Path(out_dir)
@@ -555,7 +563,5 @@ def write_design(problem: ContactProblem, result: Design, out_dir, config_path: 
     with atomic_path(out / "design.json") as temporary:
         Path(temporary).write_text(json.dumps(scalars, indent=2) + "\n")
     written.append(out / "design.json")
-    with atomic_path(out / "design.png") as temporary:
-        design_figure(problem, result).savefig(temporary, format="png", dpi=110)
-    written.append(out / "design.png")
+    written.append(figstyle.save(design_figure(problem, result), out / "design.png"))  # and design.pdf
     return written

@@ -8,21 +8,26 @@
 ``result.nc`` (NetCDF-4 through h5netcdf)
     The load path along dimension ``step`` (``displacement``, ``force``,
     ``contact_area``, ``cg_iterations``, ``converged``, ``loading``,
-    ``attached_pillars``) and, per snapshot ``<name>``, ``pressure_<name>``
-    (float) and ``contact_<name>`` (int8, 1 = in contact) on dimensions
-    ``(y, x)``; coordinates are element centres in units of length, centred on
-    the domain: x_i = (i + 1/2) h - L/2.  Each snapshot variable carries the
-    base displacement and the force of that moment as the attributes
-    ``displacement`` and ``force``.  Per pillar (dimension ``pillar``):
-    ``pillar_x``, ``pillar_y``, ``pillar_offset``, ``pillar_elements``,
-    ``pillar_stiffness`` (pillars on springs), ``pillar_separation_displacement``, ``pillar_max_tension``,
-    ``pillar_max_tension_displacement`` and, per
-    snapshot, ``pillar_force_<name>``; ``cross_section_adhesive_force`` is the
-    pressure along the element row through the centre at the adhesive-force
-    moment (thesis Fig. 7-4).  Global attributes record provenance:
-    ``brushbem_version``, ``config`` (the resolved configuration as JSON),
-    ``seeds``, ``backend``, ``summary`` (JSON), and every entry of
-    `CaseResult.attributes`.
+    ``attached_pillars``) and the snapshots along dimension ``stage``, whose
+    coordinate holds the stage names (``max_preload``, ``zero_force``,
+    ``adhesive_force``, ``half_detached``, ``before_separation``: those the
+    path passed through), with the base displacement and the force of each
+    moment as the coordinates ``stage_displacement`` and ``stage_force``:
+    ``pressure`` (float) and ``contact`` (int8, 1 = in contact) on dimensions
+    ``(stage, y, x)``, and ``pillar_force`` on ``(stage, pillar)``;
+    coordinates ``x``, ``y`` are element centres in units of length, centred
+    on the domain: x_i = (i + 1/2) h - L/2.  Per pillar (dimension
+    ``pillar``): ``pillar_x``, ``pillar_y``, ``pillar_offset``,
+    ``pillar_elements``, ``pillar_stiffness`` (pillars on springs),
+    ``pillar_separation_displacement``, ``pillar_max_tension``,
+    ``pillar_max_tension_displacement``; ``cross_section_adhesive_force`` is
+    the pressure along the element row through the centre at the
+    adhesive-force moment (thesis Fig. 7-4).  Global attributes record
+    provenance: ``brushbem_version``, ``config`` (the resolved configuration
+    as JSON), ``seeds``, ``backend``, ``summary`` (JSON), and every entry of
+    `CaseResult.attributes`.  Files written before the ``stage`` dimension
+    (one variable per stage, ``pressure_<name>``) are read as well
+    (`stage_field`, `from_dataset`).
 
 Every file is written to a temporary file in the output folder and moved into
 place with `os.replace`, so a reader never sees a half-written file.  The two
@@ -31,8 +36,10 @@ into place first and ``summary.json`` last, so that a run killed between the
 two leaves a pair whose ids differ, which `read_case` refuses
 (`InconsistentCaseError`) instead of pairing an old dataset with a new
 summary.  A NetCDF file is rendered in memory and written by Python (up to
-`IN_MEMORY_LIMIT` bytes; larger ones after a free-space check), so a full disk
-is an ``OSError`` with its errno, never a crash inside the HDF5 library.
+`IN_MEMORY_LIMIT` bytes); a larger one, after a free-space check, is streamed
+by HDF5 through a Python file object that never passes a failed write on to
+HDF5 (`_GuardedFile`).  Either way a full disk or a quota is an ``OSError``
+with its errno, never a crash inside the HDF5 library.
 
 Sign convention: d > 0 presses into the half-space; pressure and force are
 positive when compressive.
@@ -79,6 +86,8 @@ __all__ = [
     "netcdf_attributes",
     "read_case",
     "remove_stale_temporaries",
+    "stage_field",
+    "stages",
     "temporary_of",
     "to_dataset",
     "write_case",
@@ -364,6 +373,51 @@ def _cf_variables(variables: dict[str, xr.Variable], coords: dict[str, xr.Variab
             attrs["units"] = "1"
 
 
+def _stage_variables(result: CaseResult, h: float, n_pillars: int, variables: dict[str, xr.Variable],
+                     coords: dict[str, xr.Variable]) -> None:
+    """The snapshots along dimension ``stage``: ``pressure``, ``contact`` (and ``pillar_force``), one variable each.
+
+    The ``stage`` coordinate holds the stage names (in the order recorded), and
+    ``stage_displacement`` and ``stage_force`` the moment of each along it.
+    """
+    snapshots = result.snapshots
+    coords["stage"] = xr.Variable("stage", np.array([snapshot.name for snapshot in snapshots], dtype=object),
+                                  {"long_name": "snapshot stage of the pull-off (thesis Fig. 4-3)"})
+    coords["stage_displacement"] = xr.Variable(
+        "stage", np.array([float(snapshot.displacement) for snapshot in snapshots]),
+        {"long_name": "base displacement d at the stage (presses > 0)", "units": "length"})
+    coords["stage_force"] = xr.Variable(
+        "stage", np.array([float(snapshot.force) for snapshot in snapshots]),
+        {"long_name": "normal force F at the stage (compressive > 0)", "units": "force"})
+    variables["pressure"] = xr.Variable(
+        ("stage", "y", "x"), np.stack([np.asarray(snapshot.pressure, dtype=float) for snapshot in snapshots]),
+        {"long_name": "pressure at the stage (compressive > 0)", "units": "stress"})
+    variables["contact"] = xr.Variable(
+        ("stage", "y", "x"), np.stack([np.asarray(snapshot.contact, dtype=np.int8) for snapshot in snapshots]),
+        {"long_name": "contact set at the stage (1 = in contact)"})
+    if n_pillars and any(snapshot.pillar_force is not None for snapshot in snapshots):
+        forces = np.full((len(snapshots), n_pillars), np.nan)
+        for k, snapshot in enumerate(snapshots):
+            if snapshot.pillar_force is not None:
+                forces[k] = np.asarray(snapshot.pillar_force, dtype=float)
+        variables["pillar_force"] = xr.Variable(
+            ("stage", "pillar"), forces,
+            {"long_name": "force on every pillar at the stage (compressive > 0; nan: not recorded)",
+             "units": "force"})
+    pattern = next((snapshot for snapshot in snapshots if snapshot.name == "adhesive_force"), None)
+    if pattern is not None:
+        # The stress cross-section through the centre at the critical
+        # moment (thesis Fig. 7-4): the row of elements just above y = 0.
+        row = pattern.pressure.shape[0] // 2
+        variables["cross_section_adhesive_force"] = xr.Variable(
+            "x", np.asarray(pattern.pressure[row], dtype=float),
+            {"long_name": "pressure along the row through the centre at the adhesive-force moment "
+                          "(compressive > 0)", "units": "stress",
+             "y": float((row + 0.5) * h - pattern.pressure.shape[0] * h / 2),
+             "displacement": float(pattern.displacement), "force": float(pattern.force)},
+        )
+
+
 def to_dataset(result: CaseResult, config: RunConfig | None = None) -> xr.Dataset:
     """The ``result.nc`` content of one run as an in-memory `xarray.Dataset`.
 
@@ -427,33 +481,8 @@ def _dataset(result: CaseResult, config: RunConfig | None) -> xr.Dataset:
         coords["pillar"] = xr.Variable("pillar", np.arange(n_pillars), {"long_name": "pillar index"})
         for name, values in result.pillars.items():
             variables[f"pillar_{name}"] = xr.Variable("pillar", np.asarray(values), _PILLAR_ATTRS.get(name, {}))
-    for snapshot in result.snapshots:
-        moment = {"displacement": float(snapshot.displacement), "force": float(snapshot.force)}
-        if snapshot.pillar_force is not None:
-            variables[f"pillar_force_{snapshot.name}"] = xr.Variable(
-                "pillar", np.asarray(snapshot.pillar_force, dtype=float),
-                {"long_name": f"force on every pillar at {snapshot.name} (compressive > 0)", "units": "force",
-                 **moment},
-            )
-        if snapshot.name == "adhesive_force":
-            # The stress cross-section through the centre at the critical
-            # moment (thesis Fig. 7-4): the row of elements just above y = 0.
-            row = snapshot.pressure.shape[0] // 2
-            variables["cross_section_adhesive_force"] = xr.Variable(
-                "x", np.asarray(snapshot.pressure[row], dtype=float),
-                {"long_name": "pressure along the row through the centre at the adhesive-force moment "
-                              "(compressive > 0)", "units": "stress",
-                 "y": float((row + 0.5) * h - snapshot.pressure.shape[0] * h / 2), **moment},
-            )
-        variables[f"pressure_{snapshot.name}"] = xr.Variable(
-            ("y", "x"), np.asarray(snapshot.pressure, dtype=float),
-            {"long_name": f"pressure at {snapshot.name} (compressive > 0)", "units": "stress",
-             **moment},
-        )
-        variables[f"contact_{snapshot.name}"] = xr.Variable(
-            ("y", "x"), np.asarray(snapshot.contact, dtype=np.int8),
-            {"long_name": f"contact set at {snapshot.name} (1 = in contact)", **moment},
-        )
+    if result.snapshots:
+        _stage_variables(result, h, n_pillars, variables, coords)
     coords["step"] = xr.Variable("step", np.arange(len(curve.displacement), dtype=np.int64),
                                  {"long_name": "index of the recorded state along the load path", "units": "1"})
     _cf_variables(variables, coords, _units_of(result, config))
@@ -509,15 +538,169 @@ def write_dataset(
                 handle.flush()
                 os.fsync(handle.fileno())
         else:
-            dataset.to_netcdf(temporary, engine="h5netcdf", encoding=encoding)
+            _stream_netcdf(dataset, temporary, encoding, target)
+
+
+def _stream_netcdf(dataset: xr.Dataset, temporary: Path, encoding: dict[str, Any], target: Path) -> None:
+    """Write ``dataset`` to ``temporary`` through `_GuardedFile` (too large to render in memory first).
+
+    HDF5 writes through Python's file calls, and a failed write (a full disk,
+    a quota, a file-size limit) never reaches HDF5, which would crash the
+    interpreter on it: the file keeps its content in memory from the failure
+    on, HDF5 finishes its file, and the failure is raised here as ``OSError``
+    with its errno, naming ``target``.
+    """
+    guarded = _GuardedFile(temporary)
+    try:
+        dataset.to_netcdf(guarded, engine="h5netcdf", encoding=encoding)
+        if guarded.error is None:
+            try:
+                os.fsync(guarded.fileno())
+            except OSError as exc:
+                guarded.error = exc
+    finally:
+        guarded.close()
+    if guarded.error is not None:
+        error = guarded.error
+        raise OSError(error.errno or errno.EIO,
+                      f"{error.strerror or error} (writing {target.name}; nothing was left half-written)",
+                      str(target)) from None
+
+
+class _GuardedFile(io.RawIOBase):
+    """A file for HDF5 (h5py's file-object driver) whose operations never fail.
+
+    Until a write, read or truncation of the file fails, every operation goes
+    to the file; at the first failure the error is kept in ``error``, the
+    content written so far is read into memory, and the rest of the writing
+    goes there, so that HDF5 completes its file instead of meeting the
+    failure (on which the HDF5 library crashes the process when it closes
+    the file).  The caller raises ``error`` once HDF5 is done, and discards
+    the file.
+    """
+
+    def __init__(self, path: Path) -> None:
+        super().__init__()
+        self._file = open(path, "r+b", buffering=0)  # noqa: SIM115 - closed by close()
+        self._position = 0
+        self._memory: io.BytesIO | None = None
+        self.error: OSError | None = None
+
+    def readable(self) -> bool:
+        return True
+
+    def writable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        return self._file.fileno()
+
+    def tell(self) -> int:
+        return self._position
+
+    def seek(self, offset: int, whence: int = os.SEEK_SET) -> int:
+        if whence == os.SEEK_SET:
+            self._position = offset
+        elif whence == os.SEEK_CUR:
+            self._position += offset
+        else:
+            self._position = self._size() + offset
+        return self._position
+
+    def _size(self) -> int:
+        if self._memory is not None:
+            return len(self._memory.getbuffer())
+        try:
+            return os.fstat(self._file.fileno()).st_size
+        except OSError as exc:
+            self._fail(exc)
+            return self._size()
+
+    def _fail(self, exc: OSError) -> None:
+        """Keep ``exc`` and continue in memory, from the content the file holds."""
+        self.error = self.error or exc
+        memory = io.BytesIO()
+        try:
+            self._file.seek(0)
+            while chunk := self._file.read(1 << 24):
+                memory.write(chunk)
+        except OSError:
+            pass  # what could be read; the file is discarded anyway
+        self._memory = memory
+
+    def write(self, data: Any) -> int:
+        view = memoryview(data).cast("B")
+        if self._memory is None:
+            try:
+                self._file.seek(self._position)
+                done = 0
+                while done < len(view):
+                    done += self._file.write(view[done:]) or 0
+            except OSError as exc:
+                self._fail(exc)
+        if self._memory is not None:
+            self._memory.seek(self._position)
+            self._memory.write(view)
+        self._position += len(view)
+        return len(view)
+
+    def readinto(self, buffer: Any) -> int:
+        view = memoryview(buffer).cast("B")
+        count = 0
+        if self._memory is None:
+            try:
+                self._file.seek(self._position)
+                count = self._file.readinto(view) or 0
+            except OSError as exc:
+                self._fail(exc)
+        if self._memory is not None:
+            self._memory.seek(self._position)
+            count = self._memory.readinto(view)
+        self._position += count
+        return count
+
+    def truncate(self, size: int | None = None) -> int:
+        size = self._position if size is None else size
+        if self._memory is None:
+            try:
+                self._file.truncate(size)
+                return size
+            except OSError as exc:
+                self._fail(exc)
+        assert self._memory is not None
+        length = len(self._memory.getbuffer())
+        if size <= length:
+            self._memory.truncate(size)
+        else:  # extend with zeros, as a file's truncation does
+            self._memory.seek(length)
+            self._memory.write(bytes(size - length))
+        return size
+
+    def flush(self) -> None:
+        pass  # unbuffered: every write went to the file (or to memory)
+
+    def close(self) -> None:
+        try:
+            self._file.close()
+        finally:
+            self._memory = None
+            super().close()
 
 
 def _field_compression(dataset: Any) -> dict[str, dict[str, Any]]:
-    """Lossless gzip (with byte shuffling) for the 2-D fields of a result: the pressure and contact
-    snapshots are mostly zeros outside the pillars, so a brush's file shrinks many times; curves and
-    per-pillar arrays stay uncompressed (small, and read whole)."""
-    return {str(name): {"zlib": True, "complevel": 4, "shuffle": True}
-            for name, variable in dataset.data_vars.items() if variable.ndim >= 2}
+    """Lossless gzip (with byte shuffling) for the fields on the grid (``y``, ``x``) of a result: the
+    pressure and contact snapshots are mostly zeros outside the pillars, so a brush's file shrinks many
+    times; one chunk per stage, so that reading one stage reads only its field.  Curves and per-pillar
+    arrays stay uncompressed (small, and read whole)."""
+    encoding = {}
+    for name, variable in dataset.data_vars.items():
+        if "x" in variable.dims and "y" in variable.dims and variable.ndim >= 2:
+            chunks = tuple(1 if dim == "stage" else int(size) for dim, size in zip(variable.dims, variable.shape))
+            encoding[str(name)] = {"zlib": True, "complevel": 4, "shuffle": True, "chunksizes": chunks}
+    return encoding
 
 
 def source_commit() -> str | None:
@@ -624,12 +807,12 @@ def read_case(out_dir: str | Path) -> xr.Dataset:
 _NON_FINITE = {"nan": float("nan"), "inf": float("inf"), "-inf": float("-inf")}
 
 
-def _numbers(node: Any) -> Any:
-    """A decoded summary with its non-finite numbers ("nan", "inf") numbers again."""
+def from_json_safe(node: Any) -> Any:
+    """A decoded summary with its non-finite numbers ("nan", "inf") numbers again (`to_json_safe`'s inverse)."""
     if isinstance(node, dict):
-        return {key: _numbers(value) for key, value in node.items()}
+        return {key: from_json_safe(value) for key, value in node.items()}
     if isinstance(node, list):
-        return [_numbers(value) for value in node]
+        return [from_json_safe(value) for value in node]
     return _NON_FINITE.get(node, node) if isinstance(node, str) else node
 
 
@@ -641,6 +824,35 @@ def _attribute(value: Any) -> Any:
         except ValueError:
             return value
     return value.item() if isinstance(value, np.generic) else value
+
+
+def stages(dataset: xr.Dataset) -> list[str]:
+    """The snapshot stages a ``result.nc`` holds, in its order (either layout of `stage_field`)."""
+    if "stage" in dataset.coords:
+        return [str(name) for name in dataset["stage"].to_numpy()]
+    return [str(name)[len("pressure_"):] for name in dataset.data_vars if str(name).startswith("pressure_")]
+
+
+def stage_field(dataset: xr.Dataset, name: str, stage: str) -> xr.DataArray | None:
+    """The snapshot ``name`` (``"pressure"``, ``"contact"`` or ``"pillar_force"``) at ``stage``, or None.
+
+    Reads both layouts of ``result.nc``: one variable along ``stage``
+    (``pressure(stage, y, x)``, with the moment in the coordinates
+    ``stage_displacement`` and ``stage_force``), and one variable per stage
+    in files written before it (``pressure_<stage>``, the moment in its
+    attributes).  The field returned carries the moment as the attributes
+    ``displacement`` and ``force`` either way.
+    """
+    if "stage" in dataset.coords:
+        if name not in dataset.data_vars or stage not in stages(dataset):
+            return None
+        field = dataset[name].sel(stage=stage)
+        moment = {"displacement": float(field["stage_displacement"]), "force": float(field["stage_force"])}
+        field = field.drop_vars([coord for coord in ("stage", "stage_displacement", "stage_force")
+                                 if coord in field.coords])
+        return field.assign_attrs(moment)
+    legacy = f"{name}_{stage}"
+    return dataset[legacy] if legacy in dataset.data_vars else None
 
 
 def from_dataset(dataset: xr.Dataset) -> CaseResult:
@@ -664,27 +876,25 @@ def from_dataset(dataset: xr.Dataset) -> CaseResult:
         attached_pillars=column("attached_pillars", np.int64),
     )
     snapshots = []
-    for name in dataset.data_vars:
-        if not str(name).startswith("pressure_"):
-            continue
-        stage = str(name)[len("pressure_"):]
-        pressure = dataset[name]
-        pillar_force = dataset.get(f"pillar_force_{stage}")
-        contact = dataset.get(f"contact_{stage}")
+    for stage in stages(dataset):
+        pressure = stage_field(dataset, "pressure", stage)
+        contact = stage_field(dataset, "contact", stage)
+        pillar_force = stage_field(dataset, "pillar_force", stage)
+        forces = None if pillar_force is None else np.asarray(pillar_force.to_numpy(), dtype=float)
         snapshots.append(Snapshot(
             name=stage, displacement=float(pressure.attrs["displacement"]), force=float(pressure.attrs["force"]),
             pressure=np.asarray(pressure.to_numpy(), dtype=float),
             contact=(np.asarray(contact.to_numpy(), dtype=bool) if contact is not None
                      else np.zeros(pressure.shape, dtype=bool)),
-            pillar_force=None if pillar_force is None else np.asarray(pillar_force.to_numpy(), dtype=float),
+            pillar_force=None if forces is None or np.all(np.isnan(forces)) else forces,
         ))
     pillars = {str(name)[len("pillar_"):]: dataset[name].to_numpy() for name in dataset.data_vars
-               if str(name).startswith("pillar_") and not str(name).startswith("pillar_force_")}
+               if str(name).startswith("pillar_") and not str(name).startswith("pillar_force")}
     x = dataset["x"].to_numpy() if "x" in dataset.coords else np.array([])
     attributes = {str(key): _attribute(value) for key, value in dataset.attrs.items()}
     summary = attributes.pop("summary", {})
     return CaseResult(
-        curve=curve, snapshots=tuple(snapshots), summary=_numbers(summary) if isinstance(summary, dict) else {},
+        curve=curve, snapshots=tuple(snapshots), summary=from_json_safe(summary) if isinstance(summary, dict) else {},
         attributes=attributes, element_size=float(x[1] - x[0]) if x.size > 1 else 1.0, pillars=pillars,
     )
 

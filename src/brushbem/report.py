@@ -24,6 +24,7 @@ import math
 import os
 import platform
 import re
+import textwrap
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -31,11 +32,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from brushbem import __version__
+from brushbem import __version__, figstyle
 from brushbem.io import atomic_path
 
 if TYPE_CHECKING:
     import pandas as pd
+
+    from brushbem.units import Units
 
 __all__ = [
     "MAX_CURVES",
@@ -56,19 +59,13 @@ _FIGURES_DIR = "figures"
 # --------------------------------------------------------------------------- figures
 
 
-def _new_figure(size: tuple[float, float] = (6.4, 4.8)):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=size, layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
+def _new_figure(size: tuple[float, float] = (5.0, 3.8)):
+    return figstyle.new_figure(*size)
 
 
 def _save(figure: Any, path: Path) -> Path:
-    with atomic_path(path) as temporary:
-        figure.savefig(temporary, format="png", dpi=110)
-    return path
+    """``path`` (a PNG at 300 dpi) and a PDF beside it, atomically (`brushbem.figstyle.save`)."""
+    return figstyle.save(figure, path)
 
 
 def _slug(text: str) -> str:
@@ -94,8 +91,14 @@ def _force_columns(frame: pd.DataFrame) -> list[str]:
     return columns
 
 
-def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str, path: Path) -> Path:
-    """``column`` against swept ``key``: one line per combination of the other swept values."""
+@figstyle.styled
+def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str, path: Path,
+                  units: Units | None = None) -> Path:
+    """``column`` against swept ``key``: one line per combination of the other swept values.
+
+    Axes are labelled by the quantities' names, symbols and units
+    (`brushbem.figstyle.key_label`), the lines by the other keys' symbols.
+    """
     figure = _new_figure()
     axes = figure.add_subplot()
     xs_all = frame[key].tolist()
@@ -108,7 +111,7 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
               else group[key].astype(float).to_numpy())
         ys = group[column].astype(float).to_numpy()
         order = np.argsort(xs, kind="stable")
-        text = ", ".join(f"{k} = {v}" for k, v in zip(others, label)) or None
+        text = ", ".join(f"{name} = {_cell(v)}" for name, v in zip(_legend_names(others), label)) or None
         xs, ys = np.asarray(xs)[order], ys[order]
         # Every realization as a marker, the mean over realizations as the line.
         line = axes.plot(xs, ys, marker="o", linestyle="none", alpha=0.6, label=text)[0]
@@ -116,36 +119,43 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
         means = [np.nanmean(ys[xs == x]) if np.any(np.isfinite(ys[xs == x])) else np.nan for x in unique]
         axes.plot(unique, means, color=line.get_color())
     if categorical:
-        axes.set_xticks(range(len(categories)), categories, rotation=30, fontsize="small")
+        axes.set_xticks(range(len(categories)), categories, rotation=30, ha="right")
     elif _wide(frame[key].astype(float).tolist()):
         axes.set_xscale("log")
     if _wide(frame[column].astype(float).tolist()):
         axes.set_yscale("log")
-    axes.set_xlabel(key)
-    axes.set_ylabel(column)
-    axes.set_title(f"{column} against {key} (finished cases)", fontsize="small")
-    axes.grid(True, linewidth=0.4, alpha=0.5)
+    axes.set_xlabel(figstyle.key_label(key, units))
+    axes.set_ylabel(figstyle.key_label(column, units))
+    title = f"{figstyle.key_name(column)} against {figstyle.key_name(key)}, finished cases"
+    axes.set_title("\n".join(textwrap.wrap(title, 60)))
     if axes.get_legend_handles_labels()[0]:
-        axes.legend(fontsize="x-small", loc="best")
+        axes.legend(loc="best")
     return _save(figure, path)
 
 
+def _legend_names(keys: Sequence[str]) -> list[str]:
+    """How the keys are named in a legend: their symbols (`brushbem.figstyle.key_symbol`), or the keys
+    themselves where two would share one."""
+    short = [figstyle.key_symbol(key) for key in keys]
+    return short if len(set(short)) == len(short) else list(keys)
+
+
 def _case_label(row: pd.Series, keys: Sequence[str], realizations: bool) -> str:
-    """A curve's legend entry: its swept values (``stiffness_ratio = 0.01, sigma = 0.002``), not its id."""
+    """A curve's legend entry: its swept values (``$\\tilde k$ = 0.01, $\\sigma$ = 0.002``), not its id."""
     present = [key for key in keys if key in row.index]
-    short = [key.rsplit(".", 1)[-1] for key in present]
-    names = short if len(set(short)) == len(short) else present  # the last part alone where it is unambiguous
-    parts = [f"{name} = {_cell(row[key])}" for name, key in zip(names, present)]
+    parts = [f"{name} = {_cell(row[key])}" for name, key in zip(_legend_names(present), present)]
     if realizations and "realization" in row.index:
         parts.append(f"realization {int(row['realization'])}")
     return ", ".join(parts) or str(row["case_id"])
 
 
-def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path, keys: Sequence[str] = ()) -> Path | None:
+@figstyle.styled
+def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path, keys: Sequence[str] = (),
+                 units: Units | None = None) -> Path | None:
     """The force-displacement curves of (at most `MAX_CURVES`) finished cases, overlaid, labelled by swept value."""
     import xarray as xr
 
-    figure = _new_figure((7.2, 5.0))
+    figure = _new_figure((6.0, 4.2))
     axes = figure.add_subplot()
     axes.axhline(0.0, color="0.7", linewidth=0.8)
     drawn = 0
@@ -163,17 +173,16 @@ def _plot_curves(frame: pd.DataFrame, cases_dir: Path, path: Path, keys: Sequenc
                 displacement, force = dataset["displacement"].to_numpy(), dataset["force"].to_numpy()
         except Exception:  # noqa: BLE001, S112 - a file damaged since the summary was read: not drawn
             continue
-        axes.plot(displacement, force, linewidth=0.9, label=_case_label(row, keys, realizations))
+        axes.plot(displacement, force, linewidth=1.0, label=_case_label(row, keys, realizations))
         drawn += 1
     if not drawn:
         return None
-    axes.set_xlabel("d (presses > 0)")
-    axes.set_ylabel("F (compressive > 0)")
+    axes.set_xlabel(figstyle.axis_label(r"base displacement $d$", "length", units))
+    axes.set_ylabel(figstyle.axis_label(r"force $F$", "force", units))
     shown = f"{drawn} of {len(frame)}" if len(frame) > drawn else f"{drawn}"
-    axes.set_title(f"pull-off curves ({shown} finished cases)", fontsize="small")
-    axes.grid(True, linewidth=0.4, alpha=0.5)
+    axes.set_title(f"pull-off curves ({shown} finished cases)")
     if drawn <= 12:
-        axes.legend(fontsize="x-small", loc="best")
+        axes.legend(loc="best")
     return _save(figure, path)
 
 
@@ -186,10 +195,14 @@ def draw_sweep_figures(out_dir: str | Path, figures_dir: str | Path | None = Non
     decades); and the pull-off curves of the finished cases overlaid
     (`MAX_CURVES` at most).
 
+    Axes are labelled by the quantities' names and symbols, in the units the
+    sweep's base configuration names (``[units]``), or "dimensionless".
+    Every figure is a PNG at 300 dpi with a PDF beside it.
+
     Returns
     -------
     list of Path
-        The PNG files written (in ``out_dir/figures`` by default).
+        The PNG files written (in ``out_dir/figures`` by default), each with its PDF.
     """
     from brushbem.studies import finished
     from brushbem.sweep import CASES_DIR, SWEEP_FILE, load_summary
@@ -203,15 +216,26 @@ def draw_sweep_figures(out_dir: str | Path, figures_dir: str | Path | None = Non
     written: list[Path] = []
     if frame.empty:
         return written
+    units = _sweep_units(record)
     for column in _force_columns(frame):
         for key in keys:
             others = [k for k in keys if k != key]
             name = f"{_slug(column)}_vs_{_slug(key)}.png"
-            written.append(_plot_against(frame, key, others, column, figures_dir / name))
-    curves = _plot_curves(frame, out_dir / CASES_DIR, figures_dir / "pulloff_curves.png", keys)
+            written.append(_plot_against(frame, key, others, column, figures_dir / name, units))
+    curves = _plot_curves(frame, out_dir / CASES_DIR, figures_dir / "pulloff_curves.png", keys, units)
     if curves is not None:
         written.append(curves)
     return written
+
+
+def _sweep_units(record: Mapping[str, Any]) -> Units:
+    """The units the sweep's base configuration names (``sweep.json``'s ``base``); dimensionless without."""
+    from brushbem.units import Units
+
+    try:
+        return Units.from_config(record.get("base"))
+    except (TypeError, ValueError):
+        return Units()
 
 
 def draw_figures(out_dir: str | Path) -> list[Path]:

@@ -616,18 +616,51 @@ class Grading:
     azimuth: float = 0.0
     factors: np.ndarray | None = None
 
-    def apply(self, stiffness: float, centres: np.ndarray, key: str) -> np.ndarray:
-        """The stiffness of every spring whose centres are ``centres`` (StructureError names ``key``)."""
+    def given(self) -> dict:
+        """The grading's parameters as a configuration gives them (for messages)."""
+        if self.rule == "factors":
+            return {"rule": "file", "factors": f"{np.size(self.factors)} values"}
+        keys = {"radial": ("amplitude", "exponent"), "linear": ("amplitude", "azimuth")}.get(self.rule, ())
+        return {"rule": self.rule, **{k: getattr(self, k) for k in keys}}
+
+    def apply(self, stiffness: float | np.ndarray, centres: np.ndarray, key: str) -> np.ndarray:
+        """The stiffness of every spring whose centres are ``centres`` (StructureError names ``key``).
+
+        A grading that can have no effect is refused: on a rigid level (k = inf, graded or not, stays
+        inf), a rule on a level of one spring (a single pillar, a level of one cluster: nothing to grade
+        it against), and a rule whose every factor is 1 although its amplitude is not 0 (every spring at
+        s = 0, as centres on the line across a linear rule's direction, or an amplitude below rounding).
+        """
+        if np.all(np.isinf(np.asarray(stiffness, dtype=np.float64))):
+            raise StructureError(key, self.given(),
+                                 "grades a rigid level (stiffness = inf), which stays rigid whatever the factors: "
+                                 "give the level a finite stiffness (or stiffness_ratio), or remove the grading")
+        if self.rule != "factors" and len(centres) == 1 and self.amplitude != 0:
+            raise StructureError(key, self.given(),
+                                 "grades nothing: the level has one spring (a single pillar, or one cluster), which "
+                                 f"rule = {self.rule!r} cannot grade against another; a grading needs two or more "
+                                 "springs (or remove it; rule = 'file' scales a single spring)")
         if self.rule != "factors":
-            return graded_stiffness(stiffness, centres, rule=self.rule, amplitude=self.amplitude,
-                                    exponent=self.exponent, azimuth=self.azimuth, key=key)
+            graded = graded_stiffness(stiffness, centres, rule=self.rule, amplitude=self.amplitude,
+                                      exponent=self.exponent, azimuth=self.azimuth, key=key)
+            if self.amplitude != 0 and np.array_equal(graded, np.broadcast_to(stiffness, graded.shape)):
+                if abs(self.amplitude) < np.finfo(np.float64).eps:
+                    why = f"|amplitude| = {abs(self.amplitude):g} is below the rounding of 1 (2.2e-16)"
+                else:
+                    why = f"all {len(centres)} springs lie at s = 0 of rule = {self.rule!r}"
+                raise StructureError(key, self.given(),
+                                     f"grades nothing: {why}, so every factor 1 + amplitude s^exponent is exactly "
+                                     "1; a grading needs two or more springs at different s and |amplitude| >= "
+                                     "2.2e-16 (or remove it)")
+            return graded
         factors = np.asarray(self.factors, dtype=np.float64).ravel()
         if factors.shape != (len(centres),):
             raise StructureError(f"{key}.file", f"{factors.size} values",
-                                 f"must hold one stiffness factor per spring ({len(centres)})")
+                                 f"holds {factors.size} values; must hold one stiffness factor per spring "
+                                 f"({len(centres)}), each > 0")
         if not np.all(np.isfinite(factors) & (factors > 0)):
             raise StructureError(f"{key}.file", float(np.min(factors)), "every factor must be finite and > 0")
-        return float(stiffness) * factors
+        return float(stiffness) * factors if np.ndim(stiffness) == 0 else np.asarray(stiffness) * factors
 
 
 def square_lattice(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, np.ndarray]:
@@ -1208,16 +1241,16 @@ def brush(
                                  np.arange(n_pillars, dtype=np.int64))]
     if levels:
         maps = hierarchy_clusters(index, int(pillars_per_side), tuple(lv.cluster for lv in levels))
-        for lv, cluster in zip(levels, maps):
+        for i, (lv, cluster) in enumerate(zip(levels, maps)):
             n_clusters = int(cluster.max()) + 1
             k = lv.stiffness
             if lv.grading is not None:
                 counts_c = np.bincount(cluster, minlength=n_clusters)
-                cluster_centres = np.stack([np.bincount(cluster, weights=centres[:, i], minlength=n_clusters)
-                                            for i in (0, 1)], axis=1) / counts_c[:, None]
-                k = lv.grading.apply(_level_stiffness(k, n_clusters, "levels.stiffness"), cluster_centres,
-                                     "levels.grading")
-            spring_levels.append(SpringLevel(_level_stiffness(k, n_clusters, "levels.stiffness"), cluster))
+                cluster_centres = np.stack([np.bincount(cluster, weights=centres[:, axis], minlength=n_clusters)
+                                            for axis in (0, 1)], axis=1) / counts_c[:, None]
+                k = lv.grading.apply(_level_stiffness(k, n_clusters, f"levels.{i}.stiffness"), cluster_centres,
+                                     f"levels.{i}.grading")
+            spring_levels.append(SpringLevel(_level_stiffness(k, n_clusters, f"levels.{i}.stiffness"), cluster))
     apparent_area = size * size if region == "square" else math.pi * size * size / 4.0
     real_area = float(counts.sum()) * h * h
     description = BrushGeometry(
@@ -1314,7 +1347,8 @@ def _tip_heights(grid: Grid, labels: np.ndarray, centres: np.ndarray, pillar_rad
     elif tip is not None:
         tips = list(tip)
         if len(tips) != len(centres) or not all(isinstance(t, Tip) for t in tips):
-            raise StructureError("tip", f"{len(tips)} values", f"must be one Tip or one per pillar ({len(centres)})")
+            raise StructureError("tip", f"{len(tips)} values",
+                                 f"holds {len(tips)} values; must hold one per pillar ({len(centres)})")
         order = np.argsort(owner, kind="stable")
         bounds = np.searchsorted(owner[order], np.arange(len(centres) + 1))
         for n, t in enumerate(tips):

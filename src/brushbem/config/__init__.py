@@ -24,8 +24,9 @@ Modules (each imports only those above it; `rules` names the models for
 type checking only):
 
 - `brushbem.config.limits`: the bounds on input (`MAGNITUDE_RANGE`,
-  `MAX_CONFIG_BYTES`, `MAX_SWEEP_BYTES`, `MAX_SWEEP_DEPTH`,
-  `MAX_SWEEP_CASES`, the deepest nesting, the most problems listed, the
+  `MAX_CONFIG_BYTES`, `MAX_PRELOAD_DOMAIN_SIZES`, the springs' rounding
+  floor, `MAX_SWEEP_BYTES`, `MAX_SWEEP_DEPTH`, `MAX_SWEEP_CASES`, the
+  deepest nesting, the most problems listed, the
   longest value shown).
 - `brushbem.config.errors`: `ConfigError` and the problem lines:
   `show_value`, what a field allows, pydantic errors turned into lines.
@@ -46,6 +47,7 @@ from __future__ import annotations
 from .errors import ConfigError, show_value
 from .limits import MAGNITUDE_RANGE as MAGNITUDE_RANGE
 from .limits import MAX_CONFIG_BYTES as MAX_CONFIG_BYTES
+from .limits import MAX_PRELOAD_DOMAIN_SIZES as MAX_PRELOAD_DOMAIN_SIZES
 from .limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
 from .limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
 from .limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH

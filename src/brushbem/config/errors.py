@@ -45,11 +45,21 @@ def _show(value: Any) -> str:
     """Short representation of a user value for a problem line."""
     if value is None:  # an optional key left out (TOML has no null)
         return "not given"
+    value = _as_given(value)
     # repr gives "nan", "inf", "0.003" for floats: what the user wrote in TOML.
     text = repr(value)
     if len(text) > _MAX_SHOWN:
         text = text[: _MAX_SHOWN - 3] + "..."
     return text
+
+
+def _as_given(value: Any) -> Any:
+    """A validated table (or a tuple of them) as the keys the user gave, not as the model's repr."""
+    if isinstance(value, BaseModel):
+        return {key: _as_given(getattr(value, key)) for key in type(value).model_fields if key in value.model_fields_set}
+    if isinstance(value, tuple):  # a TOML array, stored as a tuple by the frozen models
+        return [_as_given(item) for item in value]
+    return value
 
 
 def _dotted(loc: tuple[Any, ...]) -> str:
@@ -77,7 +87,9 @@ def _field_at(model: type[BaseModel], loc: tuple[Any, ...]) -> Any:
 
 
 def _describe_allowed(field: Any) -> str:
-    """What a field accepts, derived from its type and constraints."""
+    """What a field accepts, derived from its type and constraints (or its ``description``, where it has one)."""
+    if getattr(field, "description", None):  # a field whose type alone does not say it (a number or a file)
+        return field.description
     annotation = field.annotation
     if get_origin(annotation) in (Union, UnionType):
         members = [a for a in get_args(annotation) if a is not NoneType]
@@ -93,6 +105,16 @@ def _describe_allowed(field: Any) -> str:
         kind = "a string"
     elif isinstance(annotation, type) and issubclass(annotation, BaseModel):
         return "a table with keys " + ", ".join(annotation.model_fields)
+    elif get_origin(annotation) is tuple:
+        item = get_args(annotation)[0] if get_args(annotation) else None
+        if isinstance(item, type) and issubclass(item, BaseModel):
+            return "an array of tables with keys " + ", ".join(item.model_fields)
+        low, high = MAGNITUDE_RANGE
+        return f"an array of numbers, each 0 or between {low:g} and {high:g} in magnitude"
+    elif get_origin(annotation) in (Union, UnionType):
+        names = {float: "a number", int: "an integer", str: "a string"}
+        kinds = [names.get(a, getattr(a, "__name__", str(a))) for a in get_args(annotation) if a is not NoneType]
+        return " or ".join(kinds)
     else:
         kind = "a value"
     # Field(gt=..., le=...) stores one annotated-types object per bound, each
@@ -118,6 +140,17 @@ def _describe_allowed(field: Any) -> str:
     if annotation is float and not finite:
         text += ", or inf"
     return text
+
+
+def _describe_item(field: Any) -> str:
+    """What one item of an array field accepts."""
+    annotation = field.annotation
+    if get_origin(annotation) in (Union, UnionType):
+        annotation = next((a for a in get_args(annotation) if a is not NoneType), annotation)
+    item = get_args(annotation)[0] if get_origin(annotation) is tuple and get_args(annotation) else None
+    if isinstance(item, type) and issubclass(item, BaseModel):
+        return "a table with keys " + ", ".join(item.model_fields)
+    return "a number"
 
 
 def _magnitude_clause(low: tuple | None, high: tuple | None) -> str:
@@ -167,6 +200,9 @@ def _problem_lines(
         elif kind == "missing":
             allowed = _describe_allowed(field) if field is not None else "a value"
             lines.append(f"`{key}`: missing — required, {allowed}")
+        elif kind == "value_error" and not key:
+            # A rule between sections that failed as a whole: never echo the whole document back.
+            lines.append(f"`configuration`: the sections as given — {item['ctx']['error']}")
         elif kind == "value_error":
             # Raised by our own field validators: their message is the explanation.
             lines.append(f"`{key}`: {_show(item['input'])} — {item['ctx']['error']}")
@@ -175,7 +211,10 @@ def _problem_lines(
             allowed = "a table with keys " + ", ".join(model.model_fields)
             lines.append(f"`{key}`: {_show(item['input'])} — must be {allowed}")
         elif field is not None:
-            lines.append(f"`{key}`: {_show(item['input'])} — must be {_describe_allowed(field)}")
+            allowed = _describe_allowed(field)
+            if loc and isinstance(loc[-1], int):  # one item of an array
+                allowed = _describe_item(field)
+            lines.append(f"`{key}`: {_show(item['input'])} — must be {allowed}")
         else:
             lines.append(f"`{key}`: {_show(item['input'])} — {item['msg']}")
     return lines

@@ -8,7 +8,8 @@ exhausting memory or recursion, or flooding the problem report.
 
 from __future__ import annotations
 
-__all__ = ["MAGNITUDE_RANGE", "MAX_CONFIG_BYTES", "MAX_SWEEP_BYTES", "MAX_SWEEP_CASES", "MAX_SWEEP_DEPTH"]
+__all__ = ["MAGNITUDE_RANGE", "MAX_CONFIG_BYTES", "MAX_PRELOAD_DOMAIN_SIZES", "MAX_SWEEP_BYTES", "MAX_SWEEP_CASES",
+           "MAX_SWEEP_DEPTH", "SPRING_RESOLUTION_MARGIN", "SPRING_ROUNDING_FLOOR"]
 
 
 # Longest value representation echoed back in a problem line; random or
@@ -22,6 +23,22 @@ _MAX_SHOWN = 60
 # input can turn into an inf, a 0 or a division by zero downstream.  Any
 # consistent set of units (SI, or E* = L = 1) keeps physical inputs in it.
 MAGNITUDE_RANGE = (1e-30, 1e30)
+
+# Deepest base displacement a preload may reach, in domain sizes (grid.size).  Beyond one domain size
+# a run already warns that the strains leave the linear half-space's range; a thousand is a unit
+# mistake (micrometres for metres), and the displacement's rounding (2.2e-16 d) starts to swamp the
+# pull-off's displacements: a punch pressed to 1e29 L gave F_A = 0 "converged", one pressed by a
+# force to 8.7e12 L was 0.5 % off.  A preload force is bounded by the same depth at the stiffest
+# contact the domain allows (`brushbem.config.schema.RunConfig`).
+MAX_PRELOAD_DOMAIN_SIZES = 1e3
+
+# The solver's rounding floor (`brushbem.solver.cg.ROUNDING_FLOOR`, kept equal by a test): a solve
+# whose half-space part is below this fraction of its right-hand side, times solver.tolerance, cannot
+# be resolved in double precision.  Validation refuses a spring whose estimated fraction lies a
+# margin below that (`brushbem.assembly.Rules`), where the run could only fail, or, where its
+# residual happens to round to zero, report a result that double precision did not resolve.
+SPRING_ROUNDING_FLOOR = 16 * 2.0**-52
+SPRING_RESOLUTION_MARGIN = 10.0
 
 # Deepest nesting of tables and arrays a configuration may have: the schema
 # needs 4 (``indenter.levels[i].cluster``); a deeper document is a mistake and

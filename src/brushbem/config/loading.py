@@ -47,7 +47,11 @@ def _skipped_rule_lines(
     rules_ran = any(item["type"] == "config_rules" and not item["loc"] for item in items)
     if items and not rules_ran and any(item["loc"] for item in items):
         given = model.model_construct(**{k: v for k, v in raw.items() if k in model.model_fields})
-        for problem in given._rule_problems():
+        try:
+            found = given._rule_problems()
+        except (TypeError, ValueError, AttributeError, ArithmeticError):  # values of a type the fields refuse
+            found = []
+        for problem in found:
             lines.append(f"`{_dotted(prefix + (problem.key,))}`: {problem.value} — {problem.allowed}")
     for name, field in model.model_fields.items():  # lists of tables, e.g. [[indenter.levels]]
         annotation = field.annotation

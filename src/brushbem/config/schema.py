@@ -25,7 +25,7 @@ from pydantic import (
 
 from .errors import _describe_allowed, _show
 from .files import _check_height_map, _existing_file, _read_numbers
-from .limits import MAGNITUDE_RANGE
+from .limits import MAGNITUDE_RANGE, MAX_PRELOAD_DOMAIN_SIZES
 from .rules import Problem, _cross_section_problems, _resource_problems, _rules_error
 
 __all__ = [
@@ -245,8 +245,16 @@ def _per_pillar_file(value: Any, info: ValidationInfo) -> Any:
         return value
     path = _existing_file(value, info)
     numbers = _read_numbers(path)
-    if numbers.ndim != 1 or not bool(np.all(numbers > 0)):
-        raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold one value > 0 per pillar")
+    if numbers.ndim != 1:
+        raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold a 1-D array of one value > 0 "
+                         "per pillar")
+    if numbers.size and not bool(np.all(numbers > 0)):
+        smallest = float(numbers.min())
+        raise ValueError(f"holds values down to {smallest:g} (at index {int(np.argmin(numbers))}, {path}); every "
+                         f"value must be > 0, between {MAGNITUDE_RANGE[0]:g} and {MAGNITUDE_RANGE[1]:g}")
+    if numbers.size and float(numbers.min()) < MAGNITUDE_RANGE[0]:
+        raise ValueError(f"holds values down to {float(numbers.min()):g} ({path}); every value must be at least "
+                         f"{MAGNITUDE_RANGE[0]:g}")
     return str(path)
 
 
@@ -259,7 +267,7 @@ def _choice_problems(table: _Section, choice: str, uses: dict[str, tuple[tuple[s
     problem (reported by its field).
     """
     value = getattr(table, choice, None)
-    if value not in uses:
+    if not isinstance(value, str) or value not in uses:
         return []
     required, optional = uses[value]
     keys = sorted({key for need, allow in uses.values() for key in (*need, *allow)})
@@ -273,6 +281,10 @@ def _choice_problems(table: _Section, choice: str, uses: dict[str, tuple[tuple[s
             problems.append(Problem(key, _show(given), f"only used with {prefix}.{choice} = {users}; remove it"))
     return problems
 
+
+#: What a tip's radius or depth accepts (a number or a file: its type alone does not say it).
+_LENGTH_OR_FILE = (f"a finite number > 0 (units of length), between {MAGNITUDE_RANGE[0]:g} and {MAGNITUDE_RANGE[1]:g}, "
+                   "or the name of a .npy file of one such value per pillar")
 
 _TIP_USES = {"flat": ((), ()), "spherical_cap": (("radius",), ()), "concave": (("depth",), ()),
              "profile": (("file",), ())}
@@ -298,23 +310,24 @@ class TipConfig(_Section):
     model_config = _MODEL_CONFIG
 
     shape: Literal["flat", "spherical_cap", "concave", "profile"]
-    radius: float | str | None = Field(None)
-    depth: float | str | None = Field(None)
-    file: str | None = None
+    radius: float | str | None = Field(None, description=_LENGTH_OR_FILE)
+    depth: float | str | None = Field(None, description=_LENGTH_OR_FILE)
+    file: str | None = Field(None, description="the name of a .npy file of K >= 2 heights >= 0 (units of length) "
+                                               "at evenly spaced rho from 0 to the pillar radius")
 
     @field_validator("radius", "depth", mode="before")
     @classmethod
     def _number_or_name(cls, value: Any) -> Any:
         if value is None or isinstance(value, str) or (isinstance(value, (int, float))
                                                        and not isinstance(value, bool)):
-            return float(value) if isinstance(value, int) else value
-        raise ValueError("must be a number > 0 (units of length) or the name of a .npy file of one value per pillar")
+            return float(value) if isinstance(value, int) and abs(value) <= MAGNITUDE_RANGE[1] else value
+        raise ValueError(f"must be {_LENGTH_OR_FILE}")
 
     @field_validator("radius", "depth")
     @classmethod
     def _positive_or_file(cls, value: Any, info: ValidationInfo) -> Any:
         if isinstance(value, (int, float)) and not (math.isfinite(value) and value > 0):
-            raise ValueError("must be finite and > 0 (units of length), or a .npy file of one value per pillar")
+            raise ValueError(f"must be {_LENGTH_OR_FILE}")
         return _per_pillar_file(value, info)
 
     @field_validator("file")
@@ -324,9 +337,12 @@ class TipConfig(_Section):
             return None
         path = _existing_file(value, info)
         numbers = _read_numbers(path)
-        if numbers.ndim != 1 or numbers.size < 2 or float(numbers.min()) < 0:
-            raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold K >= 2 heights >= 0 at "
-                             "evenly spaced rho from 0 to the pillar radius")
+        if numbers.ndim != 1 or numbers.size < 2:
+            raise ValueError(f"holds an array of shape {numbers.shape} ({path}); must hold a 1-D array of K >= 2 "
+                             "heights >= 0 at evenly spaced rho from 0 to the pillar radius")
+        if float(numbers.min()) < 0:
+            raise ValueError(f"holds heights down to {float(numbers.min()):g} ({path}); every height must be >= 0 "
+                             "(the tip's lowest point is z = 0)")
         return str(path)
 
     def _rule_problems(self) -> list[Problem]:
@@ -369,6 +385,10 @@ class GradingConfig(_Section):
         Linear only, degrees in [0, 360); default 0 (along x).
     file : str
         ``.npy`` file of one factor > 0 per spring (rule = "file").
+
+    A grading that can have no effect is refused when the structure is built
+    (`brushbem.structure.Grading.apply`): one on a rigid level, and a rule on a
+    level of one spring (a single pillar, one cluster).
     """
 
     model_config = _MODEL_CONFIG
@@ -377,7 +397,8 @@ class GradingConfig(_Section):
     amplitude: float | None = Field(None, allow_inf_nan=False)
     exponent: float | None = Field(None, gt=0, allow_inf_nan=False)
     azimuth: float | None = Field(None, ge=0, lt=360, allow_inf_nan=False)
-    file: str | None = None
+    file: str | None = Field(None, description=f"the name of a .npy file of one stiffness factor > 0 per spring, "
+                                               f"each between {MAGNITUDE_RANGE[0]:g} and {MAGNITUDE_RANGE[1]:g}")
 
     @field_validator("file")
     @classmethod
@@ -390,11 +411,13 @@ class GradingConfig(_Section):
                                                    "linear": (("amplitude",), ("azimuth",)),
                                                    "file": (("file",), ())}, "grading")
         amplitude = getattr(self, "amplitude", None)
-        if isinstance(amplitude, float) and rule == "radial" and not amplitude > -1:
+        if not (isinstance(amplitude, float) and math.isfinite(amplitude)):  # the field's own problem
+            return problems
+        if rule == "radial" and not amplitude > -1:
             problems.append(Problem("amplitude", _show(amplitude),
                                     "must be > -1 with rule = 'radial' (the rim's stiffness k (1 + amplitude) "
                                     "must stay > 0)"))
-        if isinstance(amplitude, float) and rule == "linear" and not abs(amplitude) < 1:
+        if rule == "linear" and not abs(amplitude) < 1:
             problems.append(Problem("amplitude", _show(amplitude),
                                     "must lie in (-1, 1) with rule = 'linear' (the stiffness k (1 +- amplitude) "
                                     "at both ends must stay > 0)"))
@@ -427,6 +450,13 @@ class ViscoelasticConfig(_Section):
                                 "viscoelastic")
 
 
+#: What a pillar law's arrays accept.
+_LAW_FORCES = (f"an array of force breakpoints (units of force, compressive positive), strictly increasing, each 0 "
+               f"or between {MAGNITUDE_RANGE[0]:g} and {MAGNITUDE_RANGE[1]:g} in magnitude; [] for none")
+_LAW_FACTORS = (f"an array of len(forces) + 1 slope factors, each > 0 and between {MAGNITUDE_RANGE[0]:g} and "
+                f"{MAGNITUDE_RANGE[1]:g}")
+
+
 class PillarLawConfig(_Section):
     """A nonlinear force-compression law of the pillars' connections (`brushbem.pillar_laws.PiecewiseLinear`).
 
@@ -444,27 +474,31 @@ class PillarLawConfig(_Section):
 
     model_config = _MODEL_CONFIG
 
-    forces: tuple[float, ...] = ()
-    factors: tuple[float, ...] = (1.0,)
+    forces: tuple[float, ...] = Field((), description=_LAW_FORCES)
+    factors: tuple[float, ...] = Field((1.0,), description=_LAW_FACTORS)
     tension_limit: float | None = Field(None, gt=0, allow_inf_nan=False)
 
     @field_validator("forces", "factors", mode="before")
     @classmethod
-    def _list(cls, value: Any) -> Any:
-        return tuple(value) if isinstance(value, list) else value
+    def _list(cls, value: Any, info: ValidationInfo) -> Any:
+        if isinstance(value, (list, tuple)) and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                    for v in value):
+            return tuple(value)
+        raise ValueError(f"must be {_LAW_FORCES if info.field_name == 'forces' else _LAW_FACTORS}")
 
     def _rule_problems(self) -> list[Problem]:
         forces, factors = getattr(self, "forces", ()), getattr(self, "factors", (1.0,))
+        if not all(isinstance(values, (tuple, list)) and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                              for v in values) for values in (forces, factors)):
+            return []  # not arrays of numbers: the fields' own problems
         problems = []
-        numbers = all(isinstance(f, (int, float)) and math.isfinite(f) for f in (*forces, *factors))
-        if not numbers:
-            return [Problem("forces", _show(list(forces)), "forces and factors must be finite numbers")]
         smallest, largest = MAGNITUDE_RANGE
-        for key, values in (("forces", forces), ("factors", factors)):
-            if any(abs(v) > largest or (v != 0 and abs(v) < smallest) for v in values):
-                problems.append(Problem(key, _show(list(values)),
-                                        f"every value must lie within {smallest:g} to {largest:g} in magnitude "
-                                        "(0 allowed for forces)"))
+        for key, values, allowed in (("forces", forces, _LAW_FORCES), ("factors", factors, _LAW_FACTORS)):
+            finite = all(math.isfinite(v) for v in values)
+            if not finite or any(abs(v) > largest or (v != 0 and abs(v) < smallest) for v in values):
+                problems.append(Problem(key, _show(list(values)), f"must be {allowed}"))
+        if problems:
+            return problems
         if any(b <= a for a, b in itertools.pairwise(forces)):
             problems.append(Problem("forces", _show(list(forces)), "must be strictly increasing"))
         if len(factors) != len(forces) + 1:
@@ -742,15 +776,18 @@ class ProtocolConfig(_Section):
         its samples (``brushbem.protocol``); ``"element_events"`` takes
         every element event on the loading branch too (the reference, and
         today's path of single bodies); ``"fixed"`` retracts by constant
-        steps (the thesis's method), locating the first detachment inside
-        each step.
+        steps (the thesis's method), locating every detachment (and a
+        pillar law's break) inside each step.
     preload_displacement : float or None
-        Press until the base displacement reaches this value, units of length.
+        Press until the base displacement reaches this value, units of length;
+        at most `MAX_PRELOAD_DOMAIN_SIZES` (1000) x grid.size.
     preload_force : float or None
-        Press until the compressive force reaches this value, units of force.
-        Exactly one of the two preloads is given.
+        Press until the compressive force reaches this value, units of force;
+        at most the force that presses the stiffest contact the domain allows
+        (2 E* L / sqrt(2)) that deep.  Exactly one of the two preloads is given.
     step : float
-        Displacement step of ``"fixed"``, in units of length.
+        Displacement step of ``"fixed"``, in units of length: at most
+        grid.size, and at least the preload's depth / max_steps.
     max_steps : int
         Most steps (events, or fixed displacement steps) on each branch,
         loading and unloading; a branch that needs more ends the run, which
@@ -852,27 +889,8 @@ class RunConfig(BaseModel):
     def _consistent(self, info: ValidationInfo) -> RunConfig:
         rules = (info.context or {}).get("rules")
         problems = _cross_section_problems(self.grid, self.indenter, self.halfspace, rules)
-        if self.protocol.method == "fixed" and self.protocol.step > self.grid.size:
-            # The first detachment is located inside a step to the rounding of
-            # the step's length: a step of 1e30 put it 250 x off.  A base
-            # displacement beyond the domain size is outside linear elasticity.
-            problems.append(Problem(
-                "protocol.step", _show(self.protocol.step),
-                f"must be at most grid.size = {self.grid.size:g} (a fixed step beyond the domain size)",
-            ))
-        preload = self.protocol.preload_displacement
-        if self.protocol.method == "fixed" and preload is not None and self.protocol.step > 0:
-            # The pressing alone takes preload / step steps; more than max_steps cannot finish, and
-            # would run for hours before saying so (step = 1e-12 on a 1e-3 preload: 1e9 steps).
-            pressing = preload / self.protocol.step
-            if pressing > self.protocol.max_steps:
-                problems.append(Problem(
-                    "protocol.step", _show(self.protocol.step),
-                    f"presses to protocol.preload_displacement = {preload:g} in {pressing:.3g} steps, more than "
-                    f"protocol.max_steps = {self.protocol.max_steps}: raise the step to at least "
-                    f"{preload / self.protocol.max_steps:.3g} (or raise max_steps, knowing the run's length grows "
-                    "with it)",
-                ))
+        problems.extend(self._preload_problems())
+        problems.extend(self._step_problems())
         problems.extend(self._time_stepping_problems())
         problems.extend(self._pillar_law_problems())
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
@@ -882,6 +900,78 @@ class RunConfig(BaseModel):
             raise _rules_error(problems)
         return self
 
+
+    def _deepest_preload(self) -> float:
+        """The largest base displacement a preload may reach: `MAX_PRELOAD_DOMAIN_SIZES` x grid.size."""
+        return MAX_PRELOAD_DOMAIN_SIZES * self.grid.size
+
+    def _stiffest_contact(self) -> float:
+        """An upper bound on the half-space's stiffness under any indenter on the grid: 2 E* L / sqrt(2).
+
+        A rigid contact is stiffer the larger it is; every footprint lies inside the disc of radius
+        L / sqrt(2) around the domain, whose rigid punch has the stiffness 2 E* L / sqrt(2).  A force F
+        therefore presses the base at least F / (2 E* L / sqrt(2)) deep (springs only add to it).
+        """
+        return 2.0 * self.halfspace.effective_modulus * self.grid.size / math.sqrt(2.0)
+
+    def _least_preload_depth(self) -> float | None:
+        """The smallest base displacement the configured preload can reach (None without a preload)."""
+        protocol = self.protocol
+        if protocol.preload_displacement is not None:
+            return protocol.preload_displacement
+        if protocol.preload_force is not None:
+            return protocol.preload_force / self._stiffest_contact()
+        return None
+
+    def _preload_problems(self) -> list[Problem]:
+        """A preload far beyond the domain's scale, where the displacement's rounding swamps the pull-off."""
+        protocol, deepest = self.protocol, self._deepest_preload()
+        reason = ("deeper, the linear half-space's small strains are long left and the rounding of the base "
+                  "displacement (2.2e-16 d) swamps the pull-off's displacements")
+        if protocol.preload_displacement is not None and protocol.preload_displacement > deepest:
+            return [Problem("protocol.preload_displacement", _show(protocol.preload_displacement),
+                            f"must be in (0, {deepest:g}], at most {MAX_PRELOAD_DOMAIN_SIZES:g} x grid.size (grid.size "
+                            f"= {self.grid.size:g}): {reason}")]
+        if protocol.preload_force is not None and protocol.preload_force / self._stiffest_contact() > deepest:
+            largest = deepest * self._stiffest_contact()
+            return [Problem("protocol.preload_force", _show(protocol.preload_force),
+                            f"must be in (0, {largest:.3g}]: a force F presses the base at least F / (2 E* L / "
+                            f"sqrt(2)) = {protocol.preload_force / self._stiffest_contact():.3g} deep (the stiffest "
+                            f"contact the domain allows, E* = {self.halfspace.effective_modulus:g}, L = grid.size = "
+                            f"{self.grid.size:g}), more than {MAX_PRELOAD_DOMAIN_SIZES:g} x grid.size = {deepest:g}: {reason}")]
+        return []
+
+    def _step_problems(self) -> list[Problem]:
+        """A fixed step beyond the domain, or so small that the pressing alone needs more than max_steps."""
+        protocol = self.protocol
+        if protocol.method != "fixed":
+            return []
+        # The first detachment is located inside a step to the rounding of the step's length: a step of
+        # 1e30 put it 250 x off.  A base displacement beyond the domain size is outside linear elasticity.
+        # Retracting from the preload to the surface alone takes (at least) depth / step steps (and so
+        # does a stepped pressing); more than max_steps cannot finish, and would run for hours before
+        # saying so (step = 1e-12 on a 1e-3 preload: 1e9 steps).
+        largest, depth = self.grid.size, self._least_preload_depth()
+        smallest = None if depth is None else depth / protocol.max_steps
+        if smallest is not None and smallest > largest:  # no step fits: the budget is the problem
+            return [Problem("protocol.max_steps", _show(protocol.max_steps),
+                            f"must be at least {math.ceil(depth / largest)} with method = 'fixed': the preload lies "
+                            f"{depth:.3g} deep, and even steps of grid.size = {largest:g} (the largest allowed) need "
+                            "that many")]
+        allowed = f"[{smallest:.3g}, {largest:g}]" if smallest is not None else f"(0, {largest:g}]"
+        if protocol.step > largest:
+            return [Problem("protocol.step", _show(protocol.step),
+                            f"must be in {allowed}: at most grid.size = {largest:g} (a fixed step beyond the domain "
+                            "size locates the pull-off only to the rounding of the step)")]
+        if smallest is not None and protocol.step < smallest:
+            pressing = depth / protocol.step
+            preload = ("protocol.preload_displacement = " + f"{depth:g}" if protocol.preload_displacement is not None
+                       else f"protocol.preload_force = {protocol.preload_force:g} (at least {depth:.3g} deep)")
+            return [Problem("protocol.step", _show(protocol.step),
+                            f"must be in {allowed}: between the surface and {preload} lie {pressing:.3g} steps or "
+                            f"more, beyond protocol.max_steps = {protocol.max_steps} (on each branch); raise the step "
+                            f"to at least {smallest:.3g} (or max_steps, knowing the run's length grows with it)")]
+        return []
 
     def _pillar_law_problems(self) -> list[Problem]:
         """A nonlinear pillar law: fixed steps to a displacement, a finite stiffness, no viscoelasticity."""
@@ -896,7 +986,8 @@ class RunConfig(BaseModel):
             problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
                                     "a nonlinear pillar law is pressed to protocol.preload_displacement instead"))
         if spec.viscoelastic is not None:
-            problems.append(Problem("indenter.pillar_law", "given", "cannot be combined with indenter.viscoelastic"))
+            problems.append(Problem("indenter.pillar_law", _show(spec.pillar_law),
+                                    "cannot be combined with indenter.viscoelastic: remove one of them"))
         stiffness = spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness
         if not math.isfinite(stiffness):
             problems.append(Problem("indenter.stiffness_ratio" if spec.stiffness_ratio is not None

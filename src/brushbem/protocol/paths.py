@@ -162,25 +162,72 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
                 break
             yield _eq_state(tracker, eq, True)
             previous = (d, force)
-    # Unloading.
-    d_max = d
+    yield from _unload(tracker, path, d)
+
+
+def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
+    """Fixed steps down from ``d_max``, every event inside a step located (`_events_in_step`)."""
+    step = path.step
+    d = d_max
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
-        before = (d + step, tracker.pressure, tracker.contact)
+        before = (d + step, tracker.pressure, tracker.contact, tracker.pieces_state())
         eq = tracker.step_solve(d)
+        eq = yield from _events_in_step(tracker, before, eq, d)
+        if eq is None:  # separated at an event inside the step
+            return
         if not eq.converged:
             yield _eq_state(tracker, eq, False)
             return
         tracker.commit_history()
-        crossing = _first_crossing(tracker, before, eq)
-        if crossing is not None:
-            yield crossing
         if not bool(tracker.xp.any(tracker.contact)):
             yield tracker.state(d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
                                 eq.n_solves, True, "complete separation")
             return
         yield _eq_state(tracker, eq, False)
     yield _budget_exhausted(tracker, d, False, path)
+
+
+def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
+    """Every event inside a fixed step, in order; the step's final equilibrium at ``d``, or None if separated.
+
+    The first event is on the step's starting set (`_next_event`); from the
+    cascade at its displacement (the step's springs and history held), the
+    next is on the set that remains, until none is left before d.  A punch or
+    pillar that comes off later in the step keeps its largest force, and a
+    pillar law's break lies where the tension reaches the limit.
+    """
+    for _ in range(MAX_EVENTS_PER_STEP):
+        if not eq.converged:
+            return eq
+        event = _next_event(tracker, before, eq)
+        if event is None:
+            return eq
+        crossing, detach, broken = event
+        yield crossing
+        tracker.restore_pieces(before[3])
+        tracker.contact = crossing.contact
+        tracker.set_pressure(crossing.pressure)
+        if broken is not None:
+            detach = detach | tracker.break_pillars(broken)
+        at = tracker.step_solve(crossing.displacement, advance=False, detach=detach)
+        if not at.converged:
+            return at
+        yield _eq_state(tracker, at, False, "event")
+        if not bool(tracker.xp.any(tracker.contact)):
+            tracker.commit_history()
+            yield tracker.state(crossing.displacement, False, "separated", tracker.force(), 0, 0, True,
+                                "complete separation")
+            return None
+        before = (crossing.displacement, tracker.pressure, tracker.contact, tracker.pieces_state())
+        eq = tracker.step_solve(d, advance=False)
+    return dataclasses.replace(eq, converged=False,
+                               reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
+
+
+#: Events located inside one fixed step before the step is declared not converged (each detaches at
+#: least one element or breaks one pillar, so a step holds at most as many as the grid has elements).
+MAX_EVENTS_PER_STEP = 100_000
 
 
 def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
@@ -195,26 +242,60 @@ def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
     step's end would miss by up to the step times the slope.  None when no
     element left in the step.
     """
+    event = _next_event(tracker, before, eq)
+    return None if event is None else event[0]
+
+
+def _next_event(tracker: Tracker, before, eq: Equilibrium):
+    """``(state, elements, pillars)`` of the first event between ``before`` and ``eq``, or None.
+
+    The event is the first element of the starting contact set to reach the
+    criterion (`_first_crossing`) or, under a pillar law with a tension
+    limit, the first intact pillar whose tension reaches the limit: pillar
+    forces are affine in d on the step's starting set and pieces too.
+    ``elements`` are the contact elements at the criterion there, ``pillars``
+    (bool per pillar, or None) the pillars at the limit.
+    """
     xp = tracker.xp
-    if eq.detached == 0 or eq.trial_pressure is None:
+    if eq.trial_pressure is None:
         return None
-    d0, p0, c0 = before
+    d0, p0, c0 = before[:3]
     p1 = eq.trial_pressure
     critical = tracker.critical
     # Elements of the old set whose trial pressure is beyond the criterion.
     over = c0 & (p1 < -critical) if critical > 0 else c0 & (p1 < 0)
-    if not bool(xp.any(over)):
-        return None
-    drop = xp.where(over, p0 - p1, 1.0)
-    fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
-    tau = min(max(float(xp.min(fraction)), 0.0), 1.0)
+    tau_elements = 1.0
+    fraction = None
+    if bool(xp.any(over)):
+        drop = xp.where(over, p0 - p1, 1.0)
+        fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
+        tau_elements = min(max(float(xp.min(fraction)), 0.0), 1.0)
+    tau_pillars, breaking = 1.0, None
+    limit = tracker.tension_limit
+    if limit is not None:
+        f0 = tracker._pillar_forces(p0, c0)
+        f1 = tracker._pillar_forces(p1, c0)
+        intact = ~(before[3][1] if len(before) > 3 and before[3] is not None else tracker.pieces.broken)
+        candidates = intact & (f1 < -limit) & (f0 > f1)
+        if candidates.any():
+            pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)
+            tau_pillars = min(max(float(pillar_fraction.min()), 0.0), 1.0)
+            breaking = candidates & (pillar_fraction <= tau_pillars * (1 + 1e-12) + 1e-15)
+    tau = min(tau_elements, tau_pillars)
     if tau >= 1.0:
         return None
     pressure = xp.where(c0, p0 + tau * (p1 - p0), 0.0)
     d = d0 + tau * (eq.displacement - d0)
-    return tracker.state(d, False, "event", tracker.force(pressure), 0, 0, True,
-                         "first detachment inside the step (exact on the step's contact set)",
-                         pressure=pressure, contact=c0)
+    if tau_pillars <= tau_elements:
+        elements = xp.zeros_like(c0)
+        reason = "a pillar's tension reaches pillar_law.tension_limit inside the step (exact on its contact set)"
+    else:
+        breaking = None
+        elements = over & (fraction <= tau * (1 + 1e-12) + 1e-15)
+        reason = "a detachment inside the step (exact on the step's contact set)"
+    state = tracker.state(d, False, "event", tracker.force(pressure), 0, 0, True, reason,
+                          pressure=pressure, contact=c0)
+    return state, elements, breaking
 
 
 def _reach_force(tracker: Tracker, saved, below, above, target: float):

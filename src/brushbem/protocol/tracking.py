@@ -104,11 +104,41 @@ class Tracker:
         if self.window is not None:
             self._outside_lowest = self._lowest_outside(self.window)
 
-    def _pillar_forces(self) -> np.ndarray:
-        """Force of every pillar in the current state (compressive positive)."""
-        contact = np.asarray(backend.to_numpy(self.contact))
-        pressure = np.asarray(backend.to_numpy(self.pressure))
+    def _pillar_forces(self, pressure=None, contact=None) -> np.ndarray:
+        """Force of every pillar in the current state, or of the given one (compressive positive)."""
+        contact = np.asarray(backend.to_numpy(self.contact if contact is None else contact))
+        pressure = np.asarray(backend.to_numpy(self.pressure if pressure is None else pressure))
         return self.h2 * np.bincount(self._pillar_host[contact], weights=pressure[contact], minlength=self.n_pillars)
+
+    @property
+    def tension_limit(self) -> float | None:
+        """The pillar law's tension limit, or None."""
+        return None if self.pieces is None else self.pieces.law.tension_limit
+
+    def pieces_state(self):
+        """The pillar law's pieces and breaks (a copy), or None: what `restore_pieces` returns to."""
+        return None if self.pieces is None else (self.pieces.pieces.copy(), self.pieces.broken.copy())
+
+    def restore_pieces(self, saved) -> None:
+        """Back to the pieces and breaks of `pieces_state`: the springs and the tips with them."""
+        if saved is None:
+            return
+        pieces, broken = saved
+        if np.array_equal(pieces, self.pieces.pieces) and np.array_equal(broken, self.pieces.broken):
+            return
+        moved = not np.array_equal(pieces, self.pieces.pieces)
+        self.pieces.pieces, self.pieces.broken = pieces.copy(), broken.copy()
+        stiffness, offsets = self.pieces.springs()
+        if moved:
+            self._set_pillar_stiffness(stiffness)
+        self._raise_tips(offsets, self.pieces.broken)
+
+    def break_pillars(self, pillars: np.ndarray):
+        """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
+        self.pieces.broken |= pillars
+        _, offsets = self.pieces.springs()
+        self._raise_tips(offsets, self.pieces.broken)
+        return self.contact & self.xp.asarray(np.isin(self._pillar_host, np.flatnonzero(pillars)))
 
     def _set_pillar_stiffness(self, stiffness: np.ndarray) -> None:
         """The pillars' own springs (level 1) get ``stiffness``: a new operator, nothing cached of the old."""
@@ -132,20 +162,23 @@ class Tracker:
         if self.memory is not None:
             self.memory.commit(self._pillar_forces())
 
-    def step_solve(self, displacement: float) -> Equilibrium:
+    def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
         """One step of a fixed-step path: the equilibrium at d with the connections' state.
 
-        Viscoelastic connections: their history offsets first.  A nonlinear
-        pillar law: the piece iteration of `brushbem.pillar_laws`, then the
-        breaks, each break solved again at the same d.
+        Viscoelastic connections: their history offsets first (``advance``;
+        False inside a step, where the step's springs and offsets hold).  A
+        nonlinear pillar law: the piece iteration of `brushbem.pillar_laws`,
+        then the breaks, each break solved again at the same d.  ``detach``:
+        elements that leave the contact first (an event located in the step).
         """
-        self.advance_history()
+        if advance:
+            self.advance_history()
         if self.pieces is None:
-            return self.solve(displacement)
+            return self.solve(displacement, force_detach=detach)
         from ..pillar_laws import MAX_PIECE_ROUNDS
 
         iterations = solves = detached = 0
-        detach = first = None
+        first = None
         moved = np.zeros(self.n_pillars, dtype=bool)
 
         def settled(eq: Equilibrium, **changes) -> Equilibrium:

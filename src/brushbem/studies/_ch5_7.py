@@ -25,8 +25,15 @@ H = "indenter.profile.amplification"
 REGION = "indenter.region"
 RADIUS = "indenter.pillar_radius"
 
+#: Mathtext of the chapters' normalised quantities (eq. 5.3-5.5, 7.4).
+K_TEXT = r"$\tilde k$"
+K_DEFINED = r"$\tilde k = k/(E^* L)$"
+SIGMA_TEXT = r"$\tilde\sigma$"
+FA_TEXT = r"$\tilde F_\mathrm{A}$"
+FP_TEXT = r"$\tilde F_\mathrm{P}$"
 
-def figure(ncols: int = 1, nrows: int = 1, size=(5.2, 4.0)):
+
+def figure(ncols: int = 1, nrows: int = 1, size=(4.2, 3.4)):
     """``new_figure`` with the chapter 5–7 panel size."""
     return new_figure(ncols, nrows, *size)
 
@@ -34,6 +41,11 @@ def figure(ncols: int = 1, nrows: int = 1, size=(5.2, 4.0)):
 def save(fig: Figure, path: Path, written: list[Path]) -> None:
     """Write the figure atomically (``_common.save``) and append its path to ``written``."""
     written.append(save_figure(fig, path))
+
+
+def key_below(fig: Figure, ax) -> None:
+    """The legend of ``ax`` under the figure, where long entries cover no point and no tick label."""
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", frameon=False, fontsize="small")
 
 
 def empty_note(ax, text: str = "no finished cases") -> None:

@@ -11,10 +11,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 import xarray as xr
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from brushbem.io import atomic_path
+from brushbem import figstyle
 from brushbem.studies.base import finished as finished_rows
 
 NAN = float("nan")
@@ -58,24 +57,26 @@ def column(frame: pd.DataFrame, key: str) -> np.ndarray:
     return pd.to_numeric(frame[key].replace({"inf": math.inf}), errors="coerce").to_numpy(dtype=float)
 
 
-def new_figure(ncols: int = 1, nrows: int = 1, width: float = 5.0, height: float = 4.0):
-    fig = Figure(figsize=(width * ncols, height * nrows), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(nrows, ncols, squeeze=False)
+def new_figure(ncols: int = 1, nrows: int = 1, width: float = 4.2, height: float = 3.4):
+    """A figure of ``nrows`` x ``ncols`` panels of ``width`` x ``height`` inches, in brushbem's look.
+
+    Draw inside `brushbem.figstyle.style` (a study's ``draw`` is `styled`) so
+    that every line and text takes the look too.
+    """
+    fig = figstyle.new_figure(width * ncols, height * nrows)
+    with figstyle.style():
+        axes = fig.subplots(nrows, ncols, squeeze=False)
     return fig, axes
 
 
 def save(fig: Figure, path: Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(path) as temporary:
-        fig.savefig(temporary, format="png", dpi=110)
-    return path
+    """Write ``fig`` at ``path`` (a PNG at 300 dpi) with a PDF beside it, atomically; returns ``path``."""
+    return figstyle.save(fig, path)
 
 
-def mark(ax, x: float, y: float, label: str) -> None:
+def mark(ax, x: float, y: float, label: str | None) -> None:
     """Mark a number the thesis states: a red star with its label."""
-    ax.plot([x], [y], marker="*", color="red", markersize=12, linestyle="none", zorder=5,
+    ax.plot([x], [y], marker="*", color="red", markersize=10, linestyle="none", zorder=5,
             label=label)
 
 

@@ -32,7 +32,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.studies._ch5_7 import FIS, K, empty_note, figure, finished, has, save
+from brushbem.figstyle import styled
+from brushbem.studies._ch5_7 import FIS, K, K_TEXT, empty_note, figure, finished, has, save
 from brushbem.studies.base import Study
 
 CAP = "indenter.tip.radius"
@@ -41,6 +42,8 @@ ANGLE = "indenter.tilt.angle"
 AMPLITUDE = "indenter.grading.amplitude"
 SPEED = "protocol.speed"
 RIGID_DC = "theory.rigid_brush_displacement"
+#: The force of these studies: the adhesive force over equal load sharing (eq. 7.4).
+F_SHARING = r"$\tilde F = F_\mathrm{A}/(N_\mathrm{p} F_\mathrm{K})$"
 
 
 def _by_stiffness(ax, frame: pd.DataFrame, x: pd.Series, xlabel: str, title: str, log: bool = False) -> None:
@@ -51,16 +54,17 @@ def _by_stiffness(ax, frame: pd.DataFrame, x: pd.Series, xlabel: str, title: str
         frame = frame.assign(_x=x)
         for k, group in frame.groupby(K):
             mean = group.groupby("_x")[FIS].mean()
-            ax.plot(mean.index, mean.to_numpy(), "o-", ms=4, label=f"k~ = {k:g}")
-        ax.legend(fontsize=7)
+            ax.plot(mean.index, mean.to_numpy(), "o-", ms=4, label=rf"{K_TEXT} = {k:g}")
+        ax.legend()
     ax.axhline(1.0, ls=":", color="0.5", lw=0.8)
-    ax.text(0.02, 1.0, "equal load sharing (eq. 7.4)", fontsize=7, color="0.4", va="bottom",
+    ax.text(0.02, 1.0, "equal load sharing (eq. 7.4)", fontsize="small", color="0.4", va="bottom",
             transform=ax.get_yaxis_transform())
-    ax.set(xlabel=xlabel, ylabel="F~ = F_A / (N F_K)", title=title, ylim=(0, 1.1))
+    ax.set(xlabel=xlabel, ylabel=F_SHARING, title=title, ylim=(0, 1.1))
     if log:
         ax.set_xscale("log")
 
 
+@styled
 def _draw_tip_shape(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     written: list[Path] = []
     caps, dishes = finished(results, "caps"), finished(results, "dishes")
@@ -68,42 +72,49 @@ def _draw_tip_shape(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> l
     if has(caps, CAP, "normalized.pillars"):
         # r / R from the pillar radius r = sqrt(phi A0 / (pi N)); A0 = 1 (square region of side L = 1).
         radius = np.sqrt(caps["normalized.filling_factor"] / (math.pi * caps["normalized.pillars"]))
-        _by_stiffness(ax[0, 0], caps, (radius / caps[CAP]).round(3), "cap curvature r / R",
-                      "Spherical caps (flat: r / R -> 0)", log=True)
+        _by_stiffness(ax[0, 0], caps, (radius / caps[CAP]).round(3), CAP_CURVATURE,
+                      r"Spherical caps (flat: $r/R_\mathrm{tip} \to 0$)", log=True)
     else:
-        _by_stiffness(ax[0, 0], caps, pd.Series(dtype=float), "cap curvature r / R", "Spherical caps")
+        _by_stiffness(ax[0, 0], caps, pd.Series(dtype=float), CAP_CURVATURE, "Spherical caps")
     if has(dishes, DEPTH, RIGID_DC):
         _by_stiffness(ax[0, 1], dishes, (dishes[DEPTH] / dishes[RIGID_DC].abs()).round(3),
-                      "dish depth delta / |d_c|", "Concave tips (flat: delta -> 0)", log=True)
+                      DISH_DEPTH, r"Concave tips (flat: $\delta \to 0$)", log=True)
     else:
-        _by_stiffness(ax[0, 1], dishes, pd.Series(dtype=float), "dish depth delta / |d_c|", "Concave tips")
+        _by_stiffness(ax[0, 1], dishes, pd.Series(dtype=float), DISH_DEPTH, "Concave tips")
     save(fig, Path(figures_dir) / "tip_shape.png", written)
     return written
 
 
+#: The tip shapes' axes: the cap's curvature against the pillar radius, the dish's depth against |d_c|.
+CAP_CURVATURE = r"cap curvature $r/R_\mathrm{tip}$"
+DISH_DEPTH = r"dish depth $\delta/|d_\mathrm{c}|$"
+
+
+@styled
 def _draw_grading(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     written: list[Path] = []
     frame = finished(results, "amplitude")
     fig, ax = figure(1, 1, size=(6.0, 4.2))
     x = frame[AMPLITUDE] if has(frame, AMPLITUDE) else pd.Series(dtype=float)
-    _by_stiffness(ax[0, 0], frame, x, "radial grading a: k_n = k (1 + a (r_n / R)^2)",
-                  "Stiffness gradient, circle, φ = 0.06 (thesis ch. 7 setting)")
-    ax[0, 0].plot([0.0], [0.95], "kP", ms=9, label="thesis: best concave brush, k~ = 6e-4")
-    ax[0, 0].legend(fontsize=7)
+    _by_stiffness(ax[0, 0], frame, x, r"radial grading $a$: $k_n = k\,(1 + a\,(r_n/R)^2)$",
+                  r"Stiffness gradient, circle, $\phi$ = 0.06 (thesis ch. 7 setting)")
+    ax[0, 0].plot([0.0], [0.95], "kP", ms=9, label=rf"thesis: best concave brush, {K_TEXT} = $6 \times 10^{{-4}}$")
+    ax[0, 0].legend()
     save(fig, Path(figures_dir) / "grading.png", written)
     return written
 
 
+@styled
 def _draw_tilt(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     written: list[Path] = []
     frame = finished(results, "angle")
     fig, ax = figure(2, 1)
     x = frame[ANGLE] if has(frame, ANGLE) else pd.Series(dtype=float)
-    _by_stiffness(ax[0, 0], frame, x, "tilt angle (degrees)", "Misaligned base: F~ against tilt")
+    _by_stiffness(ax[0, 0], frame, x, r"tilt angle $\theta$ (°)", r"Misaligned base: $\tilde F$ against tilt")
     if has(frame, ANGLE, RIGID_DC):
         # The far edge's lift tan(angle) L against |d_c| (L = 1): where the soft pillars still reach.
         lift = np.tan(np.radians(frame[ANGLE])) / frame[RIGID_DC].abs()
-        _by_stiffness(ax[0, 1], frame, lift.round(3), "edge lift tan(angle) L / |d_c|",
+        _by_stiffness(ax[0, 1], frame, lift.round(3), r"edge lift $L \tan\theta/|d_\mathrm{c}|$",
                       "The same against the lift of the far edge")
     else:
         empty_note(ax[0, 1])
@@ -111,6 +122,7 @@ def _draw_tilt(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[P
     return written
 
 
+@styled
 def _draw_viscoelastic(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     written: list[Path] = []
     fig, ax = figure(2, 2)
@@ -125,27 +137,27 @@ def _draw_viscoelastic(results: Mapping[str, pd.DataFrame], figures_dir: Path) -
             scale = abs(float(slowest["theory.pull_off_displacement"])) if "theory.pull_off_displacement" in frame \
                 else 1.0
             speed = frame[SPEED] / scale
-            xlabel = "v tau / |d_A| (relaxed punch)"
+            xlabel = r"pulling speed $v\tau/|d_\mathrm{A}|$ (relaxed punch)"
         else:
             speed = frame[SPEED] / frame[RIGID_DC].abs()
-            xlabel = "v tau / |d_c|"
-        for col, (key, label) in enumerate((("adhesive_force", "F_A / F_A(slowest)"),
-                                            ("work_of_separation", "W / W(slowest)"))):
+            xlabel = r"pulling speed $v\tau/|d_\mathrm{c}|$"
+        for col, (key, label) in enumerate((("adhesive_force", r"$F_\mathrm{A}/F_\mathrm{A}^\mathrm{slowest}$"),
+                                            ("work_of_separation", r"$W/W^\mathrm{slowest}$"))):
             a_ = ax[row, col]
             ratio_to_slowest = frame[key] / float(slowest[key])
             a_.semilogx(speed, ratio_to_slowest, "o-", ms=4)
             a_.set_ylim(0.0, max(1.15, 1.05 * float(ratio_to_slowest.max())))
             a_.axhline(1.0, ls=":", color="0.5", lw=0.8)
-            a_.text(0.02, 1.0, "relaxed (elastic k_inf)", fontsize=7, color="0.4", va="bottom",
+            a_.text(0.02, 1.0, r"relaxed (elastic $k_\infty$)", fontsize="small", color="0.4", va="bottom",
                     transform=a_.get_yaxis_transform())
             if part == "punch" and key == "work_of_separation" and "theory.normalized_stiffness" in frame:
                 # Closed form (eq. 2.18-2.19): W = W_rigid (1 + 1/k~); instantaneous k~_0 = 10 k~_inf.
                 k_inf = float(slowest["theory.normalized_stiffness"])
                 ratio = (1 + 1 / (10 * k_inf)) / (1 + 1 / k_inf)
                 a_.axhline(ratio, ls="--", color="tab:red", lw=0.8)
-                a_.text(0.02, ratio, "instantaneous (eq. 2.19, k_0 = 10 k_inf)", fontsize=7, color="tab:red",
-                        va="bottom", transform=a_.get_yaxis_transform())
-            a_.set(xlabel=xlabel, ylabel=label, title=f"{part}: standard linear solid, k_0 = 10 k_inf")
+                a_.text(0.02, ratio, r"instantaneous (eq. 2.19, $k_0 = 10 k_\infty$)", fontsize="small",
+                        color="tab:red", va="bottom", transform=a_.get_yaxis_transform())
+            a_.set(xlabel=xlabel, ylabel=label, title=rf"{part}: standard linear solid, $k_0 = 10 k_\infty$")
     save(fig, Path(figures_dir) / "viscoelastic.png", written)
     return written
 
@@ -206,11 +218,13 @@ def _brush_kind(frame: pd.DataFrame) -> pd.Series:
     return pd.Series(np.where(designed, "designed", np.where(concave, "concave", "flat")), index=frame.index)
 
 
+@styled
 def _draw_robustness(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     written: list[Path] = []
     styles = {"designed": "o-", "concave": "s--", "flat": "^:"}
-    for part, key, xlabel, scale_by_dc in (("roughness", SIGMA_KEY, "added roughness sigma~ = sigma / |d_c|", True),
-                                           ("tilt", ANGLE, "tilt angle (degrees)", False)):
+    roughness = r"added roughness $\tilde\sigma = \sigma/|d_\mathrm{c}|$"
+    for part, key, xlabel, scale_by_dc in (("roughness", SIGMA_KEY, roughness, True),
+                                           ("tilt", ANGLE, r"tilt angle $\theta$ (°)", False)):
         frame = finished(results, part)
         stiffnesses = sorted(frame[K].unique()) if has(frame, K, key, LENGTHS, PROFILE, FIS) else []
         fig, ax = figure(max(1, len(stiffnesses)), 1)
@@ -226,8 +240,8 @@ def _draw_robustness(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> 
                 a_.errorbar(stats.index, stats["mean"], yerr=error, fmt=styles.get(kind, "o-"), ms=4, capsize=2,
                             label=kind)
             a_.axhline(1.0, ls=":", color="0.5", lw=0.8)
-            a_.set(xlabel=xlabel, ylabel="F~ = F_A / (N F_K)", title=f"k~ = {k:g}, φ = 0.06, circle", ylim=(0, 1.1))
-            a_.legend(fontsize=7)
+            a_.set(xlabel=xlabel, ylabel=F_SHARING, title=rf"{K_TEXT} = {k:g}, $\phi$ = 0.06, circle", ylim=(0, 1.1))
+            a_.legend()
         save(fig, Path(figures_dir) / f"robustness_{part}.png", written)
     return written
 

@@ -15,8 +15,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from brushbem.figstyle import styled
 from brushbem.studies._ch5_7 import (
+    FA_TEXT,
     FIS,
+    K_DEFINED,
+    K_TEXT,
     RADIUS,
     REGION,
     H,
@@ -35,6 +39,9 @@ from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHO
 
 PHI = "phi"
 DISP = "normalized.displacement_by_rigid_brush"
+#: Mathtext of the chapter's quantities (eq. 7.1-7.5).
+H_TEXT = r"$\tilde h$"
+SHARING = r"$N_\mathrm{p} F_\mathrm{K}$"
 
 
 def _with_phi(frame: pd.DataFrame) -> pd.DataFrame:
@@ -55,10 +62,13 @@ def _cross_section(path: Path):
     try:
         import xarray as xr
 
+        from brushbem.io import stage_field
+
         with xr.open_dataset(path) as ds:
             x = np.asarray(ds["x"].values, float)
-            if "pressure_adhesive_force" in ds:
-                p = np.asarray(ds["pressure_adhesive_force"].values, float)
+            pressure = stage_field(ds, "pressure", "adhesive_force")
+            if pressure is not None:
+                p = np.asarray(pressure.values, float)
                 row = int(np.argmax(np.sum(np.clip(-p, 0, None), axis=1)))
                 return x, p[row]
             return x, np.asarray(ds["cross_section_adhesive_force"].values, float)
@@ -78,6 +88,7 @@ def maxima(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+@styled
 def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
@@ -94,14 +105,16 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             ideal = row["adhesive_force"] / row[FIS] if row[FIS] else math.nan
             dc = abs(row["pull_off_displacement"] / row[DISP]) if row.get(DISP) else 1.0
             ax[0, 0].plot(d / dc, f / ideal, lw=1, ls="-" if row[REGION] == "circle" else "--",
-                          label=f"h~ = {row[H]:g}, {row[REGION]}")
+                          label=rf"{H_TEXT} = {row[H]:g}, {row[REGION]}")
             drawn += 1
-    for y, lab in ((-0.65, "thesis h~=0: 0.65"), (-0.95, "thesis h~=0.04: 0.95")):
+    for y, lab in ((-0.65, rf"thesis {H_TEXT} = 0: 0.65"), (-0.95, rf"thesis {H_TEXT} = 0.04: 0.95")):
         ax[0, 0].axhline(y, ls=":", color="0.6", lw=0.8)
-        ax[0, 0].text(0.02, y, lab, fontsize=7, color="0.4", transform=ax[0, 0].get_yaxis_transform())
-    ax[0, 0].set(xlabel="d~ (eq. 7.5)", ylabel="F~ = F / (N F_K)", title="Fig. 7-3: k~ = 0.1, φ = 0.06", ylim=(-1.2, 2.2))
+        ax[0, 0].text(0.02, y, lab, fontsize="small", color="0.4", va="bottom",
+                      transform=ax[0, 0].get_yaxis_transform())
+    ax[0, 0].set(xlabel=r"$\tilde d = d/|d_\mathrm{c}|$ (eq. 7.5)", ylabel=rf"$\tilde F$ = $F$/{SHARING}",
+                 title=rf"Fig. 7-3: {K_TEXT} = 0.1, $\phi$ = 0.06", ylim=(-1.2, 2.2))
     if drawn:
-        ax[0, 0].legend(fontsize=7)
+        ax[0, 0].legend()
     else:
         empty_note(ax[0, 0])
     save(fig, figures_dir / "fig7-3_curves.png", written)
@@ -116,13 +129,14 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         else:
             sc = float(sub.iloc[0]["critical_stress"])
             a_.plot(data[0], -data[1] / sc, lw=1)
-            a_.axhline(1.0, ls="--", color="tab:red", lw=0.8, label="Σ_c")
-            a_.legend(fontsize=7)
-        a_.set(xlabel="x / L", ylabel="tensile stress / Σ_c", title=f"Fig. 7-4: h~ = {h:g}")
+            a_.axhline(1.0, ls="--", color="tab:red", lw=0.8, label=r"$\Sigma_\mathrm{c}$")
+            a_.legend()
+        a_.set(xlabel="$x/L$", ylabel=r"tensile stress $-p/\Sigma_\mathrm{c}$", title=rf"Fig. 7-4: {H_TEXT} = {h:g}")
     save(fig, figures_dir / "fig7-4_cross_section.png", written)
     return [*written, *draw_tables(results, figures_dir)]
 
 
+@styled
 def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     """Fig. 7-5 to 7-7, which the per-case numbers alone determine (7-3 and 7-4 need the case files)."""
     figures_dir = Path(figures_dir)
@@ -135,13 +149,15 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         if has(amp, H, FIS, REGION, PHI):
             for (phi, reg), g in amp.groupby([PHI, REGION]):
                 m = g.groupby(H)[FIS].mean()
-                ax[0, 0].plot(m.index, m.to_numpy(), "o-" if reg == "circle" else "s--", ms=3, label=f"φ = {phi:g}, {reg}")
+                ax[0, 0].plot(m.index, m.to_numpy(), "o-" if reg == "circle" else "s--", ms=3,
+                              label=rf"$\phi$ = {phi:g}, {reg}")
         else:
             empty_note(ax[0, 0])
-        ax[0, 0].plot([0.16], [0.88], "k*", ms=10, label="thesis max φ = 0.15")
-        ax[0, 0].plot([0.5], [0.95], "kP", ms=9, label="thesis max φ = 0.06")
-        ax[0, 0].legend(fontsize=7)
-        ax[0, 0].set(xlabel="h~", ylabel="F~_A = F_A / (N F_K)", title="Fig. 7-5: k~ = 6e-4 (stars: thesis maxima)")
+        ax[0, 0].plot([0.16], [0.88], "k*", ms=10, label=r"thesis maximum, $\phi$ = 0.15")
+        ax[0, 0].plot([0.5], [0.95], "kP", ms=9, label=r"thesis maximum, $\phi$ = 0.06")
+        ax[0, 0].legend()
+        ax[0, 0].set(xlabel=H_TEXT, ylabel=rf"{FA_TEXT} = $F_\mathrm{{A}}$/{SHARING}",
+                     title=rf"Fig. 7-5: {K_TEXT} = $6 \times 10^{{-4}}$")
         save(fig, figures_dir / "fig7-5_amplification.png", written)
 
     if "stiffness" in results:
@@ -152,11 +168,11 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         for a_, phi in zip(ax[0], phis):
             for k, g in stiff[stiff[PHI] == phi].groupby(K):
                 m = g.groupby(H)[FIS].mean()
-                a_.plot(m.index, m.to_numpy(), "o-", ms=3, label=f"k~ = {k:g}")
+                a_.plot(m.index, m.to_numpy(), "o-", ms=3, label=rf"{K_TEXT} = {k:g}")
             if np.isclose(phi, 0.06):
-                a_.plot([0.04, 0.05], [0.94, 0.77], "k*", ms=9, label="thesis k~ = 10")
-            a_.set(xlabel="h~", ylabel="F~_A", xscale="symlog", title=f"Fig. 7-6: circle, φ = {phi:g}")
-            a_.legend(fontsize=6)
+                a_.plot([0.04, 0.05], [0.94, 0.77], "k*", ms=9, label=rf"thesis, {K_TEXT} = 10")
+            a_.set(xlabel=H_TEXT, ylabel=FA_TEXT, xscale="symlog", title=rf"Fig. 7-6: circle, $\phi$ = {phi:g}")
+            a_.legend(fontsize="small")
         if not phis:
             empty_note(ax[0, 0])
         save(fig, figures_dir / "fig7-6_stiffness.png", written)
@@ -164,10 +180,11 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         mx = maxima(stiff, [PHI, K]) if phis else pd.DataFrame()
         for phi, g in (mx.groupby(PHI) if len(mx) else []):
             g = g.sort_values(K)
-            ax[0, 0].semilogx(g[K], g["max"], "o-", label=f"φ = {phi:g}")
-        ax[0, 0].set(xlabel="k~ = k / (E* L)", ylabel="F~_A,max", title="Fig. 7-7: maximum over h~ vs stiffness", ylim=(0, 1.1))
+            ax[0, 0].semilogx(g[K], g["max"], "o-", label=rf"$\phi$ = {phi:g}")
+        ax[0, 0].set(xlabel=K_DEFINED, ylabel=r"$\tilde F_\mathrm{A,max}$",
+                     title=rf"Fig. 7-7: maximum over {H_TEXT} against stiffness", ylim=(0, 1.1))
         if len(mx):
-            ax[0, 0].legend(fontsize=7)
+            ax[0, 0].legend()
         else:
             empty_note(ax[0, 0])
         save(fig, figures_dir / "fig7-7_maximum.png", written)

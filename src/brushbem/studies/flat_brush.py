@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from brushbem.figstyle import styled
 from brushbem.studies._common import (
     case_config,
     column,
@@ -35,6 +36,10 @@ from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHO
 
 SNAPSHOTS = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
 FA = "normalized.force_by_compact_punch"
+#: Labels of the chapter's normalisations (eq. 4.11-4.15).
+K_TILDE = r"$\tilde k = k/(E^* L)$"
+F_TILDE_A = r"$\tilde F_\mathrm{A} = F_\mathrm{A}/F_\mathrm{K}$ (eq. 4.11)"
+PILLARS = r"number of pillars $N_\mathrm{p}$"
 
 
 def _frame(results, part):
@@ -70,10 +75,12 @@ def _plateau(frame):
 
 
 def _draw_curves(results, figures_dir):
+    from brushbem.io import stage_field
+
     frame = _frame(results, "curves")
     rows = frame.sort_values("k_tilde", ascending=False) if len(frame) else frame
     nrows = max(len(rows), 1)
-    fig = new_figure(1 + len(SNAPSHOTS), nrows, width=2.6, height=2.6)[0]
+    fig = new_figure(1 + len(SNAPSHOTS), nrows, width=2.2, height=2.2)[0]
     fig.clf()
     axes = fig.subplots(nrows, 1 + len(SNAPSHOTS), squeeze=False)
     for i, (_, row) in enumerate(rows.iterrows()):
@@ -85,50 +92,52 @@ def _draw_curves(results, figures_dir):
         d_scale = float(row.pull_off_displacement) / float(row["normalized.displacement_by_rigid_brush"])
         ax.plot(ds.displacement.values / d_scale, ds.force.values / f_scale, lw=1)
         for j, name in enumerate(SNAPSHOTS):
-            var = f"contact_{name}"
+            snap = stage_field(ds, "contact", name)
             sub = axes[i, j + 1]
             sub.set_xticks([])
             sub.set_yticks([])
-            if var in ds:
-                snap = ds[var]
+            if snap is not None:
                 sub.imshow(snap.values, cmap="Greys", origin="lower", vmin=0, vmax=1, interpolation="nearest")
                 d, f = snap.attrs.get("displacement"), snap.attrs.get("force")
                 if d is not None and f is not None:
                     ax.plot([d / d_scale], [f / f_scale], "o", ms=4)
-                    ax.annotate(str(j + 1), (d / d_scale, f / f_scale), fontsize=7)
+                    ax.annotate(str(j + 1), (d / d_scale, f / f_scale), xytext=(3, 3), textcoords="offset points",
+                                fontsize="small")
             else:
                 # A stage the path does not pass through (summary.json: stages_not_reached says why).
                 sub.text(0.5, 0.5, "not reached", transform=sub.transAxes, ha="center", va="center",
-                         fontsize=7, color="0.4")
-            sub.set_title(f"{j + 1}: {name}", fontsize=7)
+                         fontsize="small", color="0.4")
+            sub.set_title(f"{j + 1}: {name.replace('_', ' ')}", fontsize="small")
+            sub.grid(False)
         phi = float(row.phi)
-        ax.axhline(-phi ** -0.25, color="k", ls="--", lw=0.7, label="-phi^-1/4 (eq. 4.9)")
+        ax.axhline(-phi ** -0.25, color="k", ls="--", lw=0.7, label=r"$-\phi^{-1/4}$ (eq. 4.9)")
         if abs(row.k_tilde - 0.455) < 1e-3:
             ax.axhline(-1.8, color="red", ls=":", lw=0.8)
-            mark(ax, float(row.pull_off_displacement) / d_scale, -1.8, "thesis F~_A ~ 1.8")
-        ax.set_title(f"k~ = {row.k_tilde:.3g}, N_p = {int(row.n)} pillars", fontsize=8)
-        ax.set_xlabel("d~ (eq. 4.12)", fontsize=7)
-        ax.set_ylabel("F~ (eq. 4.11)", fontsize=7)
-        ax.legend(fontsize=6)
-    fig.suptitle("Fig. 4-3: 16 x 16 brush, pull-off and contact at the marked stages")
+            mark(ax, float(row.pull_off_displacement) / d_scale, -1.8, r"thesis $\tilde F_\mathrm{A} \approx 1.8$")
+        ax.set_title(rf"$\tilde k$ = {row.k_tilde:.3g}, $N_\mathrm{{p}}$ = {int(row.n)}", fontsize="small")
+        ax.set_xlabel(r"$\tilde d = d/|d_\mathrm{c}|$ (eq. 4.12)", fontsize="small")
+        ax.set_ylabel(r"$\tilde F = F/F_\mathrm{K}$ (eq. 4.11)", fontsize="small")
+        ax.legend(fontsize="x-small")
+        ax.locator_params(axis="x", nbins=4)
+    fig.suptitle("Fig. 4-3: 16 × 16 brush, pull-off and contact at the marked stages")
     return save(fig, Path(figures_dir) / "fig4-3_brush_curves.png")
 
 
 def _draw_force_vs_stiffness(results, figures_dir):
-    fig, axes = new_figure(2, 1, width=5, height=4)
+    fig, axes = new_figure(2, 1)
     for ax, part, label in ((axes[0, 0], "regular", "(a) regular"), (axes[0, 1], "random", "(b) random")):
         frame = _frame(results, part)
         for n, group in (frame.groupby("n") if len(frame) else ()):
             g = group.sort_values("k_tilde")
-            line, = ax.plot(g.k_tilde, g.F, "o-", ms=3, label=f"N_p = {int(n)}")
+            line, = ax.plot(g.k_tilde, g.F, "o-", ms=3, label=rf"$N_\mathrm{{p}}$ = {int(n)}")
             ax.axhline(n**0.25, color=line.get_color(), ls=":", lw=0.7)
         if len(frame):
             phi = float(np.nanmean(frame.phi))
-            ax.axhline(phi ** -0.25, color="k", ls="--", label=f"phi^-1/4 = {phi ** -0.25:.2f} (eq. 4.9)")
-        ax.set(xscale="log", xlabel="k~ = k / (E* L)", ylabel="F~_A (eq. 4.11)", title=f"Fig. 4-4 {label}")
-        ax.legend(fontsize=6, title="dotted: N_p^1/4 (eq. 4.10)", title_fontsize=6)
-        ax.grid(alpha=0.3, which="both")
-    mark(axes[0, 0], 10.0, 1.7, "thesis: k~ > 1 ~ phi^-1/4 = 1.7")
+            ax.axhline(phi ** -0.25, color="k", ls="--", label=rf"$\phi^{{-1/4}}$ = {phi ** -0.25:.2f} (eq. 4.9)")
+        ax.set(xscale="log", xlabel=K_TILDE, ylabel=F_TILDE_A, title=f"Fig. 4-4 {label}")
+        ax.legend(fontsize="small", title=r"dotted: $N_\mathrm{p}^{1/4}$ (eq. 4.10)")
+        ax.grid(which="minor", alpha=0.2)
+    mark(axes[0, 0], 10.0, 1.7, r"thesis: $\tilde k > 1$ gives $\phi^{-1/4}$ = 1.7")
     return save(fig, Path(figures_dir) / "fig4-4_force_vs_stiffness.png")
 
 
@@ -136,16 +145,17 @@ def _draw_plateau(results, figures_dir):
     fig, axes = new_figure()
     ax = axes[0, 0]
     nn = np.logspace(0.5, 3.6, 50)
-    ax.plot(nn, nn**0.25, "k-", label="N_p^1/4 (eq. 4.10)")
-    ax.plot(nn, nn**0.25 / 1.25, "k:", label="thesis: 1.2-1.3 x below")
+    ax.plot(nn, nn**0.25, "k-", label=r"$N_\mathrm{p}^{1/4}$ (eq. 4.10)")
+    ax.plot(nn, nn**0.25 / 1.25, "k:", label="thesis: 1.2-1.3 times below")
     for part, marker in (("regular", "o"), ("random", "s")):
         n, f, _ = _plateau(_frame(results, part))
         if len(n):
-            ax.plot(n, f, marker, label=f"BEM {part}, smallest k~")
-    mark(ax, 2304, 6.0, "thesis: x6 at N_p = 2304")
-    ax.set(xscale="log", yscale="log", xlabel="N_p (pillars; the thesis's N)", ylabel="F~_A at the plateau", title="Fig. 4-5")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3, which="both")
+            ax.plot(n, f, marker, label=rf"BEM {part}, smallest $\tilde k$")
+    mark(ax, 2304, 6.0, r"thesis: 6 times at $N_\mathrm{p}$ = 2304")
+    ax.set(xscale="log", yscale="log", xlabel=PILLARS, ylabel=r"$\tilde F_\mathrm{A}$ at the plateau",
+           title="Fig. 4-5: plateau force against pillars")
+    ax.legend()
+    ax.grid(which="minor", alpha=0.2)
     return save(fig, Path(figures_dir) / "fig4-5_plateau.png")
 
 
@@ -154,21 +164,22 @@ def _draw_phi(results, figures_dir):
     ax = axes[0, 0]
     frame = _frame(results, "phi")
     nn = np.logspace(0.5, 3.6, 50)
-    ax.plot(nn, nn**0.25, "k-", label="N_p^1/4 (eq. 4.10)")
+    ax.plot(nn, nn**0.25, "k-", label=r"$N_\mathrm{p}^{1/4}$ (eq. 4.10)")
     if len(frame):
         frame = frame.assign(phi_set=column(frame, "phi_nominal") if "phi_nominal" in frame else
                              np.round(frame.phi, 2))
         for phi, group in frame.groupby(np.round(frame.phi, 2)):
             g = group.sort_values("n")
-            ax.plot(g.n, g.F, "o-", label=f"phi = {phi:.2f}")
-    ax.set(xscale="log", yscale="log", xlabel="N_p (pillars; the thesis's N)", ylabel="F~_A at the plateau", title="Fig. 4-6: filling factor")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3, which="both")
+            ax.plot(g.n, g.F, "o-", label=rf"$\phi$ = {phi:.2f}")
+    ax.set(xscale="log", yscale="log", xlabel=PILLARS, ylabel=r"$\tilde F_\mathrm{A}$ at the plateau",
+           title="Fig. 4-6: filling factor")
+    ax.legend()
+    ax.grid(which="minor", alpha=0.2)
     return save(fig, Path(figures_dir) / "fig4-6_filling_factor.png")
 
 
 def _draw_work(results, figures_dir):
-    fig, axes = new_figure(2, 1, width=5, height=4)
+    fig, axes = new_figure(2, 1)
     for ax, part, label in ((axes[0, 0], "regular", "(a) regular"), (axes[0, 1], "random", "(b) random")):
         frame = _frame(results, part)
         if len(frame):
@@ -176,22 +187,25 @@ def _draw_work(results, figures_dir):
             kk = np.logspace(np.log10(np.nanmin(frame.k_tilde)), np.log10(np.nanmax(frame.k_tilde)), 50)
             for n, group in frame.groupby("n"):
                 g = group.sort_values("k_tilde")
-                line, = ax.plot(g.k_tilde, g.W, "o-", ms=3, label=f"N_p = {int(n)}")
+                line, = ax.plot(g.k_tilde, g.W, "o-", ms=3, label=rf"$N_\mathrm{{p}}$ = {int(n)}")
                 phi = float(np.nanmean(g.phi))
                 ax.plot(kk, n**-0.5 * phi**0.5 / kk, ls="--", lw=0.7, color=line.get_color())
         ax.axhline(1.0, color="k", ls=":", lw=0.7, label="rigid compact punch")
-        ax.set(xscale="log", yscale="log", xlabel="k~ = k / (E* L)", ylabel="W~ = W / W_K (eq. 4.15)", title=f"Fig. 4-7 {label}")
-        ax.legend(fontsize=6, title="dashed: eq. 4.18", title_fontsize=6)
-        ax.grid(alpha=0.3, which="both")
+        ax.set(xscale="log", yscale="log", xlabel=K_TILDE, ylabel=r"$\tilde W = W/W_\mathrm{K}$ (eq. 4.15)",
+               title=f"Fig. 4-7 {label}")
+        ax.legend(fontsize="small", title="dashed: eq. 4.18")
+        ax.grid(which="minor", alpha=0.2)
     return save(fig, Path(figures_dir) / "fig4-7_work.png")
 
 
+@styled
 def draw(results, figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     return [f(results, figures_dir) for f in (_draw_curves, _draw_force_vs_stiffness, _draw_plateau, _draw_phi,
                                               _draw_work)]
 
 
+@styled
 def draw_tables(results, figures_dir: Path) -> list[Path]:
     """Fig. 4-4 to 4-7: the figures that the per-case tables determine (Fig. 4-3 needs the snapshots)."""
     figures_dir = Path(figures_dir)

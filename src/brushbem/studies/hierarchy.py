@@ -15,12 +15,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from brushbem.figstyle import styled
 from brushbem.studies._ch5_7 import (
     FA,
+    FA_TEXT,
     FP,
+    FP_TEXT,
     PRELOAD,
     SIG,
     SIGMA,
+    SIGMA_TEXT,
     K,
     adhesion_coefficients,
     case_path,
@@ -28,6 +32,7 @@ from brushbem.studies._ch5_7 import (
     figure,
     finished,
     has,
+    key_below,
     mean_std,
     read_curve,
     save,
@@ -38,6 +43,10 @@ from brushbem.theory import equivalent_single_level_stiffness
 
 LEVELS = ("one", "two", "three")
 LEVEL_COLOURS = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
+#: The normalised adhesive force of the chapter (eq. 5.3), with its definition.
+FA_DEFINED = r"$\tilde F_\mathrm{A} = F_\mathrm{A}/F_\mathrm{c}$"
+#: The large preload of Fig. 6-7 and 6-8.
+AT_PRELOAD = rf"{FA_TEXT} ({FP_TEXT} = 14.3)"
 KEQ = "normalized.equivalent_single_level_stiffness_ratio"
 K3 = "indenter.levels.1.stiffness_ratio"
 K1 = "normalized.stiffness_ratio"  # a brush's bottom-level k~1
@@ -170,6 +179,7 @@ def _top_stiffness_ratio(k3: float, sigma_tilde: float, over_sigma_tilde: float)
     return compute
 
 
+@styled
 def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
@@ -195,8 +205,10 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
                 fc = row["adhesive_force"] / row[FA] if row[FA] else 1.0
                 dc = row[SIGMA] / row[SIG] if row[SIG] else 1.0
                 a_.plot(data[0] / dc, data[1] / fc, lw=1, color=colours[part], label=f"{part} level")
-            a_.set(xlabel="d~", ylabel="F~", title=f"σ~ = {s / (sub[SIGMA] / sub[SIG]).mean() if len(sub) else s:.2f}, {which} preload")
-            a_.legend(fontsize=6)
+            roughness = s / (sub[SIGMA] / sub[SIG]).mean() if len(sub) else s
+            a_.set(xlabel=r"$\tilde d = d/|d_\mathrm{c}|$", ylabel=r"$\tilde F = F/F_\mathrm{c}$",
+                   title=rf"{SIGMA_TEXT} = {roughness:.2f}, {which} preload")
+            a_.legend(fontsize="small")
     if not sigmas:
         empty_note(ax[0, 0])
     fig.suptitle("Fig. 6-4: pull-off of one-, two- and three-level structures")
@@ -210,11 +222,11 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             for s, g in frame.groupby(SIGMA):
                 m = mean_std(g, [PRELOAD], FA, x=FP).sort_values("x")
                 a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1,
-                            label=f"σ~ = {g[SIG].mean():.2f}")
-            a_.legend(fontsize=6)
+                            label=rf"{SIGMA_TEXT} = {g[SIG].mean():.2f}")
+            a_.legend(fontsize="small")
         else:
             empty_note(a_)
-        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"Fig. 6-5: {part} level")
+        a_.set(xlabel=FP_TEXT, ylabel=FA_TEXT, title=f"Fig. 6-5: {part} level")
     save(fig, figures_dir / "fig6-5_preload.png", written)
 
     # Fig. 6-6: c (log-log) and plateau vs sigma~
@@ -225,11 +237,11 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             coeff = coeff.sort_values("sigma")
             ax[0, 0].loglog(coeff["sigma"], coeff["c"].clip(lower=1e-4), "o-", color=colours[part], label=part)
             ax[0, 1].plot(coeff["sigma"], coeff["plateau"], "o-", color=colours[part], label=part)
-    ax[0, 0].set(xlabel="σ~", ylabel="c = F~_A / F~_P", title="Fig. 6-6 a")
-    ax[0, 1].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 6-6 b")
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=rf"$c$ = {FA_TEXT}/{FP_TEXT}", title="Fig. 6-6 a")
+    ax[0, 1].set(xlabel=SIGMA_TEXT, ylabel=f"{FA_TEXT} (plateau)", title="Fig. 6-6 b")
     for a_ in ax[0]:
         if a_.get_legend_handles_labels()[0]:
-            a_.legend(fontsize=7)
+            a_.legend()
     save(fig, figures_dir / "fig6-6_coefficient_plateau.png", written)
 
     # Fig. 6-7: equivalent single level (a) and effective k1' vs sigma~ (b)
@@ -240,9 +252,9 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             coeff = coeff.sort_values("sigma")
             ax[0, 0].plot(coeff["sigma"], coeff["plateau"], "o-", color=colours[part],
                           label="three-level" if part == "three" else "equivalent single level (eq. 6.28)")
-    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (plateau)", title="Fig. 6-7 a")
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=f"{FA_TEXT} (plateau)", title="Fig. 6-7 a")
     if ax[0, 0].get_legend_handles_labels()[0]:
-        ax[0, 0].legend(fontsize=7)
+        ax[0, 0].legend()
     _effective_stiffness_panel(ax[0, 1], results, effective_stiffness(results))
     save(fig, figures_dir / "fig6-7_equivalent.png", written)
 
@@ -255,10 +267,10 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
         for k, g in frame.groupby(K):
             m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
             ax[0, 0].plot(m["s"], m["fa"], style, marker="o", ms=3,
-                          label=f"{'1' if part.endswith('one') else '3'} level, k~1 = {k:g}")
-    ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)", title="Fig. 6-8 a: influence of k~1")
+                          label=rf"{'1' if part.endswith('one') else '3'} level, $\tilde k_1$ = {k:g}")
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=AT_PRELOAD, title=r"Fig. 6-8 a: influence of $\tilde k_1$")
     if ax[0, 0].get_legend_handles_labels()[0]:
-        ax[0, 0].legend(fontsize=6)
+        ax[0, 0].legend(fontsize="small")
     else:
         empty_note(ax[0, 0], "parts stiffness_one, stiffness_three not run")
     save(fig, figures_dir / "fig6-8_stiffness.png", written)
@@ -296,7 +308,7 @@ def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: P
     fig, ax = figure(1, 1)
     for i, part in enumerate(LEVELS):
         ax[0, 0].plot([0.04], [THESIS_PLATEAUS[part]], "s", color=LEVEL_COLOURS[part], mfc="none",
-                      label="thesis, σ~ = 0.04, open squares in the level's colour (text, L1197)"
+                      label=rf"thesis, {SIGMA_TEXT} = 0.04, open squares in the level's colour (text, L1197)"
                       if i == 0 else None)
         frame = points.get(part)
         if frame is None:
@@ -309,11 +321,12 @@ def _draw_roughness_plateaus(results: Mapping[str, pd.DataFrame], figures_dir: P
         name = f"{part} level{'s' if part != 'one' else ''}"
         # markers only: two roughnesses do not say how F~_A falls between them; the levels side by side
         ax[0, 0].errorbar(x + 0.04 * (i - 1), y, yerr=e, fmt="o", color=LEVEL_COLOURS[part], capsize=3,
-                          label=f"{name} (N = 1024, mean ± s.e.; seeds {', '.join(map(str, n))})")
-    ax[0, 0].axvspan(2.0, 3.0, color="0.9", zorder=0, label="thesis: 'all curves go close to each other' (σ~ > 2)")
-    ax[0, 0].set(xlabel="σ~", ylabel=f"F~_A = F_A / F_c (F~_P = {ROUGHNESS_PRELOAD:g})",
+                          label=f"{name} ($N$ = 1024, mean ± s.e.; seeds {', '.join(map(str, n))})")
+    ax[0, 0].axvspan(2.0, 3.0, color="0.9", zorder=0,
+                     label=rf"thesis: 'all curves go close to each other' ({SIGMA_TEXT} > 2)")
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=rf"{FA_DEFINED} ({FP_TEXT} = {ROUGHNESS_PRELOAD:g})",
                  title="Fig. 6-6 b: the large-preload force against roughness", xlim=(-0.1, 3), ylim=(0, None))
-    ax[0, 0].legend(fontsize=6)
+    key_below(fig, ax[0, 0])
     save(fig, Path(figures_dir) / "fig6-6b_roughness.png", written)
 
 
@@ -342,17 +355,17 @@ def _draw_small_preload(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
             per_seed = group.groupby("realization")[FA].mean()
             error = _standard_error(per_seed)
             colour = "tab:blue" if preload > 0.5 else "tab:cyan"
-            label = f"ours, F~_P = {preload:.2g} (N = 1024, mean ± s.e.)"
+            label = rf"ours, {FP_TEXT} = {preload:.2g} ($N$ = 1024, mean ± s.e.)"
             x = i + (0.12 if preload < 0.5 else 0.0)
             ax[0, 0].errorbar([x], [per_seed.mean()], yerr=[error], fmt="o",
                               color=colour, capsize=3, label=None if label in markers else label)
             markers[label] = True
             ax[0, 0].annotate(f"{per_seed.mean():.3f}\n{len(per_seed)} seeds", (x, per_seed.mean()),
-                              textcoords="offset points", xytext=(10, -4), fontsize=7)
+                              textcoords="offset points", xytext=(10, -4), fontsize="small")
     ax[0, 0].set_xticks(range(len(LEVELS)), [f"{part} level{'s' if part != 'one' else ''}" for part in LEVELS])
-    ax[0, 0].set(ylabel="F~_A = F_A / F_c", title="Fig. 6-4 e: small preload at σ~ = 1.6", xlim=(-0.5, 2.8),
+    ax[0, 0].set(ylabel=FA_DEFINED, title=rf"Fig. 6-4 e: small preload at {SIGMA_TEXT} = 1.6", xlim=(-0.5, 2.8),
                  ylim=(-0.05, None))
-    ax[0, 0].legend(fontsize=7, loc="center left")
+    key_below(fig, ax[0, 0])
     save(fig, Path(figures_dir) / "fig6-4e_small_preload.png", written)
 
 
@@ -364,25 +377,26 @@ def _draw_top_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, 
         fig, ax = figure(1, 1)
         for value, g in frame.groupby(K3):
             m = g.groupby(SIGMA).agg(fa=(FA, "mean"), s=(SIG, "mean")).sort_values("s")
-            ax[0, 0].plot(m["s"], m["fa"], "-", marker="o", ms=3, label=f"k~3 = {value:g}")
-        ax[0, 0].set(xlabel="σ~", ylabel="F~_A (F~_P = 14.3)",
-                     title="Fig. 6-8 b: influence of k~3 (k~1 = 1e-3, k~2 = k~1/φ1)")
-        ax[0, 0].legend(fontsize=6)
+            ax[0, 0].plot(m["s"], m["fa"], "-", marker="o", ms=3, label=rf"$\tilde k_3$ = {value:g}")
+        ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=AT_PRELOAD,
+                     title=r"Fig. 6-8 b: influence of $\tilde k_3$ ($\tilde k_1 = 10^{-3}$, "
+                           r"$\tilde k_2 = \tilde k_1/\phi_1$)")
+        ax[0, 0].legend(fontsize="small")
         save(fig, Path(figures_dir) / "fig6-8b_top_stiffness.png", written)
 
 
 def _effective_stiffness_panel(ax, results: Mapping[str, pd.DataFrame], eff: pd.DataFrame) -> None:
     """Fig. 6-7 b: the fitted k~1' against sigma~, beside eq. 6.28, k~1 and the thesis's smooth-contact value."""
     if len(eff):
-        ax.semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label="ours: k~1'")  # sigma~ linear
+        ax.semilogy(eff["sigma"], eff["effective_stiffness"], "o-", label=r"ours: $\tilde k_1'$")  # sigma~ linear
         ax.set_xlim(left=0.0)
     keq = _eq628_value(results)
     if math.isfinite(keq):
         ax.axhline(keq, ls="--", color="tab:red", label=f"eq. 6.28: {keq:.2g}")
-    ax.axhline(1e-3, ls=":", color="0.4", label="k~1 = 1e-3")
-    ax.axhline(0.4e-4, ls="-.", color="0.6", label="thesis k~1' = 0.4e-4 (smooth)")
-    ax.set(xlabel="σ~", ylabel="k~1'", title="Fig. 6-7 b: effective stiffness")
-    ax.legend(fontsize=7)
+    ax.axhline(1e-3, ls=":", color="0.4", label=r"$\tilde k_1 = 10^{-3}$")
+    ax.axhline(0.4e-4, ls="-.", color="0.6", label=r"thesis $\tilde k_1' = 0.4 \times 10^{-4}$ (smooth)")
+    ax.set(xlabel=SIGMA_TEXT, ylabel=r"$\tilde k_1'$", title="Fig. 6-7 b: effective stiffness")
+    ax.legend()
 
 
 def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: Path, written: list[Path]) -> None:
@@ -419,20 +433,22 @@ def _draw_effective_stiffness(results: Mapping[str, pd.DataFrame], figures_dir: 
         sig = float(g[SIG].mean())
         n = seeds.get(float(sigma))
         count = f", {n} seed{'s' if n > 1 else ''}" if n else ""
-        ax[0, 0].semilogx(m.index, m.to_numpy(), "o-", ms=3, color=colour, label=f"one level, σ~ = {sig:.2g}{count}")
+        ax[0, 0].semilogx(m.index, m.to_numpy(), "o-", ms=3, color=colour,
+                          label=rf"one level, {SIGMA_TEXT} = {sig:.2g}{count}")
         row = eff[np.isclose(eff["sigma"], sig, rtol=0.05)] if len(eff) else eff  # one and three levels rasterise alike
         if len(row):
             ax[0, 0].axhline(float(row["plateau_three"].iloc[0]), ls="--", color=colour, lw=0.8,
-                             label=f"three levels, σ~ = {sig:.2g}")
+                             label=rf"three levels, {SIGMA_TEXT} = {sig:.2g}")
             if math.isfinite(float(row["effective_stiffness"].iloc[0])):
                 ax[0, 0].plot(row["effective_stiffness"], row["plateau_three"], "*", ms=10, color=colour)
-    ax[0, 0].set(xlabel="k~1 (one level)", ylabel="F~_A (F~_P = 14.3; three levels: plateau)",
-                 title="Fig. 6-7 b: the one level matching three (stars: k~1')")
-    ax[0, 0].legend(fontsize=6)
+    ax[0, 0].set(xlabel=r"$\tilde k_1$ (one level)", ylabel=rf"{FA_TEXT} ({FP_TEXT} = 14.3; three levels: plateau)",
+                 title=r"Fig. 6-7 b: the one level matching three (stars: $\tilde k_1'$)")
+    ax[0, 0].legend(fontsize="small")
     _effective_stiffness_panel(ax[0, 1], results, eff)
     save(fig, Path(figures_dir) / "fig6-7b_effective_stiffness.png", written)
 
 
+@styled
 def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     """The figures the per-case tables alone determine: the plateau at sigma~ = 0.04 of each level
     (Fig. 6-5), the large-preload force against sigma~ (Fig. 6-6 b) and, where the small-preload set
@@ -450,15 +466,16 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
                 per_seed = smooth.groupby("realization")[FA].max()
                 error = _standard_error(per_seed)
                 ax[0, 0].errorbar([i], [per_seed.mean()], yerr=[error], fmt="o", color="tab:blue", capsize=3,
-                                  label="ours (N = 1024, mean ± s.e.)" if not drawn else None)
+                                  label="ours ($N$ = 1024, mean ± s.e.)" if not drawn else None)
                 ax[0, 0].annotate(f"{per_seed.mean():.3f}\n{len(per_seed)} seeds", (i, per_seed.mean()),
-                                  textcoords="offset points", xytext=(8, -4), fontsize=7)
+                                  textcoords="offset points", xytext=(8, -4), fontsize="small")
                 drawn += 1
         ax[0, 0].plot([i], [THESIS_PLATEAUS[part]], "s", color="tab:red", mfc="none",
                       label="thesis (text, L1197)" if i == 0 else None)
     ax[0, 0].set_xticks(range(len(LEVELS)), [f"{part} level{'s' if part != 'one' else ''}" for part in LEVELS])
-    ax[0, 0].set(ylabel="F~_A = F_A / F_c (plateau)", title="Fig. 6-5: plateau at σ~ = 0.04", xlim=(-0.5, 2.8))
-    ax[0, 0].legend(fontsize=7)
+    ax[0, 0].set(ylabel=f"{FA_DEFINED} (plateau)", title=rf"Fig. 6-5: plateau at {SIGMA_TEXT} = 0.04",
+                 xlim=(-0.5, 2.8))
+    ax[0, 0].legend()
     if not drawn:
         empty_note(ax[0, 0])
     save(fig, Path(figures_dir) / "fig6-5_plateaus.png", written)

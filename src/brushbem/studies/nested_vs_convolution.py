@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from brushbem.figstyle import styled
 from brushbem.halfspace import HalfSpace
 from brushbem.nested import nested_loop_brush_equilibrium, nested_loop_equilibrium
 from brushbem.operator import ContactOperator, Window
@@ -78,6 +79,7 @@ def compute(elements: int = ELEMENTS, tolerance: float = 1e-10) -> dict[str, np.
     return out
 
 
+@styled
 def draw(results, figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     store = figures_dir.parent / DATA_FILE
@@ -88,20 +90,20 @@ def draw(results, figures_dir: Path) -> list[Path]:
         curves = compute()
         store.parent.mkdir(parents=True, exist_ok=True)
         np.savez(store, **curves)
-    fig, axes = new_figure(ncols=3, width=4.2, height=3.6)
+    fig, axes = new_figure(ncols=3, width=3.4, height=3.2)
     x = curves["x"]
-    titles = {"punch": "(a) flat punch", "sphere": "(b) sphere", "pillars": "(c) 5 x 5 pillars"}
+    titles = {"punch": "(a) flat punch", "sphere": "(b) sphere", "pillars": "(c) 5 × 5 pillars"}
     for ax, name in zip(axes[0], ("punch", "sphere", "pillars")):
         ax.plot(x, -curves[f"{name}_rigid"], color="tab:red", label="rigid")
         ax.plot(x, -curves[f"{name}_convolution"], color="tab:blue", label="convolution (coupled operator)")
         ax.plot(x, -curves[f"{name}_nested"], color="tab:green", linestyle="--", label="nested loop")
         difference = np.max(np.abs(curves[f"{name}_nested"] - curves[f"{name}_convolution"]))
         scale = np.max(np.abs(curves[f"{name}_convolution"]))
-        ax.set_title(f"{titles[name]}: max |nested - conv.| / max u = {difference / scale:.1e}", fontsize="small")
-        ax.set_xlabel("x (mm)")
-        ax.grid(True, linewidth=0.4, alpha=0.5)
-    axes[0, 0].set_ylabel("surface position -u (mm)")
-    axes[0, 0].legend(fontsize="x-small", loc="lower left")
+        ax.set_title(f"{titles[name]}\n" + r"$\max|u_\mathrm{nested} - u_\mathrm{conv}|/\max|u|$"
+                     + f" = {difference / scale:.1e}")
+        ax.set_xlabel("$x$ (mm)")
+    axes[0, 0].set_ylabel("surface position $-u$ (mm)")
+    axes[0, 0].legend(fontsize="small", loc="lower left")
     return [save(fig, figures_dir / "fig3-5_nested_vs_convolution.png")]
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from brushbem import theory
+from brushbem.figstyle import styled
 from brushbem.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
@@ -58,6 +59,11 @@ def _separation_ratio(results, k_tilde: float) -> float:
     return abs(float(soft.separation_displacement)) / abs(float(rigid.separation_displacement.iloc[0]))
 
 
+#: The punch's normalised stiffness (eq. 2.16), named in the figures' legends.
+K_TILDE = r"$\tilde k = k/(2E^* r)$"
+
+
+@styled
 def draw(results, figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     frame = _frame(results)
@@ -66,7 +72,8 @@ def draw(results, figures_dir: Path) -> list[Path]:
     fig4, ax4 = new_figure()
     fig5, ax5 = new_figure()
     ax4, ax5 = ax4[0, 0], ax5[0, 0]
-    for _, row in frame.sort_values("k_tilde").iterrows():
+    rows = list(frame.sort_values("k_tilde").iterrows()) if len(frame) else []
+    for i, (_, row) in enumerate(rows):
         ds = open_case(row, PART, figures_dir)
         if ds is None:
             continue
@@ -76,26 +83,29 @@ def draw(results, figures_dir: Path) -> list[Path]:
         r = float(row["theory.equivalent_radius"])
         fk = theory.kendall_force(r, contact_modulus=modulus, work_of_adhesion=dgamma)
         dk = theory.kendall_displacement(r, contact_modulus=modulus, work_of_adhesion=dgamma)
-        label = "rigid" if not np.isfinite(row.k_tilde) else f"k~ = {row.k_tilde:.3g}"
+        label = "rigid" if not np.isfinite(row.k_tilde) else rf"$\tilde k$ = {row.k_tilde:.3g}"
         d = ds["displacement"].values / dk
         f = ds["force"].values / fk
         a = np.sqrt(ds["contact_area"].values / math.pi) / r
         line, = ax4.plot(d, f, label=label)
-        # The jump to separation at fixed d drawn as a jump (dotted), not as a slope in a.
-        draw_with_jumps(ax5, a, f, d, color=line.get_color(), label=label)
+        # The jump to separation at fixed d drawn as a jump (dotted), not as a slope in a.  Every punch keeps
+        # a = r in contact: the curves lie on one another, each drawn narrower than the one before.
+        width = 1.0 + 3.0 * (len(rows) - 1 - i) / max(len(rows) - 1, 1)
+        draw_with_jumps(ax5, a, f, d, color=line.get_color(), label=label, linewidth=width)
         ax5.plot([a[0]], [f[ds["loading"].values][-1] if ds["loading"].values.any() else f[0]],
                  marker="^", color=line.get_color(), linestyle="none")
-    ax4.axhline(-1.0, color="k", linestyle="--", lw=0.8, label="Kendall F_A (eq. 2.4)")
-    ax4.set(xlabel="d~ = d / d_K", ylabel="F~ = F / F_K", title="Fig. 2-4: flat punch on a spring, k~ = k / (2 E* r)")
-    ax5.set(xlabel="a~ = a / r", ylabel="F~ = F / F_K",
-            title="Fig. 2-5: force vs contact radius, k~ = k / (2 E* r) (dotted: jumps)")
-    for ax in (ax4, ax5):
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
+    ax4.axhline(-1.0, color="k", linestyle="--", lw=0.8, label=r"Kendall's $F_\mathrm{A}$ (eq. 2.4)")
+    ax4.set(xlabel=r"$\tilde d = d/d_\mathrm{K}$", ylabel=r"$\tilde F = F/F_\mathrm{K}$",
+            title="Fig. 2-4: flat punch on a spring")
+    ax5.set(xlabel=r"$\tilde a = a/r$", ylabel=r"$\tilde F = F/F_\mathrm{K}$",
+            title="Fig. 2-5: force against contact radius")
+    ax4.legend(title=K_TILDE)
+    ax5.legend(title=K_TILDE + "\n" + r"in contact $\tilde a$ = 1 for all; dotted: jumps, triangles: preload")
     out += [save(fig4, figures_dir / "fig2-4_punch_curves.png"), save(fig5, figures_dir / "fig2-5_punch_radius.png")]
     return [*out, *draw_tables(results, figures_dir)]
 
 
+@styled
 def draw_tables(results, figures_dir: Path) -> list[Path]:
     """Fig. 2-6, which the per-case numbers alone determine (Fig. 2-4 and 2-5 need the load curves)."""
     figures_dir = Path(figures_dir)
@@ -104,7 +114,7 @@ def draw_tables(results, figures_dir: Path) -> list[Path]:
     fig6, ax6 = new_figure()
     ax6 = ax6[0, 0]
     kk = np.logspace(-2.2, 2.2, 200)
-    ax6.plot(kk, 1 + 1 / kk, "k-", label="eq. 2.19: 1 + 1/k~")
+    ax6.plot(kk, 1 + 1 / kk, "k-", label=r"eq. 2.19: $1 + 1/\tilde k$")
     soft = frame[np.isfinite(frame.k_tilde)] if len(frame) else frame
     if len(soft):
         ax6.plot(soft.k_tilde, soft.w_tilde, "o", label="BEM")
@@ -113,11 +123,11 @@ def draw_tables(results, figures_dir: Path) -> list[Path]:
         ax6.axhline(float(rigid.w_tilde.iloc[0]), color="gray", linestyle=":", label="BEM rigid")
     for k, w in ((0.3, 4.26), (1.5, 1.64)):
         mark(ax6, k, w, None)
-    ax6.plot([], [], "r*", label="thesis text: 4.26 (k~=0.3), 1.64 (k~=1.5)")
-    ax6.set(xscale="log", yscale="log", xlabel="k~ = k / (2 E* r)", ylabel="w~ = w / w_K",
+    ax6.plot([], [], "r*", label=r"thesis text: 4.26 ($\tilde k$ = 0.3), 1.64 ($\tilde k$ = 1.5)")
+    ax6.set(xscale="log", yscale="log", xlabel=K_TILDE, ylabel=r"$\tilde w = w/w_\mathrm{K}$",
             title="Fig. 2-6: work of separation")
-    ax6.legend(fontsize=7)
-    ax6.grid(alpha=0.3, which="both")
+    ax6.legend()
+    ax6.grid(which="minor", alpha=0.2)
     return [save(fig6, figures_dir / "fig2-6_punch_work.png")]
 
 

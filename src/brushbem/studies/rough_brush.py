@@ -15,13 +15,19 @@ import numpy as np
 import pandas as pd
 from matplotlib import colormaps
 
+from brushbem.figstyle import styled
 from brushbem.io import atomic_path
 from brushbem.studies._ch5_7 import (
     FA,
+    FA_TEXT,
     FP,
+    FP_TEXT,
+    K_DEFINED,
+    K_TEXT,
     PRELOAD,
     SIG,
     SIGMA,
+    SIGMA_TEXT,
     K,
     adhesion_coefficients,
     case_path,
@@ -129,6 +135,7 @@ def _ratio(first, second):
     return compute
 
 
+@styled
 def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     written: list[Path] = []
@@ -144,18 +151,20 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
             d, f, a, _, _ = data
             fc = row["adhesive_force"] / row[FA] if row[FA] else math.nan
             dc = row[SIGMA] / row[SIG] if row[SIG] else math.nan
-            label = f"σ~ = {row[SIG]:.2f}"
+            label = rf"{SIGMA_TEXT} = {row[SIG]:.2f}"
             ax[0, 0].plot(d / dc if math.isfinite(dc) else d, f / fc, lw=1, label=label)
             if a is not None:
                 ax[0, 1].plot(a / np.nanmax(a), f / fc, lw=1, label=label)
             drawn += 1
-    ax[0, 0].set(xlabel="d~ = d / d_c", ylabel="F~ = F / F_c", title="Fig. 5-2 a: k~ = 10, F~_P ≈ 6.5")
-    ax[0, 1].set(xlabel="A / A_max", ylabel="F~", title="Fig. 5-2 b")
+    ax[0, 0].set(xlabel=r"$\tilde d = d/|d_\mathrm{c}|$", ylabel=r"$\tilde F = F/F_\mathrm{c}$",
+                 title=rf"Fig. 5-2 a: {K_TEXT} = 10, {FP_TEXT} $\approx$ 6.5")
+    ax[0, 1].set(xlabel=r"contact area $A/A_\mathrm{max}$", ylabel=r"$\tilde F = F/F_\mathrm{c}$",
+                 title="Fig. 5-2 b")
     for a_ in ax[0]:
         a_.axhline(-1, ls=":", color="0.5")
         a_.axhline(0, color="0.8", lw=0.5)
     if drawn:
-        ax[0, 0].legend(fontsize=7)
+        ax[0, 0].legend()
         ax[0, 0].set_xlim(-3, None)
     else:
         empty_note(ax[0, 0])
@@ -163,6 +172,7 @@ def draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     return [*written, *draw_tables(results, figures_dir)]
 
 
+@styled
 def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
     """The figures the per-case tables alone determine: Fig. 5-3 to 5-7 and Table 1 (thesis's dotted)."""
     figures_dir = Path(figures_dir)
@@ -176,18 +186,22 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     for i, k in enumerate(ks):
         a_ = ax.flat[i]
         sub = pre[pre[K] == k]
-        for s, g in sub.groupby(SIGMA):
+        groups = list(sub.groupby(SIGMA))
+        # One colour per sigma~ along a sequential map (thirteen roughnesses outrun the colour cycle).
+        shades = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(groups), 1)))
+        for (s, g), shade in zip(groups, shades):
             m = mean_std(g, [PRELOAD], FA, x=FP).sort_values("x")
-            a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1,
-                        label=f"σ~ = {g[SIG].mean():.2f}")
-        a_.set(xlabel="F~_P", ylabel="F~_A", title=f"k~ = {k:g}", xscale="log")  # preloads span 0.005 to 20
+            a_.errorbar(m["x"], m["mean"], yerr=m["std"], marker="o", ms=3, capsize=2, lw=1, color=shade,
+                        label=rf"{SIGMA_TEXT} = {g[SIG].mean():.2f}")
+        # preloads span 0.005 to 20
+        a_.set(xlabel=FP_TEXT, ylabel=FA_TEXT, title=rf"{K_TEXT} = {k:g}", xscale="log")
         a_.axhline(1, ls=":", color="0.5")
-        a_.legend(fontsize=6)
+        a_.legend(fontsize="small")
     for a_ in ax.flat[len(ks):] if ks else ():
         a_.set_axis_off()
     if not ks:
         empty_note(ax[0, 0])
-    fig.suptitle("Fig. 5-3 / 5-4: adhesive force vs preload (mean ± std over realisations)")
+    fig.suptitle("Fig. 5-3 / 5-4: adhesive force against preload (mean ± std over realisations)")
     save(fig, figures_dir / "fig5-3_5-4_preload.png", written)
 
     # Fig. 5-5: c vs sigma~ with eq. 5.8 fit; Table 1
@@ -199,7 +213,7 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     colours = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(groups), 1)))
     for (k, g), colour in zip(groups, colours):
         g = g.sort_values("sigma")
-        ax[0, 0].plot(g["sigma"], g["c"], "o", ms=4, color=colour, label=f"k~ = {k:g}")
+        ax[0, 0].plot(g["sigma"], g["c"], "o", ms=4, color=colour, label=rf"{K_TEXT} = {k:g}")
         ax[0, 1].loglog(g["sigma"], g["c"].clip(lower=1e-4), "o", ms=4, color=colour)
         row = table[np.isclose(table["stiffness_ratio"], k)]
         if len(row) and math.isfinite(row["alpha"].iloc[0]):
@@ -211,10 +225,10 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     for k, (alpha, sc) in TABLE_1.items():
         s = np.geomspace(0.01, sc, 60)
         ax[0, 1].loglog(s, np.clip(adhesion_coefficient(s, alpha, alpha / sc), 1e-4, None), ":", color="0.6", lw=0.7)
-    ax[0, 0].set(xlabel="σ~", ylabel="c = F~_A / F~_P", title="Fig. 5-5 a (dashed: eq. 5.8 fit)")
-    ax[0, 1].set(xlabel="σ~", ylabel="c", title="Fig. 5-5 b (dotted: thesis Table 1)")
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=rf"$c$ = {FA_TEXT}/{FP_TEXT}", title="Fig. 5-5 a (dashed: eq. 5.8 fit)")
+    ax[0, 1].set(xlabel=SIGMA_TEXT, ylabel="$c$", title="Fig. 5-5 b (dotted: thesis Table 1)")
     if len(coeff):
-        ax[0, 0].legend(fontsize=7)
+        ax[0, 0].legend(fontsize="small")
     else:
         empty_note(ax[0, 0])
     save(fig, figures_dir / "fig5-5_adhesion_coefficient.png", written)
@@ -227,13 +241,16 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         out.to_csv(temporary, index=False)
     fig, ax = figure(1, 1)
     tk = sorted(TABLE_1)
-    ax[0, 0].semilogx(tk, [TABLE_1[k][1] for k in tk], "s--", color="0.5", label="thesis σ~_c (Table 1)")
-    ax[0, 0].semilogx(tk, [TABLE_1[k][0] * 10 for k in tk], "^:", color="0.7", label="thesis 10 α")
+    ax[0, 0].semilogx(tk, [TABLE_1[k][1] for k in tk], "s--", color="0.5",
+                      label=r"thesis $\tilde\sigma_\mathrm{c}$ (Table 1)")
+    ax[0, 0].semilogx(tk, [TABLE_1[k][0] * 10 for k in tk], "^:", color="0.7", label=r"thesis $10\alpha$")
     if len(table):
-        ax[0, 0].semilogx(table["stiffness_ratio"], table["critical_roughness"], "o-", label="ours σ~_c = α/β")
-        ax[0, 0].semilogx(table["stiffness_ratio"], 10 * table["alpha"], "v-", label="ours 10 α")
-    ax[0, 0].set(xlabel="k~ = k / (E* L)", ylabel="σ~_c, 10 α", title="Table 1: α, β, σ~_c vs k~")
-    ax[0, 0].legend(fontsize=7)
+        ax[0, 0].semilogx(table["stiffness_ratio"], table["critical_roughness"], "o-",
+                          label=r"ours $\tilde\sigma_\mathrm{c} = \alpha/\beta$")
+        ax[0, 0].semilogx(table["stiffness_ratio"], 10 * table["alpha"], "v-", label=r"ours $10\alpha$")
+    ax[0, 0].set(xlabel=K_DEFINED, ylabel=r"$\tilde\sigma_\mathrm{c}$, $10\alpha$",
+                 title=r"Table 1: $\alpha$ and $\tilde\sigma_\mathrm{c}$ against $\tilde k$")
+    ax[0, 0].legend()
     save(fig, figures_dir / "table1.png", written)
 
     # Fig. 5-6: plateau vs sigma~ (a) and k~ (b), only where a plateau preload was run (a group
@@ -242,17 +259,17 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     fig, ax = figure(2, 1)
     for k, g in (coeff.groupby(K) if len(coeff) else []):
         g = g.sort_values("sigma")
-        ax[0, 0].plot(g["sigma"], g["plateau"], "o-", ms=3, label=f"k~ = {k:g}")
+        ax[0, 0].plot(g["sigma"], g["plateau"], "o-", ms=3, label=rf"{K_TEXT} = {k:g}")
     for s, g in (coeff.groupby(SIGMA) if len(coeff) else []):
         g = g.sort_values(K)
-        ax[0, 1].semilogx(g[K], g["plateau"], "o-", ms=3, label=f"σ~ = {g['sigma'].mean():.2f}")
-    ax[0, 0].set(xlabel="σ~", ylabel=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})", title="Fig. 5-6 a")
-    ax[0, 1].set(xlabel="k~ = k / (E* L)", ylabel=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})",
-                 title="Fig. 5-6 b")
+        ax[0, 1].semilogx(g[K], g["plateau"], "o-", ms=3, label=rf"{SIGMA_TEXT} = {g['sigma'].mean():.2f}")
+    plateau = rf"{FA_TEXT} (plateau, {FP_TEXT} $\geq$ {PLATEAU_PRELOAD:g})"
+    ax[0, 0].set(xlabel=SIGMA_TEXT, ylabel=plateau, title="Fig. 5-6 a")
+    ax[0, 1].set(xlabel=K_DEFINED, ylabel=plateau, title="Fig. 5-6 b")
     for a_ in ax[0]:
         a_.axhline(1, ls=":", color="0.5")
         if len(coeff):
-            a_.legend(fontsize=6)
+            a_.legend(fontsize="small")
     save(fig, figures_dir / "fig5-6_plateau.png", written)
 
     # Fig. 5-7: combined map, one square per computed (k~, sigma~) point (cells stretched between
@@ -261,10 +278,11 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     if len(coeff) and coeff[K].nunique() > 1 and coeff[SIGMA].nunique() > 1:
         points = ax[0, 0].scatter(np.log10(coeff[K].to_numpy(float)), coeff["sigma"], c=coeff["plateau"],
                                   marker="s", s=90, edgecolors="0.3")
-        fig.colorbar(points, ax=ax[0, 0], label=f"F~_A (plateau, F~_P ≥ {PLATEAU_PRELOAD:g})")
+        fig.colorbar(points, ax=ax[0, 0], label=plateau)
     else:
-        empty_note(ax[0, 0], "needs several k~ and σ~")
-    ax[0, 0].set(xlabel="log10 k~, k~ = k / (E* L)", ylabel="σ~", title="Fig. 5-7: combined influence")
+        empty_note(ax[0, 0], rf"needs several {K_TEXT} and {SIGMA_TEXT}")
+    ax[0, 0].set(xlabel=r"$\log_{10}\tilde k$, $\tilde k = k/(E^* L)$", ylabel=SIGMA_TEXT,
+                 title="Fig. 5-7: combined influence")
     save(fig, figures_dir / "fig5-7_map.png", written)
     return written
 

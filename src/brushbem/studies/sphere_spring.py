@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from brushbem import theory
+from brushbem.figstyle import styled
 from brushbem.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
@@ -68,6 +69,7 @@ def _rigid_force_ratio(results) -> float:
     return float(frame[~np.isfinite(frame.k_bar)].force_ratio.iloc[0])
 
 
+@styled
 def draw(results, figures_dir: Path) -> list[Path]:
     figures_dir = Path(figures_dir)
     frame = _frame(results)
@@ -89,7 +91,7 @@ def draw(results, figures_dir: Path) -> list[Path]:
         a_tilde_nor = (modulus, dgamma, radius)
         k = float(row["indenter.stiffness"]) if "indenter.stiffness" in row else math.inf
         k_tilde = k / (modulus * a_jkr)
-        label = "rigid" if not math.isfinite(k) else f"k~ = {k_tilde:.2g} (k_bar = {row.k_bar:.2g})"
+        label = "rigid" if not math.isfinite(k) else rf"$\tilde k$ = {k_tilde:.2g} ($\bar k$ = {row.k_bar:.2g})"
         f = ds["force"].values / f_jkr
         ax7.plot(ds["displacement"].values / d_jkr, f, label=label)
         draw_with_jumps(ax8, np.sqrt(ds["contact_area"].values / math.pi) / a_jkr, f, ds["displacement"].values,
@@ -106,16 +108,18 @@ def draw(results, figures_dir: Path) -> list[Path]:
         ax7.plot(d, f, "k--", label="JKR rigid (eq. 2.22)")
         ax8.plot(a / a_jkr, f, "k--", label="JKR rigid")
         a_s = a_sep / a_jkr
-        mark(ax8, a_s, -5 / 9, "thesis: F~(a_s) = -5/9 (point D)")
-    ax7.set(xlabel="d~ = d / |d_JKR|", ylabel="F~ = F / F_JKR", title="Fig. 2-7: sphere on a spring, k~ = k / (E* a_JKR)")
-    ax8.set(xlabel="a~ = a / a_JKR", ylabel="F~ = F / F_JKR", title="Fig. 2-8: force vs contact radius (dotted: jumps)")
-    for ax in (ax7, ax8):
-        ax.legend(fontsize=6)
-        ax.grid(alpha=0.3)
+        mark(ax8, a_s, -5 / 9, r"thesis: $\tilde F(a_\mathrm{s}) = -5/9$ (point D)")
+    ax7.set(xlabel=r"$\tilde d = d/|d_\mathrm{JKR}|$", ylabel=r"$\tilde F = F/F_\mathrm{JKR}$",
+            title="Fig. 2-7: sphere on a spring")
+    ax8.set(xlabel=r"$\tilde a = a/a_\mathrm{JKR}$", ylabel=r"$\tilde F = F/F_\mathrm{JKR}$",
+            title="Fig. 2-8: force against contact radius")
+    ax7.legend(fontsize="small", title=r"$\tilde k = k/(E^* a_\mathrm{JKR})$, $\bar k = k/(E^* a_\mathrm{nor})$")
+    ax8.legend(fontsize="small", title="dotted: jumps")
     out = [save(fig7, figures_dir / "fig2-7_sphere_curves.png"), save(fig8, figures_dir / "fig2-8_sphere_radius.png")]
     return [*out, *draw_tables(results, figures_dir)]
 
 
+@styled
 def draw_tables(results, figures_dir: Path) -> list[Path]:
     """Fig. 2-9, which the per-case numbers alone determine (Fig. 2-7 and 2-8 need the load curves)."""
     figures_dir = Path(figures_dir)
@@ -123,22 +127,22 @@ def draw_tables(results, figures_dir: Path) -> list[Path]:
     fig9, ax9 = new_figure()
     ax9 = ax9[0, 0]
     kk = np.logspace(-1, 2, 300)
-    ax9.plot(kk, theory.sphere_spring_work_high(kk), "k:", lw=0.8, label="eq. 2.38 (w_bar_h)")
-    ax9.plot(kk, theory.sphere_spring_work_low(kk), "k-.", lw=0.8, label="eq. 2.39 (w_bar_l)")
+    ax9.plot(kk, theory.sphere_spring_work_high(kk), "k:", lw=0.8, label=r"eq. 2.38 ($\bar w_\mathrm{h}$)")
+    ax9.plot(kk, theory.sphere_spring_work_low(kk), "k-.", lw=0.8, label=r"eq. 2.39 ($\bar w_\mathrm{l}$)")
     ax9.plot(kk, theory.sphere_spring_work(kk, switch=theory.SPHERE_WORK_SWITCH), "k--", lw=0.8,
-             label="thesis fit: l below k_bar = 1.7, h above")
-    ax9.plot(kk, theory.sphere_spring_work(kk), "k-", label="exact: separation where dD/da = 0")
+             label=r"thesis fit: $\bar w_\mathrm{l}$ below $\bar k$ = 1.7, $\bar w_\mathrm{h}$ above")
+    ax9.plot(kk, theory.sphere_spring_work(kk), "k-", label=r"exact: separation where $\mathrm{d}D/\mathrm{d}a = 0$")
     if len(frame):
         soft = frame[np.isfinite(frame.k_bar)]
         ax9.plot(soft.k_bar, soft.w_bar, "o", label="BEM")
         rigid = frame[~np.isfinite(frame.k_bar)]
         if len(rigid):
             ax9.axhline(float(rigid.w_bar.iloc[0]), color="gray", linestyle=":", label="BEM rigid")
-    ax9.axvline(1.7, color="red", lw=0.6, label="thesis switch k_bar = 1.7")
-    ax9.set(xscale="log", yscale="log", xlabel="k_bar = k / (E* a_nor)", ylabel="w_bar = w / w_rigid",
-            title="Fig. 2-9: work of separation")
-    ax9.legend(fontsize=7)
-    ax9.grid(alpha=0.3, which="both")
+    ax9.axvline(1.7, color="red", lw=0.6, label=r"thesis switch $\bar k$ = 1.7")
+    ax9.set(xscale="log", yscale="log", xlabel=r"$\bar k = k/(E^* a_\mathrm{nor})$",
+            ylabel=r"$\bar w = w/w_\mathrm{rigid}$", title="Fig. 2-9: work of separation")
+    ax9.legend(fontsize="small")
+    ax9.grid(which="minor", alpha=0.2)
     return [save(fig9, figures_dir / "fig2-9_sphere_work.png")]
 
 

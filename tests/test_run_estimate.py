@@ -1,0 +1,83 @@
+"""``brushbem run CONFIG --estimate``: the expected wall time and peak memory of one run, with its basis, in
+seconds whatever the run would cost, writing nothing."""
+
+from __future__ import annotations
+
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from brushbem.assembly import parse_config
+from brushbem.case import run_case
+from brushbem.cli import main
+from brushbem.estimate import estimate_run
+
+PUNCH = textwrap.dedent("""
+    [halfspace]
+    contact_modulus = 1.0
+    work_of_adhesion = 1e-3
+    [grid]
+    size = 1.0
+    elements = 32
+    [indenter]
+    shape = "flat_punch"
+    radius = 0.25
+    [protocol]
+    {protocol}
+""")
+
+#: Fixed steps of 1e-12: 1e8 steps to the preload, 2e11 more to the Kendall pull-off (days of computing).
+HUGE = 'method = "fixed"\nstep = 1e-12\nmax_steps = 1000000000\npreload_displacement = 1e-4'
+
+
+def _config(tmp_path: Path, protocol: str) -> Path:
+    path = tmp_path / "case.toml"
+    path.write_text(PUNCH.format(protocol=protocol))
+    return path
+
+
+def test_a_huge_run_is_estimated_in_seconds_and_nothing_is_written(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    config = _config(tmp_path, HUGE)
+    start = time.perf_counter()
+    done = CliRunner().invoke(main, ["run", str(config), "--estimate", "--out", str(tmp_path / "out")])
+    elapsed = time.perf_counter() - start
+    assert done.exit_code == 0, done.output
+    assert elapsed < 20.0, elapsed  # the sample takes about 2 s; the run would take days
+    assert "wall time" in done.output and "peak memory" in done.output
+    # The basis: the steps of the loading and of the unloading, counted from the load path.
+    assert "1e+08 fixed steps of 1e-12" in done.output
+    assert "closed-form pull-off displacement" in done.output
+    assert any(unit in done.output for unit in ("days", "years"))
+    # More unloading steps than max_steps: the run would stop there, not converged, and the estimate says so.
+    assert "more than protocol.max_steps = 1000000000" in done.output and "not converged" in done.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml"]  # no --out folder, no file
+
+
+def test_estimate_needs_no_out_and_a_run_still_does(tmp_path):
+    config = _config(tmp_path, 'method = "events"\npreload_displacement = 0.01')
+    done = CliRunner().invoke(main, ["run", str(config), "--estimate"])
+    assert done.exit_code == 0, done.output
+    assert "measured: the sample ran the whole path" in done.output  # a quick run: measured, not extrapolated
+    done = CliRunner().invoke(main, ["run", str(config)])
+    assert done.exit_code == 2 and "--out" in done.output
+
+
+def test_the_fixed_step_count_is_the_runs():
+    """The fixed steps counted from the load path (preload / step down, preload to the Kendall displacement up)
+    match the states the run records, within the part the closed form does not see."""
+    config = parse_config({
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}, "grid": {"size": 1.0, "elements": 32},
+        "indenter": {"shape": "flat_punch", "radius": 0.25},
+        "protocol": {"method": "fixed", "step": 2e-3, "preload_displacement": 0.01},
+    })
+    estimate = estimate_run(config, sample_seconds=0.0)  # one state sampled: the count is the model's
+    assert not estimate.complete and estimate.sampled_states == 1
+    assert estimate.seconds > 0 and estimate.memory_bytes > 0 and estimate.result_bytes > 0
+    actual = run_case(config)[0].summary["n_states"]
+    assert estimate.states == pytest.approx(actual, rel=0.25), (estimate.states, actual, estimate.basis)
+    complete = estimate_run(config, sample_seconds=60.0)
+    assert complete.complete and complete.states == actual
