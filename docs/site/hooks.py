@@ -4,7 +4,12 @@ A page line ``{{ readme: ## Heading }}`` is replaced by that README section
 (up to the next heading of the same or a higher level), so the README and the
 site say the same thing from one source; ``{{ gallery }}`` becomes one
 section per study figure found in ``docs/figures/<study>/``, with the numbers
-the thesis states for that study and the command that recomputes them.
+the thesis states for that study and the command that recomputes them.  A
+block ``{{ rows: STUDY`` / one quantity per line / ``}}`` becomes the table of
+those rows of ``docs/thesis-comparison.md`` (thesis, ours, standard error,
+deviation, verdict), and ``{{ rows: STUDY rest }}`` the study's rows no earlier
+block on the page took: the gallery shows the comparison's numbers as they
+are regenerated, never a copy.
 """
 
 from __future__ import annotations
@@ -61,7 +66,53 @@ def _gallery() -> str:
     return "\n".join(lines)
 
 
+COMPARISON = ROOT / "docs" / "thesis-comparison.md"
+ROW_HEADER = "| quantity | where | thesis | ours | standard error | deviation | verdict |\n| --- | --- | --- | --- | --- | --- | --- |"
+
+
+def comparison_rows() -> dict[str, list[list[str]]]:
+    """Per study, the cells of every row of the comparison's verdict tables (without 'explained in')."""
+    rows: dict[str, list[list[str]]] = {}
+    study = None
+    for line in COMPARISON.read_text(encoding="utf-8").splitlines():
+        if line.startswith("## "):
+            match = re.match(r"^## `(\w+)`", line)
+            study = match.group(1) if match else None
+            continue
+        if study and line.startswith("| ") and not line.startswith(("| quantity", "| ---")):
+            cells = [cell.strip() for cell in re.split(r"(?<!\\)\|", line.strip()[1:-1])]  # "\|" is a pipe in a cell
+            if len(cells) == 8:
+                verdict = re.match(r"\*\*[^*]+\*\*", cells[6])  # the verdict; its evidence stays in the comparison
+                rows.setdefault(study, []).append([*cells[:6], verdict.group(0) if verdict else cells[6]])
+    return rows
+
+
+def render_rows(markdown: str) -> str:
+    """Every ``{{ rows: ... }}`` block of ``markdown`` replaced by its table (module docstring)."""
+    rows = comparison_rows()
+    taken: dict[str, set[str]] = {}
+
+    def table(match: re.Match) -> str:
+        study, rest = match.group(1), match.group(2).strip()
+        by_quantity = {cells[0]: cells for cells in rows.get(study, [])}
+        if rest == "rest":
+            wanted = [q for q in by_quantity if q not in taken.get(study, set())]
+        else:
+            wanted = [line.strip() for line in rest.splitlines() if line.strip()]
+            unknown = [q for q in wanted if q not in by_quantity]
+            if unknown:
+                raise ValueError(f"docs/thesis-comparison.md has no row {unknown} in study {study!r}")
+        taken.setdefault(study, set()).update(wanted)
+        if not wanted:
+            return "(none)"
+        return ROW_HEADER + "\n" + "\n".join("| " + " | ".join(by_quantity[q]) + " |" for q in wanted)
+
+    return re.sub(r"^\{\{ rows: (\w+)((?: rest )|(?:\n(?:(?!\}\}).*\n)*?))\}\}$", table, markdown, flags=re.MULTILINE)
+
+
 def on_page_markdown(markdown: str, page, config, files) -> str:
+    if "{{ rows: " in markdown:
+        markdown = render_rows(markdown)
     markdown = re.sub(r"^\{\{ readme: (#+ .+?) \}\}$", lambda m: _readme_section(m.group(1)), markdown, flags=re.MULTILINE)
     if "{{ gallery }}" in markdown:
         markdown = markdown.replace("{{ gallery }}", _gallery())
