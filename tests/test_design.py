@@ -19,6 +19,7 @@ from brushbem.case import brush_scales
 from brushbem.cli import main
 from brushbem.design import (
     DesignError,
+    DesignInterrupted,
     critical_forces,
     design,
     prescribed_force_state,
@@ -159,7 +160,9 @@ def test_cli_design_writes_the_design(tmp_path):
     result = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--bound"])
     assert result.exit_code == 0, result.output
     assert "no design exceeds" in result.output
-    assert {p.name for p in out.iterdir()} == {"design.npy", "design.csv", "design.json", "design.png", "design.pdf"}
+    # .brushbem.lock: the design's lock on the folder, as a run's.
+    assert {p.name for p in out.iterdir()} == {".brushbem.lock", "design.npy", "design.csv", "design.json", "design.png",
+                                               "design.pdf"}
     scalars = json.loads((out / "design.json").read_text())
     assert scalars["verified_force_ratio"] > 0.5 and scalars["pillars"] == np.load(out / "design.npy").size
     # The bound is the prediction (every edge critical at once is optimal).  At phi = 0.06 partial
@@ -215,3 +218,54 @@ def test_a_design_refuses_tips_it_does_not_model():
     problem = ContactProblem(GRID, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
     with pytest.raises(DesignError, match="indenter.tip"):
         design(problem, LoadPath(preload_displacement=0.01))
+
+
+def _small_brush_file(tmp_path):
+    path = tmp_path / "brush.toml"
+    path.write_text(
+        "[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\nelements = 64\n"
+        '[indenter]\nshape = "brush"\nlayout = "square"\nregion = "circle"\npillars_per_side = 4\n'
+        f"pillar_radius = {math.sqrt(0.06 / math.pi) / 4}\nstiffness_ratio = 10.0\n"
+        "[protocol]\npreload_force = 0.005\n")
+    return path
+
+
+def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
+    """A second design into the same folder needs --overwrite; a folder that takes no files is refused
+    before anything is computed (exit 2), as `brushbem run` does."""
+    import brushbem.design
+
+    path = _small_brush_file(tmp_path)
+    out = tmp_path / "design"
+    assert CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--iterations", "0",
+                                     "--quiet"]).exit_code == 0
+    before = (out / "design.npy").read_bytes()
+    again = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--quiet"])
+    assert again.exit_code == 2 and "--overwrite" in again.output
+    assert (out / "design.npy").read_bytes() == before
+
+    def never(*args, **kwargs):
+        raise AssertionError("the design ran before --out was checked")
+
+    monkeypatch.setattr(brushbem.design, "design", never)
+    blocked = tmp_path / "a file"
+    blocked.write_text("")
+    refused = CliRunner().invoke(main, ["design", str(path), "--out", str(blocked / "design"), "--quiet"])
+    assert refused.exit_code == 2 and "output folder" in refused.output
+
+
+def test_an_interrupted_design_keeps_the_best_design_verified_so_far():
+    """`stop` (Ctrl-C in the CLI) after the first verification: that design, marked interrupted and said."""
+    problem = _problem(0.01)
+    asked = []
+
+    def stop():
+        asked.append(True)
+        return len(asked) > 1  # after the start pull-off: go on; after the first verification: stop
+
+    result = design(problem, _path(problem), iterations=3, stop=stop)
+    assert result.interrupted and result.iterations == 0 and len(result.history) == 1
+    assert any("interrupted after 1 of 4 verifications" in w for w in result.warnings)
+    assert result.verified_force_ratio == result.history[0]
+    with pytest.raises(DesignInterrupted):
+        design(problem, _path(problem), iterations=3, stop=lambda: True)

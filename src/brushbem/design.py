@@ -45,12 +45,16 @@ from .protocol import ContactProblem, LoadPath, record_pull_off
 from .records import MappingRecord
 from .structure import BrushGeometry, Indenter, SpringLevel
 
-__all__ = ["Design", "DesignError", "critical_forces", "design", "design_figure", "prescribed_force_state",
+__all__ = ["Design", "DesignError", "DesignInterrupted", "critical_forces", "design", "design_figure", "prescribed_force_state",
            "sharing_bound", "write_design"]
 
 
 class DesignError(ValueError):
     """A brush the design cannot handle: says which and why."""
+
+
+class DesignInterrupted(RuntimeError):
+    """Stopped (``stop``) before any design was verified."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -106,6 +110,7 @@ class Design(MappingRecord):
     start_force_ratio: float | None = None
     preload_displacement: float | None = None
     warnings: tuple = ()
+    interrupted: bool = False
 
     def scalars(self) -> dict:
         """The JSON-able fields (arrays summarised)."""
@@ -118,7 +123,7 @@ class Design(MappingRecord):
             "rigid_brush_displacement": self.rigid_brush_displacement,
             "pillars": int(self.values.size), "bound_force_ratio": self.bound_force_ratio,
             "start_force_ratio": self.start_force_ratio, "preload_displacement": self.preload_displacement,
-            "warnings": list(self.warnings),
+            "warnings": list(self.warnings), "interrupted": self.interrupted,
         }
 
 
@@ -297,7 +302,7 @@ def _with_stiffness(indenter: Indenter, stiffness: np.ndarray) -> Indenter:
 
 
 def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", iterations: int = 3,
-           progress=None, bound: bool = False) -> Design:
+           progress=None, bound: bool = False, stop=None) -> Design:
     """Offsets (or stiffnesses) of ``problem``'s brush for equal load sharing, verified by pull-offs.
 
     Parameters
@@ -315,6 +320,11 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
     bound : bool
         Also compute `sharing_bound` (one solve per pillar), the best any
         design can reach, to show how far the design is from it.
+    stop : callable or None
+        Asked after every verification pull-off: when it returns True (Ctrl-C
+        in `brushbem design`), the best design verified so far is returned,
+        ``interrupted`` and with a warning; before the first verification
+        there is none, and `DesignInterrupted` is raised.
 
     Notes
     -----
@@ -385,7 +395,10 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
     if progress is not None:
         progress(0.0, "the brush as given: one pull-off to compare the design with")
     start = record_pull_off(problem, path).summary
+    if stop is not None and stop():
+        raise DesignInterrupted("interrupted before the first design was verified: nothing to keep")
     configured = path
+    interrupted = False
     start_ratio = float(start["adhesive_force"]) / ideal
     history, best, converged = [], None, bool(start["converged"])
     for round_ in range(iterations + 1):
@@ -407,6 +420,11 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
         history.append(ratio)
         if best is None or ratio > best[0]:
             best = (ratio, values.copy(), detachment, float(summary["adhesive_force"]), path.preload_displacement)
+        if stop is not None and stop() and round_ < iterations:
+            interrupted = True
+            notes.append(f"interrupted after {round_ + 1} of {iterations + 1} verifications: the best design "
+                         "verified so far")
+            break
         spread_now = float(np.ptp(detachment)) if np.all(np.isfinite(detachment)) else math.inf
         if round_ == iterations or not math.isfinite(spread_now) or spread_now <= 1e-9 * max(scales_dc, 1e-300):
             break
@@ -434,7 +452,7 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
                   history=history, detachment=detachment, spread=spread, iterations=len(history) - 1,
                   converged=converged, adhesive_force=force, ideal_sharing_force=ideal,
                   rigid_brush_displacement=scales_dc, bound_force_ratio=bound_ratio, start_force_ratio=start_ratio,
-                  preload_displacement=preload, warnings=tuple(dict.fromkeys(notes)))
+                  preload_displacement=preload, warnings=tuple(dict.fromkeys(notes)), interrupted=interrupted)
 
 
 def _touching_path(problem: ContactProblem, path: LoadPath, offsets: np.ndarray | None, notes: list[str]) -> LoadPath:
