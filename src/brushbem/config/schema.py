@@ -769,7 +769,7 @@ class ProtocolConfig(_Section):
 
     Attributes
     ----------
-    method : {"events", "element_events", "fixed"}
+    method : {"events", "element_events", "fixed", "pillars"}
         ``"events"`` follows the exact path: it jumps from one contact
         change to the next, and presses a brush (two or more pillars) as
         non-adhesive contact problems, which is the same branch checked on
@@ -777,7 +777,9 @@ class ProtocolConfig(_Section):
         every element event on the loading branch too (the reference, and
         today's path of single bodies); ``"fixed"`` retracts by constant
         steps (the thesis's method), locating every detachment (and a
-        pillar law's break) inside each step.
+        pillar law's break) inside each step; ``"pillars"`` is the
+        pillar-level model of a brush of flat tips (a few modes per tip,
+        events exact in the reduced model; ``brushbem.protocol.pillars``).
     preload_displacement : float or None
         Press until the base displacement reaches this value, units of length;
         at most `MAX_PRELOAD_DOMAIN_SIZES` (1000) x grid.size.
@@ -801,7 +803,7 @@ class ProtocolConfig(_Section):
 
     model_config = _MODEL_CONFIG
 
-    method: Literal["events", "element_events", "fixed"] = "events"
+    method: Literal["events", "element_events", "fixed", "pillars"] = "events"
     preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
     preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
     step: float = Field(1e-4, gt=0, allow_inf_nan=False)

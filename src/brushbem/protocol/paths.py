@@ -42,6 +42,11 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     ``converged == False`` with the reason when a solve failed or the step
     budget ran out.
     """
+    if path.method == "pillars":
+        from .pillars import pull_off as pillar_pull_off
+
+        yield from pillar_pull_off(problem, path)
+        return
     if problem.indenter.viscoelastic is not None or path.speed is not None:
         path = _time_stepped(problem, path)
     if problem.indenter.pillar_law is not None:

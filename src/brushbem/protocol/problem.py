@@ -61,7 +61,7 @@ class LoadPath:
 
     Parameters
     ----------
-    method : {"events", "element_events", "fixed"}
+    method : {"events", "element_events", "fixed", "pillars"}
     preload_displacement, preload_force : float or None
         Exactly one: press to this base displacement, or until this force.
     step : float
@@ -96,8 +96,9 @@ class LoadPath:
     speed: float | None = None
 
     def __post_init__(self):
-        if self.method not in ("events", "element_events", "fixed"):
-            raise ValueError(f"protocol.method = {self.method!r} must be 'events', 'element_events' or 'fixed'")
+        if self.method not in ("events", "element_events", "fixed", "pillars"):
+            raise ValueError(f"protocol.method = {self.method!r} must be 'events', 'element_events', 'fixed' or "
+                             "'pillars'")
         if self.cascade not in ("local", "global"):
             raise ValueError(f"solver.cascade = {self.cascade!r} must be 'local' or 'global'")
         if (self.preload_displacement is None) == (self.preload_force is None):

@@ -1,0 +1,105 @@
+"""The pillar-level model (``method = "pillars"``) against the exact event path, and its cost with the brush's size.
+
+The chapter-5 rough brush: a square n x n lattice of flat pillars filling the
+1 x 1 domain at phi = 0.16 (pillars of 3.6 elements' radius: N = 16 n),
+Gaussian pillar lengths of sigma = sigma~ d_c, k~ = 0.01, E* = 1, work of
+adhesion 1e-4, pressed to F_c and pulled off to separation (d_c and F_c: the
+rigid brush's scales, ``case.brush_scales``).
+
+First line (``--compare``, default 32 x 32 at N = 512, sigma~ = 1): the exact
+path's (``method = "events"``) wall time, F_A and work, the pillar model's,
+their relative differences and the time ratio, measured in the same run.
+Then one line per size of ``--sizes`` (pillars per side): the pillar model
+alone (its time, states, solves, and the memory of its dense pillar-level
+arrays); a size whose arrays exceed ``--memory-gb`` is reported with its
+estimate instead of run.
+
+    nice python benchmarks/pillars.py
+    nice python benchmarks/pillars.py --compare 16 --sizes 16 32 48 100
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+from brushbem.case import brush_scales
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.protocol.pillars import MODES
+from brushbem.structure import Grid, brush
+
+PHI, RADIUS_ELEMENTS = 0.16, 3.6
+E, DGAMMA = 1.0, 1e-4
+
+
+def _problem(per_side: int, ratio: float, sigma: float, seed: int) -> tuple[ContactProblem, float]:
+    grid = Grid(1.0, 16 * per_side)
+    radius = math.sqrt(PHI / math.pi) / per_side
+
+    def build(roughness: float) -> ContactProblem:
+        indenter = brush(grid, layout="square", pillars_per_side=per_side, pillar_radius=radius, contact_modulus=E,
+                         work_of_adhesion=DGAMMA, stiffness=ratio * E * grid.size, roughness=roughness, seed=seed)
+        return ContactProblem(grid, indenter, contact_modulus=E, work_of_adhesion=DGAMMA)
+
+    scales = brush_scales(build(0.0))
+    return build(sigma * scales["rigid_brush_displacement"]), scales["rigid_brush_force"]
+
+
+def _run(problem: ContactProblem, method: str, preload: float) -> tuple[float, dict]:
+    start = time.perf_counter()
+    record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**7))
+    return time.perf_counter() - start, record.summary
+
+
+def _dense_bytes(pillars: int, modes: int) -> int:
+    """The pillar model's dense arrays: the couplings of every mode with the uniform one and the kept inverse."""
+    return 8 * pillars * pillars * (modes + 1)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--compare", type=int, default=32, help="pillars per side of the comparison (0: none)")
+    parser.add_argument("--sizes", type=int, nargs="*", default=[48, 100], help="pillars per side, model alone")
+    parser.add_argument("--stiffness-ratio", type=float, default=0.01)
+    parser.add_argument("--sigma", type=float, default=1.0, help="sigma~ = sigma / d_c")
+    parser.add_argument("--seed", type=int, default=3)
+    parser.add_argument("--memory-gb", type=float, default=4.0)
+    args = parser.parse_args()
+    modes = len(MODES["quadratic"])
+    if args.compare:
+        problem, preload = _problem(args.compare, args.stiffness_ratio, args.sigma, args.seed)
+        t_exact, exact = _run(problem, "events", preload)
+        t_model, model = _run(problem, "pillars", preload)
+        print(json.dumps({
+            "pillars": problem.indenter.n_pillars, "elements": problem.grid.elements,
+            "stiffness_ratio": args.stiffness_ratio, "sigma_by_dc": args.sigma,
+            "events_seconds": round(t_exact, 2), "pillars_seconds": round(t_model, 2),
+            "speedup": round(t_exact / t_model, 2),
+            "events_adhesive_force": exact["adhesive_force"], "pillars_adhesive_force": model["adhesive_force"],
+            "adhesive_force_rel_diff": model["adhesive_force"] / exact["adhesive_force"] - 1,
+            "events_work": exact["work_of_separation"], "pillars_work": model["work_of_separation"],
+            "work_rel_diff": model["work_of_separation"] / exact["work_of_separation"] - 1,
+            "events_attached_at_pull_off": exact["attached_pillars_at_pull_off"],
+            "pillars_attached_at_pull_off": model["attached_pillars_at_pull_off"],
+            "converged": [exact["converged"], model["converged"]],
+        }), flush=True)
+    for per_side in args.sizes:
+        memory = _dense_bytes(per_side**2, modes)
+        line = {"pillars": per_side**2, "elements": 16 * per_side, "dense_arrays_gb": round(memory / 2**30, 2)}
+        if memory > args.memory_gb * 2**30:
+            line["skipped"] = (f"the dense pillar-level arrays need {memory / 2**30:.1f} GB (> --memory-gb = "
+                               f"{args.memory_gb:g}) and every event costs O(M^2) = {per_side**4:.1e} operations")
+            print(json.dumps(line), flush=True)
+            continue
+        problem, preload = _problem(per_side, args.stiffness_ratio, args.sigma, args.seed)
+        seconds, summary = _run(problem, "pillars", preload)
+        line.update({"seconds": round(seconds, 2), "states": summary["n_states"], "solves": summary["n_solves"],
+                     "adhesive_force": summary["adhesive_force"], "work": summary["work_of_separation"],
+                     "converged": summary["converged"]})
+        print(json.dumps(line), flush=True)
+
+
+if __name__ == "__main__":
+    main()

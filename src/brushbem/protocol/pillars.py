@@ -1,0 +1,855 @@
+"""The pillar-level model of a brush of flat rigid tips: ``protocol.method = "pillars"``.
+
+The element-level paths solve for the pressure on every element of every
+tip.  A flat rigid tip in full contact carries a pressure that is almost
+fixed by its own raster: the half-space inverse of a uniform displacement,
+with small corrections where its neighbours' field is not uniform across it.
+This model keeps a few numbers per pillar instead of every element.
+
+Basis
+    For every raster shape (the elements a tip holds), the full BEM on that
+    tip alone gives the pressures phi_k = K_R^-1 P_k of the displacement
+    polynomials P_k of the tip's coordinates: 1 (the uniform mode, whose
+    amplitude is the tip's mean displacement), x and y (``modes="tilt"``),
+    and x^2, x y, y^2 (``modes="quadratic"``, the default), made
+    K-orthogonal to phi_0, so that only phi_0 carries a net force.  A tip's
+    pressure is p = sum_k a_k phi_k.  Bases are cached by raster shape:
+    pillars of a lattice share one; a random layout has a few shapes.
+
+Coupling
+    G_ij = Phi_i^T K_ij Phi_j, the Galerkin projection of the half-space
+    between the modes of pillars i and j: exact (element-pair sums of the
+    Love kernel over the two footprints, cached by the pair's shapes and
+    offset) for centres closer than ``near`` (default 8 pillar radii), and by
+    the multipole expansion of 1/r to second order in the modes' moments
+    (the monopole F / (pi E* r) with its dipole and quadrupole corrections,
+    and the element square's own second moment) beyond.  Springs of every
+    level (`brushbem.structure.SpringLevel`, pillars' own and hierarchy
+    clusters) enter the uniform mode as in the element operator: the
+    Galerkin projection of A = K + sum_l (h^2 / k_l) P_l^T P_l.
+
+Equilibrium
+    On the attached set S the uniform amplitudes solve the pillar-level
+    system (G00 + H)_SS a_0 = s_S (d - g_S) (s the force of phi_0, g the
+    pillar's length offset): a dense SPD system whose inverse is kept and
+    updated by rank-one steps as pillars join, leave or change shape
+    (checked by its residual, refactorised when it drifts).  The higher
+    modes follow locally from the field that the others' uniform modes
+    cause across the tip (``coupling="local"``); ``coupling="full"`` solves
+    all modes together (a dense factorisation per solve, small brushes).
+    Everything is affine in d on a fixed state, so, as on the element event
+    path, the next event is found in closed form.
+
+Detachment (Pohrt-Popov) and touch
+    The criterion is the element grid's: an element of a tip detaches when
+    its pressure, reconstructed from the basis, falls below -Sigma_c,
+    Sigma_c = sqrt(E* dgamma / (0.473201 h)).  An element that reaches it
+    leaves and the pillar peels on its own with the rest of the brush frozen,
+    exactly as the element path's local cascade does (a raster of the
+    remaining elements gets its own basis), until it is stable or gone; then
+    the brush is solved again at the same d, and so on (the cascade).  A
+    pillar that touches (its tip reaches the mean surface under it, the
+    uniform mode's gap closes) enters in full contact.
+
+Accuracy (measured against ``method = "events"`` on square lattices of
+phi = 0.16 pillars of 3.6 elements' radius, 4 x 4 at N = 64 and 8 x 8 at
+N = 128, each at k~ = 10, 1e-2 and 1e-4 level and at k~ = 1e-2, sigma~ = 1
+and k~ = 10, sigma~ = 0.3 rough: ten brushes), the range of the relative
+errors over the ten:
+
+=================================  ===============  ===============
+variant (``modes``, ``peel``)       F_A error        work error
+=================================  ===============  ===============
+uniform mode, whole pillars         +6.5 .. +22 %    +7.2 .. +45 %
+tilt modes, whole pillars           -7.1 .. -3.7 %   -15 .. -3.1 %
+tilt modes, peeling tips            -1.6 .. -0.3 %   -2.4 .. -0.3 %
+quadratic, peeling, local (default) -0.3 .. +0.4 %   -0.4 .. +0.5 %
+quadratic, peeling, ``full``        -0.1 .. +0.1 %   -0.1 .. +0.4 %
+=================================  ===============  ===============
+
+The neighbours' field tilts and bends the pressure on every tip (a tip on
+the edge of a brush most), so the uniform mode alone misplaces the edge
+stress by ~10 %; the raster's corner elements leave first and the tip holds
+on with the rest over a range of d, so a pillar that detaches whole at its
+first edge element comes off early.
+
+Pillar radius in elements (4 x 4 lattice at N = 40, 64, 128: 2.3, 3.6 and
+7.2 elements; k~ = 1e-2, sigma~ = 1 | k~ = 10 level), F_A and work errors:
+
+========  =========================  =========================  =========================
+radius    uniform                    tilt, peeling              quadratic (default)
+========  =========================  =========================  =========================
+2.3       +7.4 / +11 | +5.0 / +14 %  -0.1 / -0.4 | -0.3 / -0.4  -0.1 / -0.1 | -0.3 / -0.4
+3.6       +14 / +15 | +10 / +23 %    -1.0 / -1.0 | -1.0 / -1.8  -0.0 / -0.1 | -0.3 / -0.4
+7.2       +16 / +16 | +12 / +24 %    -1.3 / -1.1 | -1.3 / -2.3  -0.2 / -0.1 | -0.4 / -0.6
+========  =========================  =========================  =========================
+
+The uniform and tilt models get worse as the tip is resolved better (the
+raster resolves more of the edge singularity, which the missing modes
+misplace); the quadratic model stays within 0.6 %.  Its cost grows with the
+elements of a tip (one basis per peeled raster, one event per peeling step),
+not with the grid.
+
+Not represented: a pillar touches whole.  On the exact path a tip that has
+just touched is in partial contact (the surface under it is tilted by its
+neighbours' loads) and stays so where the preload ends before it is pressed
+flat; on a 16 x 16 rough brush (N = 256, k~ = 1e-2, sigma~ = 1) the exact
+path's contact area at the preload is 3.7 % below the model's, F_A agrees to
+0.5 % but the work is 4.4 % high; on the chapter-5 brush (32 x 32, N = 512,
+k~ = 1e-2, sigma~ = 1, pressed to F_c: 2.3 % less area, 311 pillars touching
+against the model's 309) F_A is 5.7 % high, the work 1.4 %, and 240 pillars
+are attached at pull-off against 218 (benchmarks/pillars.py).  The far field
+is not the cause (all pairs exact: F_A moves by 0.06 %).  What would close
+it: the loading as pillar-level contact problems with partial rasters (an
+element joins where the surface, reconstructed from the modes' fields,
+meets the tip; leaves where it is in tension), as the exact path presses.
+
+Cost: the pillar-level arrays are dense (M^2 (m + 1) numbers for M pillars,
+m = 6 modes) and every event updates them in O(M^2): brushes up to a few
+thousand pillars.
+
+Where it does not apply it refuses, naming the key: tips that are not flat
+(``indenter.tip``), a tilted base (``indenter.tilt``), viscoelastic
+connections (``indenter.viscoelastic``), nonlinear pillar laws
+(``indenter.pillar_law``), and indenters that are not brushes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+from scipy.linalg.blas import dger
+
+from ..halfspace import influence_coefficients
+from ..structure import BrushGeometry
+from .problem import ContactProblem, LoadPath, State
+
+__all__ = ["MODES", "PillarModel", "check_applicable", "pull_off"]
+
+#: The displacement polynomials (powers of x, y) of each choice of modes.
+MODES = {
+    "uniform": ((0, 0),),
+    "tilt": ((0, 0), (1, 0), (0, 1)),
+    "quadratic": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)),
+}
+
+#: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
+NEAR_RADII = 8.0
+
+#: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
+_RESIDUAL = 1e-10
+
+
+def check_applicable(problem: ContactProblem, path: LoadPath | None = None) -> None:
+    """Raise ValueError, naming the key, where the pillar model does not apply."""
+    indenter = problem.indenter
+    info = indenter.description
+    where = "protocol.method = 'pillars'"
+    if not isinstance(info, BrushGeometry):
+        raise ValueError(f"{where} models brushes of flat pillars (indenter.shape = 'brush'); this indenter is "
+                         f"{getattr(info, 'shape', 'custom')!r}: use method = 'events'")
+    if indenter.viscoelastic is not None:
+        raise ValueError(f"{where} does not model indenter.viscoelastic: use method = 'fixed'")
+    if indenter.pillar_law is not None:
+        raise ValueError(f"{where} does not model indenter.pillar_law: use method = 'fixed'")
+    if info.tip != "flat":
+        raise ValueError(f"{where} needs flat tips in full contact; indenter.tip = {info.tip!r}: use "
+                         "method = 'events'")
+    if info.tilt_angle != 0.0:
+        raise ValueError(f"{where} needs level tips; indenter.tilt (angle {info.tilt_angle:g} deg) peels a tip "
+                         "partly: use method = 'events'")
+    offsets = np.asarray(getattr(info, "offsets", np.zeros(1)), dtype=float)
+    if offsets.size and np.ptp(offsets) > 0:
+        raise ValueError(
+            f"{where} presses every tip in whole; tips of different lengths (indenter.roughness, "
+            f"indenter.lengths_file or indenter.profile: lengths spread {np.ptp(offsets):.3g}) touch partly while "
+            "pressed, which it does not model (a rough 16 x 16 brush: work +4.4 %, 146 pillars attached at F_A "
+            "against 131): use method = 'events'")
+    if path is not None and path.speed is not None:
+        raise ValueError(f"{where}: protocol.speed applies to viscoelastic pillars only; remove it")
+    if problem.xp is not np:
+        raise ValueError(f"{where} runs on NumPy (the pillar-level arrays are small); use the default backend")
+    height = np.asarray(indenter.height)
+    labels = np.asarray(indenter.pillar)
+    inside = labels >= 0
+    top = np.full(indenter.n_pillars, -np.inf)
+    low = np.full(indenter.n_pillars, np.inf)
+    np.maximum.at(top, labels[inside], height[inside])
+    np.minimum.at(low, labels[inside], height[inside])
+    if np.any(top - low > 1e-12 * np.maximum(np.abs(top), 1.0) + 1e-300):
+        raise ValueError(f"{where} needs flat tips: a pillar's elements are at different heights "
+                         "(indenter.tip or indenter.tilt): use method = 'events'")
+
+
+@dataclass(frozen=True)
+class Basis:
+    """The modes of one raster shape (offsets relative to the raster's first row and column).
+
+    phi : (n, m) pressure of each mode per unit amplitude; force : s = sum phi_0
+    (the uniform mode's force / h^2 per unit displacement); gram : (m,) the
+    diagonal of Phi^T K Phi (1 for a mode the raster cannot carry, whose
+    column is zero); centroid : (2,) in elements; m0, m1, m2 : the modes'
+    moments about the centroid, for the far field.
+    """
+
+    offsets: np.ndarray
+    phi: np.ndarray
+    force: float
+    gram: np.ndarray
+    centroid: np.ndarray
+    m0: np.ndarray
+    m1: np.ndarray
+    m2: np.ndarray
+
+
+class PillarModel:
+    """Bases, couplings and the kept pillar-level inverse of a brush (see the module docstring)."""
+
+    def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
+                 peel: bool = True, near: float | None = None):
+        if modes not in MODES:
+            raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
+        if coupling not in ("local", "full"):
+            raise ValueError(f"coupling = {coupling!r} must be 'local' or 'full'")
+        grid, indenter = problem.grid, problem.indenter
+        self.n = grid.elements
+        self.h2 = grid.element_size ** 2
+        self.critical = problem.critical_stress
+        self.powers = MODES[modes]
+        self.m = len(self.powers)
+        self.coupling = coupling if self.m > 1 else "full"
+        self.peel = peel
+        labels = np.asarray(indenter.pillar).ravel()
+        flat = np.flatnonzero(labels >= 0)
+        owner = labels[flat]
+        order = np.argsort(owner, kind="stable")
+        flat, owner = flat[order], owner[order]
+        M = self.M = indenter.n_pillars
+        bounds = np.searchsorted(owner, np.arange(M + 1))
+        sizes = np.diff(bounds)
+        width = int(sizes.max())
+        #: Flat grid indices of every pillar's footprint (row-major), padded with -1: (M, width).
+        self.slots = np.full((M, width), -1, dtype=np.int64)
+        within = np.arange(width)[None, :] < sizes[:, None]
+        self.slots[within] = flat
+        self.rows, self.cols = np.divmod(np.where(within, self.slots, 0), self.n)
+        self.full = within
+        self.g = np.asarray(indenter.height).ravel()[self.slots[:, 0]].astype(np.float64)
+        self.levels = [(np.asarray(level.cluster), level.stiffnesses) for level in indenter.elastic_levels]
+        radius = math.sqrt(float(sizes.max()) / math.pi)
+        self.near = NEAR_RADII * radius if near is None else float(near)
+        extent = int(max(np.ptp(np.where(within, self.rows, self.rows[:, :1]), axis=1).max(),
+                         np.ptp(np.where(within, self.cols, self.cols[:, :1]), axis=1).max())) + 1
+        span = min(int(math.ceil(self.near)) + 2 * extent + 2, self.n)
+        h = grid.element_size
+        i = np.arange(span, dtype=np.float64) * h
+        self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
+        self.scale = h / (math.pi * problem.contact_modulus)
+        self._bases: dict[bytes, Basis] = {}
+        self._pairs: dict[tuple, np.ndarray] = {}
+        # Current state of every pillar's raster (a sub-set of its footprint) and its basis.
+        self.raster = within.copy()
+        self.basis: list[Basis] = [None] * M  # type: ignore[list-item]
+        self.origin = np.zeros((M, 2), dtype=np.int64)
+        self.centre = np.zeros((M, 2))
+        m = self.m
+        self.force = np.zeros(M)
+        self.gram = np.ones((M, m))
+        self.m0 = np.zeros((M, m))
+        self.m1 = np.zeros((M, m, 2))
+        self.m2 = np.zeros((M, m, 2, 2))
+        #: Pressure of every mode on every footprint slot (0 off the raster): (M, width, m).
+        self.phi = np.zeros((M, width, m))
+        for p in range(M):
+            self._install_basis(p)
+        full_centres = self.centre.copy()
+        # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
+        self.neighbours = []
+        for p in range(M):
+            distance = np.hypot(*(full_centres - full_centres[p]).T)
+            close = np.flatnonzero(distance < self.near)
+            self.neighbours.append(close[close != p])
+        # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
+        # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
+        self.Gs = np.zeros((m, M, M))
+        self.G0 = self.Gs[0]
+        self.Gh = self.Gs[1:]
+        self.Gf = np.zeros((M, M, m, m)) if self.coupling == "full" else None
+        for p in range(M):
+            self._install_row(p, upper=p)
+
+    # -- bases ---------------------------------------------------------------
+    def _install_basis(self, p: int) -> None:
+        mask = self.raster[p]
+        rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
+        origin = rc.min(axis=0)
+        basis = self.raster_basis(rc - origin)
+        self.basis[p] = basis
+        self.origin[p] = origin
+        self.centre[p] = origin + basis.centroid
+        self.force[p] = basis.force
+        self.gram[p] = basis.gram
+        self.m0[p], self.m1[p], self.m2[p] = basis.m0, basis.m1, basis.m2
+        self.phi[p] = 0.0
+        self.phi[p, mask] = basis.phi
+
+    def raster_basis(self, offsets: np.ndarray) -> Basis:
+        """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
+        key = offsets.tobytes()
+        basis = self._bases.get(key)
+        if basis is None:
+            basis = self._make_basis(offsets)
+            self._bases[key] = basis
+        return basis
+
+    def _make_basis(self, offsets: np.ndarray) -> Basis:
+        d = np.abs(offsets[:, None, :] - offsets[None, :, :])
+        K = self.ktab[d[..., 0], d[..., 1]]
+        factor = scipy.linalg.cho_factor(K)
+        centroid = offsets.mean(axis=0)
+        xi = offsets - centroid
+        size = max(math.sqrt(float(np.mean(np.sum(xi ** 2, axis=1)))), 1.0)
+        P = np.stack([(xi[:, 0] / size) ** a * (xi[:, 1] / size) ** b for a, b in self.powers], axis=1)
+        F = scipy.linalg.cho_solve(factor, P)
+        # K-orthogonal modes (Gram-Schmidt in the K inner product, phi_0 = K^-1 1 kept); a mode the raster
+        # cannot carry (too few elements, all in a line) is dropped: zero column, unit gram.
+        phi = np.zeros_like(F)
+        gram = np.ones(F.shape[1])
+        for k in range(F.shape[1]):
+            v = F[:, k].copy()
+            for j in range(k):
+                if phi[:, j].any():
+                    v -= (phi[:, j] @ P[:, k]) / gram[j] * phi[:, j]
+            norm = float(v @ (K @ v))
+            if k == 0 or norm > 1e-9 * float(F[:, k] @ P[:, k]):
+                phi[:, k] = v
+                gram[k] = norm
+        m0 = phi.sum(axis=0)
+        m1 = phi.T @ xi
+        m2 = np.einsum("em,ea,eb->mab", phi, xi, xi)
+        return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2)
+
+    # -- couplings -------------------------------------------------------------
+    def _exact(self, bp: Basis, origin: np.ndarray, q: int) -> np.ndarray:
+        """Phi_p^T K_pq Phi_q, exact, for a raster ``bp`` at ``origin``; cached by the shapes and their offset."""
+        bq = self.basis[q]
+        dr, dc = self.origin[q] - origin
+        key = (id(bp), id(bq), int(dr), int(dc))
+        block = self._pairs.get(key)
+        if block is None:
+            a, b = bp.offsets, bq.offsets + (dr, dc)
+            K = self.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
+            block = bp.phi.T @ K @ bq.phi
+            if len(self._pairs) > 200_000:
+                self._pairs.clear()
+            self._pairs[key] = block
+        return block
+
+    def _far(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
+        """Blocks G_pq (len(others), m, m) by the multipole expansion of 1/r to second order.
+
+        With t the moments of p's modes and q those of the others' (the element square's own second moment
+        h^2/12 added to the source), about their centroids R apart:
+        G = t0 q0 f + (t1 q0 - t0 q1) . grad f + (t2 q0 - 2 t1 q1 + t0 q2) : hess f / 2, f = 1/r.
+        With ``coupling = "local"`` only the uniform mode's row and column are filled.
+        """
+        ry, rx = centre[0] - self.centre[others, 0], centre[1] - self.centre[others, 1]
+        r2 = ry * ry + rx * rx
+        f = 1.0 / np.sqrt(r2)
+        f3 = f / r2
+        f5 = f3 / r2
+        gy, gx = -ry * f3, -rx * f3
+        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
+        t0, t1, t2 = bp.m0, bp.m1, bp.m2  # (m,), (m, 2), (m, 2, 2)
+        q0, q1, q2 = self.m0[others], self.m1[others], self.m2[others]  # (J, m), (J, m, 2), (J, m, 2, 2)
+        q1y, q1x = q1[..., 0], q1[..., 1]
+        spread = q0 / 12.0
+        q2h = (q2[..., 0, 0] + spread) * hyy[:, None] + 2.0 * q2[..., 0, 1] * hxy[:, None] \
+            + (q2[..., 1, 1] + spread) * hxx[:, None]  # (J, n)
+        q1g = q1y * gy[:, None] + q1x * gx[:, None]  # (J, n)
+        H = np.stack([hyy, hxy, hxx], axis=1)  # (J, 3)
+        t2h = H @ np.stack([t2[:, 0, 0], 2.0 * t2[:, 0, 1], t2[:, 1, 1]])  # (J, m)
+        t1g = np.stack([gy, gx], axis=1) @ t1.T  # (J, m)
+        # t1^T hess: (J, m, 2) as its y and x components.
+        th_y = hyy[:, None] * t1[None, :, 0] + hxy[:, None] * t1[None, :, 1]
+        th_x = hxy[:, None] * t1[None, :, 0] + hxx[:, None] * t1[None, :, 1]
+        m = self.m
+        g = np.zeros((others.size, m, m))
+        if self.Gf is not None:
+            g = (t0[None, :, None] * q0[:, None, :] * f[:, None, None]
+                 + t1g[:, :, None] * q0[:, None, :] - t0[None, :, None] * q1g[:, None, :]
+                 + 0.5 * (t2h[:, :, None] * q0[:, None, :] + t0[None, :, None] * q2h[:, None, :])
+                 - (th_y[:, :, None] * q1y[:, None, :] + th_x[:, :, None] * q1x[:, None, :]))
+            return self.scale * g
+        # Column 0 (all of p's modes, the others' uniform mode) and row 0 (p's uniform mode, all of theirs).
+        g[:, :, 0] = (t0[None, :] * (q0[:, :1] * f[:, None]) + t1g * q0[:, :1] - t0[None, :] * q1g[:, :1]
+                      + 0.5 * (t2h * q0[:, :1] + t0[None, :] * q2h[:, :1])
+                      - (th_y * q1y[:, :1] + th_x * q1x[:, :1]))
+        g[:, 0, 1:] = (t0[0] * q0[:, 1:] * f[:, None] + t1g[:, :1] * q0[:, 1:] - t0[0] * q1g[:, 1:]
+                       + 0.5 * (t2h[:, :1] * q0[:, 1:] + t0[0] * q2h[:, 1:])
+                       - (th_y[:, :1] * q1y[:, 1:] + th_x[:, :1] * q1x[:, 1:]))
+        return self.scale * g
+
+    def blocks(self, p: int, mask: np.ndarray | None = None, upper: int = -1) -> tuple[np.ndarray, np.ndarray, Basis]:
+        """(others, blocks G_pq (len(others), m, m), basis of p) for pillar p on its raster or on ``mask``.
+
+        ``others`` are the pillars q > ``upper`` but p; the other pillars count with their current rasters.
+        """
+        if mask is None:
+            bp, origin, centre = self.basis[p], self.origin[p], self.centre[p]
+        else:
+            rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
+            origin = rc.min(axis=0)
+            bp = self.raster_basis(rc - origin)
+            centre = origin + bp.centroid
+        others = np.arange(upper + 1, self.M)
+        others = others[others != p]
+        blocks = np.zeros((others.size, self.m, self.m))
+        if others.size:
+            near = np.isin(others, self.neighbours[p])
+            far = ~near
+            if far.any():
+                blocks[far] = self._far(bp, centre, others[far])
+            for k in np.flatnonzero(near):
+                blocks[k] = self._exact(bp, origin, int(others[k]))
+        return others, blocks, bp
+
+    def _install_row(self, p: int, upper: int = -1) -> None:
+        """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
+        others, blocks, _ = self.blocks(p, upper=upper)
+        self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
+        self.G0[p, p] = self.gram[p, 0]
+        if self.m > 1:
+            self.Gh[:, p, others] = blocks[:, 1:, 0].T
+            self.Gh[:, others, p] = blocks[:, 0, 1:].T
+            self.Gh[:, p, p] = 0.0
+        if self.Gf is not None:
+            self.Gf[p, others] = blocks
+            self.Gf[others, p] = blocks.transpose(0, 2, 1)
+            self.Gf[p, p] = np.diag(self.gram[p])
+
+    def set_raster(self, p: int, mask: np.ndarray) -> None:
+        """Pillar p holds the footprint slots ``mask`` (all of them once it is off): new basis and couplings."""
+        if not mask.any():
+            mask = self.full[p]
+        if np.array_equal(mask, self.raster[p]):
+            return
+        self.raster[p] = mask
+        self._install_basis(p)
+        self._install_row(p)
+
+    # -- springs -------------------------------------------------------------
+    def spring_row(self, p: int) -> np.ndarray:
+        """Row p of H = sum_l (h^2 / k_l) s s^T on the clusters of level l (all pillars)."""
+        row = np.zeros(self.M)
+        for cluster, stiffness in self.levels:
+            same = cluster == cluster[p]
+            row[same] += self.h2 / stiffness[cluster[p]]
+        return row * self.force[p] * self.force
+
+    def spring_product(self, x0: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """H x0 over the attached pillars."""
+        out = np.zeros(self.M)
+        weights = np.where(attached, self.force * x0, 0.0)
+        for cluster, stiffness in self.levels:
+            sums = np.bincount(cluster, weights=weights, minlength=stiffness.size)
+            out += (self.h2 / stiffness)[cluster] * sums[cluster]
+        return out * self.force
+
+    def spring_matrix(self, S: np.ndarray) -> np.ndarray:
+        out = np.zeros((S.size, S.size))
+        for cluster, stiffness in self.levels:
+            c = cluster[S]
+            out += np.where(c[:, None] == c[None, :], (self.h2 / stiffness[c])[:, None], 0.0)
+        return out * np.outer(self.force[S], self.force[S])
+
+    def tip_deflection(self, x0: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """The springs' stretch sum_l F_cluster / k_l at every pillar (forces of the attached ones)."""
+        out = np.zeros(self.M)
+        weights = np.where(attached, self.h2 * self.force * x0, 0.0)
+        for cluster, stiffness in self.levels:
+            sums = np.bincount(cluster, weights=weights, minlength=stiffness.size)
+            out += (sums / stiffness)[cluster]
+        return out
+
+    # -- higher modes ----------------------------------------------------------
+    def fields(self, x0: np.ndarray) -> np.ndarray:
+        """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
+        return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
+
+    def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """All modes' amplitudes (M, m) from the uniform ones and their ``fields`` (``coupling = 'local'``)."""
+        x = np.zeros((self.M, self.m))
+        x[:, 0] = np.where(attached, x0, 0.0)
+        if self.m > 1:
+            x[:, 1:] = np.where(attached[:, None], -field[1:].T / self.gram[:, 1:], 0.0)
+        return x
+
+
+class _Solver:
+    """The uniform modes' system on the attached set, with its inverse kept (``coupling = 'local'``)."""
+
+    def __init__(self, model: PillarModel):
+        self.model = model
+        self.B = np.zeros((model.M, model.M))
+        self.attached = np.zeros(model.M, dtype=bool)
+        self.updates = 0
+        self.solves = 0
+
+    def refactor(self) -> None:
+        model = self.model
+        S = np.flatnonzero(self.attached)
+        self.B[:] = 0.0
+        self.updates = 0
+        if S.size:
+            A = model.G0[np.ix_(S, S)] + model.spring_matrix(S)
+            factor = scipy.linalg.cho_factor(A)
+            self.B[np.ix_(S, S)] = scipy.linalg.cho_solve(factor, np.eye(S.size))
+
+    def remove(self, p: int) -> None:
+        column = self.B[:, p].copy()
+        if column[p] > 0:
+            dger(-1.0 / column[p], column, column, a=self.B.T, overwrite_a=1)
+        self.B[p, :] = 0.0
+        self.B[:, p] = 0.0
+        self.attached[p] = False
+        self.updates += 1
+
+    def add(self, p: int) -> None:
+        model = self.model
+        full = model.G0[p] + model.spring_row(p)
+        row = np.where(self.attached, full, 0.0)
+        diagonal = full[p]
+        Br = self.B @ row
+        c = diagonal - row @ Br
+        if not c > 1e-12 * diagonal:
+            self.attached[p] = True
+            self.refactor()
+            return
+        dger(1.0 / c, Br, Br, a=self.B.T, overwrite_a=1)
+        self.B[p, :] = -Br / c
+        self.B[:, p] = -Br / c
+        self.B[p, p] = 1.0 / c
+        self.attached[p] = True
+        self.updates += 1
+
+    def solve(self) -> tuple[np.ndarray, np.ndarray]:
+        """(sol, fields): the uniform amplitudes are d sol[:, 0] - sol[:, 1] on the attached set (0 elsewhere);
+        ``fields`` = `PillarModel.fields` of ``sol``."""
+        model = self.model
+        self.solves += 1
+        S = self.attached
+        rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
+        for attempt in range(2):
+            sol = self.B @ rhs
+            fields = model.fields(sol)
+            residual = fields[0].copy()
+            residual[:, 0] += model.spring_product(sol[:, 0], S)
+            residual[:, 1] += model.spring_product(sol[:, 1], S)
+            residual = np.where(S[:, None], residual - rhs, 0.0)
+            scale = np.linalg.norm(rhs, axis=0) + 1e-300
+            if attempt == 0 and np.max(np.linalg.norm(residual, axis=0) / scale) > _RESIDUAL:
+                self.refactor()
+                continue
+            break
+        return sol, fields
+
+
+def _full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(alpha, beta) of every mode (M, m) by one dense factorisation (``coupling = 'full'``)."""
+    S = np.flatnonzero(attached)
+    m = model.m
+    alpha = np.zeros((model.M, m))
+    beta = np.zeros((model.M, m))
+    if S.size == 0:
+        return alpha, beta
+    A = model.Gf[np.ix_(S, S)].transpose(0, 2, 1, 3).reshape(S.size * m, S.size * m).copy()
+    A[::m, ::m] += model.spring_matrix(S)
+    rhs = np.zeros((S.size * m, 2))
+    rhs[::m, 0] = model.force[S]
+    rhs[::m, 1] = model.force[S] * model.g[S]
+    sol = scipy.linalg.cho_solve(scipy.linalg.cho_factor(A), rhs)
+    alpha[S] = sol[:, 0].reshape(S.size, m)
+    beta[S] = sol[:, 1].reshape(S.size, m)
+    return alpha, beta
+
+
+class _Path:
+    """The state of a pull-off in the pillar model and its steps."""
+
+    def __init__(self, model: PillarModel, path: LoadPath):
+        self.model = model
+        self.path = path
+        self.solver = _Solver(model)
+        self.attached = self.solver.attached  # shared
+        self.alpha = np.zeros((model.M, model.m))
+        self.beta = np.zeros((model.M, model.m))
+        self.solves = 0
+        self._reported = 0  # solves already reported with a state
+
+    # -- state ---------------------------------------------------------------
+    def solve(self) -> None:
+        model = self.model
+        self.solves += 1
+        if model.coupling == "full":
+            self.alpha, self.beta = _full_solve(model, self.attached)
+            self.surface = np.stack([np.einsum("ijk,jk->i", model.Gf[:, :, 0, :], x) for x in (self.alpha, self.beta)],
+                                    axis=1)
+            return
+        sol, fields = self.solver.solve()
+        self.surface = fields[0]
+        self.alpha = model.amplitudes(sol[:, 0], fields[..., 0], self.attached)
+        self.beta = model.amplitudes(sol[:, 1], fields[..., 1], self.attached)
+
+    def amplitudes(self, d: float) -> np.ndarray:
+        return d * self.alpha - self.beta
+
+    def force(self, d: float) -> float:
+        model = self.model
+        return float(model.h2 * np.sum(np.where(self.attached, model.force * (d * self.alpha[:, 0] - self.beta[:, 0]),
+                                                0.0)))
+
+    def pressures(self, x: np.ndarray) -> np.ndarray:
+        """Element pressures on the footprint slots (M, width), 0 off the attached rasters."""
+        p = np.einsum("pem,pm->pe", self.model.phi, x)
+        return np.where(self.attached[:, None] & self.model.raster, p, 0.0)
+
+    def penetration(self, d: float) -> tuple[np.ndarray, np.ndarray]:
+        """The uniform mode's penetration of every pillar at d (tip below the mean surface > 0), and its slope."""
+        model = self.model
+        ua = self.surface[:, 0] / model.force
+        ub = self.surface[:, 1] / model.force
+        wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)
+        wb = model.g - model.tip_deflection(self.beta[:, 0], self.attached)
+        slope = wa - ua
+        return d * slope - (wb - ub), slope
+
+    def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
+        model = self.model
+        n = model.n
+        pressure = np.zeros(n * n)
+        contact = np.zeros(n * n, dtype=bool)
+        on = self.attached[:, None] & model.raster
+        if kind != "separated" and on.any():
+            p = self.pressures(self.amplitudes(d))
+            pressure[model.slots[on]] = p[on]
+            contact[model.slots[on]] = True
+        force = float(model.h2 * pressure.sum())
+        solves, self._reported = self.solves - self._reported, self.solves
+        return State(displacement=float(d), force=force, contact_area=model.h2 * int(np.count_nonzero(on)),
+                     attached_pillars=int(np.count_nonzero(self.attached)), loading=loading, kind=kind,
+                     trial_force=force, cg_iterations=0, n_solves=solves, converged=converged, reason=reason,
+                     pressure=pressure.reshape(n, n), contact=contact.reshape(n, n))
+
+    # -- changes -------------------------------------------------------------
+    def attach(self, p: int) -> None:
+        self.model.set_raster(p, self.model.full[p])
+        if self.model.coupling == "local":
+            self.solver.add(p)
+        else:
+            self.attached[p] = True
+
+    def attach_many(self, pillars: np.ndarray) -> None:
+        """Several pillars join at once (one factorisation instead of one update each)."""
+        for p in pillars:
+            self.model.set_raster(int(p), self.model.full[p])
+        self.attached[pillars] = True
+        if self.model.coupling == "local":
+            self.solver.refactor()
+
+    def detach(self, p: int) -> None:
+        if self.model.coupling == "local":
+            self.solver.remove(p)
+        else:
+            self.attached[p] = False
+        self.model.set_raster(p, self.model.full[p])
+
+    def reshape(self, p: int, mask: np.ndarray) -> None:
+        if self.model.coupling == "local":
+            self.solver.remove(p)
+            self.model.set_raster(p, mask)
+            self.solver.add(p)
+        else:
+            self.model.set_raster(p, mask)
+
+    def local_amplitudes(self, p: int, mask: np.ndarray, frozen: np.ndarray, x: np.ndarray,
+                         d: float) -> tuple[np.ndarray, Basis]:
+        """Pillar p's amplitudes on the raster ``mask``, the pillars ``frozen`` held at the amplitudes ``x``."""
+        model = self.model
+        others, blocks, basis = model.blocks(p, mask)
+        keep = frozen[others]
+        others, blocks = others[keep], blocks[keep]
+        s = basis.force
+        compliance = 0.0
+        siblings = 0.0
+        for cluster, stiffness in model.levels:
+            c = cluster[p]
+            compliance += model.h2 / stiffness[c]
+            same = others[cluster[others] == c]
+            siblings += model.h2 / stiffness[c] * float(np.sum(model.force[same] * x[same, 0]))
+        if model.coupling == "full":
+            A = np.diag(basis.gram).copy()
+            A[0, 0] += compliance * s * s
+            rhs = -np.einsum("jab,jb->a", blocks, x[others])
+            rhs[0] += s * (d - model.g[p]) - s * siblings
+            return np.linalg.solve(A, rhs), basis
+        a = np.zeros(model.m)
+        rhs0 = s * (d - model.g[p]) - s * siblings - blocks[:, 0, 0] @ x[others, 0]
+        a[0] = rhs0 / (basis.gram[0] + compliance * s * s)
+        if model.m > 1:
+            a[1:] = -(blocks[:, 1:, 0].T @ x[others, 0]) / basis.gram[1:]
+        return a, basis
+
+    def peeled(self, p: int, leave: np.ndarray, frozen: np.ndarray, x: np.ndarray, d: float) -> np.ndarray:
+        """The raster that pillar p keeps after losing the slots ``leave`` and peeling on its own.
+
+        The pillars ``frozen`` stay at the amplitudes ``x`` (the element path's local cascade); the model
+        is not changed (the caller installs the result).  An empty mask: the pillar comes off.
+        """
+        model = self.model
+        mask = model.raster[p] & ~leave
+        if not model.peel:
+            return np.zeros_like(mask)
+        while mask.any():
+            a, basis = self.local_amplitudes(p, mask, frozen, x, d)
+            pressure = basis.phi @ a
+            tense = pressure < -model.critical * (1 + 1e-10) if model.critical > 0 else pressure < 0
+            if not tense.any():
+                break
+            slots = np.flatnonzero(mask)
+            mask = mask.copy()
+            mask[slots[tense]] = False
+        return mask
+
+    def peel_all(self, hits: list[tuple[int, np.ndarray]], x: np.ndarray, d: float) -> None:
+        """Every hit pillar peels on its own against the state before any of them moved; then all are installed."""
+        frozen = self.attached.copy()
+        outcome = [(p, self.peeled(p, leave, frozen, x, d)) for p, leave in hits]
+        for p, mask in outcome:
+            if mask.any():
+                self.reshape(p, mask)
+            else:
+                self.detach(p)
+
+    def cascade(self, d: float, loading: bool) -> None:
+        """Rounds at d: solve, peel every pillar beyond the criterion, let touching pillars in; until stable."""
+        model = self.model
+        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
+        for _ in range(10 * model.M + 100):
+            self.solve()
+            x = self.amplitudes(d)
+            p = self.pressures(x)
+            on = self.attached[:, None] & model.raster
+            tense = on & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
+            hit = np.flatnonzero(tense.any(axis=1))
+            if hit.size:
+                self.peel_all([(int(q), tense[q]) for q in hit], x, d)
+                continue
+            free = ~self.attached
+            if free.any():
+                penetration, _ = self.penetration(d)
+                joining = np.flatnonzero(free & (penetration > tolerance))
+                if joining.size:
+                    for q in joining:
+                        self.attach(int(q))
+                    continue
+            return
+        raise RuntimeError(f"the cascade at d = {d:.6g} did not settle")
+
+
+def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic", coupling: str = "local",
+             peel: bool = True, near: float | None = None) -> Iterator[State]:
+    """The states of a press-and-pull-off in the pillar model (module docstring), as `paths.pull_off` yields them.
+
+    ``modes``, ``coupling``, ``peel`` and ``near`` select the model's
+    variants (the defaults meet the accuracy of the module docstring).
+    """
+    check_applicable(problem, path)
+    lowest = problem.indenter.lowest_height
+    if path.preload_displacement is not None and path.preload_displacement <= lowest:
+        raise ValueError(
+            f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
+            "the height of the indenter's lowest element (where it first touches)"
+        )
+    model = PillarModel(problem, modes=modes, coupling=coupling, peel=peel, near=near)
+    yield from _run(_Path(model, path), path)
+
+
+def _run(run: _Path, path: LoadPath) -> Iterator[State]:
+    model = run.model
+    lowest = float(model.g.min())
+    d = lowest
+    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12 * max(abs(lowest), 1.0)))
+    run.solve()
+    loading = True
+    yield run.state(d, True, "equilibrium", "first touch")
+    if path.preload_displacement is not None and d >= path.preload_displacement:
+        loading = False
+    steps = 0
+    while True:
+        steps += 1
+        if steps > path.max_steps:
+            yield run.state(d, loading, "equilibrium", f"protocol.max_steps = {path.max_steps} reached before the "
+                            "end of the branch", converged=False)
+            return
+        direction = 1.0 if loading else -1.0
+        x = run.amplitudes(d)
+        p = run.pressures(x)
+        rate = direction * run.pressures(run.alpha)
+        on = run.attached[:, None] & model.raster
+        grows = on & (rate < 0)
+        t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
+        t_detach = np.maximum(t_detach, 0.0)
+        t_det = float(t_detach.min()) if grows.any() else math.inf
+        free = ~run.attached
+        t_attach = np.full(model.M, np.inf)
+        if free.any():
+            penetration, slope = run.penetration(d)
+            closing = free & (direction * slope > 0)
+            t_attach = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
+            t_attach = np.maximum(t_attach, 0.0)
+        t_att = float(t_attach.min())
+        t_target = math.inf
+        if loading:
+            if path.preload_displacement is not None:
+                t_target = path.preload_displacement - d
+            else:
+                rate_f = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
+                if rate_f > 0:
+                    t_target = (path.preload_force - run.force(d)) / rate_f
+        t = min(t_det, t_att, t_target)
+        if not math.isfinite(t):
+            yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
+                            "detaches)", converged=False)
+            return
+        t = max(t, 0.0)
+        tie = 100.0 * path.tolerance * (abs(d) + t) + 1e-300
+        new_d = d + direction * t
+        if loading and t_target <= t + tie and t_target + tie < min(t_det, t_att):
+            d = new_d
+            yield run.state(d, True, "equilibrium", "preload reached")
+            loading = False
+            steps = 0
+            continue
+        x = run.amplitudes(new_d)
+        yield run.state(new_d, loading, "event", "event")
+        d = new_d
+        leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
+        run.peel_all([(int(q), t_detach[q] <= t + tie) for q in leaving], x, d)
+        if t_att <= t + tie:
+            for q in np.flatnonzero(t_attach <= t + tie):
+                if not run.attached[q]:
+                    run.attach(int(q))
+        run.cascade(d, loading)
+        if not run.attached.any() and not loading:
+            yield run.state(d, False, "separated", "complete separation")
+            return
+        yield run.state(d, loading, "equilibrium", "cascade")
+        if loading and (run.force(d) >= path.preload_force * (1 - 1e-9) if path.preload_force is not None
+                        else d >= path.preload_displacement * (1 - 1e-12)):
+            loading = False
+            steps = 0
