@@ -33,12 +33,12 @@ run: $(VENV)/.installed
 # chromium when no such browser is on PATH (as root, with apt-get), else warn
 # (the test is then skipped, or fails when BRUSHBEM_REQUIRE_CHROMIUM is set).
 test: $(VENV)/.installed-test chromium
-	$(VENV)/bin/python -m pytest -q
+	$(VENV)/bin/python -m pytest -q -n auto
 
 # The tests not marked slow (the physics against closed forms on small grids, the
-# configuration, the CLI): about a minute; `make test` runs everything.
+# configuration, the CLI), on every core (pytest-xdist); `make test` runs everything.
 test-fast: $(VENV)/.installed-test
-	$(VENV)/bin/python -m pytest -q -m "not slow" -p no:cacheprovider
+	$(VENV)/bin/python -m pytest -q -n auto -m "not slow" -p no:cacheprovider
 
 # The documentation site into out/site (warnings are errors); open out/site/index.html.
 docs: $(VENV)/.installed-docs

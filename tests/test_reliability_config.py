@@ -271,13 +271,42 @@ def test_the_base_documents_cover_every_numeric_key_of_the_schema(folder):
 # -- every numeric key, every bad value -------------------------------------------
 
 
+def key_of(loc: tuple) -> str:
+    """The schema key at ``loc`` (a level's index dropped: every level has the same keys)."""
+    return re.sub(r"\.\d+\.", ".", dotted(loc))
+
+
+def _locations() -> dict[str, list[tuple[str, tuple]]]:
+    """Schema key -> every (base, location) of it in the base documents, in document order."""
+    found: dict[str, list[tuple[str, tuple]]] = {}
+    for base, document in BASES.items():
+        for loc in numeric_keys(document):
+            found.setdefault(key_of(loc), []).append((base, loc))
+    return found
+
+
 def _cases(values: dict[str, Any]) -> list[Any]:
+    """Each numeric key once with each kind of value.
+
+    A key found in several base documents (or levels) takes them in turn, kind
+    after kind, so every place a key is read is attacked too whenever there are
+    at least as many kinds as places.
+    """
     return [
-        pytest.param(base, loc, value, id=f"{base}:{dotted(loc)}={label}")
-        for base, document in BASES.items()
-        for loc in numeric_keys(document)
-        for label, value in values.items()
+        pytest.param(*places[i % len(places)], value, id=f"{key}={label}")
+        for key, places in _locations().items()
+        for i, (label, value) in enumerate(values.items())
     ]
+
+
+def test_each_key_meets_each_kind_of_value_and_every_place_of_a_key_is_attacked():
+    """The lists below hold every (key, kind) pair once; no base document's number is left unattacked."""
+    for values in (REFUSED_ALONE, PLAUSIBLE):
+        cases = [param.values for param in _cases(values)]
+        pairs = {(key_of(loc), repr(value)) for _, loc, value in cases}
+        assert len(pairs) == len(cases) == len(_locations()) * len(values)
+    attacked = {(base, loc) for base, loc, _ in (param.values for param in _cases(REFUSED_ALONE))}
+    assert attacked == {(base, loc) for base, document in BASES.items() for loc in numeric_keys(document)}
 
 
 @pytest.mark.parametrize(("base", "loc", "value"), _cases(REFUSED_ALONE))

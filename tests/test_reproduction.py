@@ -8,12 +8,14 @@ alone.  The committed ``docs/thesis-comparison.md`` must be what the committed
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import json
 import math
 import re
 import statistics
 from pathlib import Path
+from types import SimpleNamespace
 
 import pandas as pd
 import pytest
@@ -220,15 +222,26 @@ def test_a_study_report_shows_the_explanation_beside_an_amber_number():
     assert "see docs/thesis-comparison.md" in _explanation("concave", "")
 
 
+def _figure_links() -> dict[str, list[str]]:
+    """Study -> its committed figures under docs/figures, as the comparison links them."""
+    document = DOCS / "thesis-comparison.md"
+    return {folder.name: [path.relative_to(document.parent).as_posix() for path in sorted(folder.glob("*.png"))]
+            for folder in sorted((DOCS / "figures").iterdir()) if folder.is_dir()}
+
+
+@pytest.mark.slow  # recomputes every number of the committed tables and draws their figures
 def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):
-    """The document, its figure links, and the figures themselves all follow from the tables."""
-    tables = ROOT / "docs" / "reproduction"
-    document = ROOT / "docs" / "thesis-comparison.md"
-    figures = ROOT / "docs" / "figures"
+    """The document, its figure links, and the figures themselves all follow from the tables.
+
+    In the slow suite: every number is recomputed (about a minute).  The fast suite keeps
+    `test_the_committed_comparison_follows_the_committed_tables`: the document's every other
+    line, and a stamp that ties each study's rows to its tables.
+    """
+    tables = DOCS / "reproduction"
+    document = DOCS / "thesis-comparison.md"
+    figures = DOCS / "figures"
     committed = {folder.name: sorted(folder.glob("*.png")) for folder in sorted(figures.iterdir()) if folder.is_dir()}
-    links = {name: [path.relative_to(document.parent).as_posix() for path in paths]
-             for name, paths in committed.items()}
-    assert document.read_text(encoding="utf-8") == comparison_document(tables, links), (
+    assert document.read_text(encoding="utf-8") == comparison_document(tables, _figure_links()), (
         "docs/thesis-comparison.md is out of date: run brushbem compare-thesis docs/reproduction "
         "--out docs/thesis-comparison.md --figures docs/figures"
     )
@@ -237,6 +250,96 @@ def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):
     assert {name: sorted(p.name for p in paths) for name, paths in drawn.items()} == {
         name: sorted(p.name for p in paths) for name, paths in committed.items()}
     assert all(path.stat().st_size > 10_000 for paths in drawn.values() for path in paths)
+
+
+# Per study, the first 12 hex digits of the SHA-256 of its committed part tables (in the order of its
+# provenance) followed by its rows in docs/thesis-comparison.md: the rows as last recomputed from those
+# tables by the slow test above.  New tables or new rows change it: run that test, then record the new
+# value here.
+COMPARISON_STAMP = {
+    "concave": "93e4617e7be0",
+    "flat_brush": "9ee7da80237d",
+    "hierarchy": "6a01d9e8e031",
+    "punch_spring": "648c4b61ebf1",
+    "rough_brush": "8d598bec9fef",
+    "sphere_spring": "b3e61e93bc4e",
+}
+
+
+def _study_rows(document: str) -> dict[str, list[str]]:
+    """Study -> the lines of its rows (below ``| quantity | where | ...``) in the comparison document."""
+    rows: dict[str, list[str]] = {}
+    study = None
+    for line in document.splitlines():
+        if line.startswith("## "):
+            match = re.match(r"## `(\w+)`", line)
+            study = match.group(1) if match else None
+        elif study and line.startswith("| quantity | where |"):
+            rows[study] = []
+        elif study in rows and line.startswith("| ") and not line.startswith("| ---"):
+            rows[study].append(line)
+    return rows
+
+
+def _stamp(tables: Path, study: str, rows: list[str]) -> str:
+    digest = hashlib.sha256()
+    provenance = json.loads((tables / study / "provenance.json").read_text(encoding="utf-8"))
+    for part in provenance["parts"]:
+        digest.update((tables / study / f"{part}.csv").read_bytes())
+    digest.update("\n".join(rows).encode())
+    return digest.hexdigest()[:12]
+
+
+def _cells(line: str) -> list[str]:
+    return [cell.strip() for cell in re.split(r"(?<!\\)\|", line)[1:-1]]
+
+
+def test_the_committed_comparison_follows_the_committed_tables():
+    """docs/thesis-comparison.md, but for the numbers of its rows, is what its inputs give, line for line.
+
+    The document is rendered from the committed provenances, notes and figure links with each
+    study's declared numbers left uncomputed: every line must be the committed one, but the
+    computed cells (ours, standard error, deviation, verdict, and a row's link to the notes,
+    which follows them) and the verdict counts.  Those cells are tied to the part tables by
+    `COMPARISON_STAMP`; the slow test above recomputes them.
+    """
+    from brushbem.studies import get_study
+
+    tables = DOCS / "reproduction"
+    document = (DOCS / "thesis-comparison.md").read_text(encoding="utf-8")
+    provenances, rows = {}, []
+    for folder in sorted(p for p in tables.iterdir() if (p / "provenance.json").is_file()):
+        provenance = json.loads((folder / "provenance.json").read_text(encoding="utf-8"))
+        study = get_study(provenance["study"])
+        provenances[study.name] = provenance
+        rows += [ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), math.nan, math.nan,
+                               0, "", number.verdict, number.evidence, number.claim) for number in study.numbers]
+    skeleton = render(rows, provenances, (tables / "notes.md").read_text(encoding="utf-8"), _figure_links())
+    ours, theirs = document.splitlines(), skeleton.splitlines()
+    assert len(ours) == len(theirs), (
+        "docs/thesis-comparison.md does not have the studies, parts, rows or notes the tables give: run "
+        "brushbem compare-thesis docs/reproduction --out docs/thesis-comparison.md --figures docs/figures")
+    table = None  # the table a line is in: "counts" (of verdicts per chapter), "rows" (a study's numbers)
+    for number, (line, expected) in enumerate(zip(ours, theirs, strict=True), start=1):
+        if expected.startswith("| chapter |"):
+            table = "counts"
+        elif expected.startswith("| quantity | where |"):
+            table = "rows"
+        elif not expected.startswith("|"):
+            table = None
+        if table and not expected.startswith(("| chapter |", "| quantity |", "| ---")):
+            given, rendered = _cells(line), _cells(expected)
+            if table == "counts":  # the chapter and its row count; the verdicts' counts follow the verdicts
+                assert (given[0], given[-1]) == (rendered[0], rendered[-1]), (number, line)
+            else:  # quantity, where, thesis
+                assert given[:3] == rendered[:3], (number, line)
+        else:
+            assert line == expected, (number, line, expected)
+    stamps = {study: _stamp(tables, study, lines) for study, lines in _study_rows(document).items()}
+    assert stamps == COMPARISON_STAMP, (
+        "the tables or the rows of " + ", ".join(sorted(s for s in stamps if stamps[s] != COMPARISON_STAMP.get(s)))
+        + " are not those last checked: regenerate docs/thesis-comparison.md (brushbem compare-thesis), run "
+        "pytest -m slow -k committed_comparison, then record COMPARISON_STAMP = " + repr(stamps))
 
 
 def test_the_committed_studies_beyond_the_thesis_draw_their_figures(tmp_path):
@@ -377,6 +480,26 @@ def test_committed_tables_keep_their_case_ids():
     assert checked >= 7  # the thesis's studies and the robustness study (lengths files: ids by content)
 
 
+def _sweep_cases(path: Path) -> SimpleNamespace:
+    """A sweep file's base and cases (values, realisation, an id unique in the file), read, not validated.
+
+    What `brushbem.sweep.load_sweep` expands a file to, without validating each case (a brush
+    rasterised per case): for the tests that need only the points.
+    """
+    import tomllib
+
+    spec = tomllib.loads(path.read_text(encoding="utf-8"))
+    keys = list(spec["sweep"])
+    combine = itertools.product if spec.get("mode", "zip") == "product" else zip
+    points = [dict(zip(keys, values)) for values in combine(*spec["sweep"].values())]
+    base = spec["base"]
+    if not isinstance(base, dict):
+        base = tomllib.loads((path.parent / base).read_text(encoding="utf-8"))
+    cases = [SimpleNamespace(case_id=f"{realization}-{index}", realization=realization, values=values)
+             for realization in range(spec.get("realizations", 1)) for index, values in enumerate(points)]
+    return SimpleNamespace(base=base, cases=cases)
+
+
 def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     """Each chapter-6 number is computable from the cases of its sampled files.
 
@@ -388,10 +511,12 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     carries those four rows and no plateau, the ``rough`` set the sigma~ = 2.5
     rows, and the ``stiffness`` set, with the plateau files' sigma~ = 0.04, the
     rows of Fig. 6-7 b and 6-8 b.
+
+    The cases are the files' points times their realisations, read from the TOML (that every
+    case of a sampled file validates is `test_committed_tables_keep_their_case_ids`, slow).
     """
     from brushbem.studies import get_study
     from brushbem.studies.base import SWEEPS_DIR
-    from brushbem.sweep import load_sweep
 
     f_c, d_c = 0.00331177, 0.00293498  # the hierarchy sweeps' header
     level_factor = {"one": 1.0, "two": 1.5, "three": 2.0}  # so a ratio of levels is told from 1
@@ -410,7 +535,7 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     def tables(kind: str, parts=("one", "two", "three")) -> dict[str, pd.DataFrame]:
         found = {}
         for part in parts:
-            sweep = load_sweep(SWEEPS_DIR / f"hierarchy.{part}.{kind}toml")
+            sweep = _sweep_cases(SWEEPS_DIR / f"hierarchy.{part}.{kind}toml")
             preload = sweep.base.get("protocol", {}).get("preload_force")
             found[part] = pd.DataFrame([{
                 "case_id": case.case_id, "status": "finished", "realization": case.realization,
@@ -469,7 +594,6 @@ def test_the_hierarchy_sampled_sweeps_carry_the_chapter_6_numbers():
     assert [n.compute(sets["plateaus and stiffness"]) for n in stiffness] == pytest.approx([1e-3, 0.5, 0.8 / 0.96], rel=1e-3)
 
 
-@pytest.mark.slow  # expands the 2 310 sampled cases
 def test_the_rough_brush_sampled_sweep_carries_every_chapter_5_number():
     """Every chapter-5 number is computable from the sampled file's cases, and Table 1 comes back.
 
@@ -479,15 +603,15 @@ def test_the_rough_brush_sampled_sweep_carries_every_chapter_5_number():
     Computed from it, Table 1's alpha and sigma~_c must return to 1e-9: the
     sampled points lie in the linear region (the rule of make_sampled.py), so
     the fit of eq. 5.8 through them is exact.  The plateaus must come back too.
+    The 2 310 cases are read from the TOML, as in the chapter-6 test above.
     """
     from brushbem.studies import get_study
     from brushbem.studies.base import SWEEPS_DIR
     from brushbem.studies.rough_brush import TABLE_1
-    from brushbem.sweep import load_sweep
 
     f_c, d_c = 0.00849802, 0.00753117  # the sweep's header
     rows = []
-    for case in load_sweep(SWEEPS_DIR / "rough_brush.preload.sampled.toml").cases:
+    for case in _sweep_cases(SWEEPS_DIR / "rough_brush.preload.sampled.toml").cases:
         k = case.values["indenter.stiffness_ratio"]
         sigma = case.values["indenter.roughness.sigma"] / d_c
         preload = case.values["protocol.preload_force"] / f_c
@@ -526,20 +650,59 @@ def test_a_run_in_progress_says_so_and_counts_its_begun_realisations():
     assert "in progress" not in text and "| 20 (20 finished) | 10 |" in text
 
 
-def test_a_row_is_planned_from_the_cases_its_number_reads():
+# The parts of the committed tables that the rows planned below read.  A row's plan is a function
+# of the tables of the parts its number reads: the points of the other parts are left out one by
+# one and none of them is a runner-up, as they do not move the number.  So these give the plans of
+# the whole committed tables, without the leave-one-out over every other part's points
+# (`test_a_plan_is_that_of_the_parts_its_number_reads`, in the slow suite, compares the two).
+ROW_PARTS = {"punch_spring": ["stiffness"], "flat_brush": ["regular"], "concave": ["amplification"],
+             "hierarchy": ["one"]}
+PLANNED_ROWS = [("punch_spring", "w~ of a punch at k~ = 0.3", {}), ("flat_brush", "exponent of F~_A against N", {}),
+                ("concave", "h~ at max F~_A, phi = 0.06", {}), ("concave", "h~ at max F~_A, phi = 0.06", {"rivals": 0}),
+                ("hierarchy", "plateau F~_A of one level, sigma~ = 0.04", {}),
+                ("hierarchy", "plateau F~_A of one level, sigma~ = 0.04", {"realizations": 1})]
+
+
+@pytest.fixture(scope="module")
+def row_tables(tmp_path_factory) -> Path:
+    """A tables folder with the committed tables of `ROW_PARTS` (their provenance listing only those)."""
+    import shutil
+
+    root = tmp_path_factory.mktemp("row_tables")
+    for study, parts in ROW_PARTS.items():
+        provenance = json.loads((DOCS / "reproduction" / study / "provenance.json").read_text(encoding="utf-8"))
+        provenance["parts"] = {part: provenance["parts"][part] for part in parts}
+        (root / study).mkdir()
+        (root / study / "provenance.json").write_text(json.dumps(provenance), encoding="utf-8")
+        for part in parts:
+            shutil.copyfile(DOCS / "reproduction" / study / f"{part}.csv", root / study / f"{part}.csv")
+    return root
+
+
+@pytest.mark.slow  # plans each row on the whole committed tables (about 40 s)
+def test_a_plan_is_that_of_the_parts_its_number_reads(row_tables):
+    """The rows planned in the fast tests below are planned alike from the parts they read and from all."""
+    from brushbem.reproduction import plan_row
+
+    for study, quantity, options in PLANNED_ROWS:
+        assert plan_row(row_tables, study, quantity, **options) == plan_row(DOCS / "reproduction", study, quantity,
+                                                                            **options), (study, quantity, options)
+
+
+def test_a_row_is_planned_from_the_cases_its_number_reads(row_tables):
     """plan_row keeps only the points the number needs: one punch, the four plateau lattices."""
     from brushbem.reproduction import plan_row
 
-    plan = plan_row(DOCS / "reproduction", "punch_spring", "w~ of a punch at k~ = 0.3")
+    plan = plan_row(row_tables, "punch_spring", "w~ of a punch at k~ = 0.3")
     assert plan.points == {"stiffness": [{"indenter.stiffness": 0.18}]} and plan.cases == 1
-    exponent = plan_row(DOCS / "reproduction", "flat_brush", "exponent of F~_A against N")
+    exponent = plan_row(row_tables, "flat_brush", "exponent of F~_A against N")
     lattices = sorted(point["indenter.pillars_per_side"] for point in exponent.points["regular"])
     assert lattices == [8, 16, 24, 48]  # eq. 4.10's fit over the four brushes, at the smallest k~
     assert {point["indenter.stiffness_ratio"] for point in exponent.points["regular"]} == {1e-6}
     assert exponent.recorded_seconds > 0 and len(exponent.case_hashes["regular"]) == 4
 
 
-def test_a_maximum_is_recomputed_with_its_runners_up():
+def test_a_maximum_is_recomputed_with_its_runners_up(row_tables):
     """The position of chapter 7's maximum is planned with the next-largest points, each within 2 % of it.
 
     Without them the recomputed argmax of one point would agree by construction.
@@ -547,7 +710,7 @@ def test_a_maximum_is_recomputed_with_its_runners_up():
     from brushbem.reproduction import RIVAL_STEPS, load_tables, plan_row
     from brushbem.studies.concave import FIS, H
 
-    plan = plan_row(DOCS / "reproduction", "concave", "h~ at max F~_A, phi = 0.06")
+    plan = plan_row(row_tables, "concave", "h~ at max F~_A, phi = 0.06")
     points, rivals = plan.points["amplification"], plan.rivals["amplification"]
     read = [point for point in points if point not in rivals]
     assert len(read) == 1 and read[0][H] == plan.committed and 1 <= len(rivals) <= 2
@@ -563,7 +726,7 @@ def test_a_maximum_is_recomputed_with_its_runners_up():
     for rival in rivals:
         assert 0 < 1 - force(rival) / force(read[0]) <= RIVAL_STEPS[-1]
     assert plan.cases == len(points)
-    alone = plan_row(DOCS / "reproduction", "concave", "h~ at max F~_A, phi = 0.06", rivals=0)
+    alone = plan_row(row_tables, "concave", "h~ at max F~_A, phi = 0.06", rivals=0)
     assert alone.points["amplification"] == read and alone.rivals == {"amplification": []}
 
 
@@ -585,13 +748,13 @@ def test_runners_up_are_the_points_a_small_change_would_make_the_maximum():
     assert _rivals(number, {"p": frame}, point_of, others, 0.1, 0) == set()
 
 
-def test_a_row_of_ten_seeds_is_checked_on_its_first_seed():
+def test_a_row_of_ten_seeds_is_checked_on_its_first_seed(row_tables):
     """With --realizations 1 the plan's number is the first seed's (a cell of the committed table), not ten seeds'."""
     from brushbem.reproduction import case_hash, load_tables, plan_row
 
     quantity = "plateau F~_A of one level, sigma~ = 0.04"
-    every = plan_row(DOCS / "reproduction", "hierarchy", quantity)
-    first = plan_row(DOCS / "reproduction", "hierarchy", quantity, realizations=1)
+    every = plan_row(row_tables, "hierarchy", quantity)
+    first = plan_row(row_tables, "hierarchy", quantity, realizations=1)
     assert every.realizations == 10 and first.realizations == 1 and first.cases * 10 == every.cases
     assert first.every_seed == every.committed == every.every_seed and first.committed != every.committed
     _, tables = load_tables(DOCS / "reproduction" / "hierarchy")
@@ -602,17 +765,17 @@ def test_a_row_of_ten_seeds_is_checked_on_its_first_seed():
     assert any(math.isclose(cell, first.committed, rel_tol=1e-12) for cell in cells)  # one seed: no mean
 
 
-def test_a_row_that_cannot_be_recomputed_says_why():
+def test_a_row_that_cannot_be_recomputed_says_why(row_tables):
     from brushbem.reproduction import ReproduceError, plan_row
 
     with pytest.raises(ReproduceError, match="no quantities match 'nothing'; its quantities: 'w~ of a punch"):
-        plan_row(DOCS / "reproduction", "punch_spring", "nothing")
+        plan_row(row_tables, "punch_spring", "nothing")
     with pytest.raises(ReproduceError, match="2 quantities match"):
-        plan_row(DOCS / "reproduction", "concave", "max F~_A, phi = 0.06")  # also "h~ at max F~_A, ..."
+        plan_row(row_tables, "concave", "max F~_A, phi = 0.06")  # also "h~ at max F~_A, ..."
     with pytest.raises(ReproduceError, match="unknown study 'nope'"):
-        plan_row(DOCS / "reproduction", "nope", "x")
+        plan_row(row_tables, "nope", "x")
     with pytest.raises(ReproduceError, match="a closed form"):
-        plan_row(DOCS / "reproduction", "hierarchy", "k~2 = k~1/phi1")
+        plan_row(row_tables, "hierarchy", "k~2 = k~1/phi1")
 
 
 @pytest.mark.slow  # one N = 256 punch pull-off
@@ -678,10 +841,10 @@ def test_the_plateau_is_the_mean_of_every_seeds_largest_force():
     assert coeff.loc[1, "plateau"] == pytest.approx(statistics.mean([1.2, 0.9, 0.9]), rel=1e-15)
 
 
-def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(tmp_path):
+def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(row_tables):
     from brushbem.cli import main
 
-    tables = ["--tables", str(DOCS / "reproduction")]
+    tables = ["--tables", str(row_tables)]
     result = CliRunner().invoke(main, ["reproduce", "flat_brush", "exponent of F~_A", "--dry-run", *tables])
     assert result.exit_code == 0, result.output
     assert "part regular (flat_brush.regular.toml): 4 point(s)" in result.output

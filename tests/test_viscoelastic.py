@@ -22,6 +22,7 @@ Grids are quick grids (N = 64): they test the machinery.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import math
 import textwrap
@@ -45,6 +46,7 @@ TAU = 1.0
 MODELS = {"kelvin_voigt": None, "standard_linear_solid": 3.0}
 
 
+@functools.cache  # the elastic punch is the reference of several tests: pulled off once
 def _run(rheology: Viscoelastic | None, speed: float | None, step: float = 5e-4, stiffness: float = STIFFNESS):
     punch = flat_punch(GRID, RADIUS, stiffness)
     if rheology is not None:
