@@ -108,7 +108,8 @@ def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None
     return xp.fft.irfftn(product, s=(long_rows, long_cols), axes=(-2, -1))[..., :rows, :cols]
 
 
-def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: tuple[int, int]):
+def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: tuple[int, int],
+                            out_rows: int | None = None):
     """`padded_convolution` of an array that vanishes outside the rows ``row_index``, kept on those rows.
 
     ``rows_values`` (k, m2) holds rows ``row_index`` (k sorted indices into the
@@ -118,9 +119,12 @@ def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: 
     the columns see every padded row.  For a brush, whose pillars cover a
     third of the rows of their window, that skips about two thirds of the
     real-transform work of ``padded_convolution`` and the padded copies.
+    With ``out_rows`` = m1 it returns the deflection on the whole window
+    instead, (m1, m2): only the forward transforms skip the empty rows.
     """
     long_rows, long_cols = padded_shape
     cols = rows_values.shape[-1]
+    kept = row_index if out_rows is None else slice(0, out_rows)
     if is_numpy_namespace(xp):
         workers = fft_workers(long_rows * long_cols)
         rows_spectrum = scipy.fft.rfft(rows_values, n=long_cols, axis=-1, workers=workers)
@@ -129,13 +133,13 @@ def padded_convolution_rows(xp, rows_values, row_index, spectrum, padded_shape: 
         product = scipy.fft.fft(product, axis=-2, workers=workers, overwrite_x=True)
         product *= spectrum
         product = scipy.fft.ifft(product, axis=-2, workers=workers, overwrite_x=True)
-        return scipy.fft.irfft(product[row_index], n=long_cols, axis=-1, workers=workers)[..., :cols]
+        return scipy.fft.irfft(product[kept], n=long_cols, axis=-1, workers=workers)[..., :cols]
     rows_spectrum = xp.fft.rfft(rows_values, n=long_cols, axis=-1)
     product = xp.zeros((long_rows, rows_spectrum.shape[-1]), dtype=rows_spectrum.dtype)
     product[row_index, :] = rows_spectrum
     product = xp.fft.fft(product, axis=-2) * spectrum
     product = xp.fft.ifft(product, axis=-2)
-    return xp.fft.irfft(product[row_index, :], n=long_cols, axis=-1)[..., :cols]
+    return xp.fft.irfft(product[kept, :], n=long_cols, axis=-1)[..., :cols]
 
 
 def smooth_length(size: int) -> int:

@@ -108,6 +108,7 @@ class HalfSpace:
     _spectra: dict = field(default_factory=dict, repr=False)
     _blocks: dict = field(default_factory=dict, repr=False)
     _block_bytes: int = field(default=0, repr=False)
+    _host_table: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         if self.elements < 1:
@@ -286,7 +287,12 @@ class HalfSpace:
         """K restricted to the elements at ``offsets`` (k x 2 ints): the dense k x k block (host, float64)."""
         offsets = np.asarray(offsets, dtype=np.int64)
         span = offsets.max(axis=0) - offsets.min(axis=0) + 1
-        table = np.asarray(backend.to_numpy(self.kernel(int(span[0]), int(span[1]))))
+        table = self._host_table
+        if table is None or table.shape[0] < span[0] or table.shape[1] < span[1]:
+            # Each coefficient is evaluated on its own, so a larger table holds the same values.
+            side = max(int(span.max()), 32, 0 if table is None else max(table.shape))
+            table = np.asarray(backend.to_numpy(self.kernel(side, side)))
+            self._host_table = table
         di = np.abs(offsets[:, None, 0] - offsets[None, :, 0])
         dj = np.abs(offsets[:, None, 1] - offsets[None, :, 1])
         return table[di, dj]

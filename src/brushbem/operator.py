@@ -149,8 +149,11 @@ class PillarCache:
         (springs + point-load coupling, springs only): the pillars' dense
         compliance matrices over all pillars.
     coarse : tuple or None
-        (Cholesky factor, the pillars it was made for, their stiffnesses) of
-        the last coarse matrix, reused while it stays valid.
+        (its solve, the pillars it was made for, their stiffnesses) of the
+        last coarse matrix, reused while it stays valid.
+    coarse_base : object or None
+        The last Cholesky factor of a coarse matrix, through which the
+        matrices near it are solved (`brushbem.solver.preconditioners`).
     blocks : dict
         Pillar -> (grid offsets of its last contact, inverse of its half-space
         block): the parent a shrinking contact is downdated from.
@@ -161,6 +164,7 @@ class PillarCache:
     centres: np.ndarray | None = None
     coupling: tuple | None = None
     coarse: tuple | None = None
+    coarse_base: object | None = None
     blocks: dict = field(default_factory=dict)
     signature: np.ndarray | None = None
 
@@ -210,6 +214,10 @@ class ContactOperator:
             )
         self._widths = _widths
         self._sub_operators: dict[Window, ContactOperator] = {}
+        #: (set, `ContactSystem`, preconditioner, the cache's coarse entry) of the last pillar-block solve.
+        self.set_solver: tuple | None = None
+        # (pressure, its tip deflection on the window) of the last solve that kept it (`remember_solution`).
+        self._solution: tuple | None = None
         rows, cols = window.shape
         spectrum = None
         if coupling == "discriminant":
@@ -325,7 +333,19 @@ class ContactOperator:
         The deflection that the penetration d - height - u is measured with
         (``deflection`` folds the springs into the spectrum for the
         discriminant coupling; on the footprint the two agree to round-off).
+        Of the solution of the last solve on this operator that kept it
+        (`remember_solution`), it is that solve's, without a transform.
         """
+        known = self._solution
+        if known is not None and known[0].shape == pressure.shape and bool(self.xp.all(known[0] == pressure)):
+            return self.xp.asarray(known[1], copy=True)
+        return self._tip_deflection(pressure)
+
+    def remember_solution(self, pressure, deflection) -> None:
+        """Keep ``deflection``, the tip deflection of ``pressure`` on the window, for `tip_deflection`."""
+        self._solution = (pressure, deflection)
+
+    def _tip_deflection(self, pressure):
         deflection = self.halfspace.apply(pressure, support=_support(self.xp, pressure))
         if self.springs:
             deflection = deflection + self.springs.apply(pressure)
@@ -344,7 +364,7 @@ class ContactOperator:
         loaded = mask & (values != 0)
         rows_at, cols_at = (np.asarray(backend.to_numpy(i)) for i in xp.nonzero(loaded))
         if rows_at.size > FEW_ELEMENTS:
-            return self.tip_deflection(xp.where(loaded, values, 0.0))
+            return self._tip_deflection(xp.where(loaded, values, 0.0))
         rows, cols = self.window.shape
         deflection = xp.zeros((rows, cols), dtype=xp.float64)
         if rows_at.size == 0:
@@ -448,6 +468,8 @@ class ContactSystem:
             self._springs = self.springs
         #: Pillar of every element of S (-1 off the pillars).
         self.pillars = np.asarray(backend.to_numpy(operator.pillar_labels)).ravel()[index]
+        #: Whether `apply_block` gives K v on the whole window (the springs are not in the spectrum).
+        self.gives_block_deflection = operator.spectrum is None
 
     @property
     def mask(self):
@@ -471,12 +493,25 @@ class ContactSystem:
 
     def apply(self, values):
         """A_S v for v on S (a vector of |S| values)."""
+        return self._apply(values, False)[0]
+
+    def apply_block(self, values):
+        """(A_S v on S, K v on the whole window) for v on S, when ``gives_block_deflection``.
+
+        K v is the half-space's deflection alone (no springs), window-shaped;
+        it costs the inverse transforms along the rows of the whole window
+        instead of those of S only.
+        """
+        return self._apply(values, True)
+
+    def _apply(self, values, whole: bool):
         xp = self.xp
         rows = xp.zeros(int(self._rows_np.size) * self.shape[1], dtype=values.dtype)
         rows[self._compact] = values
         rows = xp.reshape(rows, (int(self._rows_np.size), self.shape[1]))
-        deflection = backend.padded_convolution_rows(xp, rows, self._rows, self._spectrum, self._padded_shape)
-        out = xp.reshape(deflection, (-1,))[self._compact]
+        deflection = backend.padded_convolution_rows(xp, rows, self._rows, self._spectrum, self._padded_shape,
+                                                     out_rows=self.shape[0] if whole else None)
+        out = xp.reshape(deflection, (-1,))[self.index if whole else self._compact]
         if self._springs:
             out = self._springs.apply(values, out)
-        return out
+        return out, (deflection if whole else None)

@@ -91,6 +91,7 @@ def conjugate_gradient(
     tolerance: float = 1e-8,
     max_iterations: int = 10000,
     reference=None,
+    on_step=None,
 ) -> SolveResult:
     """Preconditioned CG for A_S x = rhs on the set S of ``operator``.
 
@@ -123,6 +124,10 @@ def conjugate_gradient(
         ||r|| <= ``tolerance`` x ``reference(x)``.  When that is below what
         double precision resolves against ||rhs|| (``ROUNDING_FLOOR`` x
         ||rhs||), the solve stops not converged, saying so.
+    on_step : callable, optional
+        ``on_step(step)`` after every update x += step * direction, the
+        direction being the last vector ``operator.apply`` was given: lets
+        the operator keep a product of x in step with x.
 
     Why one function: the iteration and its stopping tests (tolerance, reference norm, rounding floor,
     stagnation, limit) share the state x, r, z, p and the norms of every step; split, each piece would take
@@ -191,6 +196,8 @@ def conjugate_gradient(
             return SolveResult(x, False, reason, iteration, relative, tuple(history))
         step = rz / curvature
         x += step * direction
+        if on_step is not None:
+            on_step(step)
         residual -= step * a_direction
         relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
         history.append(relative)

@@ -319,10 +319,10 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
             z[elements] = local
             sums[members] = local.sum(axis=1)
         if coarse is not None:
-            factor, positions, reference, size = coarse
+            solve, positions, reference, size = coarse
             scaled = np.zeros(size)
             scaled[positions] = sums / reference
-            correction = sums / reference - scipy.linalg.cho_solve(factor, scaled, check_finite=False)[positions] / reference
+            correction = sums / reference - solve(scaled)[positions] / reference
             for elements, members, _, row_sums in blocks:
                 z[elements] -= correction[members][:, None] * row_sums[None, :]
         return xp.asarray(z)
@@ -336,24 +336,121 @@ _COARSE_STALE = 0.02
 _COARSE_DRIFT = 0.3
 #: Fewer pillars than this are refactorised for every contact set (a few ms).
 _COARSE_REUSE_MIN = 1024
+#: Most pillars by which T^-1 + H may differ from the last factorised one (pillars that left the
+#: contact set, or whose stiffness fell) for a solve through that factor and a correction of this
+#: rank (`_CoarseBase`); more, and it is factorised afresh.  0: every matrix is factorised.
+COARSE_UPDATE_RANK = 64
+#: ... and the largest fraction of the factorised pillars that may have left the contact set.
+_COARSE_UPDATE_SHRINK = 0.25
+
+
+class _CoarseBase:
+    """The Cholesky factor of M0 = T0^-1 + H on the pillars P0, and solves with the matrices near it.
+
+    Between two solves of a pull-off the coarse matrix changes on a few pillars
+    only: a pillar leaves the contact set (its row and column go) or loses
+    elements (its entry of T^-1 grows).  The matrix on the pillars S of P0
+    with the stiffnesses T is M = (M0 + E diag(delta) E^T)_SS, delta = T^-1 -
+    T0^-1 on the pillars that changed and E their columns of the identity.
+    With R the pillars of P0 off S, the solution x of M x = b is the x of the
+    bordered system
+
+        (M0 + E diag(delta) E^T) x + E_R lambda = b,   x_R = 0,
+
+    and with y = M0^-1 b and W = M0^-1 [E E_R] the corrections z of rank
+    k = |changed| + |R| solve one k x k system:  x = y - W z.  The columns of
+    W are kept from one solve to the next (they depend on the pillars only,
+    not on delta), so a solve with one more pillar changed costs one more
+    pair of triangular solves instead of a factorisation; the result is the
+    factorised matrix's to rounding.  Used only while T^-1 does not fall
+    (every delta >= 0) on a matrix that was factorised with the point-load
+    coupling: M is then a principal block of an SPD matrix plus a positive
+    diagonal, SPD as a fresh factorisation would find it.
+    """
+
+    def __init__(self, factor, pillars: np.ndarray, compliance: np.ndarray):
+        self.factor = factor
+        self.pillars = pillars
+        self.compliance = compliance
+        self.columns = np.empty(0, dtype=np.int64)  # positions in P0 with a column of M0^-1
+        self.inverse_columns = np.empty((pillars.size, 0))
+        self.last: tuple | None = None  # (pillars, stiffness, solve) of the last call
+
+    def solve(self, b):
+        return scipy.linalg.cho_solve(self.factor, b, check_finite=False)
+
+    def near(self, active: np.ndarray, stiffness: np.ndarray):
+        """``b -> M^-1 b`` on ``active`` (module docstring), or None when M is too far from M0."""
+        last = self.last
+        if last is not None and np.array_equal(last[0], active) and np.array_equal(last[1], stiffness):
+            return last[2]
+        n0 = self.pillars.size
+        positions = np.searchsorted(self.pillars, active)
+        if bool(np.any(positions >= n0)) or not np.array_equal(self.pillars[np.minimum(positions, n0 - 1)], active):
+            return None
+        delta = 1.0 / stiffness - self.compliance[positions]
+        if bool(np.any(delta < 0)):
+            return None
+        kept = np.zeros(n0, dtype=bool)
+        kept[positions] = True
+        removed = np.flatnonzero(~kept)
+        if removed.size > _COARSE_UPDATE_SHRINK * n0:
+            return None
+        dirty = np.union1d(positions[delta != 0], removed)
+        if dirty.size > COARSE_UPDATE_RANK:
+            return None
+        if dirty.size == 0:
+            solve = self.solve
+        else:
+            new = np.setdiff1d(dirty, self.columns, assume_unique=True)
+            if new.size:
+                unit = np.zeros((n0, new.size))
+                unit[new, np.arange(new.size)] = 1.0
+                self.inverse_columns = np.concatenate([self.inverse_columns, self.solve(unit)], axis=1)
+                self.columns = np.concatenate([self.columns, new])
+            order = np.argsort(self.columns)
+            w = self.inverse_columns[:, order[np.searchsorted(self.columns[order], dirty)]]
+            g = w[dirty, :]
+            out = ~kept[dirty]
+            full_delta = np.zeros(n0)
+            full_delta[positions] = delta
+            scale = np.where(out, 1.0, full_delta[dirty])
+            system = np.where(out[:, None], g, np.eye(dirty.size) + scale[:, None] * g)
+            lu = scipy.linalg.lu_factor(system, check_finite=False)
+            base = self.solve
+
+            def solve(b):
+                full = np.zeros(n0)
+                full[positions] = b
+                y = base(full)
+                z = scipy.linalg.lu_solve(lu, scale * y[dirty], check_finite=False)
+                # Not w @ z: BLAS would thread this small product (see `cg._dot`).
+                return (y - np.einsum("ij,j->i", w, z))[positions]
+
+        self.last = (active.copy(), stiffness.copy(), solve)
+        return solve
 
 
 def _coarse_factor(operator: ContactOperator, active, stiffness):
-    """Cholesky factor of T^-1 + H on the pillars ``active`` for `pillar_block_preconditioner`.
+    """Solves with T^-1 + H on the pillars ``active`` for `pillar_block_preconditioner`.
 
-    Returns (factor, positions of ``active`` in the factored set, T used, size)
-    or None.  The factorisation (dense, O(n^3) for n pillars) is reused from
-    an earlier contact set (with at least ``_COARSE_REUSE_MIN`` pillars;
-    smaller ones are refactorised every time) while the pillars are a subset
-    of its pillars and none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
+    Returns (``b -> (T_0^-1 + H)^-1 b`` on the pillars of the factorised set,
+    positions of ``active`` in that set, T_0 used, its size) or None.  The
+    factorisation (dense, O(n^3) for n pillars) is reused from an earlier
+    contact set (with at least ``_COARSE_REUSE_MIN`` pillars; smaller ones are
+    refactorised every time) while the pillars are a subset of its pillars and
+    none has become stiffer: the correction X0 = T0^-1 - T0^-1 (T0^-1 + H)^-1
     T0^-1 then still satisfies X0 < T0^-1 <= T^-1 on any subset, which keeps
     M^-1 positive definite, and only its accuracy on the pillars that lost
     contact suffers.  A new one is made when more than ``_COARSE_STALE`` of
-    the pillars lost over ``_COARSE_DRIFT`` of their stiffness.
+    the pillars lost over ``_COARSE_DRIFT`` of their stiffness.  A new one is
+    the exact matrix of ``active``: solved through the last Cholesky factor
+    and a low-rank correction while the two differ on at most
+    ``COARSE_UPDATE_RANK`` pillars (`_CoarseBase`), else factorised.
     """
     cached = operator.cache.coarse
     if cached is not None:
-        factor, pillars, reference = cached
+        solve, pillars, reference = cached
         positions = np.searchsorted(pillars, active)
         inside = positions < pillars.size
         if pillars.size >= _COARSE_REUSE_MIN and bool(np.all(inside)) and np.array_equal(pillars[positions], active):
@@ -361,7 +458,12 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
             if bool(np.all(stiffness <= base * (1 + 1e-9))):
                 stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
                 if stale <= max(2, _COARSE_STALE * pillars.size):
-                    return factor, positions, base, pillars.size
+                    return solve, positions, base, pillars.size
+    factored = operator.cache.coarse_base
+    solve = None if factored is None or COARSE_UPDATE_RANK <= 0 else factored.near(active, stiffness)
+    if solve is not None:
+        operator.cache.coarse = (solve, np.array(active), stiffness.copy())
+        return solve, np.arange(active.size), stiffness, active.size
     coupling = operator.cache.coupling
     if coupling is None:
         # H over all pillars (fixed): springs of every level and the point-load coupling.
@@ -379,13 +481,18 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         operator.cache.coupling = coupling
     selection = np.ix_(active, active)
     matrix, springs_only = coupling[0][selection], coupling[1][selection]
-    for candidate in (matrix, springs_only):
+    operator.cache.coarse_base = None
+    for with_coupling, candidate in ((True, matrix), (False, springs_only)):
         candidate[np.diag_indices(active.size)] += 1.0 / stiffness
         try:
             factor = scipy.linalg.cho_factor(candidate, lower=True, overwrite_a=True)
         except np.linalg.LinAlgError:
             continue
         pillars = np.array(active)
-        operator.cache.coarse = (factor, pillars, stiffness.copy())
-        return factor, np.arange(active.size), stiffness, active.size
+        base = _CoarseBase(factor, pillars, 1.0 / stiffness)
+        if with_coupling:
+            # Only a factor with the point-load coupling is the one a fresh factorisation would find.
+            operator.cache.coarse_base = base
+        operator.cache.coarse = (base.solve, pillars, stiffness.copy())
+        return base.solve, np.arange(active.size), stiffness, active.size
     return None

@@ -1,0 +1,171 @@
+"""The exact event path keeps its answers through the solver's speed-ups.
+
+The coarse pillar matrix of the pillar-block preconditioner is solved through
+its last factorisation and a low-rank correction instead of a factorisation
+per solve (`brushbem.solver.preconditioners._CoarseBase`), a unit response
+reuses the system and preconditioner of the equilibrium solved on the same
+set, and a solve keeps its solution's tip deflection on the window in step
+with the iterations (`brushbem.solver.equilibria._BlockDeflection`) instead
+of transforming the solution again.  All give the former results to
+rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from brushbem.case import brush_scales
+from brushbem.halfspace import HalfSpace
+from brushbem.operator import ContactOperator, Window
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.solver import equilibria, preconditioners
+from brushbem.structure import Grid, Level, brush
+
+GRID = Grid(1.0, 128)
+PER_SIDE = 8
+RADIUS = math.sqrt(0.16 / math.pi) / PER_SIDE  # phi = 0.16, 3.6 elements at N = 128
+DGAMMA = 1e-4
+
+# F_A and the work of separation of ``method = "events"`` on these brushes,
+# pressed to the rigid brush's pull-off force F_c, recorded with the package
+# at commit 2a34b4b (before the coarse-matrix updates and the reuse of a
+# set's system): the same cases through that commit's `record_pull_off`.
+RECORDED = {
+    "rough soft": ({"stiffness": 0.01, "sigma": 1.0}, 0.008423384648359943, 0.00018407948184698175),
+    "rough stiff": ({"stiffness": 10.0, "sigma": 0.3}, 0.005284703116830719, 2.298254860277276e-05),
+    "hierarchical rough": ({"stiffness": 0.1, "sigma": 1.0, "levels": (Level(cluster=2, stiffness=0.05),)},
+                           0.003969805949173067, 4.9876832002962255e-05),
+}
+
+
+def _problem(stiffness: float, sigma: float, **extra) -> tuple[ContactProblem, float]:
+    """The brush with Gaussian lengths of sigma d_c, and F_c (d_c, F_c: the rigid brush's pull-off)."""
+
+    def build(roughness: float) -> ContactProblem:
+        indenter = brush(GRID, layout="square", pillars_per_side=PER_SIDE, pillar_radius=RADIUS,
+                         contact_modulus=1.0, work_of_adhesion=DGAMMA, stiffness=stiffness,
+                         roughness=roughness, seed=3, **extra)
+        return ContactProblem(GRID, indenter, contact_modulus=1.0, work_of_adhesion=DGAMMA)
+
+    scales = brush_scales(build(0.0))
+    return build(sigma * abs(scales["rigid_brush_displacement"])), scales["rigid_brush_force"]
+
+
+@pytest.mark.parametrize("case", list(RECORDED))
+def test_pull_off_keeps_the_recorded_answer(case):
+    spec, force, work = RECORDED[case]
+    problem, f_c = _problem(**spec)
+    summary = record_pull_off(problem, LoadPath(method="events", preload_force=f_c, max_steps=10**6)).summary
+    assert summary["converged"], summary["reason"]
+    assert summary["adhesive_force"] == pytest.approx(force, rel=1e-9, abs=0.0)
+    assert summary["work_of_separation"] == pytest.approx(work, rel=1e-9, abs=0.0)
+
+
+def test_switching_the_speed_ups_off_gives_the_same_pull_off(monkeypatch):
+    """The factorised path (rank 0, no reuse) and the updated one agree to rounding on one brush."""
+    problem, f_c = _problem(0.01, 1.0)
+    path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
+    fast = record_pull_off(problem, path).summary
+    monkeypatch.setattr(preconditioners, "COARSE_UPDATE_RANK", 0)
+    monkeypatch.setattr(equilibria, "REUSE_SET_SOLVER", False)
+    monkeypatch.setattr(equilibria, "KEEP_SOLUTION_DEFLECTION", False)
+    plain = record_pull_off(problem, path).summary
+    assert fast["n_solves"] == plain["n_solves"]
+    assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12)
+    assert fast["work_of_separation"] == pytest.approx(plain["work_of_separation"], rel=1e-12)
+
+
+def _operator(levels=()) -> ContactOperator:
+    indenter = brush(GRID, layout="square", pillars_per_side=PER_SIDE, pillar_radius=RADIUS, contact_modulus=1.0,
+                     work_of_adhesion=DGAMMA, stiffness=0.01, roughness=1e-3, seed=3, levels=levels)
+    halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
+    return ContactOperator(halfspace, indenter, Window.full(GRID.elements))
+
+
+def _coarse_matrix(operator: ContactOperator, active, stiffness) -> np.ndarray:
+    matrix = operator.cache.coupling[0][np.ix_(active, active)].copy()
+    matrix[np.diag_indices(active.size)] += 1.0 / stiffness
+    return matrix
+
+
+@pytest.mark.parametrize("levels", [(), (Level(cluster=2, stiffness=0.05),)])
+def test_coarse_solves_near_a_factor_are_the_factorised_ones(levels):
+    """Pillars that leave and pillars that soften: the corrected solve equals a fresh factorisation's."""
+    operator = _operator(levels)
+    n = operator.indenter.n_pillars
+    rng = np.random.default_rng(5)
+    # A sequence of sets: each drops one or two pillars and softens two others.
+    ids = np.arange(n)
+    values = rng.uniform(0.5, 1.0, n)
+    preconditioners._coarse_factor(operator, ids, values)
+    base = operator.cache.coarse_base
+    for step in range(8):  # 12 pillars leave: within _COARSE_UPDATE_SHRINK of 64
+        drop = rng.choice(ids.size, size=1 + step % 2, replace=False)
+        keep = np.ones(ids.size, dtype=bool)
+        keep[drop] = False
+        ids, values = ids[keep], values[keep].copy()
+        soften = rng.choice(ids.size, size=2, replace=False)
+        values[soften] *= rng.uniform(0.3, 0.9, 2)
+        solve, positions, reference, size = preconditioners._coarse_factor(operator, ids, values)
+        assert operator.cache.coarse_base is base, "the factor was not reused"
+        assert size == ids.size and np.array_equal(positions, np.arange(ids.size))
+        b = rng.standard_normal(ids.size)
+        expected = scipy.linalg.solve(_coarse_matrix(operator, ids, values), b, assume_a="pos")
+        assert solve(b) == pytest.approx(expected, rel=1e-10, abs=1e-10 * np.abs(expected).max())
+
+
+def test_a_stiffer_pillar_or_a_new_one_is_factorised_afresh():
+    operator = _operator()
+    n = operator.indenter.n_pillars
+    ids = np.arange(n - 1)
+    values = np.full(ids.size, 0.7)
+    preconditioners._coarse_factor(operator, ids, values)
+    first = operator.cache.coarse_base
+    stiffer = values.copy()
+    stiffer[3] *= 1.5
+    preconditioners._coarse_factor(operator, ids, stiffer)
+    assert operator.cache.coarse_base is not first
+    second = operator.cache.coarse_base
+    grown = np.arange(n)
+    preconditioners._coarse_factor(operator, grown, np.full(n, 0.7))
+    assert operator.cache.coarse_base is not second
+
+
+def test_many_changes_are_factorised_afresh(monkeypatch):
+    monkeypatch.setattr(preconditioners, "COARSE_UPDATE_RANK", 4)
+    operator = _operator()
+    n = operator.indenter.n_pillars
+    values = np.full(n, 0.7)
+    preconditioners._coarse_factor(operator, np.arange(n), values)
+    first = operator.cache.coarse_base
+    preconditioners._coarse_factor(operator, np.arange(n - 4), values[: n - 4])
+    assert operator.cache.coarse_base is first
+    preconditioners._coarse_factor(operator, np.arange(n - 5), values[: n - 5])
+    assert operator.cache.coarse_base is not first
+
+
+@pytest.mark.parametrize("start", ["cold", "initial", "initial and its product"])
+@pytest.mark.parametrize("levels", [(), (Level(cluster=2, stiffness=0.05),)])
+def test_a_solve_keeps_its_solutions_tip_deflection(start, levels):
+    """``tip_deflection`` of a solve's solution is the transform's, on the whole window, to rounding."""
+    operator = _operator(levels)
+    footprint = np.asarray(operator.indenter.pillar) >= 0
+    rng = np.random.default_rng(2)
+    mask = footprint & (rng.random(footprint.shape) < 0.9)
+    rhs = np.where(mask, 1.0 + 0.1 * rng.standard_normal(mask.shape), 0.0)
+    initial = initial_product = None
+    if start != "cold":
+        initial = np.where(mask, 0.5, 0.0)
+        if start == "initial and its product":
+            initial_product = operator.tip_deflection(initial)
+    result = equilibria.solve_on_set(operator, mask, rhs, initial=initial, initial_product=initial_product)
+    assert result.converged and result.iterations > 0
+    kept = operator.tip_deflection(result.solution)
+    transformed = operator._tip_deflection(result.solution)
+    assert kept == pytest.approx(transformed, rel=0.0, abs=1e-12 * np.abs(transformed).max())
+    other = np.where(mask, result.solution * (1 + 1e-9), 0.0)  # not the solution: transformed
+    assert np.array_equal(operator.tip_deflection(other), operator._tip_deflection(other))
