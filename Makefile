@@ -33,10 +33,11 @@ run: $(VENV)/.installed
 # chromium when no such browser is on PATH (as root, with apt-get), else warn
 # (the test is then skipped, or fails when BRUSHBEM_REQUIRE_CHROMIUM is set).
 test: $(VENV)/.installed-test chromium
-	$(VENV)/bin/python -m pytest -q -n auto
+	$(VENV)/bin/python -m pytest -q
 
 # The tests not marked slow (the physics against closed forms on small grids, the
-# configuration, the CLI), on every core (pytest-xdist); `make test` runs everything.
+# configuration, the CLI), on every core (pytest-xdist); `make test` runs everything, in one
+# process (its process and signal tests are checked that way).
 test-fast: $(VENV)/.installed-test
 	$(VENV)/bin/python -m pytest -q -n auto -m "not slow" -p no:cacheprovider
 
