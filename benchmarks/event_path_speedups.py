@@ -9,8 +9,9 @@ N = 512, k~ = 0.01, sigma~ = 1.
 Every run is a fresh process, and the variants take turns, round after
 round, so that a busy machine slows them alike:
 
-* ``old`` - the package at ``--baseline`` (a commit, by default ``HEAD``),
-  taken from ``git archive`` into a temporary directory;
+* ``old`` - the package at ``--baseline`` (a commit; by default 2a34b4b,
+  the last one before these speed-ups), taken from ``git archive`` into a
+  temporary directory;
 * ``new`` - the working tree;
 * ``new - <change>`` - the working tree with one speed-up switched off
   (``--without``, default: each of them in turn).
@@ -49,6 +50,7 @@ CHANGES = {
     "coarse_updates": ("brushbem.solver.preconditioners", "COARSE_UPDATE_RANK", 0),
     "set_reuse": ("brushbem.solver.equilibria", "REUSE_SET_SOLVER", False),
     "solution_deflection": ("brushbem.solver.equilibria", "KEEP_SOLUTION_DEFLECTION", False),
+    "empty_rows": ("brushbem.backend", "SKIP_EMPTY_ROWS", False),
 }
 
 
@@ -115,7 +117,7 @@ def main() -> None:
     parser.add_argument("--preload", type=float, default=1.0, help="F~_P = F_P / F_c")
     parser.add_argument("--seed", type=int, default=3)
     parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--baseline", default="HEAD", help="the commit to compare with ('none': no old run)")
+    parser.add_argument("--baseline", default="2a34b4b", help="the commit to compare with ('none': no old run)")
     parser.add_argument("--without", nargs="*", choices=sorted(CHANGES), default=None,
                         help="the speed-ups to switch off one at a time (default: each)")
     parser.add_argument("--fft-workers", type=int, nargs="*", default=[],

@@ -12,6 +12,7 @@ rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -23,6 +24,7 @@ from brushbem.halfspace import HalfSpace
 from brushbem.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.solver import equilibria, preconditioners
+from brushbem.pillar_laws import PiecewiseLinear
 from brushbem.structure import Grid, Level, brush
 
 GRID = Grid(1.0, 128)
@@ -169,3 +171,30 @@ def test_a_solve_keeps_its_solutions_tip_deflection(start, levels):
     assert kept == pytest.approx(transformed, rel=0.0, abs=1e-12 * np.abs(transformed).max())
     other = np.where(mask, result.solution * (1 + 1e-9), 0.0)  # not the solution: transformed
     assert np.array_equal(operator.tip_deflection(other), operator._tip_deflection(other))
+
+
+def test_a_zero_right_hand_side_keeps_a_zero_deflection():
+    """CG returns 0 for a zero right-hand side whatever its start: the kept deflection is 0, not the start's."""
+    operator = _operator()
+    mask = np.asarray(operator.indenter.pillar) >= 0
+    initial = np.where(mask, 0.5, 0.0)
+    result = equilibria.solve_on_set(operator, mask, np.zeros(mask.shape), initial=initial,
+                                     initial_product=operator.tip_deflection(initial))
+    assert result.converged and not np.any(result.solution)
+    assert np.array_equal(operator.tip_deflection(result.solution), np.zeros(mask.shape))
+
+
+def test_a_pillar_law_of_factor_one_pieces_is_the_linear_spring():
+    """Pieces that move rebuild the operator at the same contact set, and zero right-hand sides come up there."""
+    grid = Grid(1.0, 64)
+    path = LoadPath(method="fixed", preload_displacement=0.006, step=5e-4)
+    flat = brush(grid, layout="square", pillars_per_side=4, pillar_radius=math.sqrt(0.16 / math.pi) / 4,
+                 contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=0.05)
+    law = PiecewiseLinear(forces=(-1e-4, 1e-4), factors=(1.0, 1.0, 1.0))
+
+    def record(indenter):
+        return record_pull_off(ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4), path)
+
+    linear, pieces = record(flat), record(dataclasses.replace(flat, pillar_law=law))
+    assert pieces.summary["adhesive_force"] == pytest.approx(linear.summary["adhesive_force"], rel=1e-9)
+    np.testing.assert_allclose(pieces.curve.force, linear.curve.force, rtol=1e-9, atol=1e-15)

@@ -37,6 +37,9 @@ _THREADED_MIN_POINTS = 512 * 512
 
 _cpu_count = os.cpu_count() or 1
 
+#: Whether `padded_convolution` of a 2-D array transforms along the rows only the rows that are not zero.
+SKIP_EMPTY_ROWS = True
+
 
 def fft_workers(points: int | None = None) -> int:
     """Number of threads scipy.fft may use (``BRUSHBEM_FFT_WORKERS``, default: all cores).
@@ -92,11 +95,22 @@ def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None
     inverse real transform along the rows only on the m1 rows that are kept.
     That skips a quarter of the butterflies and the padded copy; it measured
     1.2-2x faster than the two-dimensional calls for windows of 40-256
-    elements (scipy's pocketfft, 2-core machine).
+    elements (scipy's pocketfft, 2-core machine).  A 2-D array with rows of
+    zeros goes by `padded_convolution_rows` (its forward transforms along the
+    rows skip them; same result, bit for bit).
     """
     rows, cols = array.shape[-2:]
     long_rows, long_cols = (2 * rows, 2 * cols) if padded_shape is None else padded_shape
     if is_numpy_namespace(xp):
+        if SKIP_EMPTY_ROWS and array.ndim == 2:
+            # A pressure on a few pillars, or on a contact that fills part of its window: the
+            # transforms along the rows skip the rows that hold nothing (the same numbers).
+            occupied = np.flatnonzero(array.any(axis=1))
+            if occupied.size == 0:
+                return np.zeros((rows, cols), dtype=np.result_type(array.dtype, np.float64))
+            if occupied.size < rows:
+                return padded_convolution_rows(xp, array[occupied], occupied, spectrum, (long_rows, long_cols),
+                                               out_rows=rows)
         workers = fft_workers(long_rows * long_cols)
         product = scipy.fft.rfft(array, n=long_cols, axis=-1, workers=workers)
         product = scipy.fft.fft(product, n=long_rows, axis=-2, workers=workers, overwrite_x=True)

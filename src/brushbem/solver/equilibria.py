@@ -89,9 +89,9 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
                 on_step=None if tracked is None else tracked.moved,
             )
             solution = system.scatter(result.solution)
-            deflection = None if tracked is None or not result.converged else tracked.tip_deflection(result.solution)
-            if deflection is not None:
-                operator.remember_solution(xp.asarray(solution, copy=True), deflection)
+            kept = None if tracked is None or not result.converged else tracked.tip_deflection(result.solution)
+            if kept is not None:
+                operator.remember_solution(xp.asarray(solution, copy=True), kept)
             return dataclasses.replace(result, solution=solution)
     restricted = MaskedOperator(operator, mask)
     return conjugate_gradient(
@@ -111,11 +111,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
 REUSE_SET_SOLVER = True
 
 #: Whether a pillar-block solve keeps its solution's tip deflection on the window (`_BlockDeflection`).
-#: Off: under a pillar law whose pieces move (a new operator at the same contact set), the kept
-#: deflection left a linear law of factor-1 pieces 1.7 % off the linear spring
-#: (tests/test_pillar_laws.py::test_linear_laws_are_the_linear_spring); on, the chapter-5 event
-#: path was 1.26 times faster (benchmarks/event_path_speedups.py).
-KEEP_SOLUTION_DEFLECTION = False
+KEEP_SOLUTION_DEFLECTION = True
 
 
 class _BlockDeflection:
@@ -162,10 +158,14 @@ class _BlockDeflection:
         self._product += last
 
     def tip_deflection(self, solution_on_set):
-        """K x + springs(x) on the window for CG's solution x (on S); None if CG never applied A to x0."""
-        if self._product is None:  # a zero right-hand side ends CG before its first product
-            return None
+        """K x + springs(x) on the window for CG's solution x (on S), or None where it is not known."""
         system = self.system
+        xp = self.xp
+        if not bool(xp.any(solution_on_set != 0)):
+            # Also the end of a zero right-hand side: CG returns 0 there, whatever x0 was.
+            return xp.zeros(system.shape, dtype=xp.float64)
+        if self._product is None:
+            return None
         springs = system.operator.springs
         if self._start is None:
             deflection = self._product
