@@ -1,0 +1,348 @@
+"""``brushbem run``, ``init`` and ``validate``: one pull-off from a configuration file."""
+
+from __future__ import annotations
+
+import contextlib
+import numbers
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import click
+
+if TYPE_CHECKING:  # the command line imports what a command needs when it runs (`brushbem --help` stays light)
+    pass
+
+from .common import (
+    EXIT_INVALID_CONFIG,
+    EXIT_NOT_CONVERGED,
+    EXIT_WRITE_FAILED,
+    RESULT_FILES,
+    Console,
+    Table,
+    _load_or_exit,
+    _number,
+    _os_error,
+    _OutFolder,
+    _prepare_out,
+    _Stop,
+)
+
+
+def _summary_table(summary: dict[str, Any]) -> Table:
+    """The headline numbers of a run, theory ratios included."""
+    table = Table(title="pull-off summary", show_header=False)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = [
+        ("adhesive force", "adhesive_force"),
+        ("pull-off displacement", "pull_off_displacement"),
+        ("work of separation", "work_of_separation"),
+    ]
+    for label, key in rows:
+        table.add_row(label, _number(summary.get(key, "—")))
+    normalized = summary.get("normalized")
+    if normalized:
+        # A brush: the thesis's dimensionless numbers say more than the scales.
+        labels = (
+            ("F_A / F_K compact punch (eq. 4.11)", "force_by_compact_punch"),
+            ("F_A / F_c rigid brush (eq. 5.3)", "force_by_rigid_brush"),
+            ("F_A / N F_K ideal sharing (eq. 7.4)", "force_by_ideal_sharing"),
+            ("d_A / d_c (eq. 4.12)", "displacement_by_rigid_brush"),
+            ("k~ = k / (E* L)", "stiffness_ratio"),
+            ("filling factor (rasterised)", "filling_factor"),
+            ("pillars attached at F_A", "attached_pillars_at_pull_off"),
+        )
+        for label, key in labels:
+            if normalized.get(key) is not None:
+                table.add_row(label, _number(normalized[key]))
+        table.add_row("phi^-1/4 (rigid limit, eq. 4.9)", _number((summary.get("theory") or {}).get(
+            "rigid_brush_enhancement", "—")))
+    else:
+        for key, value in (summary.get("theory") or {}).items():
+            # Only scalar ratios and values belong in a one-screen table.
+            if isinstance(value, (numbers.Real, str)):
+                table.add_row(f"theory: {key}", _number(value))
+    refinement = summary.get("refinement")
+    if refinement:
+        for label, key in (("F_A extrapolated", "adhesive_force"), ("work extrapolated", "work_of_separation")):
+            entry = refinement[key]
+            table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
+                          f"{_number(entry['extrapolated'])} ± {_number(entry['error_estimate'])}")
+    table.add_row("converged", _number(summary.get("converged", "—")))
+    table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
+    table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
+    return table
+
+
+@click.command()
+@click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--out", "out_dir", default=None, type=_OutFolder(),
+    help="Folder for summary.json, result.nc and pulloff.png (created if absent); required unless --estimate.",
+)
+@click.option("--quiet", is_flag=True, help="No progress bar and no summary table.")
+@click.option("--refine", "grids", type=click.IntRange(2, 3), default=None,
+              help="Also run on the coarser grids N/2 (and N/4) and report the Richardson-extrapolated F_A and "
+                   "work with error estimates in summary.json (refinement).")
+@click.option("--overwrite", is_flag=True, help="Replace the results of an earlier run in --out.")
+@click.option("--estimate", is_flag=True,
+              help="Print the expected wall time and peak memory of the run, and their basis, from its first "
+                   "states (about two seconds); run no further and write nothing (--out is not needed).")
+def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None, overwrite: bool,
+        estimate: bool) -> None:
+    """Run the pull-off in CONFIG; write the results into --out.
+
+    Ctrl-C (or SIGTERM) stops after the current state and writes the partial
+    result, marked ``interrupted`` and not converged (exit 130, or 143).
+    With --estimate, only the expected cost is printed (exit 0).
+    """
+    if out_dir is None and not estimate:
+        raise click.UsageError("Missing option '--out' (only --estimate runs without it).")
+    built = _load_or_exit(config_path, build=True)
+    config = built.config
+    if not estimate:
+        earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
+        if earlier and not overwrite:
+            click.echo(f"--out {out_dir} holds the results of an earlier run ({', '.join(earlier)}); --overwrite "
+                       "replaces them, or choose another --out", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    refined = None
+    if grids is not None:
+        from brushbem.config import ConfigError
+        from brushbem.refine import refined_configs
+
+        try:
+            refined = refined_configs(config, grids)
+        except ConfigError as exc:
+            click.echo(f"invalid refinement of {config_path}:", err=True)
+            for line in exc.problems:
+                click.echo(f"  {line}", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+    if estimate:
+        _print_run_estimate(config_path, [built] if refined is None else refined)
+        return
+    assert out_dir is not None
+    _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
+
+    # Imported here so that `validate` and `--help` stay fast and do not need
+    # the numerics.
+    from brushbem import case as case_module
+    from brushbem.io import (
+        FolderBusyError,
+        exclusive_folder,
+        remove_stale_temporaries,
+        write_case,
+    )
+    from brushbem.plot import plot_pull_off
+
+    stderr = Console(stderr=True)
+    with contextlib.ExitStack() as stack:
+        try:
+            stack.enter_context(exclusive_folder(out_dir))
+        except FolderBusyError as exc:
+            click.echo(f"--out {exc}; wait for it or choose another folder", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        except OSError as exc:  # a lock file that is a link or not brushbem's (UnsafeLockError), unreadable
+            detail = f"{exc.filename}: {exc.strerror}" if exc.filename and exc.strerror else str(exc)
+            click.echo(f"--out {out_dir}: cannot take the folder's lock ({detail})", err=True)
+            raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
+        # A killed run's leftovers, by the names of the temporaries of its own files: never a complete
+        # file, nor anything else in the folder.
+        remove_stale_temporaries(out_dir, tuple(dict.fromkeys((*RESULT_FILES, *FIGURE_FILES, "report.html"))))
+        stop = stack.enter_context(_Stop())
+        from rich.progress import (
+            BarColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        with Progress(
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TextColumn("{task.percentage:>3.0f}%"),
+            TimeElapsedColumn(),
+            TextColumn("remaining"),
+            TimeRemainingColumn(),
+            console=stderr,
+            transient=True,
+            disable=quiet,
+        ) as progress:
+            task = progress.add_task("pull-off", total=1.0)
+
+            def report(fraction: float, message: str) -> None:
+                progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
+
+            if grids is None:
+                result, reference = case_module.run_case(built, progress=report, stop=stop)
+            else:
+                from brushbem.refine import refined_run
+
+                result, reference = refined_run(
+                    config, grids, progress=report,
+                    run=lambda cfg, progress: case_module.run_case(cfg, progress=progress, stop=stop))
+
+        try:
+            write_case(result, out_dir, config=config)
+        except OSError as exc:
+            if not quiet:
+                Console().print(_summary_table(result.summary))
+            click.echo(f"--out {out_dir}: could not write the results ({_os_error(exc)}); no file there "
+                       "was left half-written", err=True)
+            raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+        _remove_earlier_report(out_dir)
+        figure_error = _draw_run_figure(plot_pull_off, result, reference, out_dir)
+
+    if not quiet:
+        Console().print(_summary_table(result.summary))
+        click.echo(f"results written to {out_dir}" if figure_error is None else
+                   f"summary.json and result.nc written to {out_dir}")
+    for warning in result.summary.get("warnings", []):
+        click.echo(f"warning: {warning}", err=True)
+    if figure_error is not None:
+        click.echo(f"--out {out_dir}: could not write the figure pulloff.png ({figure_error}); the results "
+                   "summary.json and result.nc were written (`brushbem report` draws the figure from them)",
+                   err=True)
+    if stop.signal is not None:
+        click.echo(f"interrupted: the partial result in {out_dir} is marked interrupted and not converged",
+                   err=True)
+        raise click.exceptions.Exit(stop.exit_status)
+    if not result.summary.get("converged", False):
+        click.echo(
+            f"warning: the pull-off did not converge ({result.summary.get('reason', 'no reason given')}); "
+            f"results written to {out_dir} but they are not trustworthy",
+            err=True,
+        )
+    if figure_error is not None:
+        raise click.exceptions.Exit(EXIT_WRITE_FAILED)
+    if not result.summary.get("converged", False):
+        raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
+
+
+#: The figure files of a run (`brushbem.plot.plot_pull_off` writes the PNG and a PDF beside it).
+FIGURE_FILES = ("pulloff.png", "pulloff.pdf")
+
+
+def _remove_earlier_report(out_dir: Path) -> None:
+    """Remove the ``report.html`` of an earlier run in ``out_dir`` (it describes results just replaced).
+
+    Only a report that `brushbem.run_report` wrote (its generator mark) is
+    removed; any other file of that name is left as it is.
+    """
+    from brushbem.run_report import REPORT_FILE, is_run_report
+
+    report = out_dir / REPORT_FILE
+    if report.is_file() and not report.is_symlink() and is_run_report(report):
+        with contextlib.suppress(OSError):
+            report.unlink()
+
+
+def _draw_run_figure(plot: Any, result: Any, reference: Any, out_dir: Path) -> str | None:
+    """Draw the run's figure into ``out_dir``; on failure, why (and no figure of an earlier run is left).
+
+    The results are written before: a figure that cannot be drawn or written
+    loses nothing, and the message says so.  A figure file of an earlier run
+    (``--overwrite``) is removed, so that it is never taken for this run's.
+    """
+    try:
+        plot(result, out_dir / "pulloff.png", reference)
+    except Exception as exc:  # noqa: BLE001 - any failure of the figure: the results are safe, say what failed
+        for name in FIGURE_FILES:
+            with contextlib.suppress(OSError):
+                (out_dir / name).unlink(missing_ok=True)
+        return _os_error(exc) if isinstance(exc, OSError) else f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def _duration(seconds: float) -> str:
+    """A wall time in the unit that reads best (s, min, h, days, years)."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= 2 * size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+
+
+def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
+    """``run --estimate``: the expected cost of the run (of every grid of --refine), with its basis; no file."""
+    from brushbem.estimate import estimate_run
+    from brushbem.resources import available_memory, format_bytes
+
+    estimates = [estimate_run(config) for config in configs]
+    total = sum(estimate.seconds for estimate in estimates)
+    grids = f" on {len(estimates)} grids" if len(estimates) > 1 else ""
+    click.echo(f"estimate for {config_path}{grids} (nothing written; the path's first states computed to "
+               "measure the cost of a state):")
+    for estimate in estimates:
+        click.echo(f"  N = {estimate.elements}, method \"{estimate.method}\":")
+        if estimate.complete:
+            click.echo(f"    wall time    {_duration(estimate.seconds)} (measured: the sample ran the whole path, "
+                       f"{estimate.states} states)")
+        else:
+            click.echo(f"    wall time    {estimate.kind} {_duration(estimate.seconds)} = {estimate.states:,} states x "
+                       f"{estimate.seconds_per_state:.3g} s (mean of the {estimate.sampled_states - 1} sampled "
+                       f"states after the first) + {estimate.setup_seconds:.2g} s (set-up and first state)")
+            for line in estimate.basis:
+                click.echo(f"    basis        {line}")
+        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.resources.memory_estimate); "
+                   f"result.nc at most {format_bytes(estimate.result_bytes)}")
+        if estimate.stops:
+            click.echo(f"    note         {estimate.stops}")
+    if len(estimates) > 1:
+        kinds = {estimate.kind for estimate in estimates if estimate.kind != "measured"}
+        click.echo(f"  total wall time {kinds.pop() if len(kinds) == 1 else 'about'} {_duration(total)}")
+    try:
+        limit, source = available_memory()
+    except ValueError:
+        limit, source = None, "unknown"
+    if limit is not None:
+        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+    click.echo("  (the computation only: writing the files and the figure takes a few seconds more)")
+
+
+#: The examples `brushbem init` writes (shipped in brushbem/examples/), and what each is.
+EXAMPLES = {
+    "default": ("default.toml", "a 16 x 16 brush of flat pillars on springs (thesis Fig. 4-3 a)"),
+    "punch": ("punch.toml", "Kendall's flat punch, rigid"),
+    "punch_spring": ("punch_spring.toml", "a flat punch on a spring (thesis sec. 2.3)"),
+    "sphere_spring": ("sphere_spring.toml", "a JKR sphere on a spring"),
+    "sweep": ("sweep.toml", "a parameter sweep over the punch's spring stiffness (with punch_spring.toml)"),
+}
+
+
+@click.command()
+@click.argument("name", required=False, default="default", type=click.Choice(list(EXAMPLES)))
+@click.option("--out", "out_dir", type=_OutFolder(), default=Path("."),
+              show_default=True, help="Folder to write the example into.")
+@click.option("--force", is_flag=True, help="Replace files of the same name.")
+@click.option("--list", "list_only", is_flag=True, help="List the examples and exit.")
+def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
+    """Write a commented example configuration NAME (default: the default brush) to start from."""
+    from importlib.resources import files
+
+    if list_only:
+        for key, (file, text) in EXAMPLES.items():
+            click.echo(f"{key:14s} {file:20s} {text}")
+        return
+    names = [EXAMPLES[name][0]] + (["punch_spring.toml"] if name == "sweep" else [])
+    targets = [out_dir / file for file in names]
+    existing = [str(t) for t in targets if t.exists()]
+    if existing and not force:
+        click.echo(f"{', '.join(existing)} exists; --force replaces it, or choose another --out", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for file, target in zip(names, targets):
+        target.write_text(files("brushbem.examples").joinpath(file).read_text(encoding="utf-8"), encoding="utf-8")
+        click.echo(f"wrote {target}")
+    first = targets[0]
+    check = f"brushbem sweep {first} --dry-run" if name == "sweep" else f"brushbem validate {first}"
+    command = "sweep" if name == "sweep" else "run"
+    click.echo(f"next: {check} && brushbem {command} {first} --out out/{first.stem}")
+
+
+@click.command()
+@click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
+def validate(config_path: Path) -> None:
+    """Check CONFIG: print "ok", or every problem (exit status 2)."""
+    _load_or_exit(config_path)
+    click.echo("ok")
