@@ -205,7 +205,7 @@ def test_full_disk_is_a_message_not_a_crash(tmp_path):
         # the disk's refusal an OSError of Python's write, never a crash inside HDF5.
         script = textwrap.dedent(f"""
             import errno, sys
-            import brushbem.io as io
+            import brushbem.io.writing as io
             from brushbem.case import run_case
             from brushbem.assembly import load_config
             io._check_free_space = lambda folder, needed: None
@@ -238,7 +238,7 @@ def test_writer_killed_between_its_two_files(tmp_path):
     old_summary = (out / "summary.json").read_text()
     script = textwrap.dedent(f"""
         import os
-        import brushbem.io as io
+        import brushbem.io.writing as io
         from brushbem.case import run_case
         from brushbem.assembly import load_config
         original = io.write_dataset

@@ -20,6 +20,7 @@ import pytest
 from click.testing import CliRunner
 
 import brushbem.io as bio
+import brushbem.io.writing as bio_writing  # where IN_MEMORY_LIMIT and open are read
 from brushbem.assembly import parse_config
 from brushbem.case import run_case
 from brushbem.cli import main
@@ -56,7 +57,7 @@ def _leftovers(folder: Path) -> list[str]:
 def test_the_streaming_path_writes_the_same_file(punch, tmp_path, monkeypatch):
     result, config = punch
     bio.write_case(result, tmp_path / "memory", config=config)
-    monkeypatch.setattr(bio, "IN_MEMORY_LIMIT", 0)
+    monkeypatch.setattr(bio_writing, "IN_MEMORY_LIMIT", 0)
     bio.write_case(result, tmp_path / "streamed", config=config)
     memory, streamed = bio.read_case(tmp_path / "memory"), bio.read_case(tmp_path / "streamed")
     for name in ("force", "pressure", "contact"):
@@ -77,9 +78,9 @@ class _FailingFile(io.FileIO):
 
 def test_a_failed_streamed_write_is_an_oserror_and_leaves_nothing(punch, tmp_path, monkeypatch):
     result, config = punch
-    monkeypatch.setattr(bio, "IN_MEMORY_LIMIT", 0)
-    monkeypatch.setattr(bio, "open", lambda path, mode="r", buffering=-1: _FailingFile(path, mode.replace("b", "")),
-                        raising=False)
+    monkeypatch.setattr(bio_writing, "IN_MEMORY_LIMIT", 0)
+    monkeypatch.setattr(bio_writing, "open",
+                        lambda path, mode="r", buffering=-1: _FailingFile(path, mode.replace("b", "")), raising=False)
     target = tmp_path / "result.nc"
     with pytest.raises(OSError) as caught:
         bio.write_dataset(result, target, config=config)
@@ -95,7 +96,7 @@ def _limited_run(tmp_path: Path, limit: int) -> subprocess.CompletedProcess:
     script = textwrap.dedent(f"""
         import resource, signal, sys
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails with EFBIG instead
-        import brushbem.io as bio
+        import brushbem.io.writing as bio
         from brushbem.cli import main
         bio.IN_MEMORY_LIMIT = 0
         resource.setrlimit(resource.RLIMIT_FSIZE, ({limit}, resource.RLIM_INFINITY))

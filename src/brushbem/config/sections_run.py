@@ -1,0 +1,122 @@
+"""The tables of how a run proceeds: `ProtocolConfig` (the load path), `SolverConfig` and `UnitsConfig`."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from .errors import _show
+from .rules import Problem
+from .sections_base import _MODEL_CONFIG, _Model, _Section
+
+
+class ProtocolConfig(_Section):
+    """The pull-off load path: press to a preload, then retract until separation.
+
+    Attributes
+    ----------
+    method : {"events", "element_events", "fixed", "pillars"}
+        ``"events"`` follows the exact path: it jumps from one contact
+        change to the next, and presses a brush (two or more pillars) as
+        non-adhesive contact problems, which is the same branch checked on
+        its samples (``brushbem.protocol``); ``"element_events"`` takes
+        every element event on the loading branch too (the reference, and
+        today's path of single bodies); ``"fixed"`` retracts by constant
+        steps (the thesis's method), locating every detachment (and a
+        pillar law's break) inside each step; ``"pillars"`` is the
+        pillar-level model of a brush of flat tips (a few modes per tip,
+        events exact in the reduced model; ``brushbem.protocol.pillars``).
+    preload_displacement : float or None
+        Press until the base displacement reaches this value, units of length;
+        at most `MAX_PRELOAD_DOMAIN_SIZES` (1000) x grid.size.
+    preload_force : float or None
+        Press until the compressive force reaches this value, units of force;
+        at most the force that presses the stiffest contact the domain allows
+        (2 E* L / sqrt(2)) that deep.  Exactly one of the two preloads is given.
+    step : float
+        Displacement step of ``"fixed"``, in units of length: at most
+        grid.size, and at least the preload's depth / max_steps.
+    max_steps : int
+        Most steps (events, or fixed displacement steps) on each branch,
+        loading and unloading; a branch that needs more ends the run, which
+        reports not converged.
+    speed : float or None
+        Pulling (and pressing) speed of viscoelastic pillars, in units of
+        length per time: each ``step`` is the time step step / speed.  Needs
+        ``indenter.viscoelastic``, ``method = "fixed"`` and
+        ``preload_displacement``.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    method: Literal["events", "element_events", "fixed", "pillars"] = "events"
+    preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
+    preload_force: float | None = Field(None, gt=0, allow_inf_nan=False)
+    step: float = Field(1e-4, gt=0, allow_inf_nan=False)
+    max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
+    speed: float | None = Field(None, gt=0, allow_inf_nan=False)
+
+    def _rule_problems(self) -> list[Problem]:
+        if (self.preload_displacement is None) == (self.preload_force is None):
+            given = (
+                f"preload_displacement = {_show(self.preload_displacement)}, "
+                f"preload_force = {_show(self.preload_force)}"
+            )
+            return [Problem("", given, "give exactly one of preload_displacement or preload_force")]
+        return []
+
+
+class SolverConfig(_Model):
+    """Inner linear solver (preconditioned conjugate gradients).
+
+    Attributes
+    ----------
+    tolerance : float
+        Relative residual at which a solve counts as converged, dimensionless.
+    max_iterations : int
+        Iterations allowed per solve before it is reported as not converged.
+    coupling : {"segments", "discriminant"}
+        How the spring sums enter the operator: segment sums over the
+        element-to-pillar incidence (exact for any layout), or the thesis's
+        discriminant-matrix convolution (eq. 3.13-3.17; refused where its size
+        condition does not hold).
+    cascade : {"local", "global"}
+        How a brush's detachment cascade at fixed d runs: the pillars that
+        peel solved on their own between global solves ("local"), or a global
+        solve for every round (the thesis's loop, "global").
+    """
+
+    model_config = _MODEL_CONFIG
+
+    tolerance: float = Field(1e-8, ge=1e-15, lt=1e-2, allow_inf_nan=False)
+    max_iterations: int = Field(20_000, gt=0, le=1_000_000_000)
+    coupling: Literal["segments", "discriminant"] = "segments"
+    cascade: Literal["local", "global"] = "local"
+
+
+class UnitsConfig(_Section):
+    """The unit system of the inputs (`brushbem.units`): names only, the numbers do not change.
+
+    Attributes
+    ----------
+    length : {"m", "cm", "mm", "um", "nm"} or None
+        The unit of ``grid.size`` and every length.
+    stress : {"Pa", "kPa", "MPa", "GPa"} or None
+        The unit of E* and every stress; forces, works and the work of
+        adhesion follow.  Both or neither; neither (the default) is
+        dimensionless.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    length: Literal["m", "cm", "mm", "um", "nm"] | None = None
+    stress: Literal["Pa", "kPa", "MPa", "GPa"] | None = None
+
+    def _rule_problems(self) -> list[Problem]:
+        length, stress = getattr(self, "length", None), getattr(self, "stress", None)
+        if (length is None) == (stress is None):
+            return []
+        missing = "stress" if stress is None else "length"
+        return [Problem(missing, "missing", "give units.length and units.stress together, or neither "
+                                            "(dimensionless)")]
