@@ -48,8 +48,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Each speed-up and the module attribute that switches it off (module, attribute, value).
 CHANGES = {
     "coarse_updates": ("brushbem.solver.preconditioners", "COARSE_UPDATE_RANK", 0),
-    "set_reuse": ("brushbem.solver.equilibria", "REUSE_SET_SOLVER", False),
-    "solution_deflection": ("brushbem.solver.equilibria", "KEEP_SOLUTION_DEFLECTION", False),
+    "set_reuse": ("brushbem.solver.set_solve", "REUSE_SET_SOLVER", False),
+    "solution_deflection": ("brushbem.solver.set_solve", "KEEP_SOLUTION_DEFLECTION", False),
     "empty_rows": ("brushbem.backend", "SKIP_EMPTY_ROWS", False),
 }
 

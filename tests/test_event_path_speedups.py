@@ -5,7 +5,7 @@ its last factorisation and a low-rank correction instead of a factorisation
 per solve (`brushbem.solver.preconditioners._CoarseBase`), a unit response
 reuses the system and preconditioner of the equilibrium solved on the same
 set, and a solve keeps its solution's tip deflection on the window in step
-with the iterations (`brushbem.solver.equilibria._BlockDeflection`) instead
+with the iterations (`brushbem.solver.set_solve._BlockDeflection`) instead
 of transforming the solution again.  All give the former results to
 rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 """
@@ -23,7 +23,7 @@ from brushbem.case import brush_scales
 from brushbem.halfspace import HalfSpace
 from brushbem.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.solver import equilibria, preconditioners
+from brushbem.solver import equilibria, preconditioners, set_solve
 from brushbem.pillar_laws import PiecewiseLinear
 from brushbem.structure import Grid, Level, brush
 
@@ -73,8 +73,8 @@ def test_switching_the_speed_ups_off_gives_the_same_pull_off(monkeypatch):
     path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
     fast = record_pull_off(problem, path).summary
     monkeypatch.setattr(preconditioners, "COARSE_UPDATE_RANK", 0)
-    monkeypatch.setattr(equilibria, "REUSE_SET_SOLVER", False)
-    monkeypatch.setattr(equilibria, "KEEP_SOLUTION_DEFLECTION", False)
+    monkeypatch.setattr(set_solve, "REUSE_SET_SOLVER", False)
+    monkeypatch.setattr(set_solve, "KEEP_SOLUTION_DEFLECTION", False)
     plain = record_pull_off(problem, path).summary
     assert fast["n_solves"] == plain["n_solves"]
     assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12)

@@ -1,0 +1,238 @@
+"""The loading branch of a brush pressed as non-adhesive contact problems (`_contact_loading`).
+
+A brush whose tips are not all level is pressed by a few Polonsky-Keer
+solves at sampled displacements (or along the search for a preload force)
+instead of one global solve per element that joins; the samples are checked
+to be nested (`_nested_prefix`), and where they are not the path goes on by
+element events (`brushbem.protocol.paths`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..operator import ContactOperator, Window
+from ..solver import Equilibrium, penetration
+from .path_states import _eq_state
+from .problem import LoadPath
+from .tracking import Tracker
+
+
+#: Displacements at which `_contact_loading` samples the loading branch besides
+#: those of the search for a preload force (evenly spaced from first touch).
+LOADING_SAMPLES = 4
+
+#: An element of an earlier sample that a later one has left counts as
+#: released when its gap there exceeds this fraction of the indentation depth
+#: (the solver's accuracy: one that just touches has a gap of rounding size).
+_RELEASE_GAP = 1e-6
+
+
+@dataclass
+class _Sample:
+    """One contact-problem solution on the loading branch (full-grid arrays)."""
+
+    displacement: float
+    force: float
+    pressure: object
+    contact: object
+    eq: Equilibrium
+
+
+def _press_as_contact_problems(tracker: Tracker) -> bool:
+    """Whether the loading branch goes by `_contact_loading`: a brush whose tips are not all level.
+
+    A brush of level tips (no roughness, profile or length offsets) touches
+    with every footprint element at once, and its element-event loading is
+    a single event: the contact problems would only cost more.
+    """
+    if tracker.n_pillars < 2:
+        return False
+    heights = np.asarray(tracker.problem.indenter.height)[np.asarray(tracker.problem.indenter.footprint)]
+    lowest = float(heights.min())
+    return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
+
+
+def _contact_loading(tracker: Tracker, path: LoadPath):
+    """The loading branch of a brush as non-adhesive contact problems.
+
+    While the base presses, an element joins S where the tip touches, at
+    zero pressure, and the event path's state at d is the equilibrium on
+    every element that has touched so far.  As long as no element of S
+    would have turned tensile (its neighbours' compression lifting it off
+    again), every pressure of that state is >= 0 and every gap outside >= 0:
+    it solves the non-adhesive contact problem at d, whose solution is
+    unique (a convex complementarity problem).  So the whole loading branch
+    that the event path follows element event by element (one global solve
+    per element: ~40 per pillar of 3.6 elements' radius) is given by
+    Polonsky-Keer solutions, a few constrained CG solves in all.
+
+    The premise is checked on the samples: every contact set must hold the
+    sets of the smaller displacements sampled before it (an element that a
+    larger displacement releases - a gap opening by more than
+    ``_RELEASE_GAP`` of the indentation depth - would have been held in
+    tension by the event path).  Samples: ``LOADING_SAMPLES`` evenly spaced
+    displacements up to a preload displacement, or the iterates of the
+    search for a preload force (false position on the piecewise linear,
+    increasing F(d); exact by interpolation once both ends of the bracket
+    have the same contact set).  Where the check fails, the branch goes on
+    from the last sample before it by element events (the states up to it
+    are the event path's).
+
+    Yields the loading states in increasing d; returns (d, preload reached)
+    or None when a solve failed.
+    """
+    xp = tracker.xp
+    problem = tracker.problem
+    lowest = problem.indenter.lowest_height
+    samples: list[_Sample] = []
+    cost = [0, 0]  # solves, iterations of the samples not yet yielded
+
+    def solve_at(d: float, start: _Sample | None) -> _Sample:
+        if start is None:
+            tracker.pressure = xp.zeros_like(tracker.pressure)
+            tracker.contact = xp.zeros_like(tracker.contact)
+        else:
+            tracker.pressure, tracker.contact = start.pressure, start.contact
+        tracker._known_deflection = None
+        eq = tracker.solve(d, contact_problem=True)
+        cost[0] += eq.n_solves
+        cost[1] += eq.cg_iterations
+        sample = _Sample(d, tracker.force(), tracker.pressure, tracker.contact, eq)
+        if not eq.converged:
+            return sample
+        samples.append(sample)
+        return sample
+
+    final = None
+    if path.preload_displacement is not None:
+        target = path.preload_displacement
+        previous = None
+        for j in range(1, LOADING_SAMPLES + 1):
+            d = target if j == LOADING_SAMPLES else lowest + (target - lowest) * j / LOADING_SAMPLES
+            previous = solve_at(d, previous)
+            if not previous.eq.converged:
+                yield _eq_state(tracker, previous.eq, True)
+                return None
+        final = previous
+    else:
+        final = yield from _contact_preload_force(tracker, path, solve_at, lowest)
+        if final is None:
+            return None
+
+    # The path ends at the preload: samples beyond it (the search's upper ends) are not on it.
+    samples = [sample for sample in samples if sample.displacement < final.displacement] + [final]
+    samples.sort(key=lambda sample: sample.displacement)
+    accepted = _nested_prefix(tracker, samples, lowest)
+    for k, sample in enumerate(accepted):
+        tracker.pressure, tracker.contact = sample.pressure, sample.contact
+        last = k == len(accepted) - 1
+        solves, iterations = (cost[0], cost[1]) if last else (sample.eq.n_solves, sample.eq.cg_iterations)
+        if not last:
+            cost[0] -= solves
+            cost[1] -= iterations
+        reason = "contact problem" if len(accepted) == len(samples) or not last else (
+            "contact problem; element events from here (a larger displacement releases an element)")
+        yield tracker.state(sample.displacement, True, "equilibrium", tracker.force(), iterations, solves,
+                            True, reason)
+    tracker._known_deflection = None
+    tracker.unit = None
+    end = accepted[-1]
+    if end is final or len(accepted) == len(samples):
+        return end.displacement, True
+    return end.displacement, False
+
+
+def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: float):
+    """The contact problem at which the loading force reaches ``path.preload_force`` (a `_Sample`).
+
+    F(d) of the non-adhesive problem is continuous, increasing and piecewise
+    linear (affine while the contact set stays).  Below the target the secant
+    of the last two points is extrapolated (F is convex where the contact
+    grows, so it reaches past the target); then the Illinois variant of
+    false position, until F is within 1e-9 of the target (the event path's
+    test) or both ends of the bracket have the same contact set - then the
+    state at the target is their exact interpolation.
+    """
+    xp = tracker.xp
+    problem = tracker.problem
+    target = path.preload_force
+    indenter = problem.indenter
+    area = float(np.count_nonzero(np.asarray(indenter.footprint))) * tracker.h2
+    # Displacement of the whole footprint as one punch on its springs in series (a first guess).
+    compliance = 1.0 / (2.0 * problem.contact_modulus * math.sqrt(area / math.pi))
+    compliance += sum(1.0 / (level.stiffness * level.n_clusters if level.uniform else float(np.sum(level.stiffness)))
+                      for level in indenter.elastic_levels)
+    lo = hi = None  # samples below and above the target
+    lo_points = [(lowest, 0.0)]
+    f_lo = f_hi = 0.0  # residuals F - target at the ends, halved by the Illinois rule
+    side = 0
+    d = lowest + target * compliance
+    start = None
+    for _ in range(200):
+        sample = solve_at(d, start)
+        if not sample.eq.converged:
+            yield _eq_state(tracker, sample.eq, True)
+            return None
+        start = sample
+        residual = sample.force - target
+        if abs(residual) <= 1e-9 * target:
+            return sample
+        if residual > 0:
+            hi, f_hi = sample, residual
+            if side > 0:
+                f_lo *= 0.5
+            side = 1
+        else:
+            lo, f_lo = sample, residual
+            lo_points.append((sample.displacement, sample.force))
+            if side < 0:
+                f_hi *= 0.5
+            side = -1
+        if hi is None:
+            # Below the target: extrapolate the secant of the last two points.
+            (d0, g0), (d1, g1) = lo_points[-2], lo_points[-1]
+            step = (target - g1) * (d1 - d0) / (g1 - g0) if g1 > g0 else 2.0 * (d1 - lowest)
+            d = d1 + max(step, 1e-3 * (d1 - lowest))
+            continue
+        if lo is None:
+            d = lowest + 0.5 * (hi.displacement - lowest)
+            continue
+        if bool(xp.all(lo.contact == hi.contact)):
+            # One contact set at both ends: F and p are affine in between.
+            theta = (target - lo.force) / (hi.force - lo.force)
+            d = lo.displacement + theta * (hi.displacement - lo.displacement)
+            pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
+            tracker.pressure, tracker.contact = pressure, hi.contact
+            eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
+            return _Sample(d, tracker.force(), pressure, hi.contact, eq)
+        width = hi.displacement - lo.displacement
+        if width <= 4 * np.finfo(float).eps * abs(hi.displacement):
+            return hi
+        d = lo.displacement - f_lo * width / (f_hi - f_lo)
+    yield tracker.state(d, True, "equilibrium", tracker.force(), 0, 0, False,
+                        "the search for the preload force did not converge in 200 contact problems")
+    return None
+
+
+def _nested_prefix(tracker: Tracker, samples: list, lowest: float) -> list:
+    """The samples (increasing d) up to the first whose contact set does not hold an earlier one's."""
+    xp = tracker.xp
+    accepted = samples[:1]
+    union = samples[0].contact
+    for sample in samples[1:]:
+        released = union & ~sample.contact
+        if bool(xp.any(released)):
+            full = ContactOperator(tracker.halfspace, tracker.problem.indenter,
+                                   Window.full(tracker.problem.grid.elements))
+            gap = -penetration(full, tracker.height, sample.displacement, sample.pressure)
+            depth = max(sample.displacement - lowest, 1e-300)
+            if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
+                break
+        accepted.append(sample)
+        union = union | sample.contact
+    return accepted

@@ -1,0 +1,307 @@
+"""Locating the events of a load path (an element reaching the criterion or touching, a pillar breaking).
+
+Inside a fixed step (`_events_in_step`, `_next_event`, `_first_crossing`):
+on the step's starting contact set the pressure and the pillar forces are
+affine in d, so the first element to reach -Sigma_c, or the first pillar to
+reach its tension limit, is found exactly, and the step goes on from the
+cascade there.  On the event-driven path (`_event_step`, `_events_ahead`):
+the state is affine in d along the unit response, and the path jumps to the
+next detachment, attachment, target or window bound and follows the cascade
+there.  The drivers that call these are in `brushbem.protocol.paths`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..solver import Equilibrium
+from .path_states import _eq_state
+from .problem import LoadPath, State
+from .tracking import Tracker
+
+
+def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
+    """Every event inside a fixed step, in order; the step's final equilibrium at ``d``, or None if separated.
+
+    The first event is on the step's starting set (`_next_event`); from the
+    cascade at its displacement (the step's springs and history held), the
+    next is on the set that remains, until none is left before d.  A punch or
+    pillar that comes off later in the step keeps its largest force, and a
+    pillar law's break lies where the tension reaches the limit.
+    """
+    for _ in range(MAX_EVENTS_PER_STEP):
+        if not eq.converged:
+            return eq
+        event = _next_event(tracker, before, eq)
+        if event is None:
+            return eq
+        crossing, detach, broken = event
+        yield crossing
+        tracker.restore_pieces(before[3])
+        tracker.contact = crossing.contact
+        tracker.set_pressure(crossing.pressure)
+        if broken is not None:
+            detach = detach | tracker.break_pillars(broken)
+        at = tracker.step_solve(crossing.displacement, advance=False, detach=detach)
+        if not at.converged:
+            return at
+        yield _eq_state(tracker, at, False, "event")
+        if not bool(tracker.xp.any(tracker.contact)):
+            tracker.commit_history()
+            yield tracker.state(crossing.displacement, False, "separated", tracker.force(), 0, 0, True,
+                                "complete separation")
+            return None
+        before = (crossing.displacement, tracker.pressure, tracker.contact, tracker.pieces_state())
+        eq = tracker.step_solve(d, advance=False)
+    return dataclasses.replace(eq, converged=False,
+                               reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
+
+
+#: Events located inside one fixed step before the step is declared not converged (each detaches at
+#: least one element or breaks one pillar, so a step holds at most as many as the grid has elements).
+MAX_EVENTS_PER_STEP = 100_000
+
+
+def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
+    """The state at which the first element of a fixed step's contact set reached the criterion.
+
+    ``before`` = (d, pressure, contact) is the equilibrium the step started
+    from and ``eq`` the step's equilibrium, whose first solve
+    (``eq.trial_pressure``) is on the same contact set.  On a fixed set the
+    pressure is affine in d, so the first element to reach -Sigma_c (the
+    first event of the event path inside the step) and the force there are
+    exact: this is where the force extremum of a step lies, which the
+    step's end would miss by up to the step times the slope.  None when no
+    element left in the step.
+    """
+    event = _next_event(tracker, before, eq)
+    return None if event is None else event[0]
+
+
+def _next_event(tracker: Tracker, before, eq: Equilibrium):
+    """``(state, elements, pillars)`` of the first event between ``before`` and ``eq``, or None.
+
+    The event is the first element of the starting contact set to reach the
+    criterion (`_first_crossing`) or, under a pillar law with a tension
+    limit, the first intact pillar whose tension reaches the limit: pillar
+    forces are affine in d on the step's starting set and pieces too.
+    ``elements`` are the contact elements at the criterion there, ``pillars``
+    (bool per pillar, or None) the pillars at the limit.
+    """
+    xp = tracker.xp
+    if eq.trial_pressure is None:
+        return None
+    d0, p0, c0 = before[:3]
+    p1 = eq.trial_pressure
+    critical = tracker.critical
+    # Elements of the old set whose trial pressure is beyond the criterion.
+    over = c0 & (p1 < -critical) if critical > 0 else c0 & (p1 < 0)
+    tau_elements = 1.0
+    fraction = None
+    if bool(xp.any(over)):
+        drop = xp.where(over, p0 - p1, 1.0)
+        fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
+        tau_elements = min(max(float(xp.min(fraction)), 0.0), 1.0)
+    tau_pillars, breaking = 1.0, None
+    limit = tracker.tension_limit
+    if limit is not None:
+        f0 = tracker._pillar_forces(p0, c0)
+        f1 = tracker._pillar_forces(p1, c0)
+        intact = ~(before[3][1] if len(before) > 3 and before[3] is not None else tracker.pieces.broken)
+        candidates = intact & (f1 < -limit) & (f0 > f1)
+        if candidates.any():
+            pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)
+            tau_pillars = min(max(float(pillar_fraction.min()), 0.0), 1.0)
+            breaking = candidates & (pillar_fraction <= tau_pillars * (1 + 1e-12) + 1e-15)
+    tau = min(tau_elements, tau_pillars)
+    if tau >= 1.0:
+        return None
+    pressure = xp.where(c0, p0 + tau * (p1 - p0), 0.0)
+    d = d0 + tau * (eq.displacement - d0)
+    if tau_pillars <= tau_elements:
+        elements = xp.zeros_like(c0)
+        reason = "a pillar's tension reaches pillar_law.tension_limit inside the step (exact on its contact set)"
+    else:
+        breaking = None
+        elements = over & (fraction <= tau * (1 + 1e-12) + 1e-15)
+        reason = "a detachment inside the step (exact on the step's contact set)"
+    state = tracker.state(d, False, "event", tracker.force(pressure), 0, 0, True, reason,
+                          pressure=pressure, contact=c0)
+    return state, elements, breaking
+
+
+def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
+    """Advance to the next event in ``direction`` (+1 press, -1 pull); yield its states.
+
+    Returns (d, branch_finished), or None when the path must stop.
+
+    Why one function: after the prediction (`_events_ahead`) the three endings of a step (a window bound, a
+    target, an event and its cascade) all move the tracker from the same predicted state; split, each would
+    take the prediction and the tracker and hand back the next d.
+    """
+    xp = tracker.xp
+    loading = direction > 0
+    tol = path.tolerance
+    if not bool(xp.any(tracker.contact)):
+        return (yield from _without_contact(tracker, path, d, loading))
+    tracker.ensure_window(tracker.contact)
+    if loading and not tracker.covers_footprint and tracker.outside_reach_displacement() <= d:
+        # An element outside the window may already be within reach (the
+        # bound is conservative): work on the whole footprint from here on.
+        tracker.ensure_window(tracker.contact | tracker.footprint)
+    sl = tracker.window.slices
+    result = tracker.unit_response()
+    if not result.converged:
+        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
+                            f"unit response: {result.reason}")
+        return None
+    a = result.solution
+    contact = tracker.contact[sl]
+    pressure = tracker.pressure[sl]
+    s = float(direction)
+    ahead = _events_ahead(tracker, path, d, direction, a)
+    grows, t_detach, t_det = ahead.grows, ahead.t_detach, ahead.t_detach_min
+    closing, t_attach, t_att = ahead.closing, ahead.t_attach, ahead.t_attach_min
+    deflection, unit_deflection, candidates = ahead.deflection, ahead.unit_deflection, ahead.candidates
+    t = min(c[0] for c in candidates)
+    if not math.isfinite(t):
+        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
+                            "no event ahead on this branch (the contact neither grows nor shrinks)")
+        return None
+    t = max(t, 0.0)
+    new_d = d + s * t
+    new_pressure = xp.zeros_like(tracker.pressure)
+    new_pressure[sl] = xp.where(contact, pressure + (s * t) * a, 0.0)
+    # Both vanish outside S, so the deflection is affine too (no transform).
+    new_deflection = deflection + (s * t) * unit_deflection
+    target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
+    tie = 100.0 * tol * (abs(d) + t) + 1e-300
+    outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
+    if outside_hit and t + tie < min(t_det, t_att):
+        # Move to the bound along the exact affine path (a valid equilibrium:
+        # nothing detaches or attaches before it), then widen the window to
+        # every footprint element the load path may still reach and go on.
+        tracker.pressure = new_pressure
+        reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), tracker.problem.grid.element_size)
+        before = tracker.window
+        tracker.ensure_window(tracker.contact | (tracker.footprint & (tracker.height <= reach)))
+        if tracker.window == before or tracker.outside_reach_displacement() <= new_d:
+            tracker.ensure_window(tracker.contact | tracker.footprint)
+        yield tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1, True,
+                            "window enlarged")
+        return new_d, _target_reached(tracker, path, new_d)
+    if target_hit and t + tie < min(t_det, t_att):
+        tracker.set_pressure(new_pressure, new_deflection)
+        state = tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1,
+                              True, "preload reached")
+        yield state
+        return new_d, True
+    # A state on the threshold of the event (still an equilibrium), then the cascade.
+    yield tracker.state(new_d, loading, "event", tracker.force(new_pressure), result.iterations, 1, True,
+                        "event", pressure=new_pressure)
+    n = tracker.problem.grid.elements
+    leave = xp.zeros((n, n), dtype=xp.bool)
+    join = xp.zeros((n, n), dtype=xp.bool)
+    if t_det <= t + tie:
+        leave[sl] = grows & (t_detach <= t + tie)
+    if t_att <= t + tie:
+        join[sl] = closing & (t_attach <= t + tie)
+    tracker.set_pressure(new_pressure, new_deflection)
+    window = tracker.window
+    eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
+    if not eq.converged:
+        yield _eq_state(tracker, eq, loading)
+        return None
+    if eq.cg_iterations:
+        tracker.record_pressure_change(new_pressure, new_deflection, window)
+    if not bool(xp.any(tracker.contact)) and not loading:
+        yield tracker.state(new_d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
+                            eq.n_solves, True, "complete separation")
+        return new_d, True
+    yield _eq_state(tracker, eq, loading)
+    return new_d, loading and _target_reached(tracker, path, new_d)
+
+
+def _target_reached(tracker, path, d) -> bool:
+    if path.preload_displacement is not None:
+        return d >= path.preload_displacement * (1 - 1e-12)
+    return tracker.force() >= path.preload_force * (1 - 1e-9)
+
+
+def _without_contact(tracker: Tracker, path: LoadPath, d: float, loading: bool):
+    """`_event_step` without contact: separation on the pull-off, the first touch on the loading."""
+    if not loading:
+        yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
+        return d, True
+    # First touch: the lowest footprint elements.
+    lowest = tracker.problem.indenter.lowest_height
+    distance = max(lowest - d, 0.0)
+    first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
+    new_d = d + distance
+    eq = tracker.solve(new_d, force_attach=first)
+    yield _eq_state(tracker, eq, True)
+    if not eq.converged:
+        return None
+    return new_d, _target_reached(tracker, path, new_d)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Ahead:
+    """The events ahead of an affine state p + t s a, on the tracker's window (`_events_ahead`)."""
+
+    grows: object  # elements of S whose tension grows
+    t_detach: object  # t at which each reaches -Sigma_c (inf elsewhere)
+    t_detach_min: float
+    closing: object  # footprint elements off S that approach the surface
+    t_attach: object  # t at which each touches (inf elsewhere)
+    t_attach_min: float
+    deflection: object  # tip deflection of the current pressure
+    unit_deflection: object  # tip deflection of a
+    candidates: list  # (t, kind, None): detach, attach, and the targets and window bounds ahead
+
+
+def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a) -> _Ahead:
+    """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
+    xp = tracker.xp
+    loading = direction > 0
+    sl = tracker.window.slices
+    contact = tracker.contact[sl]
+    pressure = tracker.pressure[sl]
+    s = float(direction)
+    candidates: list[tuple[float, str, object]] = []  # (distance along direction, kind, mask)
+    if loading and path.preload_displacement is not None:
+        candidates.append((path.preload_displacement - d, "target", None))
+    # Detachment: p_i + t s a_i = -Sigma_c for t >= 0 (elements whose tension grows).
+    rate = s * a
+    grows = contact & (rate < 0)
+    t_detach = xp.where(grows, (pressure + tracker.critical) / xp.where(grows, -rate, 1.0), xp.inf)
+    t_detach = xp.where(t_detach < 0, 0.0, t_detach)
+    # Attachment: penetration pen_j + t s slope_j = 0 from below.
+    height = tracker.height[sl]
+    footprint = tracker.footprint[sl]
+    deflection = tracker.deflection()  # known from the last equilibrium's join check
+    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
+    reach = d - height - deflection
+    slope = 1.0 - unit_deflection
+    closing = footprint & ~contact & (s * slope > 0)
+    t_attach = xp.where(closing, -reach / xp.where(closing, s * slope, 1.0), xp.inf)
+    t_attach = xp.where(t_attach < 0, 0.0, t_attach)
+    t_det = float(xp.min(t_detach)) if bool(xp.any(grows)) else math.inf
+    t_att = float(xp.min(t_attach)) if bool(xp.any(closing)) else math.inf
+    candidates.append((t_det, "detach", None))
+    candidates.append((t_att, "attach", None))
+    if loading and path.preload_force is not None:
+        force_rate = tracker.h2 * float(xp.sum(a))
+        if force_rate > 0:
+            candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
+    if loading and not tracker.covers_footprint:
+        # Footprint elements outside the window (other pillars, asperities)
+        # are not in the affine prediction: stop where one of them could
+        # first touch, enlarge the window there and predict again.
+        reach_at = tracker.outside_reach_displacement()
+        if reach_at < math.inf:
+            candidates.append((max(reach_at - d, 0.0), "outside", None))
+    return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, deflection, unit_deflection, candidates)

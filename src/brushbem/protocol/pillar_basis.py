@@ -1,0 +1,338 @@
+"""The pillar model's basis and coupling: `Basis`, `PillarModel` (``protocol.method = "pillars"``).
+
+`PillarModel` holds, for a brush of flat tips, every pillar's modes (the
+half-space pressures of the displacement polynomials of `MODES` on its
+raster, cached by raster shape), the Galerkin couplings G_ij between the
+modes of two pillars (exact within ``near``, by the multipole expansion
+beyond), the springs of every level projected on the uniform mode, and the
+higher modes' local amplitudes.  The model, its accuracy and its path are
+described in `brushbem.protocol.pillars`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from ..halfspace import influence_coefficients
+from .problem import ContactProblem
+
+__all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
+
+#: The displacement polynomials (powers of x, y) of each choice of modes.
+MODES = {
+    "uniform": ((0, 0),),
+    "tilt": ((0, 0), (1, 0), (0, 1)),
+    "quadratic": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)),
+}
+
+#: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
+NEAR_RADII = 8.0
+
+
+@dataclass(frozen=True)
+class Basis:
+    """The modes of one raster shape (offsets relative to the raster's first row and column).
+
+    phi : (n, m) pressure of each mode per unit amplitude; force : s = sum phi_0
+    (the uniform mode's force / h^2 per unit displacement); gram : (m,) the
+    diagonal of Phi^T K Phi (1 for a mode the raster cannot carry, whose
+    column is zero); centroid : (2,) in elements; m0, m1, m2 : the modes'
+    moments about the centroid, for the far field.
+    """
+
+    offsets: np.ndarray
+    phi: np.ndarray
+    force: float
+    gram: np.ndarray
+    centroid: np.ndarray
+    m0: np.ndarray
+    m1: np.ndarray
+    m2: np.ndarray
+
+
+class PillarModel:
+    """Bases, couplings and springs of a brush in the pillar model (`brushbem.protocol.pillars`)."""
+
+    def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
+                 peel: bool = True, near: float | None = None):
+        if modes not in MODES:
+            raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
+        if coupling not in ("local", "full"):
+            raise ValueError(f"coupling = {coupling!r} must be 'local' or 'full'")
+        grid, indenter = problem.grid, problem.indenter
+        self.n = grid.elements
+        self.h2 = grid.element_size ** 2
+        self.critical = problem.critical_stress
+        self.powers = MODES[modes]
+        self.m = len(self.powers)
+        self.coupling = coupling if self.m > 1 else "full"
+        self.peel = peel
+        labels = np.asarray(indenter.pillar).ravel()
+        flat = np.flatnonzero(labels >= 0)
+        owner = labels[flat]
+        order = np.argsort(owner, kind="stable")
+        flat, owner = flat[order], owner[order]
+        M = self.M = indenter.n_pillars
+        bounds = np.searchsorted(owner, np.arange(M + 1))
+        sizes = np.diff(bounds)
+        width = int(sizes.max())
+        #: Flat grid indices of every pillar's footprint (row-major), padded with -1: (M, width).
+        self.slots = np.full((M, width), -1, dtype=np.int64)
+        within = np.arange(width)[None, :] < sizes[:, None]
+        self.slots[within] = flat
+        self.rows, self.cols = np.divmod(np.where(within, self.slots, 0), self.n)
+        self.full = within
+        self.g = np.asarray(indenter.height).ravel()[self.slots[:, 0]].astype(np.float64)
+        self.levels = [(np.asarray(level.cluster), level.stiffnesses) for level in indenter.elastic_levels]
+        radius = math.sqrt(float(sizes.max()) / math.pi)
+        self.near = NEAR_RADII * radius if near is None else float(near)
+        extent = int(max(np.ptp(np.where(within, self.rows, self.rows[:, :1]), axis=1).max(),
+                         np.ptp(np.where(within, self.cols, self.cols[:, :1]), axis=1).max())) + 1
+        span = min(int(math.ceil(self.near)) + 2 * extent + 2, self.n)
+        h = grid.element_size
+        i = np.arange(span, dtype=np.float64) * h
+        self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
+        self.scale = h / (math.pi * problem.contact_modulus)
+        self._bases: dict[bytes, Basis] = {}
+        self._pairs: dict[tuple, np.ndarray] = {}
+        # Current state of every pillar's raster (a sub-set of its footprint) and its basis.
+        self.raster = within.copy()
+        self.basis: list[Basis] = [None] * M  # type: ignore[list-item]
+        self.origin = np.zeros((M, 2), dtype=np.int64)
+        self.centre = np.zeros((M, 2))
+        m = self.m
+        self.force = np.zeros(M)
+        self.gram = np.ones((M, m))
+        self.m0 = np.zeros((M, m))
+        self.m1 = np.zeros((M, m, 2))
+        self.m2 = np.zeros((M, m, 2, 2))
+        #: Pressure of every mode on every footprint slot (0 off the raster): (M, width, m).
+        self.phi = np.zeros((M, width, m))
+        for p in range(M):
+            self._install_basis(p)
+        full_centres = self.centre.copy()
+        # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
+        self.neighbours = []
+        for p in range(M):
+            distance = np.hypot(*(full_centres - full_centres[p]).T)
+            close = np.flatnonzero(distance < self.near)
+            self.neighbours.append(close[close != p])
+        # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
+        # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
+        self.Gs = np.zeros((m, M, M))
+        self.G0 = self.Gs[0]
+        self.Gh = self.Gs[1:]
+        self.Gf = np.zeros((M, M, m, m)) if self.coupling == "full" else None
+        for p in range(M):
+            self._install_row(p, upper=p)
+
+    # -- bases ---------------------------------------------------------------
+    def _install_basis(self, p: int) -> None:
+        mask = self.raster[p]
+        rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
+        origin = rc.min(axis=0)
+        basis = self.raster_basis(rc - origin)
+        self.basis[p] = basis
+        self.origin[p] = origin
+        self.centre[p] = origin + basis.centroid
+        self.force[p] = basis.force
+        self.gram[p] = basis.gram
+        self.m0[p], self.m1[p], self.m2[p] = basis.m0, basis.m1, basis.m2
+        self.phi[p] = 0.0
+        self.phi[p, mask] = basis.phi
+
+    def raster_basis(self, offsets: np.ndarray) -> Basis:
+        """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
+        key = offsets.tobytes()
+        basis = self._bases.get(key)
+        if basis is None:
+            basis = self._make_basis(offsets)
+            self._bases[key] = basis
+        return basis
+
+    def _make_basis(self, offsets: np.ndarray) -> Basis:
+        d = np.abs(offsets[:, None, :] - offsets[None, :, :])
+        K = self.ktab[d[..., 0], d[..., 1]]
+        factor = scipy.linalg.cho_factor(K)
+        centroid = offsets.mean(axis=0)
+        xi = offsets - centroid
+        size = max(math.sqrt(float(np.mean(np.sum(xi ** 2, axis=1)))), 1.0)
+        P = np.stack([(xi[:, 0] / size) ** a * (xi[:, 1] / size) ** b for a, b in self.powers], axis=1)
+        F = scipy.linalg.cho_solve(factor, P)
+        # K-orthogonal modes (Gram-Schmidt in the K inner product, phi_0 = K^-1 1 kept); a mode the raster
+        # cannot carry (too few elements, all in a line) is dropped: zero column, unit gram.
+        phi = np.zeros_like(F)
+        gram = np.ones(F.shape[1])
+        for k in range(F.shape[1]):
+            v = F[:, k].copy()
+            for j in range(k):
+                if phi[:, j].any():
+                    v -= (phi[:, j] @ P[:, k]) / gram[j] * phi[:, j]
+            norm = float(v @ (K @ v))
+            if k == 0 or norm > 1e-9 * float(F[:, k] @ P[:, k]):
+                phi[:, k] = v
+                gram[k] = norm
+        m0 = phi.sum(axis=0)
+        m1 = phi.T @ xi
+        m2 = np.einsum("em,ea,eb->mab", phi, xi, xi)
+        return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2)
+
+    # -- couplings -------------------------------------------------------------
+    def _exact(self, bp: Basis, origin: np.ndarray, q: int) -> np.ndarray:
+        """Phi_p^T K_pq Phi_q, exact, for a raster ``bp`` at ``origin``; cached by the shapes and their offset."""
+        bq = self.basis[q]
+        dr, dc = self.origin[q] - origin
+        key = (id(bp), id(bq), int(dr), int(dc))
+        block = self._pairs.get(key)
+        if block is None:
+            a, b = bp.offsets, bq.offsets + (dr, dc)
+            K = self.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
+            block = bp.phi.T @ K @ bq.phi
+            if len(self._pairs) > 200_000:
+                self._pairs.clear()
+            self._pairs[key] = block
+        return block
+
+    def _far(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
+        """Blocks G_pq (len(others), m, m) by the multipole expansion of 1/r to second order.
+
+        With t the moments of p's modes and q those of the others' (the element square's own second moment
+        h^2/12 added to the source), about their centroids R apart:
+        G = t0 q0 f + (t1 q0 - t0 q1) . grad f + (t2 q0 - 2 t1 q1 + t0 q2) : hess f / 2, f = 1/r.
+        With ``coupling = "local"`` only the uniform mode's row and column are filled.
+        """
+        ry, rx = centre[0] - self.centre[others, 0], centre[1] - self.centre[others, 1]
+        r2 = ry * ry + rx * rx
+        f = 1.0 / np.sqrt(r2)
+        f3 = f / r2
+        f5 = f3 / r2
+        gy, gx = -ry * f3, -rx * f3
+        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
+        t0, t1, t2 = bp.m0, bp.m1, bp.m2  # (m,), (m, 2), (m, 2, 2)
+        q0, q1, q2 = self.m0[others], self.m1[others], self.m2[others]  # (J, m), (J, m, 2), (J, m, 2, 2)
+        q1y, q1x = q1[..., 0], q1[..., 1]
+        spread = q0 / 12.0
+        q2h = (q2[..., 0, 0] + spread) * hyy[:, None] + 2.0 * q2[..., 0, 1] * hxy[:, None] \
+            + (q2[..., 1, 1] + spread) * hxx[:, None]  # (J, n)
+        q1g = q1y * gy[:, None] + q1x * gx[:, None]  # (J, n)
+        H = np.stack([hyy, hxy, hxx], axis=1)  # (J, 3)
+        t2h = H @ np.stack([t2[:, 0, 0], 2.0 * t2[:, 0, 1], t2[:, 1, 1]])  # (J, m)
+        t1g = np.stack([gy, gx], axis=1) @ t1.T  # (J, m)
+        # t1^T hess: (J, m, 2) as its y and x components.
+        th_y = hyy[:, None] * t1[None, :, 0] + hxy[:, None] * t1[None, :, 1]
+        th_x = hxy[:, None] * t1[None, :, 0] + hxx[:, None] * t1[None, :, 1]
+        m = self.m
+        g = np.zeros((others.size, m, m))
+        if self.Gf is not None:
+            g = (t0[None, :, None] * q0[:, None, :] * f[:, None, None]
+                 + t1g[:, :, None] * q0[:, None, :] - t0[None, :, None] * q1g[:, None, :]
+                 + 0.5 * (t2h[:, :, None] * q0[:, None, :] + t0[None, :, None] * q2h[:, None, :])
+                 - (th_y[:, :, None] * q1y[:, None, :] + th_x[:, :, None] * q1x[:, None, :]))
+            return self.scale * g
+        # Column 0 (all of p's modes, the others' uniform mode) and row 0 (p's uniform mode, all of theirs).
+        g[:, :, 0] = (t0[None, :] * (q0[:, :1] * f[:, None]) + t1g * q0[:, :1] - t0[None, :] * q1g[:, :1]
+                      + 0.5 * (t2h * q0[:, :1] + t0[None, :] * q2h[:, :1])
+                      - (th_y * q1y[:, :1] + th_x * q1x[:, :1]))
+        g[:, 0, 1:] = (t0[0] * q0[:, 1:] * f[:, None] + t1g[:, :1] * q0[:, 1:] - t0[0] * q1g[:, 1:]
+                       + 0.5 * (t2h[:, :1] * q0[:, 1:] + t0[0] * q2h[:, 1:])
+                       - (th_y[:, :1] * q1y[:, 1:] + th_x[:, :1] * q1x[:, 1:]))
+        return self.scale * g
+
+    def blocks(self, p: int, mask: np.ndarray | None = None, upper: int = -1) -> tuple[np.ndarray, np.ndarray, Basis]:
+        """(others, blocks G_pq (len(others), m, m), basis of p) for pillar p on its raster or on ``mask``.
+
+        ``others`` are the pillars q > ``upper`` but p; the other pillars count with their current rasters.
+        """
+        if mask is None:
+            bp, origin, centre = self.basis[p], self.origin[p], self.centre[p]
+        else:
+            rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
+            origin = rc.min(axis=0)
+            bp = self.raster_basis(rc - origin)
+            centre = origin + bp.centroid
+        others = np.arange(upper + 1, self.M)
+        others = others[others != p]
+        blocks = np.zeros((others.size, self.m, self.m))
+        if others.size:
+            near = np.isin(others, self.neighbours[p])
+            far = ~near
+            if far.any():
+                blocks[far] = self._far(bp, centre, others[far])
+            for k in np.flatnonzero(near):
+                blocks[k] = self._exact(bp, origin, int(others[k]))
+        return others, blocks, bp
+
+    def _install_row(self, p: int, upper: int = -1) -> None:
+        """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
+        others, blocks, _ = self.blocks(p, upper=upper)
+        self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
+        self.G0[p, p] = self.gram[p, 0]
+        if self.m > 1:
+            self.Gh[:, p, others] = blocks[:, 1:, 0].T
+            self.Gh[:, others, p] = blocks[:, 0, 1:].T
+            self.Gh[:, p, p] = 0.0
+        if self.Gf is not None:
+            self.Gf[p, others] = blocks
+            self.Gf[others, p] = blocks.transpose(0, 2, 1)
+            self.Gf[p, p] = np.diag(self.gram[p])
+
+    def set_raster(self, p: int, mask: np.ndarray) -> None:
+        """Pillar p holds the footprint slots ``mask`` (all of them once it is off): new basis and couplings."""
+        if not mask.any():
+            mask = self.full[p]
+        if np.array_equal(mask, self.raster[p]):
+            return
+        self.raster[p] = mask
+        self._install_basis(p)
+        self._install_row(p)
+
+    # -- springs -------------------------------------------------------------
+    def spring_row(self, p: int) -> np.ndarray:
+        """Row p of H = sum_l (h^2 / k_l) s s^T on the clusters of level l (all pillars)."""
+        row = np.zeros(self.M)
+        for cluster, stiffness in self.levels:
+            same = cluster == cluster[p]
+            row[same] += self.h2 / stiffness[cluster[p]]
+        return row * self.force[p] * self.force
+
+    def spring_product(self, x0: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """H x0 over the attached pillars."""
+        out = np.zeros(self.M)
+        weights = np.where(attached, self.force * x0, 0.0)
+        for cluster, stiffness in self.levels:
+            sums = np.bincount(cluster, weights=weights, minlength=stiffness.size)
+            out += (self.h2 / stiffness)[cluster] * sums[cluster]
+        return out * self.force
+
+    def spring_matrix(self, S: np.ndarray) -> np.ndarray:
+        out = np.zeros((S.size, S.size))
+        for cluster, stiffness in self.levels:
+            c = cluster[S]
+            out += np.where(c[:, None] == c[None, :], (self.h2 / stiffness[c])[:, None], 0.0)
+        return out * np.outer(self.force[S], self.force[S])
+
+    def tip_deflection(self, x0: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """The springs' stretch sum_l F_cluster / k_l at every pillar (forces of the attached ones)."""
+        out = np.zeros(self.M)
+        weights = np.where(attached, self.h2 * self.force * x0, 0.0)
+        for cluster, stiffness in self.levels:
+            sums = np.bincount(cluster, weights=weights, minlength=stiffness.size)
+            out += (sums / stiffness)[cluster]
+        return out
+
+    # -- higher modes ----------------------------------------------------------
+    def fields(self, x0: np.ndarray) -> np.ndarray:
+        """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
+        return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
+
+    def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """All modes' amplitudes (M, m) from the uniform ones and their ``fields`` (``coupling = 'local'``)."""
+        x = np.zeros((self.M, self.m))
+        x[:, 0] = np.where(attached, x0, 0.0)
+        if self.m > 1:
+            x[:, 1:] = np.where(attached[:, None], -field[1:].T / self.gram[:, 1:], 0.0)
+        return x
