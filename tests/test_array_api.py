@@ -105,3 +105,55 @@ def test_pull_off_to_a_preload_force_on_the_strict_array_api_equals_numpy():
     assert on_strict["n_states"] == on_numpy["n_states"]
     for key in ("preload_force", "adhesive_force", "work_of_separation"):
         assert on_strict[key] == pytest.approx(on_numpy[key], rel=1e-6), key
+
+
+@pytest.mark.parametrize("levels", [(), (Level(2, 1e-2),)], ids=["one level", "two levels"])
+def test_a_cg_iteration_copies_only_its_convergence_scalars_to_the_host(monkeypatch, levels):
+    """Per CG iteration one host copy (the residual norm with the curvature), the preconditioner's none.
+
+    Counted on the strict namespace: every ``float``/``bool``/``int`` of a
+    device array and every `backend.to_numpy` of one.  Two solves of the
+    same system to tolerances 1e-4 and 1e-10 differ in iterations only, so
+    the difference of their counts over the difference of their iterations
+    is the cost of one iteration; before, the spring preconditioner's coarse
+    solve copied its pillar sums to the host and back (2 per iteration) and
+    CG synchronised three scalars (4 in all).
+    """
+    from brushbem.halfspace import HalfSpace
+    from brushbem.operator import ContactOperator, MaskedOperator, Window
+    from brushbem.solver import conjugate_gradient, contact_preconditioner
+
+    counts = {"syncs": 0}
+    array_type = type(strict.asarray(0.0))
+    for name in ("__float__", "__bool__", "__int__", "__index__"):
+        original = getattr(array_type, name)
+
+        def counted(self, _original=original):
+            counts["syncs"] += 1
+            return _original(self)
+
+        monkeypatch.setattr(array_type, name, counted)
+    to_numpy = backend.to_numpy
+
+    def counted_copy(array):
+        if isinstance(array, array_type):
+            counts["syncs"] += 1
+        return to_numpy(array)
+
+    monkeypatch.setattr(backend, "to_numpy", counted_copy)
+    indenter = _brush(stiffness=1e-2, levels=levels)
+    operator = ContactOperator(HalfSpace(GRID.elements, GRID.element_size, 1.0, xp=strict), indenter,
+                               Window.full(GRID.elements))
+    mask = strict.asarray(np.asarray(indenter.pillar) >= 0)
+    rhs = strict.asarray(np.where(np.asarray(indenter.pillar) >= 0, 1e-3, 0.0))
+    preconditioner = contact_preconditioner(operator, mask)
+    runs = []
+    for tolerance in (1e-3, 1e-12):
+        counts["syncs"] = 0
+        result = conjugate_gradient(MaskedOperator(operator, mask), rhs, tolerance=tolerance,
+                                    preconditioner=preconditioner)
+        assert result.converged, result.reason
+        runs.append((result.iterations, counts["syncs"]))
+    (few, few_syncs), (many, many_syncs) = runs
+    assert many > few + 3
+    assert (many_syncs - few_syncs) == many - few

@@ -8,6 +8,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from .. import backend
+
 __all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "SetOperator", "SolveResult",
            "conjugate_gradient"]
 
@@ -183,10 +185,19 @@ def conjugate_gradient(
     # be the masked copy of rhs) and are updated in place: fewer temporaries
     # matter on the small blocks the solves run on.
     direction = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
-    rz = _dot(xp, residual, direction)
+    # One host copy per iteration: the residual norm and the curvature, together (on a GPU every other
+    # scalar stays on the device).  A curvature that is not positive makes the step 0: x stays as it was.
+    rz = xp.sum(residual * direction)
     for iteration in range(1, max_iterations + 1):
         a_direction = apply(direction)
-        curvature = _dot(xp, direction, a_direction)
+        curvature = xp.sum(direction * a_direction)
+        positive = curvature > 0.0
+        step = xp.where(positive, rz / xp.where(positive, curvature, 1.0), 0.0)
+        x += step * direction
+        if on_step is not None:
+            on_step(step)
+        residual -= step * a_direction
+        squared, curvature = (float(v) for v in backend.to_numpy(xp.stack([xp.sum(residual * residual), curvature])))
         if not (curvature > 0.0) or not math.isfinite(curvature):
             reason = (
                 "the operator is not positive definite on the contact set"
@@ -194,12 +205,7 @@ def conjugate_gradient(
                 else "non-finite values in the iteration"
             )
             return SolveResult(x, False, reason, iteration, relative, tuple(history))
-        step = rz / curvature
-        x += step * direction
-        if on_step is not None:
-            on_step(step)
-        residual -= step * a_direction
-        relative = math.sqrt(_dot(xp, residual, residual)) / rhs_norm
+        relative = math.sqrt(squared) / rhs_norm
         history.append(relative)
         if not math.isfinite(relative):
             return SolveResult(x, False, "non-finite residual", iteration, relative, tuple(history))
@@ -211,7 +217,7 @@ def conjugate_gradient(
             if isinstance(verdict, SolveResult):
                 return dataclasses.replace(verdict, iterations=iteration)
         z = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
-        rz_next = _dot(xp, residual, z)
+        rz_next = xp.sum(residual * z)
         direction *= rz_next / rz
         direction += z
         rz = rz_next

@@ -188,12 +188,25 @@ def spring_preconditioner(operator: ContactOperator, mask, shift: float = PRECON
 
         return apply
 
+    # On a device: the pillar-to-unit sums, the coarse solve and the spread all stay there (no host copy
+    # inside a CG iteration).  G is small and dense there: factorised once on the host (`backend.spd_solver`).
+    unit_solve = (lambda b: b / xp.asarray(coarse.diagonal())) if coarse.nnz == offset else \
+        backend.spd_solver(xp, coarse.toarray())
+    levels = []  # (cluster of every pillar, number of clusters, first unit) per level, as G orders its units
+    first = 0
+    for _, cluster in operator.spring_levels:
+        count = int(np.asarray(cluster).max()) + 1
+        levels.append((xp.asarray(np.asarray(cluster)), count, first))
+        first += count
+    zero = xp.zeros(1, dtype=xp.float64)
+
     def apply(residual):
         z = alpha_elements * laplacian(residual * maskf)
-        sums = np.asarray(backend.to_numpy(
-            backend.segment_sum(xp, contact_labels, xp.reshape(z, (-1,))[contact_index], n_pillars)))
-        y = xp.asarray(np.append(incidence @ coarse_solve(incidence_t @ sums), 0.0))
-        spread = xp.take(y, window_labels)  # a gather: zero off S (the dummy pillar)
+        sums = backend.segment_sum(xp, contact_labels, xp.reshape(z, (-1,))[contact_index], n_pillars)
+        on_units = [backend.segment_sum(xp, cluster, sums, count) for cluster, count, _ in levels]  # Q^T sums
+        solved = unit_solve(on_units[0] if len(on_units) == 1 else xp.concat(on_units))
+        y = sum(xp.take(solved[start:start + count], cluster) for cluster, count, start in levels)  # Q w
+        spread = xp.take(xp.concat([y, zero]), window_labels)  # a gather: zero off S (the dummy pillar)
         return z - alpha_elements * laplacian(xp.reshape(spread, z.shape))
 
     return apply
