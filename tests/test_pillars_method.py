@@ -107,7 +107,7 @@ def test_tips_of_different_lengths_are_refused():
     model refuses them, naming the keys, rather than give such numbers.
     """
     problem, _ = _brush(96, 6, 1e-2, 1.0)
-    with pytest.raises(ValueError, match="indenter.roughness.*method = 'events'"):
+    with pytest.raises(ValueError, match=r"brush\(roughness=.*method = 'events'"):
         pillars.check_applicable(problem)
 
 
@@ -206,27 +206,27 @@ def test_api_and_configuration():
 
 
 @pytest.mark.parametrize(("extra", "key"), [
-    ({"tip": Tip("spherical_cap", radius=0.2)}, "indenter.tip"),
-    ({"tilt": Tilt(0.2, 30.0)}, "indenter.tilt"),
+    ({"tip": Tip("spherical_cap", radius=0.2)}, r"brush\(tip="),
+    ({"tilt": Tilt(0.2, 30.0)}, r"brush\(tilt="),
 ])
 def test_refuses_tips_that_are_not_flat_and_level(extra, key):
-    """Curved tips and a tilted base touch partly: refused, naming the key."""
+    """Curved tips and a tilted base touch partly: refused, naming the parameter."""
     problem, force = _brush(64, 4, 1e-2, **extra)
     with pytest.raises(ValueError, match=key):
         next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)))
 
 
 def test_refuses_other_indenters_and_connections():
-    """A punch (not a brush), viscoelastic connections and a pillar law are refused, naming the key."""
+    """A punch (not a brush), viscoelastic connections and a pillar law are refused, naming the parameter."""
     grid = Grid(1.0, 64)
     punch = ContactProblem(grid, flat_punch(grid, 0.1), contact_modulus=1.0, work_of_adhesion=DGAMMA)
     path = LoadPath(method="pillars", preload_force=0.01)
     with pytest.raises(ValueError, match="brush"):
         next(brushbem.protocol.pull_off(punch, path))
     problem, _ = _brush(64, 4, 1e-2)
-    with pytest.raises(ValueError, match="indenter.viscoelastic"):
+    with pytest.raises(ValueError, match="Indenter.viscoelastic"):
         pillars.check_applicable(dataclasses.replace(
             problem, indenter=dataclasses.replace(problem.indenter, viscoelastic=object())))
-    with pytest.raises(ValueError, match="indenter.pillar_law"):
+    with pytest.raises(ValueError, match="Indenter.pillar_law"):
         pillars.check_applicable(dataclasses.replace(
             problem, indenter=dataclasses.replace(problem.indenter, pillar_law=object())))

@@ -32,6 +32,7 @@ from scipy.optimize import brentq
 
 from brushbem.assembly import load
 from brushbem.config import ConfigError
+from brushbem.errors import ParameterError
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
 from brushbem.protocol.recording import work_of_separation
 from brushbem.structure import Grid, brush, flat_punch
@@ -255,15 +256,16 @@ def test_time_stepping_needs_speed_fixed_steps_and_a_displacement():
     punch = dataclasses.replace(flat_punch(GRID, RADIUS, STIFFNESS), viscoelastic=Viscoelastic("kelvin_voigt", 1.0))
     problem = ContactProblem(GRID, punch, contact_modulus=1.0, work_of_adhesion=DGAMMA)
     for path, message in (
-        (LoadPath(method="fixed", preload_displacement=PRELOAD), "protocol.speed"),
+        (LoadPath(method="fixed", preload_displacement=PRELOAD), "LoadPath.speed"),
         (LoadPath(method="events", preload_displacement=PRELOAD, speed=1.0), "method = 'fixed'"),
         (LoadPath(method="fixed", preload_force=1e-3, speed=1.0), "preload_displacement"),
     ):
         with pytest.raises(ValueError, match=message):
             record_pull_off(problem, path)
     elastic = ContactProblem(GRID, flat_punch(GRID, RADIUS, STIFFNESS), contact_modulus=1.0, work_of_adhesion=DGAMMA)
-    with pytest.raises(ValueError, match="protocol.speed"):
+    with pytest.raises(ParameterError, match="LoadPath.speed") as refused:
         record_pull_off(elastic, LoadPath(method="fixed", preload_displacement=PRELOAD, speed=1.0))
+    assert (refused.value.owner, refused.value.parameter) == ("LoadPath", "speed")
     with pytest.raises(ValueError, match="relaxation_time"):
         Viscoelastic("kelvin_voigt", -1.0)
     with pytest.raises(ValueError, match="instantaneous_factor"):

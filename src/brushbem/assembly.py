@@ -18,7 +18,8 @@ here imports the solver: ``brushbem validate`` loads neither it nor SciPy
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -28,6 +29,7 @@ import numpy as np
 from . import config as schema
 from .config import (
     MAX_PRELOAD_DOMAIN_SIZES,
+    ConfigError,
     GridConfig,
     HalfSpaceConfig,
     IndenterConfig,
@@ -36,6 +38,7 @@ from .config import (
     show_value,
 )
 from .config.limits import SPRING_RESOLUTION_MARGIN, SPRING_ROUNDING_FLOOR
+from .errors import ParameterError
 from .structure import (
     Grading,
     Grid,
@@ -62,11 +65,77 @@ __all__ = [
     "build_indenter",
     "build_path",
     "build_problem",
+    "configuration_errors",
+    "configuration_text",
     "load",
     "load_config",
     "parse",
     "parse_config",
 ]
+
+
+#: The configuration key of every parameter a numerics object checks (`ParameterError`): the one place
+#: that maps the numerics' names (``LoadPath.step``, ``Grid.elements``) back to the keys a user wrote.
+PARAMETER_KEYS: dict[tuple[str, str], str] = {
+    ("LoadPath", "method"): "protocol.method",
+    ("LoadPath", "preload_displacement"): "protocol.preload_displacement",
+    ("LoadPath", "preload_force"): "protocol.preload_force",
+    ("LoadPath", "step"): "protocol.step",
+    ("LoadPath", "max_steps"): "protocol.max_steps",
+    ("LoadPath", "speed"): "protocol.speed",
+    ("LoadPath", "tolerance"): "solver.tolerance",
+    ("LoadPath", "max_iterations"): "solver.max_iterations",
+    ("LoadPath", "cascade"): "solver.cascade",
+    ("ContactProblem", "coupling"): "solver.coupling",
+    ("ContactProblem", "contact_modulus"): "halfspace.contact_modulus",
+    ("ContactProblem", "work_of_adhesion"): "halfspace.work_of_adhesion",
+    ("Grid", "size"): "grid.size",
+    ("Grid", "elements"): "grid.elements",
+    ("Indenter", "viscoelastic"): "indenter.viscoelastic",
+    ("Indenter", "pillar_law"): "indenter.pillar_law",
+    ("Indenter", "levels"): "indenter.stiffness",
+    ("flat_punch", "radius"): "indenter.radius",
+    ("flat_punch", "stiffness"): "indenter.stiffness",
+    ("sphere", "radius"): "indenter.radius",
+    ("sphere", "stiffness"): "indenter.stiffness",
+    ("height_map", "heights"): "indenter.file",
+    ("height_map", "stiffness"): "indenter.stiffness",
+}
+
+
+def configuration_key(exc: ParameterError) -> str | None:
+    """The configuration key of ``exc``'s parameter (`PARAMETER_KEYS`; a brush parameter is ``indenter.<name>``)."""
+    key = PARAMETER_KEYS.get((exc.owner, exc.parameter))
+    if key is None and exc.owner == "brush":
+        key = f"indenter.{exc.parameter}"
+    return key
+
+
+def configuration_text(text: str) -> str:
+    """``text`` (a numerics message, or a run's reason) with every ``Owner.parameter`` of `PARAMETER_KEYS` as its key."""
+    for (owner, parameter), key in PARAMETER_KEYS.items():
+        text = text.replace(f"{owner}.{parameter}", key)
+    return text
+
+
+@contextmanager
+def configuration_errors() -> Iterator[None]:
+    """Re-raise a numerics `ParameterError` as a `ConfigError` naming the configuration keys.
+
+    For building or running from a configuration: every ``Owner.parameter`` of `PARAMETER_KEYS` in the
+    message reads as its key, and the line starts with the key of the parameter at fault.  A
+    `StructureError` passes unchanged (the rules on the structure report it by key before a run).
+    """
+    try:
+        yield
+    except StructureError:
+        raise
+    except ParameterError as exc:
+        message = configuration_text(str(exc))
+        key = configuration_key(exc)
+        if key is not None and key not in message:
+            message = f"{key}: {message}"
+        raise ConfigError([message]) from exc
 
 
 def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
@@ -357,21 +426,24 @@ class Assembly:
 
 def build_indenter(config: RunConfig) -> Indenter:
     """Rasterise the configured indenter on the configured grid."""
-    return _rasterise(config.grid, config.indenter, config.halfspace)
+    with configuration_errors():
+        return _rasterise(config.grid, config.indenter, config.halfspace)
 
 
 def build_problem(config: RunConfig, indenter: Indenter | None = None, xp: Any = np) -> ContactProblem:
     """The contact problem of a validated configuration (``indenter``: its rasterisation, if built)."""
     from .protocol import ContactProblem
 
-    return ContactProblem(
-        grid=Grid(config.grid.size, config.grid.elements),
-        indenter=build_indenter(config) if indenter is None else indenter,
-        contact_modulus=config.halfspace.effective_modulus,
-        work_of_adhesion=config.halfspace.work_of_adhesion,
-        coupling=config.solver.coupling,
-        xp=xp,
-    )
+    indenter = build_indenter(config) if indenter is None else indenter
+    with configuration_errors():
+        return ContactProblem(
+            grid=Grid(config.grid.size, config.grid.elements),
+            indenter=indenter,
+            contact_modulus=config.halfspace.effective_modulus,
+            work_of_adhesion=config.halfspace.work_of_adhesion,
+            coupling=config.solver.coupling,
+            xp=xp,
+        )
 
 
 def build_path(config: RunConfig) -> LoadPath:
@@ -379,17 +451,18 @@ def build_path(config: RunConfig) -> LoadPath:
     from .protocol import LoadPath
 
     p = config.protocol
-    return LoadPath(
-        method=p.method,
-        preload_displacement=p.preload_displacement,
-        preload_force=p.preload_force,
-        step=p.step,
-        max_steps=p.max_steps,
-        speed=p.speed,
-        tolerance=config.solver.tolerance,
-        max_iterations=config.solver.max_iterations,
-        cascade=config.solver.cascade,
-    )
+    with configuration_errors():
+        return LoadPath(
+            method=p.method,
+            preload_displacement=p.preload_displacement,
+            preload_force=p.preload_force,
+            step=p.step,
+            max_steps=p.max_steps,
+            speed=p.speed,
+            tolerance=config.solver.tolerance,
+            max_iterations=config.solver.max_iterations,
+            cascade=config.solver.cascade,
+        )
 
 
 def assemble(config: RunConfig, rules: Rules | None = None, xp: Any = np) -> Assembly:
@@ -397,7 +470,8 @@ def assemble(config: RunConfig, rules: Rules | None = None, xp: Any = np) -> Ass
 
     ``rules``: the `Rules` that validated it, whose rasterisation is reused.
     """
-    indenter = None if rules is None else rules.indenter(config.grid, config.indenter, config.halfspace)
+    with configuration_errors():
+        indenter = None if rules is None else rules.indenter(config.grid, config.indenter, config.halfspace)
     return Assembly(config, build_problem(config, indenter, xp), build_path(config))
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -9,7 +10,15 @@ from typing import Any
 import numpy as np
 
 from . import __version__, theory
-from .assembly import Assembly, assemble, build_indenter, build_path, build_problem
+from .assembly import (
+    Assembly,
+    assemble,
+    build_indenter,
+    build_path,
+    build_problem,
+    configuration_errors,
+    configuration_text,
+)
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
@@ -329,8 +338,14 @@ def run_case(
     the result then holds the path so far, ``interrupted`` and not converged.
     """
     built = config if isinstance(config, Assembly) else assemble(config)
-    return run_problem(built.problem, built.path, progress=progress, stop=stop,
-                       config=config_to_dict(built.config))
+    with configuration_errors():  # a parameter the run refuses, named by its configuration key
+        result, reference = run_problem(built.problem, built.path, progress=progress, stop=stop,
+                                        config=config_to_dict(built.config))
+    reason = result.summary.reason
+    if isinstance(reason, str) and configuration_text(reason) != reason:  # a parameter's limit, as its key
+        result = dataclasses.replace(result, summary=dataclasses.replace(result.summary,
+                                                                         reason=configuration_text(reason)))
+    return result, reference
 
 
 def run_problem(

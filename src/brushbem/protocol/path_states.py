@@ -13,4 +13,4 @@ def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> St
 
 def _budget_exhausted(tracker, d, loading, path) -> State:
     return tracker.state(d, loading, "equilibrium", tracker.force(), 0, 0, False,
-                         f"protocol.max_steps = {path.max_steps} reached before the end of the branch")
+                         f"LoadPath.max_steps = {path.max_steps} reached before the end of the branch")

@@ -16,6 +16,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ..errors import ParameterError
+
 from .contact_loading import LOADING_SAMPLES, _contact_loading, _press_as_contact_problems
 from .events import _event_step, _events_in_step
 from .path_states import _budget_exhausted, _eq_state
@@ -60,8 +62,9 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     if path.preload_displacement is not None:
         lowest = problem.indenter.lowest_height
         if path.preload_displacement <= lowest:
-            raise ValueError(
-                f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
+            raise ParameterError(
+                "LoadPath", "preload_displacement",
+                f"LoadPath.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
                 "the height of the indenter's lowest element (where it first touches)"
             )
     states = _fixed(tracker, path) if path.method == "fixed" else _events(tracker, path)
@@ -74,8 +77,8 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
             states.close()
             yield dataclasses.replace(preload, converged=False, n_solves=0, cg_iterations=0, reason=(
                 f"no contact at the end of the loading branch (d = {preload.displacement:.6g}): the "
-                f"penetration there is within the solver's tolerance (solver.tolerance = {path.tolerance:g} "
-                "of the path's length scale); raise the preload or lower solver.tolerance"
+                f"penetration there is within the solver's tolerance (LoadPath.tolerance = {path.tolerance:g} "
+                "of the path's length scale); raise the preload or lower LoadPath.tolerance"
             ))
             return
         yield state
@@ -89,16 +92,19 @@ def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
     along the whole path (`brushbem.viscoelastic`).
     """
     if problem.indenter.viscoelastic is None:
-        raise ValueError(f"protocol.speed = {path.speed:g} only applies to viscoelastic pillars "
-                         "(indenter.viscoelastic); remove it")
+        raise ParameterError("LoadPath", "speed",
+                             f"LoadPath.speed = {path.speed:g} only applies to viscoelastic pillars "
+                             "(Indenter.viscoelastic); remove it")
     if path.speed is None:
-        raise ValueError("viscoelastic pillars need protocol.speed, the pulling speed (> 0)")
+        raise ParameterError("LoadPath", "speed", "viscoelastic pillars need LoadPath.speed, the pulling speed (> 0)")
     if path.method != "fixed":
-        raise ValueError(f"protocol.method = {path.method!r}: viscoelastic pillars are stepped in time and need "
+        raise ParameterError("LoadPath", "method",
+                             f"LoadPath.method = {path.method!r}: viscoelastic pillars are stepped in time and need "
                          "method = 'fixed' (its step is the time step times the speed)")
     if path.preload_displacement is None:
-        raise ValueError("viscoelastic pillars are pressed to protocol.preload_displacement (a force target "
-                         "would need steps of changing length)")
+        raise ParameterError("LoadPath", "preload_displacement",
+                             "viscoelastic pillars are pressed to LoadPath.preload_displacement (a force target "
+                             "would need steps of changing length)")
     steps = max(1, math.ceil(path.preload_displacement / path.step - 1e-9))
     return dataclasses.replace(path, step=path.preload_displacement / steps)
 
@@ -106,13 +112,15 @@ def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
 def _check_law_path(problem: ContactProblem, path: LoadPath) -> None:
     """A nonlinear pillar law is followed by fixed steps, on elastic connections."""
     if path.method != "fixed":
-        raise ValueError(f"protocol.method = {path.method!r}: a nonlinear pillar law (indenter.pillar_law) is "
+        raise ParameterError("LoadPath", "method",
+                             f"LoadPath.method = {path.method!r}: a nonlinear pillar law (Indenter.pillar_law) is "
                          "followed step by step and needs method = 'fixed'")
     if problem.indenter.viscoelastic is not None:
-        raise ValueError("indenter.pillar_law and indenter.viscoelastic cannot be combined")
+        raise ParameterError("Indenter", "pillar_law", "Indenter.pillar_law and Indenter.viscoelastic cannot be combined")
     if path.preload_displacement is None:
-        raise ValueError("a nonlinear pillar law is pressed to protocol.preload_displacement (a force target "
-                         "would search across the law's pieces)")
+        raise ParameterError("LoadPath", "preload_displacement",
+                             "a nonlinear pillar law is pressed to LoadPath.preload_displacement (a force target "
+                             "would search across the law's pieces)")
 
 
 def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:

@@ -1,4 +1,4 @@
-"""The pillar model's basis and coupling: `Basis`, `PillarModel` (``protocol.method = "pillars"``).
+"""The pillar model's basis and coupling: `Basis`, `PillarModel` (``LoadPath.method = "pillars"``).
 
 `PillarModel` holds, for a brush of flat tips, every pillar's modes (the
 half-space pressures of the displacement polynomials of `MODES` on its

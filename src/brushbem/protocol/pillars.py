@@ -1,4 +1,4 @@
-"""The pillar-level model of a brush of flat rigid tips: ``protocol.method = "pillars"``.
+"""The pillar-level model of a brush of flat rigid tips: ``LoadPath.method = "pillars"``.
 
 The element-level paths solve for the pressure on every element of every
 tip.  A flat rigid tip in full contact carries a pressure that is almost
@@ -109,9 +109,9 @@ m = 6 modes) and every event updates them in O(M^2): brushes up to a few
 thousand pillars.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
-(``indenter.tip``), a tilted base (``indenter.tilt``), viscoelastic
-connections (``indenter.viscoelastic``), nonlinear pillar laws
-(``indenter.pillar_law``), and indenters that are not brushes.
+(``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
+connections (``Indenter.viscoelastic``), nonlinear pillar laws
+(``Indenter.pillar_law``), and indenters that are not brushes.
 
 Here: the pillar-level solve (the kept inverse) and the path.  The bases,
 couplings and springs are in `brushbem.protocol.pillar_basis`
@@ -126,6 +126,8 @@ from collections.abc import Iterator
 import numpy as np
 import scipy.linalg
 from scipy.linalg.blas import dger
+
+from ..errors import ParameterError
 
 from .pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
 from .pillar_checks import check_applicable
@@ -418,8 +420,9 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic
     check_applicable(problem, path)
     lowest = problem.indenter.lowest_height
     if path.preload_displacement is not None and path.preload_displacement <= lowest:
-        raise ValueError(
-            f"protocol.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
+        raise ParameterError(
+            "LoadPath", "preload_displacement",
+            f"LoadPath.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
             "the height of the indenter's lowest element (where it first touches)"
         )
     model = PillarModel(problem, modes=modes, coupling=coupling, peel=peel, near=near)
@@ -440,7 +443,7 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
     while True:
         steps += 1
         if steps > path.max_steps:
-            yield run.state(d, loading, "equilibrium", f"protocol.max_steps = {path.max_steps} reached before the "
+            yield run.state(d, loading, "equilibrium", f"LoadPath.max_steps = {path.max_steps} reached before the "
                             "end of the branch", converged=False)
             return
         direction = 1.0 if loading else -1.0

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ParameterError
 from ..solver import critical_stress
 from ..structure import Grid, Indenter
 
@@ -77,7 +78,7 @@ class LoadPath:
         Margin of the working window around the contact, as a fraction of its
         size (at least 4 elements).
     cascade : {"local", "global"}
-        How the detachment rounds of a brush run (``solver.equilibrium``).
+        How the detachment rounds of a brush run (`brushbem.solver.equilibria`).
     speed : float or None
         Pulling speed v of a time-stepped path (viscoelastic pillars, method
         "fixed"): every displacement step is the time step dd / v, in the
@@ -97,20 +98,21 @@ class LoadPath:
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
-            raise ValueError(f"protocol.method = {self.method!r} must be 'events', 'element_events', 'fixed' or "
-                             "'pillars'")
+            raise ParameterError("LoadPath", "method", f"LoadPath.method = {self.method!r} must be 'events', "
+                                 "'element_events', 'fixed' or 'pillars'")
         if self.cascade not in ("local", "global"):
-            raise ValueError(f"solver.cascade = {self.cascade!r} must be 'local' or 'global'")
+            raise ParameterError("LoadPath", "cascade", f"LoadPath.cascade = {self.cascade!r} must be 'local' or 'global'")
         if (self.preload_displacement is None) == (self.preload_force is None):
-            raise ValueError("exactly one of protocol.preload_displacement and protocol.preload_force is required")
+            raise ParameterError("LoadPath", "preload_displacement", "exactly one of LoadPath.preload_displacement "
+                                 "and LoadPath.preload_force is required")
         for name in ("preload_displacement", "preload_force"):
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0):
-                raise ValueError(f"protocol.{name} = {value} must be finite and > 0")
+                raise ParameterError("LoadPath", name, f"LoadPath.{name} = {value} must be finite and > 0")
         if not (math.isfinite(self.step) and self.step > 0):
-            raise ValueError(f"protocol.step = {self.step} must be finite and > 0")
+            raise ParameterError("LoadPath", "step", f"LoadPath.step = {self.step} must be finite and > 0")
         if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
-            raise ValueError(f"protocol.speed = {self.speed} must be finite and > 0")
+            raise ParameterError("LoadPath", "speed", f"LoadPath.speed = {self.speed} must be finite and > 0")
 
 
 @dataclass(frozen=True)

@@ -256,7 +256,7 @@ class _Recorder:
             summary["converged"] = False
             summary["reason"] = (
                 f"non-finite {', '.join(overflowed)}: the inputs' scales overflow double precision "
-                "(e.g. work_of_adhesion or the preload far from contact_modulus x grid.size)"
+                "(e.g. work_of_adhesion or the preload far from contact_modulus x Grid.size)"
             )
         return PullOffSummary(**summary)
 

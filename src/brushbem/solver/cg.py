@@ -171,7 +171,7 @@ def conjugate_gradient(
                 f"double precision cannot resolve the half-space's part of the solve: it is "
                 f"{wanted / tolerance:.2g} of the right-hand side (the springs' deflection carries the rest), "
                 f"so a relative residual of {tolerance:g} on it is below rounding; use stiffer springs, a "
-                f"larger solver.tolerance, or a load-controlled model"), 0, relative, tuple(history))
+                f"larger LoadPath.tolerance, or a load-controlled model"), 0, relative, tuple(history))
         threshold = wanted
         return False
 

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..errors import ParameterError
 from .errors import StructureError
 from .grid import Grid, _check_pillar_radius
 from .hierarchy import Level, _spring_levels
@@ -18,11 +19,11 @@ from .tips import Grading, Profile, Tilt, Tip, _brush_heights, _pillar_offsets
 __all__ = ["brush", "flat_punch", "height_map", "sphere"]
 
 
-def _single_spring(stiffness: float) -> tuple[SpringLevel, ...]:
+def _single_spring(stiffness: float, owner: str) -> tuple[SpringLevel, ...]:
     if math.isinf(stiffness):
         return ()
     if not (stiffness > 0 and math.isfinite(stiffness)):
-        raise ValueError(f"indenter.stiffness = {stiffness} must be > 0 (inf = rigid)")
+        raise ParameterError(owner, "stiffness", f"{owner}(stiffness={stiffness}) must be > 0 (inf = rigid)")
     return (SpringLevel(stiffness=float(stiffness), cluster=np.zeros(1, dtype=np.int64)),)
 
 
@@ -33,9 +34,9 @@ def flat_punch(grid: Grid, radius: float, stiffness: float = math.inf) -> Indent
     """
     h = grid.element_size
     if not (math.isfinite(radius) and radius >= 2 * h):
-        raise ValueError(f"indenter.radius = {radius} must be >= 2 elements (2h = {2 * h})")
+        raise ParameterError("flat_punch", "radius", f"flat_punch(radius={radius}) must be >= 2 elements (2h = {2 * h})")
     if 2 * radius > grid.size:
-        raise ValueError(f"indenter.radius = {radius} is larger than the domain (L/2 = {grid.size / 2})")
+        raise ParameterError("flat_punch", "radius", f"flat_punch(radius={radius}) is larger than the domain (L/2 = {grid.size / 2})")
     inside = grid.radius_squared() <= radius**2
     height = np.where(inside, 0.0, np.inf)
     pillar = np.where(inside, 0, -1)
@@ -43,7 +44,7 @@ def flat_punch(grid: Grid, radius: float, stiffness: float = math.inf) -> Indent
     return Indenter(
         height=height,
         pillar=pillar,
-        levels=_single_spring(stiffness),
+        levels=_single_spring(stiffness, "flat_punch"),
         description=PunchGeometry(radius=radius, rasterised_area=float(area)),
     )
 
@@ -51,13 +52,13 @@ def flat_punch(grid: Grid, radius: float, stiffness: float = math.inf) -> Indent
 def sphere(grid: Grid, radius: float, stiffness: float = math.inf) -> Indenter:
     """Paraboloid tip r^2 / (2R) of curvature radius ``radius``, centred on the domain."""
     if not (math.isfinite(radius) and radius > 0):
-        raise ValueError(f"indenter.radius = {radius} must be finite and > 0")
+        raise ParameterError("sphere", "radius", f"sphere(radius={radius}) must be finite and > 0")
     height = grid.radius_squared() / (2.0 * radius)
     pillar = np.zeros(height.shape, dtype=np.int64)
     return Indenter(
         height=height,
         pillar=pillar,
-        levels=_single_spring(stiffness),
+        levels=_single_spring(stiffness, "sphere"),
         description=SphereGeometry(radius=radius),
     )
 
@@ -66,15 +67,15 @@ def height_map(grid: Grid, heights: np.ndarray, stiffness: float = math.inf) -> 
     """Arbitrary tip heights (N x N, units of length) on one spring; shifted so min = 0."""
     heights = np.asarray(heights, dtype=np.float64)
     if heights.shape != (grid.elements, grid.elements):
-        raise ValueError(f"indenter.file holds shape {heights.shape}, expected {(grid.elements, grid.elements)}")
+        raise ParameterError("height_map", "heights", f"height_map(heights=...) has shape {heights.shape}, expected {(grid.elements, grid.elements)}")
     if not np.all(np.isfinite(heights)):
-        raise ValueError("indenter.file holds non-finite heights")
+        raise ParameterError("height_map", "heights", "height_map(heights=...) holds non-finite heights")
     height = heights - heights.min()
     pillar = np.zeros(height.shape, dtype=np.int64)
     return Indenter(
         height=height,
         pillar=pillar,
-        levels=_single_spring(stiffness),
+        levels=_single_spring(stiffness, "height_map"),
         description=HeightMapGeometry(),
     )
 
@@ -124,8 +125,7 @@ def brush(
         k of every pillar's own spring (level 1), or of each pillar's
         (`graded_stiffness`); inf = rigid.
     stiffness_ratio : float, optional
-        The same as the dimensionless k~ = k / (E* L) of the configuration key
-        ``indenter.stiffness_ratio`` (thesis eq. 4.13, L = ``grid.size``); give
+        The dimensionless k~ = k / (E* L) (thesis eq. 4.13, L = ``Grid.size``); give
         this or ``stiffness``, not both.
     region : {"square", "circle"}
         Where pillars are placed: a square of side ``region_size`` or a circle
@@ -185,7 +185,7 @@ def brush(
     h = grid.element_size
     size = grid.size if region_size is None else float(region_size)
     if not (0 < size <= grid.size * (1 + 1e-12)):
-        raise StructureError("region_size", region_size, f"must be in (0, grid.size = {grid.size:g}]")
+        raise StructureError("region_size", region_size, f"must be in (0, Grid.size = {grid.size:g}]")
     lattice = _clustered(grid, layout, pillar_radius, region, size, pillars_per_side, levels, filling_factors)
     if lattice is not None:
         pillar_radius = lattice.pillar_radius

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ParameterError
 from .errors import StructureError
 
 __all__ = ["MIN_PILLAR_RADIUS_ELEMENTS", "Grid"]
@@ -29,9 +30,9 @@ class Grid:
 
     def __post_init__(self):
         if not (math.isfinite(self.size) and self.size > 0):
-            raise ValueError(f"grid.size = {self.size} must be finite and > 0")
+            raise ParameterError("Grid", "size", f"Grid.size = {self.size} must be finite and > 0")
         if int(self.elements) != self.elements or self.elements < 2:
-            raise ValueError(f"grid.elements = {self.elements} must be an integer >= 2")
+            raise ParameterError("Grid", "elements", f"Grid.elements = {self.elements} must be an integer >= 2")
 
     @property
     def element_size(self) -> float:
@@ -65,6 +66,6 @@ def _check_pillar_radius(grid: Grid, radius: float, key: str = "pillar_radius", 
     if not radius >= MIN_PILLAR_RADIUS_ELEMENTS * h:
         raise StructureError(
             key, radius if value is None else value,
-            f"{origin}is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = grid.size / grid.elements = {h:g}); a "
-            f"pillar needs at least {MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine grid.elements)",
+            f"{origin}is under {MIN_PILLAR_RADIUS_ELEMENTS:g} elements (h = Grid.size / Grid.elements = {h:g}); a "
+            f"pillar needs at least {MIN_PILLAR_RADIUS_ELEMENTS:g} elements in radius (refine Grid.elements)",
         )

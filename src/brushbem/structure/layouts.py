@@ -118,7 +118,7 @@ def clustered_lattice(pillars_per_side: int, clusters: Sequence[int], filling_fa
     D3 = 0.49 r3), so the caption's assumption cannot hold with its own
     parameters.  The sub-pillars do satisfy r1 <= w, which needs phi1 =
     pi r1^2 / (2 r1 + 2 w)^2 <= pi / 16 = 0.196: phi1 = 0.12 gives w = 1.56 r1.
-    The segment sums (``solver.coupling = "segments"``) need no such gap; the
+    The segment sums (``ContactProblem.coupling = "segments"``) need no such gap; the
     discriminant matrix needs a box that covers a cluster's footprint (about
     2 r2 - 2 w) and reaches no other (about 2 D + 2 w away), which the
     thesis's brush misses (`brushbem.operator.discriminant_half_width`

@@ -24,7 +24,7 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     _check_pillar_radius(grid, radius)
     half = 0.5 * grid.size
     if np.any(np.abs(centres) + radius > half * (1 + 1e-12)):
-        raise StructureError("pillar_radius", radius, "pillars reach outside the domain (grid.size)")
+        raise StructureError("pillar_radius", radius, "pillars reach outside the domain (Grid.size)")
     n = grid.elements
     x = grid.centres()
     labels = np.full((n, n), -1, dtype=np.int64)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import ParameterError
 from ..records import MappingRecord
 
 __all__ = [
@@ -245,12 +246,12 @@ class Indenter:
             if not np.all(level.stiffnesses > 0):
                 raise ValueError(f"stiffness = {level.softest} must be > 0 (inf = rigid)")
         if self.pillar_law is not None and (not self.levels or self.levels[0].rigid):
-            raise ValueError("a nonlinear pillar law needs a finite pillar stiffness (indenter.stiffness or "
-                             "stiffness_ratio): its slopes are factors of it")
+            raise ParameterError("Indenter", "pillar_law", "a nonlinear pillar law (Indenter.pillar_law) needs a finite "
+                                 "pillar stiffness (Indenter.levels): its slopes are factors of it")
         if self.viscoelastic is not None and (not self.levels or self.levels[0].rigid):
-            raise ValueError(
-                "viscoelastic pillars need a finite pillar stiffness (indenter.stiffness or stiffness_ratio): it is "
-                "their relaxed stiffness"
+            raise ParameterError(
+                "Indenter", "viscoelastic", "viscoelastic pillars (Indenter.viscoelastic) need a finite pillar "
+                "stiffness (Indenter.levels): it is their relaxed stiffness"
             )
 
     @property

@@ -272,7 +272,7 @@ def _pillar_offsets(centres: np.ndarray, pillar_radius: float, roughness: float,
             if not work_of_adhesion > 0:
                 raise StructureError(
                     "profile.amplification", profile.amplification,
-                    "the default reference stress needs halfspace.work_of_adhesion > 0 "
+                    "the default reference stress needs brush(work_of_adhesion=...) > 0 "
                     "(or give profile.reference_stress)",
                 )
             reference_stress = float(theory.concave_reference_stress(
