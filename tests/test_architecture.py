@@ -292,3 +292,68 @@ def test_the_workflow_layer_maps_parameters_back_to_keys():
     with pytest.raises(ConfigError, match=r"^grid\.elements: must be >= 2$"):
         with configuration_errors():
             raise ParameterError("Grid", "elements", "must be >= 2")
+
+
+def _stacks_at_transforms(run) -> dict[tuple[str, ...], int]:
+    """The package modules on the call stack at every padded convolution of ``run()``, in order, repeats merged."""
+    import collections
+    import inspect
+
+    from brushbem import backend
+
+    stacks: collections.Counter = collections.Counter()
+    originals = {name: getattr(backend, name) for name in ("padded_convolution", "padded_convolution_rows")}
+
+    def spy(original):
+        def recorded(*args, **kwargs):
+            modules: list[str] = []
+            for frame in reversed(inspect.stack()[1:]):
+                module = frame.frame.f_globals.get("__name__") or ""
+                if module.startswith("brushbem") and (not modules or modules[-1] != module):
+                    modules.append(module)
+            stacks[tuple(modules)] += 1
+            return original(*args, **kwargs)
+
+        return recorded
+
+    try:
+        for name, original in originals.items():
+            setattr(backend, name, spy(original))
+        run()
+    finally:
+        for name, original in originals.items():
+            setattr(backend, name, original)
+    return dict(stacks)
+
+
+@pytest.mark.parametrize("method", ["events", "fixed"])
+def test_a_pull_off_goes_down_to_the_transforms_without_climbing_back(method):
+    """From `brushbem.run` to every FFT, no module is entered twice on the way down (a callback would).
+
+    The stack at each transform is the path a newcomer follows from the API
+    to the numerics: api > case > load path > tracking > equilibria > set
+    solve > CG > block deflection > operator > backend, each once.
+    """
+    import brushbem
+
+    config = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
+                     "pillar_radius": 0.05, "stiffness_ratio": 0.05, "roughness": {"sigma": 5e-4}, "seed": 3},
+        "protocol": {"method": method, "preload_displacement": 2e-3, "step": 4e-4},
+    }
+    stacks = _stacks_at_transforms(lambda: brushbem.run(config))
+    assert stacks
+    climbing = {" > ".join(s): n for s, n in stacks.items() if len(set(s)) < len(s)}
+    assert not climbing, climbing
+
+
+#: The most lines a module of the package may have: one topic a reader can hold at once.
+MAX_MODULE_LINES = 600
+
+
+def test_no_module_is_over_600_lines():
+    long = {name: n for name, path in _modules().items()
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES}
+    assert not long, f"split these modules (at most {MAX_MODULE_LINES} lines): {long}"

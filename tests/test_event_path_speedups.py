@@ -5,7 +5,7 @@ its last factorisation and a low-rank correction instead of a factorisation
 per solve (`brushbem.solver.preconditioners._CoarseBase`), a unit response
 reuses the system and preconditioner of the equilibrium solved on the same
 set, and a solve keeps its solution's tip deflection on the window in step
-with the iterations (`brushbem.solver.set_solve._BlockDeflection`) instead
+with the iterations (`brushbem.solver.block_deflection.BlockDeflection`) instead
 of transforming the solution again.  All give the former results to
 rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 """

@@ -3,7 +3,7 @@
 `solve_on_set` runs the CG either on the |S| values of S with the pillar-block
 preconditioner (brushes of a few pillars, NumPy) or on the window's arrays with
 the contact preconditioner.  On the pillar blocks it keeps the solution's tip
-deflection in step with the iterations (`_BlockDeflection`) and reuses the
+deflection in step with the iterations (`BlockDeflection`) and reuses the
 system and preconditioner of the operator's last solve on the same set
 (`_set_solver`).  ``REUSE_SET_SOLVER`` and ``KEEP_SOLUTION_DEFLECTION`` switch
 these two off (tests and benchmarks set them by attribute on this module).
@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import backend
 from ..operator import ContactOperator, MaskedOperator
+from .block_deflection import BlockDeflection
 from .cg import SolveResult, _norm, conjugate_gradient
 from .preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
@@ -40,7 +41,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     ``rhs``, ``initial`` and ``initial_product`` (A applied to ``initial``,
     if known) are window-shaped; so is the solution.  On the pillar blocks,
     the solution's tip deflection on the whole window is kept in step with
-    the iterations (`_BlockDeflection`), and ``operator.tip_deflection`` of
+    the iterations (`BlockDeflection`), and ``operator.tip_deflection`` of
     the solution returns it without a transform; ``initial_product`` must
     then be `ContactOperator.tip_deflection` of ``initial`` restricted to S
     on the whole window, not only its values on S (as both callers, the
@@ -53,7 +54,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
         if blocked is not None:
             rhs_on_set = system.gather(rhs)
             initial_on_set = None if initial is None else system.gather(initial)
-            tracked = (_BlockDeflection(system, initial_on_set, initial_product)
+            tracked = (BlockDeflection(system, initial_on_set, initial_product)
                        if KEEP_SOLUTION_DEFLECTION and system.gives_block_deflection else None)
             result = conjugate_gradient(
                 system if tracked is None else tracked,
@@ -88,73 +89,8 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
 #: Whether a solve on the set of the operator's last pillar-block solve reuses its system and preconditioner.
 REUSE_SET_SOLVER = True
 
-#: Whether a pillar-block solve keeps its solution's tip deflection on the window (`_BlockDeflection`).
+#: Whether a pillar-block solve keeps its solution's tip deflection on the window (`BlockDeflection`).
 KEEP_SOLUTION_DEFLECTION = True
-
-
-class _BlockDeflection:
-    """A `ContactSystem` as CG's operator, keeping K x on the whole window in step with CG's iterate x.
-
-    The caller of the solve wants the tip deflection of the solution on the
-    whole window next (the attachments it predicts, the join check of an
-    equilibrium): a transform of the solution.  Here every product of CG
-    gives K v on the whole window instead of on S only (`ContactSystem.apply_block`:
-    the inverse transforms along the rows of the window, not of S), and the
-    product of the last direction is added, times the step, to K x
-    (``moved``, CG's ``on_step``): the deflection of x without a transform.
-    It starts from K x0: zero for a cold start, or CG's first product (that
-    of x0) when no product of the start was given; with a given one (the
-    start's tip deflection) it sums K (x - x0) and adds it to that.
-    """
-
-    def __init__(self, system, initial_on_set, initial_product):
-        self.system = system
-        self.mask = system.mask
-        self.xp = system.xp
-        xp = system.xp
-        self._start = None  # (x0 on S, tip deflection of x0 on the window) when given
-        self._last = None
-        if initial_on_set is None:
-            self._product = xp.zeros(system.shape, dtype=xp.float64)
-        elif initial_product is None:
-            self._product = None  # CG's first product is K x0
-        else:
-            self._product = xp.zeros(system.shape, dtype=xp.float64)
-            self._start = (initial_on_set, initial_product)
-
-    def apply(self, values):
-        out, whole = self.system.apply_block(values)
-        if self._product is None:
-            self._product = whole
-        else:
-            self._last = whole
-        return out
-
-    def moved(self, step: float) -> None:
-        last = self._last
-        last *= step
-        self._product += last
-
-    def tip_deflection(self, solution_on_set):
-        """K x + springs(x) on the window for CG's solution x (on S), or None where it is not known."""
-        system = self.system
-        xp = self.xp
-        if not bool(xp.any(solution_on_set != 0)):
-            # Also the end of a zero right-hand side: CG returns 0 there, whatever x0 was.
-            return xp.zeros(system.shape, dtype=xp.float64)
-        if self._product is None:
-            return None
-        springs = system.operator.springs
-        if self._start is None:
-            deflection = self._product
-            moved = solution_on_set
-        else:
-            x0, deflection = self._start
-            deflection = deflection + self._product
-            moved = solution_on_set - x0
-        if springs:
-            deflection = deflection + springs.apply(system.scatter(moved))
-        return deflection
 
 
 def _set_solver(operator: ContactOperator, mask):
