@@ -297,7 +297,6 @@ def test_the_workflow_layer_maps_parameters_back_to_keys():
 def _stacks_at_transforms(run) -> dict[tuple[str, ...], int]:
     """The package modules on the call stack at every padded convolution of ``run()``, in order, repeats merged."""
     import collections
-    import inspect
 
     from brushbem import backend
 
@@ -306,9 +305,13 @@ def _stacks_at_transforms(run) -> dict[tuple[str, ...], int]:
 
     def spy(original):
         def recorded(*args, **kwargs):
+            frames = []
+            frame = sys._getframe(1)  # not inspect.stack(): that reads every frame's source lines
+            while frame is not None:
+                frames.append(frame.f_globals.get("__name__") or "")
+                frame = frame.f_back
             modules: list[str] = []
-            for frame in reversed(inspect.stack()[1:]):
-                module = frame.frame.f_globals.get("__name__") or ""
+            for module in reversed(frames):
                 if module.startswith("brushbem") and (not modules or modules[-1] != module):
                     modules.append(module)
             stacks[tuple(modules)] += 1
