@@ -230,3 +230,21 @@ def test_refuses_other_indenters_and_connections():
     with pytest.raises(ValueError, match="Indenter.pillar_law"):
         pillars.check_applicable(dataclasses.replace(
             problem, indenter=dataclasses.replace(problem.indenter, pillar_law=object())))
+
+
+def test_validation_refuses_a_brush_outside_the_pillar_model_before_any_run():
+    """A rough brush with method = "pillars" is a configuration problem of protocol.method, found by validate."""
+    from brushbem.assembly import parse_config
+    from brushbem.config import ConfigError
+
+    config = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
+                     "pillar_radius": 0.05, "stiffness_ratio": 0.05, "roughness": {"sigma": 5e-4}, "seed": 3},
+        "protocol": {"method": "pillars", "preload_displacement": 2e-3},
+    }
+    with pytest.raises(ConfigError, match=r"protocol\.method.*tips of different lengths"):
+        parse_config(config)
+    config["indenter"].pop("roughness")
+    assert parse_config(config).protocol.method == "pillars"

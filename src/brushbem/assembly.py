@@ -322,6 +322,14 @@ class Rules:
                 "lowest element on this grid (where it first touches); a smaller preload never reaches the surface",
             ))
         problems.extend(_unresolvable_spring_problems(config, indenter))
+        if config.protocol.method == "pillars":
+            # The pillar model's domain, checked here on the rasterised brush and not first at run time.
+            from .protocol.pillar_checks import check_applicable
+
+            try:
+                check_applicable(build_problem(config, indenter))
+            except ParameterError as exc:
+                problems.append(Problem("protocol.method", show_value("pillars"), configuration_text(exc.message)))
         if config.solver.coupling == "discriminant":
             from .operator import (
                 discriminant_half_width,  # the transforms: only for this coupling
