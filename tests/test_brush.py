@@ -438,7 +438,7 @@ def _brushes(side: int, elements: int, radius: float) -> dict[float, object]:
                          "pillar_radius": radius, "stiffness_ratio": ratio},
             "protocol": {"preload_displacement": 0.002},
         }
-        result, _ = run_case(parse_config(document))
+        result = run_case(parse_config(document)).result
         assert result.summary["converged"]
         out[ratio] = result
     return out
@@ -494,7 +494,7 @@ def test_rigid_brush_force_is_resolved_at_four_elements_per_pillar_radius():
                          "pillar_radius": radius, "stiffness_ratio": math.inf},
             "protocol": {"preload_displacement": 0.002},
         }
-        result, _ = run_case(parse_config(document))
+        result = run_case(parse_config(document)).result
         assert result.summary["converged"], result.summary["reason"]
         ratios.append(result.summary["normalized"]["force_by_rigid_brush"])
     assert max(ratios) / min(ratios) - 1 < 0.02, ratios

@@ -1,7 +1,7 @@
 """Command line: clean errors for bad input, and the files a run writes.
 
-The numerics are replaced by a fake `run_case` returning a small, known
-`CaseResult`, so these tests check only the edge of the program.
+The numerics are replaced by a fake `run_case` returning the `PullOff` of a
+small, known `CaseResult`, so these tests check only the edge of the program.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from brushbem.assembly import Assembly
 from brushbem.cli import main
 from brushbem.config import RunConfig, config_to_dict
 from brushbem.io import read_case
+from brushbem.pulloff import PullOff
 from brushbem.results import CaseResult, Curve, Snapshot
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -115,7 +116,7 @@ def fake_run_case(monkeypatch):
         }
         result = fake_result(converged=state["converged"])
         result.summary["warnings"] = list(state.get("warnings", []))
-        return result, reference
+        return PullOff(result, reference, config.config if isinstance(config, Assembly) else config)
 
     monkeypatch.setattr(case_module, "run_case", run_case, raising=False)
     run_case.calls = calls  # type: ignore[attr-defined]

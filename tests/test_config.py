@@ -96,7 +96,7 @@ def test_sphere_example_does_what_its_header_says():
     4.4 % of 3/2 pi dgamma R at this grid (the measured +4.41 %, tests/test_closed_forms_bem.py)."""
     from brushbem.case import run_case
 
-    result, _ = run_case(load_config(EXAMPLES / "sphere_spring.toml"))
+    result = run_case(load_config(EXAMPLES / "sphere_spring.toml")).result
     theory = result.summary["theory"]
     assert theory["preload_contact_radius"] == pytest.approx(0.166, abs=5e-4)
     assert 0.152 < theory["preload_contact_radius"] < theory["zero_force_radius"] == pytest.approx(0.242, abs=5e-4)

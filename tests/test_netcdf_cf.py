@@ -43,7 +43,7 @@ def result_file(request, tmp_path_factory):
     if request.param is not None:
         update["units"] = UnitsConfig(length=request.param[0], stress=request.param[1])
     config = config.model_copy(update=update)
-    result, _ = run_case(config)
+    result = run_case(config).result
     out = tmp_path_factory.mktemp("cf")
     write_case(result, out, config=config)
     return out / "result.nc"

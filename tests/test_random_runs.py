@@ -151,7 +151,7 @@ def _run_or_refuse(tmp_path_factory, drawn):
         event("refused by the validation")
         _OUTCOMES.append("refused")
         return
-    result, _ = run_case(config)
+    result = run_case(config).result
     summary = result.summary
     assert isinstance(summary["converged"], bool)
     assert all(isinstance(w, str) for w in summary["warnings"])

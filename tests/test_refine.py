@@ -60,7 +60,7 @@ def test_jkr_extrapolates_to_the_closed_form():
         "indenter": {"shape": "sphere", "radius": radius},
         "protocol": {"preload_force": float(theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma))},
     })
-    result, _ = refined_run(config, 3)
+    result = refined_run(config, 3).result
     refinement = result.summary["refinement"]
     assert refinement["elements"] == [64, 128, 256] and refinement["converged"]
     exact = float(theory.jkr_pull_off_force(radius, work_of_adhesion=dgamma))
@@ -86,7 +86,7 @@ def test_kendall_punch_error_estimates_bound_the_true_error(stiffness):
     between grid pairs: it must bound the true error of every quantity.
     """
     k = float(stiffness)
-    result, _ = refined_run(_punch(128, stiffness), 3)
+    result = refined_run(_punch(128, stiffness), 3).result
     refinement = result.summary["refinement"]
     closed = {
         "adhesive_force": float(theory.kendall_force(0.25, contact_modulus=1.0, work_of_adhesion=1e-3)),

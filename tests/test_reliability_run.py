@@ -210,7 +210,7 @@ def test_full_disk_is_a_message_not_a_crash(tmp_path):
             from brushbem.assembly import load_config
             io._check_free_space = lambda folder, needed: None
             config = load_config({str(_punch(tmp_path))!r})
-            result, _ = run_case(config)
+            result = run_case(config).result
             import os, shutil
             os.makedirs({str(out / "o")!r}, exist_ok=True)
             # Another writer takes the space after the check: all but 2 kB, less than any result file.
@@ -248,7 +248,7 @@ def test_writer_killed_between_its_two_files(tmp_path):
             os._exit(9)  # as SIGKILL: no cleanup
         io.write_dataset = write_then_die
         config = load_config({str(config)!r})
-        io.write_case(run_case(config)[0], {str(out)!r}, config=config)
+        io.write_case(run_case(config).result, {str(out)!r}, config=config)
     """)
     done = subprocess.run(check=False, args=[sys.executable, "-c", script], capture_output=True, text=True, timeout=300)
     assert done.returncode == 9
@@ -271,7 +271,7 @@ def _punch_summary(tmp_path: Path, **values) -> dict:
         "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": values["stiffness"]},
         "protocol": {"method": "events", "preload_displacement": 0.01},
     })
-    return run_case(config)[0].summary
+    return run_case(config).result.summary
 
 
 def test_soft_springs_solve_the_half_space_part_to_the_tolerance(tmp_path):
@@ -336,10 +336,10 @@ def test_fixed_steps_beyond_the_pull_off_still_find_it(tmp_path):
         "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": math.inf},
     }
     events = run_case(parse_config({**base, "protocol": {"method": "events", "preload_displacement": 0.01}}))
-    reference = events[0].summary["adhesive_force"]
+    reference = events.result.summary["adhesive_force"]
     for step in (1e-4, 1e-3, 1e-2):
         fixed = run_case(parse_config({**base, "protocol": {
-            "method": "fixed", "step": step, "preload_displacement": 0.01}}))[0].summary
+            "method": "fixed", "step": step, "preload_displacement": 0.01}})).result.summary
         assert fixed["converged"]
         # A rigid punch detaches at once: the crossing is exact on the full contact set.
         assert fixed["adhesive_force"] == pytest.approx(reference, rel=1e-6)

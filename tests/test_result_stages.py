@@ -23,7 +23,7 @@ def brush_run():
                      "pillar_radius": 0.1, "stiffness_ratio": 0.455},
         "protocol": {"preload_displacement": 0.002},
     })
-    return run_case(config)[0], config
+    return run_case(config).result, config
 
 
 def test_snapshots_are_one_variable_along_stage(brush_run, tmp_path):

@@ -77,7 +77,7 @@ def test_the_fixed_step_count_is_the_runs():
     estimate = estimate_run(config, sample_seconds=0.0)  # one state sampled: the count is the model's
     assert not estimate.complete and estimate.sampled_states == 1
     assert estimate.seconds > 0 and estimate.memory_bytes > 0 and estimate.result_bytes > 0
-    actual = run_case(config)[0].summary["n_states"]
+    actual = run_case(config).result.summary["n_states"]
     assert estimate.states == pytest.approx(actual, rel=0.25), (estimate.states, actual, estimate.basis)
     complete = estimate_run(config, sample_seconds=60.0)
     assert complete.complete and complete.states == actual

@@ -24,7 +24,7 @@ def _document(shape: str, radius: float, **protocol) -> dict:
 
 
 def _warnings(document: dict) -> list[str]:
-    result, _ = run_case(parse_config(document))
+    result = run_case(parse_config(document)).result
     assert result.summary["converged"], result.summary["reason"]
     return result.summary["warnings"]
 

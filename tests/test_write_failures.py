@@ -47,7 +47,7 @@ def punch():
         "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}, "grid": {"size": 1.0, "elements": 32},
         "indenter": {"shape": "flat_punch", "radius": 0.25}, "protocol": {"preload_displacement": 0.01},
     })
-    return run_case(config)[0], config
+    return run_case(config).result, config
 
 
 def _leftovers(folder: Path) -> list[str]:

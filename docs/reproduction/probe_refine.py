@@ -27,6 +27,6 @@ for elements in (8, 16, 32, 64, 128, 256):
         "indenter": {"shape": "flat_punch", "radius": RADIUS},
         "protocol": {"preload_displacement": 0.01},
     })
-    summary = run_case(config)[0].summary
+    summary = run_case(config).result.summary
     print(f"| {elements} | {RADIUS * elements:g} | {summary['adhesive_force'] / force - 1:+.4f} | "
           f"{summary['work_of_separation'] / work - 1:+.4f} |", flush=True)

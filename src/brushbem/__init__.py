@@ -24,7 +24,7 @@ def _version() -> str:
 _PUBLIC = {
     "run": "api",
     "pull_off": "api",
-    "PullOff": "api",
+    "PullOff": "pulloff",
     "Grid": "structure",
     "Level": "structure",
     "Profile": "structure",

@@ -1,4 +1,4 @@
-"""One case: a validated configuration in, a pull-off record with its closed-form references out."""
+"""One case: a validated configuration in, a `PullOff` (the record with its closed-form references) out."""
 
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ from .assembly import (
 from .backend import backend_name
 from .config import RunConfig, config_to_dict
 from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
+from .pulloff import PullOff
 from .results import (
     BrushTheory,
     CaseResult,
@@ -32,8 +33,8 @@ from .results import (
 )
 from .structure import BrushGeometry
 
-__all__ = ["brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case", "run_problem", "run_warnings",
-           "theory_for"]
+__all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case",
+           "run_problem", "run_warnings", "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.
@@ -329,23 +330,25 @@ def run_case(
     *,
     progress: Callable[[float, str], None] | None = None,
     stop: Callable[[], bool] | None = None,
-) -> tuple[CaseResult, ReferenceCurve | None]:
+) -> PullOff:
     """Run one validated configuration (or its `Assembly`, built from its validation's rasterisation).
 
-    Returns the result (curve, snapshots, summary with its ``theory`` object,
-    provenance attributes) and the closed-form reference curve for the figure.
-    ``stop`` (polled after every state, `record_pull_off`) ends the run early:
-    the result then holds the path so far, ``interrupted`` and not converged.
+    Returns the `PullOff`: its ``result`` (curve, snapshots, summary with its
+    ``theory`` object, provenance attributes), the closed-form ``reference``
+    curve for the figure and the ``config`` it ran from.  ``stop`` (polled
+    after every state, `record_pull_off`) ends the run early: the result then
+    holds the path so far, ``interrupted`` and not converged.
     """
     built = config if isinstance(config, Assembly) else assemble(config)
     with configuration_errors():  # a parameter the run refuses, named by its configuration key
-        result, reference = run_problem(built.problem, built.path, progress=progress, stop=stop,
-                                        config=config_to_dict(built.config))
+        pulled = run_problem(built.problem, built.path, progress=progress, stop=stop,
+                             config=config_to_dict(built.config))
+    result = pulled.result
     reason = result.summary.reason
     if isinstance(reason, str) and configuration_text(reason) != reason:  # a parameter's limit, as its key
         result = dataclasses.replace(result, summary=dataclasses.replace(result.summary,
                                                                          reason=configuration_text(reason)))
-    return result, reference
+    return PullOff(result, pulled.reference, built.config)
 
 
 def run_problem(
@@ -355,11 +358,11 @@ def run_problem(
     progress: Callable[[float, str], None] | None = None,
     stop: Callable[[], bool] | None = None,
     config: dict[str, Any] | None = None,
-) -> tuple[CaseResult, ReferenceCurve | None]:
+) -> PullOff:
     """Run the pull-off of a built problem: `run_case` without a configuration.
 
     ``config`` (the resolved configuration as a mapping, if there is one) is
-    recorded in the provenance attributes.
+    recorded in the provenance attributes; the `PullOff`'s ``config`` is None.
     """
     record = record_pull_off(problem, path, progress=progress, stop=stop)
     theory, reference = theory_for(problem, record.summary, path)
@@ -393,4 +396,4 @@ def run_problem(
         element_size=problem.grid.element_size,
         pillars=pillars,
     )
-    return result, reference
+    return PullOff(result, reference, None)

@@ -48,11 +48,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .assembly import parse_config
 from .config import ConfigError, RunConfig, config_to_dict
 from .records import MappingRecord
+
+if TYPE_CHECKING:
+    from .pulloff import PullOff
 
 __all__ = ["ASYMPTOTIC_ORDERS", "FORMAL_ORDER", "MIN_REFINE_ELEMENTS", "Extrapolation", "Refinement",
            "deciding_length", "refined_configs", "refined_run", "richardson"]
@@ -253,14 +256,19 @@ def _check_same_brush(configs: Sequence[RunConfig]) -> None:
 
 
 def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = None,
-                progress: Callable[[float, str], None] | None = None):
+                progress: Callable[[float, str], None] | None = None,
+                stop: Callable[[], bool] | None = None) -> PullOff:
     """Run ``config`` on ``grids`` grids; the finest (configured) result with ``summary.refinement`` added.
 
-    Returns ``(result, reference)`` as `brushbem.case.run_case` does, for the
-    configured grid.  A coarse grid's run that does not converge makes the
-    refinement ``converged = False`` (and the extrapolation is still
+    Returns the `PullOff` of the configured grid, as `brushbem.case.run_case`
+    does, with the ``config`` as given.  ``run`` (`brushbem.case.run_case` by
+    default) is called as ``run(config, progress=...)``, with ``stop=`` too
+    where ``stop`` is given.  A coarse grid's run that does not converge makes
+    the refinement ``converged = False`` (and the extrapolation is still
     reported, marked so).
     """
+    import dataclasses
+
     from . import case as case_module
 
     run = case_module.run_case if run is None else run
@@ -270,9 +278,9 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
         def report(fraction, message, index=index, elements=cfg.grid.elements):
             if progress is not None:
                 progress((index + fraction) / len(configs), f"grid N = {elements}: {message}")
-        results.append(run(cfg, progress=report))
-    finest, reference = results[-1]
-    summaries = [result.summary for result, _ in results]
+        results.append(run(cfg, progress=report) if stop is None else run(cfg, progress=report, stop=stop))
+    finest = results[-1]
+    summaries = [pulled.result.summary for pulled in results]
     converged = all(bool(s.get("converged")) for s in summaries)
     refinement = Refinement(
         elements=[cfg.grid.elements for cfg in configs],
@@ -280,7 +288,8 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
         work_of_separation=richardson([s["work_of_separation"] for s in summaries]),
         converged=converged,
     )
-    return _with_refinement(finest, refinement), reference
+    # The configuration as given (the finest grid's may fix a random layout's min_gap): what the files record.
+    return dataclasses.replace(finest, result=_with_refinement(finest.result, refinement), config=config)
 
 
 def _with_refinement(result, refinement: Refinement):

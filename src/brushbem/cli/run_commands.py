@@ -12,6 +12,9 @@ import click
 if TYPE_CHECKING:  # the command line imports what a command needs when it runs (`brushbem --help` stays light)
     pass
 
+# The figure files of a run, named by a light module (no numerics).
+from brushbem.pulloff import FIGURE_FILES
+
 from .common import (
     EXIT_INVALID_CONFIG,
     EXIT_NOT_CONVERGED,
@@ -126,14 +129,12 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
 
     # Imported here so that `validate` and `--help` stay fast and do not need
     # the numerics.
-    from brushbem import case as case_module
+    from brushbem.api import run as run_pull_off
     from brushbem.io import (
         FolderBusyError,
         exclusive_folder,
         remove_stale_temporaries,
-        write_case,
     )
-    from brushbem.plot import plot_pull_off
 
     stderr = Console(stderr=True)
     with contextlib.ExitStack() as stack:
@@ -174,17 +175,11 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
             def report(fraction: float, message: str) -> None:
                 progress.update(task, completed=min(max(fraction, 0.0), 1.0), description=message)
 
-            if grids is None:
-                result, reference = case_module.run_case(built, progress=report, stop=stop)
-            else:
-                from brushbem.refine import refined_run
-
-                result, reference = refined_run(
-                    config, grids, progress=report,
-                    run=lambda cfg, progress: case_module.run_case(cfg, progress=progress, stop=stop))
+            pulled = run_pull_off(built, progress=report, stop=stop, refine=grids)
+        result = pulled.result
 
         try:
-            write_case(result, out_dir, config=config)
+            pulled.save(out_dir, figure=False)
         except OSError as exc:
             if not quiet:
                 Console().print(_summary_table(result.summary))
@@ -192,7 +187,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
                        "was left half-written", err=True)
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
         _remove_earlier_report(out_dir)
-        figure_error = _draw_run_figure(plot_pull_off, result, reference, out_dir)
+        figure_error = _draw_run_figure(pulled, out_dir)
 
     if not quiet:
         Console().print(_summary_table(result.summary))
@@ -220,10 +215,6 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
 
 
-#: The figure files of a run (`brushbem.plot.plot_pull_off` writes the PNG and a PDF beside it).
-FIGURE_FILES = ("pulloff.png", "pulloff.pdf")
-
-
 def _remove_earlier_report(out_dir: Path) -> None:
     """Remove the ``report.html`` of an earlier run in ``out_dir`` (it describes results just replaced).
 
@@ -238,19 +229,17 @@ def _remove_earlier_report(out_dir: Path) -> None:
             report.unlink()
 
 
-def _draw_run_figure(plot: Any, result: Any, reference: Any, out_dir: Path) -> str | None:
-    """Draw the run's figure into ``out_dir``; on failure, why (and no figure of an earlier run is left).
+def _draw_run_figure(pulled: Any, out_dir: Path) -> str | None:
+    """Draw the run's figure into ``out_dir`` (`brushbem.PullOff.save_figure`); on failure, why.
 
     The results are written before: a figure that cannot be drawn or written
-    loses nothing, and the message says so.  A figure file of an earlier run
-    (``--overwrite``) is removed, so that it is never taken for this run's.
+    loses nothing, and the message says so.  On failure no figure file is
+    left, one of an earlier run (``--overwrite``) included, so that it is
+    never taken for this run's.
     """
     try:
-        plot(result, out_dir / "pulloff.png", reference)
+        pulled.save_figure(out_dir)
     except Exception as exc:  # noqa: BLE001 - any failure of the figure: the results are safe, say what failed
-        for name in FIGURE_FILES:
-            with contextlib.suppress(OSError):
-                (out_dir / name).unlink(missing_ok=True)
         return _os_error(exc) if isinstance(exc, OSError) else f"{type(exc).__name__}: {exc}"
     return None
 

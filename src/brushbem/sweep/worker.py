@@ -63,16 +63,12 @@ def compute_case(config: RunConfig, refine: int | None = None) -> CaseOutcome:
     neighbours, and turns the exception into text: an exception object may not
     unpickle in the driver.
     """
-    from brushbem import case as case_module  # looked up at call time: tests patch it
+    # `run` runs `brushbem.case.run_case`, looked up at call time: tests patch it.
+    from brushbem.api import run
 
     start = time.perf_counter()
     try:
-        if refine is None:
-            result, _reference = case_module.run_case(config)
-        else:
-            from brushbem.refine import refined_run
-
-            result, _reference = refined_run(config, refine, run=case_module.run_case)
+        result = run(config, refine=refine).result
     except Exception as exc:  # noqa: BLE001 - reported, not raised
         return CaseOutcome(
             status="failed",
