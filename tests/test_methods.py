@@ -353,7 +353,7 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
     tracker.solve(d)
-    tracker.ensure_window(tracker.contact)
+    tracker.working.ensure(tracker.contact)
     assert tracker.unit_response().converged
     tracker.unit_deflection()
     before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.window

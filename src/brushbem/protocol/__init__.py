@@ -14,13 +14,14 @@ Three methods:
   first solve of a step is on the previous contact set, so the first
   element to reach the criterion inside the step, and the force there, are
   located exactly (a state of kind "event"), and the work of separation
-  takes the cascade there (`_fixed_unloading_path`).  A brush whose tips are
-  not level is pressed as contact problems, as by ``"events"``.
+  takes the cascade there (`recording._fixed_unloading_path`).  A brush
+  whose tips are not level is pressed as contact problems, as by
+  ``"events"``.
 * ``"events"`` - exact event-driven path.  A brush of two or more pillars
   whose tips are not all level (rough, concave, length offsets) is pressed
-  as non-adhesive contact problems (`_contact_loading`: the same branch,
-  checked on its samples, in a few constrained CG solves instead of one
-  global solve per element that joins); single bodies, level brushes (one
+  as non-adhesive contact problems (`contact_loading._contact_loading`:
+  the same branch, checked on its samples, in a few constrained CG solves
+  instead of one global solve per element that joins); single bodies, level brushes (one
   loading event) and the unloading of every structure go event by event.
 * ``"element_events"`` - the event-driven path with every element event on
   the loading branch too: the reference that ``"events"`` is tested against.
@@ -39,16 +40,29 @@ Both work on a window of the grid that holds the contact set with a margin
 equilibrium a bound proves that nothing outside the window penetrates; when it
 cannot, the window is rebuilt around the contact and, if the bound still fails,
 the penetration is checked on the whole grid and the window enlarged to take in
-what touches.  The CG solves run on the block of the window around the contact
-set (``ContactOperator.sub_operator``).  The event path also keeps the
+what touches (`window.WorkingWindow`).  The CG solves run on the block of
+the window around the contact set (``ContactOperator.sub_operator``).  The event path also keeps the
 deflections of the pressure and of A_S^-1 1 on the window in step (both are
 affine between events), so that an event transforms only the new A_S^-1 1.
 
-The package's modules: `problem` (what is asked: `ContactProblem`,
-`LoadPath`, `State`), `tracking` (the full-grid state and its window,
-`Tracker`), `paths` (the fixed-step and event-driven paths, the contact
-loading of a brush) and `recording` (`record_pull_off`: curve, snapshots,
-summary).
+The package's modules:
+
+* `problem` - what is asked: `ContactProblem`, `LoadPath`, `State`.
+* `paths` - the drivers `pull_off` and `indent`: the fixed-step path (with
+  the force search of its loading) and the event-driven path.
+* `events` - the events inside a fixed step and the event path's step.
+* `contact_loading` - a brush's loading branch as contact problems.
+* `path_states` - the `State` records the paths make of an equilibrium.
+* `tracking` - `Tracker`, the state of one pull-off: pressure and contact,
+  the solves, the cached deflections and the records; it composes
+* `window` - `WorkingWindow`, the working window, its operator, the tip
+  heights and the checks that nothing outside the window touches, and
+* `connections` - `ConnectionState`, the viscoelastic history and the
+  nonlinear pillar law's pieces and breaks (the springs and tip offsets
+  they give the solves).
+* `pillars`, `pillar_basis`, `pillar_checks` - the pillar-level model
+  (``method = "pillars"``): its path, its basis and coupling, its refusals.
+* `recording` - `record_pull_off`: curve, snapshots, summary.
 """
 
 from __future__ import annotations

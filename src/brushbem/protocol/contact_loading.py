@@ -15,12 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..operator import ContactOperator, Window
-from ..solver import Equilibrium, penetration
+from ..solver import Equilibrium
 from .path_states import _eq_state
 from .problem import LoadPath
 from .tracking import Tracker
-
 
 #: Displacements at which `_contact_loading` samples the loading branch besides
 #: those of the search for a preload force (evenly spaced from first touch).
@@ -94,11 +92,9 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
 
     def solve_at(d: float, start: _Sample | None) -> _Sample:
         if start is None:
-            tracker.pressure = xp.zeros_like(tracker.pressure)
-            tracker.contact = xp.zeros_like(tracker.contact)
+            tracker.set_state(xp.zeros_like(tracker.pressure), xp.zeros_like(tracker.contact))
         else:
-            tracker.pressure, tracker.contact = start.pressure, start.contact
-        tracker._known_deflection = None
+            tracker.set_state(start.pressure, start.contact)
         eq = tracker.solve(d, contact_problem=True)
         cost[0] += eq.n_solves
         cost[1] += eq.cg_iterations
@@ -129,7 +125,7 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
     samples.sort(key=lambda sample: sample.displacement)
     accepted = _nested_prefix(tracker, samples, lowest)
     for k, sample in enumerate(accepted):
-        tracker.pressure, tracker.contact = sample.pressure, sample.contact
+        tracker.set_state(sample.pressure, sample.contact)
         last = k == len(accepted) - 1
         solves, iterations = (cost[0], cost[1]) if last else (sample.eq.n_solves, sample.eq.cg_iterations)
         if not last:
@@ -139,8 +135,7 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
             "contact problem; element events from here (a larger displacement releases an element)")
         yield tracker.state(sample.displacement, True, "equilibrium", tracker.force(), iterations, solves,
                             True, reason)
-    tracker._known_deflection = None
-    tracker.unit = None
+    tracker.forget_deflections()
     end = accepted[-1]
     if end is final or len(accepted) == len(samples):
         return end.displacement, True
@@ -207,7 +202,7 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
             theta = (target - lo.force) / (hi.force - lo.force)
             d = lo.displacement + theta * (hi.displacement - lo.displacement)
             pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
-            tracker.pressure, tracker.contact = pressure, hi.contact
+            tracker.set_state(pressure, hi.contact)
             eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
             return _Sample(d, tracker.force(), pressure, hi.contact, eq)
         width = hi.displacement - lo.displacement
@@ -227,9 +222,7 @@ def _nested_prefix(tracker: Tracker, samples: list, lowest: float) -> list:
     for sample in samples[1:]:
         released = union & ~sample.contact
         if bool(xp.any(released)):
-            full = ContactOperator(tracker.halfspace, tracker.problem.indenter,
-                                   Window.full(tracker.problem.grid.elements))
-            gap = -penetration(full, tracker.height, sample.displacement, sample.pressure)
+            gap = -tracker.full_penetration(sample.displacement, sample.pressure)
             depth = max(sample.displacement - lowest, 1e-300)
             if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
                 break

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ..solver import Equilibrium
-from .path_states import _eq_state
+from .path_states import _eq_state, _separated
 from .problem import LoadPath, State
 from .tracking import Tracker
 
@@ -41,15 +41,14 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
         crossing, detach, broken = event
         yield crossing
         tracker.restore_pieces(before[3])
-        tracker.contact = crossing.contact
-        tracker.set_pressure(crossing.pressure)
+        tracker.set_state(crossing.pressure, crossing.contact)
         if broken is not None:
             detach = detach | tracker.break_pillars(broken)
         at = tracker.step_solve(crossing.displacement, advance=False, detach=detach)
         if not at.converged:
             return at
         yield _eq_state(tracker, at, False, "event")
-        if not bool(tracker.xp.any(tracker.contact)):
+        if not tracker.has_contact:
             tracker.commit_history()
             yield tracker.state(crossing.displacement, False, "separated", tracker.force(), 0, 0, True,
                                 "complete separation")
@@ -108,9 +107,9 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
     tau_pillars, breaking = 1.0, None
     limit = tracker.tension_limit
     if limit is not None:
-        f0 = tracker._pillar_forces(p0, c0)
-        f1 = tracker._pillar_forces(p1, c0)
-        intact = ~(before[3][1] if len(before) > 3 and before[3] is not None else tracker.pieces.broken)
+        f0 = tracker.pillar_forces(p0, c0)
+        f1 = tracker.pillar_forces(p1, c0)
+        intact = ~tracker.broken_pillars(before[3] if len(before) > 3 else None)
         candidates = intact & (f1 < -limit) & (f0 > f1)
         if candidates.any():
             pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)
@@ -145,13 +144,11 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     xp = tracker.xp
     loading = direction > 0
     tol = path.tolerance
-    if not bool(xp.any(tracker.contact)):
+    if not tracker.has_contact:
         return (yield from _without_contact(tracker, path, d, loading))
-    tracker.ensure_window(tracker.contact)
-    if loading and not tracker.covers_footprint and tracker.outside_reach_displacement() <= d:
-        # An element outside the window may already be within reach (the
-        # bound is conservative): work on the whole footprint from here on.
-        tracker.ensure_window(tracker.contact | tracker.footprint)
+    # An element outside the window may already be within reach (the bound is
+    # conservative): then the tracker works on the whole footprint from here on.
+    tracker.cover_contact(d, loading)
     sl = tracker.window.slices
     result = tracker.unit_response()
     if not result.converged:
@@ -184,12 +181,9 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         # Move to the bound along the exact affine path (a valid equilibrium:
         # nothing detaches or attaches before it), then widen the window to
         # every footprint element the load path may still reach and go on.
-        tracker.pressure = new_pressure
+        tracker.set_pressure(new_pressure)
         reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), tracker.problem.grid.element_size)
-        before = tracker.window
-        tracker.ensure_window(tracker.contact | (tracker.footprint & (tracker.height <= reach)))
-        if tracker.window == before or tracker.outside_reach_displacement() <= new_d:
-            tracker.ensure_window(tracker.contact | tracker.footprint)
+        tracker.widen_to_reach(new_d, reach)
         yield tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1, True,
                             "window enlarged")
         return new_d, _target_reached(tracker, path, new_d)
@@ -202,9 +196,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     # A state on the threshold of the event (still an equilibrium), then the cascade.
     yield tracker.state(new_d, loading, "event", tracker.force(new_pressure), result.iterations, 1, True,
                         "event", pressure=new_pressure)
-    n = tracker.problem.grid.elements
-    leave = xp.zeros((n, n), dtype=xp.bool)
-    join = xp.zeros((n, n), dtype=xp.bool)
+    leave = xp.zeros_like(tracker.contact)
+    join = xp.zeros_like(tracker.contact)
     if t_det <= t + tie:
         leave[sl] = grows & (t_detach <= t + tie)
     if t_att <= t + tie:
@@ -217,9 +210,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         return None
     if eq.cg_iterations:
         tracker.record_pressure_change(new_pressure, new_deflection, window)
-    if not bool(xp.any(tracker.contact)) and not loading:
-        yield tracker.state(new_d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
-                            eq.n_solves, True, "complete separation")
+    if not tracker.has_contact and not loading:
+        yield _separated(tracker, new_d, eq)
         return new_d, True
     yield _eq_state(tracker, eq, loading)
     return new_d, loading and _target_reached(tracker, path, new_d)

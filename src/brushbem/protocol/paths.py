@@ -17,10 +17,13 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..errors import ParameterError
-
-from .contact_loading import LOADING_SAMPLES, _contact_loading, _press_as_contact_problems
+from .contact_loading import (
+    LOADING_SAMPLES,
+    _contact_loading,
+    _press_as_contact_problems,
+)
 from .events import _event_step, _events_in_step
-from .path_states import _budget_exhausted, _eq_state
+from .path_states import _budget_exhausted, _eq_state, _separated
 from .problem import ContactProblem, LoadPath, State
 from .tracking import Tracker
 
@@ -128,7 +131,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if tracker.memory is None and tracker.pieces is None and _press_as_contact_problems(tracker):
+    if not tracker.has_connection_state and _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -193,9 +196,8 @@ def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
             yield _eq_state(tracker, eq, False)
             return
         tracker.commit_history()
-        if not bool(tracker.xp.any(tracker.contact)):
-            yield tracker.state(d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
-                                eq.n_solves, True, "complete separation")
+        if not tracker.has_contact:
+            yield _separated(tracker, d, eq)
             return
         yield _eq_state(tracker, eq, False)
     yield _budget_exhausted(tracker, d, False, path)
@@ -228,7 +230,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
         else:
             trial = lo + (target - f_lo) * width / (f_hi - f_lo)
             trial = min(max(trial, lo + 1e-3 * width), hi - 1e-3 * width)
-        tracker.pressure, tracker.contact = saved
+        tracker.restore(saved)
         trial_eq = tracker.solve(trial)
         solves += trial_eq.n_solves
         iterations += trial_eq.cg_iterations
@@ -241,7 +243,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
             hi, f_hi, eq = trial, f, trial_eq
             at_hi = (tracker.pressure, tracker.contact)
         bisect = hi - lo > 0.5 * width
-    tracker.pressure, tracker.contact = at_hi
+    tracker.restore(at_hi)
     return dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi
 
 

@@ -1,72 +1,72 @@
-"""The state of a pull-off on the full grid, its working window and the window's operator (`Tracker`)."""
+"""The state of one pull-off (`Tracker`): pressure and contact on the full grid, the solves and the records.
+
+The `Tracker` composes the parts of that state that have their own modules:
+the working window and its operator (``working``, a
+`brushbem.protocol.window.WorkingWindow`) and the connections' state
+(``connections``, a `brushbem.protocol.connections.ConnectionState`: the
+viscoelastic memory and the pillar law's pieces).  It holds the pressure and
+the contact set, the solves (`Tracker.solve`, `Tracker.step_solve`, the unit
+response of the event path), the deflections known without another
+transform, and the `State` records.  The load paths
+(`brushbem.protocol.paths`, `brushbem.protocol.events`,
+`brushbem.protocol.contact_loading`) use only its public members.
+
+Cached deflections: the deflection of the pressure and of the unit response
+are kept with the array and the window they were computed on, and are used
+only while both are the current ones.  They are computed with the window's
+operator, so when the connections change the pillars' springs (a piece of a
+nonlinear law moves) every one of them, the unit response and the cascade's
+pressure change are dropped (`Tracker._apply`, the one place where the
+operator's springs change).  Raised tips (history offsets, breaks) change the
+heights, not the operator: the cached deflections stay valid.  A pressure
+put in by the paths comes without a known deflection (`Tracker.set_state`,
+`Tracker.set_pressure`) unless they give it; `Tracker.forget_deflections`
+drops all of them.
+"""
 
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
 from .. import backend
-from ..halfspace import HalfSpace
-from ..operator import ContactOperator, Window, fast_size
+from ..operator import ContactOperator, Window
 from ..solver import (
     Equilibrium,
     Settings,
     Start,
     equilibrium,
-    penetration,
     polonsky_keer,
     solve_on_set,
     tip_deflection,
 )
-from ..structure import SpringLevel
+from .connections import ConnectionState, SpringChange
 from .problem import ContactProblem, LoadPath, State
+from .window import WorkingWindow
 
 __all__ = ["Tracker"]
 
 
-#: A window this many times wider (+ 8 elements) than a fresh one around the
-#: contact is rebuilt.  The JKR benchmark's unloading windows: 1.15 -> 6 % less
-#: area than the former "2 x the contact + 16" rule, at 1 more rebuild (a few
-#: transforms and a cached spectrum each).
-_OVERSIZED = 1.15
-
-
 class Tracker:
-    """Full-grid state, the working window and its operator."""
+    """The state of one pull-off: pressure and contact, the window (``working``) and the connections.
+
+    ``pressure`` and ``contact`` (full grid) are the current equilibrium's;
+    the paths read them and replace them through `set_state`,
+    `set_pressure` and `restore`.
+    """
 
     def __init__(self, problem: ContactProblem, path: LoadPath):
         self.path = path
-        #: The viscoelastic connections' history along a time-stepped path (`brushbem.viscoelastic`), else None.
-        self.memory = None
-        if problem.indenter.viscoelastic is not None:
-            from ..viscoelastic import Memory
-
-            self.memory = Memory(problem.indenter, path.step, path.speed)
-            # The solves see the pillar springs of the step's stiffness k_eff.
-            problem = dataclasses.replace(problem, indenter=self.memory.stepped)
-        #: The pieces of a nonlinear pillar law and the broken pillars (`brushbem.pillar_laws`), else None.
-        self.pieces = None
-        if problem.indenter.pillar_law is not None:
-            from ..pillar_laws import PieceState
-
-            self.pieces = PieceState(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
-            # The springs of the piece that holds F = 0 (its offset is 0).
-            level = problem.indenter.levels[0]
-            levels = (SpringLevel(self.pieces.springs()[0], level.cluster), *problem.indenter.levels[1:])
-            problem = dataclasses.replace(problem, indenter=dataclasses.replace(problem.indenter, levels=levels))
-        self.problem = problem
+        self.connections, problem = ConnectionState.begin(problem, path)
         self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
         self.xp = xp
+        self.working = WorkingWindow(problem, path)
         grid = problem.grid
         n = grid.elements
         self.h2 = grid.element_size**2
-        self.halfspace = HalfSpace(n, grid.element_size, problem.contact_modulus, xp=xp)
         indenter = problem.indenter
-        self.height = xp.asarray(indenter.height)
-        self.footprint = xp.isfinite(self.height)
         self.pillar = xp.asarray(indenter.pillar)
         self.n_pillars = indenter.n_pillars
         self.critical = problem.critical_stress
@@ -75,92 +75,140 @@ class Tracker:
         self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
         # Deflections known without another transform, each as (array, window,
         # tip deflection of the array on that window): of self.pressure, and of
-        # self.unit.
+        # self.unit (module docstring: when they are dropped).
         self._known_deflection: tuple | None = None
         self._unit_deflection: tuple | None = None
         # (contact array, window, dp, K dp): how the last cascade changed the
         # pressure beyond the affine prediction, for the next unit response.
         self._pressure_change: tuple | None = None
-        self.window: Window | None = None
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
-        self.operator: ContactOperator | None = None
-        # The geometry on the host (the indenter's own arrays): windows and
-        # bounds are computed from these, without copies of device arrays.
-        self._height_host = np.asarray(indenter.height)
-        self._footprint_host = np.isfinite(self._height_host)
-        self.footprint_box = backend.bounding_box(np, self._footprint_host)
-        self._base_height_host = self._height_host
-        self._pillar_host = np.asarray(indenter.pillar)
+
+    # -- what the window holds ------------------------------------------------
+    @property
+    def problem(self) -> ContactProblem:
+        """The problem the solves see: the pillars' springs of the connections' current state."""
+        return self.working.problem
+
+    @property
+    def window(self) -> Window | None:
+        """The current working window (None before the first solve)."""
+        return self.working.window
+
+    @property
+    def operator(self) -> ContactOperator | None:
+        """The contact operator on the current window."""
+        return self.working.operator
+
+    @property
+    def height(self):
+        """Tip heights on the full grid (inf off the footprint), the connections' offsets included."""
+        return self.working.height
+
+    @property
+    def footprint(self):
+        """The indenter's footprint on the full grid (bool)."""
+        return self.working.footprint
+
+    @property
+    def covers_footprint(self) -> bool:
+        """Whether the window holds the whole footprint."""
+        return self.working.covers_footprint
+
+    @property
+    def has_contact(self) -> bool:
+        """Whether any element is in contact."""
+        return bool(self.xp.any(self.contact))
+
+    def cover_contact(self, displacement: float, loading: bool) -> None:
+        """A window that holds the contact; the whole footprint when pressing and one outside may reach.
+
+        The bound of `outside_reach_displacement` is conservative: when it
+        cannot exclude a touch outside the window at ``displacement`` on the
+        loading branch, the path works on the whole footprint from here on.
+        """
+        self.working.ensure(self.contact)
+        if loading and not self.covers_footprint and self.outside_reach_displacement() <= displacement:
+            self.working.ensure(self.contact | self.footprint)
+
+    def widen_to_reach(self, displacement: float, reach: float) -> None:
+        """A window enlarged to every footprint element whose tip is at most ``reach`` high.
+
+        The whole footprint when that leaves the window as it was, or when
+        the bound still cannot exclude a touch outside it at ``displacement``.
+        """
+        before = self.window
+        self.working.ensure(self.contact | (self.footprint & (self.height <= reach)))
+        if self.window == before or self.outside_reach_displacement() <= displacement:
+            self.working.ensure(self.contact | self.footprint)
+
+    def outside_reach_displacement(self) -> float:
+        """The smallest base displacement at which an element outside the window could touch (a bound)."""
+        return self.working.outside_reach_displacement(self.pressure, self.contact)
+
+    def full_penetration(self, displacement: float, pressure):
+        """Penetration of every element of the grid at ``displacement`` under ``pressure`` (full grid)."""
+        return self.working.full_penetration(displacement, pressure)
 
     # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --
-    def _raise_tips(self, offsets: np.ndarray, lifted: np.ndarray | None = None) -> None:
-        """Every pillar's tip raised by ``offsets`` (one per pillar); the ``lifted`` pillars out of reach."""
-        if lifted is not None and lifted.any():
-            offsets = np.where(lifted, 1e3 * self.problem.grid.size, offsets)
-        host = np.where(self._footprint_host, self._base_height_host + offsets[np.maximum(self._pillar_host, 0)],
-                        np.inf)
-        self._height_host = host
-        self.height = self.xp.asarray(host)
-        if self.window is not None:
-            self._outside_lowest = self._lowest_outside(self.window)
+    @property
+    def has_connection_state(self) -> bool:
+        """Whether the connections carry a state (viscoelastic history or a nonlinear pillar law)."""
+        return self.connections.has_state
 
-    def _pillar_forces(self, pressure=None, contact=None) -> np.ndarray:
+    def _apply(self, change: SpringChange | None) -> None:
+        """Apply a change of the connections: new springs (a new operator) and raised tips.
+
+        New springs make every cached deflection stale: they are dropped here,
+        the one place where the operator's springs change.
+        """
+        if change is None:
+            return
+        if change.problem is not None:
+            self.working.use_problem(change.problem)
+            self.forget_deflections()
+        self.working.raise_tips(change.offsets, change.lifted)
+
+    def pillar_forces(self, pressure=None, contact=None) -> np.ndarray:
         """Force of every pillar in the current state, or of the given one (compressive positive)."""
         contact = np.asarray(backend.to_numpy(self.contact if contact is None else contact))
         pressure = np.asarray(backend.to_numpy(self.pressure if pressure is None else pressure))
-        return self.h2 * np.bincount(self._pillar_host[contact], weights=pressure[contact], minlength=self.n_pillars)
+        pillar = self.working.pillar_host
+        return self.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=self.n_pillars)
+
+    def _held_by(self, pillars: np.ndarray):
+        """The contact elements of ``pillars`` (bool, one per pillar), a full-grid mask."""
+        return self.contact & self.xp.asarray(np.isin(self.working.pillar_host, np.flatnonzero(pillars)))
 
     @property
     def tension_limit(self) -> float | None:
         """The pillar law's tension limit, or None."""
-        return None if self.pieces is None else self.pieces.law.tension_limit
+        return self.connections.tension_limit
 
     def pieces_state(self):
         """The pillar law's pieces and breaks (a copy), or None: what `restore_pieces` returns to."""
-        return None if self.pieces is None else (self.pieces.pieces.copy(), self.pieces.broken.copy())
+        return self.connections.saved()
+
+    def broken_pillars(self, saved=None) -> np.ndarray:
+        """The broken pillars (bool per pillar) now, or in ``saved`` (a `pieces_state`) when given."""
+        return self.connections.broken(saved)
 
     def restore_pieces(self, saved) -> None:
         """Back to the pieces and breaks of `pieces_state`: the springs and the tips with them."""
-        if saved is None:
-            return
-        pieces, broken = saved
-        if np.array_equal(pieces, self.pieces.pieces) and np.array_equal(broken, self.pieces.broken):
-            return
-        moved = not np.array_equal(pieces, self.pieces.pieces)
-        self.pieces.pieces, self.pieces.broken = pieces.copy(), broken.copy()
-        stiffness, offsets = self.pieces.springs()
-        if moved:
-            self._set_pillar_stiffness(stiffness)
-        self._raise_tips(offsets, self.pieces.broken)
+        self._apply(self.connections.restore(saved, self.problem))
 
     def break_pillars(self, pillars: np.ndarray):
         """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
-        self.pieces.broken |= pillars
-        _, offsets = self.pieces.springs()
-        self._raise_tips(offsets, self.pieces.broken)
-        return self.contact & self.xp.asarray(np.isin(self._pillar_host, np.flatnonzero(pillars)))
-
-    def _set_pillar_stiffness(self, stiffness: np.ndarray) -> None:
-        """The pillars' own springs (level 1) get ``stiffness``: a new operator, nothing cached of the old."""
-        indenter = self.problem.indenter
-        level = indenter.levels[0]
-        levels = (SpringLevel(np.array(stiffness, dtype=np.float64), level.cluster), *indenter.levels[1:])
-        self.problem = dataclasses.replace(self.problem, indenter=dataclasses.replace(indenter, levels=levels))
-        self.operator = None
-        self._known_deflection = self._unit_deflection = self._pressure_change = None
-        self.unit = None
-        if self.window is not None:
-            self._install_window(self.window)
+        self._apply(self.connections.break_pillars(pillars))
+        return self._held_by(pillars)
 
     def advance_history(self) -> None:
         """Before a time step: every pillar's tip raised by its connection's history offset b."""
-        if self.memory is not None:
-            self._raise_tips(self.memory.advance())
+        self._apply(self.connections.advance())
 
     def commit_history(self) -> None:
         """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
-        if self.memory is not None:
-            self.memory.commit(self._pillar_forces())
+        if self.connections.memory is not None:
+            self.connections.commit(self.pillar_forces())
 
     def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
         """One step of a fixed-step path: the equilibrium at d with the connections' state.
@@ -173,7 +221,7 @@ class Tracker:
         """
         if advance:
             self.advance_history()
-        if self.pieces is None:
+        if self.connections.pieces is None:
             return self.solve(displacement, force_detach=detach)
         from ..pillar_laws import MAX_PIECE_ROUNDS
 
@@ -183,7 +231,7 @@ class Tracker:
 
         def settled(eq: Equilibrium, **changes) -> Equilibrium:
             # The first round's trial solve is on the step's starting set and pieces: the one
-            # on which the pressure is affine in d (`paths._first_crossing`).
+            # on which the pressure is affine in d (`events._first_crossing`).
             return dataclasses.replace(eq, cg_iterations=iterations, n_solves=solves, detached=detached,
                                        trial_force_sum=first.trial_force_sum, trial_pressure=first.trial_pressure,
                                        **changes)
@@ -197,102 +245,17 @@ class Tracker:
             detach = None
             if not eq.converged:
                 return settled(eq)
-            forces = self._pillar_forces()
-            moved = self.pieces.update(forces)
-            if not moved.any():
-                broken = self.pieces.breaking(forces)
-                if not broken.any():
-                    return settled(eq)
-                detach = self.contact & self.xp.asarray(np.isin(self._pillar_host, np.flatnonzero(broken)))
-            stiffness, offsets = self.pieces.springs()
-            if moved.any():
-                self._set_pillar_stiffness(stiffness)
-            self._raise_tips(offsets, self.pieces.broken)
+            moved, broken, change = self.connections.update(self.pillar_forces(), self.problem)
+            if change is None:
+                return settled(eq)
+            if broken is not None:
+                detach = self._held_by(broken)
+            self._apply(change)
         return settled(
             eq, converged=False,
             reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
                    f"(pillars still changing: {np.flatnonzero(moved)[:10].tolist()})",
         )
-
-    # -- window -------------------------------------------------------------
-    def _box_of(self, mask) -> tuple[int, int, int, int]:
-        """Bounding box of a non-empty full-grid mask (any namespace)."""
-        return backend.bounding_box(self.xp, mask)
-
-    def ensure_window(self, needed, margin_fraction: float | None = None) -> None:
-        """Make the working window cover ``needed`` (full-grid bool) with a margin.
-
-        The window is rebuilt when ``needed`` comes within 2 elements of its
-        edge (attachments there must be predicted inside the window) and when
-        it is more than ``_OVERSIZED`` times as wide as a fresh window would be
-        (after the contact shrank), so the window transforms stay as small as
-        the contact allows.
-        """
-        n = self.problem.grid.elements
-        box = backend.bounding_box(self.xp, needed)
-        r0, r1, c0, c1 = self.footprint_box if box is None else box
-        fr0, fr1, fc0, fc1 = self.footprint_box
-        if self.window is not None:
-            w = self.window
-            inside = (
-                (w.r0 <= max(r0 - 2, fr0, 0)) and (w.r1 >= min(r1 + 2, fr1, n))
-                and (w.c0 <= max(c0 - 2, fc0, 0)) and (w.c1 >= min(c1 + 2, fc1, n))
-            )
-            if inside:
-                rows, cols = self._window_for_box((r0, r1, c0, c1), margin_fraction).shape
-                oversized = (w.r1 - w.r0) > _OVERSIZED * rows + 8 or (w.c1 - w.c0) > _OVERSIZED * cols + 8
-                if not oversized:
-                    return
-
-        self._install_window(self._window_for_box((r0, r1, c0, c1), margin_fraction))
-
-    def _window_around(self, needed, margin_fraction: float | None = None) -> Window:
-        """The window that holds ``needed`` (full-grid bool, not empty) with the margin, in fast sizes."""
-        return self._window_for_box(self._box_of(needed), margin_fraction)
-
-    def _window_for_box(self, box, margin_fraction: float | None = None) -> Window:
-        """The window around the box (r0, r1, c0, c1) with the margin, in fast sizes."""
-        n = self.problem.grid.elements
-        r0, r1, c0, c1 = box
-        fr0, fr1, fc0, fc1 = self.footprint_box
-
-        def widen(lo, hi, flo, fhi):
-            size = hi - lo
-            fraction = self.path.window_margin if margin_fraction is None else margin_fraction
-            margin = max(4, math.ceil(fraction * size))
-            lo, hi = max(lo - margin, flo, 0), min(hi + margin, fhi, n)
-            target = min(fast_size(hi - lo), n)
-            while hi - lo < target:
-                if hi < n:
-                    hi += 1
-                if hi - lo < target and lo > 0:
-                    lo -= 1
-            return lo, hi
-
-        r0, r1 = widen(r0, r1, fr0, fr1)
-        c0, c1 = widen(c0, c1, fc0, fc1)
-        return Window(int(r0), int(r1), int(c0), int(c1))
-
-    def _lowest_outside(self, window: Window) -> float:
-        """Lowest tip height on the footprint outside ``window`` (inf if none)."""
-        outside = self._footprint_host.copy()
-        outside[window.slices] = False
-        heights = self._height_host[outside]
-        return float(heights.min()) if heights.size else math.inf
-
-    def _install_window(self, window: Window) -> None:
-        self.window = window
-        if self.operator is None:
-            self.operator = ContactOperator(self.halfspace, self.problem.indenter, window, self.problem.coupling)
-        else:
-            self.operator = self.operator.for_window(window)
-        self._outside_lowest = self._lowest_outside(window)
-
-    @property
-    def covers_footprint(self) -> bool:
-        fr0, fr1, fc0, fc1 = self.footprint_box
-        w = self.window
-        return w.r0 <= fr0 and w.r1 >= fr1 and w.c0 <= fc0 and w.c1 >= fc1
 
     # -- solves -------------------------------------------------------------
     def solve(self, displacement: float, force_detach=None, force_attach=None,
@@ -312,7 +275,7 @@ class Tracker:
             margin = 0.02
         if force_attach is not None:
             needed = needed | force_attach
-        self.ensure_window(needed, margin)
+        self.working.ensure(needed, margin)
         iterations = solves = 0
         trial = trial_pressure = None
         enlarged = False
@@ -348,7 +311,7 @@ class Tracker:
             self._known_deflection = None if eq.deflection is None else (self.pressure, self.window, eq.deflection)
             if not eq.converged:
                 break
-            if self.covers_footprint or self._outside_safe(displacement):
+            if self.covers_footprint or self.working.outside_safe(displacement, self.pressure, self.contact):
                 break
             if not enlarged and bool(xp.any(self.contact)):
                 # The contact has grown close to the window's edge, where the
@@ -358,17 +321,15 @@ class Tracker:
                 # start at the solution: one residual and one penetration on
                 # the window), far cheaper than the full-grid penetration.
                 enlarged = True
-                candidate = self._window_around(self.contact)
-                if candidate != self.window and self._outside_safe(
-                    displacement, candidate, self._lowest_outside(candidate)
-                ):
-                    self._install_window(candidate)
+                candidate = self.working.outside_safe_around(displacement, self.pressure, self.contact)
+                if candidate is not None:
+                    self.working.install(candidate)
                     continue
             # Penetration outside the window: the contact grew beyond it.
-            outside = self._outside_penetration(displacement)
+            outside = self.working.outside_penetration(displacement, self.pressure, self.contact)
             if not bool(xp.any(outside)):
                 break
-            self.ensure_window(self.contact | outside)
+            self.working.ensure(self.contact | outside)
             force_attach = outside
         return Equilibrium(
             displacement=displacement, pressure=self.pressure, contact=self.contact, converged=eq.converged,
@@ -376,6 +337,21 @@ class Tracker:
             detached=eq.detached, attached=eq.attached, deflection=eq.deflection,
             trial_pressure=trial_pressure,
         )
+
+    # -- the state and its deflection (module docstring: when cached deflections are dropped) --
+    def set_state(self, pressure, contact) -> None:
+        """A new pressure and contact set (full grid); no deflection of the pressure known."""
+        self.contact = contact
+        self.set_pressure(pressure)
+
+    def restore(self, saved) -> None:
+        """Back to ``saved`` = (pressure, contact) held before; a deflection still cached of that pressure is kept."""
+        self.pressure, self.contact = saved
+
+    def forget_deflections(self) -> None:
+        """Drop every cached deflection and the unit response (the next ones are computed afresh)."""
+        self._known_deflection = self._unit_deflection = self._pressure_change = None
+        self.unit = None
 
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
@@ -397,6 +373,7 @@ class Tracker:
         self.pressure = pressure
         self._known_deflection = None if deflection is None else (pressure, self.window, deflection)
 
+    # -- the unit response of the event path ---------------------------------------
     def unit_deflection(self):
         """Tip deflection of the unit response on the window (transformed once per response)."""
         known = self._unit_deflection
@@ -428,66 +405,6 @@ class Tracker:
             return
         dropped = self.operator.element_deflection(before, ~contact)
         self._pressure_change = (self.contact, window, change, deflection - predicted_deflection + dropped)
-
-    def _outside_safe(self, displacement: float, window: Window | None = None, lowest: float | None = None) -> bool:
-        """A cheap proof that no element outside the window can penetrate.
-
-        Outside the window the tip is at least ``_outside_lowest`` high.  The
-        half-space surface there is lifted by tension inside the window by at
-        most T / (pi E* r), T the total tensile force and r the distance to the
-        window (the point-load bound of the kernel), and a spring in tension
-        lowers the tip by at most |F|/k.  ``window`` and ``lowest`` evaluate
-        the bound for another window (holding the contact) instead.
-        """
-        xp = self.xp
-        w = self.window if window is None else window
-        lowest = self._outside_lowest if lowest is None else lowest
-        if lowest == math.inf:
-            return True
-        # The pressure and the contact vanish outside the current window.
-        current = self.window.slices
-        pressure = self.pressure[current]
-        tension = -self.h2 * float(xp.sum(xp.where(pressure < 0, pressure, 0.0)))
-        lift = 0.0
-        if tension > 0:
-            # Distance from the contact's bounding box to the nearest element outside the window.
-            r0, r1, c0, c1 = self._box_of(self.contact[current])
-            r0, r1 = r0 + self.window.r0, r1 + self.window.r0
-            c0, c1 = c0 + self.window.c0, c1 + self.window.c0
-            gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
-            lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
-        stretch = sum(tension / level.softest for level in self.problem.indenter.elastic_levels)
-        return lowest > displacement + lift + stretch
-
-    def outside_reach_displacement(self) -> float:
-        """The smallest base displacement at which an element outside the window could touch.
-
-        The same bound as `_outside_safe`, solved for d at the current
-        tension: outside the window the tip is at least ``_outside_lowest``
-        high, the surface there is lifted by at most T / (pi E* r) and a spring
-        in tension lowers the tip by at most T / k.
-        """
-        xp = self.xp
-        if self._outside_lowest == math.inf:
-            return math.inf
-        tension = -self.h2 * float(xp.sum(xp.where(self.pressure < 0, self.pressure, 0.0)))
-        lift = 0.0
-        if tension > 0:
-            r0, r1, c0, c1 = self._box_of(self.contact)
-            w = self.window
-            gap = min(r0 - w.r0, w.r1 - r1, c0 - w.c0, w.c1 - c1) + 0.5
-            lift = tension / (math.pi * self.problem.contact_modulus * max(gap, 0.5) * self.problem.grid.element_size)
-        stretch = sum(tension / level.softest for level in self.problem.indenter.elastic_levels)
-        return self._outside_lowest - lift - stretch
-
-    def _outside_penetration(self, displacement: float):
-        xp = self.xp
-        full = ContactOperator(self.halfspace, self.problem.indenter, Window.full(self.problem.grid.elements))
-        reach = penetration(full, self.height, displacement, self.pressure)
-        inside = xp.zeros_like(self.contact)
-        inside[self.window.slices] = True
-        slack = 10.0 * self.path.tolerance * max(abs(displacement), 1e-300)
-        return self.footprint & ~self.contact & ~inside & (reach > slack)
 
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
@@ -561,10 +478,12 @@ class Tracker:
         return array if self.window is None else array[self.window.slices]
 
     def force(self, pressure=None) -> float:
+        """The total force of the current pressure, or of ``pressure`` (full grid; compressive positive)."""
         p = self.pressure if pressure is None else pressure
         return self.h2 * float(self.xp.sum(self._on_window(p)))
 
     def attached_pillars(self, contact=None) -> int:
+        """How many pillars touch in the current contact set, or in ``contact`` (full grid)."""
         c = self.contact if contact is None else contact
         if self.n_pillars == 1:
             return int(bool(self.xp.any(self._on_window(c))))
