@@ -33,13 +33,14 @@ run: $(VENV)/.installed
 # chromium when no such browser is on PATH (as root, with apt-get), else warn
 # (the test is then skipped, or fails when BRUSHBEM_REQUIRE_CHROMIUM is set).
 test: $(VENV)/.installed-test chromium
-	$(VENV)/bin/python -m pytest -q
+	$(VENV)/bin/python -m pytest -q -n auto -p no:cacheprovider
 
-# The tests not marked slow (the physics against closed forms on small grids, the
-# configuration, the CLI), on every core (pytest-xdist); `make test` runs everything, in one
-# process (its process and signal tests are checked that way).
+# The tests marked neither slow nor docs (the physics against closed forms on small grids, the
+# configuration, the CLI), on every core (pytest-xdist); `make test` runs everything, also on
+# every core (tests/conftest.py gives the workers back the default SIGINT handler that their
+# interrupted-run tests need).
 test-fast: $(VENV)/.installed-test
-	$(VENV)/bin/python -m pytest -q -n auto -m "not slow" -p no:cacheprovider
+	$(VENV)/bin/python -m pytest -q -n auto -m "not slow and not docs" -p no:cacheprovider
 
 # The documentation site into out/site (warnings are errors); open out/site/index.html.
 docs: $(VENV)/.installed-docs

@@ -3,9 +3,22 @@
 from __future__ import annotations
 
 import concurrent.futures
+import os
+import signal
 
 from brushbem.studies import STUDIES, sweep_file
 from brushbem.sweep import load_summary, run_sweep
+
+
+def pytest_configure(config):
+    """A pytest-xdist worker may start with SIGINT ignored, and its children would inherit that.
+
+    The interrupted-run tests send SIGINT to a ``brushbem`` child process and
+    expect its handler to run; Python installs that handler only where SIGINT
+    is not ignored when it starts.  A worker therefore takes back the default.
+    """
+    if os.environ.get("PYTEST_XDIST_WORKER") and signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def run_quick_study(name, tmp_path_factory):

@@ -73,6 +73,7 @@ def test_import_brushbem_loads_no_numerics():
         brushbem.not_a_name  # noqa: B018
 
 
+@pytest.mark.docs
 def test_readme_beyond_the_thesis_example_runs_as_written():
     """The API page's block on tip shapes, gradients, tilt, viscoelastic and nonlinear pillars runs and converges."""
     block = _first_python_block("Tip shapes, gradients, tilt, viscoelastic and nonlinear pillars")

@@ -152,7 +152,7 @@ def wait_for(predicate, timeout: float, what: str) -> None:
 
 
 def stop_group(process: subprocess.Popen) -> None:
-    """Clean up after a test that failed half-way: the process and what it started."""
+    """Clean up after a test, passed or failed half-way: the process, what it started, and its pipe."""
     if process.poll() is None:
         os.killpg(process.pid, signal.SIGKILL)
         process.wait(timeout=30)
@@ -161,6 +161,8 @@ def stop_group(process: subprocess.Popen) -> None:
             os.killpg(process.pid, signal.SIGKILL)
         except (ProcessLookupError, PermissionError):
             pass
+    if process.stdout is not None:
+        process.stdout.close()
 
 
 # ----------------------------------------------------------------------------- corrupt case files

@@ -230,6 +230,7 @@ def _figure_links() -> dict[str, list[str]]:
 
 
 @pytest.mark.slow  # recomputes every number of the committed tables and draws their figures
+@pytest.mark.docs
 def test_the_committed_comparison_is_what_the_committed_tables_give(tmp_path):
     """The document, its figure links, and the figures themselves all follow from the tables.
 
@@ -294,6 +295,7 @@ def _cells(line: str) -> list[str]:
     return [cell.strip() for cell in re.split(r"(?<!\\)\|", line)[1:-1]]
 
 
+@pytest.mark.docs
 def test_the_committed_comparison_follows_the_committed_tables():
     """docs/thesis-comparison.md, but for the numbers of its rows, is what its inputs give, line for line.
 

@@ -460,6 +460,7 @@ def test_killed_sweep_resumes_exactly_the_missing_cases(tmp_path):
         time.sleep(0.02)
     os.killpg(first.pid, signal.SIGKILL)  # the driver and its workers, as a batch system would
     first.wait()
+    first.stdout.close()
     survivors = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in cases.glob("*.nc")}
     assert 1 <= len(survivors) < 6
     assert not (out / "summary.parquet").exists()

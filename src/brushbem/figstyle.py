@@ -96,10 +96,17 @@ def _rc() -> dict[str, Any]:
 
 @contextmanager
 def style() -> Iterator[None]:
-    """Draw (and save) inside this context to give a figure brushbem's look."""
+    """Draw (and save) inside this context to give a figure brushbem's look.
+
+    A panel whose curves carry no labels (a quick grid of one series) gets no
+    legend: matplotlib's warning that it found none to draw is expected there.
+    """
+    import warnings
+
     import matplotlib as mpl
 
-    with mpl.rc_context(_rc()):
+    with mpl.rc_context(_rc()), warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="No artists with labels found to put in legend")
         yield
 
 
