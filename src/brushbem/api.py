@@ -31,12 +31,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .assembly import Assembly, load, parse
-from .config import RunConfig
-from .pulloff import PullOff
+from brushbem.assembly import Assembly, load, parse
+from brushbem.config import RunConfig
+from brushbem.pulloff import PullOff
 
 if TYPE_CHECKING:
-    from .structure import Grid, Indenter
+    from brushbem.structure import Grid, Indenter
 
 __all__ = ["PullOff", "pull_off", "run"]
 
@@ -67,11 +67,11 @@ def run(
         built = load(config)
     else:
         raise TypeError(f"config = {config!r}: expected a file path, a mapping of tables, a RunConfig or an Assembly")
-    from . import case  # looked up at call time: tests patch case.run_case
+    from brushbem import case  # looked up at call time: tests patch case.run_case
 
     if refine is None:
         return case.run_case(built, progress=progress, stop=stop)
-    from .refine import refined_run
+    from brushbem.refine import refined_run
 
     return refined_run(built if isinstance(built, RunConfig) else built.config, refine, progress=progress, stop=stop)
 
@@ -138,8 +138,8 @@ def pull_off(
     xp : array namespace
         NumPy (default) or a GPU namespace such as CuPy.
     """
-    from .case import run_problem
-    from .protocol import ContactProblem, LoadPath
+    from brushbem.case import run_problem
+    from brushbem.protocol import ContactProblem, LoadPath
 
     contact_modulus = _material("contact_modulus", contact_modulus, indenter)
     work_of_adhesion = _material("work_of_adhesion", work_of_adhesion, indenter)

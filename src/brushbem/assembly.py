@@ -26,8 +26,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import config as schema
-from .config import (
+from brushbem import config as schema
+from brushbem.config import (
     MAX_PRELOAD_DOMAIN_SIZES,
     ConfigError,
     GridConfig,
@@ -37,9 +37,9 @@ from .config import (
     RunConfig,
     show_value,
 )
-from .config.limits import SPRING_RESOLUTION_MARGIN, SPRING_ROUNDING_FLOOR
-from .errors import ParameterError
-from .structure import (
+from brushbem.config.limits import SPRING_RESOLUTION_MARGIN, SPRING_ROUNDING_FLOOR
+from brushbem.errors import ParameterError
+from brushbem.structure import (
     Grading,
     Grid,
     Indenter,
@@ -55,7 +55,7 @@ from .structure import (
 )
 
 if TYPE_CHECKING:
-    from .protocol import ContactProblem, LoadPath
+    from brushbem.protocol import ContactProblem, LoadPath
 
 __all__ = [
     "Assembly",
@@ -239,13 +239,13 @@ def _rasterise(grid_config: GridConfig, spec: IndenterConfig, halfspace_config: 
 def _with_rheology(indenter: Indenter, spec: IndenterConfig) -> Indenter:
     """The rasterised shape with the pillars' viscoelastic connection or nonlinear law of ``spec``."""
     if spec.viscoelastic is not None:
-        from .viscoelastic import Viscoelastic
+        from brushbem.viscoelastic import Viscoelastic
 
         v = spec.viscoelastic
         indenter = dataclasses.replace(indenter, viscoelastic=Viscoelastic(v.model, v.relaxation_time,
                                                                            v.instantaneous_factor))
     if spec.pillar_law is not None:
-        from .pillar_laws import PiecewiseLinear
+        from brushbem.pillar_laws import PiecewiseLinear
 
         law = spec.pillar_law
         indenter = dataclasses.replace(indenter, pillar_law=PiecewiseLinear(law.forces, law.factors,
@@ -324,14 +324,14 @@ class Rules:
         problems.extend(_unresolvable_spring_problems(config, indenter))
         if config.protocol.method == "pillars":
             # The pillar model's domain, checked here on the rasterised brush and not first at run time.
-            from .protocol.pillar_checks import check_applicable
+            from brushbem.protocol.pillar_checks import check_applicable
 
             try:
                 check_applicable(build_problem(config, indenter))
             except ParameterError as exc:
                 problems.append(Problem("protocol.method", show_value("pillars"), configuration_text(exc.message)))
         if config.solver.coupling == "discriminant":
-            from .operator import (
+            from brushbem.operator import (
                 discriminant_half_width,  # the transforms: only for this coupling
             )
 
@@ -440,7 +440,7 @@ def build_indenter(config: RunConfig) -> Indenter:
 
 def build_problem(config: RunConfig, indenter: Indenter | None = None, xp: Any = np) -> ContactProblem:
     """The contact problem of a validated configuration (``indenter``: its rasterisation, if built)."""
-    from .protocol import ContactProblem
+    from brushbem.protocol import ContactProblem
 
     indenter = build_indenter(config) if indenter is None else indenter
     with configuration_errors():
@@ -456,7 +456,7 @@ def build_problem(config: RunConfig, indenter: Indenter | None = None, xp: Any =
 
 def build_path(config: RunConfig) -> LoadPath:
     """The load path of a validated configuration."""
-    from .protocol import LoadPath
+    from brushbem.protocol import LoadPath
 
     p = config.protocol
     with configuration_errors():

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__, theory
-from .assembly import (
+from brushbem import __version__, theory
+from brushbem.assembly import (
     Assembly,
     assemble,
     build_indenter,
@@ -19,11 +19,11 @@ from .assembly import (
     configuration_errors,
     configuration_text,
 )
-from .backend import backend_name
-from .config import RunConfig, config_to_dict
-from .protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
-from .pulloff import PullOff
-from .results import (
+from brushbem.backend import backend_name
+from brushbem.config import RunConfig, config_to_dict
+from brushbem.protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
+from brushbem.pulloff import PullOff
+from brushbem.results import (
     BrushTheory,
     CaseResult,
     PunchTheory,
@@ -31,7 +31,7 @@ from .results import (
     RunSummary,
     SphereTheory,
 )
-from .structure import BrushGeometry
+from brushbem.structure import BrushGeometry
 
 __all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case",
            "run_problem", "run_warnings", "theory_for"]

@@ -39,11 +39,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import theory
-from .halfspace import HalfSpace
-from .protocol import ContactProblem, LoadPath, record_pull_off
-from .records import MappingRecord
-from .structure import BrushGeometry, Indenter, SpringLevel
+from brushbem import theory
+from brushbem.halfspace import HalfSpace
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.records import MappingRecord
+from brushbem.structure import BrushGeometry, Indenter, SpringLevel
 
 __all__ = ["Design", "DesignError", "DesignInterrupted", "critical_forces", "design", "design_figure", "prescribed_force_state",
            "sharing_bound", "write_design"]
@@ -503,7 +503,7 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
     """
     from matplotlib.ticker import MaxNLocator
 
-    from . import figstyle
+    from brushbem import figstyle
 
     info = problem.indenter.description
     centres = np.asarray(info.centres)
@@ -554,8 +554,8 @@ def write_design(problem: ContactProblem, result: Design, out_dir, config_path: 
     import json
     from pathlib import Path
 
-    from . import figstyle
-    from .io import atomic_path
+    from brushbem import figstyle
+    from brushbem.io import atomic_path
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .sweep import Sweep, compute_case
+from brushbem.sweep import Sweep, compute_case
 
 __all__ = ["RunEstimate", "SweepEstimate", "estimate_run", "estimate_sweep", "sample_indices"]
 
@@ -172,7 +172,7 @@ class RunEstimate:
 
 def _branch_end(problem, path) -> tuple[float, str] | None:
     """The closed-form displacement at which the pull-off ends roughly, and what it is; None without one."""
-    from .case import theory_for
+    from brushbem.case import theory_for
 
     try:
         closed = theory_for(problem, {}, path)[0]
@@ -235,8 +235,8 @@ def estimate_run(config, *, sample_seconds: float = SAMPLE_SECONDS) -> RunEstima
 
     Where the sample finishes the whole path, the time is the measured one.
     """
-    from .assembly import Assembly, assemble
-    from .resources import memory_estimate, result_size_estimate
+    from brushbem.assembly import Assembly, assemble
+    from brushbem.resources import memory_estimate, result_size_estimate
 
     start = time.perf_counter()
     built = config if isinstance(config, Assembly) else assemble(config)
@@ -271,7 +271,7 @@ def _sample_path(problem, path, start: float, sample_seconds: float) -> tuple[li
     ``start`` to the first (building the problem and the path's set-up
     included), and whether the path ended within the sample.
     """
-    from .protocol import pull_off
+    from brushbem.protocol import pull_off
 
     states = pull_off(problem, path)
     sampled: list = []

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .operator import ContactOperator, MaskedOperator
-from .solver import conjugate_gradient
+from brushbem.operator import ContactOperator, MaskedOperator
+from brushbem.solver import conjugate_gradient
 
 __all__ = ["NestedBrushResult", "NestedLoopResult", "nested_loop_brush_equilibrium", "nested_loop_equilibrium"]
 

@@ -30,10 +30,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from . import backend
-from .halfspace import HalfSpace
-from .springs import PillarSprings
-from .structure import Indenter
+from brushbem import backend
+from brushbem.halfspace import HalfSpace
+from brushbem.springs import PillarSprings
+from brushbem.structure import Indenter
 
 __all__ = ["ContactOperator", "ContactSystem", "MaskedOperator", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
 

@@ -16,8 +16,8 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-    from .config import RunConfig
-    from .results import CaseResult, Curve, ReferenceCurve, Snapshot
+    from brushbem.config import RunConfig
+    from brushbem.results import CaseResult, Curve, ReferenceCurve, Snapshot
 
 __all__ = ["FIGURE_FILES", "PullOff"]
 
@@ -80,7 +80,7 @@ class PullOff:
 
     def _headline(self) -> list[tuple[str, str]]:
         """The few numbers a reader wants first: (label, value with unit words), in order."""
-        from .units import Units
+        from brushbem.units import Units
 
         summary = self.summary
         units = Units.from_config(self.config) if self.config is not None else Units()
@@ -113,13 +113,13 @@ class PullOff:
 
     def to_xarray(self) -> xr.Dataset:
         """The ``result.nc`` content as an in-memory `xarray.Dataset`."""
-        from .io import to_dataset
+        from brushbem.io import to_dataset
 
         return to_dataset(self.result, self.config)
 
     def figure(self) -> Figure:
         """Force against displacement beside the detachment pattern (`brushbem.plot.pull_off_figure`)."""
-        from .plot import pull_off_figure
+        from brushbem.plot import pull_off_figure
 
         return pull_off_figure(self.result, self.reference)
 
@@ -134,7 +134,7 @@ class PullOff:
         Exception
             From `save_figure`: the results are written, the figure is not.
         """
-        from .io import write_case
+        from brushbem.io import write_case
 
         out = Path(out_dir)
         write_case(self.result, out, config=self.config)
@@ -149,7 +149,7 @@ class PullOff:
         included, so that it is never taken for this one's) and the exception
         is raised.
         """
-        from . import plot
+        from brushbem import plot
 
         out = Path(out_dir)
         try:

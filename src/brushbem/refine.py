@@ -50,12 +50,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .assembly import parse_config
-from .config import ConfigError, RunConfig, config_to_dict
-from .records import MappingRecord
+from brushbem.assembly import parse_config
+from brushbem.config import ConfigError, RunConfig, config_to_dict
+from brushbem.records import MappingRecord
 
 if TYPE_CHECKING:
-    from .pulloff import PullOff
+    from brushbem.pulloff import PullOff
 
 __all__ = ["ASYMPTOTIC_ORDERS", "FORMAL_ORDER", "MIN_REFINE_ELEMENTS", "Extrapolation", "Refinement",
            "deciding_length", "refined_configs", "refined_run", "richardson"]
@@ -161,7 +161,7 @@ def deciding_length(config: RunConfig, indenter: Any = None) -> tuple[str, float
     if spec.shape != "brush":
         return None
     if indenter is None:
-        from .assembly import build_indenter
+        from brushbem.assembly import build_indenter
 
         indenter = build_indenter(config)
     pillar = float(indenter.description.pillar_radius)
@@ -239,7 +239,7 @@ def _check_same_brush(configs: Sequence[RunConfig]) -> None:
         return
     import numpy as np
 
-    from .assembly import build_indenter
+    from brushbem.assembly import build_indenter
 
     geometries = [build_indenter(cfg).description for cfg in configs]
     finest = geometries[-1]
@@ -269,7 +269,7 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
     """
     import dataclasses
 
-    from . import case as case_module
+    from brushbem import case as case_module
 
     run = case_module.run_case if run is None else run
     configs = refined_configs(config, grids)

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .config import RunConfig
+    from brushbem.config import RunConfig
 
 __all__ = [
     "MEMORY_LIMIT_VARIABLE",

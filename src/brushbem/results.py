@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .records import MappingRecord
+from brushbem.records import MappingRecord
 
 __all__ = ["BrushTheory", "CaseResult", "Curve", "PullOffSummary", "PunchTheory", "ReferenceCurve", "RunSummary",
            "Snapshot", "SphereTheory"]

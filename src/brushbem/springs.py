@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from array_api_compat import is_numpy_namespace
 
-from . import backend
-from .structure import Indenter, SpringLevel
+from brushbem import backend
+from brushbem.structure import Indenter, SpringLevel
 
 __all__ = ["LevelLabels", "PillarSprings", "SetSprings"]
 

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .structure import Indenter, SpringLevel
+from brushbem.structure import Indenter, SpringLevel
 
 __all__ = ["MODELS", "Memory", "Viscoelastic"]
 

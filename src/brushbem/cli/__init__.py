@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import click
 
-from .design_command import design
-from .run_commands import EXAMPLES, init, run, validate
-from .sweep_commands import figure, report, study, sweep
-from .thesis_commands import compare_thesis, export_tables, reproduce
+from brushbem.cli.design_command import design
+from brushbem.cli.run_commands import EXAMPLES, init, run, validate
+from brushbem.cli.sweep_commands import figure, report, study, sweep
+from brushbem.cli.thesis_commands import compare_thesis, export_tables, reproduce
 
 __all__ = ["EXAMPLES", "main"]
 

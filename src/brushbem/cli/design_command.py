@@ -11,7 +11,7 @@ import click
 if TYPE_CHECKING:  # the command line imports what a command needs when it runs (`brushbem --help` stays light)
     pass
 
-from .common import (
+from brushbem.cli.common import (
     EXIT_INVALID_CONFIG,
     EXIT_NOT_CONVERGED,
     EXIT_WRITE_FAILED,

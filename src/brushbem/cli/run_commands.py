@@ -15,7 +15,7 @@ if TYPE_CHECKING:  # the command line imports what a command needs when it runs 
 # The figure files of a run, named by a light module (no numerics).
 from brushbem.pulloff import FIGURE_FILES
 
-from .common import (
+from brushbem.cli.common import (
     EXIT_INVALID_CONFIG,
     EXIT_NOT_CONVERGED,
     EXIT_WRITE_FAILED,

@@ -44,17 +44,17 @@ type checking only):
 
 from __future__ import annotations
 
-from .errors import ConfigError, show_value
-from .limits import MAGNITUDE_RANGE as MAGNITUDE_RANGE
-from .limits import MAX_CONFIG_BYTES as MAX_CONFIG_BYTES
-from .limits import MAX_PRELOAD_DOMAIN_SIZES as MAX_PRELOAD_DOMAIN_SIZES
-from .limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
-from .limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
-from .limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH
-from .loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml, to_json_safe
-from .rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
-from .rules import Problem, StructureRules
-from .schema import (
+from brushbem.config.errors import ConfigError, show_value
+from brushbem.config.limits import MAGNITUDE_RANGE as MAGNITUDE_RANGE
+from brushbem.config.limits import MAX_CONFIG_BYTES as MAX_CONFIG_BYTES
+from brushbem.config.limits import MAX_PRELOAD_DOMAIN_SIZES as MAX_PRELOAD_DOMAIN_SIZES
+from brushbem.config.limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
+from brushbem.config.limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
+from brushbem.config.limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH
+from brushbem.config.loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml, to_json_safe
+from brushbem.config.rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
+from brushbem.config.rules import Problem, StructureRules
+from brushbem.config.schema import (
     GradingConfig,
     GridConfig,
     HalfSpaceConfig,

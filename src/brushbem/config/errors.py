@@ -16,7 +16,7 @@ from typing import Any, Literal, Union, get_args, get_origin
 
 from pydantic import BaseModel, ValidationError
 
-from .limits import _MAX_PROBLEMS, _MAX_SHOWN, MAGNITUDE_RANGE
+from brushbem.config.limits import _MAX_PROBLEMS, _MAX_SHOWN, MAGNITUDE_RANGE
 
 __all__ = ["ConfigError", "show_value"]
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationInfo
 
-from .limits import MAGNITUDE_RANGE
+from brushbem.config.limits import MAGNITUDE_RANGE
 
 
 def _existing_file(value: str, info: ValidationInfo) -> Path:

@@ -22,10 +22,10 @@ from typing import Any, Union, get_args, get_origin
 import numpy as np
 from pydantic import BaseModel, ValidationError
 
-from .errors import ConfigError, _capped, _dotted, _problem_lines, _show, did_you_mean
-from .limits import _MAX_DEPTH, MAX_CONFIG_BYTES
-from .rules import StructureRules, _cross_section_problems
-from .schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
+from brushbem.config.errors import ConfigError, _capped, _dotted, _problem_lines, _show, did_you_mean
+from brushbem.config.limits import _MAX_DEPTH, MAX_CONFIG_BYTES
+from brushbem.config.rules import StructureRules, _cross_section_problems
+from brushbem.config.schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
 
 __all__ = ["config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml", "to_json_safe"]
 

@@ -18,11 +18,11 @@ from typing import TYPE_CHECKING, Protocol
 
 from pydantic_core import PydanticCustomError
 
-from .errors import _show
-from .files import _height_map_shape
+from brushbem.config.errors import _show
+from brushbem.config.files import _height_map_shape
 
 if TYPE_CHECKING:
-    from .schema import GridConfig, HalfSpaceConfig, IndenterConfig, RunConfig
+    from brushbem.config.schema import GridConfig, HalfSpaceConfig, IndenterConfig, RunConfig
 
 __all__ = ["SPHERE_MIN_PULL_OFF_ELEMENTS", "Problem", "StructureRules"]
 
@@ -66,7 +66,7 @@ def _rules_error(problems: list[Problem]) -> PydanticCustomError:
 
 def _resource_problems(config: RunConfig) -> list[Problem]:
     """A run that would not fit in memory (`brushbem.resources`), refused before it starts."""
-    from ..resources import MEMORY_LIMIT_VARIABLE, memory_problem
+    from brushbem.resources import MEMORY_LIMIT_VARIABLE, memory_problem
 
     try:
         problem = memory_problem(config)

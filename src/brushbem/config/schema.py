@@ -20,15 +20,15 @@ import math
 
 from pydantic import BaseModel, ValidationInfo, model_validator
 
-from .errors import _show
-from .limits import MAX_PRELOAD_DOMAIN_SIZES
-from .rules import Problem, _cross_section_problems, _resource_problems, _rules_error
-from .sections_base import _MODEL_CONFIG
-from .sections_base import _Model as _Model  # re-exported: imported from this module
-from .sections_base import _Section as _Section  # re-exported: `brushbem.config.loading`
-from .sections_domain import GridConfig, HalfSpaceConfig
-from .sections_indenter import IndenterConfig
-from .sections_pillars import (
+from brushbem.config.errors import _show
+from brushbem.config.limits import MAX_PRELOAD_DOMAIN_SIZES
+from brushbem.config.rules import Problem, _cross_section_problems, _resource_problems, _rules_error
+from brushbem.config.sections_base import _MODEL_CONFIG
+from brushbem.config.sections_base import _Model as _Model  # re-exported: imported from this module
+from brushbem.config.sections_base import _Section as _Section  # re-exported: `brushbem.config.loading`
+from brushbem.config.sections_domain import GridConfig, HalfSpaceConfig
+from brushbem.config.sections_indenter import IndenterConfig
+from brushbem.config.sections_pillars import (
     GradingConfig,
     LevelConfig,
     PillarLawConfig,
@@ -38,7 +38,7 @@ from .sections_pillars import (
     TipConfig,
     ViscoelasticConfig,
 )
-from .sections_run import ProtocolConfig, SolverConfig, UnitsConfig
+from brushbem.config.sections_run import ProtocolConfig, SolverConfig, UnitsConfig
 
 __all__ = [
     "GradingConfig",

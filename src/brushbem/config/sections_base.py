@@ -21,10 +21,10 @@ from pydantic import (
     model_validator,
 )
 
-from .errors import _describe_allowed, _show
-from .files import _existing_file, _read_numbers
-from .limits import MAGNITUDE_RANGE
-from .rules import Problem, _rules_error
+from brushbem.config.errors import _describe_allowed, _show
+from brushbem.config.files import _existing_file, _read_numbers
+from brushbem.config.limits import MAGNITUDE_RANGE
+from brushbem.config.rules import Problem, _rules_error
 
 
 # Strict: a TOML ``size = "1.0"`` or ``elements = true`` is a mistake to report,

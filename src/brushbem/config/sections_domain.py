@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from .errors import _show
-from .rules import Problem
-from .sections_base import _MODEL_CONFIG, _Model, _Section
+from brushbem.config.errors import _show
+from brushbem.config.rules import Problem
+from brushbem.config.sections_base import _MODEL_CONFIG, _Model, _Section
 
 
 class HalfSpaceConfig(_Section):

@@ -7,12 +7,12 @@ from typing import Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
-from .errors import _show
-from .files import _check_height_map, _existing_file, _read_numbers
-from .limits import MAGNITUDE_RANGE
-from .rules import Problem
-from .sections_base import _MODEL_CONFIG, _inf_from_string, _Section
-from .sections_pillars import (
+from brushbem.config.errors import _show
+from brushbem.config.files import _check_height_map, _existing_file, _read_numbers
+from brushbem.config.limits import MAGNITUDE_RANGE
+from brushbem.config.rules import Problem
+from brushbem.config.sections_base import _MODEL_CONFIG, _inf_from_string, _Section
+from brushbem.config.sections_pillars import (
     GradingConfig,
     LevelConfig,
     PillarLawConfig,

@@ -56,7 +56,7 @@ module global (``IN_MEMORY_LIMIT``, ``_check_free_space``, ``open``) patches
 
 from __future__ import annotations
 
-from .atomic import (
+from brushbem.io.atomic import (
     DATASET_FILE,
     SUMMARY_FILE,
     FolderBusyError,
@@ -67,11 +67,11 @@ from .atomic import (
     remove_stale_temporaries,
     temporary_of,
 )
-from .atomic import _check_free_space as _check_free_space  # patch it in `brushbem.io.writing`
-from .dataset import REFERENCES, to_dataset
-from .encoding import from_json_safe, netcdf_attributes
-from .reading import InconsistentCaseError, from_dataset, load_result, read_case, stage_field, stages
-from .writing import IN_MEMORY_LIMIT, source_commit, write_case, write_dataset
+from brushbem.io.atomic import _check_free_space as _check_free_space  # patch it in `brushbem.io.writing`
+from brushbem.io.dataset import REFERENCES, to_dataset
+from brushbem.io.encoding import from_json_safe, netcdf_attributes
+from brushbem.io.reading import InconsistentCaseError, from_dataset, load_result, read_case, stage_field, stages
+from brushbem.io.writing import IN_MEMORY_LIMIT, source_commit, write_case, write_dataset
 
 __all__ = [
     "DATASET_FILE",

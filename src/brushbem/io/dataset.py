@@ -17,7 +17,7 @@ from brushbem.config import RunConfig, config_to_dict
 from brushbem.results import CaseResult
 from brushbem.units import DIMENSIONS, Units
 
-from .encoding import netcdf_attributes
+from brushbem.io.encoding import netcdf_attributes
 
 _PILLAR_ATTRS: dict[str, dict[str, str]] = {
     "x": {"long_name": "pillar centre x", "units": "length"},

@@ -13,8 +13,8 @@ import xarray as xr
 
 from brushbem.results import CaseResult
 
-from .atomic import DATASET_FILE, SUMMARY_FILE
-from .encoding import _attribute, from_json_safe
+from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE
+from brushbem.io.encoding import _attribute, from_json_safe
 
 
 class InconsistentCaseError(ValueError):

@@ -24,9 +24,9 @@ from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
 from brushbem.results import CaseResult
 
-from .atomic import DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
-from .dataset import _dataset, _field_compression, _units_of
-from .encoding import _json
+from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
+from brushbem.io.dataset import _dataset, _field_compression, _units_of
+from brushbem.io.encoding import _json
 
 #: Largest NetCDF file rendered in memory before it is written (bytes).
 IN_MEMORY_LIMIT = 512 * 2**20

@@ -67,10 +67,10 @@ The package's modules:
 
 from __future__ import annotations
 
-from .paths import LOADING_SAMPLES, indent, pull_off
-from .problem import ContactProblem, LoadPath, NotConvergedError, State
-from .recording import PullOffRecord, record_pull_off, work_of_separation
-from .tracking import Tracker
+from brushbem.protocol.paths import LOADING_SAMPLES, indent, pull_off
+from brushbem.protocol.problem import ContactProblem, LoadPath, NotConvergedError, State
+from brushbem.protocol.recording import PullOffRecord, record_pull_off, work_of_separation
+from brushbem.protocol.tracking import Tracker
 
 __all__ = [
     "LOADING_SAMPLES",

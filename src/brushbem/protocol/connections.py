@@ -19,8 +19,8 @@ import dataclasses
 
 import numpy as np
 
-from ..structure import SpringLevel
-from .problem import ContactProblem, LoadPath
+from brushbem.structure import SpringLevel
+from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["ConnectionState", "SpringChange"]
 
@@ -69,13 +69,13 @@ class ConnectionState:
         """
         memory = pieces = None
         if problem.indenter.viscoelastic is not None:
-            from ..viscoelastic import Memory
+            from brushbem.viscoelastic import Memory
 
             memory = Memory(problem.indenter, path.step, path.speed)
             # The solves see the pillar springs of the step's stiffness k_eff.
             problem = dataclasses.replace(problem, indenter=memory.stepped)
         if problem.indenter.pillar_law is not None:
-            from ..pillar_laws import PieceState
+            from brushbem.pillar_laws import PieceState
 
             pieces = PieceState(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
             # The springs of the piece that holds F = 0 (its offset is 0).

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..solver import Equilibrium
-from .path_states import _eq_state
-from .problem import LoadPath
-from .tracking import Tracker
+from brushbem.solver import Equilibrium
+from brushbem.protocol.path_states import _eq_state
+from brushbem.protocol.problem import LoadPath
+from brushbem.protocol.tracking import Tracker
 
 #: Displacements at which `_contact_loading` samples the loading branch besides
 #: those of the search for a preload force (evenly spaced from first touch).

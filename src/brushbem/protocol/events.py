@@ -17,10 +17,10 @@ import math
 
 import numpy as np
 
-from ..solver import Equilibrium
-from .path_states import _eq_state, _separated
-from .problem import LoadPath, State
-from .tracking import Tracker
+from brushbem.solver import Equilibrium
+from brushbem.protocol.path_states import _eq_state, _separated
+from brushbem.protocol.problem import LoadPath, State
+from brushbem.protocol.tracking import Tracker
 
 
 def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ..solver import Equilibrium
-from .problem import State
+from brushbem.solver import Equilibrium
+from brushbem.protocol.problem import State
 
 
 def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:

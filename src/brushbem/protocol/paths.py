@@ -16,16 +16,16 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..errors import ParameterError
-from .contact_loading import (
+from brushbem.errors import ParameterError
+from brushbem.protocol.contact_loading import (
     LOADING_SAMPLES,
     _contact_loading,
     _press_as_contact_problems,
 )
-from .events import _event_step, _events_in_step
-from .path_states import _budget_exhausted, _eq_state, _separated
-from .problem import ContactProblem, LoadPath, State
-from .tracking import Tracker
+from brushbem.protocol.events import _event_step, _events_in_step
+from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated
+from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.tracking import Tracker
 
 __all__ = ["LOADING_SAMPLES", "indent", "pull_off"]
 
@@ -53,7 +53,7 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     budget ran out.
     """
     if path.method == "pillars":
-        from .pillars import pull_off as pillar_pull_off
+        from brushbem.protocol.pillars import pull_off as pillar_pull_off
 
         yield from pillar_pull_off(problem, path)
         return

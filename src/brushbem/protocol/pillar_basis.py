@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ..halfspace import influence_coefficients
-from .problem import ContactProblem
+from brushbem.halfspace import influence_coefficients
+from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
 

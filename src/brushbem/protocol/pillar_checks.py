@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..structure import BrushGeometry
-from .problem import ContactProblem, LoadPath
+from brushbem.errors import ParameterError
+from brushbem.structure import BrushGeometry
+from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["check_applicable"]
 

@@ -127,11 +127,11 @@ import numpy as np
 import scipy.linalg
 from scipy.linalg.blas import dger
 
-from ..errors import ParameterError
+from brushbem.errors import ParameterError
 
-from .pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
-from .pillar_checks import check_applicable
-from .problem import ContactProblem, LoadPath, State
+from brushbem.protocol.pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
+from brushbem.protocol.pillar_checks import check_applicable
+from brushbem.protocol.problem import ContactProblem, LoadPath, State
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "check_applicable", "pull_off"]
 

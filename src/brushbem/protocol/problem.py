@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..solver import critical_stress
-from ..structure import Grid, Indenter
+from brushbem.errors import ParameterError
+from brushbem.solver import critical_stress
+from brushbem.structure import Grid, Indenter
 
 __all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State"]
 

@@ -30,9 +30,9 @@ import dataclasses
 
 import numpy as np
 
-from .. import backend
-from ..operator import ContactOperator, Window
-from ..solver import (
+from brushbem import backend
+from brushbem.operator import ContactOperator, Window
+from brushbem.solver import (
     Equilibrium,
     Settings,
     Start,
@@ -41,9 +41,9 @@ from ..solver import (
     solve_on_set,
     tip_deflection,
 )
-from .connections import ConnectionState, SpringChange
-from .problem import ContactProblem, LoadPath, State
-from .window import WorkingWindow
+from brushbem.protocol.connections import ConnectionState, SpringChange
+from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.window import WorkingWindow
 
 __all__ = ["Tracker"]
 
@@ -223,7 +223,7 @@ class Tracker:
             self.advance_history()
         if self.connections.pieces is None:
             return self.solve(displacement, force_detach=detach)
-        from ..pillar_laws import MAX_PIECE_ROUNDS
+        from brushbem.pillar_laws import MAX_PIECE_ROUNDS
 
         iterations = solves = detached = 0
         first = None

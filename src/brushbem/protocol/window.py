@@ -17,11 +17,11 @@ import math
 
 import numpy as np
 
-from .. import backend
-from ..halfspace import HalfSpace
-from ..operator import ContactOperator, Window, fast_size
-from ..solver import penetration
-from .problem import ContactProblem, LoadPath
+from brushbem import backend
+from brushbem.halfspace import HalfSpace
+from brushbem.operator import ContactOperator, Window, fast_size
+from brushbem.solver import penetration
+from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["WorkingWindow"]
 

@@ -31,21 +31,21 @@ The package's modules:
 
 from __future__ import annotations
 
-from .comparison import (
+from brushbem.reproduction.comparison import (
     ComparisonRow,
     compare,
 )
-from .comparison import _compute as _compute
-from .comparison import _counted_realizations as _counted_realizations
-from .comparison import _of_realizations as _of_realizations
-from .comparison import _plain as _plain
-from .comparison import _Points as _Points
-from .comparison import _points as _points
-from .comparison import _realizations as _realizations
-from .comparison import _same as _same
-from .comparison import _standard_error as _standard_error
-from .comparison import _swept_keys as _swept_keys
-from .document import (
+from brushbem.reproduction.comparison import _compute as _compute
+from brushbem.reproduction.comparison import _counted_realizations as _counted_realizations
+from brushbem.reproduction.comparison import _of_realizations as _of_realizations
+from brushbem.reproduction.comparison import _plain as _plain
+from brushbem.reproduction.comparison import _Points as _Points
+from brushbem.reproduction.comparison import _points as _points
+from brushbem.reproduction.comparison import _realizations as _realizations
+from brushbem.reproduction.comparison import _same as _same
+from brushbem.reproduction.comparison import _standard_error as _standard_error
+from brushbem.reproduction.comparison import _swept_keys as _swept_keys
+from brushbem.reproduction.document import (
     EXPLAIN_ABOVE,
     THESIS_GRIDS,
     comparison_document,
@@ -55,8 +55,8 @@ from .document import (
     notes_sections,
     render,
 )
-from .figures import draw_table_figures
-from .rows import (
+from brushbem.reproduction.figures import draw_table_figures
+from brushbem.reproduction.rows import (
     RIVAL_STEPS,
     RIVALS,
     ReproduceError,
@@ -64,10 +64,10 @@ from .rows import (
     plan_row,
     reproduce_row,
 )
-from .rows import _file_with as _file_with
-from .rows import _find_number as _find_number
-from .rows import _rivals as _rivals
-from .tables import (
+from brushbem.reproduction.rows import _file_with as _file_with
+from brushbem.reproduction.rows import _find_number as _find_number
+from brushbem.reproduction.rows import _rivals as _rivals
+from brushbem.reproduction.tables import (
     NOTES_FILE,
     PROVENANCE_FILE,
     case_hash,

@@ -18,8 +18,8 @@ from typing import Any
 
 import pandas as pd
 
-from ..studies.verdicts import judge
-from .tables import PROVENANCE_FILE, load_tables
+from brushbem.studies.verdicts import judge
+from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["ComparisonRow", "compare"]
 
@@ -59,7 +59,7 @@ def _swept_keys(provenance: Mapping[str, Any]) -> dict[str, list[str]]:
     """Part -> the swept keys of its shipped sweep file(s): what tells one parameter point from another."""
     import tomllib
 
-    from ..studies.base import SWEEPS_DIR
+    from brushbem.studies.base import SWEEPS_DIR
 
     keys: dict[str, list[str]] = {}
     for part, info in provenance.get("parts", {}).items():
@@ -156,7 +156,7 @@ def _standard_error(number, tables: Mapping[str, pd.DataFrame],
 
 def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dict[str, Any]]]:
     """Every thesis number of every study with tables under ``tables_root`` (studies in name order)."""
-    from ..studies import get_study
+    from brushbem.studies import get_study
 
     rows: list[ComparisonRow] = []
     provenances: dict[str, dict[str, Any]] = {}

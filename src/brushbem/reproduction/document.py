@@ -18,9 +18,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from ..studies.verdicts import REPRODUCED, REPRODUCED_WITHIN, STANDARD_ERRORS, VERDICTS, count_by_chapter, judge
-from .comparison import ComparisonRow, compare
-from .tables import NOTES_FILE
+from brushbem.studies.verdicts import REPRODUCED, REPRODUCED_WITHIN, STANDARD_ERRORS, VERDICTS, count_by_chapter, judge
+from brushbem.reproduction.comparison import ComparisonRow, compare
+from brushbem.reproduction.tables import NOTES_FILE
 
 __all__ = ["comparison_document", "deviation_of", "explaining_sections", "note_anchor", "notes_sections", "render"]
 

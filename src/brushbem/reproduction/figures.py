@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .tables import PROVENANCE_FILE, load_tables
+from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["draw_table_figures"]
 
@@ -21,7 +21,7 @@ def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dic
     dict
         Study name -> the figures written.
     """
-    from ..studies import STUDIES
+    from brushbem.studies import STUDIES
 
     drawn: dict[str, list[Path]] = {}
     for folder in sorted(Path(tables_root).iterdir()):

@@ -17,9 +17,9 @@ from typing import Any
 
 import pandas as pd
 
-from ..sweep.spec import case_hash
-from .comparison import _compute, _plain, _same
-from .tables import PROVENANCE_FILE, load_tables
+from brushbem.sweep.spec import case_hash
+from brushbem.reproduction.comparison import _compute, _plain, _same
+from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["RIVALS", "RIVAL_STEPS", "ReproduceError", "RowPlan", "plan_row", "reproduce_row"]
 
@@ -175,8 +175,8 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     """
     import tomllib
 
-    from ..studies import StudyError, get_study
-    from ..studies.base import SWEEPS_DIR
+    from brushbem.studies import StudyError, get_study
+    from brushbem.studies.base import SWEEPS_DIR
 
     try:
         study = get_study(study_name)
@@ -270,8 +270,8 @@ def reproduce_row(plan: RowPlan, out_dir: str | Path, executor: Any = None, *, w
     """
     import tomllib
 
-    from ..studies import get_study
-    from ..sweep import load_summary, run_sweep
+    from brushbem.studies import get_study
+    from brushbem.sweep import load_summary, run_sweep
 
     study = get_study(plan.study)
     number = _find_number(study, plan.quantity)

@@ -23,9 +23,9 @@ from typing import Any
 
 import pandas as pd
 
-from .. import __version__
-from ..io import atomic_path
-from ..sweep.spec import case_hash
+from brushbem import __version__
+from brushbem.io import atomic_path
+from brushbem.sweep.spec import case_hash
 
 __all__ = ["NOTES_FILE", "PROVENANCE_FILE", "case_hash", "export_tables", "load_tables", "recorded_cases"]
 
@@ -35,7 +35,7 @@ NOTES_FILE = "notes.md"
 
 def _commit() -> str | None:
     """The git commit of the working tree this package runs from, if it is a checkout (`io.source_commit`)."""
-    from ..io import source_commit
+    from brushbem.io import source_commit
 
     return source_commit()
 
@@ -85,9 +85,9 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
         The folders are of different studies, or of quick and thesis grids,
         or ``update`` finds tables of another study there.
     """
-    from ..studies import StudyError, load_results
-    from ..studies._framework import read_study_record
-    from ..sweep import SWEEP_FILE
+    from brushbem.studies import StudyError, load_results
+    from brushbem.studies._framework import read_study_record
+    from brushbem.sweep import SWEEP_FILE
 
     dirs = [Path(study_dir)] if isinstance(study_dir, (str, Path)) else [Path(d) for d in study_dir]
     if not dirs:

@@ -24,7 +24,7 @@ contact set, the local cascade, `equilibrium`, `polonsky_keer`).
 
 from __future__ import annotations
 
-from .cg import (
+from brushbem.solver.cg import (
     ROUNDING_FLOOR,
     WARM_START_WITHIN_TOLERANCE,
     CallableOperator,
@@ -32,7 +32,7 @@ from .cg import (
     SolveResult,
     conjugate_gradient,
 )
-from .equilibria import (
+from brushbem.solver.equilibria import (
     ELEMENT_ENERGY_COEFFICIENT,
     Equilibrium,
     Settings,
@@ -45,7 +45,7 @@ from .equilibria import (
     solve_on_set,
     tip_deflection,
 )
-from .preconditioners import (
+from brushbem.solver.preconditioners import (
     BLOCK_LIMIT,
     MAX_BLOCK_PILLARS,
     PRECONDITIONER_SHIFT,

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from .. import backend
+from brushbem import backend
 
 __all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "SetOperator", "SolveResult",
            "conjugate_gradient"]
@@ -137,7 +137,7 @@ def conjugate_gradient(
     """
     apply, mask, xp = operator.apply, operator.mask, operator.xp
     if xp is None:
-        from ..backend import namespace
+        from brushbem.backend import namespace
 
         xp = namespace(rhs)
     maskf = xp.astype(mask, rhs.dtype)

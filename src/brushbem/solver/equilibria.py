@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import backend
-from ..operator import ContactOperator
-from .cg import WARM_START_WITHIN_TOLERANCE
-from .preconditioners import BLOCK_LIMIT, laplacian_preconditioner
-from .set_solve import solve_on_set
+from brushbem import backend
+from brushbem.operator import ContactOperator
+from brushbem.solver.cg import WARM_START_WITHIN_TOLERANCE
+from brushbem.solver.preconditioners import BLOCK_LIMIT, laplacian_preconditioner
+from brushbem.solver.set_solve import solve_on_set
 
 __all__ = [
     "ELEMENT_ENERGY_COEFFICIENT",

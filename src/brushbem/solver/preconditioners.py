@@ -9,8 +9,8 @@ import scipy.linalg
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
-from .. import backend
-from ..operator import ContactOperator, ContactSystem
+from brushbem import backend
+from brushbem.operator import ContactOperator, ContactSystem
 
 __all__ = [
     "BLOCK_LIMIT",

@@ -15,11 +15,11 @@ import dataclasses
 
 import numpy as np
 
-from .. import backend
-from ..operator import ContactOperator, MaskedOperator
-from .block_deflection import BlockDeflection
-from .cg import SolveResult, _norm, conjugate_gradient
-from .preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
+from brushbem import backend
+from brushbem.operator import ContactOperator, MaskedOperator
+from brushbem.solver.block_deflection import BlockDeflection
+from brushbem.solver.cg import SolveResult, _norm, conjugate_gradient
+from brushbem.solver.preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
 __all__ = ["KEEP_SOLUTION_DEFLECTION", "REUSE_SET_SOLVER", "solve_on_set"]
 

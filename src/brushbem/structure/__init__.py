@@ -28,11 +28,11 @@ The package's modules, each re-exported here:
 
 from __future__ import annotations
 
-from .builders import _clustered, _single_spring, brush, flat_punch, height_map, sphere
-from .errors import StructureError
-from .grid import MIN_PILLAR_RADIUS_ELEMENTS, Grid, _check_pillar_radius
-from .hierarchy import Level, _level_stiffness, hierarchy_clusters
-from .layouts import (
+from brushbem.structure.builders import _clustered, _single_spring, brush, flat_punch, height_map, sphere
+from brushbem.structure.errors import StructureError
+from brushbem.structure.grid import MIN_PILLAR_RADIUS_ELEMENTS, Grid, _check_pillar_radius
+from brushbem.structure.hierarchy import Level, _level_stiffness, hierarchy_clusters
+from brushbem.structure.layouts import (
     HEXAGONAL_PACKING_DENSITY,
     MAX_RANDOM_DRAWS,
     ClusteredLattice,
@@ -40,8 +40,8 @@ from .layouts import (
     random_positions,
     square_lattice,
 )
-from .raster import clustered_filling_factors, rasterise_pillars
-from .records import (
+from brushbem.structure.raster import clustered_filling_factors, rasterise_pillars
+from brushbem.structure.records import (
     BrushGeometry,
     Geometry,
     HeightMapGeometry,
@@ -50,7 +50,7 @@ from .records import (
     SphereGeometry,
     SpringLevel,
 )
-from .tips import GRADING_RULES, TIP_SHAPES, Grading, Profile, Tilt, Tip, _tip_heights, graded_stiffness
+from brushbem.structure.tips import GRADING_RULES, TIP_SHAPES, Grading, Profile, Tilt, Tip, _tip_heights, graded_stiffness
 
 __all__ = [
     "BrushGeometry",

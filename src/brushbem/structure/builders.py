@@ -7,14 +7,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import ParameterError
-from .errors import StructureError
-from .grid import Grid, _check_pillar_radius
-from .hierarchy import Level, _spring_levels
-from .layouts import ClusteredLattice, clustered_lattice, random_positions, square_lattice
-from .raster import clustered_filling_factors, rasterise_pillars
-from .records import BrushGeometry, HeightMapGeometry, Indenter, PunchGeometry, SphereGeometry, SpringLevel
-from .tips import Grading, Profile, Tilt, Tip, _brush_heights, _pillar_offsets
+from brushbem.errors import ParameterError
+from brushbem.structure.errors import StructureError
+from brushbem.structure.grid import Grid, _check_pillar_radius
+from brushbem.structure.hierarchy import Level, _spring_levels
+from brushbem.structure.layouts import ClusteredLattice, clustered_lattice, random_positions, square_lattice
+from brushbem.structure.raster import clustered_filling_factors, rasterise_pillars
+from brushbem.structure.records import BrushGeometry, HeightMapGeometry, Indenter, PunchGeometry, SphereGeometry, SpringLevel
+from brushbem.structure.tips import Grading, Profile, Tilt, Tip, _brush_heights, _pillar_offsets
 
 __all__ = ["brush", "flat_punch", "height_map", "sphere"]
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..errors import ParameterError
+from brushbem.errors import ParameterError
 
 __all__ = ["StructureError"]
 

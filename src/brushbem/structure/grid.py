@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
-from .errors import StructureError
+from brushbem.errors import ParameterError
+from brushbem.structure.errors import StructureError
 
 __all__ = ["MIN_PILLAR_RADIUS_ELEMENTS", "Grid"]
 

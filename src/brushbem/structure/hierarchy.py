@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import StructureError
-from .records import SpringLevel
-from .tips import Grading
+from brushbem.structure.errors import StructureError
+from brushbem.structure.records import SpringLevel
+from brushbem.structure.tips import Grading
 
 __all__ = ["Level", "hierarchy_clusters"]
 

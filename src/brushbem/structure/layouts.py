@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import StructureError
+from brushbem.structure.errors import StructureError
 
 __all__ = [
     "HEXAGONAL_PACKING_DENSITY",

@@ -7,9 +7,9 @@ import math
 
 import numpy as np
 
-from .errors import StructureError
-from .grid import Grid, _check_pillar_radius
-from .layouts import ClusteredLattice
+from brushbem.structure.errors import StructureError
+from brushbem.structure.grid import Grid, _check_pillar_radius
+from brushbem.structure.layouts import ClusteredLattice
 
 __all__ = ["clustered_filling_factors", "rasterise_pillars"]
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..records import MappingRecord
+from brushbem.errors import ParameterError
+from brushbem.records import MappingRecord
 
 __all__ = [
     "BrushGeometry",

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import StructureError
-from .grid import Grid
+from brushbem.structure.errors import StructureError
+from brushbem.structure.grid import Grid
 
 __all__ = ["GRADING_RULES", "TIP_SHAPES", "Grading", "Profile", "Tilt", "Tip", "graded_stiffness"]
 
@@ -265,7 +265,7 @@ def _pillar_offsets(centres: np.ndarray, pillar_radius: float, roughness: float,
     reference_stress = None
     profile_radius = None
     if profile is not None and profile.amplification > 0:
-        from .. import theory
+        from brushbem import theory
 
         reference_stress = profile.reference_stress
         if reference_stress is None:

@@ -53,7 +53,7 @@ the offending value and the allowed range.
 
 from __future__ import annotations
 
-from .brush import (
+from brushbem.theory.brush import (
     compact_punch_force,
     ideal_sharing_force,
     rigid_brush_displacement,
@@ -64,21 +64,21 @@ from .brush import (
     soft_brush_work_normalized,
     soft_brush_work_of_separation,
 )
-from .concave import (
+from brushbem.theory.concave import (
     concave_offsets,
     concave_pillar_profile,
     concave_profile,
     concave_reference_stress,
 )
-from .hierarchy import (
+from brushbem.theory.hierarchy import (
     equivalent_single_level_stiffness,
     hierarchy_stiffnesses,
     total_filling_factor,
 )
-from .material import (
+from brushbem.theory.material import (
     contact_modulus_from,
 )
-from .punch import (
+from brushbem.theory.punch import (
     kendall_displacement,
     kendall_force,
     kendall_work_of_separation,
@@ -87,7 +87,7 @@ from .punch import (
     punch_spring_work_of_separation,
     punch_stiffness,
 )
-from .rough import (
+from brushbem.theory.rough import (
     ROUGHNESS_SCALES,
     IndependentPullOff,
     IndependentRoughBrush,
@@ -97,7 +97,7 @@ from .rough import (
     independent_pillars_pull_off,
     independent_rough_brush,
 )
-from .sphere import (
+from brushbem.theory.sphere import (
     dmt_pull_off_force,
     hertz_contact_radius,
     hertz_force,
@@ -120,7 +120,7 @@ from .sphere import (
     maugis_parameter,
     tabor_parameter,
 )
-from .sphere_spring import (
+from brushbem.theory.sphere_spring import (
     SPHERE_ABAR_PULL_OFF,
     SPHERE_ABAR_SEPARATION,
     SPHERE_ABAR_ZERO_FORCE,

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _count, _filling_factor, _nonnegative, _out, _positive
-from .punch import kendall_force
+from brushbem.theory._common import _count, _filling_factor, _nonnegative, _out, _positive
+from brushbem.theory.punch import kendall_force
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "rigid_brush_force",

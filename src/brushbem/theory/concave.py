@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import special
 
-from ._common import _first_offender, _nonnegative, _out, _positive
-from .punch import kendall_force
+from brushbem.theory._common import _first_offender, _nonnegative, _out, _positive
+from brushbem.theory.punch import kendall_force
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "concave_reference_stress",

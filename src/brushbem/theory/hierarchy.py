@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._common import _as_real_array, _count, _filling_factor, _positive
+from brushbem.theory._common import _as_real_array, _count, _filling_factor, _positive
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "hierarchy_stiffnesses",

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from ._common import _check, _out, _positive
+from brushbem.theory._common import _check, _out, _positive
 
 __all__ = [
     "contact_modulus_from",

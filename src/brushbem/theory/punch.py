@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _nonnegative, _out, _positive
+from brushbem.theory._common import _nonnegative, _out, _positive
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "punch_stiffness",

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import _count, _filling_factor, _finite, _nonnegative, _out, _positive
+from brushbem.theory._common import _count, _filling_factor, _finite, _nonnegative, _out, _positive
 
 __all__ = [
     "ROUGHNESS_SCALES",

@@ -16,8 +16,8 @@ import math
 import numpy as np
 from scipy import optimize
 
-from ._common import _finite, _nonnegative, _out, _positive
-from .sphere_regimes import (
+from brushbem.theory._common import _finite, _nonnegative, _out, _positive
+from brushbem.theory.sphere_regimes import (
     dmt_pull_off_force,
     hertz_contact_radius,
     hertz_force,
@@ -25,7 +25,7 @@ from .sphere_regimes import (
     maugis_parameter,
     tabor_parameter,
 )
-from .sphere_spring import sphere_spring_work_of_separation
+from brushbem.theory.sphere_spring import sphere_spring_work_of_separation
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "hertz_force",

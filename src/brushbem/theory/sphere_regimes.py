@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _finite, _nonnegative, _out, _positive
+from brushbem.theory._common import _finite, _nonnegative, _out, _positive
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "hertz_force",

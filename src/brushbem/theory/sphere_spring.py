@@ -72,7 +72,7 @@ from typing import Final
 import numpy as np
 from scipy import optimize
 
-from ._common import _nonnegative, _out, _positive
+from brushbem.theory._common import _nonnegative, _out, _positive
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "SPHERE_ABAR_ZERO_FORCE",
