@@ -1,7 +1,8 @@
 """Any benchmark script under an older commit and under the working tree, in turns, in one run.
 
-For every script (with its arguments) it runs ``old`` (the package's ``src``
-at ``--baseline``, from ``git archive``) and ``new`` (the working tree)
+For every script (with its arguments) it runs ``old`` (the script and the
+package's ``src`` at ``--baseline``, from ``git archive``: the script as it
+was, for the layout it was written for) and ``new`` (the working tree)
 alternately for ``--rounds`` rounds, each a fresh process, and measures the
 CPU time of the whole process (its user + system time, children included):
 imports, set-up and the script's own repeats.  It prints one JSON line per
@@ -29,16 +30,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _source(revision: str, into: Path) -> Path:
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", revision, "src"], check=True, capture_output=True)
+def _checkout(revision: str, into: Path) -> Path:
+    """``src`` and ``benchmarks`` at ``revision``, extracted under ``into``."""
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", revision, "src", "benchmarks"], check=True,
+                             capture_output=True)
     subprocess.run(["tar", "-x", "-C", str(into)], input=archive.stdout, check=True)
-    return into / "src"
+    return into
 
 
-def _cpu_of(command: list[str], source: Path) -> float:
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(source), os.environ.get("PYTHONPATH")) if p))
+def _cpu_of(command: list[str], root: Path) -> float:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(root / "src"), os.environ.get("PYTHONPATH")) if p)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(command, env=env, check=True, cwd=ROOT, stdout=subprocess.DEVNULL)
+    subprocess.run(command, env=env, check=True, cwd=root, stdout=subprocess.DEVNULL)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
@@ -50,7 +54,7 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
-        sources = {"old": _source(args.baseline, Path(scratch)), "new": ROOT / "src"}
+        sources = {"old": _checkout(args.baseline, Path(scratch)), "new": ROOT}
         for script in args.scripts:
             command = [sys.executable, *shlex.split(script)]
             cpu: dict[str, list[float]] = {"old": [], "new": []}

@@ -26,10 +26,10 @@ import math
 import statistics
 import time
 
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grading, Grid, brush
-from brushbem.viscoelastic import Viscoelastic
+from brushbem.physics.structure import Grading, Grid, brush
+from brushbem.physics.viscoelastic import Viscoelastic
 
 
 def _timed(problem, path, repeat):

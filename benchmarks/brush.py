@@ -23,10 +23,10 @@ import math
 import statistics
 import time
 
-from brushbem import theory
-from brushbem.case import brush_scales
+from brushbem.physics import theory
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 
 def main() -> None:

@@ -47,10 +47,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: Each speed-up and the module attribute that switches it off (module, attribute, value).
 CHANGES = {
-    "coarse_updates": ("brushbem.solver.preconditioners", "COARSE_UPDATE_RANK", 0),
-    "set_reuse": ("brushbem.solver.set_solve", "REUSE_SET_SOLVER", False),
-    "solution_deflection": ("brushbem.solver.set_solve", "KEEP_SOLUTION_DEFLECTION", False),
-    "empty_rows": ("brushbem.backend", "SKIP_EMPTY_ROWS", False),
+    "coarse_updates": ("brushbem.numerics.solver.preconditioners", "COARSE_UPDATE_RANK", 0),
+    "set_reuse": ("brushbem.numerics.solver.set_solve", "REUSE_SET_SOLVER", False),
+    "solution_deflection": ("brushbem.numerics.solver.set_solve", "KEEP_SOLUTION_DEFLECTION", False),
+    "empty_rows": ("brushbem.numerics.backend", "SKIP_EMPTY_ROWS", False),
 }
 
 
@@ -61,9 +61,13 @@ def _child(args) -> None:
     for name in args.switch_off:
         module, attribute, value = CHANGES[name]
         setattr(importlib.import_module(module), attribute, value)
-    from brushbem.case import brush_scales
+    from brushbem import Grid, brush  # the public names: the same in an older commit's layout
     from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-    from brushbem.structure import Grid, brush
+
+    try:
+        from brushbem.workflow.case import brush_scales
+    except ImportError:  # a commit before the package's re-layout
+        from brushbem.case import brush_scales
 
     grid = Grid(1.0, args.elements)
     n = args.pillars_per_side

@@ -24,9 +24,9 @@ import time
 
 import numpy as np
 
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, brush, flat_punch, sphere
+from brushbem.physics.structure import Grid, brush, flat_punch, sphere
 
 DGAMMA = 1e-4
 

@@ -20,10 +20,10 @@ import time
 import numpy as np
 import scipy.fft
 
-from brushbem import theory
-from brushbem.backend import fft_workers
+from brushbem.physics import theory
+from brushbem.numerics.backend import fft_workers
 from brushbem.protocol import ContactProblem, indent
-from brushbem.structure import Grid, sphere
+from brushbem.physics.structure import Grid, sphere
 
 
 def fft_pair_seconds(n: int, repeat: int = 7) -> float:

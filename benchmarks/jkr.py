@@ -17,9 +17,9 @@ import json
 import statistics
 import time
 
-from brushbem import theory
+from brushbem.physics import theory
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, sphere
+from brushbem.physics.structure import Grid, sphere
 
 
 def main() -> None:

@@ -19,9 +19,9 @@ import time
 
 import numpy as np
 
-from brushbem import theory
+from brushbem.physics import theory
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, flat_punch
+from brushbem.physics.structure import Grid, flat_punch
 
 
 def main() -> None:

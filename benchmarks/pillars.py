@@ -25,10 +25,10 @@ import json
 import math
 import time
 
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.protocol.pillars import MODES
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 PHI, RADIUS_ELEMENTS = 0.16, 3.6
 E, DGAMMA = 1.0, 1e-4

@@ -20,15 +20,15 @@ import math
 
 import numpy as np
 
-from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, MaskedOperator, Window
-from brushbem.solver import (
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.operator import ContactOperator, MaskedOperator, Window
+from brushbem.numerics.solver import (
     conjugate_gradient,
     laplacian_preconditioner,
     pillar_block_preconditioner,
     spring_preconditioner,
 )
-from brushbem.structure import Grid, brush, flat_punch
+from brushbem.physics.structure import Grid, brush, flat_punch
 
 
 def iterations(operator, mask, rhs, preconditioner) -> int:

@@ -45,10 +45,10 @@ import statistics
 import time
 from contextlib import contextmanager
 
-from brushbem import backend
-from brushbem.case import brush_scales
+from brushbem.numerics import backend
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 
 def _problem(grid: Grid, per_side: int, phi: float, ratio: float, roughness: float, seed: int) -> ContactProblem:

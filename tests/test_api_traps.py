@@ -11,7 +11,7 @@ import math
 import pytest
 
 import brushbem
-from brushbem.structure import StructureError
+from brushbem.physics.structure import StructureError
 
 GRID = brushbem.Grid(1.0, 32)
 
@@ -64,8 +64,8 @@ def test_the_spring_closed_forms_are_named_not_applicable_to_a_nonlinear_or_visc
     and the work of eq. 2.18-2.19 only on a linear elastic spring."""
     import dataclasses
 
-    from brushbem.pillar_laws import PiecewiseLinear
-    from brushbem.viscoelastic import Viscoelastic
+    from brushbem.physics.pillar_laws import PiecewiseLinear
+    from brushbem.physics.viscoelastic import Viscoelastic
 
     punch = brushbem.flat_punch(GRID, 0.2, 0.05)
     linear = brushbem.pull_off(GRID, punch, contact_modulus=1.0, work_of_adhesion=1e-4, preload_displacement=1e-3)

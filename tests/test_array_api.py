@@ -25,9 +25,9 @@ import math
 import numpy as np
 import pytest
 
-from brushbem import backend
+from brushbem.numerics import backend
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, Level, Profile, brush, flat_punch, sphere
+from brushbem.physics.structure import Grid, Level, Profile, brush, flat_punch, sphere
 
 strict = pytest.importorskip("array_api_strict")
 
@@ -119,9 +119,9 @@ def test_a_cg_iteration_copies_only_its_convergence_scalars_to_the_host(monkeypa
     solve copied its pillar sums to the host and back (2 per iteration) and
     CG synchronised three scalars (4 in all).
     """
-    from brushbem.halfspace import HalfSpace
-    from brushbem.operator import ContactOperator, MaskedOperator, Window
-    from brushbem.solver import conjugate_gradient, contact_preconditioner
+    from brushbem.physics.halfspace import HalfSpace
+    from brushbem.numerics.operator import ContactOperator, MaskedOperator, Window
+    from brushbem.numerics.solver import conjugate_gradient, contact_preconditioner
 
     counts = {"syncs": 0}
     array_type = type(strict.asarray(0.0))

@@ -14,20 +14,20 @@ import math
 import numpy as np
 import pytest
 
-from brushbem import theory
-from brushbem.assembly import parse_config
-from brushbem.case import build_problem, run_case
+from brushbem.physics import theory
+from brushbem.workflow.assembly import parse_config
+from brushbem.workflow.case import build_problem, run_case
 from brushbem.config import ConfigError, config_to_dict
-from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, MaskedOperator, Window
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.operator import ContactOperator, MaskedOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.solver import (
+from brushbem.numerics.solver import (
     conjugate_gradient,
     laplacian_preconditioner,
     pillar_block_preconditioner,
     spring_preconditioner,
 )
-from brushbem.structure import (
+from brushbem.physics.structure import (
     Grid,
     Indenter,
     Level,
@@ -543,8 +543,8 @@ def test_nested_loop_per_pillar_equals_the_coupled_operator():
     and pressures within the solver tolerance (1e-10 relative; 1e-7 allows
     for the per-pillar force balance, stopped at 100 x tolerance).
     """
-    from brushbem.nested import nested_loop_brush_equilibrium
-    from brushbem.solver import Settings, Start, critical_stress, equilibrium
+    from brushbem.numerics.nested import nested_loop_brush_equilibrium
+    from brushbem.numerics.solver import Settings, Start, critical_stress, equilibrium
 
     grid = Grid(1.0, 64)
     indenter = brush(grid, layout="square", pillars_per_side=5, pillar_radius=0.06, contact_modulus=E_STAR,
@@ -602,7 +602,7 @@ def test_events_reach_pillars_outside_the_first_window():
 
 def test_sparse_and_stencil_spring_preconditioners_agree(monkeypatch):
     """The CPU path (sparse B on S) and the array-namespace path (stencils) are the same M^-1."""
-    from brushbem import backend, solver
+    from brushbem.numerics import backend, solver
 
     indenter = _brush(pillars_per_side=8, pillar_radius=3 * GRID.element_size, stiffness=1e-4,
                       levels=(Level(2, 1e-3), Level(2, 1e-2)))
@@ -658,7 +658,7 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     attached), which is why their agreement is tested on real pull-offs
     (above), where a cascade starts at one element on the threshold.
     """
-    from brushbem.solver import (
+    from brushbem.numerics.solver import (
         Settings,
         Start,
         critical_stress,

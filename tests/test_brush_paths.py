@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from brushbem import protocol
-from brushbem.assembly import load_config
-from brushbem.case import brush_scales, build_path, build_problem
+from brushbem.workflow.assembly import load_config
+from brushbem.workflow.case import brush_scales, build_path, build_problem
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grading, Grid, Level, Profile, Tilt, Tip, brush
+from brushbem.physics.structure import Grading, Grid, Level, Profile, Tilt, Tip, brush
 
 GRID = Grid(1.0, 128)
 PER_SIDE = 8

@@ -1,7 +1,7 @@
 """Rungs 2-3 of the validation ladder (DESIGN.md sec. 5): the BEM against closed forms.
 
 Whole pull-offs computed by ``brushbem.protocol`` are compared with the
-closed-form limits of ``brushbem.theory`` (thesis chapter 2): Hertz without
+closed-form limits of ``brushbem.physics.theory`` (thesis chapter 2): Hertz without
 adhesion, Kendall's flat punch, the JKR sphere, and the work of separation of a
 punch held by a spring (eq. 2.18-2.19).  Where the discretisation error is the
 point, the error is measured at several element sizes and its observed order
@@ -18,7 +18,7 @@ r/h = 32, the same order as the discretisation error being measured.  Kendall's
 force ~ r^(3/2) would inherit a 0.8 % error that has nothing to do with the
 mechanics.  The radius of the disc of the same area is the best single-number
 description of the rasterised punch (its stiffness 2 E* a converges to the
-staircase's; see brushbem.case.theory_for, which does the same).
+staircase's; see brushbem.workflow.case.theory_for, which does the same).
 """
 
 from __future__ import annotations
@@ -29,9 +29,9 @@ import math
 import numpy as np
 import pytest
 
-from brushbem import theory
+from brushbem.physics import theory
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
-from brushbem.structure import Grid, flat_punch, sphere
+from brushbem.physics.structure import Grid, flat_punch, sphere
 
 E_STAR = 1.0
 DGAMMA = 1.0e-3

@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 import brushbem
-from brushbem.assembly import load_config, parse, parse_config
+from brushbem.workflow.assembly import load_config, parse, parse_config
 from brushbem.config import ConfigError, config_to_dict
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import (
+from brushbem.physics.structure import (
     Grid,
     Indenter,
     Level,

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.cli import main
-from brushbem.design import (
+from brushbem.workflow.design import (
     DesignError,
     DesignInterrupted,
     critical_forces,
@@ -25,9 +25,9 @@ from brushbem.design import (
     prescribed_force_state,
     sharing_bound,
 )
-from brushbem.halfspace import HalfSpace
+from brushbem.physics.halfspace import HalfSpace
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
-from brushbem.structure import Grid, Profile, brush, flat_punch
+from brushbem.physics.structure import Grid, Profile, brush, flat_punch
 
 GRID = Grid(1.0, 128)
 RADIUS = math.sqrt(0.06 / math.pi) / 8
@@ -181,7 +181,7 @@ def test_cli_design_writes_the_design(tmp_path):
 def test_the_design_figure_draws_on_given_axes():
     from matplotlib.figure import Figure
 
-    from brushbem.design import design_figure
+    from brushbem.workflow.design import design_figure
 
     problem = _problem(10.0)
     result = design(problem, _path(problem), iterations=0)
@@ -210,7 +210,7 @@ def test_every_designed_pillar_touches_and_a_worse_design_says_so():
 
 
 def test_a_design_refuses_tips_it_does_not_model():
-    from brushbem.structure import Tip
+    from brushbem.physics.structure import Tip
 
     indenter = brush(GRID, layout="square", pillars_per_side=4, pillar_radius=4 * GRID.element_size,
                      contact_modulus=1.0, work_of_adhesion=1e-4, stiffness=1.0,
@@ -233,7 +233,7 @@ def _small_brush_file(tmp_path):
 def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
     """A second design into the same folder needs --overwrite; a folder that takes no files is refused
     before anything is computed (exit 2), as `brushbem run` does."""
-    import brushbem.design
+    import brushbem.workflow.design
 
     path = _small_brush_file(tmp_path)
     out = tmp_path / "design"
@@ -247,7 +247,7 @@ def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
     def never(*args, **kwargs):
         raise AssertionError("the design ran before --out was checked")
 
-    monkeypatch.setattr(brushbem.design, "design", never)
+    monkeypatch.setattr(brushbem.workflow.design, "design", never)
     blocked = tmp_path / "a file"
     blocked.write_text("")
     refused = CliRunner().invoke(main, ["design", str(path), "--out", str(blocked / "design"), "--quiet"])

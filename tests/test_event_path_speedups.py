@@ -2,10 +2,10 @@
 
 The coarse pillar matrix of the pillar-block preconditioner is solved through
 its last factorisation and a low-rank correction instead of a factorisation
-per solve (`brushbem.solver.preconditioners._CoarseBase`), a unit response
+per solve (`brushbem.numerics.solver.preconditioners._CoarseBase`), a unit response
 reuses the system and preconditioner of the equilibrium solved on the same
 set, and a solve keeps its solution's tip deflection on the window in step
-with the iterations (`brushbem.solver.block_deflection.BlockDeflection`) instead
+with the iterations (`brushbem.numerics.solver.block_deflection.BlockDeflection`) instead
 of transforming the solution again.  All give the former results to
 rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 """
@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from brushbem.case import brush_scales
-from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, Window
+from brushbem.workflow.case import brush_scales
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.solver import equilibria, preconditioners, set_solve
-from brushbem.pillar_laws import PiecewiseLinear
-from brushbem.structure import Grid, Level, brush
+from brushbem.numerics.solver import equilibria, preconditioners, set_solve
+from brushbem.physics.pillar_laws import PiecewiseLinear
+from brushbem.physics.structure import Grid, Level, brush
 
 GRID = Grid(1.0, 128)
 PER_SIDE = 8

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, Level, brush, flat_punch, sphere
+from brushbem.physics.structure import Grid, Level, brush, flat_punch, sphere
 
 cupy = pytest.importorskip("cupy")
 try:

@@ -1,6 +1,6 @@
 """Rung 1 of the validation ladder (DESIGN.md sec. 5): identities of the half-space operator.
 
-``brushbem.halfspace`` maps the element pressures to the deflections at the element
+``brushbem.physics.halfspace`` maps the element pressures to the deflections at the element
 centres with the Love coefficients of a uniformly loaded square (thesis eq. 3.5),
 convolved non-periodically by zero-padded FFTs.  Every test here compares the code
 with something computed independently of it:
@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from brushbem.halfspace import HalfSpace, influence_coefficients
+from brushbem.physics.halfspace import HalfSpace, influence_coefficients
 
 ROUND_OFF = 1e-12
 EPS = np.finfo(np.float64).eps
@@ -368,7 +368,7 @@ def test_support_aware_period_gives_the_same_deflection(window, support):
 
 def test_row_pruned_convolution_equals_the_full_one():
     """padded_convolution_rows on the loaded rows = padded_convolution kept on those rows."""
-    from brushbem import backend
+    from brushbem.numerics import backend
 
     rng = np.random.default_rng(0)
     halfspace = HalfSpace(40, 0.025, 1.0)

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from brushbem import theory
+from brushbem.physics import theory
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, brush, flat_punch
+from brushbem.physics.structure import Grid, brush, flat_punch
 
 
 def _brute_force(heights, preload, stiffness, critical):

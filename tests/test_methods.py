@@ -1,7 +1,7 @@
 """Rung 4 of the validation ladder (DESIGN.md sec. 5): independent methods must agree.
 
-* the nested loop of thesis chapter 2 (``brushbem.nested``) against the coupled
-  operator A = K + (h^2/k) P^T P solved by ``brushbem.solver.equilibrium``;
+* the nested loop of thesis chapter 2 (``brushbem.numerics.nested``) against the coupled
+  operator A = K + (h^2/k) P^T P solved by ``brushbem.numerics.solver.equilibrium``;
 * the thesis's discriminant-matrix convolution against the segment sums;
 * the fixed-step protocol against the event-driven one as the step shrinks;
 * the event-driven path against direct solves on its contact sets;
@@ -20,17 +20,17 @@ import math
 import numpy as np
 import pytest
 
-from brushbem import theory
-from brushbem.halfspace import HalfSpace
-from brushbem.nested import nested_loop_equilibrium
-from brushbem.operator import (
+from brushbem.physics import theory
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.nested import nested_loop_equilibrium
+from brushbem.numerics.operator import (
     ContactOperator,
     MaskedOperator,
     Window,
     discriminant_half_width,
 )
 from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_off
-from brushbem.solver import (
+from brushbem.numerics.solver import (
     CallableOperator,
     Settings,
     Start,
@@ -39,7 +39,7 @@ from brushbem.solver import (
     equilibrium,
     laplacian_preconditioner,
 )
-from brushbem.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
+from brushbem.physics.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
 
 E_STAR = 1.0
 DGAMMA = 1.0e-3
@@ -770,7 +770,7 @@ def test_coupled_operator_equals_the_dense_matrix_and_is_spd(coupling, levels):
     condition holds (4 x 4 pillars 8 elements apart; a 2 x 2 cluster of them
     is 12 elements wide and its box would reach the next cluster).
     """
-    from brushbem.structure import Level, brush
+    from brushbem.physics.structure import Level, brush
 
     n = 32
     grid = Grid(1.0, n)

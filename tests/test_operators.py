@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, ContactSystem, MaskedOperator, Window
-from brushbem.springs import PillarSprings
-from brushbem.structure import Grid, Level, brush
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.operator import ContactOperator, ContactSystem, MaskedOperator, Window
+from brushbem.physics.springs import PillarSprings
+from brushbem.physics.structure import Grid, Level, brush
 
 GRID = Grid(1.0, 48)
 E_STAR = 1.0

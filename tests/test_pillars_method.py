@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 import brushbem
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, pillars, record_pull_off
-from brushbem.structure import Grid, Level, Tilt, Tip, brush, flat_punch
+from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
 PHI = 0.16
@@ -234,7 +234,7 @@ def test_refuses_other_indenters_and_connections():
 
 def test_validation_refuses_a_brush_outside_the_pillar_model_before_any_run():
     """A rough brush with method = "pillars" is a configuration problem of protocol.method, found by validate."""
-    from brushbem.assembly import parse_config
+    from brushbem.workflow.assembly import parse_config
     from brushbem.config import ConfigError
 
     config = {

@@ -29,8 +29,8 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from brushbem.assembly import parse_config
-from brushbem.case import run_case
+from brushbem.workflow.assembly import parse_config
+from brushbem.workflow.case import run_case
 from brushbem.config import ConfigError
 from brushbem.io import read_case, write_case
 

@@ -12,10 +12,10 @@ import math
 import numpy as np
 import pytest
 
-from brushbem.case import theory_for
+from brushbem.workflow.case import theory_for
 from brushbem.protocol import ContactProblem, LoadPath
-from brushbem.results import BrushTheory, PunchTheory, ReferenceCurve, SphereTheory
-from brushbem.structure import (
+from brushbem.workflow.results import BrushTheory, PunchTheory, ReferenceCurve, SphereTheory
+from brushbem.physics.structure import (
     BrushGeometry,
     Geometry,
     Grid,

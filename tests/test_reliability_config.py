@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from brushbem.assembly import load_config
+from brushbem.workflow.assembly import load_config
 from brushbem.cli import main
 from brushbem.config import (
     MAGNITUDE_RANGE,
@@ -42,14 +42,14 @@ from brushbem.config import (
     TipConfig,
     ViscoelasticConfig,
 )
-from brushbem.resources import (
+from brushbem.workflow.resources import (
     MEMORY_LIMIT_VARIABLE,
     available_memory,
     memory_estimate,
     parse_bytes,
     result_size_estimate,
 )
-from brushbem.structure import StructureError, random_positions
+from brushbem.physics.structure import StructureError, random_positions
 
 # -- documents --------------------------------------------------------------------
 
@@ -1059,6 +1059,6 @@ def test_a_soft_pillar_the_solver_resolves_is_accepted(new_key_folder):
 
 def test_the_spring_floor_is_the_solvers():
     from brushbem.config.limits import SPRING_ROUNDING_FLOOR
-    from brushbem.solver import ROUNDING_FLOOR
+    from brushbem.numerics.solver import ROUNDING_FLOOR
 
     assert SPRING_ROUNDING_FLOOR == ROUNDING_FLOOR

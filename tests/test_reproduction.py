@@ -196,7 +196,7 @@ def test_every_committed_row_beyond_five_percent_is_explained():
 
 
 def test_a_study_report_shows_the_explanation_beside_an_amber_number():
-    from brushbem.report import _explanation, _notes_text, _numbers_table
+    from brushbem.workflow.report import _explanation, _notes_text, _numbers_table
 
     notes = _notes_text()
     assert "## Why the ch. 5–7 deviations" in notes  # found from a clone

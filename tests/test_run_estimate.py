@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from brushbem.assembly import parse_config
-from brushbem.case import run_case
+from brushbem.workflow.assembly import parse_config
+from brushbem.workflow.case import run_case
 from brushbem.cli import main
-from brushbem.estimate import estimate_run
+from brushbem.workflow.estimate import estimate_run
 
 PUNCH = textwrap.dedent("""
     [halfspace]

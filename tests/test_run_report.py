@@ -13,8 +13,8 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem.cli import main
-from brushbem.run_report import GENERATOR, is_run_folder
-from brushbem.units import Units
+from brushbem.workflow.run_report import GENERATOR, is_run_folder
+from brushbem.workflow.units import Units
 
 #: A flat punch on a spring at N = 32 (a tenth of a second): Kendall's closed forms apply, with ratios.
 PUNCH = textwrap.dedent("""
@@ -143,7 +143,7 @@ def test_without_pulloff_png_the_curve_is_drawn_from_result_nc(run_folder, tmp_p
 
 
 def test_a_closed_form_that_does_not_apply_is_named_as_such():
-    from brushbem.run_report import _theory_html
+    from brushbem.workflow.run_report import _theory_html
 
     reason = "the closed form is of a linear elastic spring; this spring is viscoelastic"
     summary = {

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import Grid, brush, flat_punch, sphere
+from brushbem.physics.structure import Grid, brush, flat_punch, sphere
 
 GRID = Grid(1.0, 64)
 

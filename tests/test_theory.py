@@ -1,4 +1,4 @@
-"""Tests of the closed-form limits in :mod:`brushbem.theory`.
+"""Tests of the closed-form limits in :mod:`brushbem.physics.theory`.
 
 Each test checks an identity that could fail: a formula against the energy or the
 equation it was derived from (evaluated numerically and independently), against
@@ -27,7 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize, special
 
-from brushbem import theory
+from brushbem.physics import theory
 
 EXACT = 1e-12
 QUADRATURE = 1e-10

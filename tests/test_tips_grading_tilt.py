@@ -17,10 +17,10 @@ import textwrap
 import numpy as np
 import pytest
 
-from brushbem.assembly import load
+from brushbem.workflow.assembly import load
 from brushbem.config import ConfigError
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.structure import (
+from brushbem.physics.structure import (
     Grading,
     Grid,
     Level,
@@ -144,8 +144,8 @@ def test_a_grading_that_can_have_no_effect_is_refused_by_key():
 
 def test_discriminant_coupling_refuses_a_graded_level():
     with pytest.raises(ValueError, match="segments"):
-        from brushbem.halfspace import HalfSpace
-        from brushbem.operator import ContactOperator, Window
+        from brushbem.physics.halfspace import HalfSpace
+        from brushbem.numerics.operator import ContactOperator, Window
 
         indenter = _brush(grading=Grading("radial", -0.5))
         ContactOperator(HalfSpace(64, GRID.element_size, 1.0), indenter, Window.full(64), "discriminant")
@@ -350,7 +350,7 @@ def test_a_cap_too_small_for_the_grid_is_refused_like_a_sphere():
     (N = 64, R = 0.05: a = 0.6 elements, refused; N = 256: 2.5 elements, accepted)."""
     from brushbem.config import ConfigError
 
-    from brushbem.assembly import parse_config
+    from brushbem.workflow.assembly import parse_config
 
     config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 64},
               "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 1, "pillar_radius": 0.1,

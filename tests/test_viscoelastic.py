@@ -30,13 +30,13 @@ import textwrap
 import pytest
 from scipy.optimize import brentq
 
-from brushbem.assembly import load
+from brushbem.workflow.assembly import load
 from brushbem.config import ConfigError
 from brushbem.errors import ParameterError
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
 from brushbem.protocol.recording import work_of_separation
-from brushbem.structure import Grid, brush, flat_punch
-from brushbem.viscoelastic import Viscoelastic
+from brushbem.physics.structure import Grid, brush, flat_punch
+from brushbem.physics.viscoelastic import Viscoelastic
 
 GRID = Grid(1.0, 64)
 RADIUS = 0.2

@@ -4,7 +4,7 @@ Three steps, each printed as a Markdown table for docs/reproduction/notes.md:
 
 1. How far the coupled brush is from the limit: every point of the committed
    chapter-5 tables (docs/reproduction/rough_brush/preload.csv, ten seeds) beside
-   `brushbem.theory.independent_rough_brush` at the same k~, sigma~, F~_P
+   `brushbem.physics.theory.independent_rough_brush` at the same k~, sigma~, F~_P
    (40 draws of the same Gaussian lengths law; the seeds differ, the law is the same).
 2. The identification scan: Table 1 from the limit for every pillar count
    (64, 256, 1024) and every preload at which c is read (0.005 to 1), scored by
@@ -27,7 +27,7 @@ import pandas as pd
 
 from brushbem.studies._ch5_7 import FA, FP, K, SIG, fit_eq58
 from brushbem.studies.rough_brush import TABLE_1
-from brushbem.theory import independent_rough_brush
+from brushbem.physics.theory import independent_rough_brush
 
 #: The thesis's roughnesses of Fig. 5-5 (the preload sweep's sigma~) and its filling factor (L862).
 ROUGHNESSES = np.array([0.01, 0.03, 0.07, 0.12, 0.2, 0.28, 0.4, 0.5, 0.7, 1.0, 1.4, 2.1, 3.0])

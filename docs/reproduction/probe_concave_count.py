@@ -28,7 +28,7 @@ import pandas as pd
 
 import brushbem
 from brushbem.studies import SWEEPS_DIR
-from brushbem.structure import square_lattice
+from brushbem.physics.structure import square_lattice
 from brushbem.sweep import load_sweep
 
 TABLE = Path(__file__).resolve().parent / "concave" / "stiffness.csv"

@@ -14,8 +14,9 @@ from __future__ import annotations
 import math
 import time
 
-from brushbem import pull_off, theory
-from brushbem.structure import Grid, brush
+from brushbem import pull_off
+from brushbem.physics import theory
+from brushbem.physics.structure import Grid, brush
 
 E, DGAMMA, RADIUS, PER_SIDE = 1.0, 1e-4, 0.02443, 8
 

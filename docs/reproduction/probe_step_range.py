@@ -15,7 +15,7 @@ from __future__ import annotations
 import time
 
 from brushbem import pull_off
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 E, DGAMMA, PER_SIDE, RADIUS, N = 1.0, 1e-4, 32, 0.00705237, 512
 F_C, D_C = 0.00849802, 0.00753117  # eq. 5.3-5.4 at phi = 0.16 (nominal), L = 1

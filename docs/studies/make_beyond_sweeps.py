@@ -12,9 +12,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from brushbem.case import brush_scales
+from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 DGAMMA = 1e-4

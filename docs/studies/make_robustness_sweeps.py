@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 from make_beyond_sweeps import _toml
 
-from brushbem.case import brush_scales
-from brushbem.design import design
+from brushbem.workflow.case import brush_scales
+from brushbem.workflow.design import design
 from brushbem.protocol import ContactProblem, LoadPath
-from brushbem.structure import Grid, brush
+from brushbem.physics.structure import Grid, brush
 
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 DGAMMA, PHI = 1e-4, 0.06

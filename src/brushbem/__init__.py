@@ -6,6 +6,21 @@ pillars on springs.
 
 Sign convention: the base displacement d is positive when the indenter presses
 into the half-space; pressure and force are positive when compressive.
+
+The package, from the model to the applications:
+
+- `brushbem.physics`: the half-space, the pillars' connections (springs, laws,
+  viscoelastic), the geometry (`physics.structure`) and the closed forms
+  (`physics.theory`);
+- `brushbem.numerics`: the array backend, the contact operator and the solvers;
+- `brushbem.protocol`: the load path of a pull-off (fixed steps, events, the
+  pillar-level model) and what it records;
+- `brushbem.config` (the schema of a run's TOML file), `brushbem.workflow`
+  (assembly, running a case, results, figures, reports, refine, estimate,
+  design) and `brushbem.io` (the result files);
+- the applications: `brushbem.sweep`, `brushbem.studies`,
+  `brushbem.reproduction` (the thesis comparison) and `brushbem.cli`;
+- `brushbem.api` (`run`, `pull_off`) is the entry, re-exported here.
 """
 
 
@@ -24,23 +39,23 @@ def _version() -> str:
 _PUBLIC = {
     "run": "api",
     "pull_off": "api",
-    "PullOff": "pulloff",
-    "Grid": "structure",
-    "Level": "structure",
-    "Profile": "structure",
-    "Tip": "structure",
-    "Tilt": "structure",
-    "Grading": "structure",
-    "Viscoelastic": "viscoelastic",
-    "PiecewiseLinear": "pillar_laws",
-    "brush": "structure",
-    "flat_punch": "structure",
-    "sphere": "structure",
-    "height_map": "structure",
+    "PullOff": "workflow.pulloff",
+    "Grid": "physics.structure",
+    "Level": "physics.structure",
+    "Profile": "physics.structure",
+    "Tip": "physics.structure",
+    "Tilt": "physics.structure",
+    "Grading": "physics.structure",
+    "Viscoelastic": "physics.viscoelastic",
+    "PiecewiseLinear": "physics.pillar_laws",
+    "brush": "physics.structure",
+    "flat_punch": "physics.structure",
+    "sphere": "physics.structure",
+    "height_map": "physics.structure",
     "ConfigError": "config",
     "RunConfig": "config",
-    "load_config": "assembly",
-    "parse_config": "assembly",
+    "load_config": "workflow.assembly",
+    "parse_config": "workflow.assembly",
 }
 
 __all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC

@@ -31,12 +31,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from brushbem.assembly import Assembly, load, parse
+from brushbem.workflow.assembly import Assembly, load, parse
 from brushbem.config import RunConfig
-from brushbem.pulloff import PullOff
+from brushbem.workflow.pulloff import PullOff
 
 if TYPE_CHECKING:
-    from brushbem.structure import Grid, Indenter
+    from brushbem.physics.structure import Grid, Indenter
 
 __all__ = ["PullOff", "pull_off", "run"]
 
@@ -56,7 +56,7 @@ def run(
     advances; ``stop()``, polled after every state, ends it early (the result
     then holds the path so far, ``interrupted`` and not converged).
     ``refine`` (2 or 3, as ``brushbem run --refine``) also runs the coarser
-    grids and adds the Richardson extrapolation (`brushbem.refine.refined_run`).
+    grids and adds the Richardson extrapolation (`brushbem.workflow.refine.refined_run`).
     """
     built: RunConfig | Assembly
     if isinstance(config, (RunConfig, Assembly)):
@@ -67,11 +67,11 @@ def run(
         built = load(config)
     else:
         raise TypeError(f"config = {config!r}: expected a file path, a mapping of tables, a RunConfig or an Assembly")
-    from brushbem import case  # looked up at call time: tests patch case.run_case
+    from brushbem.workflow import case
 
     if refine is None:
         return case.run_case(built, progress=progress, stop=stop)
-    from brushbem.refine import refined_run
+    from brushbem.workflow.refine import refined_run
 
     return refined_run(built if isinstance(built, RunConfig) else built.config, refine, progress=progress, stop=stop)
 
@@ -138,7 +138,7 @@ def pull_off(
     xp : array namespace
         NumPy (default) or a GPU namespace such as CuPy.
     """
-    from brushbem.case import run_problem
+    from brushbem.workflow.case import run_problem
     from brushbem.protocol import ContactProblem, LoadPath
 
     contact_modulus = _material("contact_modulus", contact_modulus, indenter)

@@ -13,7 +13,7 @@ if TYPE_CHECKING:  # the command line imports what a command needs when it runs 
     pass
 
 # The figure files of a run, named by a light module (no numerics).
-from brushbem.pulloff import FIGURE_FILES
+from brushbem.workflow.pulloff import FIGURE_FILES
 
 from brushbem.cli.common import (
     EXIT_INVALID_CONFIG,
@@ -112,7 +112,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
     refined = None
     if grids is not None:
         from brushbem.config import ConfigError
-        from brushbem.refine import refined_configs
+        from brushbem.workflow.refine import refined_configs
 
         try:
             refined = refined_configs(config, grids)
@@ -218,10 +218,10 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
 def _remove_earlier_report(out_dir: Path) -> None:
     """Remove the ``report.html`` of an earlier run in ``out_dir`` (it describes results just replaced).
 
-    Only a report that `brushbem.run_report` wrote (its generator mark) is
+    Only a report that `brushbem.workflow.run_report` wrote (its generator mark) is
     removed; any other file of that name is left as it is.
     """
-    from brushbem.run_report import REPORT_FILE, is_run_report
+    from brushbem.workflow.run_report import REPORT_FILE, is_run_report
 
     report = out_dir / REPORT_FILE
     if report.is_file() and not report.is_symlink() and is_run_report(report):
@@ -254,8 +254,8 @@ def _duration(seconds: float) -> str:
 
 def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
     """``run --estimate``: the expected cost of the run (of every grid of --refine), with its basis; no file."""
-    from brushbem.estimate import estimate_run
-    from brushbem.resources import available_memory, format_bytes
+    from brushbem.workflow.estimate import estimate_run
+    from brushbem.workflow.resources import available_memory, format_bytes
 
     estimates = [estimate_run(config) for config in configs]
     total = sum(estimate.seconds for estimate in estimates)
@@ -273,7 +273,7 @@ def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
                        f"states after the first) + {estimate.setup_seconds:.2g} s (set-up and first state)")
             for line in estimate.basis:
                 click.echo(f"    basis        {line}")
-        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.resources.memory_estimate); "
+        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.workflow.resources.memory_estimate); "
                    f"result.nc at most {format_bytes(estimate.result_bytes)}")
         if estimate.stops:
             click.echo(f"    note         {estimate.stops}")

@@ -90,7 +90,7 @@ class IndenterConfig(_Section):
         6-3: ``pillars_per_side`` sub-pillars per side in square clusters of
         the ``levels``, ``filling_factors`` phi1, phi2, ... one per level
         bottom-up, the pillar radius derived from them;
-        `brushbem.structure.clustered_lattice`); region : ``"square"``
+        `brushbem.physics.structure.clustered_lattice`); region : ``"square"``
         (default) or ``"circle"`` (not clustered), where pillars are placed, of
         side / diameter ``region_size`` (default grid.size), whose area is the
         apparent area A0; pillar_radius (square and random layouts);

@@ -44,7 +44,7 @@ class ProfileConfig(_Model):
     reference_stress : float or None
         Uniform stress p_c of S_c that makes h~ dimensionless, in units of
         stress.  Default: one pillar's Kendall mean stress F_K / (pi r^2)
-        (`brushbem.theory.concave_reference_stress`).
+        (`brushbem.physics.theory.concave_reference_stress`).
     """
 
     model_config = _MODEL_CONFIG
@@ -62,7 +62,7 @@ _TIP_USES = {"flat": ((), ()), "spherical_cap": (("radius",), ()), "concave": ((
 
 
 class TipConfig(_Section):
-    """The tip shape of every pillar (`brushbem.structure.Tip`).
+    """The tip shape of every pillar (`brushbem.physics.structure.Tip`).
 
     Attributes
     ----------
@@ -121,7 +121,7 @@ class TipConfig(_Section):
 
 
 class TiltConfig(_Model):
-    """A tilted base (`brushbem.structure.Tilt`).
+    """A tilted base (`brushbem.physics.structure.Tilt`).
 
     Attributes
     ----------
@@ -139,7 +139,7 @@ class TiltConfig(_Model):
 
 
 class GradingConfig(_Section):
-    """A level's stiffness graded over the brush (`brushbem.structure.Grading`).
+    """A level's stiffness graded over the brush (`brushbem.physics.structure.Grading`).
 
     Attributes
     ----------
@@ -158,7 +158,7 @@ class GradingConfig(_Section):
         ``.npy`` file of one factor > 0 per spring (rule = "file").
 
     A grading that can have no effect is refused when the structure is built
-    (`brushbem.structure.Grading.apply`): one on a rigid level, and a rule on a
+    (`brushbem.physics.structure.Grading.apply`): one on a rigid level, and a rule on a
     level of one spring (a single pillar, one cluster).
     """
 
@@ -196,7 +196,7 @@ class GradingConfig(_Section):
 
 
 class ViscoelasticConfig(_Section):
-    """Viscoelastic pillar connections (`brushbem.viscoelastic`); the pillar stiffness is the relaxed one.
+    """Viscoelastic pillar connections (`brushbem.physics.viscoelastic`); the pillar stiffness is the relaxed one.
 
     Attributes
     ----------
@@ -229,7 +229,7 @@ _LAW_FACTORS = (f"an array of len(forces) + 1 slope factors, each > 0 and betwee
 
 
 class PillarLawConfig(_Section):
-    """A nonlinear force-compression law of the pillars' connections (`brushbem.pillar_laws.PiecewiseLinear`).
+    """A nonlinear force-compression law of the pillars' connections (`brushbem.physics.pillar_laws.PiecewiseLinear`).
 
     Attributes
     ----------

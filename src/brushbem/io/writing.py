@@ -22,7 +22,7 @@ import xarray as xr
 
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
-from brushbem.results import CaseResult
+from brushbem.workflow.results import CaseResult
 
 from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
 from brushbem.io.dataset import _dataset, _field_compression, _units_of

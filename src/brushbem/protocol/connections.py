@@ -1,9 +1,9 @@
 """Connections with a state along a pull-off (`ConnectionState`): viscoelastic history and pillar-law pieces.
 
-Viscoelastic connections (`brushbem.viscoelastic.Memory`) are stepped in
+Viscoelastic connections (`brushbem.physics.viscoelastic.Memory`) are stepped in
 time: the solves see the pillar springs of the step's stiffness, and before
 every step each pillar's tip is raised by its history offset.  A nonlinear
-pillar law (`brushbem.pillar_laws.PieceState`) is followed by its pieces: each
+pillar law (`brushbem.physics.pillar_laws.PieceState`) is followed by its pieces: each
 piece gives the pillars' springs and tip offsets, and a pillar whose tension
 reaches the law's limit breaks (its tip is lifted out of reach).
 
@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from brushbem.structure import SpringLevel
+from brushbem.physics.structure import SpringLevel
 from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["ConnectionState", "SpringChange"]
@@ -55,9 +55,9 @@ class ConnectionState:
     """
 
     def __init__(self, memory=None, pieces=None):
-        #: The viscoelastic connections' history along a time-stepped path (`brushbem.viscoelastic`), else None.
+        #: The viscoelastic connections' history along a time-stepped path (`brushbem.physics.viscoelastic`), else None.
         self.memory = memory
-        #: The pieces of a nonlinear pillar law and the broken pillars (`brushbem.pillar_laws`), else None.
+        #: The pieces of a nonlinear pillar law and the broken pillars (`brushbem.physics.pillar_laws`), else None.
         self.pieces = pieces
 
     @classmethod
@@ -69,13 +69,13 @@ class ConnectionState:
         """
         memory = pieces = None
         if problem.indenter.viscoelastic is not None:
-            from brushbem.viscoelastic import Memory
+            from brushbem.physics.viscoelastic import Memory
 
             memory = Memory(problem.indenter, path.step, path.speed)
             # The solves see the pillar springs of the step's stiffness k_eff.
             problem = dataclasses.replace(problem, indenter=memory.stepped)
         if problem.indenter.pillar_law is not None:
-            from brushbem.pillar_laws import PieceState
+            from brushbem.physics.pillar_laws import PieceState
 
             pieces = PieceState(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
             # The springs of the piece that holds F = 0 (its offset is 0).

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from brushbem.solver import Equilibrium
+from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state
 from brushbem.protocol.problem import LoadPath
 from brushbem.protocol.tracking import Tracker

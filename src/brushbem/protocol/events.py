@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from brushbem.solver import Equilibrium
+from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
 from brushbem.protocol.problem import LoadPath, State
 from brushbem.protocol.tracking import Tracker

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from brushbem.solver import Equilibrium
+from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.problem import State
 
 

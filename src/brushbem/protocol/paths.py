@@ -92,7 +92,7 @@ def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
 
     The step is shortened so that the preload is a whole number of steps: the
     time step, and with it the connections' step stiffness, is then the same
-    along the whole path (`brushbem.viscoelastic`).
+    along the whole path (`brushbem.physics.viscoelastic`).
     """
     if problem.indenter.viscoelastic is None:
         raise ParameterError("LoadPath", "speed",

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from brushbem.halfspace import influence_coefficients
+from brushbem.physics.halfspace import influence_coefficients
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]

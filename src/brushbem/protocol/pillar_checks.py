@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from brushbem.errors import ParameterError
-from brushbem.structure import BrushGeometry
+from brushbem.physics.structure import BrushGeometry
 from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["check_applicable"]

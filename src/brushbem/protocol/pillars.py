@@ -24,7 +24,7 @@ Coupling
     the multipole expansion of 1/r to second order in the modes' moments
     (the monopole F / (pi E* r) with its dipole and quadrupole corrections,
     and the element square's own second moment) beyond.  Springs of every
-    level (`brushbem.structure.SpringLevel`, pillars' own and hierarchy
+    level (`brushbem.physics.structure.SpringLevel`, pillars' own and hierarchy
     clusters) enter the uniform mode as in the element operator: the
     Galerkin projection of A = K + sum_l (h^2 / k_l) P_l^T P_l.
 

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushbem.errors import ParameterError
-from brushbem.solver import critical_stress
-from brushbem.structure import Grid, Indenter
+from brushbem.numerics.solver import critical_stress
+from brushbem.physics.structure import Grid, Indenter
 
 __all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State"]
 
@@ -34,7 +34,7 @@ class ContactProblem:
     work_of_adhesion : float
         dgamma, energy per unit area (0: no adhesion).
     coupling : {"segments", "discriminant"}
-        How the spring sums are evaluated (see ``brushbem.operator``).
+        How the spring sums are evaluated (see ``brushbem.numerics.operator``).
     """
 
     grid: Grid
@@ -78,7 +78,7 @@ class LoadPath:
         Margin of the working window around the contact, as a fraction of its
         size (at least 4 elements).
     cascade : {"local", "global"}
-        How the detachment rounds of a brush run (`brushbem.solver.equilibria`).
+        How the detachment rounds of a brush run (`brushbem.numerics.solver.equilibria`).
     speed : float or None
         Pulling speed v of a time-stepped path (viscoelastic pillars, method
         "fixed"): every displacement step is the time step dd / v, in the

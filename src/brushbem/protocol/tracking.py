@@ -30,9 +30,9 @@ import dataclasses
 
 import numpy as np
 
-from brushbem import backend
-from brushbem.operator import ContactOperator, Window
-from brushbem.solver import (
+from brushbem.numerics import backend
+from brushbem.numerics.operator import ContactOperator, Window
+from brushbem.numerics.solver import (
     Equilibrium,
     Settings,
     Start,
@@ -215,7 +215,7 @@ class Tracker:
 
         Viscoelastic connections: their history offsets first (``advance``;
         False inside a step, where the step's springs and offsets hold).  A
-        nonlinear pillar law: the piece iteration of `brushbem.pillar_laws`,
+        nonlinear pillar law: the piece iteration of `brushbem.physics.pillar_laws`,
         then the breaks, each break solved again at the same d.  ``detach``:
         elements that leave the contact first (an event located in the step).
         """
@@ -223,7 +223,7 @@ class Tracker:
             self.advance_history()
         if self.connections.pieces is None:
             return self.solve(displacement, force_detach=detach)
-        from brushbem.pillar_laws import MAX_PIECE_ROUNDS
+        from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
 
         iterations = solves = detached = 0
         first = None

@@ -17,10 +17,10 @@ import math
 
 import numpy as np
 
-from brushbem import backend
-from brushbem.halfspace import HalfSpace
-from brushbem.operator import ContactOperator, Window, fast_size
-from brushbem.solver import penetration
+from brushbem.numerics import backend
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.operator import ContactOperator, Window, fast_size
+from brushbem.numerics.solver import penetration
 from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["WorkingWindow"]

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.figstyle import styled
+from brushbem.workflow.figstyle import styled
 from brushbem.studies._ch5_7 import (
     FA,
     FA_TEXT,
@@ -39,7 +39,7 @@ from brushbem.studies._ch5_7 import (
 )
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE
-from brushbem.theory import equivalent_single_level_stiffness
+from brushbem.physics.theory import equivalent_single_level_stiffness
 
 LEVELS = ("one", "two", "three")
 LEVEL_COLOURS = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}

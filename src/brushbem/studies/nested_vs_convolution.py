@@ -4,9 +4,9 @@ The deformed surface of the half-space, cross-section through the centre, for
 three elastically embedded indenters pressed without adhesion: (a) a flat
 punch, (b) a sphere, (c) a 5 x 5 array of flat pillars.  Each is computed
 three ways: rigid (no spring), the coupled operator A = K + (h^2/k) P^T P
-("convolution", `brushbem.solver.equilibrium`) and the nested loop that
+("convolution", `brushbem.numerics.solver.equilibrium`) and the nested loop that
 corrects the pillar positions until the spring and contact forces balance
-(`brushbem.nested`, per pillar for the array).  The thesis's numbers: k = 50
+(`brushbem.numerics.nested`, per pillar for the array).  The thesis's numbers: k = 50
 N/mm, E = 100 MPa, domain 1 mm x 1 mm; taken here as E* = 100 (the thesis does
 not give nu) in N and mm.  The geometry and depth are not stated; we use a
 punch of radius 0.2, a sphere of radius 1, pillars of radius 0.05 at pitch
@@ -23,12 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
-from brushbem.figstyle import styled
-from brushbem.halfspace import HalfSpace
-from brushbem.nested import nested_loop_brush_equilibrium, nested_loop_equilibrium
-from brushbem.operator import ContactOperator, Window
-from brushbem.solver import Settings, Start, equilibrium
-from brushbem.structure import Grid, Indenter, brush, flat_punch, sphere
+from brushbem.workflow.figstyle import styled
+from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics.nested import nested_loop_brush_equilibrium, nested_loop_equilibrium
+from brushbem.numerics.operator import ContactOperator, Window
+from brushbem.numerics.solver import Settings, Start, equilibrium
+from brushbem.physics.structure import Grid, Indenter, brush, flat_punch, sphere
 from brushbem.studies._common import new_figure, save
 from brushbem.studies.base import Study
 

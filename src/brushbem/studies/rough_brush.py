@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from matplotlib import colormaps
 
-from brushbem.figstyle import styled
+from brushbem.workflow.figstyle import styled
 from brushbem.io import atomic_path
 from brushbem.studies._ch5_7 import (
     FA,
@@ -42,7 +42,7 @@ from brushbem.studies._ch5_7 import (
 )
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE
-from brushbem.theory import adhesion_coefficient
+from brushbem.physics.theory import adhesion_coefficient
 
 #: Table 1 of the thesis: k~ -> (alpha, sigma~_c); beta = alpha / sigma~_c (its row is lost in the text but 0.035).
 TABLE_1 = {
@@ -295,7 +295,7 @@ def _nearest(k: float) -> float:
     return float(keys[j]) if np.isclose(keys[j], k, rtol=1e-3) else math.nan
 
 
-#: The independent-pillar limit of Table 1 (`brushbem.theory.independent_rough_brush`: 1024 pillars,
+#: The independent-pillar limit of Table 1 (`brushbem.physics.theory.independent_rough_brush`: 1024 pillars,
 #: phi = 0.16, ten draws, the thesis's 13 roughnesses 0.01-3, eq. 5.8 fitted as `table_1` does), with c
 #: read at the preload F~_P that gives the thesis's alpha: k~ -> (F~_P, alpha, sigma~_c; inf where the
 #: fitted c never reaches 0).  Written by docs/reproduction/identify_table1.py; a test recomputes a column.

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from brushbem import theory
-from brushbem.figstyle import styled
-from brushbem.plot import draw_with_jumps
+from brushbem.physics import theory
+from brushbem.workflow.figstyle import styled
+from brushbem.workflow.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
     column,

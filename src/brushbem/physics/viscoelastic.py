@@ -1,0 +1,136 @@
+"""Viscoelastic pillar connections: Kelvin-Voigt and the standard linear solid, stepped in time (thesis sec. 8.2, 3).
+
+The pillars' own springs (level 1) become rheological connections, pulled at
+a constant speed v, so that a displacement step dd is the time step dt = dd / v:
+
+* **Kelvin-Voigt**: a spring k and a dashpot eta in parallel, F = k s + eta
+  ds/dt (s: the connection's compression, F: its force, compressive
+  positive).  Retardation time tau = eta / k.
+* **Standard linear solid** (Zener): a spring k_inf in parallel with a
+  Maxwell arm (spring k_1 in series with a dashpot eta), F = k_inf s + F_1
+  with ds/dt = dF_1/dt / k_1 + F_1 / eta.  Relaxed stiffness k_inf,
+  instantaneous stiffness k_0 = k_inf + k_1, relaxation time tau = eta / k_1.
+
+Both are integrated by the implicit Euler method, which turns every step
+into an elastic connection with an affine law
+
+    s = F / k_eff + b,    k_eff = k_inf + k_1',    k_1' = k_1 / (1 + dt / tau)
+
+(Kelvin-Voigt: k_1' = eta / dt = k tau / dt), where the history term b =
+(k_1' s_old - q F_1,old) / k_eff, q = k_1' / k_1 (0 for Kelvin-Voigt), comes
+from the previous step.  With a constant step, k_eff is the same at every
+step: the solve is the elastic brush's with the pillar stiffness k_eff, and b
+enters as a length offset of each pillar's tip (the penetration is d - height
+- s - u).  After each step, s and F_1 follow from the pillars' forces.  The
+limits are exact: dt >> tau gives k_eff -> k_inf and b -> 0 (the relaxed,
+elastic brush); dt << tau gives the instantaneous stiffness k_inf + k_1 (and
+for Kelvin-Voigt a rigid connection), with b -> 0 from rest.  The scheme is
+first order in dt / tau.
+
+Only the pillars' own connections are viscoelastic; the levels above them
+and the half-space are elastic.  A viscoelastic half-space would need the
+history of the surface displacements (a hereditary integral over the whole
+contact), which this time stepping does not carry.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from brushbem.physics.structure import Indenter, SpringLevel
+
+__all__ = ["MODELS", "Memory", "Viscoelastic"]
+
+MODELS = ("kelvin_voigt", "standard_linear_solid")
+
+
+@dataclass(frozen=True)
+class Viscoelastic:
+    """The rheology of the pillars' own connections (module docstring).
+
+    Attributes
+    ----------
+    model : {"kelvin_voigt", "standard_linear_solid"}
+    relaxation_time : float
+        tau, in units of time (those of the path's speed): eta / k for
+        Kelvin-Voigt, eta / k_1 for the standard linear solid.
+    instantaneous_factor : float, optional
+        k_0 / k_inf > 1 of the standard linear solid (its instantaneous over
+        its relaxed stiffness); the pillar's ``stiffness`` is k_inf (or the
+        Kelvin-Voigt spring k).
+    """
+
+    model: str
+    relaxation_time: float
+    instantaneous_factor: float | None = None
+
+    def __post_init__(self):
+        if self.model not in MODELS:
+            raise ValueError(f"viscoelastic.model = {self.model!r} must be one of {', '.join(map(repr, MODELS))}")
+        if not (math.isfinite(self.relaxation_time) and self.relaxation_time > 0):
+            raise ValueError(f"viscoelastic.relaxation_time = {self.relaxation_time} must be finite and > 0")
+        if self.model == "standard_linear_solid":
+            factor = self.instantaneous_factor
+            if factor is None or not (math.isfinite(factor) and factor > 1):
+                raise ValueError(
+                    f"viscoelastic.instantaneous_factor = {factor} must be finite and > 1 for the standard linear "
+                    "solid (k_0 / k_inf)"
+                )
+        elif self.instantaneous_factor is not None:
+            raise ValueError("viscoelastic.instantaneous_factor is only used with model = 'standard_linear_solid'")
+
+    def step_stiffness(self, relaxed: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        """(k_eff, k_1') of every connection for the time step ``dt``."""
+        ratio = self.relaxation_time / dt
+        if self.model == "kelvin_voigt":
+            arm = relaxed * ratio
+        else:
+            k1 = relaxed * (self.instantaneous_factor - 1.0)
+            arm = k1 * ratio / (1.0 + ratio)
+        return relaxed + arm, arm
+
+
+class Memory:
+    """The state of the connections along a time-stepped path: compression s and Maxwell-arm force F_1.
+
+    Parameters
+    ----------
+    indenter : Indenter
+        With ``viscoelastic`` set and an elastic pillar level.
+    step, speed : float
+        The displacement step and the pulling speed: dt = step / speed.
+    """
+
+    def __init__(self, indenter: Indenter, step: float, speed: float):
+        rheology = indenter.viscoelastic
+        level = indenter.levels[0]
+        self.rheology = rheology
+        self.dt = step / speed
+        relaxed = np.array(level.stiffnesses, dtype=np.float64)
+        self.stiffness, arm = rheology.step_stiffness(relaxed, self.dt)
+        # q = k_1' / k_1: the share of the old arm force kept (0 for Kelvin-Voigt).
+        self.arm = arm
+        self.keep = (np.zeros_like(relaxed) if rheology.model == "kelvin_voigt"
+                     else np.full_like(relaxed, 1.0 / (1.0 + self.dt / rheology.relaxation_time)))
+        self.compression = np.zeros_like(relaxed)
+        self.arm_force = np.zeros_like(relaxed)
+        self.offset = np.zeros_like(relaxed)
+        #: The indenter whose pillar springs have the step's stiffness k_eff.
+        self.stepped = dataclasses.replace(
+            indenter, levels=(SpringLevel(self.stiffness, level.cluster), *indenter.levels[1:]),
+        )
+
+    def advance(self) -> np.ndarray:
+        """The history offsets b of the next step (one per pillar, units of length)."""
+        self.offset = (self.arm * self.compression - self.keep * self.arm_force) / self.stiffness
+        return self.offset
+
+    def commit(self, forces: np.ndarray) -> None:
+        """The step's equilibrium with the pillar forces ``forces`` (compressive positive) is accepted."""
+        compression = forces / self.stiffness + self.offset
+        self.arm_force = self.arm * (compression - self.compression) + self.keep * self.arm_force
+        self.compression = compression

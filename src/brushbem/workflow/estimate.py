@@ -1,0 +1,368 @@
+"""Cost before compute: the expected time of a whole sweep from a few of its cases, and of one run.
+
+``estimate_sweep(sweep, samples=3)`` runs ``samples`` cases of the sweep, one
+after the other in this process, spread evenly over its expansion order (the
+first and the last case and equally spaced ones between, so that every swept
+axis is visited at its ends), and extrapolates: the expected CPU time of the
+whole sweep is the number of cases times the mean sampled time, with the
+standard error of that mean; the wall time on W workers is that over
+min(W, cases) (a worker runs one case at a time, and the cases of one
+sweep cost roughly alike except where a swept key changes the grid or the
+brush, which the spread of the samples then shows).  Nothing is written.
+
+``estimate_run(config)`` (``brushbem run CONFIG --estimate``) computes the
+first states of one run's path for a couple of seconds, which measures the
+cost of a state on its grid, and counts the states of the whole path from
+the load path (fixed steps: the displacement range over the step; event
+paths: the sampled loading extrapolated in d, about one event per pillar on
+a brush's pull-off); its peak memory is `brushbem.workflow.resources.memory_estimate`.
+Nothing is written either.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from brushbem.sweep import Sweep, compute_case
+
+__all__ = ["RunEstimate", "SweepEstimate", "estimate_run", "estimate_sweep", "sample_indices"]
+
+
+@dataclass(frozen=True)
+class SweepEstimate:
+    """The sampled cost of a sweep.
+
+    Attributes
+    ----------
+    cases : int
+        Cases of the whole sweep.
+    sampled : tuple of str
+        Case ids that were run.
+    seconds : tuple of float
+        Their wall times (each alone in this process), in seconds.
+    statuses : tuple of str
+        Their outcomes ("finished", "unconverged", "failed").
+    """
+
+    cases: int
+    sampled: tuple[str, ...]
+    seconds: tuple[float, ...]
+    statuses: tuple[str, ...]
+
+    @property
+    def mean_seconds(self) -> float:
+        return statistics.fmean(self.seconds) if self.seconds else 0.0
+
+    @property
+    def cpu_hours(self) -> float:
+        """Expected time of the whole sweep on one worker, in hours."""
+        return self.cases * self.mean_seconds / 3600.0
+
+    @property
+    def cpu_hours_error(self) -> float:
+        """Standard error of ``cpu_hours`` from the spread of the samples (0 for one sample)."""
+        if len(self.seconds) < 2:
+            return 0.0
+        return self.cases * statistics.stdev(self.seconds) / math.sqrt(len(self.seconds)) / 3600.0
+
+    def wall_hours(self, workers: int) -> float:
+        """Expected wall time on ``workers`` workers, in hours."""
+        if workers < 1:
+            raise ValueError(f"workers = {workers} must be >= 1")
+        return self.cpu_hours / min(workers, max(self.cases, 1))
+
+
+def sample_indices(cases: int, samples: int) -> list[int]:
+    """``samples`` distinct case indices spread evenly from the first to the last case."""
+    if cases <= 0:
+        return []
+    samples = max(1, min(samples, cases))
+    return sorted({round(x) for x in np.linspace(0, cases - 1, samples)})
+
+
+def estimate_sweep(
+    sweep: Sweep,
+    samples: int = 3,
+    progress: Callable[[str], None] | None = None,
+) -> SweepEstimate:
+    """Run ``samples`` cases of ``sweep`` (spread over it) and return the estimate."""
+    if samples < 1:
+        raise ValueError(f"samples = {samples} must be >= 1")
+    chosen = [sweep.cases[i] for i in sample_indices(len(sweep.cases), samples)]
+    seconds, statuses = [], []
+    for k, case in enumerate(chosen, 1):
+        if progress is not None:
+            progress(f"sample {k}/{len(chosen)}: case {case.case_id}")
+        start = time.perf_counter()
+        outcome = compute_case(case.config)
+        seconds.append(time.perf_counter() - start)
+        statuses.append(outcome.status)
+    return SweepEstimate(
+        cases=len(sweep.cases),
+        sampled=tuple(case.case_id for case in chosen),
+        seconds=tuple(seconds),
+        statuses=tuple(statuses),
+    )
+
+
+# ---------------------------------------------------------------------- one run
+
+#: Wall time (seconds) that `estimate_run` spends on the first states of the path.
+SAMPLE_SECONDS = 2.0
+
+
+@dataclass(frozen=True)
+class RunEstimate:
+    """The expected cost of one run (`estimate_run`), with the basis of every number.
+
+    Attributes
+    ----------
+    elements : int
+        N of the N x N grid.
+    method : str
+        ``protocol.method``.
+    states : int
+        Recorded states the path is expected to take (both branches).
+    sampled_states : int
+        States of the path computed for the estimate.
+    setup_seconds : float
+        Building the problem and the first state of the path (measured).
+    seconds_per_state : float
+        Mean wall time of the sampled states after the first (measured).
+    seconds : float
+        Expected wall time of the computation (without writing the files and
+        the figure, a few seconds more).
+    complete : bool
+        The sample ran the whole path: ``seconds`` is measured, not extrapolated.
+    basis : tuple of str
+        How ``states`` was counted, one line per branch.
+    kind : str
+        ``"measured"`` (the sample ran the whole path), ``"about"`` (fixed
+        steps to a closed-form end), ``"at least"`` (fixed steps where no
+        closed form gives the tensile part) or ``"up to about"`` (event paths:
+        a cascade that takes several events at once makes fewer states).
+    stops : str or None
+        Why the run would stop before separation (a branch needs more steps
+        than ``protocol.max_steps``: the run ends there, not converged).
+    memory_bytes, result_bytes : int
+        Peak memory (`brushbem.workflow.resources.memory_estimate`) and the
+        uncompressed size of ``result.nc``.
+    """
+
+    elements: int
+    method: str
+    states: int
+    sampled_states: int
+    setup_seconds: float
+    seconds_per_state: float
+    seconds: float
+    complete: bool
+    basis: tuple[str, ...]
+    kind: str
+    stops: str | None
+    memory_bytes: int
+    result_bytes: int
+
+
+def _branch_end(problem, path) -> tuple[float, str] | None:
+    """The closed-form displacement at which the pull-off ends roughly, and what it is; None without one."""
+    from brushbem.workflow.case import theory_for
+
+    try:
+        closed = theory_for(problem, {}, path)[0]
+    except (ValueError, ArithmeticError, AttributeError, KeyError, TypeError):
+        return None
+    for key, label in (("pull_off_displacement", "the closed-form pull-off displacement"),
+                       ("rigid_brush_displacement", "-|d_c| of the rigid brush (eq. 4.12)")):
+        value = closed.get(key) if hasattr(closed, "get") else None
+        if value is not None and math.isfinite(value):
+            return -abs(float(value)), label
+    return None
+
+
+def _pillar_groups(problem) -> int:
+    """Pillars that detach together on a symmetric brush: alike in distance from the centre, offset and footprint.
+
+    Every pillar its own group where the structure does not say (a brush without its geometry record).
+    """
+    info = problem.indenter.description
+    try:
+        centres = np.asarray(info.centres, dtype=float)
+        offsets = np.asarray(info.offsets, dtype=float)
+        elements = np.asarray(info.pillar_elements, dtype=float)
+    except AttributeError:
+        return int(problem.indenter.n_pillars)
+    middle = centres.mean(axis=0)
+    distance = np.hypot(*(centres - middle).T)
+    h = problem.grid.element_size
+    keys = np.column_stack([np.round(distance / (1e-6 * h)), np.round(offsets / (1e-9 * h)), elements])
+    return int(len(np.unique(keys, axis=0)))
+
+
+def _steps(length: float, step: float) -> float:
+    """Fixed steps of ``step`` over ``length`` (a float: it may exceed any integer of interest)."""
+    return max(math.ceil(length / step - 1e-9), 1) if length > 0 else 1
+
+
+def estimate_run(config, *, sample_seconds: float = SAMPLE_SECONDS) -> RunEstimate:
+    """The expected wall time and peak memory of ``brushbem run`` for ``config``, without running it.
+
+    The first states of the real path are computed for about
+    ``sample_seconds`` (at least one; never written), which measures the cost
+    of a state at this grid; the number of states is counted from the load
+    path:
+
+    * ``method = "fixed"``: the loading takes preload / step steps (a brush
+      pressed as contact problems: its few samples), the unloading
+      (preload - d_end) / step, d_end the closed-form pull-off displacement
+      of a punch or a sphere, -|d_c| of a brush, or 0 where no closed form
+      applies; each branch at most ``protocol.max_steps`` (where it needs
+      more, the run stops there, not converged, which ``stops`` says);
+    * the event methods: the loading's events as sampled, extrapolated
+      linearly in d where the sample did not reach the preload; on a
+      brush's pull-off two states (the threshold and the equilibrium after
+      it) per detachment of a group of alike pillars (`_pillar_groups`; a
+      cascade that takes several groups at once makes fewer), on a single
+      body at most as many events as the loading (the contact shrinks
+      through the element rings it grew through, many at once in a
+      cascade): an upper count.
+
+    Where the sample finishes the whole path, the time is the measured one.
+    """
+    from brushbem.workflow.assembly import Assembly, assemble
+    from brushbem.workflow.resources import memory_estimate, result_size_estimate
+
+    start = time.perf_counter()
+    built = config if isinstance(config, Assembly) else assemble(config)
+    config, problem, path = built.config, built.problem, built.path
+    sampled, times, setup, complete = _sample_path(problem, path, start, sample_seconds)
+    common = {"elements": config.grid.elements, "method": path.method, "sampled_states": len(sampled),
+              "setup_seconds": setup, "seconds_per_state": statistics.fmean(times) if times else setup,
+              "memory_bytes": memory_estimate(config), "result_bytes": result_size_estimate(config)}
+    if complete:
+        last = sampled[-1] if sampled else None
+        stops = None if last is None or last.converged else last.reason
+        return RunEstimate(states=len(sampled), seconds=setup + sum(times), complete=True, kind="measured",
+                           basis=(f"the sample ran the whole path ({len(sampled)} states)",), stops=stops, **common)
+    count = _fixed_states if path.method == "fixed" else _event_states
+    n_loading, n_unloading, basis, kind = count(problem, path, sampled)
+    stops = None
+    if max(n_loading, n_unloading) > path.max_steps:
+        branch = "loading" if n_loading > path.max_steps else "unloading"
+        stops = (f"the {branch} branch needs about {max(n_loading, n_unloading):.3g} "
+                 f"{'steps' if path.method == 'fixed' else 'states'}, more than protocol.max_steps = "
+                 f"{path.max_steps}: the run stops there, not converged"
+                 + (' (raise protocol.step, or use method = "events")' if path.method == "fixed" else ""))
+    total = max(min(n_loading, path.max_steps) + min(n_unloading, path.max_steps), float(len(sampled)))
+    return RunEstimate(states=int(round(total)), seconds=setup + (total - 1) * common["seconds_per_state"],
+                       complete=False, basis=tuple(basis), kind=kind, stops=stops, **common)
+
+
+def _sample_path(problem, path, start: float, sample_seconds: float) -> tuple[list, list[float], float, bool]:
+    """The first states of the path, computed for about ``sample_seconds`` since ``start`` (at least one).
+
+    Returns the states, the wall time of each after the first, the time from
+    ``start`` to the first (building the problem and the path's set-up
+    included), and whether the path ended within the sample.
+    """
+    from brushbem.protocol import pull_off
+
+    states = pull_off(problem, path)
+    sampled: list = []
+    times: list[float] = []
+    setup = 0.0
+    try:
+        while True:
+            begin = time.perf_counter()
+            try:
+                state = next(states)
+            except StopIteration:
+                return sampled, times, setup, True
+            now = time.perf_counter()
+            if sampled:
+                times.append(now - begin)
+            else:
+                setup = now - start
+            sampled.append(state)
+            if not state.converged or state.kind == "separated":
+                return sampled, times, setup, True
+            if now - start >= sample_seconds:
+                return sampled, times, setup, False
+    finally:
+        states.close()
+
+
+def _preload(path, loading: list, unloading: list) -> tuple[float, str]:
+    """The preload displacement (sampled, given, or where the force target is reached) and how it is known."""
+    if unloading and loading:
+        return loading[-1].displacement, f"the preload d = {loading[-1].displacement:.4g}"
+    if path.preload_displacement is not None:
+        return path.preload_displacement, f"the preload d = {path.preload_displacement:.4g}"
+    # A force target: F taken proportional to d from the first touch (F grows faster where the contact grows,
+    # so the preload comes sooner: an upper count).
+    touched = [state for state in loading if state.force > 0]
+    if touched and touched[-1].displacement > 0:
+        preload = touched[-1].displacement * max(path.preload_force / touched[-1].force, 1.0)
+    else:
+        preload = max((state.displacement for state in loading), default=0.0) or path.step
+    return preload, f"the preload force, reached near d = {preload:.4g} (F taken proportional to d)"
+
+
+def _contact_loading(loading: list) -> bool:
+    """Whether the sampled loading is a brush's contact problems (a few states, not steps or events)."""
+    return bool(loading) and loading[0].reason.startswith("contact problem")
+
+
+def _fixed_states(problem, path, sampled: list) -> tuple[float, float, list[str], str]:
+    """States of a fixed-step path on each branch (floats: they may exceed any integer of interest), the basis,
+    and the kind of the count (`RunEstimate.kind`)."""
+    loading = [state for state in sampled if state.loading]
+    unloading = [state for state in sampled if not state.loading]
+    preload, preload_text = _preload(path, loading, unloading)
+    basis = []
+    if unloading or _contact_loading(loading):
+        n_loading = float(len(loading)) if unloading else float(len(loading) + 1)
+        basis.append(f"loading: {int(n_loading)} states ({'sampled' if unloading else 'contact problems'})")
+    else:
+        n_loading = float(_steps(preload, path.step))
+        basis.append(f"loading: {n_loading:.3g} fixed steps of {path.step:g} to {preload_text}")
+    end = _branch_end(problem, path)
+    end_d, end_text = end if end is not None else (0.0, "d = 0 (no closed form for the tensile part: at least)")
+    n_unloading = float(_steps(preload - end_d, path.step))
+    basis.append(f"unloading: {n_unloading:.3g} fixed steps of {path.step:g} from the preload to {end_text}")
+    return n_loading, n_unloading, basis, "about" if end is not None else "at least"
+
+
+def _event_states(problem, path, sampled: list) -> tuple[float, float, list[str], str]:
+    """States of an event path on each branch, the basis, and the kind of the count (`RunEstimate.kind`)."""
+    loading = [state for state in sampled if state.loading]
+    unloading = [state for state in sampled if not state.loading]
+    preload, preload_text = _preload(path, loading, unloading)
+    basis = []
+    if unloading or _contact_loading(loading):
+        n_loading = float(len(loading)) if unloading else float(len(loading) + 1)
+        basis.append(f"loading: {int(n_loading)} states ({'sampled' if unloading else 'contact problems'})")
+    else:
+        first, last = loading[0].displacement, loading[-1].displacement
+        covered = (last - first) / (preload - first) if preload > first and last > first else 0.0
+        n_loading = len(loading) / covered if covered > 0 else float(len(loading) + 1)
+        basis.append(f"loading: {n_loading:.3g} events ({len(loading)} sampled over {covered:.1%} of the way "
+                     f"to {preload_text}, extrapolated linearly in d)")
+    pillars = problem.indenter.n_pillars
+    if pillars >= 2:
+        groups = _pillar_groups(problem)
+        n_unloading = float(max(2 * groups + 1, len(unloading)))
+        basis.append(f"unloading: two states (threshold, equilibrium) per detachment event, one event per group "
+                     f"of alike pillars ({groups} groups of the {pillars} pillars: equal distance from the "
+                     "centre, length and footprint); a cascade that takes several groups at once makes fewer")
+    else:
+        n_unloading = float(max(n_loading, len(unloading)))
+        basis.append("unloading: at most as many events as the loading (the contact shrinks through the "
+                     "element rings it grew through; a cascade takes many at once, so usually far fewer)")
+    return n_loading, n_unloading, basis, "up to about"
