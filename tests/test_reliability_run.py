@@ -140,7 +140,7 @@ def test_second_run_into_a_busy_folder_is_refused(tmp_path):
         assert not (out / "summary.json").exists()  # the refused run wrote nothing
     finally:
         first.kill()
-        first.wait()
+        first.communicate()  # waits, and closes its pipes
     # The kernel dropped the killed run's lock: the folder is usable again.
     rerun = CliRunner().invoke(main, ["run", str(_punch(tmp_path)), "--out", str(out), "--quiet"])
     assert rerun.exit_code == 0, rerun.output

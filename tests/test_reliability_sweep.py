@@ -420,7 +420,8 @@ def test_dask_worker_dying_on_a_case_leaves_it_missing_for_the_rerun(tmp_path, m
     third = sweep("calls3")  # without the fault: still nothing to compute
     assert third.returncode == 3 and not (tmp_path / "calls3").exists(), third.output
     fourth = hooked_sweep([*args, "--retry-failed"], tmp_path, log=str(tmp_path / "calls4"))
-    assert fourth.wait(timeout=240) == 0 and (tmp_path / "calls4").read_text().count("\n") == 1
+    output = fourth.communicate(timeout=240)[0]  # waits, and closes its pipe
+    assert fourth.returncode == 0 and (tmp_path / "calls4").read_text().count("\n") == 1, output
     assert_every_case_once(out)
     result = cli("report", str(out))
     happened = (out / "report.html").read_text().split('id="incidents"')[1]

@@ -123,6 +123,9 @@ def dask_client(
         with Client(address=address, scheduler_file=str(scheduler_file) if scheduler_file else None) as client:
             yield client
         return
+    # The dashboard on a free port: a second sweep on the same machine (or a notebook's cluster) holds
+    # dask's default 8787, and dask would warn and retry.
+    cluster_options = {"dashboard_address": ":0", **cluster_options}
     with (
         LocalCluster(
             n_workers=workers or default_workers(),
