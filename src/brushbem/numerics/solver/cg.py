@@ -185,19 +185,30 @@ def conjugate_gradient(
     # be the masked copy of rhs) and are updated in place: fewer temporaries
     # matter on the small blocks the solves run on.
     direction = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
-    # One host copy per iteration: the residual norm and the curvature, together (on a GPU every other
-    # scalar stays on the device).  A curvature that is not positive makes the step 0: x stays as it was.
-    rz = xp.sum(residual * direction)
+    # On a device, one host copy per iteration: the residual norm and the curvature, together; every
+    # other scalar stays there.  On the host the scalars are Python floats (0-d arrays cost about 15 us
+    # an iteration, 8 % of a small window's solve).  A curvature that is not positive makes the step 0:
+    # x stays as it was.
+    host = backend.is_numpy_namespace(xp)
+    rz = _dot(xp, residual, direction) if host else xp.sum(residual * direction)
     for iteration in range(1, max_iterations + 1):
         a_direction = apply(direction)
-        curvature = xp.sum(direction * a_direction)
-        positive = curvature > 0.0
-        step = xp.where(positive, rz / xp.where(positive, curvature, 1.0), 0.0)
+        if host:
+            curvature = _dot(xp, direction, a_direction)
+            step = rz / curvature if curvature > 0.0 and math.isfinite(curvature) else 0.0
+        else:
+            curvature = xp.sum(direction * a_direction)
+            positive = curvature > 0.0
+            step = xp.where(positive, rz / xp.where(positive, curvature, 1.0), 0.0)
         x += step * direction
         if on_step is not None:
             on_step(step)
         residual -= step * a_direction
-        squared, curvature = (float(v) for v in backend.to_numpy(xp.stack([xp.sum(residual * residual), curvature])))
+        if host:
+            squared = _dot(xp, residual, residual)
+        else:
+            squared, curvature = (float(v) for v in backend.to_numpy(xp.stack([xp.sum(residual * residual),
+                                                                                curvature])))
         if not (curvature > 0.0) or not math.isfinite(curvature):
             reason = (
                 "the operator is not positive definite on the contact set"
@@ -217,7 +228,7 @@ def conjugate_gradient(
             if isinstance(verdict, SolveResult):
                 return dataclasses.replace(verdict, iterations=iteration)
         z = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
-        rz_next = xp.sum(residual * z)
+        rz_next = _dot(xp, residual, z) if host else xp.sum(residual * z)
         direction *= rz_next / rz
         direction += z
         rz = rz_next
