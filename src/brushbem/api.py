@@ -128,8 +128,10 @@ def pull_off(
         A material is missing, or differs from the one the brush was built with.
     preload_displacement, preload_force : float
         Exactly one: press to this base displacement or until this force.
-    method : {"events", "element_events", "fixed"}
+    method : {"events", "element_events", "fixed", "pillars"}
         The load path (docs/site/configuration.md, `[protocol]`); ``step`` is the fixed method's step.
+        ``"pillars"`` is the pillar-level model of a brush of flat, level tips of one length
+        (`brushbem.protocol.pillars`); it refuses, naming the parameter, any other indenter.
     tolerance : float
         Relative residual of every CG solve.
     speed : float, optional

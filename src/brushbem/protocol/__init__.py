@@ -25,6 +25,10 @@ Three methods:
   loading event) and the unloading of every structure go event by event.
 * ``"element_events"`` - the event-driven path with every element event on
   the loading branch too: the reference that ``"events"`` is tested against.
+* ``"pillars"`` - the pillar-level model of a brush of flat, level tips of
+  one length (`pillars`): a few numbers per pillar instead of every element,
+  events exact in the reduced model, checked against ``"events"``; any other
+  indenter is refused (`pillar_checks.check_applicable`).
 
 The event-driven path: for a fixed contact set S the solution is affine in
 d, p(d) = p(d0) + (d - d0) a with a = A_S^-1 1, and the penetration outside
