@@ -28,10 +28,10 @@ The package's modules, each re-exported here:
 
 from __future__ import annotations
 
-from brushbem.physics.structure.builders import _clustered, _single_spring, brush, flat_punch, height_map, sphere
+from brushbem.physics.structure.builders import brush, flat_punch, height_map, sphere
 from brushbem.physics.structure.errors import StructureError
-from brushbem.physics.structure.grid import MIN_PILLAR_RADIUS_ELEMENTS, Grid, _check_pillar_radius
-from brushbem.physics.structure.hierarchy import Level, _level_stiffness, hierarchy_clusters
+from brushbem.physics.structure.grid import MIN_PILLAR_RADIUS_ELEMENTS, Grid
+from brushbem.physics.structure.hierarchy import Level, hierarchy_clusters
 from brushbem.physics.structure.layouts import (
     HEXAGONAL_PACKING_DENSITY,
     MAX_RANDOM_DRAWS,
@@ -50,9 +50,14 @@ from brushbem.physics.structure.records import (
     SphereGeometry,
     SpringLevel,
 )
-from brushbem.physics.structure.tips import GRADING_RULES, TIP_SHAPES, Grading, Profile, Tilt, Tip, _tip_heights, graded_stiffness
+from brushbem.physics.structure.tips import GRADING_RULES, TIP_SHAPES, Grading, Profile, Tilt, Tip, graded_stiffness
 
 __all__ = [
+    "GRADING_RULES",
+    "HEXAGONAL_PACKING_DENSITY",
+    "MAX_RANDOM_DRAWS",
+    "MIN_PILLAR_RADIUS_ELEMENTS",
+    "TIP_SHAPES",
     "BrushGeometry",
     "ClusteredLattice",
     "Geometry",
