@@ -187,15 +187,17 @@ def conjugate_gradient(
     direction = residual * maskf if preconditioner is None else preconditioner(residual) * maskf
     # On a device, one host copy per iteration: the residual norm and the curvature, together; every
     # other scalar stays there.  On the host the scalars are Python floats (0-d arrays cost about 15 us
-    # an iteration, 8 % of a small window's solve).  A curvature that is not positive makes the step 0:
-    # x stays as it was.
+    # an iteration, 8 % of a small window's solve).  A curvature that is not positive ends the solve with
+    # x as it was: on the host before the step, on the device through a step of 0.
     host = backend.is_numpy_namespace(xp)
     rz = _dot(xp, residual, direction) if host else xp.sum(residual * direction)
     for iteration in range(1, max_iterations + 1):
         a_direction = apply(direction)
         if host:
             curvature = _dot(xp, direction, a_direction)
-            step = rz / curvature if curvature > 0.0 and math.isfinite(curvature) else 0.0
+            if not (curvature > 0.0) or not math.isfinite(curvature):
+                return _not_positive(x, curvature, iteration, relative, history)
+            step = rz / curvature
         else:
             curvature = xp.sum(direction * a_direction)
             positive = curvature > 0.0
@@ -209,13 +211,8 @@ def conjugate_gradient(
         else:
             squared, curvature = (float(v) for v in backend.to_numpy(xp.stack([xp.sum(residual * residual),
                                                                                 curvature])))
-        if not (curvature > 0.0) or not math.isfinite(curvature):
-            reason = (
-                "the operator is not positive definite on the contact set"
-                if math.isfinite(curvature)
-                else "non-finite values in the iteration"
-            )
-            return SolveResult(x, False, reason, iteration, relative, tuple(history))
+        if not (curvature > 0.0) or not math.isfinite(curvature):  # the device's step was 0: x is unchanged
+            return _not_positive(x, curvature, iteration, relative, history)
         relative = math.sqrt(squared) / rhs_norm
         history.append(relative)
         if not math.isfinite(relative):
@@ -235,6 +232,13 @@ def conjugate_gradient(
     return SolveResult(
         x, False, f"no convergence in {max_iterations} iterations", max_iterations, relative, tuple(history)
     )
+
+
+def _not_positive(x, curvature: float, iteration: int, relative: float, history: list[float]) -> SolveResult:
+    """The not-converged result of a direction whose curvature is not positive (x before the step)."""
+    reason = ("the operator is not positive definite on the contact set" if math.isfinite(curvature)
+              else "non-finite values in the iteration")
+    return SolveResult(x, False, reason, iteration, relative, tuple(history))
 
 
 def _norm(xp, values) -> float:
