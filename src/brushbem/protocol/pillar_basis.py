@@ -29,6 +29,9 @@ MODES = {
     "quadratic": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)),
 }
 
+#: The powers of each choice of modes by its number of modes.
+_POWERS = {len(powers): powers for powers in MODES.values()}
+
 #: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
 NEAR_RADII = 8.0
 
@@ -41,7 +44,11 @@ class Basis:
     (the uniform mode's force / h^2 per unit displacement); gram : (m,) the
     diagonal of Phi^T K Phi (1 for a mode the raster cannot carry, whose
     column is zero); centroid : (2,) in elements; m0, m1, m2 : the modes'
-    moments about the centroid, for the far field.
+    moments about the centroid, for the far field; size : the length (in
+    elements) that scales the polynomials; fit : (m, m) the pseudo-inverse of
+    Phi^T P, which turns the projections f = Phi^T u of a displacement field
+    on the modes into the coefficients of the polynomial that has them (the
+    field's fit across the raster, `PillarModel.fitted`).
     """
 
     offsets: np.ndarray
@@ -52,6 +59,13 @@ class Basis:
     m0: np.ndarray
     m1: np.ndarray
     m2: np.ndarray
+    size: float
+    fit: np.ndarray
+
+    def polynomials(self, offsets: np.ndarray) -> np.ndarray:
+        """The displacement polynomials at element ``offsets`` (relative to the raster's origin): (len, m)."""
+        xi = (np.asarray(offsets, dtype=np.float64) - self.centroid) / self.size
+        return np.stack([xi[:, 0] ** a * xi[:, 1] ** b for a, b in _POWERS[self.phi.shape[1]]], axis=1)
 
 
 class PillarModel:
@@ -112,6 +126,12 @@ class PillarModel:
         self.m2 = np.zeros((M, m, 2, 2))
         #: Pressure of every mode on every footprint slot (0 off the raster): (M, width, m).
         self.phi = np.zeros((M, width, m))
+        #: Displacement of every mode of the pillar's own raster on every footprint slot: (M, width, m).
+        self.own = np.zeros((M, width, m))
+        #: Quadratic fit of a field across the raster from its projections f on the modes, on every
+        #: footprint slot: u = fitted @ f, (M, width, m).
+        self.fitted = np.zeros((M, width, m))
+        self._footprints: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         for p in range(M):
             self._install_basis(p)
         full_centres = self.centre.copy()
@@ -144,6 +164,18 @@ class PillarModel:
         self.m0[p], self.m1[p], self.m2[p] = basis.m0, basis.m1, basis.m2
         self.phi[p] = 0.0
         self.phi[p, mask] = basis.phi
+        within = self.full[p]
+        foot = np.stack([self.rows[p][within], self.cols[p][within]], axis=1) - origin
+        key = (id(basis), foot.tobytes())
+        cached = self._footprints.get(key)
+        if cached is None:
+            K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
+                          np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
+            cached = (K @ basis.phi, basis.polynomials(foot) @ basis.fit)
+            if len(self._footprints) > 100_000:
+                self._footprints.clear()
+            self._footprints[key] = cached
+        self.own[p, within], self.fitted[p, within] = cached
 
     def raster_basis(self, offsets: np.ndarray) -> Basis:
         """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
@@ -179,7 +211,8 @@ class PillarModel:
         m0 = phi.sum(axis=0)
         m1 = phi.T @ xi
         m2 = np.einsum("em,ea,eb->mab", phi, xi, xi)
-        return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2)
+        fit = np.linalg.pinv(phi.T @ P, rcond=1e-10)
+        return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2, size, fit)
 
     # -- couplings -------------------------------------------------------------
     def _exact(self, bp: Basis, origin: np.ndarray, q: int) -> np.ndarray:

@@ -34,13 +34,6 @@ def check_applicable(problem: ContactProblem, path: LoadPath | None = None) -> N
     if info.tilt_angle != 0.0:
         raise _refused(f"{where} needs level tips; brush(tilt=...) (angle {info.tilt_angle:g} deg) peels a tip "
                          "partly: use method = 'events'")
-    offsets = np.asarray(getattr(info, "offsets", np.zeros(1)), dtype=float)
-    if offsets.size and np.ptp(offsets) > 0:
-        raise _refused(
-            f"{where} presses every tip in whole; tips of different lengths (brush(roughness=...), "
-            f"lengths=... or profile=...: lengths spread {np.ptp(offsets):.3g}) touch partly while "
-            "pressed, which it does not model (a rough 16 x 16 brush: work +4.4 %, 146 pillars attached at F_A "
-            "against 131): use method = 'events'")
     if path is not None and path.speed is not None:
         raise _refused(f"{where}: LoadPath.speed applies to viscoelastic pillars only; remove it")
     if problem.xp is not np:
