@@ -18,6 +18,7 @@ import numpy as np
 import scipy.linalg
 
 from brushbem.physics.halfspace import influence_coefficients
+from brushbem.protocol.pillar_lattice import Lattice
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
@@ -72,7 +73,7 @@ class PillarModel:
     """Bases, couplings and springs of a brush in the pillar model (`brushbem.protocol.pillars`)."""
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
-                 peel: bool = True, near: float | None = None):
+                 peel: bool = True, near: float | None = None, lattice: bool = True):
         if modes not in MODES:
             raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
         if coupling not in ("local", "full"):
@@ -126,27 +127,48 @@ class PillarModel:
         self.m2 = np.zeros((M, m, 2, 2))
         #: Pressure of every mode on every footprint slot (0 off the raster): (M, width, m).
         self.phi = np.zeros((M, width, m))
-        #: Displacement of every mode of the pillar's own raster on every footprint slot: (M, width, m).
-        self.own = np.zeros((M, width, m))
-        #: Quadratic fit of a field across the raster from its projections f on the modes, on every
-        #: footprint slot: u = fitted @ f, (M, width, m).
-        self.fitted = np.zeros((M, width, m))
-        self._footprints: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        #: The surface on every footprint slot from the others' field and the pillar's own modes:
+        #: u = surface_map @ [f, a], (M, width, 2 m).  Its first m columns fit a field across the raster
+        #: from its projections f on the modes (the polynomial that has them), the last m are the
+        #: displacements of the pillar's own modes (amplitudes a).
+        self.surface_map = np.zeros((M, width, 2 * m))
+        self.fitted = self.surface_map[..., :m]
+        self._footprints: dict[tuple, np.ndarray] = {}
         for p in range(M):
             self._install_basis(p)
         full_centres = self.centre.copy()
-        # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
-        self.neighbours = []
-        for p in range(M):
-            distance = np.hypot(*(full_centres - full_centres[p]).T)
-            close = np.flatnonzero(distance < self.near)
-            self.neighbours.append(close[close != p])
-        # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
-        # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
-        self.Gs = np.zeros((m, M, M))
-        self.G0 = self.Gs[0]
-        self.Gh = self.Gs[1:]
+        #: The lattice of the pillars (`brushbem.protocol.pillar_lattice.Lattice`) when they sit on one and
+        #: only the uniform modes radiate (``coupling = "local"``): the higher modes' far field by FFT.
+        self.lattice = (Lattice.detect(full_centres, self.near, self.scale)
+                        if lattice and self.coupling == "local" and m > 1 else None)
+        if self.lattice is not None:
+            # Neighbours coupled exactly: by the lattice points, as the FFT leaves them out.
+            self.neighbours = self.lattice.neighbours
+        else:
+            # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
+            self.neighbours = []
+            for p in range(M):
+                distance = np.hypot(*(full_centres - full_centres[p]).T)
+                close = np.flatnonzero(distance < self.near)
+                self.neighbours.append(close[close != p])
         self.Gf = np.zeros((M, M, m, m)) if self.coupling == "full" else None
+        if self.lattice is None:
+            # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
+            # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
+            self.Gs = np.zeros((m, M, M))
+            self.G0 = self.Gs[0]
+            self.Gh = self.Gs[1:]
+        else:
+            # G00 dense; the higher modes' exact near blocks G_pq[k, 0] per neighbour (the far ones by FFT).
+            self.G0 = np.zeros((M, M))
+            width = max(1, max(len(close) for close in self.neighbours))
+            self.near_index = np.zeros((M, width), dtype=np.int64)
+            self.near_h = np.zeros((M, width, m - 1))
+            self.near_slot = np.zeros((M, width), dtype=np.int64)
+            slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
+            for p, close in enumerate(self.neighbours):
+                self.near_index[p, :close.size] = close
+                self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
         for p in range(M):
             self._install_row(p, upper=p)
 
@@ -171,11 +193,11 @@ class PillarModel:
         if cached is None:
             K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
                           np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
-            cached = (K @ basis.phi, basis.polynomials(foot) @ basis.fit)
+            cached = np.concatenate([basis.polynomials(foot) @ basis.fit, K @ basis.phi], axis=1)
             if len(self._footprints) > 100_000:
                 self._footprints.clear()
             self._footprints[key] = cached
-        self.own[p, within], self.fitted[p, within] = cached
+        self.surface_map[p, within] = cached
 
     def raster_basis(self, offsets: np.ndarray) -> Basis:
         """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
@@ -299,8 +321,47 @@ class PillarModel:
                 blocks[k] = self._exact(bp, origin, int(others[k]))
         return others, blocks, bp
 
+    def _far00(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
+        """The uniform modes' far coupling G_pq[0, 0] (the [0, 0] entries of `_far`)."""
+        ry, rx = centre[0] - self.centre[others, 0], centre[1] - self.centre[others, 1]
+        r2 = ry * ry + rx * rx
+        f = 1.0 / np.sqrt(r2)
+        f3 = f / r2
+        f5 = f3 / r2
+        gy, gx = -ry * f3, -rx * f3
+        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
+        t0, (t1y, t1x), t2 = bp.m0[0], bp.m1[0], bp.m2[0]
+        q0, q1y, q1x = self.m0[others, 0], self.m1[others, 0, 0], self.m1[others, 0, 1]
+        q2 = self.m2[others, 0]
+        spread = q0 / 12.0
+        q2h = (q2[:, 0, 0] + spread) * hyy + 2.0 * q2[:, 0, 1] * hxy + (q2[:, 1, 1] + spread) * hxx
+        t2h = t2[0, 0] * hyy + 2.0 * t2[0, 1] * hxy + t2[1, 1] * hxx
+        g = (t0 * q0 * f + (t1y * gy + t1x * gx) * q0 - t0 * (q1y * gy + q1x * gx) + 0.5 * (t2h * q0 + t0 * q2h)
+             - ((hyy * t1y + hxy * t1x) * q1y + (hxy * t1y + hxx * t1x) * q1x))
+        return self.scale * g
+
+    def _install_lattice_row(self, p: int, upper: int) -> None:
+        """G00's row and column p beyond ``upper`` and the near blocks of the higher modes (lattice storage)."""
+        bp, origin, centre = self.basis[p], self.origin[p], self.centre[p]
+        others = np.arange(upper + 1, self.M)
+        others = others[others != p]
+        close = self.neighbours[p]
+        near = np.isin(others, close)
+        far = others[~near]
+        self.G0[p, far] = self.G0[far, p] = self._far00(bp, centre, far)
+        for j, q in enumerate(close):
+            block = self._exact(bp, origin, int(q))
+            if q > upper:
+                self.G0[p, q] = self.G0[q, p] = block[0, 0]
+            self.near_h[p, j] = block[1:, 0]
+            self.near_h[q, self.near_slot[p, j]] = block[0, 1:]
+        self.G0[p, p] = self.gram[p, 0]
+
     def _install_row(self, p: int, upper: int = -1) -> None:
         """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
+        if self.lattice is not None:
+            self._install_lattice_row(p, upper)
+            return
         others, blocks, _ = self.blocks(p, upper=upper)
         self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
         self.G0[p, p] = self.gram[p, 0]
@@ -360,7 +421,20 @@ class PillarModel:
     # -- higher modes ----------------------------------------------------------
     def fields(self, x0: np.ndarray) -> np.ndarray:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
-        return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
+        if self.lattice is None:
+            return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
+        out = np.empty((self.m, self.M, x0.shape[1]))
+        out[0] = self.G0 @ x0
+        out[1:] = np.einsum("pjk,pjc->kpc", self.near_h, x0[self.near_index])
+        # Moments about the lattice points: shifted from the centroids by delta = centroid - point.
+        delta = self.centre - self.lattice.points  # (M, 2)
+        q1 = self.m1[:, 0] + self.m0[:, :1] * delta
+        m0, m1, m2 = self.m0[:, 1:], self.m1[:, 1:], self.m2[:, 1:]
+        t1 = m1 + m0[..., None] * delta[:, None, :]
+        shift = m1[..., :, None] * delta[:, None, None, :]
+        t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[..., None, None] * (delta[:, :, None] * delta[:, None, :])[:, None]
+        out[1:] += self.lattice.far_field(x0, self.m0[:, 0], q1, t1, t2)
+        return out
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:
         """All modes' amplitudes (M, m) from the uniform ones and their ``fields`` (``coupling = 'local'``)."""
