@@ -33,6 +33,9 @@ MODES = {
 #: The powers of each choice of modes by its number of modes.
 _POWERS = {len(powers): powers for powers in MODES.values()}
 
+#: On a lattice, G00 (M^2 numbers) is kept up to this many pillars (0.2 GB) and computed where needed beyond.
+DENSE_PILLARS = 5000
+
 #: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
 NEAR_RADII = 8.0
 
@@ -134,6 +137,10 @@ class PillarModel:
         self.surface_map = np.zeros((M, width, 2 * m))
         self.fitted = self.surface_map[..., :m]
         self._footprints: dict[tuple, np.ndarray] = {}
+        #: Pillars of one group share their footprint and raster (and so the rows of `surface_map`).
+        self.surface_group = np.zeros(M, dtype=np.int64)
+        self._groups: dict[int, np.ndarray] = {}
+        self.lattice = None
         for p in range(M):
             self._install_basis(p)
         full_centres = self.centre.copy()
@@ -144,6 +151,9 @@ class PillarModel:
         if self.lattice is not None:
             # Neighbours coupled exactly: by the lattice points, as the FFT leaves them out.
             self.neighbours = self.lattice.neighbours
+            self._moments = ((np.zeros(M), np.zeros((M, 2)), np.zeros((M, 2, 2))),
+                             (np.zeros((M, m)), np.zeros((M, m, 2)), np.zeros((M, m, 2, 2))))
+            self._shift_moments(np.arange(M))
         else:
             # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
             self.neighbours = []
@@ -159,18 +169,24 @@ class PillarModel:
             self.G0 = self.Gs[0]
             self.Gh = self.Gs[1:]
         else:
-            # G00 dense; the higher modes' exact near blocks G_pq[k, 0] per neighbour (the far ones by FFT).
-            self.G0 = np.zeros((M, M))
+            # No dense couplings: the near blocks G_pq[k, 0] per neighbour (every mode k, exact), the far ones by
+            # the lattice's FFT (fields) or pair by pair (`uniform_block`).
+            self.G0 = np.zeros((M, M)) if M <= DENSE_PILLARS else None
             width = max(1, max(len(close) for close in self.neighbours))
             self.near_index = np.zeros((M, width), dtype=np.int64)
-            self.near_h = np.zeros((M, width, m - 1))
+            self.near_valid = np.zeros((M, width), dtype=bool)
+            self.near_blocks = np.zeros((M, width, m))
             self.near_slot = np.zeros((M, width), dtype=np.int64)
             slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
             for p, close in enumerate(self.neighbours):
                 self.near_index[p, :close.size] = close
+                self.near_valid[p, :close.size] = True
                 self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
         for p in range(M):
             self._install_row(p, upper=p)
+        if self.lattice is not None and self.G0 is not None:
+            everyone = np.arange(M)
+            self.G0[:] = self._lattice_block(everyone, everyone)
 
     # -- bases ---------------------------------------------------------------
     def _install_basis(self, p: int) -> None:
@@ -194,10 +210,20 @@ class PillarModel:
             K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
                           np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
             cached = np.concatenate([basis.polynomials(foot) @ basis.fit, K @ basis.phi], axis=1)
-            if len(self._footprints) > 100_000:
+            if len(self._footprints) > 20_000:
                 self._footprints.clear()
+                used = set(self.surface_group.tolist())
+                self._groups = {group: array for group, array in self._groups.items() if group in used}
             self._footprints[key] = cached
+            self._groups[id(cached)] = cached
         self.surface_map[p, within] = cached
+        self.surface_group[p] = id(cached)
+        if self.lattice is not None:
+            self._shift_moments(np.array([p]))
+
+    def surface_group_map(self, group: int) -> np.ndarray:
+        """The `surface_map` rows (footprint slots, 2 m) that the pillars of ``surface_group`` ``group`` share."""
+        return self._groups[group]
 
     def raster_basis(self, offsets: np.ndarray) -> Basis:
         """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
@@ -341,21 +367,61 @@ class PillarModel:
         return self.scale * g
 
     def _install_lattice_row(self, p: int, upper: int) -> None:
-        """G00's row and column p beyond ``upper`` and the near blocks of the higher modes (lattice storage)."""
-        bp, origin, centre = self.basis[p], self.origin[p], self.centre[p]
-        others = np.arange(upper + 1, self.M)
-        others = others[others != p]
-        close = self.neighbours[p]
-        near = np.isin(others, close)
-        far = others[~near]
-        self.G0[p, far] = self.G0[far, p] = self._far00(bp, centre, far)
-        for j, q in enumerate(close):
+        """The exact near blocks of pillar p with its neighbours beyond ``upper`` (lattice storage), both ways."""
+        bp, origin = self.basis[p], self.origin[p]
+        for j, q in enumerate(self.neighbours[p]):
+            if q <= upper:
+                continue
             block = self._exact(bp, origin, int(q))
-            if q > upper:
-                self.G0[p, q] = self.G0[q, p] = block[0, 0]
-            self.near_h[p, j] = block[1:, 0]
-            self.near_h[q, self.near_slot[p, j]] = block[0, 1:]
-        self.G0[p, p] = self.gram[p, 0]
+            self.near_blocks[p, j] = block[:, 0]
+            self.near_blocks[q, self.near_slot[p, j]] = block[0, :]
+        if self.G0 is not None and upper < 0:
+            # The kept G00: row and column p afresh (the initial fill is one `uniform_block` of all pillars).
+            self.G0[p, :] = self.G0[:, p] = self._lattice_block(np.array([p]), np.arange(self.M))[0]
+
+    def _shift_moments(self, pillars: np.ndarray) -> None:
+        """The lattice moments (`lattice_moments`) of ``pillars`` afresh from their bases."""
+        delta = self.centre[pillars] - self.lattice.points[pillars]  # (P, 2)
+        m0, m1, m2 = self.m0[pillars], self.m1[pillars], self.m2[pillars]
+        t1 = m1 + m0[..., None] * delta[:, None, :]
+        shift = m1[..., :, None] * delta[:, None, None, :]
+        t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[..., None, None] * (delta[:, :, None] * delta[:, None, :])[:, None]
+        (q0, q1, q2), (s0, s1, s2) = self._moments
+        s0[pillars], s1[pillars], s2[pillars] = m0, t1, t2
+        q0[pillars], q1[pillars] = m0[:, 0], t1[:, 0]
+        q2[pillars] = t2[:, 0] + (m0[:, 0] / 12.0)[:, None, None] * np.eye(2)
+
+    def lattice_moments(self, pillars: np.ndarray | None = None) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+        """(sources, targets) of `Lattice.far_field`: the modes' moments about the lattice points (of ``pillars``).
+
+        Shifted from the centroid by delta = centroid - point: m1 + m0 delta and
+        m2 + m1 delta + delta m1 + m0 delta delta; the sources (uniform modes)
+        carry the element square's own second moment m0 h^2 / 12 besides.
+        """
+        if pillars is None:
+            return self._moments
+        return tuple(tuple(a[pillars] for a in group) for group in self._moments)  # type: ignore[return-value]
+
+    def uniform_block(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """G00[rows, cols], the uniform modes' couplings (the diagonal is the modes' gram)."""
+        rows, cols = np.asarray(rows), np.asarray(cols)
+        if self.G0 is not None:
+            return self.G0[np.ix_(rows, cols)]
+        return self._lattice_block(rows, cols)
+
+    def _lattice_block(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """G00[rows, cols] on a lattice: the far pairs' multipoles as the FFT sums them, the near ones exact."""
+        sources, _ = self.lattice_moments(cols)
+        _, targets = self.lattice_moments(rows)
+        out = self.lattice.pair_couplings(rows, cols, sources, tuple(a[:, 0] for a in targets))
+        position = np.full(self.M, -1)
+        position[cols] = np.arange(cols.size)
+        where = position[self.near_index[rows]]
+        hit = self.near_valid[rows] & (where >= 0)
+        out[np.nonzero(hit)[0], where[hit]] = self.near_blocks[rows][..., 0][hit]
+        same = position[rows]
+        out[np.flatnonzero(same >= 0), same[same >= 0]] = self.gram[rows[same >= 0], 0]
+        return out
 
     def _install_row(self, p: int, upper: int = -1) -> None:
         """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
@@ -423,17 +489,9 @@ class PillarModel:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
         if self.lattice is None:
             return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
-        out = np.empty((self.m, self.M, x0.shape[1]))
-        out[0] = self.G0 @ x0
-        out[1:] = np.einsum("pjk,pjc->kpc", self.near_h, x0[self.near_index])
-        # Moments about the lattice points: shifted from the centroids by delta = centroid - point.
-        delta = self.centre - self.lattice.points  # (M, 2)
-        q1 = self.m1[:, 0] + self.m0[:, :1] * delta
-        m0, m1, m2 = self.m0[:, 1:], self.m1[:, 1:], self.m2[:, 1:]
-        t1 = m1 + m0[..., None] * delta[:, None, :]
-        shift = m1[..., :, None] * delta[:, None, None, :]
-        t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[..., None, None] * (delta[:, :, None] * delta[:, None, :])[:, None]
-        out[1:] += self.lattice.far_field(x0, self.m0[:, 0], q1, t1, t2)
+        out = np.einsum("pjk,pjc->kpc", self.near_blocks, x0[self.near_index])
+        out[0] += self.gram[:, :1] * x0
+        out += self.lattice.far_field(x0, *self.lattice_moments())
         return out
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:

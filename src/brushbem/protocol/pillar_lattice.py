@@ -46,6 +46,8 @@ class Lattice:
         self.shape = shape
         self.points = origin + index * spacing
         self.scale = scale
+        self._spacing = np.asarray(spacing, dtype=np.float64)
+        self._near2 = near * near
         ny, nx = shape
         self.padded = (2 * ny, 2 * nx)
         di = np.fft.fftfreq(2 * ny, 1.0 / (2 * ny))  # offsets 0, 1, ..., ny, -ny + 1, ..., -1 (wrapped)
@@ -58,8 +60,9 @@ class Lattice:
         r2 = np.where(far, r2, 1.0)
         f3 = np.where(far, r2 ** -1.5, 0.0)
         f5 = f3 / r2
-        kernels = [-ry * f3, -rx * f3, 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3]
-        #: Spectra of grad f (y, x) and hess f (yy, xy, xx) over the lattice offsets, near ones zero.
+        f1 = np.where(far, r2 ** -0.5, 0.0)
+        kernels = [f1, -ry * f3, -rx * f3, 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3]
+        #: Spectra of f, grad f (y, x) and hess f (yy, xy, xx) over the lattice offsets, near ones zero.
         self.spectra = scipy.fft.rfft2(np.stack(kernels), s=self.padded)
         order = np.full(shape, -1, dtype=np.int64)
         order[index[:, 0], index[:, 1]] = np.arange(index.shape[0])
@@ -108,29 +111,61 @@ class Lattice:
         origin += np.mean(centres - (origin + index * spacing), axis=0)
         return cls(index, (shape[0], shape[1]), origin, spacing, near, scale)
 
-    def far_field(self, x0: np.ndarray, q0: np.ndarray, q1: np.ndarray, t1: np.ndarray,
-                  t2: np.ndarray) -> np.ndarray:
-        """The far field of the uniform amplitudes ``x0`` (M, c) on the higher modes: (m - 1, M, c).
+    def far_field(self, x0: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],
+                  targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+        """The far field of the uniform amplitudes ``x0`` (M, c) on every mode: (m, M, c).
 
-        ``q0`` (M,), ``q1`` (M, 2): the uniform modes' force and first moment,
-        ``t1`` (M, m - 1, 2), ``t2`` (M, m - 1, 2, 2): the higher modes'
-        first and second moments, all about the lattice points.
+        ``sources`` = (q0 (M,), q1 (M, 2), q2 (M, 2, 2)): the uniform modes'
+        moments (the element square's own second moment included);
+        ``targets`` = (t0 (M, m), t1 (M, m, 2), t2 (M, m, 2, 2)): every mode's;
+        all about the lattice points.  With the lattice sums P = sum q0 x f,
+        D = sum x q1 . grad f, Q = sum x q2 : hess f, g = sum q0 x grad f,
+        H = sum q0 x hess f, h = sum x hess f . q1:
+
+            field_k = scale * [t0 (P - D + Q / 2) + t1 . (g - h) + t2 : H / 2].
         """
         ny, nx = self.shape
         iy, ix = self.index[:, 0], self.index[:, 1]
+        q0, q1, q2 = sources
+        t0, t1, t2 = targets
         c = x0.shape[1]
-        sources = np.zeros((3, c, ny, nx))
-        sources[0][:, iy, ix] = (q0[:, None] * x0).T
-        sources[1][:, iy, ix] = (q1[:, 0:1] * x0).T
-        sources[2][:, iy, ix] = (q1[:, 1:2] * x0).T
-        s = scipy.fft.rfft2(sources, s=self.padded)
-        gy, gx, hyy, hxy, hxx = self.spectra[:, None]
-        products = np.stack([gy * s[0], gx * s[0], hyy * s[0], hxy * s[0], hxx * s[0],
-                             hyy * s[1] + hxy * s[2], hxy * s[1] + hxx * s[2]])
-        a_y, a_x, b_yy, b_xy, b_xx, c_y, c_x = scipy.fft.irfft2(products, s=self.padded)[..., :ny, :nx][..., iy, ix]
-        # Each (c, M); the targets' moments (M, m - 1, ...).
-        t1y, t1x = t1[..., 0].T[:, None], t1[..., 1].T[:, None]  # (m - 1, 1, M)
-        field = (t1y * (a_y - c_y) + t1x * (a_x - c_x)
-                 + 0.5 * (t2[..., 0, 0].T[:, None] * b_yy + 2.0 * t2[..., 0, 1].T[:, None] * b_xy
-                          + t2[..., 1, 1].T[:, None] * b_xx))
+        weights = np.stack([q0, q1[:, 0], q1[:, 1], q2[:, 0, 0], q2[:, 0, 1], q2[:, 1, 1]])  # (6, M)
+        grid = np.zeros((6, c, ny, nx))
+        grid[:, :, iy, ix] = weights[:, None, :] * x0.T[None]
+        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.rfft2(grid, s=self.padded)
+        f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
+        products = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + 2.0 * hxy * s2xy + hxx * s2xx),
+                             gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
+                             hyy * s0, hxy * s0, hxx * s0])
+        potential, ay, ax, byy, bxy, bxx = scipy.fft.irfft2(products, s=self.padded)[..., :ny, :nx][..., iy, ix]
+        # Each (c, M); the targets' moments (M, m, ...) as (m, 1, M).
+        field = (t0.T[:, None] * potential + t1[..., 0].T[:, None] * ay + t1[..., 1].T[:, None] * ax
+                 + 0.5 * (t2[..., 0, 0].T[:, None] * byy + 2.0 * t2[..., 0, 1].T[:, None] * bxy
+                          + t2[..., 1, 1].T[:, None] * bxx))
         return self.scale * field.transpose(0, 2, 1)
+
+    def pair_couplings(self, rows: np.ndarray, cols: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],
+                       targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+        """The far coupling of the uniform modes of ``rows`` and ``cols`` (the terms of `far_field` for one pair
+        each, 0 where the pair is near): (len(rows), len(cols)).  ``sources`` are the moments of the ``cols``,
+        ``targets`` the uniform modes' moments of the ``rows``."""
+        q0, q1, q2 = sources
+        t0, t1, t2 = targets
+        offset = self.index[rows][:, None, :] - self.index[cols][None, :, :]
+        ry = offset[..., 0] * self._spacing[0]
+        rx = offset[..., 1] * self._spacing[1]
+        r2 = ry * ry + rx * rx
+        far = r2 >= self._near2
+        r2 = np.where(far, r2, 1.0)
+        f = np.where(far, r2 ** -0.5, 0.0)
+        f3 = f / r2
+        f5 = f3 / r2
+        gy, gx = -ry * f3, -rx * f3
+        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
+        potential = (q0 * f - (q1[:, 0] * gy + q1[:, 1] * gx)
+                     + 0.5 * (q2[:, 0, 0] * hyy + 2.0 * q2[:, 0, 1] * hxy + q2[:, 1, 1] * hxx))
+        ay = q0 * gy - (hyy * q1[:, 0] + hxy * q1[:, 1])
+        ax = q0 * gx - (hxy * q1[:, 0] + hxx * q1[:, 1])
+        g = (t0[:, None] * potential + t1[:, None, 0] * ay + t1[:, None, 1] * ax
+             + 0.5 * q0 * (t2[:, None, 0, 0] * hyy + 2.0 * t2[:, None, 0, 1] * hxy + t2[:, None, 1, 1] * hxx))
+        return self.scale * g

@@ -125,7 +125,6 @@ from collections.abc import Generator, Iterator
 
 import numpy as np
 import scipy.linalg
-from scipy.linalg.blas import dger
 from threadpoolctl import ThreadpoolController
 
 from brushbem.errors import ParameterError
@@ -157,49 +156,85 @@ def _spd_inverse(A: np.ndarray) -> np.ndarray:
 
 
 class _Solver:
-    """The uniform modes' system on the attached set, with its inverse kept (``coupling = 'local'``)."""
+    """The uniform modes' system on the attached set, with its inverse kept (``coupling = 'local'``).
+
+    ``B`` is the inverse of (G00 + H) on the attached pillars in the order
+    ``order[:n]`` (``position`` maps a pillar to its row, -1 when off); a pillar
+    that joins is appended and one that leaves is swapped with the last, each
+    a rank-one update of O(n^2).
+    """
 
     def __init__(self, model: PillarModel):
         self.model = model
-        self.B = np.zeros((model.M, model.M))
         self.attached = np.zeros(model.M, dtype=bool)
+        self._B = np.zeros((16, 16))
+        self.order = np.zeros(model.M, dtype=np.int64)
+        self.position = np.full(model.M, -1, dtype=np.int64)
+        self.n = 0
         self.updates = 0
         self.solves = 0
+
+    @property
+    def B(self) -> np.ndarray:
+        return self._B[:self.n, :self.n]
+
+    def _reserve(self, n: int) -> None:
+        if n > self._B.shape[0]:
+            grown = np.zeros((max(n, 2 * self._B.shape[0]),) * 2)
+            grown[:self.n, :self.n] = self.B
+            self._B = grown
 
     def refactor(self) -> None:
         model = self.model
         S = np.flatnonzero(self.attached)
-        self.B[:] = 0.0
         self.updates = 0
+        self.position[:] = -1
+        self.position[S] = np.arange(S.size)
+        self.order[:S.size] = S
+        self.n = 0
+        self._reserve(S.size)
+        self.n = S.size
         if S.size:
-            A = model.G0[np.ix_(S, S)] + model.spring_matrix(S)
-            inverse = _spd_inverse(A)
-            self.B[np.ix_(S, S)] = inverse
+            self.B[:] = _spd_inverse(model.uniform_block(S, S) + model.spring_matrix(S))
 
     def remove(self, p: int) -> None:
-        column = self.B[:, p].copy()
-        if column[p] > 0:
-            dger(-1.0 / column[p], column, column, a=self.B.T, overwrite_a=1)
-        self.B[p, :] = 0.0
-        self.B[:, p] = 0.0
+        i = int(self.position[p])
+        B = self.B
+        column = B[:, i].copy()
+        if column[i] > 0:
+            B -= np.multiply.outer(column, column / column[i])
+        last = self.n - 1
+        if i != last:
+            B[[i, last], :] = B[[last, i], :]
+            B[:, [i, last]] = B[:, [last, i]]
+            self.order[i] = self.order[last]
+            self.position[self.order[i]] = i
+        self.position[p] = -1
+        self.n = last
         self.attached[p] = False
         self.updates += 1
 
     def add(self, p: int) -> None:
         model = self.model
-        full = model.G0[p] + model.spring_row(p)
-        row = np.where(self.attached, full, 0.0)
-        diagonal = full[p]
+        cols = self.order[:self.n]
+        springs = model.spring_row(p)
+        row = model.uniform_block(np.array([p]), cols)[0] + springs[cols]
+        diagonal = model.gram[p, 0] + springs[p]
         Br = self.B @ row
         c = diagonal - row @ Br
         if not c > 1e-12 * diagonal:
             self.attached[p] = True
             self.refactor()
             return
-        dger(1.0 / c, Br, Br, a=self.B.T, overwrite_a=1)
-        self.B[p, :] = -Br / c
-        self.B[:, p] = -Br / c
-        self.B[p, p] = 1.0 / c
+        n = self.n
+        self._reserve(n + 1)
+        B = self._B
+        B[:n, :n] += np.multiply.outer(Br, Br / c)
+        B[n, :n] = B[:n, n] = -Br / c
+        B[n, n] = 1.0 / c
+        self.order[n] = p
+        self.position[p] = n
+        self.n = n + 1
         self.attached[p] = True
         self.updates += 1
 
@@ -211,7 +246,9 @@ class _Solver:
         S = self.attached
         rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
         for attempt in range(2):
-            sol = self.B @ rhs
+            on = self.order[:self.n]
+            sol = np.zeros((model.M, 2))
+            sol[on] = self.B @ rhs[on]
             fields = model.fields(sol)
             residual = fields[0].copy()
             residual[:, 0] += model.spring_product(sol[:, 0], S)
@@ -316,7 +353,19 @@ class _Path:
         rows = np.arange(model.M) if rows is None else np.flatnonzero(rows)
         coefficients = np.concatenate([self.fields[:, rows].transpose(1, 0, 2),
                                        np.stack([self.alpha[rows], self.beta[rows]], axis=-1)], axis=1)
-        u = np.matmul(model.surface_map[rows], coefficients)  # (rows, width, 2): u = d ua - ub
+        # u = d ua - ub on the slots, (rows, width, 2): one product per group of pillars that share their
+        # footprint and raster (those of a lattice in full contact, or off), one per pillar for the rest.
+        u = np.zeros((rows.size, model.full.shape[1], 2))
+        groups, inverse, counts = np.unique(model.surface_group[rows], return_inverse=True, return_counts=True)
+        shared = counts[inverse] > 1
+        for g in np.flatnonzero(counts > 1):
+            members = np.flatnonzero(inverse == g)
+            surface_map = model.surface_group_map(int(groups[g]))
+            product = surface_map @ coefficients[members].transpose(1, 0, 2).reshape(surface_map.shape[1], -1)
+            u[members, :surface_map.shape[0]] = product.reshape(surface_map.shape[0], members.size, 2).transpose(1, 0, 2)
+        alone = np.flatnonzero(~shared)
+        if alone.size:
+            u[alone] = np.matmul(model.surface_map[rows[alone]], coefficients[alone])
         wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)[rows]
         wb = model.g[rows] - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
         slope = np.zeros(model.full.shape)
