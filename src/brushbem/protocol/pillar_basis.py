@@ -172,16 +172,19 @@ class PillarModel:
             # No dense couplings: the near blocks G_pq[k, 0] per neighbour (every mode k, exact), the far ones by
             # the lattice's FFT (fields) or pair by pair (`uniform_block`).
             self.G0 = np.zeros((M, M)) if M <= DENSE_PILLARS else None
-            width = max(1, max(len(close) for close in self.neighbours))
-            self.near_index = np.zeros((M, width), dtype=np.int64)
-            self.near_valid = np.zeros((M, width), dtype=bool)
-            self.near_blocks = np.zeros((M, width, m))
-            self.near_slot = np.zeros((M, width), dtype=np.int64)
-            slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
-            for p, close in enumerate(self.neighbours):
-                self.near_index[p, :close.size] = close
-                self.near_valid[p, :close.size] = True
-                self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
+        # Every mode's exact near blocks G_pq (m, m) per neighbour, both ways: on a lattice the near part of
+        # the fields; everywhere the higher modes' own field on their neighbours (`radiation`).
+        width = max(1, max(len(close) for close in self.neighbours))
+        self.near_index = np.zeros((M, width), dtype=np.int64)
+        self.near_valid = np.zeros((M, width), dtype=bool)
+        self.near_full = np.zeros((M, width, m, m))
+        self.near_blocks = self.near_full[..., 0]
+        self.near_slot = np.zeros((M, width), dtype=np.int64)
+        slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
+        for p, close in enumerate(self.neighbours):
+            self.near_index[p, :close.size] = close
+            self.near_valid[p, :close.size] = True
+            self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
         for p in range(M):
             self._install_row(p, upper=p)
         if self.lattice is not None and self.G0 is not None:
@@ -373,8 +376,8 @@ class PillarModel:
             if q <= upper:
                 continue
             block = self._exact(bp, origin, int(q))
-            self.near_blocks[p, j] = block[:, 0]
-            self.near_blocks[q, self.near_slot[p, j]] = block[0, :]
+            self.near_full[p, j] = block
+            self.near_full[q, self.near_slot[p, j]] = block.T
         if self.G0 is not None and upper < 0:
             # The kept G00: row and column p afresh (the initial fill is one `uniform_block` of all pillars).
             self.G0[p, :] = self.G0[:, p] = self._lattice_block(np.array([p]), np.arange(self.M))[0]
@@ -429,6 +432,11 @@ class PillarModel:
             self._install_lattice_row(p, upper)
             return
         others, blocks, _ = self.blocks(p, upper=upper)
+        for j, q in enumerate(self.neighbours[p]):
+            if q > upper:
+                block = blocks[np.searchsorted(others, q)]
+                self.near_full[p, j] = block
+                self.near_full[q, self.near_slot[p, j]] = block.T
         self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
         self.G0[p, p] = self.gram[p, 0]
         if self.m > 1:
@@ -485,6 +493,16 @@ class PillarModel:
         return out
 
     # -- higher modes ----------------------------------------------------------
+    def radiation(self, xh: np.ndarray) -> np.ndarray:
+        """The field of the higher modes' amplitudes ``xh`` (M, m - 1, c) on every mode of their neighbours.
+
+        The exact near blocks only: (m, M, c).  A higher mode carries no net
+        force, so its field falls off as 1 / r^2 or faster, and beyond the
+        near distance it is left out.
+        """
+        return np.einsum("pjkl,pjlc->kpc", self.near_full[..., 1:], xh[self.near_index])
+
+
     def fields(self, x0: np.ndarray) -> np.ndarray:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
         if self.lattice is None:

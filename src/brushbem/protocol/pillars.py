@@ -141,6 +141,11 @@ __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "check_applicable", "p
 #: be in tension while on; after this many changes it stays off (out of contact, as without tension).
 _FLIPS = 6
 
+#: The higher modes' near field is fed back until their amplitudes change by less than this fraction (a
+#: few rounds: the coupling through a neighbour's higher mode is weak), or for at most this many rounds.
+_RADIATION_TOLERANCE = 1e-10
+_RADIATION_ROUNDS = 30
+
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
 _RESIDUAL = 1e-10
 
@@ -293,6 +298,9 @@ class _Path:
         self.beta = np.zeros((model.M, model.m))
         self.solves = 0
         self._reported = 0  # solves already reported with a state
+        #: Whether the higher modes' near field is fed back (`_radiate`): while a brush whose tips are not
+        #: level is pressed, where tips touch in part.
+        self.radiate = False
 
     # -- state ---------------------------------------------------------------
     def solve(self) -> None:
@@ -309,10 +317,41 @@ class _Path:
         sol, fields = self.solver.solve()
         # The others' field on every mode: G0's diagonal is the pillar's own uniform mode.
         fields[0] -= model.gram[:, :1] * sol
+        if model.m > 1 and self.radiate:
+            sol, fields = self._radiate(sol, fields)
         self.fields = fields
         self.surface = fields[0]
         self.alpha = model.amplitudes(sol[:, 0], self.fields[..., 0], self.attached)
         self.beta = model.amplitudes(sol[:, 1], self.fields[..., 1], self.attached)
+
+    def _radiate(self, sol: np.ndarray, fields: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The uniform amplitudes and fields with the higher modes' near field fed back (``coupling = 'local'``).
+
+        The higher modes' amplitudes answer the field on them, -field_k / gram_k; their own field on the
+        neighbours (`PillarModel.radiation`) shifts the neighbours' uniform and higher modes in turn.  Fixed
+        point: x0 = B (rhs - r0), xh = -(field(x0) + r)_h / gram_h, r = radiation(xh), until the higher
+        amplitudes change by less than ``_RADIATION_TOLERANCE`` of their size.
+        """
+        model, solver = self.model, self.solver
+        on = solver.order[:solver.n]
+        attached = self.attached[:, None, None]
+        gram = model.gram[:, 1:, None]
+        xh = np.where(attached, -fields[1:].transpose(1, 0, 2) / gram, 0.0)
+        total_sol, total_fields = sol, fields
+        for _ in range(_RADIATION_ROUNDS):
+            r = model.radiation(xh)
+            correction = np.zeros_like(sol)
+            correction[on] = -(solver.B @ r[0, on])
+            shift = model.fields(correction)
+            shift[0] -= model.gram[:, :1] * correction
+            total_sol, total_fields = sol + correction, fields + shift + r
+            updated = np.where(attached, -total_fields[1:].transpose(1, 0, 2) / gram, 0.0)
+            change = float(np.max(np.abs(updated - xh)))
+            xh = updated
+            if change <= _RADIATION_TOLERANCE * (float(np.max(np.abs(xh))) + 1e-300):
+                break
+        self.radiation_rounds = getattr(self, "radiation_rounds", 0) + _ + 1
+        return total_sol, total_fields
 
     def amplitudes(self, d: float) -> np.ndarray:
         return d * self.alpha - self.beta
@@ -672,6 +711,7 @@ def _press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, 
     below it for the loading curve.
     """
     model = run.model
+    run.radiate = True
     samples: list[float] = []
     if path.preload_displacement is not None:
         target = float(path.preload_displacement)
@@ -709,6 +749,12 @@ def _press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, 
     masks = np.where(attached[:, None], raster, False)
     run.install(masks, np.flatnonzero((masks != (run.attached[:, None] & model.raster)).any(axis=1)
                                       | (attached != run.attached)))
+    # The pull-off feeds back no higher modes: on the contact set found, the preload force's displacement
+    # without them (F is affine in d on a fixed set).
+    run.radiate = False
     run.solve()
+    if path.preload_displacement is None:
+        rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
+        target += (float(path.preload_force) - run.force(target)) / rate
     yield run.state(target, True, "equilibrium", "preload reached")
     return target
