@@ -20,7 +20,7 @@ import pytest
 
 import brushbem
 from brushbem.workflow.case import brush_scales
-from brushbem.protocol import ContactProblem, LoadPath, pillars, record_pull_off
+from brushbem.protocol import ContactProblem, LoadPath, pillar_solver, pillars, record_pull_off
 from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
@@ -341,7 +341,7 @@ def test_kept_inverse_follows_joins_and_leaves():
     """The kept inverse, updated pillar by pillar (swap with the last on a leave), is the fresh one to 1e-10."""
     problem, _ = _brush(96, 6, 1e-2, levels=(Level(cluster=2, stiffness=5e-3),))
     model = pillars.PillarModel(problem)
-    solver = pillars._Solver(model)
+    solver = pillar_solver.Solver(model)
     solver.attached[:] = True
     solver.refactor()
     for p in (0, 7, 20, 35):
@@ -352,3 +352,29 @@ def test_kept_inverse_follows_joins_and_leaves():
     assert sorted(S.tolist()) == np.flatnonzero(solver.attached).tolist()
     fresh = np.linalg.inv(model.uniform_block(S, S) + model.spring_matrix(S))
     assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
+
+
+@pytest.mark.slow
+def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch):
+    """A concave 16 x 16 brush (N = 256, k~ = 1e-2, h~ = 0.5): a ring of tips ends the loading in partial contact.
+
+    Where a contact's edge lies on such a tip depends on its neighbours'
+    higher modes: without their near field fed back while pressing, eight
+    tips held two slots more than the exact path's at the preload and F_A
+    came out 9.7 % high; with it the contact at the preload is the exact
+    path's slot for slot and F_A is within 0.2 % (measured +0.11 %).
+    """
+    import importlib.util
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "docs" / "pillars" / "validation.py"
+    spec = importlib.util.spec_from_file_location("pillar_validation", script)
+    validation = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(validation)
+    problem, force = validation.problem("concave", 16, 1e-2)
+    reference, model = _compare(problem, force)
+    _assert_close(reference, model, attached_exact=True)
+    monkeypatch.setattr(pillars, "RADIATE_WHILE_PRESSING", False)
+    path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
+    without = record_pull_off(problem, path).summary
+    assert without["adhesive_force"] / reference["adhesive_force"] - 1 > 0.05

@@ -143,9 +143,13 @@ class PillarModel:
         self.lattice = None
         for p in range(M):
             self._install_basis(p)
-        full_centres = self.centre.copy()
-        #: The lattice of the pillars (`brushbem.protocol.pillar_lattice.Lattice`) when they sit on one and
-        #: only the uniform modes radiate (``coupling = "local"``): the higher modes' far field by FFT.
+        self._build_couplings(self.centre.copy(), lattice)
+
+    def _build_couplings(self, full_centres: np.ndarray, lattice: bool) -> None:
+        """The lattice (if any), the neighbours coupled exactly, and every coupling of the full footprints."""
+        M, m = self.M, self.m
+        #: The lattice of the pillars (`brushbem.protocol.pillar_lattice.Lattice`) when they sit on one
+        #: (``coupling = "local"``, more than one mode): the far field of the uniform modes by FFT.
         self.lattice = (Lattice.detect(full_centres, self.near, self.scale)
                         if lattice and self.coupling == "local" and m > 1 else None)
         if self.lattice is not None:

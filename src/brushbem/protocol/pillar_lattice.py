@@ -8,17 +8,17 @@ of its centroid, and on the pair through the lattice offset alone.  The sum
 over all far pillars is then a handful of discrete convolutions over the
 lattice, done by FFT in O(M log M) instead of the dense O(M^2) product.
 
-Here: the far field of the uniform modes (the sources, with ``coupling =
-"local"`` the only ones that radiate) on the higher modes (tilt and
-quadratic; the uniform mode's own field stays an exact dense product, the
-one that its solver factorises).  To second order in the moments, with R
-the offset between lattice points, f = 1/r, t the target mode's moments and
-q the source's (both about their lattice points; a higher mode carries no
-net force, t0 = 0):
+Here: the far field of the uniform modes (the sources: with ``coupling =
+"local"`` only their far field is kept; a higher mode carries no net force
+and its field, fed back near only, falls off faster) on every mode.  To
+second order in the moments, with R the offset between lattice points,
+f = 1/r, t the target mode's moments and q the source's (both about their
+lattice points):
 
-    field_k = scale * sum_q x_q [q0 (t1 . grad f + t2 : hess f / 2) - t1 . hess f . q1]
+    field_k = scale * sum_q x_q [t0 (q0 f - q1 . grad f + q2 : hess f / 2)
+                                 + q0 (t1 . grad f + t2 : hess f / 2) - t1 . hess f . q1]
 
-the same terms as `PillarModel._far` for t0 = 0.  Pairs closer than
+the same terms as `PillarModel._far`.  Pairs closer than
 ``near`` are left to the exact blocks (their kernel entries are zero here).
 """
 

@@ -23,7 +23,10 @@ Coupling
     offset) for centres closer than ``near`` (default 8 pillar radii), and by
     the multipole expansion of 1/r to second order in the modes' moments
     (the monopole F / (pi E* r) with its dipole and quadrupole corrections,
-    and the element square's own second moment) beyond.  Springs of every
+    and the element square's own second moment) beyond.  On a lattice
+    (`brushbem.protocol.pillar_lattice`) the far sums are convolutions over
+    the lattice, done by FFT, with every tip's moments taken about its
+    lattice point; other layouts keep dense couplings.  Springs of every
     level (`brushbem.physics.structure.SpringLevel`, pillars' own and hierarchy
     clusters) enter the uniform mode as in the element operator: the
     Galerkin projection of A = K + sum_l (h^2 / k_l) P_l^T P_l.
@@ -31,14 +34,27 @@ Coupling
 Equilibrium
     On the attached set S the uniform amplitudes solve the pillar-level
     system (G00 + H)_SS a_0 = s_S (d - g_S) (s the force of phi_0, g the
-    pillar's length offset): a dense SPD system whose inverse is kept and
-    updated by rank-one steps as pillars join, leave or change shape
-    (checked by its residual, refactorised when it drifts).  The higher
-    modes follow locally from the field that the others' uniform modes
-    cause across the tip (``coupling="local"``); ``coupling="full"`` solves
-    all modes together (a dense factorisation per solve, small brushes).
-    Everything is affine in d on a fixed state, so, as on the element event
-    path, the next event is found in closed form.
+    pillar's length offset): a dense SPD system of the attached pillars
+    whose inverse is kept and updated by rank-one steps as pillars join,
+    leave or change shape (checked by its residual, refactorised when it
+    drifts).  The higher modes follow locally from the field that the
+    others' uniform modes cause across the tip (``coupling="local"``);
+    ``coupling="full"`` solves all modes together (a dense factorisation per
+    solve, small brushes).  Everything is affine in d on a fixed state, so,
+    as on the element event path, the next event is found in closed form.
+
+Loading of tips of unequal lengths (roughness, a length profile, a lengths file)
+    The exact path presses such a brush as the non-adhesive contact problem
+    at every d (`brushbem.protocol.contact_loading`): a tip that has just
+    touched is in partial contact.  The model solves that problem at the
+    pillar level (`_Path.press`): a tip holds the footprint slots where it
+    meets the surface (the others' field across its footprint fitted by its
+    polynomials from their projections on its modes, plus its own modes'
+    exact displacement), an element in tension leaves, until neither
+    happens; the preload force's displacement by Newton steps on the affine
+    F(d) of a fixed set.  While pressing, the higher modes' near field is
+    fed back (a fixed point): the edge of a partial contact depends on it
+    (a concave 16 x 16 brush at k~ = 1e-2 without it: F_A +9.7 %).
 
 Detachment (Pohrt-Popov) and touch
     The criterion is the element grid's: an element of a tip detaches when
@@ -46,76 +62,47 @@ Detachment (Pohrt-Popov) and touch
     Sigma_c = sqrt(E* dgamma / (0.473201 h)).  An element that reaches it
     leaves and the pillar peels on its own with the rest of the brush frozen,
     exactly as the element path's local cascade does (a raster of the
-    remaining elements gets its own basis), until it is stable or gone; then
-    the brush is solved again at the same d, and so on (the cascade).  A
-    pillar that touches (its tip reaches the mean surface under it, the
-    uniform mode's gap closes) enters in full contact.
+    remaining elements gets its own basis, the others' field across it is
+    the fit above), until it is stable or gone; then the brush is solved
+    again at the same d, and so on (the cascade).  A pillar that touches
+    while pulled (a footprint slot meets the surface) enters with the slots
+    that penetrate.
 
-Accuracy (measured against ``method = "events"`` on square lattices of
-phi = 0.16 pillars of 3.6 elements' radius, 4 x 4 at N = 64 and 8 x 8 at
-N = 128, each at k~ = 10, 1e-2 and 1e-4 level and at k~ = 1e-2, sigma~ = 1
-and k~ = 10, sigma~ = 0.3 rough: ten brushes), the range of the relative
-errors over the ten:
+Accuracy against ``method = "events"`` (`docs/pillars/variants.md`, written
+by ``docs/pillars/variants.py``, on ten 4 x 4 and 8 x 8 lattices, level and
+rough, k~ from 10 to 1e-4): the uniform mode alone is +6.5 .. +22 % off on
+F_A (the neighbours' field tilts and bends the pressure on every tip, a tip
+on the brush's edge most, and the uniform mode misplaces the edge stress);
+tilts with peeling tips -1.6 .. -0.2 %; the quadratic modes with peeling
+(the default) -0.3 .. +0.4 % on F_A and -0.4 .. +0.2 % on the work, and
+coupled in full -0.1 .. +0.1 %.  A tip peels (its corner elements leave
+first): one that detaches whole at its first edge element comes off early.
+At 2.3, 3.6 and 7.2 elements' radius the uniform and tilt models get worse
+as the tip is resolved better, the quadratic model stays within 0.6 %.
 
-=================================  ===============  ===============
-variant (``modes``, ``peel``)       F_A error        work error
-=================================  ===============  ===============
-uniform mode, whole pillars         +6.5 .. +22 %    +7.2 .. +45 %
-tilt modes, whole pillars           -7.1 .. -3.7 %   -15 .. -3.1 %
-tilt modes, peeling tips            -1.6 .. -0.3 %   -2.4 .. -0.3 %
-quadratic, peeling, local (default) -0.3 .. +0.4 %   -0.4 .. +0.5 %
-quadratic, peeling, ``full``        -0.1 .. +0.1 %   -0.1 .. +0.4 %
-=================================  ===============  ===============
+The families of `docs/pillars/validation.md` (written by
+``docs/pillars/validation.py``: flat, rough, random, hierarchical and
+concave brushes of 64, 256 and 1024 pillars at k~ = 10, 1e-2 and 1e-5,
+each against the exact path) hold every case within 1 % on F_A, 3 % on
+the work and 2 % on the pillars attached at pull-off.
 
-The neighbours' field tilts and bends the pressure on every tip (a tip on
-the edge of a brush most), so the uniform mode alone misplaces the edge
-stress by ~10 %; the raster's corner elements leave first and the tip holds
-on with the rest over a range of d, so a pillar that detaches whole at its
-first edge element comes off early.
-
-Pillar radius in elements (4 x 4 lattice at N = 40, 64, 128: 2.3, 3.6 and
-7.2 elements; k~ = 1e-2, sigma~ = 1 | k~ = 10 level), F_A and work errors:
-
-========  =========================  =========================  =========================
-radius    uniform                    tilt, peeling              quadratic (default)
-========  =========================  =========================  =========================
-2.3       +7.4 / +11 | +5.0 / +14 %  -0.1 / -0.4 | -0.3 / -0.4  -0.1 / -0.1 | -0.3 / -0.4
-3.6       +14 / +15 | +10 / +23 %    -1.0 / -1.0 | -1.0 / -1.8  -0.0 / -0.1 | -0.3 / -0.4
-7.2       +16 / +16 | +12 / +24 %    -1.3 / -1.1 | -1.3 / -2.3  -0.2 / -0.1 | -0.4 / -0.6
-========  =========================  =========================  =========================
-
-The uniform and tilt models get worse as the tip is resolved better (the
-raster resolves more of the edge singularity, which the missing modes
-misplace); the quadratic model stays within 0.6 %.  Its cost grows with the
-elements of a tip (one basis per peeled raster, one event per peeling step),
-not with the grid.
-
-Not represented: a pillar touches whole.  On the exact path a tip that has
-just touched is in partial contact (the surface under it is tilted by its
-neighbours' loads) and stays so where the preload ends before it is pressed
-flat; on a 16 x 16 rough brush (N = 256, k~ = 1e-2, sigma~ = 1) the exact
-path's contact area at the preload is 3.7 % below the model's, F_A agrees to
-0.5 % but the work is 4.4 % high; on the chapter-5 brush (32 x 32, N = 512,
-k~ = 1e-2, sigma~ = 1, pressed to F_c: 2.3 % less area, 311 pillars touching
-against the model's 309) F_A is 5.7 % high, the work 1.4 %, and 240 pillars
-are attached at pull-off against 218 (benchmarks/pillars.py).  The far field
-is not the cause (all pairs exact: F_A moves by 0.06 %).  What would close
-it: the loading as pillar-level contact problems with partial rasters (an
-element joins where the surface, reconstructed from the modes' fields,
-meets the tip; leaves where it is in tension), as the exact path presses.
-
-Cost: the pillar-level arrays are dense (M^2 (m + 1) numbers for M pillars,
-m = 6 modes) and every event updates them in O(M^2): brushes up to a few
-thousand pillars.
+Cost: per event O(n^2) for the n attached pillars (the kept inverse) and
+O(M log M) for the M pillars of a lattice (the FFT), O(M^2) off a lattice;
+on a lattice the memory is O(M) besides the kept inverse and G00, kept up
+to `brushbem.protocol.pillar_basis.DENSE_PILLARS` pillars
+(``benchmarks/pillars.py``, ``benchmarks/large_brush.py``).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
 connections (``Indenter.viscoelastic``), nonlinear pillar laws
 (``Indenter.pillar_law``), and indenters that are not brushes.
 
-Here: the pillar-level solve (the kept inverse) and the path.  The bases,
-couplings and springs are in `brushbem.protocol.pillar_basis`
-(`PillarModel`), the refusals in `brushbem.protocol.pillar_checks`.
+Here: the path (`_Path`: the state, the loading, the cascades and the
+events).  The bases, couplings and springs are in
+`brushbem.protocol.pillar_basis` (`PillarModel`), the lattice's FFT in
+`brushbem.protocol.pillar_lattice`, the pillar-level solve (the kept
+inverse) in `brushbem.protocol.pillar_solver`, the refusals in
+`brushbem.protocol.pillar_checks`.
 """
 
 from __future__ import annotations
@@ -124,7 +111,6 @@ import math
 from collections.abc import Generator, Iterator
 
 import numpy as np
-import scipy.linalg
 from threadpoolctl import ThreadpoolController
 
 from brushbem.errors import ParameterError
@@ -132,6 +118,7 @@ from brushbem.errors import ParameterError
 from brushbem.protocol.pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
 from brushbem.protocol.contact_loading import LOADING_SAMPLES
 from brushbem.protocol.pillar_checks import check_applicable
+from brushbem.protocol.pillar_solver import Solver, full_solve
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "check_applicable", "pull_off"]
@@ -141,150 +128,13 @@ __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "check_applicable", "p
 #: be in tension while on; after this many changes it stays off (out of contact, as without tension).
 _FLIPS = 6
 
+#: Whether the higher modes' near field is fed back while a brush of unequal tips is pressed (`_press_rough`).
+RADIATE_WHILE_PRESSING = True
+
 #: The higher modes' near field is fed back until their amplitudes change by less than this fraction (a
 #: few rounds: the coupling through a neighbour's higher mode is weak), or for at most this many rounds.
 _RADIATION_TOLERANCE = 1e-10
 _RADIATION_ROUNDS = 30
-
-#: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
-_RESIDUAL = 1e-10
-
-
-def _spd_inverse(A: np.ndarray) -> np.ndarray:
-    """The inverse of a symmetric positive definite matrix (LAPACK potrf and potri: a third of cho_solve's work)."""
-    factor, info = scipy.linalg.lapack.dpotrf(A, lower=True)
-    if info == 0:
-        inverse, info = scipy.linalg.lapack.dpotri(factor, lower=True)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"the pillar-level matrix is not positive definite (LAPACK info {info})")
-    return np.tril(inverse) + np.tril(inverse, -1).T
-
-
-class _Solver:
-    """The uniform modes' system on the attached set, with its inverse kept (``coupling = 'local'``).
-
-    ``B`` is the inverse of (G00 + H) on the attached pillars in the order
-    ``order[:n]`` (``position`` maps a pillar to its row, -1 when off); a pillar
-    that joins is appended and one that leaves is swapped with the last, each
-    a rank-one update of O(n^2).
-    """
-
-    def __init__(self, model: PillarModel):
-        self.model = model
-        self.attached = np.zeros(model.M, dtype=bool)
-        self._B = np.zeros((16, 16))
-        self.order = np.zeros(model.M, dtype=np.int64)
-        self.position = np.full(model.M, -1, dtype=np.int64)
-        self.n = 0
-        self.updates = 0
-        self.solves = 0
-
-    @property
-    def B(self) -> np.ndarray:
-        return self._B[:self.n, :self.n]
-
-    def _reserve(self, n: int) -> None:
-        if n > self._B.shape[0]:
-            grown = np.zeros((max(n, 2 * self._B.shape[0]),) * 2)
-            grown[:self.n, :self.n] = self.B
-            self._B = grown
-
-    def refactor(self) -> None:
-        model = self.model
-        S = np.flatnonzero(self.attached)
-        self.updates = 0
-        self.position[:] = -1
-        self.position[S] = np.arange(S.size)
-        self.order[:S.size] = S
-        self.n = 0
-        self._reserve(S.size)
-        self.n = S.size
-        if S.size:
-            self.B[:] = _spd_inverse(model.uniform_block(S, S) + model.spring_matrix(S))
-
-    def remove(self, p: int) -> None:
-        i = int(self.position[p])
-        B = self.B
-        column = B[:, i].copy()
-        if column[i] > 0:
-            B -= np.multiply.outer(column, column / column[i])
-        last = self.n - 1
-        if i != last:
-            B[[i, last], :] = B[[last, i], :]
-            B[:, [i, last]] = B[:, [last, i]]
-            self.order[i] = self.order[last]
-            self.position[self.order[i]] = i
-        self.position[p] = -1
-        self.n = last
-        self.attached[p] = False
-        self.updates += 1
-
-    def add(self, p: int) -> None:
-        model = self.model
-        cols = self.order[:self.n]
-        springs = model.spring_row(p)
-        row = model.uniform_block(np.array([p]), cols)[0] + springs[cols]
-        diagonal = model.gram[p, 0] + springs[p]
-        Br = self.B @ row
-        c = diagonal - row @ Br
-        if not c > 1e-12 * diagonal:
-            self.attached[p] = True
-            self.refactor()
-            return
-        n = self.n
-        self._reserve(n + 1)
-        B = self._B
-        B[:n, :n] += np.multiply.outer(Br, Br / c)
-        B[n, :n] = B[:n, n] = -Br / c
-        B[n, n] = 1.0 / c
-        self.order[n] = p
-        self.position[p] = n
-        self.n = n + 1
-        self.attached[p] = True
-        self.updates += 1
-
-    def solve(self) -> tuple[np.ndarray, np.ndarray]:
-        """(sol, fields): the uniform amplitudes are d sol[:, 0] - sol[:, 1] on the attached set (0 elsewhere);
-        ``fields`` = `PillarModel.fields` of ``sol``."""
-        model = self.model
-        self.solves += 1
-        S = self.attached
-        rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
-        for attempt in range(2):
-            on = self.order[:self.n]
-            sol = np.zeros((model.M, 2))
-            sol[on] = self.B @ rhs[on]
-            fields = model.fields(sol)
-            residual = fields[0].copy()
-            residual[:, 0] += model.spring_product(sol[:, 0], S)
-            residual[:, 1] += model.spring_product(sol[:, 1], S)
-            residual = np.where(S[:, None], residual - rhs, 0.0)
-            scale = np.linalg.norm(rhs, axis=0) + 1e-300
-            if attempt == 0 and np.max(np.linalg.norm(residual, axis=0) / scale) > _RESIDUAL:
-                self.refactor()
-                continue
-            break
-        return sol, fields
-
-
-def _full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(alpha, beta) of every mode (M, m) by one dense factorisation (``coupling = 'full'``)."""
-    S = np.flatnonzero(attached)
-    m = model.m
-    alpha = np.zeros((model.M, m))
-    beta = np.zeros((model.M, m))
-    if S.size == 0:
-        return alpha, beta
-    A = model.Gf[np.ix_(S, S)].transpose(0, 2, 1, 3).reshape(S.size * m, S.size * m).copy()
-    A[::m, ::m] += model.spring_matrix(S)
-    rhs = np.zeros((S.size * m, 2))
-    rhs[::m, 0] = model.force[S]
-    rhs[::m, 1] = model.force[S] * model.g[S]
-    sol = scipy.linalg.cho_solve(scipy.linalg.cho_factor(A), rhs)
-    alpha[S] = sol[:, 0].reshape(S.size, m)
-    beta[S] = sol[:, 1].reshape(S.size, m)
-    return alpha, beta
-
 
 class _Path:
     """The state of a pull-off in the pillar model and its steps."""
@@ -292,7 +142,7 @@ class _Path:
     def __init__(self, model: PillarModel, path: LoadPath):
         self.model = model
         self.path = path
-        self.solver = _Solver(model)
+        self.solver = Solver(model)
         self.attached = self.solver.attached  # shared
         self.alpha = np.zeros((model.M, model.m))
         self.beta = np.zeros((model.M, model.m))
@@ -307,7 +157,7 @@ class _Path:
         model = self.model
         self.solves += 1
         if model.coupling == "full":
-            self.alpha, self.beta = _full_solve(model, self.attached)
+            self.alpha, self.beta = full_solve(model, self.attached)
             amplitudes = np.stack([self.alpha, self.beta], axis=-1)  # (M, m, 2)
             # The others' field on every mode: all blocks but the pillar's own (diag(gram)).
             self.fields = (np.einsum("ijkl,jlc->kic", model.Gf, amplitudes)
@@ -368,16 +218,6 @@ class _Path:
         p = np.zeros(model.full.shape)
         p[on] = np.where(model.raster[on], np.matmul(model.phi[on], x[on, :, None])[..., 0], 0.0)
         return p
-
-    def penetration(self, d: float) -> tuple[np.ndarray, np.ndarray]:
-        """The uniform mode's penetration of every pillar at d (tip below the mean surface > 0), and its slope."""
-        model = self.model
-        ua = self.surface[:, 0] / model.force
-        ub = self.surface[:, 1] / model.force
-        wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)
-        wb = model.g - model.tip_deflection(self.beta[:, 0], self.attached)
-        slope = wa - ua
-        return d * slope - (wb - ub), slope
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Every footprint slot's penetration at d (tip below the surface > 0) and its slope: (M, width) each.
@@ -711,7 +551,7 @@ def _press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, 
     below it for the loading curve.
     """
     model = run.model
-    run.radiate = True
+    run.radiate = RADIATE_WHILE_PRESSING
     samples: list[float] = []
     if path.preload_displacement is not None:
         target = float(path.preload_displacement)

@@ -1,0 +1,110 @@
+"""The pillar model (``method = "pillars"``) on large brushes: CPU time and peak memory against the pillar count.
+
+The chapter-5 family of ``benchmarks/pillars.py`` (a square n x n lattice at
+phi = 0.16, pillars of 3.6 elements' radius, N = 16 n; Gaussian lengths of
+sigma~ d_c, k~ = 0.01 by default, pressed to F_c and pulled off to
+separation), for every n of ``--sizes``.  Each run is a fresh process (its
+peak resident memory is the child's ``ru_maxrss``) limited to
+``--limit`` seconds; a run past the limit is reported as such with the
+states it had reached.  Sizes up to ``--exact-max`` pillars per side run the
+exact event path too, in the same way, and print the ratio of the CPU
+times (the exact path over the model).
+
+    nice python benchmarks/large_brush.py                       # 32, 64, 100
+    nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) -> None:
+    """One pull-off in this process: a JSON line every 500 states (its progress) and a last one with the results."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from pillars import _problem
+
+    from brushbem.protocol import LoadPath
+    from brushbem.protocol.paths import pull_off
+
+    start = time.process_time()
+    problem, preload = _problem(per_side, ratio, sigma, seed)
+    built = time.process_time() - start
+    states, force, work, previous = 0, 0.0, 0.0, None
+    for state in pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**8)):
+        states += 1
+        if not state.loading:
+            force = max(force, -state.force)
+            if previous is not None:  # the tensile force's integral over the pull (trapezoids)
+                work += 0.5 * (max(-state.force, 0.0) + max(-previous.force, 0.0)) * abs(
+                    state.displacement - previous.displacement)
+            previous = state
+        if states % 500 == 0:
+            print(json.dumps({"states": states, "cpu_seconds": round(time.process_time() - start, 2)}), flush=True)
+    print(json.dumps({"done": True, "states": states, "build_cpu_seconds": round(built, 2),
+                      "cpu_seconds": round(time.process_time() - start, 2), "adhesive_force": force,
+                      "work_of_separation": work}), flush=True)
+
+
+def _measure(per_side: int, method: str, args) -> dict:
+    """Run one pull-off in a child process under the time limit: its last report and peak memory."""
+    command = [sys.executable, __file__, "--child", str(per_side), method, str(args.stiffness_ratio),
+               str(args.sigma), str(args.seed)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    start = time.perf_counter()
+    try:
+        completed = subprocess.run(command, capture_output=True, text=True, timeout=args.limit)
+        output, timed_out = completed.stdout, False
+        if completed.returncode != 0:
+            return {"failed": completed.stderr.strip().splitlines()[-1:]}
+    except subprocess.TimeoutExpired as expired:
+        output = expired.stdout.decode() if isinstance(expired.stdout, bytes) else (expired.stdout or "")
+        timed_out = True
+    lines = [json.loads(line) for line in output.splitlines() if line.startswith("{")]
+    last = lines[-1] if lines else {}
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    result = dict(last)
+    result["wall_seconds"] = round(time.perf_counter() - start, 1)
+    # ru_maxrss is the largest child so far (KiB on Linux): a new maximum is this child's.
+    result["peak_memory_gb"] = round(peak / 2**20, 2) if peak > before else f"<= {before / 2**20:.2f}"
+    if timed_out:
+        result["timed_out_after_seconds"] = args.limit
+    return result
+
+
+def main() -> None:
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        per_side, method, ratio, sigma, seed = sys.argv[2:7]
+        _child(int(per_side), method, float(ratio), float(sigma), int(seed))
+        return
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[32, 64, 100], help="pillars per side")
+    parser.add_argument("--exact-max", type=int, default=32, help="largest size that runs the exact path too")
+    parser.add_argument("--stiffness-ratio", type=float, default=0.01)
+    parser.add_argument("--sigma", type=float, default=1.0, help="sigma~ = sigma / d_c")
+    parser.add_argument("--seed", type=int, default=3)
+    parser.add_argument("--limit", type=float, default=600.0, help="seconds per run")
+    args = parser.parse_args()
+    for per_side in args.sizes:
+        line = {"pillars": per_side**2, "pillars_per_side": per_side, "elements": 16 * per_side,
+                "pillars_method": _measure(per_side, "pillars", args)}
+        if per_side <= args.exact_max:
+            line["events_method"] = _measure(per_side, "events", args)
+            model, exact = line["pillars_method"], line["events_method"]
+            if "done" in model and "done" in exact:
+                line["cpu_ratio_events_over_pillars"] = round(exact["cpu_seconds"] / model["cpu_seconds"], 2)
+                line["adhesive_force_rel_diff"] = model["adhesive_force"] / exact["adhesive_force"] - 1
+                line["work_rel_diff"] = model["work_of_separation"] / exact["work_of_separation"] - 1
+        print(json.dumps(line), flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,156 @@
+"""The pillar model's pillar-level solve: `Solver` (the kept inverse) and `full_solve` (``LoadPath.method = "pillars"``).
+
+`Solver` keeps the inverse of the uniform modes' system (G00 + H) over the
+attached pillars and updates it by rank-one steps as pillars join and leave
+(``coupling = "local"``); `full_solve` factorises the system of every mode
+at once (``coupling = "full"``).  The model is described in
+`brushbem.protocol.pillars`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from brushbem.protocol.pillar_basis import PillarModel
+
+__all__ = ["Solver", "full_solve"]
+
+#: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
+_RESIDUAL = 1e-10
+
+
+def _spd_inverse(A: np.ndarray) -> np.ndarray:
+    """The inverse of a symmetric positive definite matrix (LAPACK potrf and potri: a third of cho_solve's work)."""
+    factor, info = scipy.linalg.lapack.dpotrf(A, lower=True)
+    if info == 0:
+        inverse, info = scipy.linalg.lapack.dpotri(factor, lower=True)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"the pillar-level matrix is not positive definite (LAPACK info {info})")
+    return np.tril(inverse) + np.tril(inverse, -1).T
+
+
+class Solver:
+    """The uniform modes' system on the attached set, with its inverse kept (``coupling = 'local'``).
+
+    ``B`` is the inverse of (G00 + H) on the attached pillars in the order
+    ``order[:n]`` (``position`` maps a pillar to its row, -1 when off); a pillar
+    that joins is appended and one that leaves is swapped with the last, each
+    a rank-one update of O(n^2).
+    """
+
+    def __init__(self, model: PillarModel):
+        self.model = model
+        self.attached = np.zeros(model.M, dtype=bool)
+        self._B = np.zeros((16, 16))
+        self.order = np.zeros(model.M, dtype=np.int64)
+        self.position = np.full(model.M, -1, dtype=np.int64)
+        self.n = 0
+        self.updates = 0
+        self.solves = 0
+
+    @property
+    def B(self) -> np.ndarray:
+        return self._B[:self.n, :self.n]
+
+    def _reserve(self, n: int) -> None:
+        if n > self._B.shape[0]:
+            grown = np.zeros((max(n, 2 * self._B.shape[0]),) * 2)
+            grown[:self.n, :self.n] = self.B
+            self._B = grown
+
+    def refactor(self) -> None:
+        model = self.model
+        S = np.flatnonzero(self.attached)
+        self.updates = 0
+        self.position[:] = -1
+        self.position[S] = np.arange(S.size)
+        self.order[:S.size] = S
+        self.n = 0
+        self._reserve(S.size)
+        self.n = S.size
+        if S.size:
+            self.B[:] = _spd_inverse(model.uniform_block(S, S) + model.spring_matrix(S))
+
+    def remove(self, p: int) -> None:
+        i = int(self.position[p])
+        B = self.B
+        column = B[:, i].copy()
+        if column[i] > 0:
+            B -= np.multiply.outer(column, column / column[i])
+        last = self.n - 1
+        if i != last:
+            B[[i, last], :] = B[[last, i], :]
+            B[:, [i, last]] = B[:, [last, i]]
+            self.order[i] = self.order[last]
+            self.position[self.order[i]] = i
+        self.position[p] = -1
+        self.n = last
+        self.attached[p] = False
+        self.updates += 1
+
+    def add(self, p: int) -> None:
+        model = self.model
+        cols = self.order[:self.n]
+        springs = model.spring_row(p)
+        row = model.uniform_block(np.array([p]), cols)[0] + springs[cols]
+        diagonal = model.gram[p, 0] + springs[p]
+        Br = self.B @ row
+        c = diagonal - row @ Br
+        if not c > 1e-12 * diagonal:
+            self.attached[p] = True
+            self.refactor()
+            return
+        n = self.n
+        self._reserve(n + 1)
+        B = self._B
+        B[:n, :n] += np.multiply.outer(Br, Br / c)
+        B[n, :n] = B[:n, n] = -Br / c
+        B[n, n] = 1.0 / c
+        self.order[n] = p
+        self.position[p] = n
+        self.n = n + 1
+        self.attached[p] = True
+        self.updates += 1
+
+    def solve(self) -> tuple[np.ndarray, np.ndarray]:
+        """(sol, fields): the uniform amplitudes are d sol[:, 0] - sol[:, 1] on the attached set (0 elsewhere);
+        ``fields`` = `PillarModel.fields` of ``sol``."""
+        model = self.model
+        self.solves += 1
+        S = self.attached
+        rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
+        for attempt in range(2):
+            on = self.order[:self.n]
+            sol = np.zeros((model.M, 2))
+            sol[on] = self.B @ rhs[on]
+            fields = model.fields(sol)
+            residual = fields[0].copy()
+            residual[:, 0] += model.spring_product(sol[:, 0], S)
+            residual[:, 1] += model.spring_product(sol[:, 1], S)
+            residual = np.where(S[:, None], residual - rhs, 0.0)
+            scale = np.linalg.norm(rhs, axis=0) + 1e-300
+            if attempt == 0 and np.max(np.linalg.norm(residual, axis=0) / scale) > _RESIDUAL:
+                self.refactor()
+                continue
+            break
+        return sol, fields
+
+
+def full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(alpha, beta) of every mode (M, m) by one dense factorisation (``coupling = 'full'``)."""
+    S = np.flatnonzero(attached)
+    m = model.m
+    alpha = np.zeros((model.M, m))
+    beta = np.zeros((model.M, m))
+    if S.size == 0:
+        return alpha, beta
+    A = model.Gf[np.ix_(S, S)].transpose(0, 2, 1, 3).reshape(S.size * m, S.size * m).copy()
+    A[::m, ::m] += model.spring_matrix(S)
+    rhs = np.zeros((S.size * m, 2))
+    rhs[::m, 0] = model.force[S]
+    rhs[::m, 1] = model.force[S] * model.g[S]
+    sol = scipy.linalg.cho_solve(scipy.linalg.cho_factor(A), rhs)
+    alpha[S] = sol[:, 0].reshape(S.size, m)
+    beta[S] = sol[:, 1].reshape(S.size, m)
+    return alpha, beta
