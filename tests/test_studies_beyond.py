@@ -17,7 +17,7 @@ from brushbem.studies.beyond import ANGLE, CAP, SPEED, _brush_kind
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture(scope="module", params=["tip_shape", "grading", "tilt", "viscoelastic", "robustness"])
+@pytest.fixture(scope="module", params=["tip_shape", "grading", "tilt", "viscoelastic", "robustness", "size"])
 def quick(request, tmp_path_factory):
     return run_quick_study(request.param, tmp_path_factory)
 
@@ -53,6 +53,16 @@ def test_every_part_runs_and_is_drawn(quick):
         limit = work[0] * (1 + 1 / (10 * k_inf)) / (1 + 1 / k_inf)
         assert np.all(np.diff(work) < 0) and work[-1] > limit * (1 - 1e-3)
         assert work[0] == pytest.approx(float(punch["theory.work_of_separation"].iloc[0]), rel=0.05)
+    if study.name == "size":
+        from brushbem.studies.size import F_COMPACT, N_P, power_law
+
+        # Level tips: the softer the brush, the more splitting pays (eq. 4.9 stiff, eq. 4.10 soft); a soft
+        # brush's F~_A grows with N_p, by a power below eq. 4.10's 1/4 on grids this small (0.22 here).
+        level = {part: finished(results, part).sort_values(N_P) for part in ("stiff", "soft", "softer")}
+        assert (level["stiff"][F_COMPACT].to_numpy() < level["soft"][F_COMPACT].to_numpy()).all()
+        assert (level["soft"][F_COMPACT].to_numpy() < level["softer"][F_COMPACT].to_numpy()).all()
+        exponent, _ = power_law(level["softer"], F_COMPACT)
+        assert 0.1 < exponent < 0.3
     if study.name == "robustness":
         for part, key in (("roughness", "indenter.roughness.sigma"), ("tilt", ANGLE)):
             frame = finished(results, part)

@@ -420,7 +420,13 @@ class PillarModel:
         """G00[rows, cols] on a lattice: the far pairs' multipoles as the FFT sums them, the near ones exact."""
         sources, _ = self.lattice_moments(cols)
         _, targets = self.lattice_moments(rows)
-        out = self.lattice.pair_couplings(rows, cols, sources, tuple(a[:, 0] for a in targets))
+        out = np.empty((rows.size, cols.size))
+        # In slabs of rows: the pair arithmetic's temporaries stay near 2^20 numbers each.
+        slab = max(1, 2**20 // max(cols.size, 1))
+        for start in range(0, rows.size, slab):
+            part = slice(start, start + slab)
+            out[part] = self.lattice.pair_couplings(rows[part], cols, sources,
+                                                    tuple(a[part, 0] for a in targets))
         position = np.full(self.M, -1)
         position[cols] = np.arange(cols.size)
         where = position[self.near_index[rows]]

@@ -9,8 +9,9 @@ scales and normalisations, with its closed-form lines and the numbers the
 thesis states marked.
 
 Every thesis study module in this package defines ``STUDY = Study(...)``
-(`brushbem.studies.base`); `brushbem.studies.beyond` defines the four
-studies beyond the thesis (tip shapes, grading, tilt, viscoelastic pillars).
+(`brushbem.studies.base`); `brushbem.studies.beyond` defines the
+studies beyond the thesis (tip shapes, grading, tilt, viscoelastic pillars,
+the design's robustness), `brushbem.studies.size` the pillar count.
 The registry `STUDIES` lists them explicitly, by name.
 
     brushbem study NAME --out DIR [--quick]
@@ -33,6 +34,7 @@ from brushbem.studies import (
     nested_vs_convolution,
     punch_spring,
     rough_brush,
+    size,
     sphere_spring,
 )
 from brushbem.studies._framework import (
@@ -85,6 +87,7 @@ STUDIES: dict[str, Study] = {
             beyond.TILT,
             beyond.VISCOELASTIC,
             beyond.ROBUSTNESS,
+            size.SIZE,
         ),
         key=lambda study: study.name,
     )
