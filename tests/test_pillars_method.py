@@ -20,7 +20,7 @@ import pytest
 
 import brushbem
 from brushbem.workflow.case import brush_scales
-from brushbem.protocol import ContactProblem, LoadPath, pillar_solver, pillars, record_pull_off
+from brushbem.protocol import ContactProblem, LoadPath, pillar_loading, pillar_solver, pillars, record_pull_off
 from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
@@ -374,7 +374,7 @@ def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch):
     problem, force = validation.problem("concave", 16, 1e-2)
     reference, model = _compare(problem, force)
     _assert_close(reference, model, attached_exact=True)
-    monkeypatch.setattr(pillars, "RADIATE_WHILE_PRESSING", False)
+    monkeypatch.setattr(pillar_loading, "RADIATE_WHILE_PRESSING", False)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     without = record_pull_off(problem, path).summary
     assert without["adhesive_force"] / reference["adhesive_force"] - 1 > 0.05

@@ -267,6 +267,10 @@ def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
         if estimate.complete:
             click.echo(f"    wall time    {_duration(estimate.seconds)} (measured: the sample ran the whole path, "
                        f"{estimate.states} states)")
+        elif estimate.loading_seconds is not None:
+            click.echo(f"    wall time    {estimate.kind} {_duration(estimate.seconds)} = the loading as measured "
+                       f"({estimate.loading_seconds:.3g} s, set-up included) + the unloading's states at "
+                       f"{estimate.seconds_per_state:.3g} s each (their sampled mean); {estimate.states:,} states")
         else:
             click.echo(f"    wall time    {estimate.kind} {_duration(estimate.seconds)} = {estimate.states:,} states x "
                        f"{estimate.seconds_per_state:.3g} s (mean of the {estimate.sampled_states - 1} sampled "

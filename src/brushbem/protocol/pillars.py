@@ -47,7 +47,7 @@ Loading of tips of unequal lengths (roughness, a length profile, a lengths file)
     The exact path presses such a brush as the non-adhesive contact problem
     at every d (`brushbem.protocol.contact_loading`): a tip that has just
     touched is in partial contact.  The model solves that problem at the
-    pillar level (`_Path.press`): a tip holds the footprint slots where it
+    pillar level (`brushbem.protocol.pillar_loading`): a tip holds the footprint slots where it
     meets the surface (the others' field across its footprint fitted by its
     polynomials from their projections on its modes, plus its own modes'
     exact displacement), an element in tension leaves, until neither
@@ -97,8 +97,9 @@ Where it does not apply it refuses, naming the key: tips that are not flat
 connections (``Indenter.viscoelastic``), nonlinear pillar laws
 (``Indenter.pillar_law``), and indenters that are not brushes.
 
-Here: the path (`_Path`: the state, the loading, the cascades and the
-events).  The bases, couplings and springs are in
+Here: the path (`_Path`: the state, the cascades and the events).  The
+loading of unequal tips is in `brushbem.protocol.pillar_loading`, the
+bases, couplings and springs in
 `brushbem.protocol.pillar_basis` (`PillarModel`), the lattice's FFT in
 `brushbem.protocol.pillar_lattice`, the pillar-level solve (the kept
 inverse) in `brushbem.protocol.pillar_solver`, the refusals in
@@ -108,7 +109,7 @@ inverse) in `brushbem.protocol.pillar_solver`, the refusals in
 from __future__ import annotations
 
 import math
-from collections.abc import Generator, Iterator
+from collections.abc import Iterator
 
 import numpy as np
 from threadpoolctl import ThreadpoolController
@@ -116,25 +117,12 @@ from threadpoolctl import ThreadpoolController
 from brushbem.errors import ParameterError
 
 from brushbem.protocol.pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
-from brushbem.protocol.contact_loading import LOADING_SAMPLES
 from brushbem.protocol.pillar_checks import check_applicable
+from brushbem.protocol.pillar_loading import press, press_rough, radiate
 from brushbem.protocol.pillar_solver import Solver, full_solve
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "check_applicable", "pull_off"]
-
-#: How often a footprint slot may join or leave in one contact problem (`_Path.press`).  The fit of the
-#: neighbours' field across a tip is not exact, so a slot at a contact's edge can penetrate while off and
-#: be in tension while on; after this many changes it stays off (out of contact, as without tension).
-_FLIPS = 6
-
-#: Whether the higher modes' near field is fed back while a brush of unequal tips is pressed (`_press_rough`).
-RADIATE_WHILE_PRESSING = True
-
-#: The higher modes' near field is fed back until their amplitudes change by less than this fraction (a
-#: few rounds: the coupling through a neighbour's higher mode is weak), or for at most this many rounds.
-_RADIATION_TOLERANCE = 1e-10
-_RADIATION_ROUNDS = 30
 
 class _Path:
     """The state of a pull-off in the pillar model and its steps."""
@@ -151,6 +139,9 @@ class _Path:
         #: Whether the higher modes' near field is fed back (`_radiate`): while a brush whose tips are not
         #: level is pressed, where tips touch in part.
         self.radiate = False
+        #: Whether `press` feeds the higher modes' near field back once its active set has settled without.
+        self.press_radiates = False
+        self.radiation_rounds = 0
 
     # -- state ---------------------------------------------------------------
     def solve(self) -> None:
@@ -168,40 +159,11 @@ class _Path:
         # The others' field on every mode: G0's diagonal is the pillar's own uniform mode.
         fields[0] -= model.gram[:, :1] * sol
         if model.m > 1 and self.radiate:
-            sol, fields = self._radiate(sol, fields)
+            sol, fields = radiate(self, sol, fields)
         self.fields = fields
         self.surface = fields[0]
         self.alpha = model.amplitudes(sol[:, 0], self.fields[..., 0], self.attached)
         self.beta = model.amplitudes(sol[:, 1], self.fields[..., 1], self.attached)
-
-    def _radiate(self, sol: np.ndarray, fields: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The uniform amplitudes and fields with the higher modes' near field fed back (``coupling = 'local'``).
-
-        The higher modes' amplitudes answer the field on them, -field_k / gram_k; their own field on the
-        neighbours (`PillarModel.radiation`) shifts the neighbours' uniform and higher modes in turn.  Fixed
-        point: x0 = B (rhs - r0), xh = -(field(x0) + r)_h / gram_h, r = radiation(xh), until the higher
-        amplitudes change by less than ``_RADIATION_TOLERANCE`` of their size.
-        """
-        model, solver = self.model, self.solver
-        on = solver.order[:solver.n]
-        attached = self.attached[:, None, None]
-        gram = model.gram[:, 1:, None]
-        xh = np.where(attached, -fields[1:].transpose(1, 0, 2) / gram, 0.0)
-        total_sol, total_fields = sol, fields
-        for _ in range(_RADIATION_ROUNDS):
-            r = model.radiation(xh)
-            correction = np.zeros_like(sol)
-            correction[on] = -(solver.B @ r[0, on])
-            shift = model.fields(correction)
-            shift[0] -= model.gram[:, :1] * correction
-            total_sol, total_fields = sol + correction, fields + shift + r
-            updated = np.where(attached, -total_fields[1:].transpose(1, 0, 2) / gram, 0.0)
-            change = float(np.max(np.abs(updated - xh)))
-            xh = updated
-            if change <= _RADIATION_TOLERANCE * (float(np.max(np.abs(xh))) + 1e-300):
-                break
-        self.radiation_rounds = getattr(self, "radiation_rounds", 0) + _ + 1
-        return total_sol, total_fields
 
     def amplitudes(self, d: float) -> np.ndarray:
         return d * self.alpha - self.beta
@@ -266,29 +228,8 @@ class _Path:
             self.solver.refactor()
 
     def press(self, d: float) -> int:
-        """The non-adhesive contact problem at d: the rounds it took (solves of the pillar-level system).
-
-        Rounds of an active set at element level: an element in tension
-        leaves, a footprint slot that the tip penetrates joins, until neither
-        happens (a primal-dual active-set method; the solution of the convex
-        problem is unique, so the state does not depend on where it starts).
-        """
-        model = self.model
-        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
-        flips = np.zeros(model.full.shape, dtype=np.int64)
-        for rounds in range(1, 4 * _FLIPS + 100):
-            self.solve()
-            pressure = self.pressures(self.amplitudes(d))
-            on = self.attached[:, None] & model.raster
-            release = on & (pressure < -1e-10 * max(float(np.max(np.abs(pressure))), 1e-300))
-            penetration, _ = self.element_penetration(d)
-            join = ~on & (penetration > tolerance) & (flips < _FLIPS)
-            if not (release.any() or join.any()):
-                return rounds
-            new = (on & ~release) | join
-            flips += new != on
-            self.install(new, np.flatnonzero((new != on).any(axis=1)))
-        raise RuntimeError(f"the pillar-level contact problem at d = {d:.6g} did not settle")
+        """The non-adhesive contact problem at d (`brushbem.protocol.pillar_loading.press`): the rounds it took."""
+        return press(self, d)
 
     def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
         model = self.model
@@ -469,7 +410,7 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
     if path.preload_displacement is not None and d >= path.preload_displacement:
         loading = False
     if float(np.ptp(model.g)) > 1e-12 * max(abs(lowest), 1.0):
-        d = yield from _press_rough(run, path, lowest)
+        d = yield from press_rough(run, path, lowest)
         loading = False
     steps = 0
     while True:
@@ -536,65 +477,3 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
                         else d >= path.preload_displacement * (1 - 1e-12)):
             loading = False
             steps = 0
-
-
-def _press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, None, float]:
-    """The loading branch of a brush whose tips are not level, as the exact path presses it.
-
-    The exact path's loading branch of such a brush is the non-adhesive
-    contact problem at every d (`brushbem.protocol.contact_loading`): tips
-    that have just touched are in partial contact.  Here it is solved at the
-    pillar level (`_Path.press`) at the preload displacement, or at the
-    displacement of the preload force, found by Newton steps on the affine
-    F(d) of a fixed contact set inside a bracket (exact once the set does not
-    change); then at ``LOADING_SAMPLES - 1`` evenly spaced displacements
-    below it for the loading curve.
-    """
-    model = run.model
-    run.radiate = RADIATE_WHILE_PRESSING
-    samples: list[float] = []
-    if path.preload_displacement is not None:
-        target = float(path.preload_displacement)
-        run.press(target)
-    else:
-        goal = float(path.preload_force)
-        low, high = lowest, math.inf
-        d = float(model.g.max())
-        for _ in range(200):
-            run.press(d)
-            force = run.force(d)
-            if abs(force - goal) <= 1e-10 * goal:
-                break
-            if force < goal:
-                low = max(low, d)
-            else:
-                high = min(high, d)
-            rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-            step = d + (goal - force) / rate if rate > 0 else math.nan
-            if not low < step < high:
-                step = 0.5 * (low + high) if math.isfinite(high) else 2.0 * d - lowest
-            if abs(step - d) <= 1e-13 * max(abs(d), 1.0):
-                break
-            d = step
-        else:
-            raise RuntimeError(f"the preload force {goal:g} was not found on the loading branch")
-        target = d
-    kept = (run.attached.copy(), model.raster.copy())
-    for k in range(1, LOADING_SAMPLES):
-        samples.append(lowest + (target - lowest) * k / LOADING_SAMPLES)
-    for d in samples:
-        run.press(d)
-        yield run.state(d, True, "equilibrium", "loading")
-    attached, raster = kept
-    masks = np.where(attached[:, None], raster, False)
-    run.install(masks, np.flatnonzero((masks != (run.attached[:, None] & model.raster)).any(axis=1)
-                                      | (attached != run.attached)))
-    # The pull-off feeds back no higher modes: on the contact set found, the preload force's displacement
-    # without them (F is affine in d on a fixed set).
-    run.radiate = False
-    run.solve()
-    if path.preload_displacement is None:
-        rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-        target += (float(path.preload_force) - run.force(target)) / rate
-    yield run.state(target, True, "equilibrium", "preload reached")
-    return target
