@@ -81,3 +81,26 @@ def test_the_fixed_step_count_is_the_runs():
     assert estimate.states == pytest.approx(actual, rel=0.25), (estimate.states, actual, estimate.basis)
     complete = estimate_run(config, sample_seconds=60.0)
     assert complete.complete and complete.states == actual
+
+
+def test_the_pillar_model_loading_is_measured_whole_and_the_unloading_priced_apart():
+    """``method = "pillars"`` presses unequal tips in a few contact problems, one state carrying them all.
+
+    The estimate runs the loading to its end (its time is measured, not a
+    state's cost times a count) and prices the unloading's states by the
+    sampled unloading states alone: before, the pressing state's cost was
+    taken for every state (a 10-second run estimated at 20 hours).
+    """
+    config = parse_config({
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 96},
+        "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 6, "pillar_radius": 0.0376,
+                     "stiffness_ratio": 0.01, "seed": 3, "roughness": {"sigma": 0.0066}},
+        "protocol": {"method": "pillars", "preload_force": 0.0088},
+    })
+    estimate = estimate_run(config, sample_seconds=0.0)
+    # No time to sample: still the whole loading (first touch, three samples, the preload) and one unloading
+    # state.
+    assert not estimate.complete and estimate.sampled_states == 6
+    assert estimate.loading_seconds is not None and estimate.loading_seconds > 0
+    assert estimate.seconds >= estimate.loading_seconds
