@@ -119,9 +119,9 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
     contact problem at every d (`brushbem.protocol.contact_loading`): tips
     that have just touched are in partial contact.  Here it is solved at the
     pillar level (`press`) at the preload displacement, or at the
-    displacement of the preload force, found by Newton steps on the affine
-    F(d) of a fixed contact set inside a bracket (exact once the set does not
-    change); then at ``LOADING_SAMPLES - 1`` evenly spaced displacements
+    displacement of the preload force, found from below (the indentation at
+    most doubling) and then by Newton steps on the affine F(d) of a fixed
+    contact set inside a bracket (exact once the set does not change); then at ``LOADING_SAMPLES - 1`` evenly spaced displacements
     below it for the loading curve.
     """
     model = run.model
@@ -133,7 +133,10 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
     else:
         goal = float(path.preload_force)
         low, high = lowest, math.inf
-        d = float(model.g.max())
+        # From below: the tips that touch first are few, and pressing far past the preload would attach
+        # every pillar (a dense pillar-level matrix of all of them).  Below the goal a step at most doubles
+        # the indentation; above it, F being convex in d, Newton steps approach the goal from above.
+        d = lowest + float(np.ptp(model.g)) / 16.0
         for _ in range(200):
             run.press(d)
             force = run.force(d)
@@ -144,9 +147,11 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
             else:
                 high = min(high, d)
             rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-            step = d + (goal - force) / rate if rate > 0 else math.nan
-            if not low < step < high:
-                step = 0.5 * (low + high) if math.isfinite(high) else 2.0 * d - lowest
+            step = d + (goal - force) / rate if rate > 0 else math.inf
+            if not math.isfinite(high):
+                step = min(step, lowest + 2.0 * (d - lowest))
+            elif not low < step < high:
+                step = 0.5 * (low + high)
             if abs(step - d) <= 1e-13 * max(abs(d), 1.0):
                 break
             d = step
