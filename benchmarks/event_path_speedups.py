@@ -51,6 +51,10 @@ CHANGES = {
     "set_reuse": ("brushbem.numerics.solver.set_solve", "REUSE_SET_SOLVER", False),
     "solution_deflection": ("brushbem.numerics.solver.set_solve", "KEEP_SOLUTION_DEFLECTION", False),
     "empty_rows": ("brushbem.numerics.backend", "SKIP_EMPTY_ROWS", False),
+    "snapped_periods": ("brushbem.numerics.periods", "SNAP_PERIODS", False),
+    "cascade_deflection": ("brushbem.numerics.solver.cascade_deflection", "KEEP_CASCADE_DEFLECTION", False),
+    "symmetric_guess": ("brushbem.protocol.unit_guess", "SYMMETRIC_PRODUCTS", False),
+    "compact_event_search": ("brushbem.protocol.events", "COMPACT_EVENT_SEARCH", False),
 }
 
 

@@ -6,8 +6,16 @@ per solve (`brushbem.numerics.solver.preconditioners._CoarseBase`), a unit respo
 reuses the system and preconditioner of the equilibrium solved on the same
 set, and a solve keeps its solution's tip deflection on the window in step
 with the iterations (`brushbem.numerics.solver.block_deflection.BlockDeflection`) instead
-of transforming the solution again.  All give the former results to
-rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
+of transforming the solution again.  Fewer and smaller transforms follow: a
+pressure on a few pillars is transformed with a period on a short ladder
+(`brushbem.numerics.periods.SNAP_PERIODS`), a local cascade moves the known
+deflection by the change on the pillars it peeled
+(`brushbem.numerics.solver.cascade_deflection.KEEP_CASCADE_DEFLECTION`), the unit
+response's Galerkin guess takes its inner products through the symmetry of A
+(`brushbem.protocol.unit_guess.SYMMETRIC_PRODUCTS`), and the next events are
+searched on the footprint's elements only
+(`brushbem.protocol.events.COMPACT_EVENT_SEARCH`).  All give the former
+results to rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 """
 
 from __future__ import annotations
@@ -21,11 +29,14 @@ import scipy.linalg
 
 from brushbem.workflow.case import brush_scales
 from brushbem.physics.halfspace import HalfSpace
+from brushbem.numerics import periods
 from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.numerics.solver import equilibria, preconditioners, set_solve
+from brushbem.numerics.solver import cascade_deflection, equilibria, preconditioners, set_solve
 from brushbem.physics.pillar_laws import PiecewiseLinear
 from brushbem.physics.structure import Grid, Level, brush
+from brushbem.protocol import events
+from brushbem.protocol import unit_guess as unit_guess_module
 
 GRID = Grid(1.0, 128)
 PER_SIDE = 8
@@ -198,3 +209,75 @@ def test_a_pillar_law_of_factor_one_pieces_is_the_linear_spring():
     linear, pieces = record(flat), record(dataclasses.replace(flat, pillar_law=law))
     assert pieces.summary["adhesive_force"] == pytest.approx(linear.summary["adhesive_force"], rel=1e-9)
     np.testing.assert_allclose(pieces.curve.force, linear.curve.force, rtol=1e-9, atol=1e-15)
+
+
+@pytest.mark.parametrize("module, switch", [
+    (periods, "SNAP_PERIODS"),
+    (cascade_deflection, "KEEP_CASCADE_DEFLECTION"),
+    (unit_guess_module, "SYMMETRIC_PRODUCTS"),
+    (events, "COMPACT_EVENT_SEARCH"),
+])
+def test_each_transform_saving_keeps_the_pull_off(monkeypatch, module, switch):
+    """Snapped periods, the cascade's kept deflection, the symmetric unit guess and the event search on the
+    footprint change round-off only (the last not even that)."""
+    problem, f_c = _problem(0.01, 1.0)
+    path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
+    fast = record_pull_off(problem, path).summary
+    monkeypatch.setattr(module, switch, False)
+    plain = record_pull_off(problem, path).summary
+    assert fast["n_solves"] == plain["n_solves"]
+    assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12)
+    assert fast["work_of_separation"] == pytest.approx(plain["work_of_separation"], rel=1e-12)
+
+
+@pytest.mark.parametrize("corner", [(0, 0), (60, 70), (120, 5)])
+def test_a_snapped_period_gives_the_whole_windows_transform(corner):
+    """A pressure on a few pillars, transformed with a period on the ladder, is the 2m-periodic convolution."""
+    operator = _operator()
+    r, c = corner
+    pressure = np.zeros(operator.window.shape)
+    pressure[r : r + 8, c : c + 6] = np.random.default_rng(1).uniform(-1.0, 2.0, (8, 6))
+    support = (r, r + 8, c, c + 6)
+    full = operator.halfspace.apply(pressure)
+    snapped = periods.halfspace_on_support(operator.halfspace, pressure, support)
+    assert snapped == pytest.approx(full, rel=0.0, abs=1e-13 * np.abs(full).max())
+
+
+def test_a_cascade_keeps_the_deflection_in_step():
+    """The deflection moved by a change on a few pillars is the transform of the new pressure."""
+    operator = _operator((Level(cluster=2, stiffness=0.05),))
+    labels = np.asarray(operator.indenter.pillar)
+    rng = np.random.default_rng(4)
+    before = np.where(labels >= 0, rng.uniform(0.5, 1.0, labels.shape), 0.0)
+    after = before.copy()
+    peeled = np.isin(labels, [3, 17])
+    after[peeled] = np.where(rng.random(int(peeled.sum())) < 0.5, 0.0, rng.uniform(-0.2, 0.3, int(peeled.sum())))
+    moved = cascade_deflection.moved_deflection(operator, operator._tip_deflection(before), before, after)
+    expected = operator._tip_deflection(after)
+    assert moved == pytest.approx(expected, rel=0.0, abs=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("levels", [(), (Level(cluster=2, stiffness=0.05),)])
+def test_the_symmetric_unit_guess_is_the_transformed_one(monkeypatch, levels):
+    """The Galerkin guess through A's symmetry and its block on the elements that left equals the two-transform one."""
+    operator = _operator(levels)
+    labels = np.asarray(operator.indenter.pillar)
+    rng = np.random.default_rng(6)
+    old = (labels >= 0) & (rng.random(labels.shape) < 0.95)
+    new = old & ~np.isin(labels, [5, 40]) & (rng.random(labels.shape) < 0.98)
+    unit = np.where(old, rng.uniform(0.8, 1.2, labels.shape), 0.0)
+    predicted = np.where(old, rng.uniform(-0.5, 1.0, labels.shape), 0.0)
+    pressure = np.where(new, predicted + rng.uniform(-0.05, 0.05, labels.shape), 0.0)
+    deflections = [operator._tip_deflection(v) for v in (unit, predicted, pressure)]
+    results = []
+    for symmetric in (True, False):
+        monkeypatch.setattr(unit_guess_module, "SYMMETRIC_PRODUCTS", symmetric)
+        record = unit_guess_module.cascade_record(operator, new, predicted, pressure, deflections[2], deflections[1])
+        assert (record[1] is None) == symmetric
+        results.append(unit_guess_module.unit_guess(operator, new, unit, deflections[0], record))
+    (guess, product), (plain_guess, plain_product) = results
+    assert guess == pytest.approx(plain_guess, rel=0.0, abs=1e-12 * np.abs(plain_guess).max())
+    assert product == pytest.approx(plain_product, rel=0.0, abs=1e-12 * np.abs(plain_product).max())
+    transformed = operator._tip_deflection(guess)
+    assert product == pytest.approx(transformed, rel=0.0, abs=1e-12 * np.abs(transformed).max())
+    assert not np.any(guess[~new])

@@ -30,6 +30,14 @@ _spec.loader.exec_module(record)
 #: thousand operations along a pull-off), nothing else may.
 TOLERANCE = 1e-12
 
+#: Studies whose tables may move by more than ``TOLERANCE`` (never more than 1e-9).  The flat brush's
+#: pull-off starts the solve after each local cascade from the known deflection moved by the peeled
+#: pillars' change, and the next unit response from a Galerkin guess whose inner products go through
+#: the symmetry of A, instead of from products transformed afresh: the starting residuals agree to
+#: rounding, and the CG solves to 1e-8 carry that into F_A at up to 6e-11 on this brush (measured; the
+#: rough brushes of `tests/test_event_path_speedups.py`, which check the switches, move by 1e-13 or less).
+STUDY_TOLERANCE = {"flat_brush": 2e-10}
+
 
 def _assert_case(name: str, now: dict) -> None:
     then = RECORDED["cases"][name]
@@ -63,4 +71,5 @@ def test_a_study_table_is_unchanged(study, parts):
                 if want is None:
                     assert got is None, (part, column)
                 else:
-                    assert math.isclose(got, want, rel_tol=TOLERANCE, abs_tol=1e-300), (part, column, got, want)
+                    assert math.isclose(got, want, rel_tol=STUDY_TOLERANCE.get(study, TOLERANCE), abs_tol=1e-300), (
+                        part, column, got, want)

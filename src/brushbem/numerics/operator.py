@@ -31,6 +31,7 @@ import numpy as np
 from scipy import ndimage
 
 from brushbem.numerics import backend
+from brushbem.numerics.periods import halfspace_on_support
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.physics.springs import PillarSprings
 from brushbem.physics.structure import Indenter
@@ -77,7 +78,6 @@ FEW_ELEMENTS = 16
 
 #: Sub-operators kept per window operator (a block per contact extent seen recently).
 _SUB_OPERATOR_CACHE = 64
-
 
 def fast_size(size: int) -> int:
     """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5.
@@ -336,17 +336,24 @@ class ContactOperator:
         Of the solution of the last solve on this operator that kept it
         (`remember_solution`), it is that solve's, without a transform.
         """
+        known = self.known_tip_deflection(pressure)
+        if known is not None:
+            return self.xp.asarray(known, copy=True)
+        return self._tip_deflection(pressure)
+
+    def known_tip_deflection(self, pressure):
+        """The kept tip deflection of ``pressure`` (`remember_solution`; not to be modified), or None."""
         known = self._solution
         if known is not None and known[0].shape == pressure.shape and bool(self.xp.all(known[0] == pressure)):
-            return self.xp.asarray(known[1], copy=True)
-        return self._tip_deflection(pressure)
+            return known[1]
+        return None
 
     def remember_solution(self, pressure, deflection) -> None:
         """Keep ``deflection``, the tip deflection of ``pressure`` on the window, for `tip_deflection`."""
         self._solution = (pressure, deflection)
 
     def _tip_deflection(self, pressure):
-        deflection = self.halfspace.apply(pressure, support=_support(self.xp, pressure))
+        deflection = halfspace_on_support(self.halfspace, pressure, _support(self.xp, pressure))
         if self.springs:
             deflection = deflection + self.springs.apply(pressure)
         return deflection

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from brushbem.numerics import backend
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
 from brushbem.protocol.problem import LoadPath, State
@@ -199,9 +200,9 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     leave = xp.zeros_like(tracker.contact)
     join = xp.zeros_like(tracker.contact)
     if t_det <= t + tie:
-        leave[sl] = grows & (t_detach <= t + tie)
+        leave[sl] = ahead.within(grows, t_detach, t + tie)
     if t_att <= t + tie:
-        join[sl] = closing & (t_attach <= t + tie)
+        join[sl] = ahead.within(closing, t_attach, t + tie)
     tracker.set_pressure(new_pressure, new_deflection)
     window = tracker.window
     eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
@@ -253,6 +254,23 @@ class _Ahead:
     deflection: object  # tip deflection of the current pressure
     unit_deflection: object  # tip deflection of a
     candidates: list  # (t, kind, None): detach, attach, and the targets and window bounds ahead
+    elements: tuple | None = None  # (rows, cols, window shape) when the arrays above hold these elements only
+
+    def within(self, kind, times, bound: float):
+        """The elements of ``kind`` (``grows`` or ``closing``) whose ``times`` are <= ``bound``, on the window."""
+        chosen = kind & (times <= bound)
+        if self.elements is None:
+            return chosen
+        rows, cols, shape = self.elements
+        out = np.zeros(shape, dtype=bool)
+        out[rows[chosen], cols[chosen]] = True
+        return out
+
+
+#: Whether `_events_ahead` works on the footprint elements of the window only (NumPy): no element off
+#: the footprint is in contact or can touch, so the events are the same, with a sixth of the array work
+#: of the window's arrays for a brush of phi = 0.16.
+COMPACT_EVENT_SEARCH = True
 
 
 def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a) -> _Ahead:
@@ -262,6 +280,19 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     sl = tracker.window.slices
     contact = tracker.contact[sl]
     pressure = tracker.pressure[sl]
+    height = tracker.height[sl]
+    footprint = tracker.footprint[sl]
+    a_all = a
+    deflection = tracker.deflection()  # known from the last equilibrium's join check
+    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
+    elements = None
+    known_deflection, known_unit_deflection = deflection, unit_deflection
+    if COMPACT_EVENT_SEARCH and backend.is_numpy_namespace(xp):
+        rows, cols = tracker.footprint_elements()
+        elements = (rows, cols, contact.shape)
+        contact, pressure, height, a = contact[rows, cols], pressure[rows, cols], height[rows, cols], a[rows, cols]
+        deflection, unit_deflection = deflection[rows, cols], unit_deflection[rows, cols]
+        footprint = True
     s = float(direction)
     candidates: list[tuple[float, str, object]] = []  # (distance along direction, kind, mask)
     if loading and path.preload_displacement is not None:
@@ -272,10 +303,6 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     t_detach = xp.where(grows, (pressure + tracker.critical) / xp.where(grows, -rate, 1.0), xp.inf)
     t_detach = xp.where(t_detach < 0, 0.0, t_detach)
     # Attachment: penetration pen_j + t s slope_j = 0 from below.
-    height = tracker.height[sl]
-    footprint = tracker.footprint[sl]
-    deflection = tracker.deflection()  # known from the last equilibrium's join check
-    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
     reach = d - height - deflection
     slope = 1.0 - unit_deflection
     closing = footprint & ~contact & (s * slope > 0)
@@ -286,7 +313,7 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     candidates.append((t_det, "detach", None))
     candidates.append((t_att, "attach", None))
     if loading and path.preload_force is not None:
-        force_rate = tracker.h2 * float(xp.sum(a))
+        force_rate = tracker.h2 * float(xp.sum(a_all))
         if force_rate > 0:
             candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
     if loading and not tracker.covers_footprint:
@@ -296,4 +323,5 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
         reach_at = tracker.outside_reach_displacement()
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
-    return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, deflection, unit_deflection, candidates)
+    return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,
+                  candidates, elements)

@@ -41,6 +41,7 @@ from brushbem.numerics.solver import (
     solve_on_set,
     tip_deflection,
 )
+from brushbem.protocol.unit_guess import cascade_record, unit_guess
 from brushbem.protocol.connections import ConnectionState, SpringChange
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
 from brushbem.protocol.window import WorkingWindow
@@ -82,6 +83,7 @@ class Tracker:
         # pressure beyond the affine prediction, for the next unit response.
         self._pressure_change: tuple | None = None
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
+        self._footprint_elements: tuple | None = None  # (window, footprint, rows, cols): `footprint_elements`
 
     # -- what the window holds ------------------------------------------------
     @property
@@ -113,6 +115,14 @@ class Tracker:
     def covers_footprint(self) -> bool:
         """Whether the window holds the whole footprint."""
         return self.working.covers_footprint
+
+    def footprint_elements(self):
+        """Row and column (host arrays) of every footprint element of the window, row-major (cached)."""
+        cached = self._footprint_elements
+        if cached is None or cached[0] != self.window or cached[1] is not self.footprint:
+            rows, cols = np.nonzero(np.asarray(backend.to_numpy(self.footprint[self.window.slices])))
+            cached = self._footprint_elements = (self.window, self.footprint, rows, cols)
+        return cached[2], cached[3]
 
     @property
     def has_contact(self) -> bool:
@@ -384,27 +394,25 @@ class Tracker:
         return deflection
 
     def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
-        """Remember dp = p - predicted on the contact and K dp, after a cascade at fixed d.
+        """Remember dp = p - predicted on the contact and what its product needs, after a cascade at fixed d.
 
         ``predicted`` is the affine prediction the cascade started from (full
         grid) and ``predicted_deflection`` its tip deflection on ``window``.
         For a single element k leaving S the new unit response is exactly
         a|S' + (a_k / p_k) dp (both corrections are A_S'^-1 A_S'k times a
         scalar), so dp is the natural second direction of the next unit
-        response's starting guess (``unit_response``).
+        response's starting guess (``unit_response``, `brushbem.protocol.unit_guess`).
+        What is kept of it: `brushbem.protocol.unit_guess.cascade_record`.
         """
         self._pressure_change = None
         deflection = self.known_deflection()
         if deflection is None or window != self.window:
             return
         sl = window.slices
-        contact = self.contact[sl]
-        before = predicted[sl]
-        change = self.pressure[sl] - self.xp.where(contact, before, 0.0)
-        if not bool(self.xp.any(change != 0)):
-            return
-        dropped = self.operator.element_deflection(before, ~contact)
-        self._pressure_change = (self.contact, window, change, deflection - predicted_deflection + dropped)
+        record = cascade_record(self.operator, self.contact[sl], predicted[sl], self.pressure[sl], deflection,
+                                predicted_deflection)
+        if record is not None:
+            self._pressure_change = (self.contact, window, record)
 
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
@@ -438,38 +446,18 @@ class Tracker:
         dropping the elements that left (no transform for a few of them).
         After a cascade the guess is the Galerkin (energy-optimal) combination
         of that and the cascade's pressure change dp (``record_pressure_change``),
-        exact for a single element leaving; the 2 x 2 system uses the known
-        deflections only.
+        exact for a single element leaving (`brushbem.protocol.unit_guess`).
         """
         if self.unit is None:
             return None, None
-        sl = self.window.slices
-        previous = self.unit[sl]
-        guess = self.xp.where(contact, previous, 0.0)
+        previous = self.unit[self.window.slices]
         known = self._unit_deflection
         if known is None or known[0] is not self.unit or known[1] != self.window:
-            return guess, None
-        product = known[2] - self.operator.element_deflection(previous, ~contact)
+            return self.xp.where(contact, previous, 0.0), None
         change = self._pressure_change
         if change is None or change[0] is not self.contact or change[1] != self.window:
-            return guess, product
-        xp = self.xp
-        dp, dp_product = change[2], change[3]
-
-        def inner(a, b) -> float:  # both vanish outside S, so this is the inner product on S
-            return float(xp.sum(a * b))
-
-        g11 = inner(guess, product)
-        g12 = 0.5 * (inner(guess, dp_product) + inner(dp, product))
-        g22 = inner(dp, dp_product)
-        f1 = float(xp.sum(guess))
-        f2 = float(xp.sum(dp))
-        determinant = g11 * g22 - g12 * g12
-        if not (g11 > 0 and g22 > 0 and determinant > 1e-12 * g11 * g22):
-            return guess, product
-        c1 = (f1 * g22 - f2 * g12) / determinant
-        c2 = (g11 * f2 - g12 * f1) / determinant
-        return c1 * guess + c2 * dp, c1 * product + c2 * dp_product
+            change = None
+        return unit_guess(self.operator, contact, previous, known[2], None if change is None else change[2])
 
     # -- records ------------------------------------------------------------
     def _on_window(self, array):

@@ -14,6 +14,7 @@ import numpy as np
 
 from brushbem.numerics import backend
 from brushbem.numerics.operator import ContactOperator
+from brushbem.numerics.solver.cascade_deflection import moved_deflection
 from brushbem.numerics.solver.cg import WARM_START_WITHIN_TOLERANCE
 from brushbem.numerics.solver.preconditioners import BLOCK_LIMIT, laplacian_preconditioner
 from brushbem.numerics.solver.set_solve import solve_on_set
@@ -322,11 +323,12 @@ def equilibrium(
         leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
         n_leaving = int(xp.count_nonzero(leaving))
         if n_leaving and local:
+            known = operator.known_tip_deflection(pressure)
             cascaded = local_cascade(operator, contact, pressure, leaving, critical)
             if cascaded is not None:
+                deflection = moved_deflection(operator, known, pressure, cascaded[1])
                 contact, pressure, n_left = cascaded
                 detached += n_left
-                deflection = None
                 continue
         if n_leaving:
             contact = contact & ~leaving
@@ -353,12 +355,15 @@ def _apply_event(operator: ContactOperator, footprint, start: Start, critical: f
     contact = start.contact & footprint
     pressure, deflection, detach = start.pressure, start.deflection, start.detach
     detached = attached = 0
+    outside = True  # whether the pressure may hold values outside the contact set
     if detach is not None and local and bool(xp.any(contact & detach)):
         # The caller's state is an equilibrium: the cascade starts on the pillars.
         cascaded = local_cascade(operator, contact, xp.where(contact, pressure, 0.0), detach, critical)
         if cascaded is not None:
+            deflection = moved_deflection(operator, deflection, pressure, cascaded[1])
             contact, pressure, detached = cascaded
-            detach = deflection = None
+            detach = None
+            outside = False
     if detach is not None:
         detached += int(xp.count_nonzero(contact & detach))
         contact = contact & ~detach
@@ -366,10 +371,10 @@ def _apply_event(operator: ContactOperator, footprint, start: Start, critical: f
         joining = start.attach & footprint & ~contact
         attached += int(xp.count_nonzero(joining))
         contact = contact | joining
-    if deflection is not None:
+    if deflection is not None and outside:
         # The pressure outside the new set (elements forced to leave) is dropped.
         deflection = deflection - operator.element_deflection(pressure, ~contact)
-    return contact, xp.where(contact, pressure, 0.0), deflection, detached, attached
+    return contact, xp.where(contact, pressure, 0.0) if outside else pressure, deflection, detached, attached
 
 
 def _solve(operator: ContactOperator, contact, target, pressure, deflection, settings: Settings):
