@@ -211,15 +211,32 @@ def test_a_pillar_law_of_factor_one_pieces_is_the_linear_spring():
     np.testing.assert_allclose(pieces.curve.force, linear.curve.force, rtol=1e-9, atol=1e-15)
 
 
-@pytest.mark.parametrize("module, switch", [
+TRANSFORM_SAVINGS = [
     (periods, "SNAP_PERIODS"),
     (cascade_deflection, "KEEP_CASCADE_DEFLECTION"),
     (unit_guess_module, "SYMMETRIC_PRODUCTS"),
     (events, "COMPACT_EVENT_SEARCH"),
-])
-def test_each_transform_saving_keeps_the_pull_off(monkeypatch, module, switch):
+]
+
+
+def test_the_transform_savings_keep_the_pull_off(monkeypatch):
     """Snapped periods, the cascade's kept deflection, the symmetric unit guess and the event search on the
-    footprint change round-off only (the last not even that)."""
+    footprint, all switched off at once, give the same solves, F_A and work to 1e-12 (rounding)."""
+    problem, f_c = _problem(0.01, 1.0)
+    path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
+    fast = record_pull_off(problem, path).summary
+    for module, switch in TRANSFORM_SAVINGS:
+        monkeypatch.setattr(module, switch, False)
+    plain = record_pull_off(problem, path).summary
+    assert fast["n_solves"] == plain["n_solves"]
+    assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12)
+    assert fast["work_of_separation"] == pytest.approx(plain["work_of_separation"], rel=1e-12)
+
+
+@pytest.mark.slow  # each saving alone (the fast test switches them off together)
+@pytest.mark.parametrize("module, switch", TRANSFORM_SAVINGS)
+def test_each_transform_saving_keeps_the_pull_off(monkeypatch, module, switch):
+    """Each saving alone changes round-off only (the event search on the footprint not even that)."""
     problem, f_c = _problem(0.01, 1.0)
     path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
     fast = record_pull_off(problem, path).summary

@@ -97,7 +97,8 @@ def test_square_8x8(stiffness):
     _assert_close(reference, model, attached_exact=True)
 
 
-@pytest.mark.parametrize(("elements", "per_side", "stiffness", "sigma"), [(96, 6, 1e-2, 1.0), (128, 8, 10.0, 0.3)])
+@pytest.mark.parametrize(("elements", "per_side", "stiffness", "sigma"), [
+    (96, 6, 1e-2, 1.0), pytest.param(128, 8, 10.0, 0.3, marks=pytest.mark.slow)])
 def test_rough(elements, per_side, stiffness, sigma):
     """Tips of Gaussian lengths (sigma~ d_c) are pressed as the exact path presses them: partly in contact.
 

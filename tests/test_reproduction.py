@@ -344,6 +344,7 @@ def test_the_committed_comparison_follows_the_committed_tables():
         "pytest -m slow -k committed_comparison, then record COMPARISON_STAMP = " + repr(stamps))
 
 
+@pytest.mark.docs
 def test_the_committed_studies_beyond_the_thesis_draw_their_figures(tmp_path):
     """docs/beyond/figures/<study>/ holds exactly what docs/beyond/<study>/'s tables draw."""
     tables = ROOT / "docs" / "beyond"
