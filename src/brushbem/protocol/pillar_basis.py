@@ -354,25 +354,6 @@ class PillarModel:
                 blocks[k] = self._exact(bp, origin, int(others[k]))
         return others, blocks, bp
 
-    def _far00(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
-        """The uniform modes' far coupling G_pq[0, 0] (the [0, 0] entries of `_far`)."""
-        ry, rx = centre[0] - self.centre[others, 0], centre[1] - self.centre[others, 1]
-        r2 = ry * ry + rx * rx
-        f = 1.0 / np.sqrt(r2)
-        f3 = f / r2
-        f5 = f3 / r2
-        gy, gx = -ry * f3, -rx * f3
-        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
-        t0, (t1y, t1x), t2 = bp.m0[0], bp.m1[0], bp.m2[0]
-        q0, q1y, q1x = self.m0[others, 0], self.m1[others, 0, 0], self.m1[others, 0, 1]
-        q2 = self.m2[others, 0]
-        spread = q0 / 12.0
-        q2h = (q2[:, 0, 0] + spread) * hyy + 2.0 * q2[:, 0, 1] * hxy + (q2[:, 1, 1] + spread) * hxx
-        t2h = t2[0, 0] * hyy + 2.0 * t2[0, 1] * hxy + t2[1, 1] * hxx
-        g = (t0 * q0 * f + (t1y * gy + t1x * gx) * q0 - t0 * (q1y * gy + q1x * gx) + 0.5 * (t2h * q0 + t0 * q2h)
-             - ((hyy * t1y + hxy * t1x) * q1y + (hxy * t1y + hxx * t1x) * q1x))
-        return self.scale * g
-
     def _install_lattice_row(self, p: int, upper: int) -> None:
         """The exact near blocks of pillar p with its neighbours beyond ``upper`` (lattice storage), both ways."""
         bp, origin = self.basis[p], self.origin[p]
