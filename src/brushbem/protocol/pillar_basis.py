@@ -33,7 +33,8 @@ MODES = {
 #: The powers of each choice of modes by its number of modes.
 _POWERS = {len(powers): powers for powers in MODES.values()}
 
-#: On a lattice, G00 (M^2 numbers) is kept up to this many pillars (0.2 GB) and computed where needed beyond.
+#: On a lattice, G00 (M^2 numbers, with the step of each entry's last refresh) is kept up to this many pillars
+#: (0.3 GB) and computed where needed beyond.
 DENSE_PILLARS = 5000
 
 #: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
@@ -136,6 +137,10 @@ class PillarModel:
         #: displacements of the pillar's own modes (amplitudes a).
         self.surface_map = np.zeros((M, width, 2 * m))
         self.fitted = self.surface_map[..., :m]
+        #: Of every pillar's fit across its footprint (`fitted`, per mode): the mean over the footprint's
+        #: slots and the largest distance of a slot from it, (M, m) each: the bound of `_Path.touch_candidates`.
+        self.fit_centre = np.zeros((M, m))
+        self.fit_spread = np.zeros((M, m))
         self._footprints: dict[tuple, np.ndarray] = {}
         #: Pillars of one group share their footprint and raster (and so the rows of `surface_map`).
         self.surface_group = np.zeros(M, dtype=np.int64)
@@ -166,6 +171,13 @@ class PillarModel:
                 close = np.flatnonzero(distance < self.near)
                 self.neighbours.append(close[close != p])
         self.Gf = np.zeros((M, M, m, m)) if self.coupling == "full" else None
+        # On a lattice, when each pillar's raster last changed and each entry of the kept G00 was computed
+        # (`uniform_block`).
+        self._clock = 0
+        self._changed_at = np.zeros(M, dtype=np.int64)
+        # No entry is computed before it is read: a brush pressed in part couples only the pillars it attaches.
+        self._computed_at = np.full((M, M), -1, dtype=np.int32) if self.lattice is not None and M <= DENSE_PILLARS \
+            else None
         if self.lattice is None:
             # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
             # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
@@ -183,6 +195,10 @@ class PillarModel:
         self.near_valid = np.zeros((M, width), dtype=bool)
         self.near_full = np.zeros((M, width, m, m))
         self.near_blocks = self.near_full[..., 0]
+        # The same blocks laid out for the products of `fields` and `radiation` (one contiguous matrix per
+        # pillar): G_pq[k, 0] as (M, m, width) and G_pq[k, l > 0] as (M, m, width (m - 1)).
+        self._near_uniform = np.zeros((M, m, width))
+        self._near_higher = np.zeros((M, m, width, m - 1))
         self.near_slot = np.zeros((M, width), dtype=np.int64)
         slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
         for p, close in enumerate(self.neighbours):
@@ -191,9 +207,6 @@ class PillarModel:
             self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
         for p in range(M):
             self._install_row(p, upper=p)
-        if self.lattice is not None and self.G0 is not None:
-            everyone = np.arange(M)
-            self.G0[:] = self._lattice_block(everyone, everyone)
 
     # -- bases ---------------------------------------------------------------
     def _install_basis(self, p: int) -> None:
@@ -225,6 +238,8 @@ class PillarModel:
             self._groups[id(cached)] = cached
         self.surface_map[p, within] = cached
         self.surface_group[p] = id(cached)
+        self.fit_centre[p] = cached[:, :self.m].mean(axis=0)
+        self.fit_spread[p] = np.max(np.abs(cached[:, :self.m] - self.fit_centre[p]), axis=0)
         if self.lattice is not None:
             self._shift_moments(np.array([p]))
 
@@ -265,7 +280,7 @@ class PillarModel:
                 gram[k] = norm
         m0 = phi.sum(axis=0)
         m1 = phi.T @ xi
-        m2 = np.einsum("em,ea,eb->mab", phi, xi, xi)
+        m2 = (phi.T @ (xi[:, :, None] * xi[:, None, :]).reshape(-1, 4)).reshape(-1, 2, 2)
         fit = np.linalg.pinv(phi.T @ P, rcond=1e-10)
         return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2, size, fit)
 
@@ -360,12 +375,22 @@ class PillarModel:
         for j, q in enumerate(self.neighbours[p]):
             if q <= upper:
                 continue
-            block = self._exact(bp, origin, int(q))
-            self.near_full[p, j] = block
-            self.near_full[q, self.near_slot[p, j]] = block.T
+            self._set_near(p, j, int(q), self._exact(bp, origin, int(q)))
         if self.G0 is not None and upper < 0:
-            # The kept G00: row and column p afresh (the initial fill is one `uniform_block` of all pillars).
-            self.G0[p, :] = self.G0[:, p] = self._lattice_block(np.array([p]), np.arange(self.M))[0]
+            # The kept G00's entries of p are refreshed when they are next read (`uniform_block`), those
+            # read only: a pillar that peels in steps or comes off is not recomputed against every pillar.
+            self._clock += 1
+            self._changed_at[p] = self._clock
+
+    def _set_near(self, p: int, j: int, q: int, block: np.ndarray) -> None:
+        """G_pq = ``block`` for p's neighbour number j, q, and G_qp = block^T, in every layout."""
+        i = self.near_slot[p, j]
+        self.near_full[p, j] = block
+        self.near_full[q, i] = block.T
+        self._near_uniform[p, :, j] = block[:, 0]
+        self._near_uniform[q, :, i] = block[0, :]
+        self._near_higher[p, :, j] = block[:, 1:]
+        self._near_higher[q, :, i] = block.T[:, 1:]
 
     def _shift_moments(self, pillars: np.ndarray) -> None:
         """The lattice moments (`lattice_moments`) of ``pillars`` afresh from their bases."""
@@ -394,6 +419,20 @@ class PillarModel:
         """G00[rows, cols], the uniform modes' couplings (the diagonal is the modes' gram)."""
         rows, cols = np.asarray(rows), np.asarray(cols)
         if self.G0 is not None:
+            if self.lattice is not None:
+                # An entry is current when it was computed after the last change of both its pillars'
+                # rasters.  The pillars (of rows or of cols) that changed after one of their entries was
+                # computed have those entries computed afresh, both ways.
+                computed = self._computed_at[np.ix_(rows, cols)]
+                for changed, others in ((rows[(computed < self._changed_at[rows][:, None]).any(axis=1)], cols),
+                                        (cols[(computed < self._changed_at[cols][None, :]).any(axis=0)], rows)):
+                    if changed.size:
+                        self._clock += 1
+                        block = self._lattice_block(changed, others)
+                        self.G0[np.ix_(changed, others)] = block
+                        self.G0[np.ix_(others, changed)] = block.T
+                        self._computed_at[np.ix_(changed, others)] = self._clock
+                        self._computed_at[np.ix_(others, changed)] = self._clock
             return self.G0[np.ix_(rows, cols)]
         return self._lattice_block(rows, cols)
 
@@ -425,9 +464,7 @@ class PillarModel:
         others, blocks, _ = self.blocks(p, upper=upper)
         for j, q in enumerate(self.neighbours[p]):
             if q > upper:
-                block = blocks[np.searchsorted(others, q)]
-                self.near_full[p, j] = block
-                self.near_full[q, self.near_slot[p, j]] = block.T
+                self._set_near(p, j, int(q), blocks[np.searchsorted(others, q)])
         self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
         self.G0[p, p] = self.gram[p, 0]
         if self.m > 1:
@@ -491,14 +528,17 @@ class PillarModel:
         force, so its field falls off as 1 / r^2 or faster, and beyond the
         near distance it is left out.
         """
-        return np.einsum("pjkl,pjlc->kpc", self.near_full[..., 1:], xh[self.near_index])
+        M, m, width = self._near_uniform.shape
+        # One small product per pillar (np.matmul; einsum's generic loop was ten times slower here).
+        blocks = self._near_higher.reshape(M, m, width * (m - 1))
+        return np.matmul(blocks, xh[self.near_index].reshape(M, width * (m - 1), -1)).transpose(1, 0, 2)
 
 
     def fields(self, x0: np.ndarray) -> np.ndarray:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
         if self.lattice is None:
             return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
-        out = np.einsum("pjk,pjc->kpc", self.near_blocks, x0[self.near_index])
+        out = np.ascontiguousarray(np.matmul(self._near_uniform, x0[self.near_index]).transpose(1, 0, 2))
         out[0] += self.gram[:, :1] * x0
         out += self.lattice.far_field(x0, *self.lattice_moments())
         return out

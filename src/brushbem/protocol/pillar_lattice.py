@@ -132,17 +132,20 @@ class Lattice:
         weights = np.stack([q0, q1[:, 0], q1[:, 1], q2[:, 0, 0], q2[:, 0, 1], q2[:, 1, 1]])  # (6, M)
         grid = np.zeros((6, c, ny, nx))
         grid[:, :, iy, ix] = weights[:, None, :] * x0.T[None]
-        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.rfft2(grid, s=self.padded)
+        # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
+        # along x, and only the rows of the lattice come back along x.
+        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(scipy.fft.rfft(grid, n=2 * nx, axis=-1), n=2 * ny, axis=-2)
         f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
-        products = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + 2.0 * hxy * s2xy + hxx * s2xx),
-                             gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
-                             hyy * s0, hxy * s0, hxx * s0])
-        potential, ay, ax, byy, bxy, bxx = scipy.fft.irfft2(products, s=self.padded)[..., :ny, :nx][..., iy, ix]
-        # Each (c, M); the targets' moments (M, m, ...) as (m, 1, M).
-        field = (t0.T[:, None] * potential + t1[..., 0].T[:, None] * ay + t1[..., 1].T[:, None] * ax
-                 + 0.5 * (t2[..., 0, 0].T[:, None] * byy + 2.0 * t2[..., 0, 1].T[:, None] * bxy
-                          + t2[..., 1, 1].T[:, None] * bxx))
-        return self.scale * field.transpose(0, 2, 1)
+        sums = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + hxx * s2xx) + hxy * s2xy,
+                         gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
+                         hyy * s0, hxy * s0, hxx * s0])
+        sums = scipy.fft.irfft(scipy.fft.ifft(sums, axis=-2)[..., :ny, :], n=2 * nx, axis=-1)[..., :nx][..., iy, ix]
+        # Every target mode's weights of the six sums (potential, g - h (y, x), H (yy, xy, xx)), (M, m, 6):
+        # t0, t1 (y, x), t2 (yy / 2, xy, xx / 2).
+        weights = np.stack([t0, t1[..., 0], t1[..., 1], 0.5 * t2[..., 0, 0], t2[..., 0, 1], 0.5 * t2[..., 1, 1]],
+                           axis=-1)
+        field = np.matmul(weights, sums.transpose(2, 0, 1))  # (M, m, c)
+        return self.scale * field.transpose(1, 0, 2)
 
     def pair_couplings(self, rows: np.ndarray, cols: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],
                        targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:

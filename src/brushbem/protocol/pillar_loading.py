@@ -100,8 +100,9 @@ def press(run: _Path, d: float) -> int:
             pressure = run.pressures(run.amplitudes(d))
             on = run.attached[:, None] & model.raster
             release = on & (pressure < -1e-10 * max(float(np.max(np.abs(pressure))), 1e-300))
-            penetration, _ = run.element_penetration(d)
-            join = ~on & (penetration > tolerance) & (flips < _FLIPS)
+            rows, penetration, _ = run.element_penetration(d, run.touch_candidates(d, d, tolerance) | run.attached)
+            join = np.zeros_like(on)
+            join[rows] = ~on[rows] & (penetration > tolerance) & (flips[rows] < _FLIPS)
             if not (release.any() or join.any()):
                 break
             new = (on & ~release) | join

@@ -142,11 +142,28 @@ class _Path:
         #: Whether `press` feeds the higher modes' near field back once its active set has settled without.
         self.press_radiates = False
         self.radiation_rounds = 0
+        #: Bumped by every change of the state (a solve, a pillar that joins, leaves or peels): the key of
+        #: `_memo`, which keeps the element pressures and penetrations of the current state (the event search
+        #: asks for those the cascade has just computed at the same d).
+        self._stamp = 0
+        self._memo: dict[tuple, object] = {}
 
     # -- state ---------------------------------------------------------------
+    def _changed(self) -> None:
+        self._stamp += 1
+        self._memo.clear()
+
+    def _remember(self, key: tuple, compute):
+        key = (self._stamp, *key)
+        value = self._memo.get(key)
+        if value is None:
+            value = self._memo[key] = compute()
+        return value
+
     def solve(self) -> None:
         model = self.model
         self.solves += 1
+        self._changed()
         if model.coupling == "full":
             self.alpha, self.beta = full_solve(model, self.attached)
             amplitudes = np.stack([self.alpha, self.beta], axis=-1)  # (M, m, 2)
@@ -173,6 +190,10 @@ class _Path:
         return float(model.h2 * np.sum(np.where(self.attached, model.force * (d * self.alpha[:, 0] - self.beta[:, 0]),
                                                 0.0)))
 
+    def pressures_at(self, d: float) -> np.ndarray:
+        """`pressures` of the amplitudes at d (kept until the state changes)."""
+        return self._remember(("pressures", float(d)), lambda: self.pressures(self.amplitudes(d)))
+
     def pressures(self, x: np.ndarray) -> np.ndarray:
         """Element pressures on the footprint slots (M, width), 0 off the attached rasters."""
         model = self.model
@@ -181,22 +202,30 @@ class _Path:
         p[on] = np.where(model.raster[on], np.matmul(model.phi[on], x[on, :, None])[..., 0], 0.0)
         return p
 
-    def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Every footprint slot's penetration at d (tip below the surface > 0) and its slope: (M, width) each.
+    def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
+                                                                                       np.ndarray]:
+        """The footprint slots' penetration at d (tip below the surface > 0) and its slope, of the pillars
+        ``rows`` (a mask; default all): (their indices, penetration (R, width), slope (R, width)).
 
         The surface under a tip is the others' field fitted by the tip's
         polynomials from its projections on the modes, plus the tip's own
         modes' displacement; the tip is level, at d - g less its springs'
-        stretch.  Slots off the footprint, and of pillars not in ``rows`` (a
-        mask; default all), read -inf.
+        stretch.  Slots off the footprint read -inf.
         """
+        key = ("penetration", float(d), None if rows is None else rows.tobytes())
+        return self._remember(key, lambda: self._element_penetration(d, rows))
+
+    def _element_penetration(self, d: float, rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         model = self.model
         rows = np.arange(model.M) if rows is None else np.flatnonzero(rows)
+        width = model.full.shape[1]
+        if rows.size == 0:
+            return rows, np.zeros((0, width)), np.zeros((0, width))
         coefficients = np.concatenate([self.fields[:, rows].transpose(1, 0, 2),
                                        np.stack([self.alpha[rows], self.beta[rows]], axis=-1)], axis=1)
         # u = d ua - ub on the slots, (rows, width, 2): one product per group of pillars that share their
         # footprint and raster (those of a lattice in full contact, or off), one per pillar for the rest.
-        u = np.zeros((rows.size, model.full.shape[1], 2))
+        u = np.zeros((rows.size, width, 2))
         groups, inverse, counts = np.unique(model.surface_group[rows], return_inverse=True, return_counts=True)
         shared = counts[inverse] > 1
         for g in np.flatnonzero(counts > 1):
@@ -207,18 +236,70 @@ class _Path:
         alone = np.flatnonzero(~shared)
         if alone.size:
             u[alone] = np.matmul(model.surface_map[rows[alone]], coefficients[alone])
-        wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)[rows]
-        wb = model.g[rows] - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
-        slope = np.zeros(model.full.shape)
-        penetration = np.full(model.full.shape, -np.inf)
+        wa, wb = self._tip_levels(rows)
         full = model.full[rows]
-        slope[rows] = np.where(full, wa[:, None] - u[..., 0], 0.0)
-        penetration[rows] = np.where(full, d * slope[rows] - (wb[:, None] - u[..., 1]), -np.inf)
-        return penetration, slope
+        slope = np.where(full, wa[:, None] - u[..., 0], 0.0)
+        penetration = np.where(full, d * slope - (wb[:, None] - u[..., 1]), -np.inf)
+        return rows, penetration, slope
+
+    def _tip_levels(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(wa, wb) of the pillars ``rows``: a tip stands at d wa - wb (its springs' stretch taken off)."""
+        model = self.model
+        if model.levels:
+            wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)[rows]
+            wb = model.g[rows] - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
+        else:
+            wa, wb = np.ones(rows.size), model.g[rows]
+        return wa, wb
+
+    def touch_candidates(self, d: float, end: float, tolerance: float) -> np.ndarray:
+        """The free pillars that may touch at a displacement between d and ``end`` (a mask), by a bound.
+
+        A free pillar's own amplitudes are zero, so the surface under it is
+        the fit of the others' field, u_s = fitted_s . f(d') with f(d') =
+        d' f_a - f_b affine.  Over the slots, u_s lies within c . f(d') +- r .
+        |f(d')| (c, r: `PillarModel.fit_centre`, `fit_spread`), so no slot
+        penetrates more than  d' (wa - c . f_a) - (wb - c . f_b) + r . |f(d')|,
+        a convex function of d' whose largest value on [d, end] is at an end.
+        A pillar whose bound stays below -``tolerance`` cannot touch there.
+        """
+        model = self.model
+        free = np.flatnonzero(~self.attached)
+        fa, fb = self.fields[:, free, 0].T, self.fields[:, free, 1].T  # (F, m)
+        centre, spread = model.fit_centre[free], model.fit_spread[free]
+        wa, wb = self._tip_levels(free)
+        ca, cb = np.sum(centre * fa, axis=1), np.sum(centre * fb, axis=1)
+        bound = np.full(free.size, -np.inf)
+        for at in (d, end):
+            level = at * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(at * fa - fb), axis=1)
+            bound = np.maximum(bound, level)
+        out = np.zeros(model.M, dtype=bool)
+        out[free[bound > -tolerance]] = True
+        return out
 
     def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
-        """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off); one refactorisation for all."""
+        """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off).
+
+        A few pillars are updated in the kept inverse one by one (O(n^2) each); many at once by one
+        refactorisation (O(n^3)), whichever costs less.
+        """
         model = self.model
+        self._changed()
+        pillars = np.asarray(pillars, dtype=np.int64)
+        if model.coupling == "local" and 6 * 2 * pillars.size <= self.solver.n:
+            for p in pillars:
+                p = int(p)
+                mask = masks[p]
+                if not mask.any():
+                    if self.attached[p]:
+                        self.detach(p)
+                elif self.attached[p]:
+                    if not np.array_equal(mask, model.raster[p]):
+                        self.reshape(p, mask)
+                else:
+                    model.set_raster(p, mask)
+                    self.solver.add(p)
+            return
         for p in pillars:
             p = int(p)
             mask = masks[p]
@@ -238,7 +319,7 @@ class _Path:
         contact = np.zeros(n * n, dtype=bool)
         on = self.attached[:, None] & model.raster
         if kind != "separated" and on.any():
-            p = self.pressures(self.amplitudes(d))
+            p = self.pressures_at(d)
             pressure[model.slots[on]] = p[on]
             contact[model.slots[on]] = True
         force = float(model.h2 * pressure.sum())
@@ -250,6 +331,7 @@ class _Path:
 
     # -- changes -------------------------------------------------------------
     def attach(self, p: int) -> None:
+        self._changed()
         self.model.set_raster(p, self.model.full[p])
         if self.model.coupling == "local":
             self.solver.add(p)
@@ -258,6 +340,7 @@ class _Path:
 
     def attach_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once (one factorisation instead of one update each)."""
+        self._changed()
         for p in pillars:
             self.model.set_raster(int(p), self.model.full[p])
         self.attached[pillars] = True
@@ -265,6 +348,7 @@ class _Path:
             self.solver.refactor()
 
     def detach(self, p: int) -> None:
+        self._changed()
         if self.model.coupling == "local":
             self.solver.remove(p)
         else:
@@ -272,6 +356,7 @@ class _Path:
         self.model.set_raster(p, self.model.full[p])
 
     def reshape(self, p: int, mask: np.ndarray) -> None:
+        self._changed()
         if self.model.coupling == "local":
             self.solver.remove(p)
             self.model.set_raster(p, mask)
@@ -356,20 +441,22 @@ class _Path:
         for _ in range(10 * model.M + 100):
             self.solve()
             x = self.amplitudes(d)
-            p = self.pressures(x)
+            p = self.pressures_at(d)
             on = self.attached[:, None] & model.raster
             tense = on & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
             hit = np.flatnonzero(tense.any(axis=1))
             if hit.size:
                 self.peel_all([(int(q), tense[q]) for q in hit], x, d)
                 continue
-            free = ~self.attached
-            if free.any():
-                penetration, _ = self.element_penetration(d, free)
-                touching = free[:, None] & (penetration > tolerance)
-                joining = np.flatnonzero(touching.any(axis=1))
-                if joining.size:
-                    self.install(touching, joining)
+            candidates = self.touch_candidates(d, d, tolerance)
+            if candidates.any():
+                rows, penetration, _ = self.element_penetration(d, candidates)
+                touching = penetration > tolerance
+                joining = touching.any(axis=1)
+                if joining.any():
+                    masks = np.zeros(model.full.shape, dtype=bool)
+                    masks[rows] = touching
+                    self.install(masks, rows[joining])
                     continue
             return
         raise RuntimeError(f"the cascade at d = {d:.6g} did not settle")
@@ -420,23 +507,13 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
                             "end of the branch", converged=False)
             return
         direction = 1.0 if loading else -1.0
-        x = run.amplitudes(d)
-        p = run.pressures(x)
+        p = run.pressures_at(d)
         rate = direction * run.pressures(run.alpha)
         on = run.attached[:, None] & model.raster
         grows = on & (rate < 0)
         t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
         t_detach = np.maximum(t_detach, 0.0)
         t_det = float(t_detach.min()) if grows.any() else math.inf
-        free = ~run.attached
-        t_touch = np.full((model.M, model.full.shape[1]), np.inf)
-        if free.any():
-            penetration, slope = run.element_penetration(d, free)
-            closing = free[:, None] & model.full & (direction * slope > 0)
-            t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
-            t_touch = np.maximum(t_touch, 0.0)
-        t_attach = t_touch.min(axis=1)
-        t_att = float(t_attach.min())
         t_target = math.inf
         if loading:
             if path.preload_displacement is not None:
@@ -445,6 +522,22 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
                 rate_f = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
                 if rate_f > 0:
                     t_target = (path.preload_force - run.force(d)) / rate_f
+        # Touch: the free pillars that may touch before the next other event or with it (within its tie; by
+        # `_Path.touch_candidates`), slot by slot.
+        window = min(t_det, t_target)
+        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
+        if math.isfinite(window):
+            window = max(window, 0.0)
+            window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
+            candidates = run.touch_candidates(d, d + direction * window, tolerance)
+        else:
+            candidates = ~run.attached
+        rows, penetration, slope = run.element_penetration(d, candidates)
+        closing = np.isfinite(penetration) & (direction * slope > 0)
+        t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
+        t_touch = np.maximum(t_touch, 0.0)
+        t_attach = t_touch.min(axis=1) if rows.size else np.zeros(0)
+        t_att = float(t_attach.min()) if rows.size else math.inf
         t = min(t_det, t_att, t_target)
         if not math.isfinite(t):
             yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
@@ -465,9 +558,10 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
         leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
         run.peel_all([(int(q), t_detach[q] <= t + tie) for q in leaving], x, d)
         if t_att <= t + tie:
-            touching = np.flatnonzero(t_attach <= t + tie)
-            touching = touching[~run.attached[touching]]
-            run.install(np.where(run.attached[:, None], model.raster, t_touch <= t + tie), touching)
+            touching = t_attach <= t + tie
+            masks = np.zeros(model.full.shape, dtype=bool)
+            masks[rows] = t_touch <= t + tie
+            run.install(masks, rows[touching])
         run.cascade(d, loading)
         if not run.attached.any() and not loading:
             yield run.state(d, False, "separated", "complete separation")
