@@ -358,6 +358,39 @@ def test_kept_inverse_follows_joins_and_leaves():
     assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
 
 
+def test_touch_bound_never_misses_a_touch():
+    """The pillar-level bound of `_Path.touch_candidates` keeps every free pillar that touches in the window.
+
+    On a rough hierarchical brush (springs of two levels move the free tips
+    too), at every state of the pull-off, every free pillar's `touch_bound`
+    is at least its largest slot penetration by the slot-by-slot fit over
+    [d, d - 2 d_c] (the penetration is affine in d on a state, so the ends
+    decide; to rounding, 1e-12 of the heights), so a pillar whose slots
+    rise above -tolerance is a candidate; and the bound is not void (it
+    leaves out free pillars).
+    """
+    problem, force = _brush(96, 6, 1e-2, sigma=1.0, levels=(Level(cluster=2, stiffness=5e-3),))
+    path = LoadPath(method="pillars", preload_force=force)
+    run = pillars._Path(pillars.PillarModel(problem), path)
+    scales = brush_scales(problem)
+    checked = excluded = 0
+    for state in pillars._run(run, path):
+        if state.kind == "separated" or not (~run.attached).any():
+            continue
+        d = state.displacement
+        end = d - 2.0 * scales["rigid_brush_displacement"] if not state.loading else d + 1e-3
+        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(run.model.g))))
+        candidates = run.touch_candidates(d, end, tolerance)
+        rows, penetration, slope = run.element_penetration(d, ~run.attached)
+        deepest = np.maximum(penetration, penetration + (end - d) * slope).max(axis=1)
+        assert np.all(run.touch_bound(d, end)[rows] >= deepest - 1e-12 * np.abs(run.model.g).max())
+        touches = rows[deepest > -tolerance]
+        assert candidates[touches].all(), (d, touches[~candidates[touches]])
+        checked += 1
+        excluded += int(rows.size - np.count_nonzero(candidates))
+    assert checked > 10 and excluded > 0
+
+
 @pytest.mark.slow
 def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch):
     """A concave 16 x 16 brush (N = 256, k~ = 1e-2, h~ = 0.5): a ring of tips ends the loading in partial contact.

@@ -138,9 +138,9 @@ class PillarModel:
         self.surface_map = np.zeros((M, width, 2 * m))
         self.fitted = self.surface_map[..., :m]
         #: Of every pillar's fit across its footprint (`fitted`, per mode): the mean over the footprint's
-        #: slots and the largest distance of a slot from it, (M, m) each: the bound of `_Path.touch_candidates`.
-        self.fit_centre = np.zeros((M, m))
-        self.fit_spread = np.zeros((M, m))
+        #: slots and the largest distance of a slot from it, (m, M) each: the bound of `_Path.touch_candidates`.
+        self.fit_centre = np.zeros((m, M))
+        self.fit_spread = np.zeros((m, M))
         self._footprints: dict[tuple, np.ndarray] = {}
         #: Pillars of one group share their footprint and raster (and so the rows of `surface_map`).
         self.surface_group = np.zeros(M, dtype=np.int64)
@@ -238,8 +238,8 @@ class PillarModel:
             self._groups[id(cached)] = cached
         self.surface_map[p, within] = cached
         self.surface_group[p] = id(cached)
-        self.fit_centre[p] = cached[:, :self.m].mean(axis=0)
-        self.fit_spread[p] = np.max(np.abs(cached[:, :self.m] - self.fit_centre[p]), axis=0)
+        self.fit_centre[:, p] = centre = cached[:, :self.m].mean(axis=0)
+        self.fit_spread[:, p] = np.max(np.abs(cached[:, :self.m] - centre), axis=0)
         if self.lattice is not None:
             self._shift_moments(np.array([p]))
 
@@ -403,6 +403,11 @@ class PillarModel:
         s0[pillars], s1[pillars], s2[pillars] = m0, t1, t2
         q0[pillars], q1[pillars] = m0[:, 0], t1[:, 0]
         q2[pillars] = t2[:, 0] + (m0[:, 0] / 12.0)[:, None, None] * np.eye(2)
+        weights = Lattice.weights((q0[pillars], q1[pillars], q2[pillars]), (s0[pillars], s1[pillars], s2[pillars]))
+        if pillars.size == self.M:
+            self._weights = weights
+        else:
+            self._weights[0][:, pillars], self._weights[1][pillars] = weights
 
     def lattice_moments(self, pillars: np.ndarray | None = None) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
         """(sources, targets) of `Lattice.far_field`: the modes' moments about the lattice points (of ``pillars``).
@@ -540,7 +545,7 @@ class PillarModel:
             return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
         out = np.ascontiguousarray(np.matmul(self._near_uniform, x0[self.near_index]).transpose(1, 0, 2))
         out[0] += self.gram[:, :1] * x0
-        out += self.lattice.far_field(x0, *self.lattice_moments())
+        out += self.lattice.weighted_far_field(x0, *self._weights)
         return out
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:

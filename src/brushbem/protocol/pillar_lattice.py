@@ -124,27 +124,40 @@ class Lattice:
 
             field_k = scale * [t0 (P - D + Q / 2) + t1 . (g - h) + t2 : H / 2].
         """
-        ny, nx = self.shape
-        iy, ix = self.index[:, 0], self.index[:, 1]
+        return self.weighted_far_field(x0, *self.weights(sources, targets))
+
+    @staticmethod
+    def weights(sources: tuple[np.ndarray, np.ndarray, np.ndarray],
+                targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """The moments as `weighted_far_field` takes them: the sources' (6, M), (q0, q1 (y, x), q2 (yy, xy,
+        xx)), and every target mode's weights of the six lattice sums (potential, g - h (y, x), H (yy, xy,
+        xx)), (M, m, 6): t0, t1 (y, x), t2 (yy / 2, xy, xx / 2)."""
         q0, q1, q2 = sources
         t0, t1, t2 = targets
+        return (np.stack([q0, q1[:, 0], q1[:, 1], q2[:, 0, 0], q2[:, 0, 1], q2[:, 1, 1]]),
+                np.stack([t0, t1[..., 0], t1[..., 1], 0.5 * t2[..., 0, 0], t2[..., 0, 1], 0.5 * t2[..., 1, 1]],
+                         axis=-1))
+
+    def weighted_far_field(self, x0: np.ndarray, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """`far_field` with the moments as `weights` gives them."""
+        ny, nx = self.shape
+        iy, ix = self.index[:, 0], self.index[:, 1]
         c = x0.shape[1]
-        weights = np.stack([q0, q1[:, 0], q1[:, 1], q2[:, 0, 0], q2[:, 0, 1], q2[:, 1, 1]])  # (6, M)
-        grid = np.zeros((6, c, ny, nx))
-        grid[:, :, iy, ix] = weights[:, None, :] * x0.T[None]
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
         # along x, and only the rows of the lattice come back along x.
-        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(scipy.fft.rfft(grid, n=2 * nx, axis=-1), n=2 * ny, axis=-2)
+        grid = np.zeros((6, c, ny, 2 * nx))
+        grid[:, :, iy, ix] = sources[:, None, :] * x0.T[None]
+        half = scipy.fft.rfft(grid, axis=-1)
+        spectra = np.zeros((6, c, 2 * ny, half.shape[-1]), dtype=half.dtype)
+        spectra[:, :, :ny] = half
+        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(spectra, axis=-2, overwrite_x=True)
         f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
         sums = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + hxx * s2xx) + hxy * s2xy,
                          gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
                          hyy * s0, hxy * s0, hxx * s0])
-        sums = scipy.fft.irfft(scipy.fft.ifft(sums, axis=-2)[..., :ny, :], n=2 * nx, axis=-1)[..., :nx][..., iy, ix]
-        # Every target mode's weights of the six sums (potential, g - h (y, x), H (yy, xy, xx)), (M, m, 6):
-        # t0, t1 (y, x), t2 (yy / 2, xy, xx / 2).
-        weights = np.stack([t0, t1[..., 0], t1[..., 1], 0.5 * t2[..., 0, 0], t2[..., 0, 1], 0.5 * t2[..., 1, 1]],
-                           axis=-1)
-        field = np.matmul(weights, sums.transpose(2, 0, 1))  # (M, m, c)
+        sums = scipy.fft.ifft(sums, axis=-2, overwrite_x=True)[..., :ny, :]
+        sums = scipy.fft.irfft(sums, n=2 * nx, axis=-1)[..., :nx][..., iy, ix]
+        field = np.matmul(targets, sums.transpose(2, 0, 1))  # (M, m, c)
         return self.scale * field.transpose(1, 0, 2)
 
     def pair_couplings(self, rows: np.ndarray, cols: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],

@@ -97,9 +97,11 @@ def press(run: _Path, d: float) -> int:
         for _ in range(4 * _FLIPS + 100):
             rounds += 1
             run.solve()
-            pressure = run.pressures(run.amplitudes(d))
+            pressure = run.pressures_at(d)
             on = run.attached[:, None] & model.raster
-            release = on & (pressure < -1e-10 * max(float(np.max(np.abs(pressure))), 1e-300))
+            release = np.zeros_like(on)
+            release[run.on()] = on[run.on()] & (pressure < -1e-10 * max(float(np.max(np.abs(pressure), initial=0.0)),
+                                                                         1e-300))
             rows, penetration, _ = run.element_penetration(d, run.touch_candidates(d, d, tolerance) | run.attached)
             join = np.zeros_like(on)
             join[rows] = ~on[rows] & (penetration > tolerance) & (flips[rows] < _FLIPS)

@@ -190,17 +190,20 @@ class _Path:
         return float(model.h2 * np.sum(np.where(self.attached, model.force * (d * self.alpha[:, 0] - self.beta[:, 0]),
                                                 0.0)))
 
+    def on(self) -> np.ndarray:
+        """The attached pillars (indices, kept until the state changes)."""
+        return self._remember(("on",), lambda: np.flatnonzero(self.attached))
+
     def pressures_at(self, d: float) -> np.ndarray:
         """`pressures` of the amplitudes at d (kept until the state changes)."""
         return self._remember(("pressures", float(d)), lambda: self.pressures(self.amplitudes(d)))
 
     def pressures(self, x: np.ndarray) -> np.ndarray:
-        """Element pressures on the footprint slots (M, width), 0 off the attached rasters."""
+        """Element pressures on the footprint slots of the attached pillars (`on`): (n, width), 0 off
+        their rasters."""
         model = self.model
-        on = np.flatnonzero(self.attached)
-        p = np.zeros(model.full.shape)
-        p[on] = np.where(model.raster[on], np.matmul(model.phi[on], x[on, :, None])[..., 0], 0.0)
-        return p
+        on = self.on()
+        return np.where(model.raster[on], np.matmul(model.phi[on], x[on, :, None])[..., 0], 0.0)
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
@@ -242,18 +245,24 @@ class _Path:
         penetration = np.where(full, d * slope - (wb[:, None] - u[..., 1]), -np.inf)
         return rows, penetration, slope
 
-    def _tip_levels(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _tip_levels(self, rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
         """(wa, wb) of the pillars ``rows``: a tip stands at d wa - wb (its springs' stretch taken off)."""
         model = self.model
+        wb = model.g[rows]
         if model.levels:
             wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)[rows]
-            wb = model.g[rows] - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
+            wb = wb - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
         else:
-            wa, wb = np.ones(rows.size), model.g[rows]
+            wa = np.ones(wb.size)
         return wa, wb
 
     def touch_candidates(self, d: float, end: float, tolerance: float) -> np.ndarray:
-        """The free pillars that may touch at a displacement between d and ``end`` (a mask), by a bound.
+        """The free pillars that may touch at a displacement between d and ``end`` (a mask): those whose
+        `touch_bound` is above -``tolerance``."""
+        return ~self.attached & (self.touch_bound(d, end) > -tolerance)
+
+    def touch_bound(self, d: float, end: float) -> np.ndarray:
+        """Every free pillar's largest slot penetration between d and ``end``, bounded from above: (M,).
 
         A free pillar's own amplitudes are zero, so the surface under it is
         the fit of the others' field, u_s = fitted_s . f(d') with f(d') =
@@ -261,21 +270,15 @@ class _Path:
         |f(d')| (c, r: `PillarModel.fit_centre`, `fit_spread`), so no slot
         penetrates more than  d' (wa - c . f_a) - (wb - c . f_b) + r . |f(d')|,
         a convex function of d' whose largest value on [d, end] is at an end.
-        A pillar whose bound stays below -``tolerance`` cannot touch there.
+        (Entries of attached pillars mean nothing.)
         """
         model = self.model
-        free = np.flatnonzero(~self.attached)
-        fa, fb = self.fields[:, free, 0].T, self.fields[:, free, 1].T  # (F, m)
-        centre, spread = model.fit_centre[free], model.fit_spread[free]
-        wa, wb = self._tip_levels(free)
-        ca, cb = np.sum(centre * fa, axis=1), np.sum(centre * fb, axis=1)
-        bound = np.full(free.size, -np.inf)
-        for at in (d, end):
-            level = at * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(at * fa - fb), axis=1)
-            bound = np.maximum(bound, level)
-        out = np.zeros(model.M, dtype=bool)
-        out[free[bound > -tolerance]] = True
-        return out
+        fa, fb = self.fields[..., 0], self.fields[..., 1]  # (m, M)
+        centre, spread = model.fit_centre, model.fit_spread
+        wa, wb = self._tip_levels(slice(None))
+        ca, cb = np.sum(centre * fa, axis=0), np.sum(centre * fb, axis=0)
+        return np.maximum(d * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(d * fa - fb), axis=0),
+                          end * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(end * fa - fb), axis=0))
 
     def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
         """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off).
@@ -317,12 +320,15 @@ class _Path:
         n = model.n
         pressure = np.zeros(n * n)
         contact = np.zeros(n * n, dtype=bool)
-        on = self.attached[:, None] & model.raster
-        if kind != "separated" and on.any():
-            p = self.pressures_at(d)
-            pressure[model.slots[on]] = p[on]
-            contact[model.slots[on]] = True
-        force = float(model.h2 * pressure.sum())
+        rows = self.on()
+        on = model.raster[rows]
+        force = 0.0
+        if kind != "separated" and rows.size:
+            slots = model.slots[rows][on]
+            values = self.pressures_at(d)[on]
+            pressure[slots] = values
+            contact[slots] = True
+            force = float(model.h2 * values.sum())
         solves, self._reported = self.solves - self._reported, self.solves
         return State(displacement=float(d), force=force, contact_area=model.h2 * int(np.count_nonzero(on)),
                      attached_pillars=int(np.count_nonzero(self.attached)), loading=loading, kind=kind,
@@ -442,11 +448,11 @@ class _Path:
             self.solve()
             x = self.amplitudes(d)
             p = self.pressures_at(d)
-            on = self.attached[:, None] & model.raster
-            tense = on & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
+            rows = self.on()
+            tense = model.raster[rows] & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
             hit = np.flatnonzero(tense.any(axis=1))
             if hit.size:
-                self.peel_all([(int(q), tense[q]) for q in hit], x, d)
+                self.peel_all([(int(rows[i]), tense[i]) for i in hit], x, d)
                 continue
             candidates = self.touch_candidates(d, d, tolerance)
             if candidates.any():
@@ -507,10 +513,10 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
                             "end of the branch", converged=False)
             return
         direction = 1.0 if loading else -1.0
+        attached = run.on()
         p = run.pressures_at(d)
         rate = direction * run.pressures(run.alpha)
-        on = run.attached[:, None] & model.raster
-        grows = on & (rate < 0)
+        grows = model.raster[attached] & (rate < 0)
         t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
         t_detach = np.maximum(t_detach, 0.0)
         t_det = float(t_detach.min()) if grows.any() else math.inf
@@ -556,7 +562,7 @@ def _run(run: _Path, path: LoadPath) -> Iterator[State]:
         yield run.state(new_d, loading, "event", "event")
         d = new_d
         leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
-        run.peel_all([(int(q), t_detach[q] <= t + tie) for q in leaving], x, d)
+        run.peel_all([(int(attached[i]), t_detach[i] <= t + tie) for i in leaving], x, d)
         if t_att <= t + tie:
             touching = t_attach <= t + tie
             masks = np.zeros(model.full.shape, dtype=bool)
