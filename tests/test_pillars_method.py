@@ -20,7 +20,8 @@ import pytest
 
 import brushbem
 from brushbem.workflow.case import brush_scales
-from brushbem.protocol import ContactProblem, LoadPath, pillar_loading, pillar_solver, pillars, record_pull_off
+from brushbem.protocol import (ContactProblem, LoadPath, pillar_events, pillar_loading, pillar_solver, pillars,
+                               record_pull_off)
 from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
@@ -374,7 +375,7 @@ def test_touch_bound_never_misses_a_touch():
     run = pillars._Path(pillars.PillarModel(problem), path)
     scales = brush_scales(problem)
     checked = excluded = 0
-    for state in pillars._run(run, path):
+    for state in pillar_events.events(run, path):
         if state.kind == "separated" or not (~run.attached).any():
             continue
         d = state.displacement

@@ -12,7 +12,7 @@ part per brush, its sizes zipped with the grid, the radius and the preload:
 * ``rough_small`` and ``rough_large``: k~ = 1e-2 with Gaussian lengths of
   sigma~ = 0.1 and 1 (sigma = sigma~ d_c, d_c of the same n).
 
-Full: n = 8, 16, 32, 48, 64 (64 to 4096 pillars); quick: n = 4, 6, 8.  Run
+Full: n = 8, 16, 32, 48, 64, 80, 100 (64 to 10^4 pillars); quick: n = 4, 6, 8.  Run
 from the repository root:
 
     python docs/studies/make_size_sweeps.py
@@ -29,7 +29,7 @@ from brushbem.workflow.case import brush_scales
 
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 DGAMMA, PHI = 1e-4, 0.12
-SIZES = {"full": [8, 16, 32, 48, 64], "quick": [4, 6, 8]}
+SIZES = {"full": [8, 16, 32, 48, 64, 80, 100], "quick": [4, 6, 8]}
 PARTS = {
     "stiff": (10.0, 0.0),
     "soft": (1e-2, 0.0),

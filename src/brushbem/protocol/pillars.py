@@ -102,8 +102,10 @@ Where it does not apply it refuses, naming the key: tips that are not flat
 connections (``Indenter.viscoelastic``), nonlinear pillar laws
 (``Indenter.pillar_law``), and indenters that are not brushes.
 
-Here: the path (`_Path`: the state, the cascades and the events).  The
-loading of unequal tips is in `brushbem.protocol.pillar_loading`, the
+Here: the state of the path (`_Path`: the solves, the peeling and the
+cascades).  The events, from the first touch to separation, are in
+`brushbem.protocol.pillar_events`, the loading of unequal tips in
+`brushbem.protocol.pillar_loading`, the
 bases, couplings and springs in
 `brushbem.protocol.pillar_basis` (`PillarModel`), the lattice's FFT in
 `brushbem.protocol.pillar_lattice`, the pillar-level solve (the kept
@@ -113,7 +115,6 @@ inverse) in `brushbem.protocol.pillar_solver`, the refusals in
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 
 import numpy as np
@@ -123,7 +124,8 @@ from brushbem.errors import ParameterError
 
 from brushbem.protocol.pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
 from brushbem.protocol.pillar_checks import check_applicable
-from brushbem.protocol.pillar_loading import press, press_rough, radiate
+from brushbem.protocol.pillar_events import events
+from brushbem.protocol.pillar_loading import press, radiate
 from brushbem.protocol.pillar_solver import Solver, full_solve
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
 
@@ -494,91 +496,4 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic
     # consumed too, and is lifted when the generator ends or is closed.
     with ThreadpoolController().limit(limits=1, user_api="blas"):
         model = PillarModel(problem, modes=modes, coupling=coupling, peel=peel, near=near)
-        yield from _run(_Path(model, path), path)
-
-
-def _run(run: _Path, path: LoadPath) -> Iterator[State]:
-    model = run.model
-    lowest = float(model.g.min())
-    d = lowest
-    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12 * max(abs(lowest), 1.0)))
-    run.solve()
-    loading = True
-    yield run.state(d, True, "equilibrium", "first touch")
-    if path.preload_displacement is not None and d >= path.preload_displacement:
-        loading = False
-    if float(np.ptp(model.g)) > 1e-12 * max(abs(lowest), 1.0):
-        d = yield from press_rough(run, path, lowest)
-        loading = False
-    steps = 0
-    while True:
-        steps += 1
-        if steps > path.max_steps:
-            yield run.state(d, loading, "equilibrium", f"LoadPath.max_steps = {path.max_steps} reached before the "
-                            "end of the branch", converged=False)
-            return
-        direction = 1.0 if loading else -1.0
-        attached = run.on()
-        p = run.pressures_at(d)
-        rate = direction * run.pressures(run.alpha)
-        grows = model.raster[attached] & (rate < 0)
-        t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
-        t_detach = np.maximum(t_detach, 0.0)
-        t_det = float(t_detach.min()) if grows.any() else math.inf
-        t_target = math.inf
-        if loading:
-            if path.preload_displacement is not None:
-                t_target = path.preload_displacement - d
-            else:
-                rate_f = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-                if rate_f > 0:
-                    t_target = (path.preload_force - run.force(d)) / rate_f
-        # Touch: the free pillars that may touch before the next other event or with it (within its tie; by
-        # `_Path.touch_candidates`), slot by slot.
-        window = min(t_det, t_target)
-        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
-        if math.isfinite(window):
-            window = max(window, 0.0)
-            window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
-            candidates = run.touch_candidates(d, d + direction * window, tolerance)
-        else:
-            candidates = ~run.attached
-        rows, penetration, slope = run.element_penetration(d, candidates)
-        closing = np.isfinite(penetration) & (direction * slope > 0)
-        t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
-        t_touch = np.maximum(t_touch, 0.0)
-        t_attach = t_touch.min(axis=1) if rows.size else np.zeros(0)
-        t_att = float(t_attach.min()) if rows.size else math.inf
-        t = min(t_det, t_att, t_target)
-        if not math.isfinite(t):
-            yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
-                            "detaches)", converged=False)
-            return
-        t = max(t, 0.0)
-        tie = 100.0 * path.tolerance * (abs(d) + t) + 1e-300
-        new_d = d + direction * t
-        if loading and t_target <= t + tie and t_target + tie < min(t_det, t_att):
-            d = new_d
-            yield run.state(d, True, "equilibrium", "preload reached")
-            loading = False
-            steps = 0
-            continue
-        x = run.amplitudes(new_d)
-        yield run.state(new_d, loading, "event", "event")
-        d = new_d
-        leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
-        run.peel_all([(int(attached[i]), t_detach[i] <= t + tie) for i in leaving], x, d)
-        if t_att <= t + tie:
-            touching = t_attach <= t + tie
-            masks = np.zeros(model.full.shape, dtype=bool)
-            masks[rows] = t_touch <= t + tie
-            run.install(masks, rows[touching])
-        run.cascade(d, loading)
-        if not run.attached.any() and not loading:
-            yield run.state(d, False, "separated", "complete separation")
-            return
-        yield run.state(d, loading, "equilibrium", "cascade")
-        if loading and (run.force(d) >= path.preload_force * (1 - 1e-9) if path.preload_force is not None
-                        else d >= path.preload_displacement * (1 - 1e-12)):
-            loading = False
-            steps = 0
+        yield from events(_Path(model, path), path)

@@ -1,0 +1,116 @@
+"""The pillar model's events (``LoadPath.method = "pillars"``): from the first touch to separation.
+
+The model and its state are described in `brushbem.protocol.pillars`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from brushbem.protocol.pillar_loading import press_rough
+from brushbem.protocol.problem import LoadPath, State
+
+if TYPE_CHECKING:
+    from brushbem.protocol.pillars import _Path
+
+__all__ = ["events"]
+
+
+def events(run: _Path, path: LoadPath) -> Iterator[State]:
+    """The states of the pull-off of ``run`` from its first touch to separation.
+
+    Everything is affine in d on a fixed state, so the next event - an
+    element of an attached tip reaching the criterion, a free tip touching,
+    the preload - is found in closed form, the state at it is yielded, and
+    the cascade at that d (`_Path.cascade`) gives the next equilibrium.
+    Tips of unequal lengths are first pressed as the exact path presses
+    them (`brushbem.protocol.pillar_loading.press_rough`).
+    """
+    model = run.model
+    lowest = float(model.g.min())
+    d = lowest
+    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12 * max(abs(lowest), 1.0)))
+    run.solve()
+    loading = True
+    yield run.state(d, True, "equilibrium", "first touch")
+    if path.preload_displacement is not None and d >= path.preload_displacement:
+        loading = False
+    if float(np.ptp(model.g)) > 1e-12 * max(abs(lowest), 1.0):
+        d = yield from press_rough(run, path, lowest)
+        loading = False
+    steps = 0
+    while True:
+        steps += 1
+        if steps > path.max_steps:
+            yield run.state(d, loading, "equilibrium", f"LoadPath.max_steps = {path.max_steps} reached before the "
+                            "end of the branch", converged=False)
+            return
+        direction = 1.0 if loading else -1.0
+        attached = run.on()
+        p = run.pressures_at(d)
+        rate = direction * run.pressures(run.alpha)
+        grows = model.raster[attached] & (rate < 0)
+        t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
+        t_detach = np.maximum(t_detach, 0.0)
+        t_det = float(t_detach.min()) if grows.any() else math.inf
+        t_target = math.inf
+        if loading:
+            if path.preload_displacement is not None:
+                t_target = path.preload_displacement - d
+            else:
+                rate_f = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
+                if rate_f > 0:
+                    t_target = (path.preload_force - run.force(d)) / rate_f
+        # Touch: the free pillars that may touch before the next other event or with it (within its tie; by
+        # `_Path.touch_candidates`), slot by slot.
+        window = min(t_det, t_target)
+        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
+        if math.isfinite(window):
+            window = max(window, 0.0)
+            window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
+            candidates = run.touch_candidates(d, d + direction * window, tolerance)
+        else:
+            candidates = ~run.attached
+        rows, penetration, slope = run.element_penetration(d, candidates)
+        closing = np.isfinite(penetration) & (direction * slope > 0)
+        t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
+        t_touch = np.maximum(t_touch, 0.0)
+        t_attach = t_touch.min(axis=1) if rows.size else np.zeros(0)
+        t_att = float(t_attach.min()) if rows.size else math.inf
+        t = min(t_det, t_att, t_target)
+        if not math.isfinite(t):
+            yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
+                            "detaches)", converged=False)
+            return
+        t = max(t, 0.0)
+        tie = 100.0 * path.tolerance * (abs(d) + t) + 1e-300
+        new_d = d + direction * t
+        if loading and t_target <= t + tie and t_target + tie < min(t_det, t_att):
+            d = new_d
+            yield run.state(d, True, "equilibrium", "preload reached")
+            loading = False
+            steps = 0
+            continue
+        x = run.amplitudes(new_d)
+        yield run.state(new_d, loading, "event", "event")
+        d = new_d
+        leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
+        run.peel_all([(int(attached[i]), t_detach[i] <= t + tie) for i in leaving], x, d)
+        if t_att <= t + tie:
+            touching = t_attach <= t + tie
+            masks = np.zeros(model.full.shape, dtype=bool)
+            masks[rows] = t_touch <= t + tie
+            run.install(masks, rows[touching])
+        run.cascade(d, loading)
+        if not run.attached.any() and not loading:
+            yield run.state(d, False, "separated", "complete separation")
+            return
+        yield run.state(d, loading, "equilibrium", "cascade")
+        if loading and (run.force(d) >= path.preload_force * (1 - 1e-9) if path.preload_force is not None
+                        else d >= path.preload_displacement * (1 - 1e-12)):
+            loading = False
+            steps = 0
