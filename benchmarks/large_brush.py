@@ -38,10 +38,12 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
     start = time.process_time()
     problem, preload = _problem(per_side, ratio, sigma, seed)
     built = time.process_time() - start
-    states, force, work, previous = 0, 0.0, 0.0, None
+    states, force, work, previous, attached = 0, 0.0, 0.0, None, 0
     for state in pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**8)):
         states += 1
-        if not state.loading:
+        if state.loading:
+            attached = state.attached_pillars  # the last loading state's: at the preload
+        else:
             force = max(force, -state.force)
             if previous is not None:  # the tensile force's integral over the pull (trapezoids)
                 work += 0.5 * (max(-state.force, 0.0) + max(-previous.force, 0.0)) * abs(
@@ -50,7 +52,8 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
         if states % 500 == 0:
             print(json.dumps({"states": states, "cpu_seconds": round(time.process_time() - start, 2)}), flush=True)
     print(json.dumps({"done": True, "states": states, "build_cpu_seconds": round(built, 2),
-                      "cpu_seconds": round(time.process_time() - start, 2), "adhesive_force": force,
+                      "cpu_seconds": round(time.process_time() - start, 2), "attached_at_preload": attached,
+                      "adhesive_force": force,
                       "work_of_separation": work}), flush=True)
 
 
