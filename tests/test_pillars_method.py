@@ -345,7 +345,8 @@ def test_lattice_detection():
 
 
 def test_kept_inverse_follows_joins_and_leaves():
-    """The kept inverse, updated pillar by pillar (swap with the last on a leave), is the fresh one to 1e-10."""
+    """The kept inverse, updated pillar by pillar (swap with the last on a leave) and in blocks of pillars, is
+    the fresh one to 1e-10 (two-level springs: the spring matrix couples the pillars of a cluster)."""
     problem, _ = _brush(96, 6, 1e-2, levels=(Level(cluster=2, stiffness=5e-3),))
     model = pillars.PillarModel(problem)
     solver = pillar_solver.Solver(model)
@@ -357,6 +358,13 @@ def test_kept_inverse_follows_joins_and_leaves():
         solver.add(p)
     S = solver.order[:solver.n]
     assert sorted(S.tolist()) == np.flatnonzero(solver.attached).tolist()
+    fresh = np.linalg.inv(model.uniform_block(S, S) + model.spring_matrix(S))
+    assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
+    # In blocks: several leave at once (B_KK - B_KR B_RR^-1 B_RK), several join (the Schur complement).
+    solver.remove_many(np.array([3, 11, 20, 29]))
+    solver.add_many(np.array([7, 11, 35]))
+    S = solver.order[:solver.n]
+    assert sorted(S.tolist()) == np.flatnonzero(solver.attached).tolist() and not solver.attached[[3, 20, 29]].any()
     fresh = np.linalg.inv(model.uniform_block(S, S) + model.spring_matrix(S))
     assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
 

@@ -113,6 +113,75 @@ class Solver:
         self.attached[p] = True
         self.updates += 1
 
+    def remove_many(self, pillars: np.ndarray) -> None:
+        """Several pillars leave at once: one block update, B_KK - B_KR B_RR^-1 B_RK (O(n^2 k) in one pass
+        over B instead of k), or a refactorisation when most of them leave."""
+        pillars = np.asarray(pillars, dtype=np.int64)
+        if pillars.size <= 1:
+            for p in pillars:
+                self.remove(int(p))
+            return
+        if 3 * pillars.size >= self.n:
+            self.attached[pillars] = False
+            self.refactor()
+            return
+        B = self.B
+        leave = self.position[pillars]
+        keep = np.ones(self.n, dtype=bool)
+        keep[leave] = False
+        keep = np.flatnonzero(keep)
+        coupling = B[np.ix_(keep, leave)]
+        try:
+            block = scipy.linalg.cho_factor(B[np.ix_(leave, leave)])
+        except np.linalg.LinAlgError:
+            self.attached[pillars] = False
+            self.refactor()
+            return
+        updated = B[np.ix_(keep, keep)]
+        updated -= coupling @ scipy.linalg.cho_solve(block, coupling.T)
+        n = keep.size
+        self.order[:n] = self.order[keep]
+        self.position[pillars] = -1
+        self.position[self.order[:n]] = np.arange(n)
+        self.n = n
+        self.B[:] = updated
+        self.attached[pillars] = False
+        self.updates += pillars.size
+
+    def add_many(self, pillars: np.ndarray) -> None:
+        """Several pillars join at once: one block (Schur complement) update, O(n^2 k) in one pass over B."""
+        pillars = np.asarray(pillars, dtype=np.int64)
+        if pillars.size <= 1 or self.n == 0:
+            for p in pillars:
+                self.add(int(p))
+            return
+        model = self.model
+        cols = self.order[:self.n]
+        springs = np.stack([model.spring_row(int(p)) for p in pillars])
+        rows = model.uniform_block(pillars, cols) + springs[:, cols]
+        diagonal = model.uniform_block(pillars, pillars) + springs[:, pillars]
+        BR = self.B @ rows.T  # (n, k)
+        schur = diagonal - rows @ BR
+        try:
+            inverse = _spd_inverse(schur)
+        except np.linalg.LinAlgError:
+            self.attached[pillars] = True
+            self.refactor()
+            return
+        n, k = self.n, pillars.size
+        self._reserve(n + k)
+        B = self._B
+        coupling = BR @ inverse  # (n, k)
+        B[:n, :n] += coupling @ BR.T
+        B[:n, n:n + k] = -coupling
+        B[n:n + k, :n] = -coupling.T
+        B[n:n + k, n:n + k] = inverse
+        self.order[n:n + k] = pillars
+        self.position[pillars] = np.arange(n, n + k)
+        self.n = n + k
+        self.attached[pillars] = True
+        self.updates += k
+
     def solve(self) -> tuple[np.ndarray, np.ndarray]:
         """(sol, fields): the uniform amplitudes are d sol[:, 0] - sol[:, 1] on the attached set (0 elsewhere);
         ``fields`` = `PillarModel.fields` of ``sol``."""

@@ -288,35 +288,33 @@ class _Path:
                           end * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(end * fa - fb), axis=0))
 
     def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
-        """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off).
+        """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off)."""
+        self._apply([(int(p), masks[p]) for p in pillars])
 
-        A few pillars are updated in the kept inverse one by one (O(n^2) each); many at once by one
-        refactorisation (O(n^3)), whichever costs less.
+    def _apply(self, changes: list[tuple[int, np.ndarray]]) -> None:
+        """Each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
+
+        In the kept inverse the pillars that leave or change their raster go out in one block update and
+        those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`).
         """
         model = self.model
         self._changed()
-        pillars = np.asarray(pillars, dtype=np.int64)
-        if model.coupling == "local" and 6 * 2 * pillars.size <= self.solver.n:
-            for p in pillars:
-                p = int(p)
-                mask = masks[p]
-                if not mask.any():
-                    if self.attached[p]:
-                        self.detach(p)
-                elif self.attached[p]:
-                    if not np.array_equal(mask, model.raster[p]):
-                        self.reshape(p, mask)
-                else:
-                    model.set_raster(p, mask)
-                    self.solver.add(p)
+        if model.coupling != "local":
+            for p, mask in changes:
+                self.attached[p] = bool(mask.any())
+                model.set_raster(p, mask if mask.any() else model.full[p])
             return
-        for p in pillars:
-            p = int(p)
-            mask = masks[p]
-            self.attached[p] = bool(mask.any())
-            model.set_raster(p, mask if mask.any() else model.full[p])
-        if model.coupling == "local":
-            self.solver.refactor()
+        leaving = [p for p, mask in changes if self.attached[p] and not (
+            mask.any() and np.array_equal(mask, model.raster[p]))]
+        self.solver.remove_many(np.array(leaving, dtype=np.int64))
+        joining = []
+        for p, mask in changes:
+            if not mask.any():
+                model.set_raster(p, model.full[p])
+            elif not self.attached[p]:
+                model.set_raster(p, mask)
+                joining.append(p)
+        self.solver.add_many(np.array(joining, dtype=np.int64))
 
     def press(self, d: float) -> int:
         """The non-adhesive contact problem at d (`brushbem.protocol.pillar_loading.press`): the rounds it took."""
@@ -343,14 +341,6 @@ class _Path:
                      pressure=pressure.reshape(n, n), contact=contact.reshape(n, n))
 
     # -- changes -------------------------------------------------------------
-    def attach(self, p: int) -> None:
-        self._changed()
-        self.model.set_raster(p, self.model.full[p])
-        if self.model.coupling == "local":
-            self.solver.add(p)
-        else:
-            self.attached[p] = True
-
     def attach_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once (one factorisation instead of one update each)."""
         self._changed()
@@ -359,23 +349,6 @@ class _Path:
         self.attached[pillars] = True
         if self.model.coupling == "local":
             self.solver.refactor()
-
-    def detach(self, p: int) -> None:
-        self._changed()
-        if self.model.coupling == "local":
-            self.solver.remove(p)
-        else:
-            self.attached[p] = False
-        self.model.set_raster(p, self.model.full[p])
-
-    def reshape(self, p: int, mask: np.ndarray) -> None:
-        self._changed()
-        if self.model.coupling == "local":
-            self.solver.remove(p)
-            self.model.set_raster(p, mask)
-            self.solver.add(p)
-        else:
-            self.model.set_raster(p, mask)
 
     def local_amplitudes(self, p: int, mask: np.ndarray, frozen: np.ndarray, x: np.ndarray,
                          d: float) -> tuple[np.ndarray, Basis]:
@@ -440,12 +413,7 @@ class _Path:
     def peel_all(self, hits: list[tuple[int, np.ndarray]], x: np.ndarray, d: float) -> None:
         """Every hit pillar peels on its own against the state before any of them moved; then all are installed."""
         frozen = self.attached.copy()
-        outcome = [(p, self.peeled(p, leave, frozen, x, d)) for p, leave in hits]
-        for p, mask in outcome:
-            if mask.any():
-                self.reshape(p, mask)
-            else:
-                self.detach(p)
+        self._apply([(p, self.peeled(p, leave, frozen, x, d)) for p, leave in hits])
 
     def cascade(self, d: float, loading: bool) -> None:
         """Rounds at d: solve, peel every pillar beyond the criterion, let touching pillars in; until stable."""
