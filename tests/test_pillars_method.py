@@ -333,6 +333,26 @@ def test_lattice_far_field_is_the_dense_one():
     assert np.allclose(kept, kept.T, rtol=0, atol=1e-15 * np.abs(kept).max())
 
 
+def test_lattice_far_field_on_periods_longer_than_twice_the_lattice():
+    """The FFT's periods are fast lengths of at least 2 n - 1 (26 -> 27 rows, 22 -> 24 columns here), and its
+    far field is the pair-by-pair sum of the same multipoles to rounding (no offset wraps onto another)."""
+    from brushbem.protocol.pillar_lattice import Lattice
+
+    shape = (13, 11)
+    index = np.stack(np.divmod(np.arange(shape[0] * shape[1]), shape[1]), axis=1)
+    lattice = Lattice(index, shape, np.zeros(2), np.array([9.0, 7.0]), 20.0, 0.3)
+    assert lattice.padded == (27, 24)
+    rng = np.random.default_rng(1)
+    M = index.shape[0]
+    sources = (rng.random(M), rng.normal(size=(M, 2)), rng.normal(size=(M, 2, 2)))
+    targets = (rng.random((M, 3)), rng.normal(size=(M, 3, 2)), rng.normal(size=(M, 3, 2, 2)))
+    x = rng.normal(size=(M, 2))
+    everyone = np.arange(M)
+    pairs = lattice.pair_couplings(everyone, everyone, sources, tuple(a[:, 0] for a in targets))
+    field = lattice.far_field(x, sources, targets)[0]
+    assert np.abs(field - pairs @ x).max() < 1e-12 * np.abs(pairs @ x).max()
+
+
 def test_lattice_detection():
     """A square lattice is found with its shape; a random layout is not a lattice."""
     problem, _ = _brush(96, 6, 1e-2)

@@ -49,11 +49,14 @@ class Lattice:
         self._spacing = np.asarray(spacing, dtype=np.float64)
         self._near2 = near * near
         ny, nx = shape
-        self.padded = (2 * ny, 2 * nx)
-        di = np.fft.fftfreq(2 * ny, 1.0 / (2 * ny))  # offsets 0, 1, ..., ny, -ny + 1, ..., -1 (wrapped)
-        dj = np.fft.fftfreq(2 * nx, 1.0 / (2 * nx))
-        ry = (di * spacing[0])[:, None] * np.ones((1, 2 * nx))
-        rx = np.ones((2 * ny, 1)) * (dj * spacing[1])[None, :]
+        # Periods of at least 2 n - 1 (no offset wraps onto another), of fast transform lengths (2 n = 632 at
+        # 316 x 316 pillars has the prime factor 79: 2.4 times slower than 640).
+        self.padded = (scipy.fft.next_fast_len(2 * ny), scipy.fft.next_fast_len(2 * nx, real=True))
+        py, px = self.padded
+        di = np.fft.fftfreq(py, 1.0 / py)  # offsets 0, 1, ..., -1 (wrapped); those of |di| >= ny are zero
+        dj = np.fft.fftfreq(px, 1.0 / px)
+        ry = (di * spacing[0])[:, None] * np.ones((1, px))
+        rx = np.ones((py, 1)) * (dj * spacing[1])[None, :]
         r2 = ry * ry + rx * rx
         far = r2 >= near * near
         far &= (np.abs(di) < ny)[:, None] & (np.abs(dj) < nx)[None, :]
@@ -145,10 +148,11 @@ class Lattice:
         c = x0.shape[1]
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
         # along x, and only the rows of the lattice come back along x.
-        grid = np.zeros((6, c, ny, 2 * nx))
+        py, px = self.padded
+        grid = np.zeros((6, c, ny, px))
         grid[:, :, iy, ix] = sources[:, None, :] * x0.T[None]
         half = scipy.fft.rfft(grid, axis=-1)
-        spectra = np.zeros((6, c, 2 * ny, half.shape[-1]), dtype=half.dtype)
+        spectra = np.zeros((6, c, py, half.shape[-1]), dtype=half.dtype)
         spectra[:, :, :ny] = half
         s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(spectra, axis=-2, overwrite_x=True)
         f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
@@ -156,7 +160,7 @@ class Lattice:
                          gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
                          hyy * s0, hxy * s0, hxx * s0])
         sums = scipy.fft.ifft(sums, axis=-2, overwrite_x=True)[..., :ny, :]
-        sums = scipy.fft.irfft(sums, n=2 * nx, axis=-1)[..., :nx][..., iy, ix]
+        sums = scipy.fft.irfft(sums, n=px, axis=-1)[..., :nx][..., iy, ix]
         field = np.matmul(targets, sums.transpose(2, 0, 1))  # (M, m, c)
         return self.scale * field.transpose(1, 0, 2)
 
