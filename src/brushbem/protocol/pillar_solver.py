@@ -48,6 +48,7 @@ class Solver:
         self.n = 0
         self.updates = 0
         self.solves = 0
+        self._work = np.zeros(16 * 16)
 
     @property
     def B(self) -> np.ndarray:
@@ -58,6 +59,12 @@ class Solver:
             grown = np.zeros((max(n, 2 * self._B.shape[0]),) * 2)
             grown[:self.n, :self.n] = self.B
             self._B = grown
+            self._work = np.zeros(grown.size)
+
+    def _scratch(self, rows: int, cols: int) -> np.ndarray:
+        """A contiguous (rows, cols) work array in a buffer kept with B: an update's product of B's size is
+        not allocated afresh (800 MB at 10^4 attached pillars, page by page) at every event."""
+        return self._work[:rows * cols].reshape(rows, cols)
 
     def refactor(self) -> None:
         model = self.model
@@ -77,7 +84,7 @@ class Solver:
         B = self.B
         column = B[:, i].copy()
         if column[i] > 0:
-            B -= np.multiply.outer(column, column / column[i])
+            B -= np.multiply.outer(column, column / column[i], out=self._scratch(*B.shape))
         last = self.n - 1
         if i != last:
             B[[i, last], :] = B[[last, i], :]
@@ -104,7 +111,7 @@ class Solver:
         n = self.n
         self._reserve(n + 1)
         B = self._B
-        B[:n, :n] += np.multiply.outer(Br, Br / c)
+        B[:n, :n] += np.multiply.outer(Br, Br / c, out=self._scratch(n, n))
         B[n, :n] = B[:n, n] = -Br / c
         B[n, n] = 1.0 / c
         self.order[n] = p
@@ -126,27 +133,29 @@ class Solver:
             self.refactor()
             return
         B = self.B
+        n, k = self.n, pillars.size
         leave = self.position[pillars]
-        keep = np.ones(self.n, dtype=bool)
-        keep[leave] = False
-        keep = np.flatnonzero(keep)
-        coupling = B[np.ix_(keep, leave)]
         try:
             block = scipy.linalg.cho_factor(B[np.ix_(leave, leave)])
         except np.linalg.LinAlgError:
             self.attached[pillars] = False
             self.refactor()
             return
-        updated = B[np.ix_(keep, keep)]
-        updated -= coupling @ scipy.linalg.cho_solve(block, coupling.T)
-        n = keep.size
-        self.order[:n] = self.order[keep]
+        # In place: B - B_:R B_RR^-1 B_R: (the rows and columns R become garbage), then the kept pillars
+        # beyond n - k move into the places of those that leave.
+        coupling = B[:, leave].copy()
+        B -= np.matmul(coupling, scipy.linalg.cho_solve(block, coupling.T), out=self._scratch(n, n))
+        last = n - k
+        holes = np.sort(leave[leave < last])
+        movers = np.setdiff1d(np.arange(last, n), leave)
+        B[holes, :] = B[movers, :]
+        B[:, holes] = B[:, movers]
+        self.order[holes] = self.order[movers]
         self.position[pillars] = -1
-        self.position[self.order[:n]] = np.arange(n)
-        self.n = n
-        self.B[:] = updated
+        self.position[self.order[holes]] = holes
+        self.n = last
         self.attached[pillars] = False
-        self.updates += pillars.size
+        self.updates += k
 
     def add_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once: one block (Schur complement) update, O(n^2 k) in one pass over B."""
@@ -172,7 +181,7 @@ class Solver:
         self._reserve(n + k)
         B = self._B
         coupling = BR @ inverse  # (n, k)
-        B[:n, :n] += coupling @ BR.T
+        B[:n, :n] += np.matmul(coupling, BR.T, out=self._scratch(n, n))
         B[:n, n:n + k] = -coupling
         B[n:n + k, :n] = -coupling.T
         B[n:n + k, n:n + k] = inverse
