@@ -1,6 +1,6 @@
 """Beyond the thesis (its ch. 4 question past 2304 pillars): F~_A and the work against the number of pillars.
 
-The ``size`` study runs square lattices of 64 to 4096 flat pillars at the
+The ``size`` study runs square lattices of 64 to 10^4 flat pillars at the
 ch. 4 filling factor phi = 0.12 (sweep files written by
 ``docs/studies/make_size_sweeps.py``) by the pillar-level model
 (``protocol.method = "pillars"``, validated against the exact event path in
@@ -64,15 +64,25 @@ def work_tilde(frame: pd.DataFrame) -> np.ndarray:
 def _plain_ticks(ax, counts: list[float]) -> None:
     """Log axes labelled with plain numbers instead of powers of ten; the pillar counts as the x ticks."""
     if counts:
-        ax.set_xticks(counts)
+        # Every pillar count as a tick, labelled where the labels do not crowd (at least 1.7 apart).
+        counts = sorted(counts)
+        labelled = [counts[0]]
+        for count in counts[1:]:
+            if count >= 1.7 * labelled[-1]:
+                labelled.append(count)
+        ax.set_xticks(counts, [f"{count:g}" if count in labelled else "" for count in counts])
     if ax.get_yscale() == "log" and ax.lines:
         low, high = ax.get_ylim()
-        digits = 1 - int(np.floor(np.log10(low)))
-        ticks = np.unique(np.round(np.geomspace(low, high, 5), max(digits, 0)))
+        if high > 100 * low:
+            # Several decades: the powers of ten.
+            ticks = 10.0 ** np.arange(np.ceil(np.log10(low)), np.floor(np.log10(high)) + 1)
+        else:
+            ticks = np.unique([float(f"{tick:.2g}") for tick in np.geomspace(low, high, 5)])
         ax.set_yticks(ticks[(ticks >= low) & (ticks <= high)])
     for axis in (ax.xaxis, ax.yaxis):
         if axis.get_scale() == "log":
-            axis.set_major_formatter(FormatStrFormatter("%g"))
+            if axis is ax.yaxis or not counts:
+                axis.set_major_formatter(FormatStrFormatter("%g"))
             axis.set_minor_formatter(NullFormatter())
 
 
@@ -126,7 +136,7 @@ def _draw(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[Path]:
 
 SIZE = Study(
     name="size",
-    title="Beyond the thesis: F~_A and the work against the number of pillars (64 to 4096), level and rough",
+    title="Beyond the thesis: F~_A and the work against the number of pillars (64 to 10^4), level and rough",
     figures=(),
     parts=PARTS,
     draw=_draw,
