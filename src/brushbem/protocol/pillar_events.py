@@ -51,36 +51,12 @@ def events(run: _Path, path: LoadPath) -> Iterator[State]:
             return
         direction = 1.0 if loading else -1.0
         attached = run.on()
-        p = run.pressures_at(d)
-        rate = direction * run.pressures(run.alpha)
-        grows = model.raster[attached] & (rate < 0)
-        t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
-        t_detach = np.maximum(t_detach, 0.0)
-        t_det = float(t_detach.min()) if grows.any() else math.inf
-        t_target = math.inf
-        if loading:
-            if path.preload_displacement is not None:
-                t_target = path.preload_displacement - d
-            else:
-                rate_f = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-                if rate_f > 0:
-                    t_target = (path.preload_force - run.force(d)) / rate_f
-        # Touch: the free pillars that may touch before the next other event or with it (within its tie; by
-        # `_Path.touch_candidates`), slot by slot.
-        window = min(t_det, t_target)
-        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
-        if math.isfinite(window):
-            window = max(window, 0.0)
-            window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
-            candidates = run.touch_candidates(d, d + direction * window, tolerance)
-        else:
-            candidates = ~run.attached
-        rows, penetration, slope = run.element_penetration(d, candidates)
-        closing = np.isfinite(penetration) & (direction * slope > 0)
-        t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
-        t_touch = np.maximum(t_touch, 0.0)
+        t_detach = _detachment_times(run, d, direction)
+        t_det = float(t_detach.min(initial=math.inf))
+        t_target = _preload_distance(run, path, d) if loading else math.inf
+        rows, t_touch = _touch_times(run, path, d, direction, min(t_det, t_target))
         t_attach = t_touch.min(axis=1) if rows.size else np.zeros(0)
-        t_att = float(t_attach.min()) if rows.size else math.inf
+        t_att = float(t_attach.min(initial=math.inf))
         t = min(t_det, t_att, t_target)
         if not math.isfinite(t):
             yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
@@ -114,3 +90,42 @@ def events(run: _Path, path: LoadPath) -> Iterator[State]:
                         else d >= path.preload_displacement * (1 - 1e-12)):
             loading = False
             steps = 0
+
+
+def _detachment_times(run: _Path, d: float, direction: float) -> np.ndarray:
+    """How far the base moves before each slot of each attached pillar (`_Path.on`) reaches the criterion:
+    (n, width), inf where its tension does not grow."""
+    model = run.model
+    p = run.pressures_at(d)
+    rate = direction * run.pressures(run.alpha)
+    grows = model.raster[run.on()] & (rate < 0)
+    t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
+    return np.maximum(t_detach, 0.0)
+
+
+def _preload_distance(run: _Path, path: LoadPath, d: float) -> float:
+    """How far the base presses on before the preload (a displacement, or a force on the fixed state)."""
+    model = run.model
+    if path.preload_displacement is not None:
+        return path.preload_displacement - d
+    rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
+    return (path.preload_force - run.force(d)) / rate if rate > 0 else math.inf
+
+
+def _touch_times(run: _Path, path: LoadPath, d: float, direction: float,
+                 window: float) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, t_touch (rows, width)): how far the base moves before each footprint slot of the free pillars
+    ``rows`` touches; only those that may touch within ``window`` or with the event there (within its
+    tie; by `_Path.touch_candidates`) are looked at, all of them when ``window`` is infinite."""
+    model = run.model
+    tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
+    if math.isfinite(window):
+        window = max(window, 0.0)
+        window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
+        candidates = run.touch_candidates(d, d + direction * window, tolerance)
+    else:
+        candidates = ~run.attached
+    rows, penetration, slope = run.element_penetration(d, candidates)
+    closing = np.isfinite(penetration) & (direction * slope > 0)
+    t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
+    return rows, np.maximum(t_touch, 0.0)
