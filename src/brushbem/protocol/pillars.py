@@ -94,8 +94,10 @@ slot); O(M^2) off a lattice.  On a lattice the memory is O(M) besides the
 kept inverse and G00, kept up to `brushbem.protocol.pillar_basis.DENSE_PILLARS`
 pillars and filled entry by entry as the solve reads it.  Measured on the
 chapter-5 family (``benchmarks/large_brush.py``, CPU seconds of one core):
-1024 pillars 3.2 s (the exact path 79-83 s, ``benchmarks/pillars.py``),
-4096 pillars 18 s, 10^4 pillars 45 s in 0.53 GB.
+1024 pillars 3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``),
+4096 pillars 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at
+the preload).  A level brush attaches every pillar: its kept inverse is
+M x M (the ``size`` study's level brushes of 10^4 pillars: 150-340 s).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
