@@ -509,12 +509,14 @@ class PillarModel:
             out += (self.h2 / stiffness)[cluster] * sums[cluster]
         return out * self.force
 
-    def spring_matrix(self, S: np.ndarray) -> np.ndarray:
-        out = np.zeros((S.size, S.size))
+    def spring_matrix(self, S: np.ndarray, T: np.ndarray | None = None) -> np.ndarray:
+        """H[S, T] (T = S by default): the springs' block of the pillars S and T."""
+        T = S if T is None else T
+        out = np.zeros((S.size, T.size))
         for cluster, stiffness in self.levels:
-            c = cluster[S]
-            out += np.where(c[:, None] == c[None, :], (self.h2 / stiffness[c])[:, None], 0.0)
-        return out * np.outer(self.force[S], self.force[S])
+            c, d = cluster[S], cluster[T]
+            out += np.where(c[:, None] == d[None, :], (self.h2 / stiffness[c])[:, None], 0.0)
+        return out * np.outer(self.force[S], self.force[T])
 
     def tip_deflection(self, x0: np.ndarray, attached: np.ndarray) -> np.ndarray:
         """The springs' stretch sum_l F_cluster / k_l at every pillar (forces of the attached ones)."""
