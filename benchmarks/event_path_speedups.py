@@ -55,6 +55,7 @@ CHANGES = {
     "cascade_deflection": ("brushbem.numerics.solver.cascade_deflection", "KEEP_CASCADE_DEFLECTION", False),
     "symmetric_guess": ("brushbem.protocol.unit_guess", "SYMMETRIC_PRODUCTS", False),
     "compact_event_search": ("brushbem.protocol.events", "COMPACT_EVENT_SEARCH", False),
+    "preload_model": ("brushbem.protocol.contact_loading", "PRELOAD_MODEL", False),
 }
 
 

@@ -35,7 +35,8 @@ from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.numerics.solver import cascade_deflection, equilibria, preconditioners, set_solve
 from brushbem.physics.pillar_laws import PiecewiseLinear
 from brushbem.physics.structure import Grid, Level, brush
-from brushbem.protocol import events
+from brushbem.protocol import contact_loading, events
+from brushbem.physics.structure.records import Indenter, SpringLevel
 from brushbem.protocol import unit_guess as unit_guess_module
 
 GRID = Grid(1.0, 128)
@@ -69,13 +70,56 @@ def _problem(stiffness: float, sigma: float, **extra) -> tuple[ContactProblem, f
 
 
 @pytest.mark.parametrize("case", list(RECORDED))
-def test_pull_off_keeps_the_recorded_answer(case):
+def test_pull_off_keeps_the_recorded_answer(case, monkeypatch):
+    # The recorded answers' preload search: the secant (the model's search ends at another state within
+    # the solver's tolerance, `test_the_preload_search_by_the_independent_pillars_ends_at_the_same_state`).
+    monkeypatch.setattr(contact_loading, "PRELOAD_MODEL", False)
     spec, force, work = RECORDED[case]
     problem, f_c = _problem(**spec)
     summary = record_pull_off(problem, LoadPath(method="events", preload_force=f_c, max_steps=10**6)).summary
     assert summary["converged"], summary["reason"]
     assert summary["adhesive_force"] == pytest.approx(force, rel=1e-9, abs=0.0)
     assert summary["work_of_separation"] == pytest.approx(work, rel=1e-9, abs=0.0)
+
+
+def test_the_preload_search_by_the_independent_pillars_ends_at_the_same_state(monkeypatch):
+    """The model's search takes fewer contact problems to the same preload and the same pull-off.
+
+    Each search ends where F is within 1e-9 of F_P or interpolates two solutions of one contact set;
+    the solutions are converged to a relative residual of 1e-8 (LoadPath.tolerance), so the two
+    preload states, and the pull-offs from them, agree to that and not to rounding.
+    """
+    problem, f_c = _problem(0.01, 1.0)
+    path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
+    runs = {}
+    for model in (True, False):
+        monkeypatch.setattr(contact_loading, "PRELOAD_MODEL", model)
+        record = record_pull_off(problem, path)
+        loading = record.curve.loading
+        # The loading states carry the search's iterations (the last one those of the samples off the path).
+        runs[model] = (record.summary, int(np.sum(record.curve.cg_iterations[loading])),
+                       float(record.curve.force[loading][-1]))
+    (fast, fast_iterations, fast_force), (plain, plain_iterations, plain_force) = runs[True], runs[False]
+    assert fast_force == pytest.approx(f_c, rel=1e-9) and plain_force == pytest.approx(f_c, rel=1e-9)
+    assert fast_iterations < plain_iterations
+    assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-8)
+    assert fast["work_of_separation"] == pytest.approx(plain["work_of_separation"], rel=1e-8)
+
+
+def test_independent_pillars_model_is_the_sum_of_punches_on_springs():
+    """F(d) of three pillars of 1, 2 and 4 elements at heights 0, 1, 3 on springs k = 2 (hand sums)."""
+    height = np.full((4, 4), np.inf)
+    pillar = np.full((4, 4), -1)
+    for label, (cells, h) in enumerate((([(0, 0)], 0.0), ([(2, 0), (2, 1)], 1.0),
+                                        ([(0, 2), (0, 3), (1, 2), (1, 3)], 3.0))):
+        for cell in cells:
+            height[cell], pillar[cell] = h, label
+    indenter = Indenter(height, pillar, levels=(SpringLevel(2.0, np.arange(3)),))
+    model = contact_loading._IndependentPillars(indenter, contact_modulus=1.0, h2=1.0)
+    k = [1.0 / (1.0 / (2.0 * math.sqrt(n / math.pi)) + 0.5) for n in (1, 2, 4)]
+    for d in (0.5, 2.0, 4.0):
+        force = sum(ki * max(d - h, 0.0) for ki, h in zip(k, (0.0, 1.0, 3.0)))
+        assert model.displacement(force) == pytest.approx(d, rel=1e-14)
 
 
 def test_switching_the_speed_ups_off_gives_the_same_pull_off(monkeypatch):
