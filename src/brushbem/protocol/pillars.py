@@ -96,8 +96,10 @@ pillars and filled entry by entry as the solve reads it.  Measured on the
 chapter-5 family (``benchmarks/large_brush.py``, CPU seconds of one core):
 1024 pillars 3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``),
 4096 pillars 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at
-the preload), 10^5 pillars (316 x 316, N = 5056) 35 min (2353 attached).  A level brush attaches every pillar: its kept inverse is
-M x M (the ``size`` study's level brushes of 10^4 pillars: 150-340 s).
+the preload), 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353
+attached, 10523 states).  A level brush attaches every pillar: its kept
+inverse is M x M (the ``size`` study's level brushes of 10^4 pillars:
+150-340 s); at 10^5 pillars that is 80 GB, out of reach.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
