@@ -579,6 +579,7 @@ def test_nested_vs_convolution_study_agrees(tmp_path):
     assert all(p.exists() for p in paths)
 
 
+@pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
 def test_events_reach_pillars_outside_the_first_window():
     """Regression: a rough brush touches first with one pillar; the others must still be found.
 

@@ -277,6 +277,7 @@ def test_result_nc_round_trips(tmp_path, fake_run_case):
     assert recorded["indenter"]["stiffness"] == "inf"
 
 
+@pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
 def test_run_again_replaces_files_and_leaves_no_temporaries(tmp_path, fake_run_case):
     """A second run into a folder of results is refused unless --overwrite; with it, it replaces them."""
     path = write(tmp_path, VALID_TOML)

@@ -711,6 +711,7 @@ def test_a_row_is_planned_from_the_cases_its_number_reads(row_tables):
     assert exponent.recorded_seconds > 0 and len(exponent.case_hashes["regular"]) == 4
 
 
+@pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
 def test_a_maximum_is_recomputed_with_its_runners_up(row_tables):
     """The position of chapter 7's maximum is planned with the next-largest points, each within 2 % of it.
 

@@ -174,6 +174,7 @@ def test_a_run_folder_of_two_runs_or_a_sweep_folder_is_not_reported_as_a_run(run
     assert not is_run_folder(folder)  # a sweep folder goes to the sweep report
 
 
+@pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
 def test_a_rerun_removes_the_earlier_runs_report(run_folder, tmp_path):
     folder = tmp_path / "run"
     shutil.copytree(run_folder, folder)
