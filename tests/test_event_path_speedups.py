@@ -34,9 +34,8 @@ from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.numerics.solver import cascade_deflection, equilibria, preconditioners, set_solve
 from brushbem.physics.pillar_laws import PiecewiseLinear
-from brushbem.physics.structure import Grid, Level, brush
+from brushbem.physics.structure import Grid, Indenter, Level, SpringLevel, brush
 from brushbem.protocol import contact_loading, events
-from brushbem.physics.structure.records import Indenter, SpringLevel
 from brushbem.protocol import unit_guess as unit_guess_module
 
 GRID = Grid(1.0, 128)

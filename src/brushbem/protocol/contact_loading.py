@@ -252,15 +252,16 @@ class _IndependentPillars:
         counts = np.bincount(labels, minlength=n)
         compliance = 1.0 / (2.0 * contact_modulus * np.sqrt(counts * h2 / math.pi))
         self.series = 0.0
-        # The whole footprint as one punch on the springs in series (the first guess without PRELOAD_MODEL).
-        area = float(np.sum(counts)) * h2
-        self.punch_compliance = 1.0 / (2.0 * contact_modulus * math.sqrt(area / math.pi)) + sum(
-            1.0 / float(np.sum(level.stiffnesses)) for level in indenter.elastic_levels)
+        every_level = 0.0  # each level's springs in parallel, the levels in series
         for level in indenter.elastic_levels:
+            every_level += 1.0 / float(np.sum(level.stiffnesses))
             if level.n_clusters == n:
                 compliance = compliance + 1.0 / level.stiffnesses[level.cluster]
             else:
                 self.series += 1.0 / float(np.sum(level.stiffnesses))
+        # The whole footprint as one punch on the springs in series (the first guess without PRELOAD_MODEL).
+        area = float(np.sum(counts)) * h2
+        self.punch_compliance = 1.0 / (2.0 * contact_modulus * math.sqrt(area / math.pi)) + every_level
         order = np.argsort(heights)
         self.heights = heights[order]
         stiffness = 1.0 / compliance[order]
