@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from brushbem.sweep.spec import case_hash
@@ -109,9 +110,10 @@ def _rivals(number, tables: Mapping[str, pd.DataFrame], point_of: Mapping[str, M
 
         def moves(step: float, frame=frame, rows=rows, columns=columns, part=part) -> bool:
             for factor in (1 + step, 1 - step):
-                changed = frame.copy()
-                # As plain values: a frame on the right would be aligned first (20 ms a call, most of a plan).
-                changed.loc[rows, columns] = frame.loc[rows, columns].to_numpy() * factor
+                # Column by column as plain arrays: `.loc` with a frame on the right aligns it first, and
+                # with rows and columns at once it goes column by column through pandas' indexer (8 ms).
+                changed = frame.assign(**{c: np.where(rows, frame[c].to_numpy() * factor, frame[c].to_numpy())
+                                          for c in columns})
                 if not _same(_compute(number, {**tables, part: changed})[0], committed):
                     return True
             return False

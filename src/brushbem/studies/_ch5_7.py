@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
+from collections import OrderedDict
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -71,6 +73,11 @@ def mean_std(frame: pd.DataFrame, keys: list[str], value: str, x: str | None = N
 SATURATED = 0.9
 
 
+#: Results of `adhesion_coefficients` by the content of the columns they read (least recently used last out).
+_COEFFICIENTS: OrderedDict[tuple, pd.DataFrame] = OrderedDict()
+_COEFFICIENTS_KEPT = 64
+
+
 def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     """c = F~_A / F~_P in the linear region: at the smallest preload of each group (eq. 5.6).
 
@@ -87,6 +94,24 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     columns = [*keys, "c", "sigma", "plateau", "largest_preload"]
     if not has(frame, FA, FP, PRELOAD):
         return pd.DataFrame(columns=columns)
+    # The comparison and the row planning read one table's coefficients for many numbers and
+    # realisation subsets: a result is kept by the content of the columns it reads, rows in order
+    # (a mean's last bits depend on it), so a repeated call returns a copy of the same frame.
+    read = [c for c in dict.fromkeys([*keys, FA, FP, PRELOAD, SIG, "realization"]) if c in frame.columns]
+    rows = pd.util.hash_pandas_object(frame[read], index=False).to_numpy()
+    key = (tuple(keys), tuple(read), tuple(str(frame[c].dtype) for c in read), hashlib.blake2b(rows.tobytes(), digest_size=16).digest())
+    if key in _COEFFICIENTS:
+        _COEFFICIENTS.move_to_end(key)
+        return _COEFFICIENTS[key].copy()
+    out = _coefficients(frame, keys, columns)
+    _COEFFICIENTS[key] = out.copy()
+    if len(_COEFFICIENTS) > _COEFFICIENTS_KEPT:
+        _COEFFICIENTS.popitem(last=False)
+    return out
+
+
+def _coefficients(frame: pd.DataFrame, keys: list[str], columns: list[str]) -> pd.DataFrame:
+    """`adhesion_coefficients` computed."""
     # One pass of groupbys over every group (a loop of per-group aggregations is 100 x slower).
     frame = frame.assign(_ratio=frame[FA] / frame[FP], _sig=frame.get(SIG, math.nan))
     groups = frame.groupby(keys, dropna=False, sort=True)

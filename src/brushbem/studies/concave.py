@@ -50,8 +50,8 @@ def _with_phi(frame: pd.DataFrame) -> pd.DataFrame:
     if not has(frame, RADIUS):
         return frame
     frame = frame.copy()
-    radii = sorted(frame[RADIUS].astype(float).unique())
-    frame[PHI] = [0.06 if np.isclose(r, radii[0]) else 0.15 for r in frame[RADIUS].astype(float)]
+    radius = frame[RADIUS].astype(float).to_numpy()
+    frame[PHI] = np.where(np.isclose(radius, np.min(radius)), 0.06, 0.15) if radius.size else np.zeros(0)
     return frame
 
 
