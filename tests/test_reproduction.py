@@ -17,6 +17,7 @@ import statistics
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pandas as pd
 import pytest
 from click.testing import CliRunner
@@ -866,6 +867,25 @@ def test_the_plateau_is_the_mean_of_every_seeds_largest_force():
     assert coeff.loc[1, "plateau"] == pytest.approx(1.0, rel=1e-15)
     assert coeff.loc[1, "plateau"] == pytest.approx(statistics.mean([1.2, 0.9, 0.9]), rel=1e-15)
 
+
+
+def test_kept_coefficients_follow_the_content_and_are_not_shared():
+    """`adhesion_coefficients` keeps its results by content: a changed force, a changed dtype of a key
+    and a caller's edit of a returned frame each give what a fresh computation gives."""
+    from brushbem.studies import _ch5_7
+    from brushbem.studies._ch5_7 import FA, FP, PRELOAD, SIG, SIGMA, adhesion_coefficients
+
+    frame = pd.DataFrame({SIGMA: [1, 1], SIG: [0.1, 0.1], PRELOAD: [0.1, 20], FP: [0.1, 20], FA: [0.3, 1.0]})
+    first = adhesion_coefficients(frame, [SIGMA])
+    first.loc[0, "c"] = -1.0  # a caller's edit stays in its copy
+    again = adhesion_coefficients(frame, [SIGMA])
+    assert again.loc[0, "c"] == pytest.approx(3.0)
+    changed = frame.assign(**{FA: [0.2, 1.0]})
+    assert adhesion_coefficients(changed, [SIGMA]).loc[0, "c"] == pytest.approx(2.0)
+    as_float = adhesion_coefficients(frame.astype({SIGMA: float}), [SIGMA])
+    pd.testing.assert_frame_equal(as_float, _ch5_7._coefficients(frame.astype({SIGMA: float}), [SIGMA],
+                                                                  list(as_float.columns)))
+    assert as_float[SIGMA].dtype == np.float64 and again[SIGMA].dtype == np.int64
 
 def test_reproduce_dry_run_lists_the_cases_and_runs_nothing(row_tables):
     from brushbem.cli import main
