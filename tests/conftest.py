@@ -6,6 +6,8 @@ import concurrent.futures
 import os
 import signal
 
+import pytest
+
 from brushbem.studies import STUDIES, sweep_file
 from brushbem.sweep import load_summary, run_sweep
 
@@ -25,8 +27,12 @@ def run_quick_study(name, tmp_path_factory):
     """Run every part of a study's quick sweep (one thread) and draw its figures.
 
     Returns (study, results by part, written figure paths).  Every part must
-    ship both its full and its quick sweep file.
+    ship both its full and its quick sweep file.  The figures are written as
+    PNG only: the PDF beside each (`brushbem.workflow.figstyle.save`) is
+    tested in tests/test_figures.py, and it is 40 % of the drawing's time.
     """
+    from brushbem.workflow import figstyle
+
     study = STUDIES[name]
     out = tmp_path_factory.mktemp(name)
     results = {}
@@ -35,4 +41,6 @@ def run_quick_study(name, tmp_path_factory):
         assert path.exists() and sweep_file(name, part, quick=False).exists()
         run_sweep(path, out / part, executor=concurrent.futures.ThreadPoolExecutor(1))
         results[part] = load_summary(out / part)
-    return study, results, study.draw(results, out / "figures")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(figstyle, "_VECTOR", ".png")
+        return study, results, study.draw(results, out / "figures")
