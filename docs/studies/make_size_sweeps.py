@@ -12,8 +12,10 @@ part per brush, its sizes zipped with the grid, the radius and the preload:
 * ``rough_small`` and ``rough_large``: k~ = 1e-2 with Gaussian lengths of
   sigma~ = 0.1 and 1 (sigma = sigma~ d_c, d_c of the same n).
 
-Full: n = 8, 16, 32, 48, 64, 80, 100 (64 to 10^4 pillars); quick: n = 4, 6, 8.  Run
-from the repository root:
+Full: n = 8, 16, 32, 48, 64, 80, 100 (64 to 10^4 pillars), and for ``rough_large``
+also n = 316 (10^5 pillars: the only part whose kept inverse fits at that size,
+a few thousand pillars attached; a level brush attaches all 10^5); quick: n = 4,
+6, 8.  Run from the repository root:
 
     python docs/studies/make_size_sweeps.py
 """
@@ -30,6 +32,8 @@ from brushbem.workflow.case import brush_scales
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 DGAMMA, PHI = 1e-4, 0.12
 SIZES = {"full": [8, 16, 32, 48, 64, 80, 100], "quick": [4, 6, 8]}
+#: Sizes of the full grid beyond 10^4 pillars, by part.
+BEYOND = {"rough_large": [316]}
 PARTS = {
     "stiff": (10.0, 0.0),
     "soft": (1e-2, 0.0),
@@ -62,9 +66,10 @@ def _toml(value) -> str:
 
 def main() -> None:
     for kind, suffix in (("full", ""), ("quick", ".quick")):
-        sizes = SIZES[kind]
-        scales = {n: _scales(n) for n in sizes}
+        scales = {n: _scales(n) for n in SIZES[kind]}
         for part, (ratio, sigma) in PARTS.items():
+            sizes = SIZES[kind] + (BEYOND.get(part, []) if kind == "full" else [])
+            scales.update({n: _scales(n) for n in sizes if n not in scales})
             indenter = {"shape": "brush", "layout": "square", "pillars_per_side": sizes[0],
                         "pillar_radius": _radius(sizes[0]), "stiffness_ratio": ratio, "seed": 0}
             sweep = {"grid.elements": [16 * n for n in sizes], "indenter.pillars_per_side": sizes,
