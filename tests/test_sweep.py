@@ -318,6 +318,12 @@ def test_failures_recorded_and_others_finish(tmp_path, monkeypatch):
     failed = sweep_module._case_attributes(out / "cases" / f"{frame.loc[0, 'case_id']}.nc")
     assert "boom at radius 0.2" in failed["traceback"]
     assert json.loads(failed["config"])["indenter"]["radius"] == 0.2
+    # The metadata read without xarray is xarray's, for every kind of case file.
+    from brushbem.sweep.store import _metadata
+
+    for path in sorted((out / "cases").glob("*.nc")):
+        with xr.open_dataset(path, engine="h5netcdf") as dataset:
+            assert _metadata(path) == (dict(dataset.attrs), set(dataset.variables)), path.name
 
     # A rerun keeps every recorded case, failed ones included ...
     calls.clear()

@@ -98,10 +98,23 @@ def _write_case_dataset(out_dir: Path, case: SweepCase, outcome: CaseOutcome) ->
 
 def _case_attributes(path: Path) -> dict[str, Any]:
     """The global attributes of a case file (no data is read)."""
-    import xarray as xr
+    return _metadata(path)[0]
 
-    with xr.open_dataset(path, engine="h5netcdf") as dataset:
-        return dict(dataset.attrs)
+
+def _metadata(path: Path) -> tuple[dict[str, Any], set[str]]:
+    """The global attributes and the variable names of a NetCDF file, as ``xarray.open_dataset`` gives them.
+
+    Read by h5netcdf alone, with the bytes attributes decoded as xarray's
+    h5netcdf backend does: xarray's opening also decodes every variable and
+    builds the coordinates' indexes, ten times the cost (0.13 s against
+    0.012 s for a brush's case file), at every summary and resume.
+    """
+    import h5netcdf
+
+    with h5netcdf.File(path, "r", phony_dims="access") as file:
+        attributes = {key: value.decode("utf-8") if isinstance(value, bytes) else value
+                      for key, value in file.attrs.items()}
+        return attributes, set(file.variables)
 
 
 def _read_case_record(path: Path, case_id: str) -> tuple[dict[str, Any] | None, str]:
@@ -111,12 +124,9 @@ def _read_case_record(path: Path, case_id: str) -> tuple[dict[str, Any] | None, 
     recorded with, its ``case_id`` is its own, and a finished or unconverged
     case has its load path.  No data is read beyond the file's metadata.
     """
-    import xarray as xr
-
     try:
-        with _local_files(), xr.open_dataset(path, engine="h5netcdf") as dataset:
-            attributes = dict(dataset.attrs)
-            variables = set(dataset.variables)
+        with _local_files():
+            attributes, variables = _metadata(path)
     except Exception as exc:  # noqa: BLE001 - any unreadable file is corrupt, whatever the library says
         return None, f"cannot be read ({_brief(exc)})"
     status = attributes.get("status")
