@@ -6,8 +6,6 @@ import concurrent.futures
 import os
 import signal
 
-import pytest
-
 from brushbem.studies import STUDIES, sweep_file
 from brushbem.sweep import load_summary, run_sweep
 
@@ -28,8 +26,8 @@ def run_quick_study(name, tmp_path_factory):
 
     Returns (study, results by part, written figure paths).  Every part must
     ship both its full and its quick sweep file.  The figures are written as
-    PNG only: the PDF beside each (`brushbem.workflow.figstyle.save`) is
-    tested in tests/test_figures.py, and it is 40 % of the drawing's time.
+    PNG only (`brushbem.workflow.figstyle.raster_only`): the PDF beside each
+    is tested in tests/test_figures.py, and it is 40 % of the drawing's time.
     """
     from brushbem.workflow import figstyle
 
@@ -41,6 +39,5 @@ def run_quick_study(name, tmp_path_factory):
         assert path.exists() and sweep_file(name, part, quick=False).exists()
         run_sweep(path, out / part, executor=concurrent.futures.ThreadPoolExecutor(1))
         results[part] = load_summary(out / part)
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(figstyle, "_VECTOR", ".png")
+    with figstyle.raster_only():
         return study, results, study.draw(results, out / "figures")

@@ -249,22 +249,22 @@ def test_the_committed_comparison_is_what_the_committed_tables_give():
 
 @pytest.mark.slow  # draws every figure of the committed tables (about 30 s)
 @pytest.mark.docs
-def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path, monkeypatch):
+def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
     """Every committed figure is one the tables draw, and every one they draw is committed.
 
-    Drawn as PNG only: the committed set is the PNGs, and the PDF beside each
-    (`brushbem.workflow.figstyle.save`) is tested in tests/test_figures.py.
+    Drawn as PNG only (`brushbem.workflow.figstyle.raster_only`): the committed set is the PNGs, and
+    the PDF beside each is tested in tests/test_figures.py.
     """
     from brushbem.workflow import figstyle
 
-    monkeypatch.setattr(figstyle, "_VECTOR", ".png")
     figures = DOCS / "figures"
     committed = {folder.name: sorted(folder.glob("*.png")) for folder in sorted(figures.iterdir()) if folder.is_dir()}
-    drawn = draw_table_figures(DOCS / "reproduction", tmp_path)
+    with figstyle.raster_only():
+        drawn = draw_table_figures(DOCS / "reproduction", tmp_path)
     assert {name: sorted(p.name for p in paths) for name, paths in drawn.items()} == {
         name: sorted(p.name for p in paths) for name, paths in committed.items()}
     assert all(path.stat().st_size > 10_000 for paths in drawn.values() for path in paths)
-    assert not list(tmp_path.rglob("*.pdf"))  # the patch above is in force
+    assert not list(tmp_path.rglob("*.pdf"))  # raster_only is in force
 
 
 # Per study, the first 12 hex digits of the SHA-256 of its committed part tables (in the order of its

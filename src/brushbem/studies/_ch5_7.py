@@ -99,7 +99,8 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     # (a mean's last bits depend on it), so a repeated call returns a copy of the same frame.
     read = [c for c in dict.fromkeys([*keys, FA, FP, PRELOAD, SIG, "realization"]) if c in frame.columns]
     rows = pd.util.hash_pandas_object(frame[read], index=False).to_numpy()
-    key = (tuple(keys), tuple(read), tuple(str(frame[c].dtype) for c in read), hashlib.blake2b(rows.tobytes(), digest_size=16).digest())
+    key = (tuple(keys), tuple(read), tuple(str(frame[c].dtype) for c in read),
+           hashlib.blake2b(rows.tobytes(), digest_size=16).digest())
     if key in _COEFFICIENTS:
         _COEFFICIENTS.move_to_end(key)
         return _COEFFICIENTS[key].copy()

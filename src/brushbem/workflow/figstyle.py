@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -138,6 +139,22 @@ def new_figure(width: float = 5.0, height: float = 4.0) -> Figure:
 _VECTOR = ".pdf"
 _RASTER = ".png"
 _FORMATS = (".png", ".pdf", ".svg", ".eps", ".ps")
+#: Whether `save` leaves out the PDF beside each PNG (`raster_only`).
+_RASTER_ONLY: ContextVar[bool] = ContextVar("raster_only", default=False)
+
+
+@contextmanager
+def raster_only() -> Iterator[None]:
+    """Inside this block `save` writes the PNG (or the named file) without the PDF beside it.
+
+    For checks that a figure is drawn (the tests of the studies and of the
+    committed figures): the PDF is 40 % of a figure's writing time.
+    """
+    token = _RASTER_ONLY.set(True)
+    try:
+        yield
+    finally:
+        _RASTER_ONLY.reset(token)
 
 
 def save(figure: Figure, path: str | Path) -> Path:
@@ -161,7 +178,8 @@ def save(figure: Figure, path: str | Path) -> Path:
     if path.suffix.lower() not in _FORMATS:
         path = path.with_name(path.name + _RASTER)
     path.parent.mkdir(parents=True, exist_ok=True)
-    targets = list(dict.fromkeys([path, path.with_suffix(_RASTER), path.with_suffix(_VECTOR)]))
+    beside = [] if _RASTER_ONLY.get() else [path.with_suffix(_VECTOR)]
+    targets = list(dict.fromkeys([path, path.with_suffix(_RASTER), *beside]))
     with style(), _quiet_font_subsetting():
         for target in targets:
             kind = target.suffix.lower().lstrip(".")
