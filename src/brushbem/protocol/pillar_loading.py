@@ -53,7 +53,6 @@ def radiate(run: _Path, sol: np.ndarray, fields: np.ndarray) -> tuple[np.ndarray
     the uniform modes' solution (``RADIATE_UNIFORM``: they answer r_0 too, one global solve a round).
     """
     model, solver = run.model, run.solver
-    on = solver.order[:solver.n]
     attached = run.attached[:, None, None]
     gram = model.gram[:, 1:, None]
     xh = np.where(attached, -fields[1:].transpose(1, 0, 2) / gram, 0.0)
@@ -61,8 +60,7 @@ def radiate(run: _Path, sol: np.ndarray, fields: np.ndarray) -> tuple[np.ndarray
     for rounds in range(1, _RADIATION_ROUNDS + 1):
         r = model.radiation(xh)
         if RADIATE_UNIFORM:
-            correction = np.zeros_like(sol)
-            correction[on] = -(solver.B @ r[0, on])
+            correction = -solver.inverse_product(r[0])
             shift = model.fields(correction)
             shift[0] -= model.gram[:, :1] * correction
             total_sol, total_fields = sol + correction, fields + shift + r

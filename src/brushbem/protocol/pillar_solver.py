@@ -2,8 +2,11 @@
 
 `Solver` keeps the inverse of the uniform modes' system (G00 + H) over the
 attached pillars and updates it by rank-one steps as pillars join and leave
-(``coupling = "local"``); `full_solve` factorises the system of every mode
-at once (``coupling = "full"``).  The model is described in
+(``coupling = "local"``); on a lattice with more than ``KEPT_PILLARS``
+attached it drops the inverse and solves by CG on the lattice's FFT product
+(`brushbem.protocol.pillar_cg.LatticeCG`), and keeps one again once the
+attached set is back under half that.  `full_solve` factorises the system of
+every mode at once (``coupling = "full"``).  The model is described in
 `brushbem.protocol.pillars`.
 """
 
@@ -13,8 +16,13 @@ import numpy as np
 import scipy.linalg
 
 from brushbem.protocol.pillar_basis import PillarModel
+from brushbem.protocol.pillar_cg import LatticeCG
 
-__all__ = ["Solver", "full_solve"]
+__all__ = ["KEPT_PILLARS", "Solver", "full_solve"]
+
+#: Attached pillars of a lattice brush beyond which the solve is CG (`LatticeCG`) instead of the kept
+#: inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None: always the kept inverse.
+KEPT_PILLARS: int | None = 4096
 
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
 _RESIDUAL = 1e-10
@@ -36,7 +44,10 @@ class Solver:
     ``B`` is the inverse of (G00 + H) on the attached pillars in the order
     ``order[:n]`` (``position`` maps a pillar to its row, -1 when off); a pillar
     that joins is appended and one that leaves is swapped with the last, each
-    a rank-one update of O(n^2).
+    a rank-one update of O(n^2).  While ``iterative`` (a lattice with more than
+    ``KEPT_PILLARS`` attached) there is no ``B`` (nor ``order``): joins and
+    leaves only mark ``attached`` and `solve` runs `LatticeCG`, warm-started
+    from the last solution.
     """
 
     def __init__(self, model: PillarModel):
@@ -49,6 +60,35 @@ class Solver:
         self.updates = 0
         self.solves = 0
         self._work = np.zeros(16 * 16)
+        self.iterative = False
+        self._cg: LatticeCG | None = None
+        self._last = np.zeros((model.M, 2))  # the last solution (CG's warm start)
+
+    @property
+    def cg(self) -> LatticeCG:
+        """The CG solve (built at its first use: one product for its preconditioner)."""
+        if self._cg is None:
+            self._cg = LatticeCG(self.model)
+        return self._cg
+
+    def _goes_iterative(self, attached: int) -> bool:
+        """Whether ``attached`` pillars are beyond the kept inverse: then the inverse is dropped."""
+        if KEPT_PILLARS is None or self.model.lattice is None or attached <= KEPT_PILLARS:
+            return False
+        self.iterative = True
+        self._B = np.zeros((16, 16))
+        self._work = np.zeros(16 * 16)
+        self.n = attached
+        return True
+
+    def _mark(self, pillars, on: bool) -> None:
+        """Iterative: pillars join or leave (no inverse to update); under half of ``KEPT_PILLARS``
+        attached, the inverse is kept again."""
+        self.attached[pillars] = on
+        self.n = int(np.count_nonzero(self.attached))
+        self.updates += int(np.size(pillars))
+        if 2 * self.n <= KEPT_PILLARS:
+            self.refactor()
 
     @property
     def B(self) -> np.ndarray:
@@ -70,6 +110,9 @@ class Solver:
         model = self.model
         S = np.flatnonzero(self.attached)
         self.updates = 0
+        if self._goes_iterative(S.size):
+            return
+        self.iterative = False
         self.position[:] = -1
         self.position[S] = np.arange(S.size)
         self.order[:S.size] = S
@@ -80,6 +123,9 @@ class Solver:
             self.B[:] = _spd_inverse(model.uniform_block(S, S) + model.spring_matrix(S))
 
     def remove(self, p: int) -> None:
+        if self.iterative:
+            self._mark(p, False)
+            return
         i = int(self.position[p])
         B = self.B
         column = B[:, i].copy()
@@ -97,6 +143,9 @@ class Solver:
         self.updates += 1
 
     def add(self, p: int) -> None:
+        if self.iterative or self._goes_iterative(self.n + 1):
+            self._mark(p, True)
+            return
         model = self.model
         cols = self.order[:self.n]
         springs = model.spring_row(p)
@@ -124,6 +173,9 @@ class Solver:
         """Several pillars leave at once: one block update, B_KK - B_KR B_RR^-1 B_RK (O(n^2 k) in one pass
         over B instead of k), or a refactorisation when most of them leave."""
         pillars = np.asarray(pillars, dtype=np.int64)
+        if self.iterative:
+            self._mark(pillars, False)
+            return
         if pillars.size <= 1:
             for p in pillars:
                 self.remove(int(p))
@@ -160,6 +212,9 @@ class Solver:
     def add_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once: one block (Schur complement) update, O(n^2 k) in one pass over B."""
         pillars = np.asarray(pillars, dtype=np.int64)
+        if self.iterative or self._goes_iterative(self.n + pillars.size):
+            self._mark(pillars, True)
+            return
         if pillars.size <= 1 or self.n == 0:
             for p in pillars:
                 self.add(int(p))
@@ -199,6 +254,10 @@ class Solver:
         self.solves += 1
         S = self.attached
         rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
+        if self.iterative:
+            sol, fields = self.cg.solve(S, rhs, start=self._last)
+            self._last = sol
+            return sol, fields
         for attempt in range(2):
             on = self.order[:self.n]
             sol = np.zeros((model.M, 2))
@@ -214,6 +273,15 @@ class Solver:
                 continue
             break
         return sol, fields
+
+    def inverse_product(self, v: np.ndarray) -> np.ndarray:
+        """(G00 + H)_SS^-1 v on the attached set S (0 off it) for v (M, k)."""
+        if self.iterative:
+            return self.cg.solve(self.attached, v)[0]
+        out = np.zeros_like(v)
+        on = self.order[:self.n]
+        out[on] = self.B @ v[on]
+        return out
 
 
 def full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -127,6 +127,7 @@ from threadpoolctl import ThreadpoolController
 from brushbem.errors import ParameterError
 
 from brushbem.protocol.pillar_basis import MODES, NEAR_RADII, Basis, PillarModel
+from brushbem.protocol.pillar_cg import NotConverged
 from brushbem.protocol.pillar_checks import check_applicable
 from brushbem.protocol.pillar_events import events
 from brushbem.protocol.pillar_loading import press, radiate
@@ -158,6 +159,7 @@ class _Path:
         #: asks for those the cascade has just computed at the same d).
         self._stamp = 0
         self._memo: dict[tuple, object] = {}
+        self.last = (0.0, True)  # (d, loading) of the last state yielded
 
     # -- state ---------------------------------------------------------------
     def _changed(self) -> None:
@@ -326,6 +328,7 @@ class _Path:
 
     def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
         model = self.model
+        self.last = (float(d), loading)
         n = model.n
         pressure = np.zeros(n * n)
         contact = np.zeros(n * n, dtype=bool)
@@ -468,4 +471,10 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic
     # consumed too, and is lifted when the generator ends or is closed.
     with ThreadpoolController().limit(limits=1, user_api="blas"):
         model = PillarModel(problem, modes=modes, coupling=coupling, peel=peel, near=near)
-        yield from events(_Path(model, path), path)
+        run = _Path(model, path)
+        try:
+            yield from events(run, path)
+        except NotConverged as error:
+            # The last state stands; the path stops there, saying why (as the element paths do).
+            d, loading = run.last
+            yield run.state(d, loading, "equilibrium", str(error), converged=False)
