@@ -8,10 +8,15 @@ peak resident memory is the child's ``ru_maxrss``) limited to
 ``--limit`` seconds; a run past the limit is reported as such with the
 states it had reached.  Sizes up to ``--exact-max`` pillars per side run the
 exact event path too, in the same way, and print the ratio of the CPU
-times (the exact path over the model).
+times (the exact path over the model).  ``--kept-baseline`` runs the model a
+second time with the kept inverse at every size (``KEPT_PILLARS = None``:
+no CG on the lattice, `brushbem.protocol.pillar_cg`) and prints the ratio of
+its CPU time to the default's and the relative differences of F_A and the
+work.
 
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
+    nice python benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline
 """
 
 from __future__ import annotations
@@ -32,9 +37,12 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from pillars import _problem
 
-    from brushbem.protocol import LoadPath
+    from brushbem.protocol import LoadPath, pillar_solver
     from brushbem.protocol.paths import pull_off
 
+    if method == "pillars-kept":
+        method = "pillars"
+        pillar_solver.KEPT_PILLARS = None
     start = time.process_time()
     problem, preload = _problem(per_side, ratio, sigma, seed)
     built = time.process_time() - start
@@ -95,10 +103,19 @@ def main() -> None:
     parser.add_argument("--sigma", type=float, default=1.0, help="sigma~ = sigma / d_c")
     parser.add_argument("--seed", type=int, default=3)
     parser.add_argument("--limit", type=float, default=600.0, help="seconds per run")
+    parser.add_argument("--kept-baseline", action="store_true",
+                        help="also run the model with the kept inverse at every size (no CG on the lattice)")
     args = parser.parse_args()
     for per_side in args.sizes:
         line = {"pillars": per_side**2, "pillars_per_side": per_side, "elements": 16 * per_side,
                 "pillars_method": _measure(per_side, "pillars", args)}
+        if args.kept_baseline:
+            line["kept_inverse"] = _measure(per_side, "pillars-kept", args)
+            model, kept = line["pillars_method"], line["kept_inverse"]
+            if "done" in model and "done" in kept:
+                line["cpu_ratio_kept_over_default"] = round(kept["cpu_seconds"] / model["cpu_seconds"], 2)
+                line["kept_adhesive_force_rel_diff"] = model["adhesive_force"] / kept["adhesive_force"] - 1
+                line["kept_work_rel_diff"] = model["work_of_separation"] / kept["work_of_separation"] - 1
         if per_side <= args.exact_max:
             line["events_method"] = _measure(per_side, "events", args)
             model, exact = line["pillars_method"], line["events_method"]

@@ -100,3 +100,12 @@ def test_pull_off_stops_unconverged_with_the_reason(monkeypatch):
     record = record_pull_off(problem, LoadPath(method="pillars", preload_force=force, max_steps=10**6))
     assert not record.summary["converged"]
     assert "pillar-level CG" in record.summary["reason"]
+
+
+def test_a_zero_right_hand_side_gives_zero_from_any_start():
+    problem, _ = _problem(6, 1e-2)
+    model = pillars.PillarModel(problem)
+    attached = np.ones(model.M, dtype=bool)
+    rhs = np.stack([model.force, np.zeros(model.M)], axis=1)
+    x, _ = pillar_cg.LatticeCG(model).solve(attached, rhs, start=np.ones((model.M, 2)))
+    assert not x[:, 1].any() and x[:, 0].any()

@@ -541,13 +541,21 @@ class PillarModel:
         return np.matmul(blocks, xh[self.near_index].reshape(M, width * (m - 1), -1)).transpose(1, 0, 2)
 
 
-    def fields(self, x0: np.ndarray) -> np.ndarray:
-        """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode."""
+    def fields(self, x0: np.ndarray, uniform: bool = False) -> np.ndarray:
+        """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode.
+
+        ``uniform``: on the uniform modes only, (1, M, k) = G00 x0 (the pillar-level system's product,
+        `brushbem.protocol.pillar_cg`): the near blocks and the far sums' weights of the other modes are
+        left out.
+        """
+        modes = slice(0, 1) if uniform else slice(None)
         if self.lattice is None:
-            return (self.Gs.reshape(self.m * self.M, self.M) @ x0).reshape(self.m, self.M, x0.shape[1])
-        out = np.ascontiguousarray(np.matmul(self._near_uniform, x0[self.near_index]).transpose(1, 0, 2))
+            m = 1 if uniform else self.m
+            return (self.Gs[modes].reshape(m * self.M, self.M) @ x0).reshape(m, self.M, x0.shape[1])
+        out = np.ascontiguousarray(np.matmul(self._near_uniform[:, modes], x0[self.near_index]).transpose(1, 0, 2))
         out[0] += self.gram[:, :1] * x0
-        out += self.lattice.weighted_far_field(x0, *self._weights)
+        sources, targets = self._weights
+        out += self.lattice.weighted_far_field(x0, sources, targets[:, modes])
         return out
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:

@@ -101,55 +101,61 @@ class LatticeCG:
         z = scipy.fft.irfft2(scipy.fft.rfft2(grid) * self.inverse_spectrum, s=(py, px))
         return np.where(attached[:, None], z[:, iy, ix].T, 0.0)
 
-    def _product(self, x: np.ndarray, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """((G00 + H) x on S, fields of x) for x (M, k) zero off S."""
+    def _product(self, x: np.ndarray, attached: np.ndarray, columns: np.ndarray) -> np.ndarray:
+        """(G00 + H) x on S for x (M, k) zero off S: the uniform modes' field of the ``columns`` only."""
         model = self.model
         self.products += 1
-        fields = model.fields(x)
-        out = fields[0].copy()
-        for c in range(x.shape[1]):
-            out[:, c] += model.spring_product(x[:, c], attached)
-        return np.where(attached[:, None], out, 0.0), fields
+        out = np.zeros_like(x)
+        if not columns.any():
+            return out
+        part = x[:, columns]
+        product = model.fields(part, uniform=True)[0]
+        for c in range(part.shape[1]):
+            product[:, c] += model.spring_product(part[:, c], attached)
+        out[:, columns] = product
+        return np.where(attached[:, None], out, 0.0)
 
     def solve(self, attached: np.ndarray, rhs: np.ndarray, start: np.ndarray | None = None,
               tolerance: float = TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
         """(x, fields of x) with (G00 + H)_SS x = rhs on S (``attached``), x = 0 off S; rhs (M, k).
 
-        Every column runs its own CG (its own steps) and all share the product of each iteration;
-        a column stops where its relative residual is below ``tolerance``.  ``start``: a warm start
-        (restricted to S here).
+        Every column runs its own CG (its own steps) and the columns still short of ``tolerance`` (relative
+        residual) share the product of each iteration: the uniform modes' field only
+        (`PillarModel.fields` with ``uniform``); the fields of every mode are those of the solution, one
+        product more.  ``start``: a warm start (restricted to S here).
         """
         rhs = np.where(attached[:, None], rhs, 0.0)
         k = rhs.shape[1]
         norms = np.linalg.norm(rhs, axis=0)
-        x = np.zeros_like(rhs) if start is None else np.where(attached[:, None], start, 0.0)
-        product, fields = self._product(x, attached)
-        r = rhs - product
+        # A column of zeros has the solution zero, whatever the start.
+        x = np.zeros_like(rhs) if start is None else np.where(attached[:, None] & (norms > 0), start, 0.0)
+        everything = np.ones(k, dtype=bool)
+        r = rhs - self._product(x, attached, everything)
         active = np.linalg.norm(r, axis=0) > tolerance * norms
-        if not active.any():
-            return x, fields
+        residual = np.linalg.norm(r, axis=0)
         z = self.precondition(r, attached)
         p = z.copy()
         rz = np.sum(r * z, axis=0)
         for iteration in range(1, MAX_ITERATIONS + 1):
-            ap, fp = self._product(np.where(active, p, 0.0), attached)
+            if not active.any():
+                return x, self.model.fields(x)
+            ap = self._product(p, attached, active)
             curvature = np.sum(p * ap, axis=0)
-            step = np.where(active, rz / np.where(active & (curvature > 0), curvature, 1.0), 0.0)
             if bool(np.any(active & ~(curvature > 0))):
                 raise NotConverged("the pillar-level system is not positive definite on the attached set "
                                    f"(CG curvature {curvature.min():.3g} at iteration {iteration})")
+            step = np.where(active, rz / np.where(active, curvature, 1.0), 0.0)
             x += step * p
-            fields += step * fp
             r -= step * ap
             self.iterations += 1
             residual = np.linalg.norm(r, axis=0)
             active = residual > tolerance * norms
-            if not active.any():
-                return x, fields
             z = self.precondition(r, attached)
             rz_next = np.sum(r * z, axis=0)
             p = z + np.where(active, rz_next / np.where(active, rz, 1.0), 0.0) * p
             rz = rz_next
+        if not active.any():
+            return x, self.model.fields(x)
         worst = float(np.max(residual / np.where(norms > 0, norms, 1.0)))
         raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not {tolerance:g}, "
                            f"in {MAX_ITERATIONS} iterations ({int(attached.sum())} pillars attached, {k} right-hand sides)")

@@ -22,7 +22,10 @@ __all__ = ["KEPT_PILLARS", "Solver", "full_solve"]
 
 #: Attached pillars of a lattice brush beyond which the solve is CG (`LatticeCG`) instead of the kept
 #: inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None: always the kept inverse.
-KEPT_PILLARS: int | None = 4096
+#: Level chapter-5 brushes, k~ = 1e-2, CPU seconds (``benchmarks/large_brush.py --kept-baseline``):
+#: 32 x 32 2.4-2.7 with 512 against 2.7-3.1 kept; 48 x 48 6.0-6.6 with 1024 against 11.1-11.5;
+#: 64 x 64 16.4 against 35.4 with 4096.
+KEPT_PILLARS: int | None = 1024
 
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
 _RESIDUAL = 1e-10
@@ -255,7 +258,14 @@ class Solver:
         S = self.attached
         rhs = np.stack([np.where(S, model.force, 0.0), np.where(S, model.force * model.g, 0.0)], axis=1)
         if self.iterative:
-            sol, fields = self.cg.solve(S, rhs, start=self._last)
+            heights = model.g[S]
+            if heights.size and float(np.ptp(heights)) == 0.0:
+                # Level tips: the second right-hand side is the first times their common height.
+                sol, fields = self.cg.solve(S, rhs[:, :1], start=self._last[:, :1])
+                sol, fields = np.concatenate([sol, heights[0] * sol], axis=1), np.concatenate(
+                    [fields, heights[0] * fields], axis=2)
+            else:
+                sol, fields = self.cg.solve(S, rhs, start=self._last)
             self._last = sol
             return sol, fields
         for attempt in range(2):
