@@ -13,9 +13,11 @@ import math
 import numpy as np
 import pytest
 
+from brushbem.config import parse_config
 from brushbem.physics.structure import Grid, Level, brush
 from brushbem.protocol import ContactProblem, LoadPath, pillar_cg, pillar_solver, pillars, record_pull_off
 from brushbem.workflow.case import brush_scales
+from brushbem.workflow.resources import memory_estimate
 
 DGAMMA = 1e-4
 
@@ -109,3 +111,21 @@ def test_a_zero_right_hand_side_gives_zero_from_any_start():
     rhs = np.stack([model.force, np.zeros(model.M)], axis=1)
     x, _ = pillar_cg.LatticeCG(model).solve(attached, rhs, start=np.ones((model.M, 2)))
     assert not x[:, 1].any() and x[:, 0].any()
+
+
+def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypatch):
+    """The size study's 316 x 316 brush (N = 5056) by the pillar model: above its measured peaks (3.0-3.5 GB)
+    and within the 8 GB the model is meant to run in; the element path's estimate of the same grid is
+    far above (its operator's arrays per element)."""
+
+    config = {"grid": {"size": 1.0, "elements": 5056},
+              "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
+              "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 316,
+                           "pillar_radius": 0.000618484, "stiffness_ratio": 0.01},
+              "protocol": {"method": "pillars", "preload_force": 0.0075}}
+    monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "off")  # the element path's grid would not validate here
+    pillar_bytes = memory_estimate(parse_config(config))
+    config["protocol"]["method"] = "events"
+    element_bytes = memory_estimate(parse_config(config))
+    assert 3.5e9 < pillar_bytes < 8e9
+    assert element_bytes > 2 * pillar_bytes

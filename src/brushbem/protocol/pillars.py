@@ -37,7 +37,10 @@ Equilibrium
     pillar's length offset): a dense SPD system of the attached pillars
     whose inverse is kept and updated by rank-one steps as pillars join,
     leave or change shape (checked by its residual, refactorised when it
-    drifts).  The higher modes follow locally from the field that the
+    drifts); on a lattice with more than
+    `brushbem.protocol.pillar_solver.KEPT_PILLARS` attached, by CG on the
+    lattice's FFT product with a circulant preconditioner
+    (`brushbem.protocol.pillar_cg`), to a relative residual of 1e-11.  The higher modes follow locally from the field that the
     others' uniform modes cause across the tip (``coupling="local"``);
     ``coupling="full"`` solves all modes together (a dense factorisation per
     solve, small brushes).  Everything is affine in d on a fixed state, so,
@@ -86,20 +89,22 @@ concave brushes of 64, 256 and 1024 pillars at k~ = 10, 1e-2 and 1e-5,
 each against the exact path) hold every case within 1 % on F_A, 3 % on
 the work and 2 % on the pillars attached at pull-off.
 
-Cost: per event O(n^2) for the n attached pillars (the kept inverse) and
-O(M log M) for the M pillars of a lattice (the FFT, and a bound at pillar
-level on how far each free tip is from the surface, so that only the
-attached pillars and the free ones that may touch are looked at slot by
-slot); O(M^2) off a lattice.  On a lattice the memory is O(M) besides the
-kept inverse and G00, kept up to `brushbem.protocol.pillar_basis.DENSE_PILLARS`
-pillars and filled entry by entry as the solve reads it.  Measured on the
-chapter-5 family (``benchmarks/large_brush.py``, CPU seconds of one core):
-1024 pillars 3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``),
-4096 pillars 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at
-the preload), 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353
-attached, 10523 states).  A level brush attaches every pillar: its kept
-inverse is M x M (the ``size`` study's level brushes of 10^4 pillars:
-150-340 s); at 10^5 pillars that is 80 GB, out of reach.
+Cost: per event O(n^2) for the n attached pillars (the kept inverse), or
+O(M log M) per CG iteration beyond ``KEPT_PILLARS`` on a lattice (7-9
+iterations a solve), and O(M log M) for the M pillars of a lattice (the
+FFT, and a bound at pillar level on how far each free tip is from the
+surface, so that only the attached pillars and the free ones that may touch
+are looked at slot by slot); O(M^2) off a lattice.  On a lattice the memory
+is O(M) besides the kept inverse and G00, kept up to
+`brushbem.protocol.pillar_basis.DENSE_PILLARS` pillars and filled entry by
+entry as the solve reads it.  Measured on the chapter-5 family
+(``benchmarks/large_brush.py``, CPU seconds of one core): 1024 pillars
+3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``), 4096 pillars
+16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
+10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
+states).  A level brush attaches every pillar: with the kept inverse 10^4
+pillars took 353 s in 4.1 GB, by CG 87 s in 0.36 GB (the same F_A to 3e-12
+and work to 3e-10).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic

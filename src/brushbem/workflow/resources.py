@@ -45,6 +45,15 @@ _BASE_BYTES = 250e6
 _BYTES_PER_ELEMENT = {"flat_punch": 270.0, "sphere": 270.0, "height_map": 270.0, "brush": 700.0}
 _MARGIN = 1.1
 
+# The pillar model (protocol.method = "pillars") keeps no element-level operator: per element the
+# indenter's maps and the recorded snapshots, per pillar its bases and couplings (N = 16 n in the
+# measured families, so both scale alike).  Measured peaks (benchmarks/large_brush.py, the size study):
+# 0.36 GB (level, 10^4 pillars, N = 1600), 0.66 GB (rough, 10^4), 3.5 GB (rough, 10^5, N = 5056), 3.0 GB
+# (level, 10^5, mid-run); the result file's assembly adds its snapshots at the end.  Off a lattice it keeps
+# dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
+_PILLARS_BYTES_PER_ELEMENT = 200.0
+_PILLAR_MODES = 6
+
 # Bytes per element of result.nc, per recorded snapshot (pressure as float64,
 # contact as one byte), and the number of snapshots a pull-off records
 # (max_preload, zero_force, adhesive_force, half_detached, before_separation).
@@ -67,11 +76,29 @@ def memory_estimate(config: RunConfig) -> int:
         The estimate: the interpreter and its imports plus a cost per element
         of the N x N grid that depends on the indenter's shape (brushes keep
         pillar and spring maps beside the elastic arrays), with a margin over
-        the peaks measured by ``benchmarks/memory.py``.
+        the peaks measured by ``benchmarks/memory.py``; for the pillar model
+        (``protocol.method = "pillars"``) a smaller cost per element and its
+        dense pillar-level matrices instead.
     """
     elements = config.grid.elements**2
+    if config.protocol.method == "pillars" and config.indenter.shape == "brush":
+        return int(_MARGIN * (_BASE_BYTES + _PILLARS_BYTES_PER_ELEMENT * elements + _pillar_matrices(config)))
     per_element = _BYTES_PER_ELEMENT[config.indenter.shape]
     return int(_MARGIN * (_BASE_BYTES + per_element * elements))
+
+
+def _pillar_matrices(config: RunConfig) -> float:
+    """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (at most
+    ``KEPT_PILLARS`` attached, twice with its work array), every mode's couplings and the inverse off it."""
+    from brushbem.protocol.pillar_solver import KEPT_PILLARS
+
+    indenter = config.indenter
+    if indenter.layout == "random":
+        pillars = indenter.pillar_count or 0
+        return 8.0 * (_PILLAR_MODES + 2) * pillars**2
+    per_side = indenter.pillars_per_side or 0
+    kept = per_side**2 if KEPT_PILLARS is None else min(per_side**2, KEPT_PILLARS)
+    return 8.0 * 2 * kept**2
 
 
 def result_size_estimate(config: RunConfig) -> int:
