@@ -114,8 +114,8 @@ def test_a_zero_right_hand_side_gives_zero_from_any_start():
 
 
 def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypatch):
-    """The size study's 316 x 316 brush (N = 5056) by the pillar model: above its measured peaks (3.0-3.5 GB)
-    and within the 8 GB the model is meant to run in; the element path's estimate of the same grid is
+    """The size study's 316 x 316 brush (N = 5056) by the pillar model: above its measured peaks (3.0-3.5 GB,
+    5.8 GB sampled in a sweep's worker) and within the 8 GB the model is meant to run in; the element path's estimate of the same grid is
     far above (its operator's arrays per element)."""
 
     config = {"grid": {"size": 1.0, "elements": 5056},
@@ -127,5 +127,5 @@ def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypa
     pillar_bytes = memory_estimate(parse_config(config))
     config["protocol"]["method"] = "events"
     element_bytes = memory_estimate(parse_config(config))
-    assert 3.5e9 < pillar_bytes < 8e9
+    assert 5.8e9 < pillar_bytes < 8e9
     assert element_bytes > 2 * pillar_bytes
