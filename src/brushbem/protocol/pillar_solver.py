@@ -22,9 +22,9 @@ __all__ = ["KEPT_PILLARS", "Solver", "full_solve"]
 
 #: Attached pillars of a lattice brush beyond which the solve is CG (`LatticeCG`) instead of the kept
 #: inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None: always the kept inverse.
-#: Level chapter-5 brushes, k~ = 1e-2, CPU seconds (``benchmarks/large_brush.py --kept-baseline``):
-#: 32 x 32 2.4-2.7 with 512 against 2.7-3.1 kept; 48 x 48 6.0-6.6 with 1024 against 11.1-11.5;
-#: 64 x 64 16.4 against 35.4 with 4096.
+#: Level chapter-5 brushes, k~ = 1e-2, CPU seconds: 32 x 32 2.4-2.7 with a limit of 512 against 2.7-3.1
+#: kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against 39.4 kept, 100 x 100 42 against
+#: 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline``).
 KEPT_PILLARS: int | None = 1024
 
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
