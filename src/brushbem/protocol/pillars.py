@@ -222,7 +222,18 @@ class _Path:
         their rasters."""
         model = self.model
         on = self.on()
-        return np.where(model.raster[on], np.matmul(model.phi[on], x[on, :, None])[..., 0], 0.0)
+        # One product per group of pillars that share their footprint and raster (and so their modes'
+        # pressures, `PillarModel.surface_group`): every pillar of a level lattice in full contact is one.
+        out = np.zeros((on.size, model.phi.shape[1]))
+        if on.size == 0:
+            return out
+        _, inverse, counts = np.unique(model.surface_group[on], return_inverse=True, return_counts=True)
+        order = np.argsort(inverse, kind="stable")
+        for members in np.split(order, np.cumsum(counts)[:-1]):
+            pillars = on[members]
+            out[members] = x[pillars] @ model.phi[pillars[0]].T if members.size > 1 else model.phi[pillars[0]] @ x[
+                pillars[0]]
+        return np.where(model.raster[on], out, 0.0)
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
