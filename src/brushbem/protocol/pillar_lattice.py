@@ -149,12 +149,11 @@ class Lattice:
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
         # along x, and only the rows of the lattice come back along x.
         py, px = self.padded
-        grid = np.zeros((6, c, ny, px))
+        grid = np.zeros((6, c, ny, nx))
         grid[:, :, iy, ix] = sources[:, None, :] * x0.T[None]
-        half = scipy.fft.rfft(grid, axis=-1)
-        spectra = np.zeros((6, c, py, half.shape[-1]), dtype=half.dtype)
-        spectra[:, :, :ny] = half
-        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(spectra, axis=-2, overwrite_x=True)
+        # The transforms pad with zeros themselves (the same numbers as a padded copy, without it).
+        half = scipy.fft.rfft(grid, n=px, axis=-1)
+        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(half, n=py, axis=-2, overwrite_x=True)
         f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
         sums = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + hxx * s2xx) + hxy * s2xy,
                          gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
