@@ -95,6 +95,8 @@ class Solver:
 
     @property
     def B(self) -> np.ndarray:
+        if self.iterative:
+            raise RuntimeError("no kept inverse while the solve is CG (Solver.iterative); use inverse_product")
         return self._B[:self.n, :self.n]
 
     def _reserve(self, n: int) -> None:
