@@ -91,6 +91,15 @@ def _measure(per_side: int, method: str, args) -> dict:
     return result
 
 
+def _against(model: dict, reference: dict, ratio_key: str, prefix: str) -> dict:
+    """The reference's CPU time over the model's and the model's relative differences of F_A and the work."""
+    if "done" not in model or "done" not in reference:
+        return {}
+    return {ratio_key: round(reference["cpu_seconds"] / model["cpu_seconds"], 2),
+            f"{prefix}adhesive_force_rel_diff": model["adhesive_force"] / reference["adhesive_force"] - 1,
+            f"{prefix}work_rel_diff": model["work_of_separation"] / reference["work_of_separation"] - 1}
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
         per_side, method, ratio, sigma, seed = sys.argv[2:7]
@@ -111,18 +120,12 @@ def main() -> None:
                 "pillars_method": _measure(per_side, "pillars", args)}
         if args.kept_baseline:
             line["kept_inverse"] = _measure(per_side, "pillars-kept", args)
-            model, kept = line["pillars_method"], line["kept_inverse"]
-            if "done" in model and "done" in kept:
-                line["cpu_ratio_kept_over_default"] = round(kept["cpu_seconds"] / model["cpu_seconds"], 2)
-                line["kept_adhesive_force_rel_diff"] = model["adhesive_force"] / kept["adhesive_force"] - 1
-                line["kept_work_rel_diff"] = model["work_of_separation"] / kept["work_of_separation"] - 1
+            line.update(_against(line["pillars_method"], line["kept_inverse"], "cpu_ratio_kept_over_default",
+                                 "kept_"))
         if per_side <= args.exact_max:
             line["events_method"] = _measure(per_side, "events", args)
-            model, exact = line["pillars_method"], line["events_method"]
-            if "done" in model and "done" in exact:
-                line["cpu_ratio_events_over_pillars"] = round(exact["cpu_seconds"] / model["cpu_seconds"], 2)
-                line["adhesive_force_rel_diff"] = model["adhesive_force"] / exact["adhesive_force"] - 1
-                line["work_rel_diff"] = model["work_of_separation"] / exact["work_of_separation"] - 1
+            line.update(_against(line["pillars_method"], line["events_method"], "cpu_ratio_events_over_pillars",
+                                 ""))
         print(json.dumps(line), flush=True)
 
 
