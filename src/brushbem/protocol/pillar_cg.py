@@ -131,16 +131,15 @@ class LatticeCG:
         norms = np.linalg.norm(rhs, axis=0)
         # A column of zeros has the solution zero, whatever the start.
         x = np.zeros_like(rhs) if start is None else np.where(attached[:, None] & (norms > 0), start, 0.0)
-        everything = np.ones(k, dtype=bool)
-        r = rhs - self._product(x, attached, everything)
-        active = np.linalg.norm(r, axis=0) > tolerance * norms
+        r = rhs - self._product(x, attached, np.ones(k, dtype=bool))
         residual = np.linalg.norm(r, axis=0)
+        active = residual > tolerance * norms
+        if not active.any():
+            return x, self.model.fields(x)
         z = self.precondition(r, attached)
         p = z.copy()
         rz = np.sum(r * z, axis=0)
         for iteration in range(1, MAX_ITERATIONS + 1):
-            if not active.any():
-                return x, self.model.fields(x)
             ap = self._product(p, attached, active)
             curvature = np.sum(p * ap, axis=0)
             if bool(np.any(active & ~(curvature > 0))):
@@ -152,12 +151,13 @@ class LatticeCG:
             self.iterations += 1
             residual = np.linalg.norm(r, axis=0)
             active = residual > tolerance * norms
+            if not active.any():
+                return x, self.model.fields(x)
             z = self.precondition(r, attached)
             rz_next = np.sum(r * z, axis=0)
             p = z + np.where(active, rz_next / np.where(active, rz, 1.0), 0.0) * p
             rz = rz_next
-        if not active.any():
-            return x, self.model.fields(x)
         worst = float(np.max(residual / np.where(norms > 0, norms, 1.0)))
         raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not {tolerance:g}, "
-                           f"in {MAX_ITERATIONS} iterations ({int(attached.sum())} pillars attached, {k} right-hand sides)")
+                           f"in {MAX_ITERATIONS} iterations ({int(attached.sum())} pillars attached, "
+                           f"{k} right-hand sides)")

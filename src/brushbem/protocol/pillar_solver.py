@@ -74,8 +74,9 @@ class Solver:
             self._cg = LatticeCG(self.model)
         return self._cg
 
-    def _goes_iterative(self, attached: int) -> bool:
-        """Whether ``attached`` pillars are beyond the kept inverse: then the inverse is dropped."""
+    def _drop_inverse_beyond_kept(self, attached: int) -> bool:
+        """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond ``KEPT_PILLARS``;
+        whether it did."""
         if KEPT_PILLARS is None or self.model.lattice is None or attached <= KEPT_PILLARS:
             return False
         self.iterative = True
@@ -115,7 +116,7 @@ class Solver:
         model = self.model
         S = np.flatnonzero(self.attached)
         self.updates = 0
-        if self._goes_iterative(S.size):
+        if self._drop_inverse_beyond_kept(S.size):
             return
         self.iterative = False
         self.position[:] = -1
@@ -148,7 +149,7 @@ class Solver:
         self.updates += 1
 
     def add(self, p: int) -> None:
-        if self.iterative or self._goes_iterative(self.n + 1):
+        if self.iterative or self._drop_inverse_beyond_kept(self.n + 1):
             self._mark(p, True)
             return
         model = self.model
@@ -217,7 +218,7 @@ class Solver:
     def add_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once: one block (Schur complement) update, O(n^2 k) in one pass over B."""
         pillars = np.asarray(pillars, dtype=np.int64)
-        if self.iterative or self._goes_iterative(self.n + pillars.size):
+        if self.iterative or self._drop_inverse_beyond_kept(self.n + pillars.size):
             self._mark(pillars, True)
             return
         if pillars.size <= 1 or self.n == 0:

@@ -40,7 +40,8 @@ Equilibrium
     drifts); on a lattice with more than
     `brushbem.protocol.pillar_solver.KEPT_PILLARS` attached, by CG on the
     lattice's FFT product with a circulant preconditioner
-    (`brushbem.protocol.pillar_cg`), to a relative residual of 1e-11.  The higher modes follow locally from the field that the
+    (`brushbem.protocol.pillar_cg`), to a relative residual of 1e-11.  The
+    higher modes follow locally from the field that the
     others' uniform modes cause across the tip (``coupling="local"``);
     ``coupling="full"`` solves all modes together (a dense factorisation per
     solve, small brushes).  Everything is affine in d on a fixed state, so,
@@ -231,8 +232,7 @@ class _Path:
         order = np.argsort(inverse, kind="stable")
         for members in np.split(order, np.cumsum(counts)[:-1]):
             pillars = on[members]
-            out[members] = x[pillars] @ model.phi[pillars[0]].T if members.size > 1 else model.phi[pillars[0]] @ x[
-                pillars[0]]
+            out[members] = x[pillars] @ model.phi[pillars[0]].T
         return np.where(model.raster[on], out, 0.0)
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,

@@ -48,9 +48,9 @@ _MARGIN = 1.1
 # The pillar model (protocol.method = "pillars") keeps no element-level operator: per element the
 # indenter's maps and the recorded snapshots, per pillar its bases and couplings (N = 16 n in the
 # measured families, so both scale alike).  Measured peaks (benchmarks/large_brush.py, the size study):
-# 0.36 GB (level, 10^4 pillars, N = 1600), 0.66 GB (rough, 10^4), 3.5 GB (rough, 10^5, N = 5056; 5.8 GB
-# sampled in a sweep's worker), 3.0 GB (level, 10^5, mid-run); 6.7 GB estimated at 10^5.  Off a lattice it keeps
-# dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
+# 0.36 GB (level, 10^4 pillars, N = 1600), 0.66 GB (rough, 10^4), 3.1-3.2 GB (level, 10^5, N = 5056),
+# 3.5 GB (rough, 10^5; 5.8 GB sampled in a sweep's worker); 6.7 GB estimated at 10^5.  Off a lattice it
+# keeps dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
 _PILLARS_BYTES_PER_ELEMENT = 230.0
 _PILLAR_MODES = 6
 
