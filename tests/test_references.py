@@ -38,15 +38,22 @@ TOLERANCE = 1e-12
 #: rough brushes of `tests/test_event_path_speedups.py`, which check the switches, move by 1e-13 or less).
 STUDY_TOLERANCE = {"flat_brush": 2e-10}
 
+#: Cases that may move by more than ``TOLERANCE`` (never more than 1e-9).  The brushes' solves take their
+#: last products in single precision (`brushbem.numerics.solver.cg.ProductLedger`): each chain of kept
+#: deflections carries at most 3 % of the converged residual of the CG's tolerance 1e-8, which moves F_A
+#: by 1.1e-12 on the rough 8 x 8 brush and by 1.2e-11 on the default example's 16 x 16 one (measured).
+CASE_TOLERANCE = {"brush_8x8": 1e-10, "default_example": 1e-10}
+
 
 def _assert_case(name: str, now: dict) -> None:
     then = RECORDED["cases"][name]
+    tolerance = CASE_TOLERANCE.get(name, TOLERANCE)
     assert now["n_solves"] == then["n_solves"], name
     for key in ("adhesive_force", "work_of_separation", "pull_off_displacement"):
-        assert now[key] == pytest.approx(then[key], rel=TOLERANCE, abs=1e-300), (name, key)
+        assert now[key] == pytest.approx(then[key], rel=tolerance, abs=1e-300), (name, key)
     for key in ("displacement", "force"):
         scale = max(abs(v) for v in then[key])
-        np.testing.assert_allclose(now[key], then[key], rtol=TOLERANCE, atol=TOLERANCE * scale, err_msg=name)
+        np.testing.assert_allclose(now[key], then[key], rtol=tolerance, atol=tolerance * scale, err_msg=name)
 
 
 @pytest.mark.parametrize("name", sorted(record.CASES))

@@ -34,6 +34,7 @@ from brushbem.numerics import backend
 from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.numerics.solver import (
     Equilibrium,
+    ProductLedger,
     Settings,
     Start,
     equilibrium,
@@ -82,6 +83,9 @@ class Tracker:
         # (contact array, window, dp, K dp): how the last cascade changed the
         # pressure beyond the affine prediction, for the next unit response.
         self._pressure_change: tuple | None = None
+        # The error that single-precision products left in the kept deflections of the equilibria and
+        # of the unit responses (`brushbem.numerics.solver.cg.ProductLedger`).
+        self._ledgers = (ProductLedger(), ProductLedger())
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
         self._footprint_elements: tuple | None = None  # (window, footprint, rows, cols): `footprint_elements`
 
@@ -305,7 +309,7 @@ class Tracker:
                     attach=None if force_attach is None else force_attach[sl],
                 )
                 eq = equilibrium(self.operator, height, displacement, start, critical=self.critical,
-                                 settings=self.settings, length_scale=self.length_scale)
+                                 settings=self.settings, length_scale=self.length_scale, ledger=self._ledgers[0])
             iterations += eq.cg_iterations
             solves += eq.n_solves
             if trial is None:
@@ -362,6 +366,7 @@ class Tracker:
         """Drop every cached deflection and the unit response (the next ones are computed afresh)."""
         self._known_deflection = self._unit_deflection = self._pressure_change = None
         self.unit = None
+        self._ledgers = (ProductLedger(), ProductLedger())
 
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
@@ -427,7 +432,7 @@ class Tracker:
             operator, block_contact, ones,
             initial=None if initial is None else initial[block],
             initial_product=None if product is None else product[block],
-            tolerance=self.path.tolerance, max_iterations=self.path.max_iterations,
+            tolerance=self.path.tolerance, max_iterations=self.path.max_iterations, ledger=self._ledgers[1],
         )
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution

@@ -42,7 +42,14 @@ class BlockDeflection:
             self._start = (initial_on_set, initial_product)
 
     def apply(self, values):
-        out, whole = self.system.apply_block(values)
+        return self._apply(values, False)
+
+    def apply_single(self, values):
+        """`apply` with single-precision transforms (`ContactSystem.apply_single`)."""
+        return self._apply(values, True)
+
+    def _apply(self, values, single: bool):
+        out, whole = self.system.apply_block(values, single)
         if self._product is None:
             self._product = whole
         else:

@@ -10,8 +10,8 @@ from typing import Any, Protocol
 
 from brushbem.numerics import backend
 
-__all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "SetOperator", "SolveResult",
-           "conjugate_gradient"]
+__all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "ProductLedger", "SetOperator",
+           "SolveResult", "conjugate_gradient"]
 
 
 #: Smallest relative residual ||r|| / ||rhs|| that a CG solve is asked to
@@ -20,6 +20,45 @@ __all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", 
 #: (`tests/test_reliability_numerics.py`); below that the recursion's
 #: residual drifts from the true one.
 ROUNDING_FLOOR = 16 * 2.0**-52
+
+@dataclass
+class ProductLedger:
+    """The error that single-precision products have left in a chain of kept deflections.
+
+    A solve that keeps its solution's deflection from its own products
+    (`brushbem.numerics.solver.block_deflection.BlockDeflection`) hands it to
+    the next solve of the same chain (the equilibria of a pull-off, or its
+    unit responses) as the product of its warm start, without a transform.
+    An error E of a product thus stays in the residual of every later solve
+    of the chain, which converges to the residual it is told, not the true
+    one, until the deflection is transformed afresh.  ``carried`` bounds the
+    2-norm on the contact set of the error the chain carries (units of the
+    right-hand side); ``scale`` is the converged residual ||r|| of the
+    chain's last solve, the unit of the shares below.  ``conjugate_gradient``
+    takes a product in single precision only while ``carried`` stays below
+    ``CHAIN_SHARE`` x ``scale``; the solve that leaves it above
+    ``REFRESH_SHARE`` x ``scale`` does not keep its deflection
+    (`brushbem.numerics.solver.set_solve.solve_on_set`), so that its caller
+    transforms it afresh, and the chain starts again from zero.
+    """
+
+    carried: float = 0.0
+    scale: float = 0.0
+
+    def due(self) -> bool:
+        """Whether the chain's next kept deflection must be transformed afresh (and the ledger cleared)."""
+        return self.carried > REFRESH_SHARE * self.scale
+
+
+#: Most that one single-precision product may add to a chain's error, as a share of the solve's
+#: converged residual: a product is single only once the residual has fallen that far below the
+#: right-hand side (the last one or two iterations of a warm-started solve).
+PRODUCT_SHARE = 0.002
+#: Most error a chain of kept deflections may carry, as a share of the converged residual.
+CHAIN_SHARE = 0.03
+#: Carried error beyond which the chain's next kept deflection is transformed afresh (below
+#: ``CHAIN_SHARE`` by more than a product's share, so that the products stay single until then).
+REFRESH_SHARE = 0.02
 
 #: SolveResult.reason when the warm start already met the tolerance (solution = initial on the mask).
 WARM_START_WITHIN_TOLERANCE = "initial guess within tolerance"
@@ -94,6 +133,8 @@ def conjugate_gradient(
     max_iterations: int = 10000,
     reference=None,
     on_step=None,
+    inexact: float | None = None,
+    ledger: ProductLedger | None = None,
 ) -> SolveResult:
     """Preconditioned CG for A_S x = rhs on the set S of ``operator``.
 
@@ -130,6 +171,20 @@ def conjugate_gradient(
         ``on_step(step)`` after every update x += step * direction, the
         direction being the last vector ``operator.apply`` was given: lets
         the operator keep a product of x in step with x.
+    inexact, ledger : float and ProductLedger, optional
+        With both, and an operator with ``apply_single`` (A_S with
+        single-precision transforms, of relative error at most ``inexact``),
+        an iteration takes its product in single precision when the error
+        that adds, |step| ``inexact`` ||A d|| (predicted as 2 ``inexact``
+        ||r||, the residual's fall), is at most ``PRODUCT_SHARE`` of the
+        residual the solve converges to and keeps the error the chain
+        carries below ``CHAIN_SHARE`` of it (`ProductLedger`): the late
+        iterations of a warm-started solve, whose products only refine what
+        the early ones found, may be inexact in proportion to how small the
+        residual already is (relaxed inexact Krylov methods: Simoncini and
+        Szyld, SIAM J. Sci. Comput. 25, 2003, 454-477).  The solution is the
+        one of double-precision products to within that share of the
+        tolerance.
 
     Why one function: the iteration and its stopping tests (tolerance, reference norm, rounding floor,
     stagnation, limit) share the state x, r, z, p and the norms of every step; split, each piece would take
@@ -191,8 +246,17 @@ def conjugate_gradient(
     # x as it was: on the host before the step, on the device through a step of 0.
     host = backend.is_numpy_namespace(xp)
     rz = _dot(xp, residual, direction) if host else xp.sum(residual * direction)
+    single_apply = getattr(operator, "apply_single", None) if host and inexact and ledger is not None else None
+    if single_apply is not None:
+        # The residual the solve converges to (tolerance x the smaller of the two norms it is measured by).
+        ledger.scale = tolerance * min(rhs_norm, float(reference(x)) if reference is not None else rhs_norm)
     for iteration in range(1, max_iterations + 1):
-        a_direction = apply(direction)
+        single = False
+        if single_apply is not None:
+            added = 2.0 * inexact * relative * rhs_norm
+            single = (added <= PRODUCT_SHARE * ledger.scale
+                      and ledger.carried + added <= CHAIN_SHARE * ledger.scale)
+        a_direction = single_apply(direction) if single else apply(direction)
         if host:
             curvature = _dot(xp, direction, a_direction)
             if not (curvature > 0.0) or not math.isfinite(curvature):
@@ -205,6 +269,8 @@ def conjugate_gradient(
         x += step * direction
         if on_step is not None:
             on_step(step)
+        if single:
+            ledger.carried += inexact * abs(step) * _norm(xp, a_direction)
         residual -= step * a_direction
         if host:
             squared = _dot(xp, residual, residual)

@@ -15,7 +15,7 @@ import numpy as np
 from brushbem.numerics import backend
 from brushbem.numerics.operator import ContactOperator
 from brushbem.numerics.solver.cascade_deflection import moved_deflection
-from brushbem.numerics.solver.cg import WARM_START_WITHIN_TOLERANCE
+from brushbem.numerics.solver.cg import WARM_START_WITHIN_TOLERANCE, ProductLedger
 from brushbem.numerics.solver.preconditioners import BLOCK_LIMIT, laplacian_preconditioner
 from brushbem.numerics.solver.set_solve import solve_on_set
 
@@ -253,6 +253,7 @@ def equilibrium(
     critical: float,
     settings: Settings = Settings(),
     length_scale: float = 0.0,
+    ledger: ProductLedger | None = None,
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
 
@@ -277,6 +278,10 @@ def equilibrium(
         of this, |d| and the largest |d - height|; near d = 0 (a flat tip
         pulled back to its zero without adhesion) |d| alone would let
         rounding errors of the pressure keep the contact forever.
+    ledger : ProductLedger, optional
+        The chain of kept deflections that ``start.deflection`` belongs to:
+        the solves may then take their late products in single precision
+        (`solve_on_set`).
 
     The loop (solve on S, drop the elements beyond the criterion, add the
     penetrating ones, until neither happens) is written out in one function:
@@ -306,7 +311,7 @@ def equilibrium(
 
     for _ in range(settings.max_rounds):
         if bool(xp.any(contact)):
-            result, block = _solve(operator, contact, target, pressure, deflection, settings)
+            result, block = _solve(operator, contact, target, pressure, deflection, settings, ledger)
             iterations += result.iterations
             solves += 1
             if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
@@ -377,7 +382,8 @@ def _apply_event(operator: ContactOperator, footprint, start: Start, critical: f
     return contact, xp.where(contact, pressure, 0.0) if outside else pressure, deflection, detached, attached
 
 
-def _solve(operator: ContactOperator, contact, target, pressure, deflection, settings: Settings):
+def _solve(operator: ContactOperator, contact, target, pressure, deflection, settings: Settings,
+           ledger: ProductLedger | None = None):
     """One solve on S: on the block around S, or on the whole window with the settings' preconditioner.
 
     Returns the solve's result and the slices of the window it covers.
@@ -390,7 +396,7 @@ def _solve(operator: ContactOperator, contact, target, pressure, deflection, set
     result = solve_on_set(
         block_operator, contact[block], target[block], pressure[block],
         None if deflection is None else deflection[block], settings.tolerance, settings.max_iterations,
-        settings.window_preconditioner,
+        settings.window_preconditioner, ledger,
     )
     return result, block
 

@@ -5,8 +5,9 @@ preconditioner (brushes of a few pillars, NumPy) or on the window's arrays with
 the contact preconditioner.  On the pillar blocks it keeps the solution's tip
 deflection in step with the iterations (`BlockDeflection`) and reuses the
 system and preconditioner of the operator's last solve on the same set
-(`_set_solver`).  ``REUSE_SET_SOLVER`` and ``KEEP_SOLUTION_DEFLECTION`` switch
-these two off (tests and benchmarks set them by attribute on this module).
+(`_set_solver`).  ``REUSE_SET_SOLVER``, ``KEEP_SOLUTION_DEFLECTION`` and
+``SINGLE_PRODUCTS`` (the late iterations' products in single precision) switch
+these off (tests and benchmarks set them by attribute on this module).
 """
 
 from __future__ import annotations
@@ -16,16 +17,17 @@ import dataclasses
 import numpy as np
 
 from brushbem.numerics import backend
-from brushbem.numerics.operator import ContactOperator, MaskedOperator
+from brushbem.numerics.operator import SINGLE_ERROR, ContactOperator, MaskedOperator
 from brushbem.numerics.solver.block_deflection import BlockDeflection
-from brushbem.numerics.solver.cg import SolveResult, _norm, conjugate_gradient
+from brushbem.numerics.solver.cg import ProductLedger, SolveResult, _norm, conjugate_gradient
 from brushbem.numerics.solver.preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
 __all__ = ["KEEP_SOLUTION_DEFLECTION", "REUSE_SET_SOLVER", "solve_on_set"]
 
 
 def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
-                 tolerance: float = 1e-8, max_iterations: int = 10000, preconditioner=None) -> SolveResult:
+                 tolerance: float = 1e-8, max_iterations: int = 10000, preconditioner=None,
+                 ledger: ProductLedger | None = None) -> SolveResult:
     """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
 
     On a brush of 2 to ``MAX_BLOCK_PILLARS`` pillars whose contacts have at
@@ -45,7 +47,11 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     the solution returns it without a transform; ``initial_product`` must
     then be `ContactOperator.tip_deflection` of ``initial`` restricted to S
     on the whole window, not only its values on S (as both callers, the
-    equilibrium and the tracker's unit response, have it).
+    equilibrium and the tracker's unit response, have it).  With a
+    ``ledger`` (the chain of kept deflections this solve continues), the
+    late iterations there take their products in single precision
+    (``SINGLE_PRODUCTS``, `ProductLedger`); a solve that leaves the chain's
+    error due for a refresh does not keep its deflection.
     """
     xp = operator.xp
     if (preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS
@@ -56,6 +62,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
             initial_on_set = None if initial is None else system.gather(initial)
             tracked = (BlockDeflection(system, initial_on_set, initial_product)
                        if KEEP_SOLUTION_DEFLECTION and system.gives_block_deflection else None)
+            single = SINGLE_PRODUCTS and ledger is not None and tracked is not None
             result = conjugate_gradient(
                 system if tracked is None else tracked,
                 rhs_on_set,
@@ -66,9 +73,15 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
                 initial_product=None if initial_product is None else system.gather(initial_product),
                 reference=lambda v: _norm(xp, rhs_on_set - system.spring_deflection(v)),
                 on_step=None if tracked is None else tracked.moved,
+                inexact=SINGLE_ERROR if single else None,
+                ledger=ledger,
             )
             solution = system.scatter(result.solution)
             kept = None if tracked is None or not result.converged else tracked.tip_deflection(result.solution)
+            if single and ledger.due():
+                # The chain's deflection is transformed afresh by the caller (`ProductLedger`).
+                kept = None
+                ledger.carried = 0.0
             if kept is not None:
                 operator.remember_solution(xp.asarray(solution, copy=True), kept)
             return dataclasses.replace(result, solution=solution)
@@ -88,6 +101,10 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
 
 #: Whether a solve on the set of the operator's last pillar-block solve reuses its system and preconditioner.
 REUSE_SET_SOLVER = True
+
+#: Whether a pillar-block solve given a `ProductLedger` takes its late iterations' products in single
+#: precision (`ContactSystem.apply_single`, ``conjugate_gradient``'s ``inexact``).
+SINGLE_PRODUCTS = True
 
 #: Whether a pillar-block solve keeps its solution's tip deflection on the window (`BlockDeflection`).
 KEEP_SOLUTION_DEFLECTION = True
