@@ -33,7 +33,7 @@ SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / 
 DGAMMA, PHI = 1e-4, 0.12
 SIZES = {"full": [8, 16, 32, 48, 64, 80, 100], "quick": [4, 6, 8]}
 #: Sizes of the full grid beyond 10^4 pillars, by part.
-BEYOND = {"stiff": [316], "soft": [316], "softer": [316], "rough_small": [316], "rough_large": [316]}
+BEYOND = {"stiff": [316], "soft": [316], "softer": [316], "rough_large": [316]}
 PARTS = {
     "stiff": (10.0, 0.0),
     "soft": (1e-2, 0.0),

@@ -39,7 +39,11 @@ class ProductLedger:
     ``CHAIN_SHARE`` x ``scale``; the solve that leaves it above
     ``REFRESH_SHARE`` x ``scale`` does not keep its deflection
     (`brushbem.numerics.solver.set_solve.solve_on_set`), so that its caller
-    transforms it afresh, and the chain starts again from zero.
+    transforms it afresh, and the chain starts again from zero.  The two
+    chains of the event path exchange deflections (the state on an event's
+    threshold adds the displacement step times the unit response's, the
+    unit guess takes the cascade's change), so each carries at most its own
+    share and, scaled so, the other's.
     """
 
     carried: float = 0.0
