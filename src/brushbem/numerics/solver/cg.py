@@ -49,6 +49,16 @@ class ProductLedger:
     carried: float = 0.0
     scale: float = 0.0
 
+    def admits(self, scale: float) -> bool:
+        """Whether a solve that converges to the residual ``scale`` may start from the chain's kept deflection.
+
+        The chain's converged residuals can fall by orders of magnitude from
+        one solve to the next (a soft brush whose springs take over the
+        right-hand side): an error that was a small share of the last one
+        may exceed the next solve's whole tolerance.
+        """
+        return self.carried <= CHAIN_SHARE * scale
+
     def due(self) -> bool:
         """Whether the chain's next kept deflection must be transformed afresh (and the ledger cleared)."""
         return self.carried > REFRESH_SHARE * self.scale
@@ -182,7 +192,8 @@ def conjugate_gradient(
         that adds, |step| ``inexact`` ||A d|| (predicted as 2 ``inexact``
         ||r||, the residual's fall), is at most ``PRODUCT_SHARE`` of the
         residual the solve converges to and keeps the error the chain
-        carries below ``CHAIN_SHARE`` of it (`ProductLedger`): the late
+        carries below ``CHAIN_SHARE`` of it (`ProductLedger`; the residual
+        measured by the reference norm at the current iterate): the late
         iterations of a warm-started solve, whose products only refine what
         the early ones found, may be inexact in proportion to how small the
         residual already is (relaxed inexact Krylov methods: Simoncini and
@@ -258,8 +269,13 @@ def conjugate_gradient(
         single = False
         if single_apply is not None:
             added = 2.0 * inexact * relative * rhs_norm
-            single = (added <= PRODUCT_SHARE * ledger.scale
-                      and ledger.carried + added <= CHAIN_SHARE * ledger.scale)
+            single = _affords(ledger, added)
+            if single and reference is not None:
+                # The half-space part at this iterate, not at the start: a cold start's is far larger than
+                # the solution's where springs carry most of the right-hand side.
+                halfspace = float(reference(x))
+                ledger.scale = tolerance * min(rhs_norm, halfspace)
+                single = _affords(ledger, added)
         a_direction = single_apply(direction) if single else apply(direction)
         if host:
             curvature = _dot(xp, direction, a_direction)
@@ -302,6 +318,11 @@ def conjugate_gradient(
     return SolveResult(
         x, False, f"no convergence in {max_iterations} iterations", max_iterations, relative, tuple(history)
     )
+
+
+def _affords(ledger: ProductLedger, added: float) -> bool:
+    """Whether a single-precision product that adds ``added`` to the chain's error fits its shares."""
+    return added <= PRODUCT_SHARE * ledger.scale and ledger.carried + added <= CHAIN_SHARE * ledger.scale
 
 
 def _not_positive(x, curvature: float, iteration: int, relative: float, history: list[float]) -> SolveResult:
