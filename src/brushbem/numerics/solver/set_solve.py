@@ -22,7 +22,7 @@ from brushbem.numerics.solver.block_deflection import BlockDeflection
 from brushbem.numerics.solver.cg import ProductLedger, SolveResult, _norm, conjugate_gradient
 from brushbem.numerics.solver.preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
-__all__ = ["KEEP_SOLUTION_DEFLECTION", "REUSE_SET_SOLVER", "solve_on_set"]
+__all__ = ["KEEP_SOLUTION_DEFLECTION", "REUSE_SET_SOLVER", "SINGLE_PRODUCTS", "solve_on_set"]
 
 
 def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
