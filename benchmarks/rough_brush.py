@@ -23,7 +23,8 @@ against it (``events / reference - 1``):
 
 ``--transforms`` also counts, in one more run of the events path, the padded
 convolutions (the FFT pairs that every CG product and every deflection
-costs), their median time, the events of the pull-off and the solves per
+costs), their median time, those of them in single precision (the late CG
+iterations' products, `brushbem.numerics.solver.cg.ProductLedger`), the events of the pull-off and the solves per
 event, and prints the floor they imply for any path that solves the
 contact set exactly after each event: two solves per event (the state and
 its unit response), each at least one product, at the measured cost of a
@@ -70,6 +71,7 @@ def _counted_transforms():
     """Count and time `backend.padded_convolution` and `padded_convolution_rows` while the block runs."""
     times: dict[str, list[float]] = {"padded_convolution": [], "padded_convolution_rows": []}
     originals = {name: getattr(backend, name) for name in times}
+    times["single"] = []  # the products of padded_convolution_rows in single precision, among its others
 
     def timed(name):
         original = originals[name]
@@ -80,9 +82,11 @@ def _counted_transforms():
                 return original(*args, **kwargs)
             finally:
                 times[name].append(time.perf_counter() - start)
+                if name == "padded_convolution_rows" and args[1].dtype == "float32":
+                    times["single"].append(times[name][-1])
         return wrapper
 
-    for name in times:
+    for name in originals:
         setattr(backend, name, timed(name))
     try:
         yield times
@@ -103,6 +107,8 @@ def _transform_line(problem: ContactProblem, path: LoadPath) -> dict:
     return {
         "products": len(rows),
         "product_ms": round(1e3 * product, 3),
+        "single_products": len(times["single"]),
+        "single_product_ms": round(1e3 * statistics.median(times["single"]), 3) if times["single"] else None,
         "full_transforms": len(full),
         "full_transform_ms": round(1e3 * statistics.median(full), 3) if full else None,
         "transform_seconds": round(sum(rows) + sum(full), 2),
