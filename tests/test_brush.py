@@ -212,7 +212,7 @@ def test_spring_preconditioner_is_symmetric_positive_definite_for_a_hierarchy():
     apply = spring_preconditioner(operator, mask)
     x, y = (rng.standard_normal(mask.shape) * mask for _ in range(2))
     xmy, ymx = float(np.sum(x * apply(y))), float(np.sum(y * apply(x)))
-    assert xmy == pytest.approx(ymx, rel=1e-10)
+    assert xmy == pytest.approx(ymx, rel=1e-10, abs=0.0)
     assert float(np.sum(x * apply(x))) > 0 and float(np.sum(y * apply(y))) > 0
 
 
@@ -277,7 +277,7 @@ def test_pillar_block_preconditioner_is_symmetric_positive_definite_for_a_hierar
     rng = np.random.default_rng(4)
     x, y = rng.standard_normal((2, system.size))
     xmy, ymx = float(x @ apply(y)), float(y @ apply(x))
-    assert xmy == pytest.approx(ymx, rel=1e-10)
+    assert xmy == pytest.approx(ymx, rel=1e-10, abs=0.0)
     assert float(x @ apply(x)) > 0 and float(y @ apply(y)) > 0
 
 
@@ -396,14 +396,14 @@ def test_one_pillar_brush_equals_the_punch_on_a_spring():
     a = _pull_off(_brush(pillars_per_side=1, pillar_radius=0.2, stiffness=k))
     b = _pull_off(flat_punch(GRID, 0.2, k))
     for key in ("adhesive_force", "pull_off_displacement", "work_of_separation", "n_states"):
-        assert a[key] == pytest.approx(b[key], rel=1e-10), key
+        assert a[key] == pytest.approx(b[key], rel=1e-10, abs=0.0), key
 
 
 def test_hierarchy_limits():
     one = _pull_off(_brush(stiffness=0.01))["adhesive_force"]
     # A rigid second level adds nothing.
     two_rigid = _pull_off(_brush(stiffness=0.01, levels=(Level(2, math.inf),)))["adhesive_force"]
-    assert two_rigid == pytest.approx(one, rel=1e-12)
+    assert two_rigid == pytest.approx(one, rel=1e-12, abs=0.0)
     # ... and a very stiff one approaches it (its stretch is 1e-6 of the pillars').
     two_stiff = _pull_off(_brush(stiffness=0.01, levels=(Level(2, 1e4),)))["adhesive_force"]
     assert two_stiff == pytest.approx(one, rel=1e-3)
@@ -519,7 +519,7 @@ def test_brush_outputs(brush_8x8, tmp_path):
         assert name in data, name
     # The pillar forces add up to the total force at the adhesive-force moment.
     snap = next(s for s in result.snapshots if s.name == "adhesive_force")
-    assert snap.pillar_force.sum() == pytest.approx(snap.force, rel=1e-12)
+    assert snap.pillar_force.sum() == pytest.approx(snap.force, rel=1e-12, abs=0.0)
     assert result.summary["normalized"]["attached_pillars_at_pull_off"] <= 64
     assert result.summary["mean_cg_iterations_per_solve"] > 0
     # The snapshot fields are stored gzip-compressed and read back bit for bit (a brush's fields

@@ -65,9 +65,9 @@ def test_positions_form_square_clusters_with_the_stated_gaps():
     assert two_d2 == pytest.approx(p2 - s2) and two_d3 == pytest.approx(p3 - s3)
     assert min(two_w, two_d2, two_d3) > 0
     # The filling factors they realise, by their definitions.
-    assert math.pi * r1**2 * 2**2 / s2**2 == pytest.approx(PHI[0], rel=1e-12)
-    assert 2**2 * s2**2 / s3**2 == pytest.approx(PHI[1], rel=1e-12)
-    assert 2**2 * s3**2 / 1.0**2 == pytest.approx(PHI[2], rel=1e-12)
+    assert math.pi * r1**2 * 2**2 / s2**2 == pytest.approx(PHI[0], rel=1e-12, abs=0.0)
+    assert 2**2 * s2**2 / s3**2 == pytest.approx(PHI[1], rel=1e-12, abs=0.0)
+    assert 2**2 * s3**2 / 1.0**2 == pytest.approx(PHI[2], rel=1e-12, abs=0.0)
     # Along each axis (the layout is the product of two identical 1-D layouts): neighbours in a
     # level-2 cluster are one sub-pitch 2 r1 + 2 w apart; across a level-2 cluster boundary the
     # gap 2D2 is added (half-cell margins w on each side); across a level-3 boundary also 2D3.
@@ -143,9 +143,9 @@ def test_measured_filling_factors_match_the_nominal_within_the_raster_bound():
         assert low <= footprints.min() and footprints.max() <= high, elements
         phi1, phi2, phi3 = info.level_filling_factors
         assert low <= phi1 / PHI[0] <= high, elements
-        assert (phi2, phi3) == pytest.approx(PHI[1:], rel=1e-12)
+        assert (phi2, phi3) == pytest.approx(PHI[1:], rel=1e-12, abs=0.0)
         assert info.nominal_level_filling_factors == PHI
-        assert phi1 * phi2 * phi3 == pytest.approx(info.filling_factor, rel=1e-12)
+        assert phi1 * phi2 * phi3 == pytest.approx(info.filling_factor, rel=1e-12, abs=0.0)
         widths.append(high - low)
     assert all(fine < 0.55 * coarse for coarse, fine in zip(widths, widths[1:]))  # ~ 1/N
     # The worst case assumes every disk errs the same way; 64 disks at different sub-element offsets
@@ -312,7 +312,7 @@ def test_a_clustered_config_validates_round_trips_and_runs(tmp_path):
                   levels=(Level(2, 0.05),), contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
     direct = brushbem.pull_off(grid, built, contact_modulus=E_STAR, work_of_adhesion=DGAMMA,
                                preload_displacement=2e-3)
-    assert direct.adhesive_force == pytest.approx(result.adhesive_force, rel=1e-12)
+    assert direct.adhesive_force == pytest.approx(result.adhesive_force, rel=1e-12, abs=0.0)
 
 
 @pytest.mark.parametrize(

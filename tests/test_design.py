@@ -50,7 +50,7 @@ def test_prescribed_forces_on_a_punch_give_its_stiffness():
     punch = flat_punch(GRID, 0.2)
     halfspace = HalfSpace(GRID.elements, GRID.element_size, 1.0)
     pressure, w = prescribed_force_state(halfspace, punch.pillar, np.array([-0.01]))
-    assert GRID.element_size**2 * pressure.sum() == pytest.approx(-0.01, rel=1e-12)
+    assert GRID.element_size**2 * pressure.sum() == pytest.approx(-0.01, rel=1e-12, abs=0.0)
     k_h = indent(ContactProblem(GRID, punch, contact_modulus=1.0, work_of_adhesion=0.0), 0.01).force / 0.01
     assert w[0] == pytest.approx(-0.01 / k_h, rel=1e-6)
 
@@ -77,7 +77,7 @@ def test_the_sharing_bound_of_one_punch_is_its_pull_off():
     bound, tension = sharing_bound(halfspace, punch.pillar, problem.critical_stress)
     pulled = record_pull_off(problem, LoadPath(method="events", preload_displacement=1e-3, max_steps=10**6))
     assert bound == pytest.approx(float(pulled.summary["adhesive_force"]), rel=1e-6)
-    assert tension[0] == pytest.approx(bound, rel=1e-12)
+    assert tension[0] == pytest.approx(bound, rel=1e-12, abs=0.0)
 
 
 def test_no_design_beats_all_edges_at_the_criterion_at_once():
@@ -124,7 +124,7 @@ def test_designed_stiffnesses_keep_the_mean_and_reach_the_prediction():
     assert result.history[0] == pytest.approx(result.predicted_force_ratio, abs=1e-4)
     # The direct design keeps the configured mean stiffness (a corrective round may move it).
     direct = design(problem, _path(problem), target="stiffness", iterations=0)
-    assert float(np.mean(direct.values)) == pytest.approx(0.05, rel=1e-10)
+    assert float(np.mean(direct.values)) == pytest.approx(0.05, rel=1e-10, abs=0.0)
 
 
 def test_the_design_is_reproducible():

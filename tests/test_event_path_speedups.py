@@ -118,7 +118,7 @@ def test_independent_pillars_model_is_the_sum_of_punches_on_springs():
     k = [1.0 / (1.0 / (2.0 * math.sqrt(n / math.pi)) + 0.5) for n in (1, 2, 4)]
     for d in (0.5, 2.0, 4.0):
         force = sum(ki * max(d - h, 0.0) for ki, h in zip(k, (0.0, 1.0, 3.0)))
-        assert model.displacement(force) == pytest.approx(d, rel=1e-14)
+        assert model.displacement(force) == pytest.approx(d, rel=1e-14, abs=0.0)
 
 
 @pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not

@@ -35,11 +35,11 @@ def test_richardson_is_exact_on_a_first_order_sequence():
     exact, slope = 2.0, 0.3
     values = [exact + slope * h for h in (0.4, 0.2, 0.1)]
     out = richardson(values)
-    assert out.extrapolated == pytest.approx(exact, rel=1e-14)
-    assert out.observed_order == pytest.approx(1.0, rel=1e-12)
-    assert out.error_estimate == pytest.approx(slope * 0.1, rel=1e-12)  # the fine grid's correction
+    assert out.extrapolated == pytest.approx(exact, rel=1e-14, abs=0.0)
+    assert out.observed_order == pytest.approx(1.0, rel=1e-12, abs=0.0)
+    assert out.error_estimate == pytest.approx(slope * 0.1, rel=1e-12, abs=0.0)  # the fine grid's correction
     two = richardson(values[1:])
-    assert two.extrapolated == pytest.approx(exact, rel=1e-14) and two.observed_order is None
+    assert two.extrapolated == pytest.approx(exact, rel=1e-14, abs=0.0) and two.observed_order is None
     assert richardson([1.0, 0.5, 0.8]).observed_order is None  # not monotone: no asymptotic range
     with pytest.raises(ValueError):
         richardson([1.0])
@@ -111,8 +111,8 @@ def test_three_grids_extrapolate_with_the_observed_order_inside_the_asymptotic_r
     exact, slope = 2.0, 0.3
     values = [exact + slope * h**0.8 for h in (0.4, 0.2, 0.1)]
     out = richardson(values)
-    assert out.basis == "observed order" and out.order == pytest.approx(0.8, rel=1e-12)
-    assert out.extrapolated == pytest.approx(exact, rel=1e-13)
+    assert out.basis == "observed order" and out.order == pytest.approx(0.8, rel=1e-12, abs=0.0)
+    assert out.extrapolated == pytest.approx(exact, rel=1e-13, abs=0.0)
     formal = values[2] + (values[2] - values[1])
     assert abs(out.extrapolated - exact) <= out.error_estimate and out.error_estimate >= abs(formal - exact)
 

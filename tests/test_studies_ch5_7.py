@@ -194,7 +194,7 @@ def test_eq58_fit_recovers_alpha_and_beta():
     c = 0.12 / sigma - 0.04
     c[-1] = np.nan  # a detached point is left out
     alpha, beta = fit_eq58(sigma, c)
-    assert alpha == pytest.approx(0.12, rel=1e-12) and beta == pytest.approx(0.04, rel=1e-12)
+    assert alpha == pytest.approx(0.12, rel=1e-12, abs=0.0) and beta == pytest.approx(0.04, rel=1e-12, abs=0.0)
     # Two points determine the line; one does not.
     assert fit_eq58(sigma[:2], c[:2]) == pytest.approx((0.12, 0.04), rel=1e-12)
     assert all(math.isnan(v) for v in fit_eq58(sigma[:1], c[:1]))

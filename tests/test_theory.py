@@ -227,7 +227,7 @@ def test_jkr_force_minimum_is_minus_f_jkr_at_a_jkr():
     # location is good to ~sqrt(xatol) and the value to round-off.
     result = optimize.minimize_scalar(force, bounds=(0.1 * a_jkr, 3.0 * a_jkr), method="bounded", options={"xatol": 1e-12 * a_jkr})
     assert result.x == pytest.approx(a_jkr, rel=1e-5)
-    assert result.fun == pytest.approx(-f_jkr, rel=1e-10)
+    assert result.fun == pytest.approx(-f_jkr, rel=1e-10, abs=0.0)
     assert theory.jkr_displacement_from_radius(a_jkr, RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(
         theory.jkr_pull_off_displacement(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA), rel=EXACT
     )
@@ -257,7 +257,7 @@ def test_jkr_separation_point_d():
     assert force == pytest.approx(-theory.jkr_separation_force(RADIUS, work_of_adhesion=DGAMMA), rel=EXACT)
     assert force == pytest.approx(-5.0 / 9.0 * theory.jkr_pull_off_force(RADIUS, work_of_adhesion=DGAMMA), rel=EXACT)
     result = optimize.minimize_scalar(displacement, bounds=(0.05 * a_s, 5.0 * a_s), method="bounded", options={"xatol": 1e-12 * a_s})
-    assert result.fun == pytest.approx(d_s, rel=1e-10)
+    assert result.fun == pytest.approx(d_s, rel=1e-10, abs=0.0)
 
 
 @given(st.floats(min_value=0.0, max_value=20.0))
@@ -435,12 +435,12 @@ def test_sphere_work_of_separation_in_energy_units():
         )
         for a in (a_o, a_s)
     ]
-    assert theory.jkr_work_of_separation(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(u[1] - u[0], rel=1e-11)
+    assert theory.jkr_work_of_separation(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA) == pytest.approx(u[1] - u[0], rel=1e-11, abs=0.0)
     k = 0.5 * E_STAR * theory.sphere_normalization_radius(RADIUS, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)  # k_bar = 0.5
     for switch in (None, theory.SPHERE_WORK_SWITCH):  # exact, and the thesis's (eq. 2.39 at k_bar = 0.5)
         expected = theory.sphere_spring_work(0.5, switch=switch) * (u[1] - u[0])
         got = theory.sphere_spring_work_of_separation(RADIUS, k, switch, contact_modulus=E_STAR, work_of_adhesion=DGAMMA)
-        assert got == pytest.approx(expected, rel=1e-11)
+        assert got == pytest.approx(expected, rel=1e-11, abs=0.0)
 
 
 # The exact work of a sphere on a spring (separation where dD/da = 0), checked
@@ -1007,10 +1007,10 @@ def test_sphere_work_from_preload_equals_the_integral_along_the_path(kbar, a_ove
 def test_sphere_preload_contact_radius_is_hertz_on_the_spring(stiffness):
     """a_m from the preload force is Hertz's; from a displacement, d = a^2/R + F/k holds at it."""
     a = theory.sphere_preload_contact_radius(1.0, stiffness, preload_force=0.03, contact_modulus=1.0)
-    assert theory.hertz_force(1.0, a * a, contact_modulus=1.0) == pytest.approx(0.03, rel=1e-12)
+    assert theory.hertz_force(1.0, a * a, contact_modulus=1.0) == pytest.approx(0.03, rel=1e-12, abs=0.0)
     a = theory.sphere_preload_contact_radius(1.0, stiffness, preload_displacement=0.03, contact_modulus=1.0)
     force = 4.0 * a**3 / 3.0
     spring = 0.0 if math.isinf(stiffness) else force / stiffness
-    assert a * a + spring == pytest.approx(0.03, rel=1e-12)
+    assert a * a + spring == pytest.approx(0.03, rel=1e-12, abs=0.0)
     with pytest.raises(ValueError):
         theory.sphere_preload_contact_radius(1.0, stiffness, contact_modulus=1.0)

@@ -16,7 +16,7 @@ def test_kendall_triangle_from_the_zero_crossing():
     # Rigid punch: F = 2 (d - 1) from the preload d = 3 to d_K = -1, then a
     # vertical drop to 0 (separation).  Tensile part: triangle 0.5 * 2 * 4.
     path = [(3.0, 4.0), (-1.0, -4.0), (-1.0, 0.0)]
-    assert work_of_separation(path) == pytest.approx(0.5 * 2.0 * 4.0, rel=1e-12)
+    assert work_of_separation(path) == pytest.approx(0.5 * 2.0 * 4.0, rel=1e-12, abs=0.0)
 
 
 def test_cascade_segments_add_nothing_and_the_tension_after_them_counts():
@@ -24,7 +24,7 @@ def test_cascade_segments_add_nothing_and_the_tension_after_them_counts():
     # to -1, linear to -1 at d = -1, separation.
     path = [(2.0, 2.0), (0.0, -2.0), (0.0, -1.0), (-1.0, -1.0), (-1.0, 0.0)]
     expected = 0.5 * 1.0 * 2.0 + 1.0 * 1.0
-    assert work_of_separation(path) == pytest.approx(expected, rel=1e-12)
+    assert work_of_separation(path) == pytest.approx(expected, rel=1e-12, abs=0.0)
 
 
 def test_a_compressive_stretch_after_the_first_crossing_adds_nothing():
@@ -32,7 +32,7 @@ def test_a_compressive_stretch_after_the_first_crossing_adds_nothing():
     # force falls linearly to -3 at d = -2 (crossing at d = -0.5), separation.
     path = [(1.0, 1.0), (0.0, -1.0), (0.0, 1.0), (-2.0, -3.0), (-2.0, 0.0)]
     expected = 0.5 * 0.5 * 1.0 + 0.5 * 1.5 * 3.0
-    assert work_of_separation(path) == pytest.approx(expected, rel=1e-12)
+    assert work_of_separation(path) == pytest.approx(expected, rel=1e-12, abs=0.0)
     # The net integral of -F dd would be smaller (the compressive triangle,
     # 0.5 * 0.5 * 1, counts against it): that is not work against tension.
     d, f = np.array(path).T
