@@ -1,6 +1,6 @@
 """Single-precision products in the late CG iterations of the exact path keep its answers.
 
-`ContactSystem.apply_single` transforms in single precision; `conjugate_gradient`
+`ContactSystem.apply_block(..., single=True)` transforms in single precision; `conjugate_gradient`
 takes it for the iterations whose error would add at most ``PRODUCT_SHARE`` of the
 converged residual, and a `ProductLedger` per chain of kept deflections bounds the
 error those carry into the next solves (refreshed by a transform once it passes
@@ -49,11 +49,11 @@ def _counting(monkeypatch) -> dict:
 
 
 def test_a_single_precision_product_is_within_its_bound():
-    """Relative error of apply_single: above double rounding (it is single) and below SINGLE_ERROR."""
+    """Relative error of a single-precision product: above double rounding (it is single) and below SINGLE_ERROR."""
     operator = _operator()
     system = operator.system(operator.indenter.footprint)
     values = np.random.default_rng(0).uniform(0.0, 1.0, system.size)
-    exact, single = system.apply(values), system.apply_single(values)
+    exact, single = system.apply_block(values)[0], system.apply_block(values, single=True)[0]
     error = np.linalg.norm(single - exact) / np.linalg.norm(exact)
     assert 1e-12 < error < SINGLE_ERROR
 

@@ -427,7 +427,7 @@ class MaskedOperator:
         return self.operator.apply(values, self.weights)
 
 
-#: Bound on the relative error of `ContactSystem.apply_single` against `ContactSystem.apply` (2-norms,
+#: Bound on the relative error of `ContactSystem.apply_block` with ``single`` against without (2-norms,
 #: on S and on the whole window).  Measured: at most 2.8e-7 over the 1073 CG directions of a pull-off
 #: of a 16 x 16 rough brush at N = 256, and 0.3-1.8e-7 for uniform, signed random and constant
 #: pressures on every tip of 8 x 8 to 64 x 64 brushes at N = 128 to 1024 (the error grows like log N);
@@ -511,17 +511,13 @@ class ContactSystem:
         """A_S v for v on S (a vector of |S| values)."""
         return self._apply(values, False)[0]
 
-    def apply_single(self, values):
-        """`apply` with the half-space's transforms in single precision (`SINGLE_ERROR`)."""
-        return self._apply(values, False, single=True)[0]
-
     def apply_block(self, values, single: bool = False):
         """(A_S v on S, K v on the whole window) for v on S, when ``gives_block_deflection``.
 
         K v is the half-space's deflection alone (no springs), window-shaped;
         it costs the inverse transforms along the rows of the whole window
-        instead of those of S only.  ``single``: the transforms in single
-        precision, as in `apply_single`.
+        instead of those of S only.  ``single``: the half-space's transforms
+        in single precision (relative error at most ``SINGLE_ERROR``).
         """
         return self._apply(values, True, single)
 

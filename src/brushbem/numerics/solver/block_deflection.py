@@ -45,7 +45,7 @@ class BlockDeflection:
         return self._apply(values, False)
 
     def apply_single(self, values):
-        """`apply` with single-precision transforms (`ContactSystem.apply_single`)."""
+        """`apply` with single-precision transforms (`ContactSystem.apply_block`'s ``single``)."""
         return self._apply(values, True)
 
     def _apply(self, values, single: bool):

@@ -64,8 +64,8 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
             def reference(v):
                 return _norm(xp, rhs_on_set - system.spring_deflection(v))
 
-            single = (SINGLE_PRODUCTS and ledger is not None and KEEP_SOLUTION_DEFLECTION
-                      and system.gives_block_deflection)
+            keeps = KEEP_SOLUTION_DEFLECTION and system.gives_block_deflection
+            single = SINGLE_PRODUCTS and ledger is not None and keeps
             if single and initial_product is not None and initial_on_set is not None and ledger.carried:
                 scale = tolerance * min(_norm(xp, rhs_on_set), reference(initial_on_set))
                 if not ledger.admits(scale):
@@ -73,8 +73,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
                     # residual is far below the chain's earlier ones): the CG's first product replaces it.
                     initial_product = None
                     ledger.carried = 0.0
-            tracked = (BlockDeflection(system, initial_on_set, initial_product)
-                       if KEEP_SOLUTION_DEFLECTION and system.gives_block_deflection else None)
+            tracked = BlockDeflection(system, initial_on_set, initial_product) if keeps else None
             result = conjugate_gradient(
                 system if tracked is None else tracked,
                 rhs_on_set,
@@ -115,7 +114,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
 REUSE_SET_SOLVER = True
 
 #: Whether a pillar-block solve given a `ProductLedger` takes its late iterations' products in single
-#: precision (`ContactSystem.apply_single`, ``conjugate_gradient``'s ``inexact``).
+#: precision (`BlockDeflection.apply_single`, ``conjugate_gradient``'s ``inexact``).
 SINGLE_PRODUCTS = True
 
 #: Whether a pillar-block solve keeps its solution's tip deflection on the window (`BlockDeflection`).
