@@ -36,15 +36,15 @@ def site(tmp_path_factory) -> Path:
 
 
 def test_the_site_builds_with_warnings_as_errors(site):
-    for page in ("index.html", "site/tutorial/index.html", "site/configuration/index.html",
-                 "site/gallery/index.html", "site/api/index.html", "thesis-comparison/index.html"):
+    for page in ("index.html", "site/tutorial.html", "site/configuration.html",
+                 "site/gallery.html", "site/api.html", "thesis-comparison.html"):
         assert (site / page).is_file(), page
-    configuration = (site / "site/configuration/index.html").read_text()
+    configuration = (site / "site/configuration.html").read_text()
     assert "stiffness_ratio" in configuration and "pillar_law" in configuration  # every key
-    assert "record_pull_off" in (site / "site/api/index.html").read_text() or \
-        "pull_off" in (site / "site/api/index.html").read_text()
+    assert "record_pull_off" in (site / "site/api.html").read_text() or \
+        "pull_off" in (site / "site/api.html").read_text()
     # The physics page's equations are rendered mathematics (arithmatex output for MathJax).
-    physics = (site / "site/physics/index.html").read_text()
+    physics = (site / "site/physics.html").read_text()
     assert physics.count('class="arithmatex"') > 100 and "mathjax" in physics.lower()
     assert "$" not in re.sub(r"<(script|code|pre)[^>]*>.*?</\1>", "", physics, flags=re.DOTALL)
 
@@ -270,9 +270,63 @@ def test_the_gallery_renders_its_figures_in_headless_chromium(site, tmp_path):
     from test_studies_framework import _browser, _chromium
 
     binary = _chromium()
-    page = site / "site" / "gallery" / "index.html"
+    page = site / "site" / "gallery.html"
     dumped = _browser(binary, "--virtual-time-budget=10000", "--dump-dom", page.resolve().as_uri(), cwd=tmp_path)
     assert dumped.returncode == 0, dumped.stderr[-2000:]
     images = re.findall(r"<img [^>]*>", dumped.stdout)
     assert len(images) >= 5
     assert all('data-loaded="true"' in image for image in images), [i for i in images if "true" not in i][:3]
+
+
+# The site from disk with no network (README: "open out/site/index.html"): no page loads anything from
+# another host, every navigation link names a page file (a directory URL opens a folder listing from
+# file://), and in headless Chromium with every host unresolvable the physics page's equations are
+# typeset by the local MathJax.  The screenshot of that page is kept as the test's artefact.
+ARTEFACTS = ROOT / "out" / "artefacts"
+OFFLINE = ("--host-resolver-rules=MAP * ~NOTFOUND", "--proxy-server=http://127.0.0.1:9", "--proxy-bypass-list=<-loopback>")
+
+
+def test_no_page_loads_anything_from_another_host(site):
+    remote = re.compile(r'<(?:script|link|img|iframe)\b[^>]*\b(?:src|href)="(?:https?:)?//[^"]*"')
+    for page in site.rglob("*.html"):
+        found = remote.findall(page.read_text(encoding="utf-8"))
+        assert not found, (page.relative_to(site), found[:3])
+    assert not (site / "search").exists()  # no search box: its index cannot be fetched from file://
+
+
+def test_the_site_opened_from_disk_offline_renders_equations_and_follows_links(site, tmp_path):
+    from urllib.parse import unquote, urljoin, urlparse
+
+    from test_studies_framework import _browser, _chromium
+
+    binary = _chromium()
+    index = (site / "index.html").resolve().as_uri()
+    home = _browser(binary, *OFFLINE, "--virtual-time-budget=10000", "--dump-dom", index, cwd=tmp_path)
+    assert home.returncode == 0, home.stderr[-2000:]
+    navigation = re.search(r'<div id="navbar-collapse".*?</ul>', home.stdout, re.DOTALL)
+    assert navigation, home.stdout[:2000]
+    links = re.findall(r'<a href="([^"#]+)" class="nav-link', navigation.group(0))
+    assert len(links) >= 10
+    for href in links:  # each navigation link, followed from the page's file:// address, is a page file
+        target = Path(unquote(urlparse(urljoin(index, href)).path))
+        assert target.is_file() and target.suffix == ".html", (href, target)
+    physics_link = next(href for href in links if href.endswith("physics.html"))
+    physics = urljoin(index, physics_link)
+    page = _browser(binary, *OFFLINE, "--virtual-time-budget=20000", "--dump-dom", physics, cwd=tmp_path)
+    assert page.returncode == 0, page.stderr[-2000:]
+    dom = page.stdout
+    assert "<title>Physics" in dom  # the link opened the page, not a folder listing
+    # Every equation the page holds is typeset: one MathJax container (an SVG) per arithmatex span or
+    # block, no raw TeX delimiters left, no MathJax error node.
+    equations = len(re.findall(r'class="arithmatex"', dom))
+    typeset = re.findall(r"<mjx-container[^>]*>\s*<svg", dom)
+    assert equations > 100 and len(typeset) == equations, (equations, len(typeset))
+    assert "\\(" not in re.sub(r"<(script|code|pre)[^>]*>.*?</\1>", "", dom, flags=re.DOTALL)
+    assert not re.search(r'<g [^>]*data-mml-node="merror"', dom)  # (the stylesheet names merror too)
+
+    ARTEFACTS.mkdir(parents=True, exist_ok=True)
+    screenshot = ARTEFACTS / "docs-physics-offline.png"
+    shot = _browser(binary, *OFFLINE, "--virtual-time-budget=20000", f"--screenshot={screenshot}",
+                    "--window-size=1280,1600", physics, cwd=tmp_path)
+    assert shot.returncode == 0, shot.stderr[-2000:]
+    assert screenshot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and screenshot.stat().st_size > 10_000

@@ -10,6 +10,12 @@ those rows of ``docs/thesis-comparison.md`` (thesis, ours, standard error,
 deviation, verdict), and ``{{ rows: STUDY rest }}`` the study's rows no earlier
 block on the page took: the gallery shows the comparison's numbers as they
 are regenerated, never a copy.
+
+The site works from disk and offline (``mkdocs.yml``): ``on_files`` adds
+MathJax's single-file SVG build with every TeX extension and its licence from the docs extra's
+``django-static-mathjax`` package (MathJax 3, Apache-2.0) under
+``assets/mathjax/``, and the Pygments stylesheet of the highlighted code as
+``assets/pygments.css``.
 """
 
 from __future__ import annotations
@@ -108,6 +114,24 @@ def render_rows(markdown: str) -> str:
         return ROW_HEADER + "\n" + "\n".join("| " + " | ".join(by_quantity[q]) + " |" for q in wanted)
 
     return re.sub(r"^\{\{ rows: (\w+)((?: rest )|(?:\n(?:(?!\}\}).*\n)*?))\}\}$", table, markdown, flags=re.MULTILINE)
+
+
+def on_files(files, config):
+    """The site's local assets: MathJax (SVG output: no web fonts to load) and the code's stylesheet."""
+    from mkdocs.structure.files import File
+    from pygments.formatters import HtmlFormatter
+
+    try:
+        import mathjax  # the django-static-mathjax package of the docs extra
+    except ImportError as error:
+        raise RuntimeError("the documentation needs the docs extra: pip install -e '.[docs]' "
+                           "(django-static-mathjax provides the site's MathJax)") from error
+    static = Path(mathjax.__file__).resolve().parent / "static" / "mathjax"
+    files.append(File.generated(config, "assets/mathjax/tex-svg-full.js", abs_src_path=str(static / "es5" / "tex-svg-full.js")))
+    files.append(File.generated(config, "assets/mathjax/LICENSE", abs_src_path=str(static / "LICENSE")))
+    files.append(File.generated(config, "assets/pygments.css",
+                                content=HtmlFormatter(style="default").get_style_defs(".highlight")))
+    return files
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
