@@ -154,8 +154,8 @@ def test_a_closed_form_that_does_not_apply_is_named_as_such():
     }
     table = _theory_html(summary, Units())
     rows = {row.split("</td>", 1)[0]: row for row in table.split("<tr><td>")[1:]}
-    assert f"{0.02 / 0.0199:.6g}" in rows["adhesive_force"]
-    for key in ("pull_off_displacement", "work_of_separation"):
+    assert f"{0.02 / 0.0199:.6g}" in rows["adhesive force"]
+    for key in ("base displacement at the adhesive force", "work of separation"):
         assert f"not applicable: {reason}" in rows[key]
         assert f"{0.2 / 0.17:.6g}" not in rows[key] and f"{0.002 / 0.0017:.6g}" not in rows[key]
     assert "No closed form applies" in _theory_html({"theory": {}}, Units())
@@ -188,3 +188,187 @@ def test_a_rerun_removes_the_earlier_runs_report(run_folder, tmp_path):
     done = CliRunner().invoke(main, ["run", str(config), "--out", str(folder), "--quiet", "--overwrite"])
     assert done.exit_code == 0, done.output
     assert (folder / "report.html").read_text() == "<p>my own notes</p>"  # not brushbem's: left alone
+
+
+# --------------------------------------------------------------------------- what the report shows (issue 62)
+
+#: The default example's summary.json (examples/default.toml, N = 256): its closed forms and normalised numbers.
+BRUSH_SUMMARY = {
+    "adhesive_force": 0.008211341739678014, "pull_off_displacement": -0.008558367756609458,
+    "work_of_separation": 3.77515055001635e-05,
+    "normalized": {"force_by_compact_punch": 1.8385442711143785, "force_by_rigid_brush": 1.0932049642283554,
+                   "force_by_ideal_sharing": 0.4596360677785946, "displacement_by_rigid_brush": -1.2856817281828976,
+                   "separation_displacement_by_rigid_brush": -1.3140068131099445,
+                   "max_displacement_by_rigid_brush": 0.300450217785977, "preload_by_rigid_brush": 0.2647600035200837,
+                   "preload_by_compact_punch": 0.44527147572519843, "roughness_by_rigid_brush": 0.0,
+                   "stiffness_ratio": 0.455, "level_stiffness_ratios": [0.455], "filling_factor": 0.125,
+                   "pillars": 256, "attached_pillars_at_pull_off": 244, "profile_amplification": 0.0},
+    "theory": {"model": "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)",
+               "compact_punch_force": 0.004466219208690012, "rigid_brush_force": 0.007511255444649425,
+               "ideal_sharing_force": 0.017864876834760048, "rigid_brush_displacement": -0.006656676819001948,
+               "rigid_brush_enhancement": 1.681792830507429, "soft_brush_enhancement": 4.0,
+               "ratios": {"adhesive_force_by_rigid_brush": 1.0932049642283554,
+                          "adhesive_force_by_ideal_sharing": 0.4596360677785946}},
+}
+
+
+def _cells(table: str) -> list[list[str]]:
+    import html
+    import re
+
+    return [[html.unescape(re.sub(r"<[^>]+>", "", cell)) for cell in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+            for row in re.findall(r"<tr>(.*?)</tr>", table) if "<td" in row]
+
+
+def test_the_brush_report_shows_the_computed_value_and_ratio_beside_every_closed_form():
+    from brushbem.workflow.run_report import _theory_html
+
+    text = _theory_html(BRUSH_SUMMARY, Units())
+    assert text.count("<table") == 1  # one table: no second table of ratios
+    rows = _cells(text)
+    assert len(rows) == 6
+    ratios = {}
+    for meaning, value, computed, ratio, _unit in rows:
+        symbol, number = computed.split(" = ")
+        ratios[meaning.split(":")[0]] = float(ratio)
+        # The ratio is the computed number over the closed form shown beside it: 6 significant digits each, so
+        # the quotient of the shown numbers agrees to within 3 half-units of the 6th digit (< 1e-5 relative).
+        assert float(ratio) == pytest.approx(float(number) / float(value), rel=1e-5, abs=0.0), meaning
+    assert ratios["F_c"] == pytest.approx(1.0932049642283554, rel=1e-5, abs=0.0)  # F_A / F_c, the stored ratio
+    assert ratios["N_p F_K"] == pytest.approx(0.4596360677785946, rel=1e-5, abs=0.0)
+    assert ratios["−|d_c|"] == pytest.approx(1.2856817281828976, rel=1e-5, abs=0.0)
+
+
+def test_every_normalised_number_has_a_symbol_and_a_definition():
+    from brushbem.workflow.run_report import NORMALISED, _summary_html
+
+    text = _summary_html(BRUSH_SUMMARY, Units())
+    section = text[text.index("Normalised"):]
+    rows = _cells(section)
+    assert len(rows) == len(BRUSH_SUMMARY["normalized"])
+    for symbol, definition, _value in rows:
+        assert symbol not in BRUSH_SUMMARY["normalized"] and definition != "—", symbol  # no bare JSON key
+    assert set(BRUSH_SUMMARY["normalized"]) <= set(NORMALISED)
+
+
+def _snapshot_result(scale_of_zero_force: float):
+    import numpy as np
+
+    from brushbem.workflow.results import CaseResult, Curve, Snapshot
+
+    contact = np.zeros((8, 8), bool)
+    contact[2:6, 2:6] = True
+    fields = {"max_preload": 1.0, "zero_force": scale_of_zero_force, "adhesive_force": -0.5}
+    snapshots = tuple(Snapshot(name, 0.0, 0.0, np.where(contact, value, 0.0), contact)
+                      for name, value in fields.items())
+    curve = Curve(displacement=np.zeros(2), force=np.zeros(2), contact_area=np.zeros(2),
+                  cg_iterations=np.zeros(2, int), converged=np.ones(2, bool), loading=np.array([True, False]),
+                  attached_pillars=np.zeros(2, int))
+    return CaseResult(curve=curve, snapshots=snapshots, summary={}, attributes={}, element_size=0.125, pillars={})
+
+
+def test_the_snapshot_panels_share_one_colour_scale_and_an_all_zero_field_has_none():
+    from brushbem.workflow.run_report import snapshots_figure
+
+    order = ["max_preload", "zero_force", "adhesive_force"]
+    figure, largest = snapshots_figure(_snapshot_result(1e-17), Units(), order)
+    images = [image for ax in figure.axes for image in ax.get_images()]
+    assert len(images) == 3 and len(figure.axes) == 4  # three panels and one colour bar
+    assert {image.get_clim() for image in images} == {(-1.0, 1.0)}  # the zero-force panel is not scaled to 1e-17
+    assert largest == 1.0
+    zero = _snapshot_result(0.0)
+    zero = type(zero)(**{**zero.__dict__, "snapshots": tuple(
+        type(s)(s.name, 0.0, 0.0, 0.0 * s.pressure, s.contact) for s in zero.snapshots)})
+    figure, largest = snapshots_figure(zero, Units(), order)
+    assert largest == 0.0 and len(figure.axes) == 3  # no colour bar for a field of zeros
+
+
+def test_the_report_embeds_only_a_regular_png_of_the_run_folder(run_folder, tmp_path):
+    import base64
+    import os
+
+    folder = tmp_path / "run"
+    shutil.copytree(run_folder, folder)
+    secret = tmp_path / "secret.png"
+    secret.write_bytes(b"\x89PNG\r\n\x1a\n" + b"private data, not the run's figure" * 10)
+    (folder / "pulloff.png").unlink()
+    os.symlink(secret, folder / "pulloff.png")
+    document = _report(folder)
+    assert base64.b64encode(secret.read_bytes()).decode()[:40] not in document
+    assert "pulloff.png is a link, not embedded" in document and "drawn from result.nc" in document
+    (folder / "pulloff.png").unlink()
+    os.link(secret, folder / "pulloff.png")  # a hard link to a file outside the folder
+    document = _report(folder)
+    assert base64.b64encode(secret.read_bytes()).decode()[:40] not in document and "hard link" in document
+    (folder / "pulloff.png").unlink()
+    (folder / "pulloff.png").write_text("<script>not a PNG</script>")
+    assert "pulloff.png is not a PNG file" in _report(folder)
+
+
+def test_the_report_computes_nothing_from_the_stored_configuration(run_folder, tmp_path, monkeypatch):
+    import brushbem.workflow.assembly as assembly
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the report validated the stored configuration")
+
+    monkeypatch.setattr(assembly, "parse", refuse)
+    folder = tmp_path / "run"
+    shutil.copytree(run_folder, folder)
+    (folder / "pulloff.png").unlink()
+    assert "drawn from result.nc" in _report(folder)
+
+
+@pytest.mark.parametrize("damage", ["provenance", "indenter", "pressure"])
+def test_a_damaged_run_folder_is_reported_without_a_traceback(run_folder, tmp_path, damage):
+    import xarray as xr
+
+    folder = tmp_path / "run"
+    shutil.copytree(run_folder, folder)
+    summary = json.loads((folder / "summary.json").read_text())
+    if damage == "provenance":
+        summary["provenance"] = [1, 2]
+    elif damage == "indenter":
+        summary["provenance"]["config"]["indenter"] = [1, 2]
+    else:
+        dataset = xr.load_dataset(folder / "result.nc")
+        dataset.drop_vars("pressure").to_netcdf(folder / "result.nc")
+    (folder / "summary.json").write_text(json.dumps(summary))
+    done = CliRunner().invoke(main, ["report", str(folder)])
+    assert done.exception is None or isinstance(done.exception, SystemExit), done.exception
+    assert done.exit_code == 0, done.output
+    if damage == "pressure":
+        assert "The result holds no snapshots" in (folder / "report.html").read_text()
+
+
+def test_report_on_a_folder_that_is_no_results_folder_says_what_it_takes(run_folder, tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    done = CliRunner().invoke(main, ["report", str(empty)])
+    assert done.exit_code == 2 and "is empty" in done.output and "run folder" in done.output
+    design = tmp_path / "design"
+    design.mkdir()
+    (design / "design.json").write_text("{}")
+    done = CliRunner().invoke(main, ["report", str(design)])
+    assert done.exit_code == 2 and "design folder" in done.output
+    half = tmp_path / "half"
+    shutil.copytree(run_folder, half)
+    (half / "result.nc").unlink()
+    done = CliRunner().invoke(main, ["report", str(half)])
+    assert done.exit_code == 2 and "did not finish writing" in done.output
+    assert not (half / "report.html").exists()
+
+
+def test_report_waits_for_no_run_writing_the_same_folder(run_folder, tmp_path):
+    from brushbem.io import exclusive_folder
+
+    folder = tmp_path / "run"
+    shutil.copytree(run_folder, folder)
+    (folder / "report.html").unlink(missing_ok=True)
+    with exclusive_folder(folder):  # a `brushbem run --out` (here: this process's lock) writing the folder
+        import subprocess
+        import sys
+
+        done = subprocess.run([sys.executable, "-m", "brushbem", "report", str(folder)], capture_output=True,
+                              text=True, timeout=120, check=False)
+    assert done.returncode == 2 and "another brushbem process" in done.stderr, done.stderr
+    assert not (folder / "report.html").exists()

@@ -332,8 +332,11 @@ def report(out_dir: Path, redraw: bool) -> None:
     summary with units, the comparison with the closed forms and the
     provenance.
     """
-    from brushbem.workflow.run_report import RunReportError, is_run_folder, write_run_report
+    from brushbem.workflow.run_report import RunReportError, is_run_folder, not_a_results_folder, write_run_report
 
+    if not is_run_folder(out_dir) and not (out_dir / "study.json").is_file() and not (out_dir / "sweep.json").is_file():
+        click.echo(not_a_results_folder(out_dir), err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     if is_run_folder(out_dir):
         try:
             path = write_run_report(out_dir, redraw=redraw)

@@ -109,6 +109,8 @@ def from_dataset(dataset: xr.Dataset) -> CaseResult:
     snapshots = []
     for stage in stages(dataset):
         pressure = stage_field(dataset, "pressure", stage)
+        if pressure is None or not {"displacement", "force"} <= set(pressure.attrs):
+            continue  # a stage without its pressure field (a file cut short or edited): no snapshot
         contact = stage_field(dataset, "contact", stage)
         pillar_force = stage_field(dataset, "pillar_force", stage)
         forces = None if pillar_force is None else np.asarray(pillar_force.to_numpy(), dtype=float)

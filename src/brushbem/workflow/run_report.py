@@ -5,23 +5,30 @@ figures are PNG data URIs, the style sheet is inline, nothing is fetched):
 
 * the outcome (converged or not, the reason, the warnings, the stages the
   path did not pass through);
-* the pull-off curve: the run's ``pulloff.png``, or, where it is missing (or
-  with ``redraw``), `brushbem.workflow.plot.pull_off_figure` drawn from
-  ``result.nc``;
+* the pull-off curve: the run's ``pulloff.png`` (only a regular PNG file of
+  the folder, never a link), or, where it is missing (or with ``redraw``),
+  `brushbem.workflow.plot.pull_off_figure` drawn from ``result.nc`` with the
+  closed-form limits that ``summary.json`` records;
 * the snapshots: the pressure on the contact set at every stage of thesis
-  Fig. 4-3 that the path passed through;
+  Fig. 4-3 that the path passed through, on one colour scale for every
+  panel (none where every pressure is zero);
 * the summary numbers with their units (the configuration's ``[units]``,
-  or the units of the inputs), a brush's normalised numbers, the
-  refinement of ``--refine``;
-* the comparison with the closed forms (``summary.json``'s ``theory``):
-  closed-form value, computed value and their ratio per quantity, and the
-  quantities whose closed form does not apply named as such, with the
-  reason;
+  or the units of the inputs), a brush's normalised numbers with their
+  symbols and definitions, the refinement of ``--refine``;
+* the comparison with the closed forms (``summary.json``'s ``theory``), one
+  table: per closed form its value, the computed value it is read against
+  and their ratio, or why it does not apply; the parameters the closed forms
+  were evaluated at below it;
 * the provenance: brushbem version, commit, creation time, backend, run id
   and the resolved configuration.
 
 Every text taken from the files is escaped (`html.escape`).  Nothing is
-computed: the numbers are those of ``summary.json`` and ``result.nc``.
+computed: the numbers are those of ``summary.json`` and ``result.nc`` (the
+ratios are their quotients); the stored configuration is shown, never
+validated or rasterised again.  The report is written under the folder's
+lock (`brushbem.io.exclusive_folder`), so a ``brushbem run --out`` writing
+the same folder at once is refused rather than left with another run's
+report.
 """
 
 from __future__ import annotations
@@ -32,6 +39,8 @@ import html
 import io
 import json
 import numbers
+import os
+import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -39,7 +48,8 @@ from typing import Any
 from brushbem import __version__
 from brushbem.workflow.units import Units
 
-__all__ = ["GENERATOR", "REPORT_FILE", "RunReportError", "is_run_folder", "is_run_report", "write_run_report"]
+__all__ = ["GENERATOR", "REPORT_FILE", "RunReportError", "is_run_folder", "is_run_report", "not_a_results_folder",
+           "write_run_report"]
 
 REPORT_FILE = "report.html"
 #: The ``generator`` of the report's ``<meta>``: a ``report.html`` that carries it is brushbem's run report.
@@ -84,6 +94,38 @@ def is_run_folder(folder: str | Path) -> bool:
     return (folder / _SUMMARY).is_file() and (folder / _DATASET).is_file()
 
 
+def not_a_results_folder(folder: str | Path) -> str:
+    """Why ``folder`` is neither a run folder nor a sweep or study folder, in words for the command line."""
+    folder = Path(folder)
+    takes = ("`brushbem report` takes a run folder (`brushbem run --out DIR`: summary.json and result.nc), a "
+             "sweep folder (sweep.json) or a study folder (study.json)")
+    try:
+        names = {entry.name for entry in folder.iterdir()}
+    except OSError as exc:
+        return f"{folder}: cannot be read ({exc.strerror or exc}); {takes}"
+    if not names - {".brushbem.lock"}:
+        return f"{folder} is empty: {takes}"
+    if "design.json" in names:
+        return (f"{folder} is a design folder (`brushbem design --out`): its figure is design.png and its numbers "
+                f"design.json and design.csv; {takes}")
+    halves = [name for name in (_SUMMARY, _DATASET) if name in names]
+    if len(halves) == 1:
+        missing = _DATASET if halves == [_SUMMARY] else _SUMMARY
+        return (f"{folder} holds {halves[0]} but no {missing}: a run that did not finish writing (interrupted or "
+                f"killed); run it again with --overwrite. {takes}")
+    return f"{folder} is not a run, sweep or study output folder: {takes}"
+
+
+def _mapping(value: Any) -> Mapping[str, Any]:
+    """``value`` where it is a mapping, else an empty one (a file edited by hand: a list where a table belongs)."""
+    return value if isinstance(value, Mapping) else {}
+
+
+def _config(summary: Mapping[str, Any]) -> Mapping[str, Any]:
+    """The resolved configuration recorded in ``summary.json`` (empty where it is absent or not a table)."""
+    return _mapping(_mapping(summary.get("provenance")).get("config"))
+
+
 def _e(value: Any) -> str:
     return html.escape(str(value), quote=True)
 
@@ -114,8 +156,8 @@ def _read(folder: Path) -> tuple[dict[str, Any], Any]:
         result = from_dataset(read_case(folder))
     except InconsistentCaseError as exc:
         raise RunReportError(str(exc)) from None
-    except (OSError, ValueError, KeyError) as exc:
-        raise RunReportError(f"{folder / _DATASET}: cannot be read ({exc})") from None
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError) as exc:
+        raise RunReportError(f"{folder / _DATASET}: cannot be read as a run's result ({exc})") from None
     return from_json_safe(summary), result
 
 
@@ -123,13 +165,12 @@ def _read(folder: Path) -> tuple[dict[str, Any], Any]:
 
 
 def _units(summary: Mapping[str, Any], result: Any) -> Units:
-    provenance = summary.get("provenance") or {}
-    config = provenance.get("config") if isinstance(provenance, Mapping) else None
+    config = _config(summary)
     try:
-        if isinstance(config, Mapping):
+        if config:
             return Units.from_config(dict(config))
         return Units.of_record(result.attributes)
-    except ValueError:
+    except (ValueError, TypeError, AttributeError):
         return Units()
 
 
@@ -210,11 +251,13 @@ def _summary_html(summary: Mapping[str, Any], units: Units) -> str:
     text = f"<p>{_e(units_note)}</p>" + text
     normalized = summary.get("normalized")
     if isinstance(normalized, Mapping) and normalized:
-        rows = [[_e(key), _e(_number(value) if not isinstance(value, list) else
-                             ", ".join(_number(v) for v in value))]
-                for key, value in normalized.items()]
+        rows = []
+        for key, value in normalized.items():
+            symbol, definition = NORMALISED.get(key, (key, "—"))
+            shown = ", ".join(_number(v) for v in value) if isinstance(value, list) else _number(value)
+            rows.append([_e(symbol), _e(definition), _e(shown)])
         text += ("<h3>Normalised (thesis ch. 4-7; dimensionless)</h3>"
-                 + _table(("quantity", "value"), rows, numeric=(1,)))
+                 + _table(("symbol", "definition", "value"), rows, numeric=(2,), css="normalised"))
     refinement = summary.get("refinement")
     if isinstance(refinement, Mapping) and refinement:
         rows = []
@@ -228,44 +271,107 @@ def _summary_html(summary: Mapping[str, Any], units: Units) -> str:
     return text
 
 
+#: Every normalised number of ``summary.json`` (``normalized``): its symbol and its definition.
+NORMALISED: dict[str, tuple[str, str]] = {
+    "force_by_compact_punch": ("F_A / F_K", "adhesive force over Kendall's force of one punch of the brush's "
+                               "real area (eq. 4.11)"),
+    "force_by_rigid_brush": ("F_A / F_c", "adhesive force over the rigid brush's force F_c (eq. 4.5, 5.3)"),
+    "force_by_ideal_sharing": ("F_A / (N_p F_K)", "adhesive force over the sum of the pillars' Kendall forces, "
+                               "every pillar at its own (eq. 7.4)"),
+    "displacement_by_rigid_brush": ("d_A / |d_c|", "pull-off displacement over the rigid brush's critical "
+                                    "displacement (eq. 4.12); negative in tension"),
+    "separation_displacement_by_rigid_brush": ("d_s / |d_c|", "displacement of the last contact before "
+                                               "separation over |d_c|"),
+    "max_displacement_by_rigid_brush": ("d_P / |d_c|", "preload (largest) displacement over |d_c|"),
+    "preload_by_rigid_brush": ("F_P / F_c", "preload force over F_c"),
+    "preload_by_compact_punch": ("F_P / F_K", "preload force over Kendall's force of the compact punch"),
+    "roughness_by_rigid_brush": ("σ / |d_c|", "roughness (standard deviation of the pillars' length offsets) "
+                                 "over |d_c|"),
+    "stiffness_ratio": ("k~ = k / (E* L)", "pillar stiffness over E* times the side L of the domain "
+                        "(grid.size; eq. 4.13); a graded level's mean stiffness"),
+    "level_stiffness_ratios": ("k~_l", "k~ of every spring level, the pillars' first (eq. 6.24)"),
+    "equivalent_single_level_stiffness_ratio": ("k~_eq", "the single level of the same stiffness as the "
+                                                "hierarchy (eq. 6.28)"),
+    "filling_factor": ("φ = A / A_0", "real area of the rasterised footprints over the apparent area of their "
+                       "region"),
+    "pillars": ("N_p", "number of pillars"),
+    "attached_pillars_at_pull_off": ("N_att", "pillars in contact at the adhesive force"),
+    "profile_amplification": ("h~", "amplification of the concave profile (eq. 7.2)"),
+}
+
+#: The closed forms of ``summary.json``'s ``theory``: what each is and which computed number it is read against
+#: (a key of the summary, or ``normalized.<key>``), with that number's symbol.
+CLOSED_FORMS: dict[str, tuple[str, str, str]] = {
+    "adhesive_force": ("adhesive force", "adhesive_force", "F_A"),
+    "pull_off_displacement": ("base displacement at the adhesive force", "pull_off_displacement", "d_A"),
+    "work_of_separation": ("work of separation", "work_of_separation", "W"),
+    "compact_punch_force": ("F_K: Kendall's force of one punch of the brush's real area (eq. 4.11)",
+                            "adhesive_force", "F_A"),
+    "rigid_brush_force": ("F_c: the rigid brush's force (eq. 4.5, 5.3)", "adhesive_force", "F_A"),
+    "ideal_sharing_force": ("N_p F_K: every pillar at its Kendall force (eq. 7.4)", "adhesive_force", "F_A"),
+    "rigid_brush_displacement": ("−|d_c|: the rigid brush's critical displacement (eq. 4.12)",
+                                 "pull_off_displacement", "d_A"),
+    "rigid_brush_enhancement": ("φ^−1/4: the rigid brush's F_c / F_K (eq. 4.9)",
+                                "normalized.force_by_compact_punch", "F_A / F_K"),
+    "soft_brush_enhancement": ("N_p^1/4: the soft brush's limit of F_A / F_K (eq. 4.18)",
+                               "normalized.force_by_compact_punch", "F_A / F_K"),
+}
+
+#: Closed-form entries that are the parameters of the closed forms, not values to compare.
+_PARAMETERS = {
+    "equivalent_radius": "radius sqrt(A/π) of the rasterised footprint's area A, at which Kendall is evaluated",
+    "normalized_stiffness": "the spring's normalised stiffness of the closed form (punch: k / (2 E* a))",
+    "preload_contact_radius": "Hertz contact radius of the preload",
+    "zero_force_radius": "JKR's a_o, the contact radius at zero force (eq. 2.27)",
+}
+
+
+def _computed(summary: Mapping[str, Any], key: str) -> Any:
+    if key.startswith("normalized."):
+        return _mapping(summary.get("normalized")).get(key.split(".", 1)[1])
+    return summary.get(key)
+
+
 def _theory_html(summary: Mapping[str, Any], units: Units) -> str:
-    """The closed forms beside the computed numbers: value, computed, ratio, or why a closed form does not apply."""
+    """The closed forms beside the computed numbers, one table: closed form, computed, ratio (or why not)."""
     theory = summary.get("theory")
     if not isinstance(theory, Mapping) or not theory:
         return ('<p class="na" id="theory-none">No closed form applies to this run (an indenter without one, '
                 "or no adhesion): nothing to compare.</p>")
-    ratios = theory.get("ratios") if isinstance(theory.get("ratios"), Mapping) else {}
-    not_applicable = theory.get("not_applicable") if isinstance(theory.get("not_applicable"), Mapping) else {}
+    not_applicable = _mapping(theory.get("not_applicable"))
     parts = [f"<p>Model: <b>{_e(theory.get('model', '—'))}</b></p>"]
-    rows = []
-    shown: set[str] = set()
+    rows, parameters = [], []
     for key, value in theory.items():
-        if key in ("model", "ratios", "not_applicable") or isinstance(value, (Mapping, list, str, bool)):
+        if key in ("model", "ratios", "not_applicable") or value is None:
             continue
-        if value is None:
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
             continue
-        computed = summary.get(key) if key in summary else None
+        if key in _PARAMETERS or (key not in CLOSED_FORMS and key not in summary):
+            parameters.append([_e(key), _e(_PARAMETERS.get(key, "—")), _e(_number(value)),
+                               _e(_unit(units, _dimension_of(key)))])
+            continue
+        meaning, against, symbol = CLOSED_FORMS.get(key, (key, key, key))
+        computed = _computed(summary, against)
         if key in not_applicable:
             ratio = f'<span class="na">not applicable: {_e(not_applicable[key])}</span>'
-        elif key in ratios:
-            ratio = _e(_number(ratios[key]))
+        elif isinstance(computed, numbers.Real) and not isinstance(computed, bool) and value:
+            ratio = _e(_number(float(computed) / float(value)))
         else:
-            ratio = "—"
-        rows.append([_e(key), _e(_number(value)), _e(_number(computed)) if computed is not None else "—", ratio,
-                     _e(_unit(units, _dimension_of(key)))])
-        shown.add(key)
+            ratio = '<span class="na">no computed value</span>'
+        dimension = None if against.startswith("normalized.") else _dimension_of(key)
+        rows.append([_e(meaning), _e(_number(value)), _e(f"{symbol} = {_number(computed)}"), ratio,
+                     _e(_unit(units, dimension))])
     for key, reason in not_applicable.items():
-        if key not in shown:
+        if key not in theory:
             rows.append([_e(key), "—", _e(_number(summary.get(key))),
                          f'<span class="na">not applicable: {_e(reason)}</span>',
                          _e(_unit(units, _dimension_of(key)))])
-            shown.add(key)
-    parts.append(_table(("quantity", "closed form", "computed", "computed / closed form", "unit"), rows,
-                        numeric=(1, 2), css="theory"))
-    others = [(key, value) for key, value in ratios.items() if key not in shown]
-    if others:
-        parts.append("<p>Ratios (computed / closed form, dimensionless):</p>"
-                     + _table(("ratio", "value"), [[_e(k), _e(_number(v))] for k, v in others], numeric=(1,)))
+    parts.append(_table(("closed form", "value", "computed", "computed / closed form", "unit"), rows,
+                        numeric=(1,), css="theory"))
+    if parameters:
+        parts.append("<p>The closed forms were evaluated at:</p>"
+                     + _table(("parameter", "meaning", "value", "unit"), parameters, numeric=(2,),
+                              css="theory-parameters"))
     notes = [(key, value) for key, value in theory.items() if isinstance(value, str) and key != "model"]
     if notes:
         parts.append("<ul>" + "".join(f"<li>{_e(k)}: {_e(v)}</li>" for k, v in notes) + "</ul>")
@@ -285,37 +391,60 @@ def _figure_png(figure: Any, dpi: int = 110) -> bytes:
     return buffer.getvalue()
 
 
-def _reference(summary: Mapping[str, Any]) -> Any:
-    """The closed-form curve of the run's figure, rebuilt from the recorded configuration; None if it cannot be."""
-    provenance = summary.get("provenance") or {}
-    config = provenance.get("config") if isinstance(provenance, Mapping) else None
-    if not isinstance(config, Mapping):
-        return None
-    try:
-        from brushbem.workflow.assembly import parse
-        from brushbem.workflow.case import theory_for
+#: The PNG signature: the first bytes of every PNG file.
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+#: The largest pulloff.png embedded (bytes); the run's own is about 0.3 MB at 300 dpi.
+_MAX_FIGURE_BYTES = 32 * 2**20
 
-        built = parse(dict(config))
-        return theory_for(built.problem, summary, built.path)[1]
-    except Exception:  # noqa: BLE001 - a configuration that no longer builds (a moved file): no reference curve
-        return None
+
+def _own_png(path: Path) -> tuple[bytes | None, str]:
+    """The bytes of ``path`` where it is a regular PNG file of its folder (opened without following a link).
+
+    Returns (None, why) for a link, anything but a regular file, a file with other names (a hard link), a
+    file that is not a PNG or is too large: a report made to be shared embeds nothing but the run's figure.
+    """
+    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        if stat.S_ISLNK(os.lstat(path).st_mode):
+            return None, f"{path.name} is a link"
+        handle = os.open(path, flags)
+    except FileNotFoundError:
+        return None, f"no {path.name}"
+    except OSError as exc:
+        return None, f"{path.name} cannot be opened ({exc.strerror or exc})"
+    try:
+        opened = os.fstat(handle)
+        if not stat.S_ISREG(opened.st_mode):
+            return None, f"{path.name} is not a regular file"
+        if opened.st_nlink != 1:
+            return None, f"{path.name} is a hard link (a file with other names)"
+        if opened.st_size > _MAX_FIGURE_BYTES:
+            return None, f"{path.name} is larger than {_MAX_FIGURE_BYTES // 2**20} MiB"
+        with os.fdopen(handle, "rb", closefd=False) as stream:
+            data = stream.read(_MAX_FIGURE_BYTES + 1)
+    except OSError as exc:
+        return None, f"{path.name} cannot be read ({exc.strerror or exc})"
+    finally:
+        os.close(handle)
+    if not data.startswith(_PNG_SIGNATURE):
+        return None, f"{path.name} is not a PNG file"
+    return data, ""
 
 
 def _curve_html(folder: Path, summary: Mapping[str, Any], result: Any, redraw: bool) -> str:
-    written = folder / _FIGURE
     caption = "the run's pulloff.png"
     data = None
-    if not redraw and written.is_file():
-        try:
-            data = written.read_bytes()
-        except OSError:
-            data = None
+    if not redraw:
+        data, why = _own_png(folder / _FIGURE)
+        if data is None and why != f"no {_FIGURE}":
+            caption = f"drawn from result.nc; {why}, not embedded"
     if data is None:
         from brushbem.workflow.plot import pull_off_figure
 
         try:
-            data = _figure_png(pull_off_figure(result, _reference(summary)))
-            caption = "drawn from result.nc"
+            # The closed-form limits the figure draws are those summary.json records: nothing recomputed.
+            data = _figure_png(pull_off_figure(result))
+            caption = caption if caption.startswith("drawn") else "drawn from result.nc"
         except Exception as exc:  # noqa: BLE001 - the report still shows the numbers
             return f'<p class="bad" id="curve">The curve could not be drawn: {_e(type(exc).__name__)}: {_e(exc)}</p>'
     return (f'<figure id="curve"><img alt="force against base displacement" src="{_png_uri(data)}">'
@@ -324,11 +453,16 @@ def _curve_html(folder: Path, summary: Mapping[str, Any], result: Any, redraw: b
 
 
 def _axis(units: Units, name: str, dimension: str) -> str:
-    return f"{name} ({'dimensionless' if units.dimensionless else units.label(dimension)})"
+    """An axis label with its unit; without one where the configuration names none (the report says so once)."""
+    return name if units.dimensionless else f"{name} ({units.label(dimension)})"
 
 
-def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> str:
-    """The pressure on the contact set at every stage reached (grey: no contact), one panel each."""
+def snapshots_figure(result: Any, units: Units, order: Sequence[str]) -> tuple[Any, float]:
+    """The pressure on the contact set at the stages ``order``, one panel each, on one colour scale.
+
+    Returns the figure and the largest |p| on a contact (the colour scale's half-width; 0 where every
+    pressure on the contact is zero: then the panels show the contact in grey and there is no colour bar).
+    """
     import numpy as np
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -336,35 +470,58 @@ def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> st
     from brushbem.workflow.plot import STAGES
 
     recorded = {snapshot.name: snapshot for snapshot in result.snapshots}
+    figure = Figure(figsize=(3.0 * len(order) + 0.8, 3.3), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(1, len(order), squeeze=False)[0]
+    h = float(result.element_size)
+    # One colour scale for every panel, so that the panels compare; none where every pressure on the
+    # contact is zero (a colour bar would scale round-off).
+    largest = max((float(np.max(np.abs(np.asarray(s.pressure, float)[np.asarray(s.contact, bool)])))
+                   for s in recorded.values() if np.any(s.contact)), default=0.0)
+    image = None
+    for ax, name in zip(axes, order):
+        snapshot = recorded[name]
+        pressure = np.asarray(snapshot.pressure, dtype=float)
+        contact = np.asarray(snapshot.contact, dtype=bool)
+        half = 0.5 * pressure.shape[0] * h
+        ax.set_facecolor("0.85")
+        ax.grid(False)
+        if largest > 0.0:
+            image = ax.imshow(np.ma.masked_where(~contact, pressure), origin="lower", cmap="RdBu_r",
+                              vmin=-largest, vmax=largest, interpolation="nearest",
+                              extent=(-half, half, -half, half))
+        else:
+            ax.imshow(np.ma.masked_where(~contact, np.zeros_like(pressure)), origin="lower", cmap="Greys",
+                      vmin=-1.0, vmax=1.0, interpolation="nearest", extent=(-half, half, -half, half))
+        number = STAGES.index(name) + 1 if name in STAGES else "-"
+        ax.set_title(f"{number}: {name.replace('_', ' ')}", fontsize="small")
+        ax.set_xlabel(_axis(units, "x", "length"), fontsize="small")
+        ax.set_ylabel(_axis(units, "y", "length") if ax is axes[0] else "", fontsize="small")
+        ax.tick_params(labelsize="x-small")
+    if image is not None:
+        bar = figure.colorbar(image, ax=list(axes), shrink=0.75)
+        bar.set_label(_axis(units, "p, compressive > 0", "stress"), fontsize="small")
+        bar.ax.tick_params(labelsize="x-small")
+    return figure, largest
+
+
+def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> str:
+    """The pressure on the contact set at every stage reached (grey: no contact), one panel each."""
+    import numpy as np
+
+    from brushbem.workflow.plot import STAGES
+
+    recorded = {snapshot.name: snapshot for snapshot in result.snapshots}
     order = [name for name in STAGES if name in recorded] + [n for n in recorded if n not in STAGES]
-    missing = summary.get("stages_not_reached") or {}
+    missing = _mapping(summary.get("stages_not_reached"))
     items = []
     if order:
-        figure = Figure(figsize=(3.2 * len(order), 3.3), layout="constrained")
-        FigureCanvasAgg(figure)
-        axes = figure.subplots(1, len(order), squeeze=False)[0]
-        h = float(result.element_size)
-        for ax, name in zip(axes, order):
-            snapshot = recorded[name]
-            pressure = np.asarray(snapshot.pressure, dtype=float)
-            contact = np.asarray(snapshot.contact, dtype=bool)
-            half = 0.5 * pressure.shape[0] * h
-            limit = float(np.max(np.abs(pressure[contact]))) if contact.any() else 1.0
-            ax.set_facecolor("0.85")
-            image = ax.imshow(np.ma.masked_where(~contact, pressure), origin="lower", cmap="RdBu_r",
-                              vmin=-limit or -1.0, vmax=limit or 1.0, interpolation="nearest",
-                              extent=(-half, half, -half, half))
-            bar = figure.colorbar(image, ax=ax, shrink=0.75)
-            bar.set_label(_axis(units, "p, compressive > 0", "stress"), fontsize="small")
-            bar.ax.tick_params(labelsize="x-small")
-            number = STAGES.index(name) + 1 if name in STAGES else "-"
-            ax.set_title(f"{number}: {name.replace('_', ' ')}", fontsize="small")
-            ax.set_xlabel(_axis(units, "x", "length"), fontsize="small")
-            ax.set_ylabel(_axis(units, "y", "length"), fontsize="small")
-            ax.tick_params(labelsize="x-small")
+        figure, largest = snapshots_figure(result, units, order)
         items.append(f'<figure id="snapshots"><img alt="contact pressure at every stage" '
                      f'src="{_png_uri(_figure_png(figure))}"><figcaption>Pressure on the contact set (grey: no '
-                     "contact) at the stages of thesis Fig. 4-3.</figcaption></figure>")
+                     "contact) at the stages of thesis Fig. 4-3, every panel on one colour scale"
+                     + ("" if largest > 0.0 else " (none: every pressure on the contact is zero)")
+                     + ".</figcaption></figure>")
         rows = [[_e(STAGES.index(name) + 1 if name in STAGES else "—"), _e(name),
                  _e(_number(recorded[name].displacement)), _e(_number(recorded[name].force)),
                  _e(int(np.count_nonzero(recorded[name].contact)))] for name in order]
@@ -396,7 +553,7 @@ def _outcome_html(summary: Mapping[str, Any]) -> str:
 
 
 def _provenance_html(folder: Path, summary: Mapping[str, Any], result: Any) -> str:
-    provenance = summary.get("provenance") if isinstance(summary.get("provenance"), Mapping) else {}
+    provenance = _mapping(summary.get("provenance"))
     attributes = result.attributes
     units = provenance.get("units")
     items = {
@@ -437,20 +594,32 @@ def write_run_report(folder: str | Path, *, redraw: bool = False) -> Path:
     ------
     RunReportError
         If the folder's ``summary.json`` or ``result.nc`` is missing,
-        unreadable, or from another run than its partner.
+        unreadable, or from another run than its partner; if another
+        brushbem process is writing the folder.
     OSError
         If ``report.html`` cannot be written (it is written atomically:
         nothing half-written is left).
     """
-    from brushbem.io import atomic_path
+    from brushbem.io import FolderBusyError, exclusive_folder
 
     folder = Path(folder)
     if not is_run_folder(folder):
-        raise RunReportError(f"{folder} holds no summary.json and result.nc of a run (`brushbem run --out`)")
+        raise RunReportError(not_a_results_folder(folder))
+    # Under the folder's lock: a `brushbem run --out` into this folder at the same moment would replace the
+    # results under the report (and remove the report it describes before this one is written).
+    try:
+        with exclusive_folder(folder):
+            return _write(folder, redraw)
+    except FolderBusyError as exc:
+        raise RunReportError(f"{exc}; report it when that run has finished") from None
+
+
+def _write(folder: Path, redraw: bool) -> Path:
+    from brushbem.io import atomic_path
+
     summary, result = _read(folder)
     units = _units(summary, result)
-    config = (summary.get("provenance") or {}).get("config") or {}
-    shape = ((config.get("indenter") or {}).get("shape") if isinstance(config, Mapping) else None) or "run"
+    shape = _mapping(_config(summary).get("indenter")).get("shape") or "run"
     title = f"brushbem run {folder.resolve().name}: {shape}"
     headline = (f"F_A = {_number(summary.get('adhesive_force'))}, W = {_number(summary.get('work_of_separation'))}"
                 + ("" if units.dimensionless else f" ({units.label('force')}, {units.label('energy')})"))
