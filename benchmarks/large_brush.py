@@ -10,7 +10,7 @@ states it had reached.  Sizes up to ``--exact-max`` pillars per side run the
 exact event path too, in the same way, and print the ratio of the CPU
 times (the exact path over the model).  ``--kept-baseline`` runs the model a
 second time with the kept inverse at every size (``KEPT_PILLARS = None``:
-no CG on the lattice, `brushbem.protocol.pillar_cg`) and prints the ratio of
+no CG on the lattice, `brushbem.pillars.cg`) and prints the ratio of
 its CPU time to the default's and the relative differences of F_A and the
 work.
 
@@ -37,7 +37,8 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from pillars import _problem
 
-    from brushbem.protocol import LoadPath, pillar_solver
+    from brushbem.pillars import solver as pillar_solver
+    from brushbem.protocol import LoadPath
     from brushbem.protocol.paths import pull_off
 
     if method == "pillars-kept":

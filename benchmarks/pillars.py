@@ -29,8 +29,8 @@ import time
 
 from brushbem.workflow.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.protocol.pillar_basis import DENSE_PILLARS
-from brushbem.protocol.pillars import MODES
+from brushbem.pillars.basis import DENSE_PILLARS
+from brushbem.pillars import MODES
 from brushbem.physics.structure import Grid, brush
 
 PHI, RADIUS_ELEMENTS = 0.16, 3.6

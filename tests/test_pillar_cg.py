@@ -1,4 +1,4 @@
-"""The pillar model's solve without a kept inverse (`brushbem.protocol.pillar_cg.LatticeCG`).
+"""The pillar model's solve without a kept inverse (`brushbem.pillars.cg.LatticeCG`).
 
 CG on the lattice's FFT product must give the kept inverse's answer: the
 same solution of the same pillar-level system (checked against a dense
@@ -15,7 +15,10 @@ import pytest
 
 from brushbem.config import parse_config
 from brushbem.physics.structure import Grid, Level, brush
-from brushbem.protocol import ContactProblem, LoadPath, pillar_cg, pillar_solver, pillars, record_pull_off
+from brushbem import pillars
+from brushbem.pillars import cg as pillar_cg
+from brushbem.pillars import solver as pillar_solver
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.workflow.case import brush_scales
 from brushbem.workflow.resources import memory_estimate
 

@@ -4,7 +4,7 @@ The reference is ``method = "events"`` on the same brush.  The brushes are
 seeded square lattices of phi = 0.16 (pillars of 3.6 elements' radius: 4 x 4
 at N = 64, 8 x 8 at N = 128), a rough one, a random layout and a two-level
 hierarchy, pressed to the rigid brush's force F_c and pulled off.  The model
-(`brushbem.protocol.pillars`) keeps six modes per tip and lets a tip peel
+(`brushbem.pillars`) keeps six modes per tip and lets a tip peel
 element by element, so the pattern of detachments is the exact path's; its
 errors are those of fitting the neighbours' field across a tip by a quadratic,
 measured at 0.05-0.4 % on F_A and 0.1-1.2 % on the work here.
@@ -20,8 +20,11 @@ import pytest
 
 import brushbem
 from brushbem.workflow.case import brush_scales
-from brushbem.protocol import (ContactProblem, LoadPath, pillar_events, pillar_loading, pillar_solver, pillars,
-                               record_pull_off)
+from brushbem import pillars
+from brushbem.pillars import events as pillar_events
+from brushbem.pillars import loading as pillar_loading
+from brushbem.pillars import solver as pillar_solver
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
@@ -109,7 +112,7 @@ def test_rough(elements, per_side, stiffness, sigma):
     by fitting the neighbours' field across the tip.  Measured: 6 x 6 at
     k~ = 1e-2, sigma~ = 1: F_A -0.18 %, work +0.01 %; 8 x 8 at k~ = 10,
     sigma~ = 0.3 (below); the 16 x 16 (N = 256) and the 32 x 32 chapter-5 brush
-    in the docstring of `brushbem.protocol.pillars`.
+    in the docstring of `brushbem.pillars`.
     """
     problem, force = _brush(elements, per_side, stiffness, sigma)
     reference, model = _compare(problem, force)
@@ -139,12 +142,12 @@ def test_rough_loading_is_the_contact_problem():
     assert model.force == pytest.approx(exact.force, rel=1e-9)
     assert np.count_nonzero(exact.contact != model.contact) <= 0.01 * np.count_nonzero(exact.contact)
     partial = pillars.PillarModel(problem)
-    run = pillars._Path(partial, path)
+    run = pillars.PillarState(partial, path)
     d = model.displacement
-    run.press(d)
+    pillar_loading.press(run, d)
     first = run.attached[:, None] & partial.raster
     run.install(partial.full.copy(), np.arange(partial.M))
-    run.press(d)
+    pillar_loading.press(run, d)
     assert np.array_equal(first, run.attached[:, None] & partial.raster)
 
 
@@ -336,7 +339,7 @@ def test_lattice_far_field_is_the_dense_one():
 def test_lattice_far_field_on_periods_longer_than_twice_the_lattice():
     """The FFT's periods are fast lengths of at least 2 n - 1 (26 -> 27 rows, 22 -> 24 columns here), and its
     far field is the pair-by-pair sum of the same multipoles to rounding (no offset wraps onto another)."""
-    from brushbem.protocol.pillar_lattice import Lattice
+    from brushbem.pillars.lattice import Lattice
 
     shape = (13, 11)
     index = np.stack(np.divmod(np.arange(shape[0] * shape[1]), shape[1]), axis=1)
@@ -390,7 +393,7 @@ def test_kept_inverse_follows_joins_and_leaves():
 
 
 def test_touch_bound_never_misses_a_touch():
-    """The pillar-level bound of `_Path.touch_candidates` keeps every free pillar that touches in the window.
+    """The pillar-level bound of `PillarState.touch_candidates` keeps every free pillar that touches in the window.
 
     On a rough hierarchical brush (springs of two levels move the free tips
     too), at every state of the pull-off, every free pillar's `touch_bound`
@@ -402,7 +405,7 @@ def test_touch_bound_never_misses_a_touch():
     """
     problem, force = _brush(96, 6, 1e-2, sigma=1.0, levels=(Level(cluster=2, stiffness=5e-3),))
     path = LoadPath(method="pillars", preload_force=force)
-    run = pillars._Path(pillars.PillarModel(problem), path)
+    run = pillars.PillarState(pillars.PillarModel(problem), path)
     scales = brush_scales(problem)
     checked = excluded = 0
     for state in pillar_events.events(run, path):

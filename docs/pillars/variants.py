@@ -2,7 +2,7 @@
 
 Two experiments on square lattices at phi = 0.16 (E* = 1, work of adhesion
 1e-4, seed 3, pressed to the rigid flat lattice's force F_c), each variant
-of ``brushbem.protocol.pillars.pull_off`` against the exact event path on
+of ``brushbem.pillars.pull_off`` against the exact event path on
 the same problem:
 
 * modes: 4 x 4 at N = 64 and 8 x 8 at N = 128 (pillars of 3.6 elements'
@@ -24,7 +24,8 @@ import os
 from pathlib import Path
 
 from brushbem.physics.structure import Grid, brush
-from brushbem.protocol import ContactProblem, LoadPath, pillars, record_pull_off
+from brushbem import pillars
+from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.protocol.recording import work_of_separation
 from brushbem.workflow.case import brush_scales
 

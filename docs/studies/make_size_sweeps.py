@@ -15,7 +15,7 @@ part per brush, its sizes zipped with the grid, the radius and the preload:
 Full: n = 8, 16, 32, 48, 64, 80, 100 (64 to 10^4 pillars), and for the level
 parts and ``rough_large`` also n = 316 (10^5 pillars; a level brush attaches
 all of them, solved by CG on the lattice's FFT product instead of a kept
-inverse, `brushbem.protocol.pillar_cg`); quick: n = 4, 6, 8.  Run from the repository root:
+inverse, `brushbem.pillars.cg`); quick: n = 4, 6, 8.  Run from the repository root:
 
     python docs/studies/make_size_sweeps.py
 """

@@ -130,8 +130,8 @@ def pull_off(
         Exactly one: press to this base displacement or until this force.
     method : {"events", "element_events", "fixed", "pillars"}
         The load path (docs/site/configuration.md, `[protocol]`); ``step`` is the fixed method's step.
-        ``"pillars"`` is the pillar-level model of a brush of flat, level tips of one length
-        (`brushbem.protocol.pillars`); it refuses, naming the parameter, any other indenter.
+        ``"pillars"`` is the pillar-level model of a brush of flat, untilted tips, level or of
+        unequal lengths (`brushbem.pillars`); it refuses, naming the parameter, any other indenter.
     tolerance : float
         Relative residual of every CG solve.
     speed : float, optional

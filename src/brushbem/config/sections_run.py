@@ -26,7 +26,7 @@ class ProtocolConfig(_Section):
         steps (the thesis's method), locating every detachment (and a
         pillar law's break) inside each step; ``"pillars"`` is the
         pillar-level model of a brush of flat tips (a few modes per tip,
-        events exact in the reduced model; ``brushbem.protocol.pillars``).
+        events exact in the reduced model; ``brushbem.pillars``).
     preload_displacement : float or None
         Press until the base displacement reaches this value, units of length;
         at most `MAX_PRELOAD_DOMAIN_SIZES` (1000) x grid.size.

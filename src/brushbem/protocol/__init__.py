@@ -25,10 +25,11 @@ Three methods:
   loading event) and the unloading of every structure go event by event.
 * ``"element_events"`` - the event-driven path with every element event on
   the loading branch too: the reference that ``"events"`` is tested against.
-* ``"pillars"`` - the pillar-level model of a brush of flat, level tips of
-  one length (`pillars`): a few numbers per pillar instead of every element,
-  events exact in the reduced model, checked against ``"events"``; any other
-  indenter is refused (`pillar_checks.check_applicable`).
+* ``"pillars"`` - the pillar-level model of a brush of flat tips, level or
+  of unequal lengths (the package `brushbem.pillars`): a few numbers per
+  pillar instead of every element, events exact in the reduced model,
+  checked against ``"events"``; any other indenter is refused
+  (`brushbem.pillars.check_applicable`).
 
 The event-driven path: for a fixed contact set S the solution is affine in
 d, p(d) = p(d0) + (d - d0) a with a = A_S^-1 1, and the penetration outside
@@ -64,8 +65,6 @@ The package's modules:
 * `connections` - `ConnectionState`, the viscoelastic history and the
   nonlinear pillar law's pieces and breaks (the springs and tip offsets
   they give the solves).
-* `pillars`, `pillar_basis`, `pillar_checks` - the pillar-level model
-  (``method = "pillars"``): its path, its basis and coupling, its refusals.
 * `recording` - `record_pull_off`: curve, snapshots, summary.
 """
 

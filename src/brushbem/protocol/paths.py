@@ -5,7 +5,7 @@ See `brushbem.protocol` for the methods.  The drivers are here (`_fixed`,
 events inside a fixed step and the event path's step are in
 `brushbem.protocol.events`, a brush's loading as contact problems in
 `brushbem.protocol.contact_loading`, and the pillar-level model in
-`brushbem.protocol.pillars`.
+`brushbem.pillars`.
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     budget ran out.
     """
     if path.method == "pillars":
-        from brushbem.protocol.pillars import pull_off as pillar_pull_off
+        from brushbem.pillars import pull_off as pillar_pull_off
 
         yield from pillar_pull_off(problem, path)
         return

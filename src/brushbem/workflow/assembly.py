@@ -324,7 +324,7 @@ class Rules:
         problems.extend(_unresolvable_spring_problems(config, indenter))
         if config.protocol.method == "pillars":
             # The pillar model's domain, checked here on the rasterised brush and not first at run time.
-            from brushbem.protocol.pillar_checks import check_applicable
+            from brushbem.pillars.checks import check_applicable
 
             try:
                 check_applicable(build_problem(config, indenter))

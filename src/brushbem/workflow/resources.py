@@ -90,7 +90,7 @@ def memory_estimate(config: RunConfig) -> int:
 def _pillar_matrices(config: RunConfig) -> float:
     """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (at most
     ``KEPT_PILLARS`` attached, twice with its work array), every mode's couplings and the inverse off it."""
-    from brushbem.protocol.pillar_solver import KEPT_PILLARS
+    from brushbem.pillars.solver import KEPT_PILLARS
 
     indenter = config.indenter
     if indenter.layout == "random":

@@ -1,7 +1,7 @@
 """The pillar model's far field on a lattice by FFT: `Lattice` (``LoadPath.method = "pillars"``).
 
 On a brush whose pillars sit on a rectangular lattice, the far-field
-coupling of `brushbem.protocol.pillar_basis` - the multipole expansion of
+coupling of `brushbem.pillars.basis` - the multipole expansion of
 1/r between two tips' modes - depends on the pillars only through their
 moments, once every tip's moments are taken about its lattice point instead
 of its centroid, and on the pair through the lattice offset alone.  The sum

@@ -1,34 +1,31 @@
 """The pillar model's events (``LoadPath.method = "pillars"``): from the first touch to separation.
 
-The model and its state are described in `brushbem.protocol.pillars`.
+The model and its state are described in `brushbem.pillars`.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from brushbem.protocol.pillar_loading import press_rough
+from brushbem.pillars.loading import press_rough
+from brushbem.pillars.state import PillarState
 from brushbem.protocol.problem import LoadPath, State
-
-if TYPE_CHECKING:
-    from brushbem.protocol.pillars import _Path
 
 __all__ = ["events"]
 
 
-def events(run: _Path, path: LoadPath) -> Iterator[State]:
+def events(run: PillarState, path: LoadPath) -> Iterator[State]:
     """The states of the pull-off of ``run`` from its first touch to separation.
 
     Everything is affine in d on a fixed state, so the next event - an
     element of an attached tip reaching the criterion, a free tip touching,
     the preload - is found in closed form, the state at it is yielded, and
-    the cascade at that d (`_Path.cascade`) gives the next equilibrium.
+    the cascade at that d (`PillarState.cascade`) gives the next equilibrium.
     Tips of unequal lengths are first pressed as the exact path presses
-    them (`brushbem.protocol.pillar_loading.press_rough`).
+    them (`brushbem.pillars.loading.press_rough`).
     """
     model = run.model
     lowest = float(model.g.min())
@@ -92,8 +89,8 @@ def events(run: _Path, path: LoadPath) -> Iterator[State]:
             steps = 0
 
 
-def _detachment_times(run: _Path, d: float, direction: float) -> np.ndarray:
-    """How far the base moves before each slot of each attached pillar (`_Path.on`) reaches the criterion:
+def _detachment_times(run: PillarState, d: float, direction: float) -> np.ndarray:
+    """How far the base moves before each slot of each attached pillar (`PillarState.on`) reaches the criterion:
     (n, width), inf where its tension does not grow."""
     model = run.model
     p = run.pressures_at(d)
@@ -103,7 +100,7 @@ def _detachment_times(run: _Path, d: float, direction: float) -> np.ndarray:
     return np.maximum(t_detach, 0.0)
 
 
-def _preload_distance(run: _Path, path: LoadPath, d: float) -> float:
+def _preload_distance(run: PillarState, path: LoadPath, d: float) -> float:
     """How far the base presses on before the preload (a displacement, or a force on the fixed state)."""
     model = run.model
     if path.preload_displacement is not None:
@@ -112,11 +109,11 @@ def _preload_distance(run: _Path, path: LoadPath, d: float) -> float:
     return (path.preload_force - run.force(d)) / rate if rate > 0 else math.inf
 
 
-def _touch_times(run: _Path, path: LoadPath, d: float, direction: float,
+def _touch_times(run: PillarState, path: LoadPath, d: float, direction: float,
                  window: float) -> tuple[np.ndarray, np.ndarray]:
     """(rows, t_touch (rows, width)): how far the base moves before each footprint slot of the free pillars
     ``rows`` touches; only those that may touch within ``window`` or with the event there (within its
-    tie; by `_Path.touch_candidates`) are looked at, all of them when ``window`` is infinite."""
+    tie; by `PillarState.touch_candidates`) are looked at, all of them when ``window`` is infinite."""
     model = run.model
     tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
     if math.isfinite(window):

@@ -6,7 +6,7 @@ raster, cached by raster shape), the Galerkin couplings G_ij between the
 modes of two pillars (exact within ``near``, by the multipole expansion
 beyond), the springs of every level projected on the uniform mode, and the
 higher modes' local amplitudes.  The model, its accuracy and its path are
-described in `brushbem.protocol.pillars`.
+described in `brushbem.pillars`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 import scipy.linalg
 
 from brushbem.physics.halfspace import influence_coefficients
-from brushbem.protocol.pillar_lattice import Lattice
+from brushbem.pillars.lattice import Lattice
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
@@ -74,7 +74,7 @@ class Basis:
 
 
 class PillarModel:
-    """Bases, couplings and springs of a brush in the pillar model (`brushbem.protocol.pillars`)."""
+    """Bases, couplings and springs of a brush in the pillar model (`brushbem.pillars`)."""
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
                  peel: bool = True, near: float | None = None, lattice: bool = True):
@@ -153,7 +153,7 @@ class PillarModel:
     def _build_couplings(self, full_centres: np.ndarray, lattice: bool) -> None:
         """The lattice (if any), the neighbours coupled exactly, and every coupling of the full footprints."""
         M, m = self.M, self.m
-        #: The lattice of the pillars (`brushbem.protocol.pillar_lattice.Lattice`) when they sit on one
+        #: The lattice of the pillars (`brushbem.pillars.lattice.Lattice`) when they sit on one
         #: (``coupling = "local"``, more than one mode): the far field of the uniform modes by FFT.
         self.lattice = (Lattice.detect(full_centres, self.near, self.scale)
                         if lattice and self.coupling == "local" and m > 1 else None)
@@ -545,7 +545,7 @@ class PillarModel:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode.
 
         ``uniform``: on the uniform modes only, (1, M, k) = G00 x0 (the pillar-level system's product,
-        `brushbem.protocol.pillar_cg`): the near blocks and the far sums' weights of the other modes are
+        `brushbem.pillars.cg`): the near blocks and the far sums' weights of the other modes are
         left out.
         """
         modes = slice(0, 1) if uniform else slice(None)

@@ -1,8 +1,9 @@
 """Where the pillar model (``LoadPath.method = "pillars"``) does not apply: `check_applicable`.
 
 It refuses, naming the key, indenters that are not brushes, viscoelastic
-connections, nonlinear pillar laws, tips that are not flat or not level, tips
-of different lengths, a pulling speed and backends other than NumPy.
+connections, nonlinear pillar laws, tips that are not flat, tilted bases, a
+pulling speed and backends other than NumPy.  Tips of unequal lengths
+(roughness, a length profile or file) are modelled (`brushbem.pillars.loading`).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 A level brush attaches every pillar, so its uniform modes' system (G00 + H)
 on the attached set is as large as the brush: at 10^5 pillars its kept
-inverse (`brushbem.protocol.pillar_solver.Solver`) would take 80 GB.  On a
+inverse (`brushbem.pillars.solver.Solver`) would take 80 GB.  On a
 lattice the product with G00 is `PillarModel.fields` (near blocks and the
 far field's FFT, O(M log M)), so the system is solved by conjugate
 gradients instead, in O(M) memory.
@@ -28,7 +28,7 @@ import scipy.fft
 __all__ = ["LatticeCG", "NotConverged", "TOLERANCE"]
 
 #: Relative residual ||b - A x|| / ||b|| of every right-hand side at which the CG stops (the kept inverse's
-#: own check, `brushbem.protocol.pillar_solver`, refactorises above 1e-10).
+#: own check, `brushbem.pillars.solver`, refactorises above 1e-10).
 TOLERANCE = 1e-11
 
 #: Iterations before the solve is declared not converged.

@@ -1,29 +1,26 @@
-"""The pillar model's loading of tips of unequal lengths: `press`, `press_rough`, `radiate` (``method = "pillars"``).
+"""The pillar model's loading of tips of unequal lengths: `press`, `press_rough` (``method = "pillars"``).
 
 The exact path presses a brush whose tips are not level as the
 non-adhesive contact problem at every d (`brushbem.protocol.contact_loading`);
 here that problem is solved at the pillar level (`press`: an active set of
 footprint slots), at the preload displacement or at the displacement of the
 preload force (`press_rough`), with the higher modes' near field fed back
-once the active set has settled (`radiate`).  The model is described in
-`brushbem.protocol.pillars`.
+once the active set has settled (`brushbem.pillars.solver.radiate`).  The
+model is described in `brushbem.pillars`.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Generator
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from brushbem.pillars.state import PillarState
 from brushbem.protocol.contact_loading import LOADING_SAMPLES
 from brushbem.protocol.problem import LoadPath, State
 
-if TYPE_CHECKING:
-    from brushbem.protocol.pillars import _Path
-
-__all__ = ["RADIATE_UNIFORM", "RADIATE_WHILE_PRESSING", "press", "press_rough", "radiate"]
+__all__ = ["RADIATE_WHILE_PRESSING", "press", "press_rough"]
 
 #: How often a footprint slot may join or leave in one contact problem (`press`).  The fit of the
 #: neighbours' field across a tip is not exact, so a slot at a contact's edge can penetrate while off and
@@ -33,49 +30,7 @@ _FLIPS = 6
 #: Whether the higher modes' near field is fed back while a brush of unequal tips is pressed (`press_rough`).
 RADIATE_WHILE_PRESSING = True
 
-#: The higher modes' near field is fed back until their amplitudes change by less than this fraction (three
-#: or four rounds: the coupling through a neighbour's higher mode is weak), or for at most this many rounds.
-_RADIATION_TOLERANCE = 1e-7
-_RADIATION_ROUNDS = 30
-
-#: Whether the uniform amplitudes answer the higher modes' near field too (one global solve a round).
-#: Without it the concave 16 x 16 brush of `tests/test_pillars_method.py` keeps its F_A +9.7 % error.
-RADIATE_UNIFORM = True
-
-
-def radiate(run: _Path, sol: np.ndarray, fields: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The fields with the higher modes' near field fed back (``coupling = 'local'``).
-
-    The higher modes' amplitudes answer the field on them, -field_k / gram_k; their own field on the
-    neighbours (`PillarModel.radiation`, near blocks only) shifts the neighbours' higher modes in turn.
-    Fixed point, pillar by pillar: xh = -(field + r)_h / gram_h, r = radiation(xh), until the higher
-    amplitudes change by less than ``_RADIATION_TOLERANCE`` of their size.  The uniform amplitudes keep
-    the uniform modes' solution (``RADIATE_UNIFORM``: they answer r_0 too, one global solve a round).
-    """
-    model, solver = run.model, run.solver
-    attached = run.attached[:, None, None]
-    gram = model.gram[:, 1:, None]
-    xh = np.where(attached, -fields[1:].transpose(1, 0, 2) / gram, 0.0)
-    total_sol, total_fields = sol, fields
-    for rounds in range(1, _RADIATION_ROUNDS + 1):
-        r = model.radiation(xh)
-        if RADIATE_UNIFORM:
-            correction = -solver.inverse_product(r[0])
-            shift = model.fields(correction)
-            shift[0] -= model.gram[:, :1] * correction
-            total_sol, total_fields = sol + correction, fields + shift + r
-        else:
-            total_fields = fields + r
-        updated = np.where(attached, -total_fields[1:].transpose(1, 0, 2) / gram, 0.0)
-        change = float(np.max(np.abs(updated - xh)))
-        xh = updated
-        if change <= _RADIATION_TOLERANCE * (float(np.max(np.abs(xh))) + 1e-300):
-            break
-    run.radiation_rounds += rounds
-    return total_sol, total_fields
-
-
-def press(run: _Path, d: float) -> int:
+def press(run: PillarState, d: float) -> int:
     """The non-adhesive contact problem at d: the rounds it took (solves of the pillar-level system).
 
     Rounds of an active set at element level: an element in tension
@@ -113,7 +68,7 @@ def press(run: _Path, d: float) -> int:
     return rounds
 
 
-def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, None, float]:
+def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[State, None, float]:
     """The loading branch of a brush whose tips are not level, as the exact path presses it.
 
     The exact path's loading branch of such a brush is the non-adhesive
@@ -130,7 +85,7 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
     samples: list[float] = []
     if path.preload_displacement is not None:
         target = float(path.preload_displacement)
-        run.press(target)
+        press(run, target)
     else:
         goal = float(path.preload_force)
         low, high = lowest, math.inf
@@ -139,7 +94,7 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
         # the indentation; above it, F being convex in d, Newton steps approach the goal from above.
         d = lowest + float(np.ptp(model.g)) / 16.0
         for _ in range(200):
-            run.press(d)
+            press(run, d)
             force = run.force(d)
             if abs(force - goal) <= 1e-10 * goal:
                 break
@@ -163,7 +118,7 @@ def press_rough(run: _Path, path: LoadPath, lowest: float) -> Generator[State, N
     for k in range(1, LOADING_SAMPLES):
         samples.append(lowest + (target - lowest) * k / LOADING_SAMPLES)
     for d in samples:
-        run.press(d)
+        press(run, d)
         yield run.state(d, True, "equilibrium", "contact problem (pillar level)")
     attached, raster = kept
     masks = np.where(attached[:, None], raster, False)

@@ -1,0 +1,143 @@
+"""The pillar-level model of a brush of flat rigid tips: ``LoadPath.method = "pillars"``.
+
+The element-level paths solve for the pressure on every element of every
+tip.  A flat rigid tip in full contact carries a pressure that is almost
+fixed by its own raster: the half-space inverse of a uniform displacement,
+with small corrections where its neighbours' field is not uniform across it.
+This model keeps a few numbers per pillar instead of every element.
+
+Basis
+    For every raster shape (the elements a tip holds), the full BEM on that
+    tip alone gives the pressures phi_k = K_R^-1 P_k of the displacement
+    polynomials P_k of the tip's coordinates: 1 (the uniform mode, whose
+    amplitude is the tip's mean displacement), x and y (``modes="tilt"``),
+    and x^2, x y, y^2 (``modes="quadratic"``, the default), made
+    K-orthogonal to phi_0, so that only phi_0 carries a net force.  A tip's
+    pressure is p = sum_k a_k phi_k.  Bases are cached by raster shape:
+    pillars of a lattice share one; a random layout has a few shapes.
+
+Coupling
+    G_ij = Phi_i^T K_ij Phi_j, the Galerkin projection of the half-space
+    between the modes of pillars i and j: exact (element-pair sums of the
+    Love kernel over the two footprints, cached by the pair's shapes and
+    offset) for centres closer than ``near`` (default 8 pillar radii), and by
+    the multipole expansion of 1/r to second order in the modes' moments
+    (the monopole F / (pi E* r) with its dipole and quadrupole corrections,
+    and the element square's own second moment) beyond.  On a lattice
+    (`brushbem.pillars.lattice`) the far sums are convolutions over
+    the lattice, done by FFT, with every tip's moments taken about its
+    lattice point; other layouts keep dense couplings.  Springs of every
+    level (`brushbem.physics.structure.SpringLevel`, pillars' own and hierarchy
+    clusters) enter the uniform mode as in the element operator: the
+    Galerkin projection of A = K + sum_l (h^2 / k_l) P_l^T P_l.
+
+Equilibrium
+    On the attached set S the uniform amplitudes solve the pillar-level
+    system (G00 + H)_SS a_0 = s_S (d - g_S) (s the force of phi_0, g the
+    pillar's length offset): a dense SPD system of the attached pillars
+    whose inverse is kept and updated by rank-one steps as pillars join,
+    leave or change shape (checked by its residual, refactorised when it
+    drifts); on a lattice with more than
+    `brushbem.pillars.solver.KEPT_PILLARS` attached, by CG on the
+    lattice's FFT product with a circulant preconditioner
+    (`brushbem.pillars.cg`), to a relative residual of 1e-11.  The
+    higher modes follow locally from the field that the
+    others' uniform modes cause across the tip (``coupling="local"``);
+    ``coupling="full"`` solves all modes together (a dense factorisation per
+    solve, small brushes).  Everything is affine in d on a fixed state, so,
+    as on the element event path, the next event is found in closed form.
+
+Loading of tips of unequal lengths (roughness, a length profile, a lengths file)
+    The exact path presses such a brush as the non-adhesive contact problem
+    at every d (`brushbem.protocol.contact_loading`): a tip that has just
+    touched is in partial contact.  The model solves that problem at the
+    pillar level (`brushbem.pillars.loading`): a tip holds the footprint slots where it
+    meets the surface (the others' field across its footprint fitted by its
+    polynomials from their projections on its modes, plus its own modes'
+    exact displacement), an element in tension leaves, until neither
+    happens; the preload force's displacement by Newton steps on the affine
+    F(d) of a fixed set.  While pressing, the higher modes' near field is
+    fed back (a fixed point): the edge of a partial contact depends on it
+    (a concave 16 x 16 brush at k~ = 1e-2 without it: F_A +9.7 %).
+
+Detachment (Pohrt-Popov) and touch
+    The criterion is the element grid's: an element of a tip detaches when
+    its pressure, reconstructed from the basis, falls below -Sigma_c,
+    Sigma_c = sqrt(E* dgamma / (0.473201 h)).  An element that reaches it
+    leaves and the pillar peels on its own with the rest of the brush frozen,
+    exactly as the element path's local cascade does (a raster of the
+    remaining elements gets its own basis, the others' field across it is
+    the fit above), until it is stable or gone; then the brush is solved
+    again at the same d, and so on (the cascade).  A pillar that touches
+    while pulled (a footprint slot meets the surface) enters with the slots
+    that penetrate.
+
+Accuracy against ``method = "events"`` (`docs/pillars/variants.md`, written
+by ``docs/pillars/variants.py``, on ten 4 x 4 and 8 x 8 lattices, level and
+rough, k~ from 10 to 1e-4): the uniform mode alone is +6.5 .. +22 % off on
+F_A (the neighbours' field tilts and bends the pressure on every tip, a tip
+on the brush's edge most, and the uniform mode misplaces the edge stress);
+tilts with peeling tips -1.6 .. -0.2 %; the quadratic modes with peeling
+(the default) -0.3 .. +0.4 % on F_A and -0.4 .. +0.2 % on the work, and
+coupled in full -0.1 .. +0.1 %.  A tip peels (its corner elements leave
+first): one that detaches whole at its first edge element comes off early.
+At 2.3, 3.6 and 7.2 elements' radius the uniform and tilt models get worse
+as the tip is resolved better, the quadratic model stays within 0.6 %.
+
+The families of `docs/pillars/validation.md` (written by
+``docs/pillars/validation.py``: flat, rough, random, hierarchical and
+concave brushes of 64, 256 and 1024 pillars at k~ = 10, 1e-2 and 1e-5,
+each against the exact path) hold every case within 1 % on F_A, 3 % on
+the work and 2 % on the pillars attached at pull-off.
+
+Cost: per event O(n^2) for the n attached pillars (the kept inverse), or
+O(M log M) per CG iteration beyond ``KEPT_PILLARS`` on a lattice (7-9
+iterations a solve), and O(M log M) for the M pillars of a lattice (the
+FFT, and a bound at pillar level on how far each free tip is from the
+surface, so that only the attached pillars and the free ones that may touch
+are looked at slot by slot); O(M^2) off a lattice.  On a lattice the memory
+is O(M) besides the kept inverse and G00, kept up to
+`brushbem.pillars.basis.DENSE_PILLARS` pillars and filled entry by
+entry as the solve reads it.  Measured on the chapter-5 family
+(``benchmarks/large_brush.py``, CPU seconds of one core): 1024 pillars
+3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``), 4096 pillars
+16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
+10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
+states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
+4096 pillars 12.6 s by CG against 39.4 s with the kept inverse, 10^4 pillars
+42 s in at most 1 GB against 356 s in 4.1 GB (the same F_A to 5e-11 and work
+to 4e-10).
+
+Where it does not apply it refuses, naming the key: tips that are not flat
+(``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
+connections (``Indenter.viscoelastic``), nonlinear pillar laws
+(``Indenter.pillar_law``), and indenters that are not brushes.
+
+The package's modules:
+
+* `path` - `pull_off`, the public path (``brushbem.protocol.pull_off`` with
+  ``method = "pillars"`` calls it).
+* `state` - `PillarState`, the state of one pull-off: the amplitudes on the
+  attached set, the solves, the peeling and the cascades.
+* `events` - the events, from the first touch to separation.
+* `loading` - the loading of tips of unequal lengths (contact problems at
+  pillar level).
+* `basis` - `PillarModel`: the bases, couplings and springs.
+* `lattice` - the far field on a lattice by FFT.
+* `solver` - the pillar-level solve (the kept inverse, the full coupling)
+  and the higher modes' near field fed back (`radiate`).
+* `cg` - the solve without a kept inverse (CG on the lattice's FFT).
+* `checks` - the refusals (`check_applicable`).
+
+Imports run one way: basis, lattice, cg < solver < state < loading <
+events < path.
+"""
+
+from __future__ import annotations
+
+from brushbem.pillars.basis import MODES, NEAR_RADII, Basis, PillarModel
+from brushbem.pillars.checks import check_applicable
+from brushbem.pillars.path import pull_off
+from brushbem.pillars.state import PillarState
+
+__all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "PillarState", "check_applicable", "pull_off"]
