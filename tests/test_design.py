@@ -255,17 +255,159 @@ def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
 
 
 def test_an_interrupted_design_keeps_the_best_design_verified_so_far():
-    """`stop` (Ctrl-C in the CLI) after the first verification: that design, marked interrupted and said."""
-    problem = _problem(0.01)
-    asked = []
+    """`stop` (Ctrl-C in the CLI) once the second verification begins: the first design, marked interrupted
+    and said; `stop` from the start: nothing to keep."""
+    problem = _tilted_brush(0.2)  # its corrective pull-offs go on (untilted, one verification suffices)
+    second = []
 
-    def stop():
-        asked.append(True)
-        return len(asked) > 1  # after the start pull-off: go on; after the first verification: stop
+    def progress(fraction, message):
+        if message.startswith("verifying design 2"):
+            second.append(True)
 
-    result = design(problem, _path(problem), iterations=3, stop=stop)
+    path = LoadPath(method="events", preload_displacement=0.002)
+    result = design(problem, path, iterations=3, stop=lambda: bool(second), progress=progress)
     assert result.interrupted and result.iterations == 0 and len(result.history) == 1
-    assert any("interrupted after 1 of 4 verifications" in w for w in result.warnings)
+    assert any("interrupted during verification 2 of 4" in w for w in result.warnings)
     assert result.verified_force_ratio == result.history[0]
     with pytest.raises(DesignInterrupted):
-        design(problem, _path(problem), iterations=3, stop=lambda: True)
+        design(problem, path, iterations=3, stop=lambda: True)
+
+
+def _tilted_brush(angle: float) -> ContactProblem:
+    from brushbem.physics.structure import Tilt
+
+    grid = Grid(1.0, 64)
+    indenter = brush(grid, layout="square", pillars_per_side=4, pillar_radius=0.056, contact_modulus=1.0,
+                     work_of_adhesion=1e-4, stiffness_ratio=0.1, tilt=Tilt(angle) if angle else None)
+    return ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+
+
+def test_a_tilted_brush_is_verified_with_its_tilt():
+    """The verification of a tilted brush keeps the tilt across every tip: designed offsets v on the tilted
+    brush give the heights of the untilted one plus the tilt's rise from each pillar's centre (1e-15 of
+    the offsets), and the design says that its direct solve assumed untilted tips."""
+    from brushbem.physics.structure import Tilt
+    from brushbem.workflow.design import _with_offsets
+
+    tilted, flat = _tilted_brush(0.2), _tilted_brush(0.0)
+    values = np.linspace(0.0, 0.003, tilted.indenter.n_pillars)
+    pillar = tilted.indenter.pillar
+    on = pillar >= 0
+    rows, cols = np.nonzero(on)
+    x = tilted.grid.centres()
+    centres = np.asarray(tilted.indenter.description.centres)
+    rise = Tilt(0.2).heights(x[rows], x[cols]) - Tilt(0.2).heights(centres[pillar[on], 0], centres[pillar[on], 1])
+    difference = _with_offsets(tilted.indenter, values).height[on] - _with_offsets(flat.indenter, values).height[on]
+    np.testing.assert_allclose(difference, rise, rtol=0, atol=1e-15 * 0.003)
+    assert np.ptp(rise) > 1e-4  # the tilt's rise across the brush is not negligible
+    path = LoadPath(method="events", preload_displacement=0.002)
+    designed = design(tilted, path, iterations=0)
+    assert any("indenter.tilt.angle = 0.2" in warning for warning in designed.warnings)
+    plain = design(flat, path, iterations=0)
+    np.testing.assert_array_equal(designed.values, plain.values)  # the direct solve ignores the tilt ...
+    assert designed.verified_force_ratio < plain.verified_force_ratio - 0.02  # ... its verification does not (0.831, 0.864)
+
+
+def test_every_designed_tip_is_in_full_contact_at_the_raised_preload_decided_before_any_pull_off(monkeypatch):
+    """6 x 6 pillars, N = 64, k~ = 0.455: the largest offset plus the preload leaves 4 tips untouched (the
+    surface sinks around their pressed neighbours).  The raised preload presses every footprint element
+    (checked by a separate contact solve), and the first verification then reaches the prediction (1e-3).
+    A force preload that cannot press them all is refused before any pull-off, naming the force that can."""
+    import brushbem.workflow.design as module
+    from brushbem.workflow.design import _with_offsets
+
+    grid = Grid(1.0, 64)
+    indenter = brush(grid, layout="square", pillars_per_side=6, pillar_radius=0.04, contact_modulus=1.0,
+                     work_of_adhesion=1e-4, stiffness_ratio=0.455)
+    problem = ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+    result = design(problem, LoadPath(method="events", preload_displacement=0.002), iterations=0)
+    assert result.preload_displacement > result.values.max() + 0.002
+    designed = dataclasses.replace(problem, indenter=_with_offsets(indenter, result.values), work_of_adhesion=0.0)
+    pressed = indent(designed, result.preload_displacement)
+    assert np.all(np.asarray(pressed.contact)[indenter.pillar >= 0])
+    assert result.verified_force_ratio == pytest.approx(result.predicted_force_ratio, abs=1e-3)
+
+    def never(*args, **kwargs):
+        raise AssertionError("a pull-off was computed before the preload was checked")
+
+    monkeypatch.setattr(module, "record_pull_off", never)
+    with pytest.raises(DesignError, match=r"protocol.preload_force >= [0-9.e-]+ \(or protocol.preload_displacement"):
+        design(problem, LoadPath(method="events", preload_force=1e-4), iterations=0)
+
+
+def test_ctrl_c_is_honoured_before_the_first_verification_and_during_the_bound():
+    """`stop` turning True inside the start pull-off ends it at once (DesignInterrupted, a few states
+    later at most); turning True during --bound ends the bound: the design is kept, marked interrupted."""
+    problem = _problem(10.0)
+    asked = []
+
+    def stop_soon():
+        asked.append(True)
+        return len(asked) >= 3
+
+    with pytest.raises(DesignInterrupted):
+        design(problem, _path(problem), iterations=1, stop=stop_soon)
+    assert len(asked) <= 4  # the start pull-off has hundreds of states
+    bounding = []
+
+    def progress(fraction, message):
+        if message.startswith("the load-sharing bound"):
+            bounding.append(True)
+
+    result = design(problem, _path(problem), iterations=0, bound=True, progress=progress,
+                    stop=lambda: bool(bounding))
+    assert result.interrupted and result.bound_force_ratio is None
+    assert any("interrupted during the load-sharing bound" in warning for warning in result.warnings)
+
+
+def test_a_failed_design_write_names_its_file_and_keeps_nothing(tmp_path, monkeypatch):
+    """A full disk at design.png (after design.npy, .csv and .json were written): exit 4, the message
+    names design.png, the three files are removed, and the next design needs no --overwrite."""
+    import errno
+
+    from brushbem.workflow import figstyle
+
+    path = _small_brush_file(tmp_path)
+    out = tmp_path / "design"
+
+    def full(figure, target):
+        raise OSError(errno.ENOSPC, "No space left on device", str(out / ".design.png.x1y2.tmp"))
+
+    monkeypatch.setattr(figstyle, "save", full)
+    failed = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--iterations", "0", "--quiet"])
+    assert failed.exit_code == 4, failed.output
+    assert "design.png (No space left on device)" in failed.output and "nothing of this design" in failed.output
+    assert not [p.name for p in out.iterdir() if p.name.startswith("design")]
+    monkeypatch.undo()
+    again = CliRunner().invoke(main, ["design", str(path), "--out", str(out), "--iterations", "0", "--quiet"])
+    assert again.exit_code == 0, again.output
+
+
+def test_the_thesis_shape_is_fitted_with_its_level_and_drawn_only_where_it_fits():
+    """Offsets that are a S_c + b give back a and R^2 = 1; offsets with no radial trend have R^2 < 0.1
+    and the figure draws no curve for them (it says so in the legend)."""
+    from matplotlib.figure import Figure
+
+    from brushbem.physics import theory
+    from brushbem.workflow.design import Design, design_figure, thesis_profile_fit
+
+    problem = _problem(10.0)
+    info = problem.indenter.description
+    radial = np.hypot(*np.asarray(info.centres).T)
+    stress = float(theory.concave_reference_stress(info.pillar_radius, contact_modulus=1.0, work_of_adhesion=1e-4))
+    shape = np.asarray(theory.concave_offsets(radial, float(radial.max()), 1.0, stress, contact_modulus=1.0))
+    offsets = 0.3 * shape + 0.01
+    fitted, amplification, r2 = thesis_profile_fit(problem, offsets)
+    assert amplification == pytest.approx(0.3, rel=1e-12) and r2 == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(fitted, offsets, rtol=1e-12)
+    against = np.random.default_rng(1).uniform(0.0, 1e-3, shape.size)  # no radial trend
+    assert thesis_profile_fit(problem, against)[2] < 0.1
+    result = Design(target="lengths", values=against, predicted_force_ratio=1.0, verified_force_ratio=0.9,
+                    history=[0.9], detachment=np.zeros(against.size), spread=0.0, iterations=0, converged=True,
+                    adhesive_force=1.0, ideal_sharing_force=1.0, rigid_brush_displacement=1e-3)
+    figure = Figure()
+    axes = figure.subplots(1, 2)
+    design_figure(problem, result, axes=axes)
+    drawn = [line for line in axes[0].lines if len(line.get_xdata())]
+    assert len(drawn) == 1  # the designed points only
+    assert any("does not fit" in text.get_text() for text in axes[0].get_legend().get_texts())

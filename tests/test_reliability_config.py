@@ -1062,3 +1062,26 @@ def test_the_spring_floor_is_the_solvers():
     from brushbem.numerics.solver import ROUNDING_FLOOR
 
     assert SPRING_ROUNDING_FLOOR == ROUNDING_FLOOR
+
+
+@pytest.mark.parametrize(("table", "key", "value"), [
+    ("solver", "max_iterations", 50), ("solver", "coupling", "discriminant"), ("solver", "cascade", "global"),
+    ("protocol", "step", 1e-5),
+])
+def test_the_pillar_model_refuses_keys_it_does_not_use(table, key, value):
+    """The pillar model ignored solver.max_iterations, coupling, cascade and protocol.step: given, each is
+    refused naming the key; their defaults (not given) are accepted."""
+    from brushbem.workflow.assembly import parse_config
+    from brushbem.config import ConfigError
+
+    config = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
+                     "pillar_radius": 0.05, "stiffness_ratio": 0.05, "seed": 3},
+        "protocol": {"method": "pillars", "preload_displacement": 2e-3},
+    }
+    assert parse_config(copy.deepcopy(config)).protocol.method == "pillars"
+    config.setdefault(table, {})[key] = value
+    with pytest.raises(ConfigError, match=rf"{table}\.{key}.*not used by protocol.method = 'pillars'"):
+        parse_config(config)

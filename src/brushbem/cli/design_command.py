@@ -56,7 +56,7 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
                    "or choose another --out", err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     _prepare_out(out_dir)
-    from brushbem.workflow.design import DesignError, DesignInterrupted, write_design
+    from brushbem.workflow.design import DesignError, DesignInterrupted, DesignWriteError, write_design
     from brushbem.workflow.design import design as run_design
     from brushbem.io import FolderBusyError, exclusive_folder, remove_stale_temporaries
 
@@ -83,8 +83,14 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
             raise click.exceptions.Exit(stop.exit_status) from None
         try:
             write_design(built.problem, result, out_dir, str(config_path))
+        except DesignWriteError as exc:
+            kept = "; the files of this design written before it were removed" if exc.removed else ""
+            click.echo(f"--out {out_dir}: could not write {exc.filename} ({exc.strerror}){kept}: nothing of this "
+                       "design is kept", err=True)
+            raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
         except OSError as exc:
-            click.echo(f"--out {out_dir}: could not write the design ({exc.strerror or exc})", err=True)
+            click.echo(f"--out {out_dir}: could not write the design ({exc.strerror or exc}): nothing of it is "
+                       "kept", err=True)
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
     for warning in result.warnings:
         click.echo(f"warning: {warning}", err=True)

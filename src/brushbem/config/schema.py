@@ -79,6 +79,7 @@ class RunConfig(BaseModel):
         problems.extend(self._step_problems())
         problems.extend(self._time_stepping_problems())
         problems.extend(self._pillar_law_problems())
+        problems.extend(self._pillar_model_problems())
         problems.extend(_resource_problems(self))  # before the indenter is rasterised
         if not problems and rules is not None:
             problems = rules.rasterised_problems(self)
@@ -158,6 +159,24 @@ class RunConfig(BaseModel):
                             f"more, beyond protocol.max_steps = {protocol.max_steps} (on each branch); raise the step "
                             f"to at least {smallest:.3g} (or max_steps, knowing the run's length grows with it)")]
         return []
+
+    def _pillar_model_problems(self) -> list[Problem]:
+        """Keys the pillar model (protocol.method = "pillars") does not use, given: refused, not ignored."""
+        if self.protocol.method != "pillars":
+            return []
+        unused = {
+            "solver.max_iterations": ("max_iterations" in self.solver.model_fields_set, self.solver.max_iterations,
+                                      "its pillar-level solves have their own bounds"),
+            "solver.coupling": ("coupling" in self.solver.model_fields_set, self.solver.coupling,
+                                "it couples the pillars by their modes, not by the element operator"),
+            "solver.cascade": ("cascade" in self.solver.model_fields_set, self.solver.cascade,
+                               "its cascades peel pillar by pillar on the pillar-level system"),
+            "protocol.step": ("step" in self.protocol.model_fields_set, self.protocol.step,
+                              "it jumps from event to event (a step is method = 'fixed''s)"),
+        }
+        return [Problem(key, _show(value), f"is not used by protocol.method = 'pillars' ({why}): remove it, "
+                                           "or choose another method")
+                for key, (given, value, why) in unused.items() if given]
 
     def _pillar_law_problems(self) -> list[Problem]:
         """A nonlinear pillar law: fixed steps to a displacement, a finite stiffness, no viscoelasticity."""

@@ -46,7 +46,7 @@ from brushbem.workflow.records import MappingRecord
 from brushbem.physics.structure import BrushGeometry, Indenter, SpringLevel
 
 __all__ = ["Design", "DesignError", "DesignInterrupted", "critical_forces", "design", "design_figure", "prescribed_force_state",
-           "sharing_bound", "write_design"]
+           "sharing_bound", "write_design", "DesignWriteError"]
 
 
 class DesignError(ValueError):
@@ -203,7 +203,7 @@ MAX_CRITICAL_ROUNDS = 200
 
 
 def critical_forces(halfspace: HalfSpace, pillar: np.ndarray, forces: np.ndarray, critical: float, *,
-                    tolerance: float = 1e-8) -> tuple[np.ndarray, np.ndarray, float]:
+                    tolerance: float = 1e-8, stop=None) -> tuple[np.ndarray, np.ndarray, float]:
     """Pillar tensions at which every pillar's most stressed element reaches the criterion at once.
 
     Starting from ``forces`` (Kendall's tensions), each round solves the
@@ -213,13 +213,14 @@ def critical_forces(halfspace: HalfSpace, pillar: np.ndarray, forces: np.ndarray
     verge of detachment, the mesh's equal load sharing.  Returns the forces,
     the pillar displacements w_n of that state and its total tension.
 
-    Raises DesignError if the rounds do not settle.
+    Raises DesignError if the rounds do not settle, `DesignInterrupted` when ``stop()`` turns True.
     """
     labels = pillar.ravel()
     on = labels >= 0
     owner = labels[on]
     pressure = None
     for _ in range(MAX_CRITICAL_ROUNDS):
+        _check_stop(stop, "before the direct solve settled")
         pressure, w = prescribed_force_state(halfspace, pillar, forces, initial=pressure)
         tension = np.zeros(forces.size)
         np.maximum.at(tension, owner, -pressure.ravel()[on])
@@ -233,7 +234,8 @@ def critical_forces(halfspace: HalfSpace, pillar: np.ndarray, forces: np.ndarray
     raise DesignError(f"the pillars' edges did not reach the criterion together in {MAX_CRITICAL_ROUNDS} rounds")
 
 
-def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float) -> tuple[float, np.ndarray]:
+def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float, *,
+                  stop=None) -> tuple[float, np.ndarray]:
     """The largest total tension rigid flat pillars in full contact can carry with no element past Sigma_c.
 
     Lengths and stiffnesses decide only which pillar forces F_n a brush
@@ -258,7 +260,8 @@ def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float) -> 
     x pillars matrix: 0.1 GB for 192 pillars at N = 512, about 2 GB for 2304
     pillars at N = 1024.
 
-    Raises DesignError if the programme has no solution.
+    Raises DesignError if the programme has no solution, `DesignInterrupted` when ``stop()`` turns True
+    (asked before every solve).
     """
     from scipy.optimize import linprog
 
@@ -267,6 +270,7 @@ def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float) -> 
     m = int(labels.max()) + 1
     columns = np.empty((on.size, m))
     for n in range(m):
+        _check_stop(stop, f"during the load-sharing bound ({n} of {m} solves)")
         unit = np.zeros(m)
         unit[n] = 1.0  # a unit tension on pillar n: p is the tensile stress per unit tension
         pressure, _ = prescribed_force_state(halfspace, np.asarray(pillar), -unit)
@@ -276,6 +280,11 @@ def sharing_bound(halfspace: HalfSpace, pillar: np.ndarray, critical: float) -> 
     if solution.status != 0:
         raise DesignError(f"the load-sharing bound's linear programme failed: {solution.message}")
     return float(-solution.fun), np.asarray(solution.x)
+
+
+def _check_stop(stop, when: str) -> None:
+    if stop is not None and stop():
+        raise DesignInterrupted(f"interrupted {when}: nothing to keep")
 
 
 def _spring_compression(indenter: Indenter, forces: np.ndarray, skip_first: bool = False) -> np.ndarray:
@@ -290,7 +299,15 @@ def _spring_compression(indenter: Indenter, forces: np.ndarray, skip_first: bool
 
 
 def _with_offsets(indenter: Indenter, offsets: np.ndarray) -> Indenter:
-    height = np.where(indenter.pillar >= 0, offsets[np.maximum(indenter.pillar, 0)], np.inf)
+    """``indenter`` with pillar n's offset set to ``offsets[n]``: every element of its tip moves with it.
+
+    The rest of each element's height (a tilt's slope across the tip) is kept, so the verification pulls
+    off the brush as configured, tilt included.
+    """
+    footprint = indenter.pillar >= 0
+    owner = np.maximum(indenter.pillar, 0)
+    shift = np.asarray(offsets, float) - np.asarray(indenter.description.offsets, float)
+    height = np.where(footprint, np.asarray(indenter.height, float) + shift[owner], np.inf)
     description = dataclasses.replace(indenter.description, offsets=np.array(offsets))
     return dataclasses.replace(indenter, height=height, description=description)
 
@@ -362,7 +379,8 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
                                               work_of_adhesion=problem.work_of_adhesion))
     ideal = float(kendall.sum())
     halfspace = HalfSpace(grid.elements, grid.element_size, problem.contact_modulus)
-    forces, w, predicted = critical_forces(halfspace, np.asarray(indenter.pillar), -kendall, problem.critical_stress)
+    forces, w, predicted = critical_forces(halfspace, np.asarray(indenter.pillar), -kendall, problem.critical_stress,
+                                           stop=stop)
     if target == "lengths":
         g = -_spring_compression(indenter, forces) - w
         values = g - g.min()
@@ -392,31 +410,50 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
         min(info.filling_factor, 1.0), info.apparent_area, contact_modulus=problem.contact_modulus,
         work_of_adhesion=problem.work_of_adhesion)))
     notes: list[str] = []
+    tilted = float(getattr(info, "tilt_angle", 0.0) or 0.0) != 0.0
+    if tilted:
+        notes.append(f"indenter.tilt.angle = {info.tilt_angle:g} degrees: the direct solve assumes untilted "
+                     "tips; the verification pull-offs are of the tilted brush, and the offsets are the "
+                     "pillars' heights at their centres on the tilted base")
+    configured = path
+    first = build(indenter, values)
+    # Every designed tip pressed, or said, before any pull-off is computed.
+    _touching_path(dataclasses.replace(problem, indenter=first), configured,
+                   values if target == "lengths" else None, notes, stop)
     if progress is not None:
         progress(0.0, "the brush as given: one pull-off to compare the design with")
-    start = record_pull_off(problem, path).summary
-    if stop is not None and stop():
+    start = record_pull_off(problem, path, stop=stop).summary
+    if start["interrupted"] or (stop is not None and stop()):
         raise DesignInterrupted("interrupted before the first design was verified: nothing to keep")
-    configured = path
     interrupted = False
     start_ratio = float(start["adhesive_force"]) / ideal
     history, best, converged = [], None, bool(start["converged"])
     for round_ in range(iterations + 1):
         if progress is not None:
             progress(round_ / (iterations + 1), f"verifying design {round_ + 1} of {iterations + 1}")
-        trial = dataclasses.replace(problem, indenter=build(indenter, values))
-        path = _touching_path(trial, configured, values if target == "lengths" else None, notes)
-        record = record_pull_off(trial, path)
-        summary = record.summary
+        trial = dataclasses.replace(problem, indenter=first if round_ == 0 else build(indenter, values))
+        try:
+            path = _touching_path(trial, configured, values if target == "lengths" else None, notes, stop)
+            record = record_pull_off(trial, path, stop=stop)
+        except DesignInterrupted:
+            record = None
+        summary = {"interrupted": True} if record is None else record.summary
+        if summary["interrupted"]:
+            if best is None:
+                raise DesignInterrupted("interrupted before the first design was verified: nothing to keep")
+            interrupted = True
+            notes.append(f"interrupted during verification {round_ + 1} of {iterations + 1}: the best design "
+                         "verified before it")
+            break
         converged &= bool(summary["converged"])
         ratio = float(summary["adhesive_force"]) / ideal
         detachment = np.asarray(record.pillars["max_tension_displacement"], float)
         untouched = int(np.count_nonzero(~np.isfinite(detachment)))
         if untouched:
             raise DesignError(
-                f"{untouched} of {detachment.size} pillars never touch at the preload of the verification "
-                f"(protocol.preload_displacement = {path.preload_displacement}, protocol.preload_force = "
-                f"{path.preload_force}): press further so that every designed pillar is in contact")
+                f"{untouched} of {detachment.size} pillars never touch in the verification pull-off at "
+                f"{_preload_words(path)}, although pressing the designed brush to it touched every one; "
+                "raise the preload")
         history.append(ratio)
         if best is None or ratio > best[0]:
             best = (ratio, values.copy(), detachment, float(summary["adhesive_force"]), path.preload_displacement)
@@ -440,10 +477,16 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
             values = forces / stretch
     ratio, values, detachment, force, preload = best
     bound_ratio = None
-    if bound:
+    if bound and not interrupted:
         if progress is not None:
             progress(1.0, f"the load-sharing bound: {indenter.n_pillars} prescribed-force solves")
-        bound_ratio = sharing_bound(halfspace, np.asarray(indenter.pillar), problem.critical_stress)[0] / ideal
+        try:
+            bound_ratio = sharing_bound(halfspace, np.asarray(indenter.pillar), problem.critical_stress,
+                                        stop=stop)[0] / ideal
+        except DesignInterrupted:
+            notes.append("interrupted during the load-sharing bound (--bound): the design is kept, the bound "
+                         "is not computed")
+    interrupted = interrupted or bool(stop is not None and stop())
     spread = float(np.ptp(detachment) / scales_dc)  # every pillar touched (checked above)
     if ratio <= start_ratio:
         notes.append(f"the design does not beat the brush as given: verified F~ = {ratio:.4g} against "
@@ -455,30 +498,108 @@ def design(problem: ContactProblem, path: LoadPath, *, target: str = "lengths", 
                   preload_displacement=preload, warnings=tuple(dict.fromkeys(notes)), interrupted=interrupted)
 
 
-def _touching_path(problem: ContactProblem, path: LoadPath, offsets: np.ndarray | None, notes: list[str]) -> LoadPath:
-    """``path``, with its preload displacement raised so that every pillar of the designed offsets is pressed.
+#: Most raises of a displacement preload before the design says which preload it needs (each presses the
+#: designed brush once, without adhesion).
+MAX_PRELOAD_RAISES = 40
 
-    Designed offsets recess some tips by more than the configured preload presses; such a pillar never
-    touches, never pulls, and the verification would rate a brush the design did not mean.  A
-    displacement preload is raised to the largest offset plus the configured preload (every tip then
-    pressed at least that much); a force preload is kept (the pull-off reports untouched pillars).
+
+def _preload_words(path: LoadPath) -> str:
+    if path.preload_displacement is not None:
+        return f"protocol.preload_displacement = {path.preload_displacement:.6g}"
+    return f"protocol.preload_force = {path.preload_force:.6g}"
+
+
+def _touching_path(problem: ContactProblem, path: LoadPath, offsets: np.ndarray | None, notes: list[str],
+                   stop=None) -> LoadPath:
+    """``path``, with its preload displacement raised until every pillar of ``problem`` is pressed.
+
+    Designed offsets recess some tips; such a pillar never touches, never pulls, and the verification
+    would rate a brush the design did not mean.  The brush is pressed to the preload without adhesion
+    (as the event path presses a brush) and, while some pillar is not in full contact (the design's
+    premise), the displacement is raised (the surface sinks around pressed neighbours, so the offsets
+    alone are not enough) and pressed again.  A displacement preload is raised so, with a warning;
+    a force preload that leaves a pillar off is refused, naming the preload that presses all of them.
+    Each press is one contact solve, no pull-off: this is decided before any pull-off is computed.
     """
-    if offsets is None or path.preload_displacement is None:
-        return path
-    needed = float(np.max(offsets)) + float(path.preload_displacement)
-    if needed <= path.preload_displacement * (1 + 1e-12):
+    from brushbem.protocol import indent
+
+    pillar = np.asarray(problem.indenter.pillar)
+    footprint = pillar >= 0
+    m = problem.indenter.n_pillars
+    dry = dataclasses.replace(problem, work_of_adhesion=0.0)
+    halfspace = HalfSpace(problem.grid.elements, problem.grid.element_size, problem.contact_modulus)
+    height = np.asarray(problem.indenter.height, float)
+    lowest_of_each = np.full(m, np.inf)
+    np.minimum.at(lowest_of_each, pillar[footprint], height[footprint])
+    if path.preload_displacement is None:
+        # Just past the last tip reached, were the surface not to sink (a press needs some penetration).
+        start = float(lowest_of_each.max()) + 1e-3 * problem.grid.element_size
+    else:
+        start = float(path.preload_displacement)
+        if offsets is not None:
+            start = max(start, float(np.max(offsets)) + start)  # every tip pressed at least the preload
+    def press(d: float):
+        _check_stop(stop, "while pressing the designed brush to its preload")
+        state = indent(dry, d, tolerance=min(path.tolerance, 1e-8), max_iterations=path.max_iterations)
+        # Pressed means in full contact: the design's prediction is of flat tips in full contact.
+        off = footprint & ~np.asarray(state.contact, bool)
+        touched = np.bincount(pillar[off], minlength=m) == 0
+        return state, touched
+
+    # The surface under a free tip sinks with its pressed neighbours, so the gap closes slower than d grows
+    # (in a dense array much slower): the raise doubles until every tip touches, then bisection brings it
+    # back to within 2 % of the first displacement that presses them all (contact grows with d).
+    d, low = start, None
+    state, touched = press(d)
+    step = 0.0
+    for _ in range(MAX_PRELOAD_RAISES):
+        if touched.all():
+            break
+        deflection = np.asarray(halfspace.apply(np.asarray(state.pressure, float)))
+        gap = float(np.max(np.where(footprint & ~np.asarray(state.contact, bool), height + deflection - d,
+                                    -np.inf)))
+        low = d
+        step = max(2.0 * step, 1.1 * max(gap, 0.0), 1e-9 * max(abs(d), problem.grid.element_size))
+        d += step
+        state, touched = press(d)
+    else:
+        raise DesignError(f"pressing the designed brush by up to d = {d:.6g} left pillars out of contact "
+                          f"(after {MAX_PRELOAD_RAISES} raises of the preload): the design cannot be verified")
+    while low is not None and d - low > 0.02 * (d - start) and d - low > 1e-12 * abs(d):
+        middle = 0.5 * (low + d)
+        trial, trial_touched = press(middle)
+        if trial_touched.all():
+            d, state = middle, trial
+        else:
+            low = middle
+    if path.preload_force is not None:
+        if path.preload_force >= state.force:
+            return path
+        raise DesignError(
+            f"{_preload_words(path)} leaves some of the {m} designed pillars out of full contact (their tips "
+            f"are recessed by up to {float(np.ptp(lowest_of_each)):.6g}); pressing every one fully takes "
+            f"protocol.preload_force >= {state.force:.6g} (or protocol.preload_displacement = {d:.6g})")
+    if d <= path.preload_displacement * (1 + 1e-12):
         return path
     notes[:] = [note for note in notes if not note.startswith("protocol.preload_displacement raised")]
-    notes.append(f"protocol.preload_displacement raised from {path.preload_displacement:g} to {needed:g}: the "
-                 "designed offsets recess tips by up to {:g}, beyond the configured preload".format(float(np.max(offsets))))
-    return dataclasses.replace(path, preload_displacement=needed)
+    notes.append(f"protocol.preload_displacement raised from {path.preload_displacement:g} to {d:g}: "
+                 "the designed offsets recess tips beyond the configured preload, and this presses every "
+                 "designed pillar into full contact")
+    return dataclasses.replace(path, preload_displacement=d)
 
 
-def thesis_profile_fit(problem: ContactProblem, offsets: np.ndarray) -> tuple[np.ndarray, float]:
-    """The thesis's concave shape S_c (eq. 7.2-7.3) at the pillars, scaled to ``offsets`` by least squares.
+#: The least coefficient of determination at which the design figure draws the thesis's S_c shape fitted to
+#: the designed offsets (ours, the thesis states none): below it the shape does not describe the design, and
+#: the figure says so instead of drawing a curve that misses the points.
+FIT_MIN_R2 = 0.5
 
-    Returns (the fitted offsets, the amplification h~ of the fit, with the
-    default reference stress p_c = F_K / (pi r^2)).
+
+def thesis_profile_fit(problem: ContactProblem, offsets: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The thesis's concave shape S_c (eq. 7.2-7.3) at the pillars, fitted to ``offsets`` by least squares.
+
+    The fit is a S_c + b (an amplitude and a constant level, both by least squares).  Returns (the fitted
+    offsets, the amplification h~ = a of the fit, with the default reference stress p_c = F_K / (pi r^2),
+    and the fit's coefficient of determination R^2, 1 for a perfect fit, <= 0 for none).
     """
     info = problem.indenter.description
     centres = np.asarray(info.centres)
@@ -487,10 +608,13 @@ def thesis_profile_fit(problem: ContactProblem, offsets: np.ndarray) -> tuple[np
     stress = float(theory.concave_reference_stress(info.pillar_radius, contact_modulus=problem.contact_modulus,
                                                    work_of_adhesion=problem.work_of_adhesion))
     shape = np.asarray(theory.concave_offsets(radial, outer, 1.0, stress, contact_modulus=problem.contact_modulus))
+    offsets = np.asarray(offsets, float)
     centred_shape, centred = shape - shape.mean(), offsets - offsets.mean()
     scale = float(centred_shape @ centred / (centred_shape @ centred_shape)) if np.any(centred_shape) else 0.0
-    fitted = scale * shape
-    return fitted - fitted.min() + (offsets.min() if scale >= 0 else 0.0), scale
+    fitted = offsets.mean() + scale * centred_shape
+    total = float(centred @ centred)
+    r2 = 1.0 - float((offsets - fitted) @ (offsets - fitted)) / total if total > 0 else 0.0
+    return fitted, scale, r2
 
 
 def design_figure(problem: ContactProblem, result: Design, axes=None):
@@ -518,11 +642,16 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
             fig = left.figure
         d_c = abs(result.rigid_brush_displacement)
         if result.target == "lengths":
-            fitted, amplification = thesis_profile_fit(problem, result.values)
+            fitted, amplification, r2 = thesis_profile_fit(problem, result.values)
             order = np.argsort(radial)
             left.plot(radial / outer, result.values / d_c, "o", label=r"designed offsets $g_n$")
-            left.plot(radial[order] / outer, fitted[order] / d_c, "-",
-                      label=rf"thesis $S_\mathrm{{c}}$ (eq. 7.2), fitted $\tilde h$ = {amplification:.3g}")
+            if r2 >= FIT_MIN_R2 and amplification > 0:
+                left.plot(radial[order] / outer, fitted[order] / d_c, "-",
+                          label=rf"thesis $S_\mathrm{{c}}$ (eq. 7.2), fitted $\tilde h$ = {amplification:.3g}, "
+                                rf"$R^2$ = {r2:.2f}")
+            else:  # a curve that misses the points would read as a fit
+                left.plot([], [], " ", label=rf"thesis $S_\mathrm{{c}}$ (eq. 7.2) does not fit ($R^2$ = {r2:.2f}): "
+                                            "not drawn")
             left.set(ylabel=r"offset $g/|d_\mathrm{c}|$")
         else:
             left.plot(radial / outer, result.values / (problem.contact_modulus * problem.grid.size), "o",
@@ -547,8 +676,28 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
     return fig
 
 
+#: The files `write_design` writes.
+DESIGN_FILE_NAMES = ("design.npy", "design.csv", "design.json", "design.png", "design.pdf")
+
+
+class DesignWriteError(OSError):
+    """A design file could not be written; the files of the design written before it were removed.
+
+    ``filename`` is the file that failed; ``removed`` the files of this design that were removed again.
+    """
+
+    def __init__(self, errno: int | None, strerror: str, filename, removed: list):
+        super().__init__(errno, strerror, str(filename))
+        self.removed = removed
+
+
 def write_design(problem: ContactProblem, result: Design, out_dir, config_path: str | None = None) -> list:
-    """``design.npy`` (the values), ``design.csv`` (per pillar), ``design.json`` (scalars), ``design.png``; atomic."""
+    """``design.npy`` (the values), ``design.csv`` (per pillar), ``design.json`` (scalars), ``design.png``; atomic.
+
+    Every file is written to a temporary and renamed over its name.  When one fails (a full disk, a quota),
+    the files of this design already written are removed again, so a folder never holds a design whose
+    files disagree, and `DesignWriteError` names the file that failed.
+    """
     import csv
     import io as _io
     import json
@@ -561,25 +710,47 @@ def write_design(problem: ContactProblem, result: Design, out_dir, config_path: 
     out.mkdir(parents=True, exist_ok=True)
     info = problem.indenter.description
     centres = np.asarray(info.centres)
-    written = []
-    with atomic_path(out / "design.npy") as temporary, open(temporary, "wb") as stream:
-        np.save(stream, result.values)
-    written.append(out / "design.npy")
-    buffer = _io.StringIO()
-    writer = csv.writer(buffer)
-    name = "offset" if result.target == "lengths" else "stiffness"
-    writer.writerow(["pillar", "y", "x", "r", name, "detachment_displacement"])
-    for n, ((y, x), value, d) in enumerate(zip(centres, result.values, result.detachment)):
-        writer.writerow([n, repr(float(y)), repr(float(x)), repr(float(np.hypot(y, x))), repr(float(value)),
-                         repr(float(d))])
-    with atomic_path(out / "design.csv") as temporary:
-        Path(temporary).write_text(buffer.getvalue())
-    written.append(out / "design.csv")
-    scalars = {**result.scalars(), "config": config_path}
-    if result.target == "lengths":
-        scalars["thesis_profile_amplification"] = thesis_profile_fit(problem, result.values)[1]
-    with atomic_path(out / "design.json") as temporary:
-        Path(temporary).write_text(json.dumps(scalars, indent=2) + "\n")
-    written.append(out / "design.json")
-    written.append(figstyle.save(design_figure(problem, result), out / "design.png"))  # and design.pdf
+    written: list = []
+    current = out / "design.npy"
+    try:
+        with atomic_path(current) as temporary, open(temporary, "wb") as stream:
+            np.save(stream, result.values)
+        written.append(current)
+        buffer = _io.StringIO()
+        writer = csv.writer(buffer)
+        name = "offset" if result.target == "lengths" else "stiffness"
+        writer.writerow(["pillar", "y", "x", "r", name, "detachment_displacement"])
+        for n, ((y, x), value, d) in enumerate(zip(centres, result.values, result.detachment, strict=True)):
+            writer.writerow([n, repr(float(y)), repr(float(x)), repr(float(np.hypot(y, x))), repr(float(value)),
+                             repr(float(d))])
+        current = out / "design.csv"
+        with atomic_path(current) as temporary:
+            Path(temporary).write_text(buffer.getvalue())
+        written.append(current)
+        scalars = {**result.scalars(), "config": config_path}
+        if result.target == "lengths":
+            _, scalars["thesis_profile_amplification"], scalars["thesis_profile_r2"] = thesis_profile_fit(
+                problem, result.values)
+        current = out / "design.json"
+        with atomic_path(current) as temporary:
+            Path(temporary).write_text(json.dumps(scalars, indent=2) + "\n")
+        written.append(current)
+        current = out / "design.png"
+        figure = design_figure(problem, result)
+        written.append(figstyle.save(figure, current))  # and design.pdf
+        written.append(current.with_suffix(".pdf"))
+    except OSError as exc:
+        failed = current
+        if getattr(exc, "filename", None):
+            name = Path(exc.filename).name
+            if name.startswith(".") and name.endswith(".tmp"):  # atomic_path's temporary: .NAME.RANDOM.tmp
+                name = name[1:-4].rsplit(".", 1)[0]
+            if name in DESIGN_FILE_NAMES:
+                failed = out / name
+        removed = []
+        for path in dict.fromkeys((*written, out / "design.png")):
+            if path != failed and path.exists():
+                path.unlink()
+                removed.append(path)
+        raise DesignWriteError(exc.errno, exc.strerror or str(exc), failed, removed) from exc
     return written
