@@ -329,3 +329,32 @@ def test_punch_on_spring_force_and_work_of_separation():
         # spring term dominates - the test is not passing on the punch term alone.
         assert summary["work_of_separation"] > (1.0 + 0.5 / k_tilde) * theory.kendall_work_of_separation(a, work_of_adhesion=DGAMMA)
     print("\nPunch on a spring (a/h = 32):\n  " + "\n  ".join(lines))
+
+
+def test_a_sphere_preloaded_below_jkr_pull_off_radius_is_compared_with_the_force_it_can_reach():
+    """R = 0.5, dgamma = 1e-3, rigid, preload_displacement = 0.01: the preload's contact radius 0.0707 is
+    below JKR's pull-off radius 0.096, so the unloading meets the JKR curve there and never reaches
+    3/2 pi dgamma R.  The closed form is the curve's tension at a_p (named in the summary); the run is
+    +8.0 % of it at N = 128 (a_p / h = 9; +4.0 % at N = 256), the mesh's error (a deep preload is +11.5 %
+    against 3/2 pi dgamma R on this grid), where JKR's force gave 0.90.  A deep preload (a_p beyond the pull-off radius) keeps eq. 2.24."""
+    from brushbem.workflow.assembly import parse_config
+    from brushbem.workflow.case import run_case
+
+    def theory_of(preload):
+        config = parse_config({
+            "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3},
+            "grid": {"size": 1.0, "elements": 128},
+            "indenter": {"shape": "sphere", "radius": 0.5},
+            "protocol": {"preload_displacement": preload},
+        })
+        return run_case(config).result.summary["theory"]
+
+    shallow = theory_of(0.01)
+    reachable = -float(theory.jkr_force_from_radius(math.sqrt(0.5 * 0.01), 0.5, contact_modulus=1.0,
+                                                    work_of_adhesion=1e-3))
+    assert shallow["adhesive_force"] == pytest.approx(reachable, rel=1e-12, abs=0.0)
+    assert "preload contact radius" in shallow["adhesive_force_from"]
+    assert shallow["ratios"]["adhesive_force"] == pytest.approx(1.08, abs=0.01)
+    deep = theory_of(0.05)
+    assert deep["adhesive_force"] == pytest.approx(1.5 * math.pi * 1e-3 * 0.5, rel=1e-12, abs=0.0)
+    assert "eq. 2.24" in deep["adhesive_force_from"]

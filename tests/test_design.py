@@ -181,7 +181,7 @@ def test_cli_design_writes_the_design(tmp_path):
 def test_the_design_figure_draws_on_given_axes():
     from matplotlib.figure import Figure
 
-    from brushbem.workflow.design import design_figure
+    from brushbem.workflow.design_files import design_figure
 
     problem = _problem(10.0)
     result = design(problem, _path(problem), iterations=0)
@@ -389,7 +389,8 @@ def test_the_thesis_shape_is_fitted_with_its_level_and_drawn_only_where_it_fits(
     from matplotlib.figure import Figure
 
     from brushbem.physics import theory
-    from brushbem.workflow.design import Design, design_figure, thesis_profile_fit
+    from brushbem.workflow.design import Design
+    from brushbem.workflow.design_files import design_figure, thesis_profile_fit
 
     problem = _problem(10.0)
     info = problem.indenter.description

@@ -1065,11 +1065,11 @@ def test_the_spring_floor_is_the_solvers():
 
 
 @pytest.mark.parametrize(("table", "key", "value"), [
-    ("solver", "max_iterations", 50), ("solver", "coupling", "discriminant"), ("solver", "cascade", "global"),
+    ("solver", "tolerance", 1e-6), ("solver", "max_iterations", 50), ("solver", "coupling", "discriminant"), ("solver", "cascade", "global"),
     ("protocol", "step", 1e-5),
 ])
 def test_the_pillar_model_refuses_keys_it_does_not_use(table, key, value):
-    """The pillar model ignored solver.max_iterations, coupling, cascade and protocol.step: given, each is
+    """The pillar model ignored solver.tolerance, max_iterations, coupling, cascade and protocol.step: given, each is
     refused naming the key; their defaults (not given) are accepted."""
     from brushbem.workflow.assembly import parse_config
     from brushbem.config import ConfigError

@@ -56,7 +56,8 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
                    "or choose another --out", err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     _prepare_out(out_dir)
-    from brushbem.workflow.design import DesignError, DesignInterrupted, DesignWriteError, write_design
+    from brushbem.workflow.design import DesignError, DesignInterrupted
+    from brushbem.workflow.design_files import DesignWriteError, write_design
     from brushbem.workflow.design import design as run_design
     from brushbem.io import FolderBusyError, exclusive_folder, remove_stale_temporaries
 

@@ -165,6 +165,8 @@ class RunConfig(BaseModel):
         if self.protocol.method != "pillars":
             return []
         unused = {
+            "solver.tolerance": ("tolerance" in self.solver.model_fields_set, self.solver.tolerance,
+                                 "its pillar-level solves have their own tolerances"),
             "solver.max_iterations": ("max_iterations" in self.solver.model_fields_set, self.solver.max_iterations,
                                       "its pillar-level solves have their own bounds"),
             "solver.coupling": ("coupling" in self.solver.model_fields_set, self.solver.coupling,

@@ -12,7 +12,7 @@ import numpy as np
 
 from brushbem.pillars.loading import press_rough
 from brushbem.pillars.state import PillarState
-from brushbem.protocol.problem import LoadPath, State
+from brushbem.protocol.problem import LoadPath, State, event_tie
 
 __all__ = ["events"]
 
@@ -60,7 +60,7 @@ def events(run: PillarState, path: LoadPath) -> Iterator[State]:
                             "detaches)", converged=False)
             return
         t = max(t, 0.0)
-        tie = 100.0 * path.tolerance * (abs(d) + t) + 1e-300
+        tie = event_tie(path, math.sqrt(model.h2))
         new_d = d + direction * t
         if loading and t_target <= t + tie and t_target + tie < min(t_det, t_att):
             d = new_d
@@ -118,7 +118,7 @@ def _touch_times(run: PillarState, path: LoadPath, d: float, direction: float,
     tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
     if math.isfinite(window):
         window = max(window, 0.0)
-        window += 100.0 * path.tolerance * (abs(d) + window) + tolerance
+        window += event_tie(path, math.sqrt(model.h2)) + tolerance
         candidates = run.touch_candidates(d, d + direction * window, tolerance)
     else:
         candidates = ~run.attached

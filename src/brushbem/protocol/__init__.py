@@ -38,7 +38,8 @@ element reaches the critical stress or touches, records that state (an
 equilibrium on the threshold), lets the element leave or join and follows
 the cascade at the same d.  There is no step-size error: the force
   extremum is found exactly up to the solver tolerance.  Elements whose event
-  displacements agree within the solver's accuracy are treated together.
+  displacements lie within ``LoadPath.event_window`` x h of each other are
+  treated together (`brushbem.protocol.problem.event_tie`).
 
 Both work on a window of the grid that holds the contact set with a margin
 (the half-space convolution is translation invariant).  After every

@@ -20,7 +20,7 @@ import numpy as np
 from brushbem.numerics import backend
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
-from brushbem.protocol.problem import LoadPath, State
+from brushbem.protocol.problem import LoadPath, State, event_tie
 from brushbem.protocol.tracking import Tracker
 
 
@@ -144,7 +144,6 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     """
     xp = tracker.xp
     loading = direction > 0
-    tol = path.tolerance
     if not tracker.has_contact:
         return (yield from _without_contact(tracker, path, d, loading))
     # An element outside the window may already be within reach (the bound is
@@ -176,7 +175,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
-    tie = 100.0 * tol * (abs(d) + t) + 1e-300
+    tie = event_tie(path, tracker.problem.grid.element_size)
     outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
     if outside_hit and t + tie < min(t_det, t_att):
         # Move to the bound along the exact affine path (a valid equilibrium:

@@ -14,7 +14,7 @@ from brushbem.errors import ParameterError
 from brushbem.numerics.solver import critical_stress
 from brushbem.physics.structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State"]
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "event_tie"]
 
 
 class NotConvergedError(RuntimeError):
@@ -56,6 +56,23 @@ class ContactProblem:
         return critical_stress(self.contact_modulus, self.work_of_adhesion, self.grid.element_size)
 
 
+#: The widest event window allowed (a fraction of the element size): events a thousandth of an element apart
+#: are distinct events of any pull-off we resolve.
+MAX_EVENT_WINDOW = 1e-3
+
+
+def event_tie(path: LoadPath, element_size: float) -> float:
+    """The distance along the path within which two events are one (``path.event_window`` x h), a length.
+
+    Events computed from a converged solve differ from their exact places by the CG's residual, and
+    events equal by symmetry differ by rounding: taking those together saves steps of no length.  The
+    window is a length of the grid, not of the tolerance or of the displacement d, so a looser CG or a
+    deeper preload does not merge events that are apart.  The default 1e-7 h changes F_A by < 1e-6
+    against 1e-12 h on the validation families (`docs/site/internals.md`).
+    """
+    return path.event_window * element_size + 1e-300
+
+
 @dataclass(frozen=True)
 class LoadPath:
     """How the indenter is pressed and pulled off.
@@ -71,7 +88,7 @@ class LoadPath:
         Bound on the recorded states of each branch (a path that needs more is
         reported as not converged).
     tolerance : float
-        Relative residual of every CG solve.
+        Relative residual of every CG solve (nothing else).
     max_iterations : int
         Bound on the iterations of one CG solve.
     window_margin : float
@@ -83,6 +100,12 @@ class LoadPath:
         Pulling speed v of a time-stepped path (viscoelastic pillars, method
         "fixed"): every displacement step is the time step dd / v, in the
         time units of the pillars' relaxation time.
+    event_window : float
+        Events of the event paths ("events", "element_events", "pillars")
+        closer than ``event_window`` x h (h the element size) along the path
+        are taken together, in one cascade: dimensionless, >= 0 (0: only
+        exact ties).  A length of the grid, so the same for every CG
+        tolerance and every depth |d| of the path (`event_tie`).
     """
 
     method: str = "events"
@@ -95,6 +118,7 @@ class LoadPath:
     window_margin: float = 0.25
     cascade: str = "local"
     speed: float | None = None
+    event_window: float = 1e-7
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -111,6 +135,9 @@ class LoadPath:
                 raise ParameterError("LoadPath", name, f"LoadPath.{name} = {value} must be finite and > 0")
         if not (math.isfinite(self.step) and self.step > 0):
             raise ParameterError("LoadPath", "step", f"LoadPath.step = {self.step} must be finite and > 0")
+        if not (math.isfinite(self.event_window) and 0 <= self.event_window <= MAX_EVENT_WINDOW):
+            raise ParameterError("LoadPath", "event_window", f"LoadPath.event_window = {self.event_window} must be "
+                                 f"in [0, {MAX_EVENT_WINDOW:g}] (a fraction of the element size)")
         if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
             raise ParameterError("LoadPath", "speed", f"LoadPath.speed = {self.speed} must be finite and > 0")
 

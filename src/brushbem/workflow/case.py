@@ -167,6 +167,21 @@ def _sphere_theory(problem: ContactProblem, summary: Mapping[str, Any],
         }
     work = theory.sphere_spring_work_of_separation(radius, stiffness, preload_radius=preload_radius,
                                                    contact_modulus=modulus, work_of_adhesion=dgamma)
+    # The contact never grows beyond the preload's radius: below JKR's pull-off radius the unloading (the
+    # contact pinned at a_p) meets the JKR curve at a_p, and along it to smaller radii the tension only
+    # falls, so the largest tension the path can reach is the curve's at a_p, not 3/2 pi dgamma R.
+    pull_off_radius = theory.jkr_pull_off_radius(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
+    if preload_radius < pull_off_radius:
+        force = -float(theory.jkr_force_from_radius(preload_radius, radius, contact_modulus=modulus,
+                                                    work_of_adhesion=dgamma))
+        base = float(theory.jkr_displacement_from_radius(preload_radius, radius, contact_modulus=modulus,
+                                                         work_of_adhesion=dgamma))
+        base -= force / stiffness if math.isfinite(stiffness) else 0.0
+        preload["adhesive_force_from"] = (
+            f"the JKR curve (eq. 2.22) at the preload contact radius a_p = {preload_radius:.6g}, below JKR's "
+            f"pull-off radius {pull_off_radius:.6g}: the unloading never reaches 3/2 pi dgamma R (eq. 2.24)")
+    elif path is not None:
+        preload["adhesive_force_from"] = "JKR's pull-off force 3/2 pi dgamma R (eq. 2.24)"
     record = SphereTheory(
         **preload,
         normalized_stiffness=(theory.sphere_normalized_stiffness(stiffness, radius, contact_modulus=modulus,

@@ -174,6 +174,11 @@ class SphereTheory(MappingRecord):
     work_counted_from : str or None
         Where the work of separation starts (B of eq. 2.27, or the zero-force
         crossing of the fixed-contact unloading below a_o).
+    adhesive_force_from : str or None
+        Which closed form ``adhesive_force`` (and ``pull_off_displacement``)
+        is: JKR's pull-off (eq. 2.24), or, when the preload contact radius is
+        below JKR's pull-off radius, the JKR curve at the preload radius (the
+        most the unloading can reach).
     normalized_stiffness : float or None
         The spring's normalised stiffness (absent on a rigid sphere).
     model : str
@@ -183,11 +188,12 @@ class SphereTheory(MappingRecord):
     """
 
     _ABSENT_WHEN_NONE = frozenset({"preload_contact_radius", "zero_force_radius", "work_counted_from",
-                                   "normalized_stiffness", "not_applicable"})
+                                   "adhesive_force_from", "normalized_stiffness", "not_applicable"})
 
     preload_contact_radius: float | None = None
     zero_force_radius: float | None = None
     work_counted_from: str | None = None
+    adhesive_force_from: str | None = None
     normalized_stiffness: float | None = None
     model: str = "JKR sphere (thesis eq. 2.20-2.24, 2.32-2.37; work to the exact separation, dD/da = 0)"
     adhesive_force: float
