@@ -183,7 +183,7 @@ def test_validate_loads_neither_the_solver_nor_scipy(example):
         "from click.testing import CliRunner\n"
         "from brushbem.cli import main\n"
         f"result = CliRunner().invoke(main, ['validate', {str(EXAMPLES / example)!r}])\n"
-        "assert result.exit_code == 0 and result.output.strip() == 'ok', result.output\n"
+        "assert result.exit_code == 0 and result.output.startswith('ok'), result.output\n"
         "heavy = ('scipy', 'brushbem.numerics.solver', 'brushbem.protocol', 'brushbem.numerics.operator', 'brushbem.physics.halfspace')\n"
         "print(sorted(m for m in sys.modules if m.startswith(heavy)))\n"
     )

@@ -170,9 +170,15 @@ def test_bad_value_is_named_with_its_value(dotted, value):
 
 def test_poisson_ratio_range():
     document = valid_document()
-    document["halfspace"] = {"youngs_modulus": 1.0, "poisson_ratio": 0.5}
+    document["halfspace"] = {"youngs_modulus": 1.0, "poisson_ratio": 0.5 + 1e-9}
     (problem,) = problems_of(document)
-    assert "`halfspace.poisson_ratio`" in problem and "[0, 0.5)" in problem
+    assert "`halfspace.poisson_ratio`" in problem and "[0, 0.5]" in problem
+
+
+def test_incompressible_halfspace_is_accepted():
+    """nu = 0.5 (every elastomer): E* = E / (1 - 1/4) = 4 E / 3 exactly, no division by 1 - 2 nu anywhere."""
+    halfspace = HalfSpaceConfig(youngs_modulus=3.0, poisson_ratio=0.5)
+    assert halfspace.effective_modulus == pytest.approx(4.0, rel=1e-15, abs=0)
 
 
 @pytest.mark.parametrize(

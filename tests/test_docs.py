@@ -86,10 +86,23 @@ def _assert_same_numbers(printed: dict[str, float], shown: dict[str, float], whe
                        f"{TUTORIAL_TOLERANCE:g}: {wrong}")
 
 
+#: The rows of the `brushbem run` table that read from summary.json's ``design`` and ``resolution``.
+_DESIGN_ROWS = {"adhesion strength F_A / A0": ("design", "adhesion_strength"),
+                "apparent area A0": ("design", "apparent_area"),
+                "spring k (indenter.stiffness)": ("design", "spring", "stiffness"),
+                "elements per punch radius": ("resolution", "elements")}
+
+
 def _summary_numbers(summary: dict, table: dict[str, float]) -> dict[str, float]:
     """The summary.json value behind every row of the `brushbem run` table (``theory: x`` is ``theory.x``)."""
     values = {}
     for label in table:
+        if label in _DESIGN_ROWS:
+            value = summary
+            for key in _DESIGN_ROWS[label]:
+                value = value[key]
+            values[label] = float(value)
+            continue
         head, _, key = label.partition(": ")
         value = summary[head][key] if key else summary[re.sub(r"[ -]", "_", label)]
         values[label] = float(value)

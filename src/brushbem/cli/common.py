@@ -146,7 +146,7 @@ class _Stop:
         return 128 + int(self.signal or signal.SIGINT)
 
 #: The files of a run's output folder (`brushbem run` refuses to replace them without --overwrite).
-RESULT_FILES = ("summary.json", "result.nc", "pulloff.png", "pulloff.pdf")
+RESULT_FILES = ("summary.json", "result.nc", "curve.csv", "pulloff.png", "pulloff.pdf")
 
 
 class _OutFolder(click.Path):

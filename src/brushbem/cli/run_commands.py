@@ -31,18 +31,46 @@ from brushbem.cli.common import (
 )
 
 
-def _summary_table(summary: dict[str, Any]) -> Table:
-    """The headline numbers of a run, theory ratios included."""
-    table = Table(title="pull-off summary", show_header=False)
+def _summary_table(summary: dict[str, Any], units: Any = None) -> Table:
+    """The headline numbers of a run with their units (``units``: `brushbem.workflow.units.Units`), theory ratios
+    included, then what a designer reports (``design``) and the resolution's error estimate."""
+    from brushbem.workflow.units import Units
+
+    units = units if units is not None else Units()
+
+    def value(number: Any, dimension: str) -> str:
+        # With [units], the SI prefix that reads (4 digits); without, the number as it is (6 digits).
+        if units.dimensionless or not isinstance(number, numbers.Real) or isinstance(number, bool):
+            return _number(number)
+        return units.readable(float(number), dimension)
+
+    table = Table(title="pull-off summary" + ("" if units.dimensionless else " (SI prefixes)"), show_header=False)
     table.add_column("quantity")
     table.add_column("value", justify="right")
     rows = [
-        ("adhesive force", "adhesive_force"),
-        ("pull-off displacement", "pull_off_displacement"),
-        ("work of separation", "work_of_separation"),
+        ("adhesive force", "adhesive_force", "force"),
+        ("pull-off displacement", "pull_off_displacement", "length"),
+        ("work of separation", "work_of_separation", "energy"),
     ]
-    for label, key in rows:
-        table.add_row(label, _number(summary.get(key, "—")))
+    for label, key, dimension in rows:
+        table.add_row(label, value(summary.get(key, "—"), dimension))
+    design = summary.get("design") or {}
+    if design.get("adhesion_strength") is not None:
+        table.add_row("adhesion strength F_A / A0", value(design["adhesion_strength"], "stress"))
+        table.add_row("apparent area A0", value(design["apparent_area"], "length^2"))
+    if design.get("adhesive_force_per_pillar") is not None:
+        table.add_row(f"F_A per pillar (N_p = {design['pillars']})", value(design["adhesive_force_per_pillar"], "force"))
+    spring = design.get("spring")
+    if spring:
+        table.add_row(f"spring k ({spring['from'].split(':')[0]})", value(spring["stiffness"], "force / length"))
+        if spring.get("buckling_force") is not None:
+            table.add_row("Euler buckling force P_cr", value(spring["buckling_force"], "force"))
+    resolution = summary.get("resolution")
+    if resolution:
+        low, high = resolution["force_error_range"]
+        spread = "" if low == high else f" ({100 * low:+.2g} to {100 * high:+.2g})"
+        table.add_row(f"elements per {resolution['length']}", _number(resolution["elements"]))
+        table.add_row("F_A discretisation error (est.)", f"{100 * resolution['force_error_estimate']:+.2g} %{spread}")
     normalized = summary.get("normalized")
     if normalized:
         # A brush: the thesis's dimensionless numbers say more than the scales.
@@ -61,16 +89,17 @@ def _summary_table(summary: dict[str, Any]) -> Table:
         table.add_row("phi^-1/4 (rigid limit, eq. 4.9)", _number((summary.get("theory") or {}).get(
             "rigid_brush_enhancement", "—")))
     else:
-        for key, value in (summary.get("theory") or {}).items():
+        for key, entry in (summary.get("theory") or {}).items():
             # Only scalar ratios and values belong in a one-screen table.
-            if isinstance(value, (numbers.Real, str)):
-                table.add_row(f"theory: {key}", _number(value))
+            if isinstance(entry, (numbers.Real, str)):
+                table.add_row(f"theory: {key}", _number(entry))
     refinement = summary.get("refinement")
     if refinement:
-        for label, key in (("F_A extrapolated", "adhesive_force"), ("work extrapolated", "work_of_separation")):
+        for label, key, dimension in (("F_A extrapolated", "adhesive_force", "force"),
+                                      ("work extrapolated", "work_of_separation", "energy")):
             entry = refinement[key]
             table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
-                          f"{_number(entry['extrapolated'])} ± {_number(entry['error_estimate'])}")
+                          f"{value(entry['extrapolated'], dimension)} ± {value(entry['error_estimate'], dimension)}")
     table.add_row("converged", _number(summary.get("converged", "—")))
     table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
     table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
@@ -103,6 +132,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         raise click.UsageError("Missing option '--out' (only --estimate runs without it).")
     built = _load_or_exit(config_path, build=True)
     config = built.config
+    from brushbem.workflow.units import Units
     if not estimate:
         earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
         if earlier and not overwrite:
@@ -182,7 +212,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
             pulled.save(out_dir, figure=False)
         except OSError as exc:
             if not quiet:
-                Console().print(_summary_table(result.summary))
+                Console().print(_summary_table(result.summary, Units.from_config(config)))
             click.echo(f"--out {out_dir}: could not write the results ({_os_error(exc)}); no file there "
                        "was left half-written", err=True)
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
@@ -190,7 +220,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         figure_error = _draw_run_figure(pulled, out_dir)
 
     if not quiet:
-        Console().print(_summary_table(result.summary))
+        Console().print(_summary_table(result.summary, Units.from_config(config)))
         click.echo(f"results written to {out_dir}" if figure_error is None else
                    f"summary.json and result.nc written to {out_dir}")
     for warning in result.summary.get("warnings", []):
@@ -299,6 +329,7 @@ EXAMPLES = {
     "punch": ("punch.toml", "Kendall's flat punch, rigid"),
     "punch_spring": ("punch_spring.toml", "a flat punch on a spring (thesis sec. 2.3)"),
     "sphere_spring": ("sphere_spring.toml", "a JKR sphere on a spring"),
+    "pdms_fibrils": ("pdms_fibrils.toml", "6 x 6 PDMS fibrils in um and MPa: k from the fibril, nu = 0.5, F_A / A0"),
     "sweep": ("sweep.toml", "a parameter sweep over the punch's spring stiffness (with punch_spring.toml)"),
 }
 
@@ -336,6 +367,16 @@ def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
 @click.command()
 @click.argument("config_path", metavar="CONFIG", type=click.Path(path_type=Path, dir_okay=False))
 def validate(config_path: Path) -> None:
-    """Check CONFIG: print "ok", or every problem (exit status 2)."""
-    _load_or_exit(config_path)
-    click.echo("ok")
+    """Check CONFIG: print "ok", or every problem (exit status 2).
+
+    A valid configuration's warnings (inputs far outside the physical range in its ``[units]``, a
+    deciding radius under 8 elements with the error it carries: `brushbem.config.advice`) follow the
+    "ok" on the standard error, one a line; they do not change the exit status.
+    """
+    from brushbem.config import advice
+
+    config = _load_or_exit(config_path)
+    warnings = advice.advice(config)
+    click.echo("ok" if not warnings else f"ok, with {len(warnings)} warning{'s' if len(warnings) > 1 else ''}")
+    for warning in warnings:
+        click.echo(f"warning: {warning}", err=True)

@@ -413,7 +413,7 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
     for level in indenter.get("levels") or ():
         for key in [k for k, v in level.items() if v is None]:
             del level[key]
-    for table in ("roughness", "profile", "tip", "tilt", "grading", "viscoelastic", "pillar_law"):
+    for table in ("roughness", "profile", "tip", "tilt", "grading", "viscoelastic", "pillar_law", "fibril"):
         if isinstance(indenter.get(table), dict):
             indenter[table] = {k: v for k, v in indenter[table].items() if v is not None}
     for level in indenter.get("levels") or ():

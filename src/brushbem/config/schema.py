@@ -186,12 +186,15 @@ class RunConfig(BaseModel):
         if spec.pillar_law is None:
             return []
         problems = []
+        law = ("indenter.fibril.buckling (Euler's law, an indenter.pillar_law)"
+               if spec.fibril is not None and spec.fibril.buckling is not None else "indenter.pillar_law")
         if protocol.method != "fixed":
             problems.append(Problem("protocol.method", _show(protocol.method),
-                                    "must be 'fixed' with indenter.pillar_law (the law is followed step by step)"))
+                                    f"must be 'fixed' with {law} (the law is followed step by step)"))
         if protocol.preload_displacement is None:
             problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
-                                    "a nonlinear pillar law is pressed to protocol.preload_displacement instead"))
+                                    f"a nonlinear pillar law ({law}) is pressed to protocol.preload_displacement "
+                                    "instead"))
         if spec.viscoelastic is not None:
             problems.append(Problem("indenter.pillar_law", _show(spec.pillar_law),
                                     "cannot be combined with indenter.viscoelastic: remove one of them"))

@@ -22,7 +22,7 @@ class HalfSpaceConfig(_Section):
     youngs_modulus : float or None
         Young's modulus E of the half-space, in units of stress.
     poisson_ratio : float or None
-        Poisson's ratio nu of the half-space, dimensionless, in [0, 0.5).
+        Poisson's ratio nu of the half-space, dimensionless, in [0, 0.5] (0.5: incompressible, every elastomer; E* = 4 E / 3).
     work_of_adhesion : float
         Delta gamma, in units of energy per area (stress x length); 0 means no
         adhesion.
@@ -32,7 +32,7 @@ class HalfSpaceConfig(_Section):
 
     contact_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
     youngs_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
-    poisson_ratio: float | None = Field(None, ge=0, lt=0.5, allow_inf_nan=False)
+    poisson_ratio: float | None = Field(None, ge=0, le=0.5, allow_inf_nan=False)
     work_of_adhesion: float = Field(0.0, ge=0, allow_inf_nan=False)
 
     def _rule_problems(self) -> list[Problem]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any, Literal
 
-from pydantic import Field, ValidationInfo, field_validator
+from pydantic import Field, ValidationError, ValidationInfo, field_validator, model_validator
 
 from brushbem.config.errors import _show
 from brushbem.config.files import _check_height_map, _existing_file, _read_numbers
@@ -13,6 +13,7 @@ from brushbem.config.limits import MAGNITUDE_RANGE
 from brushbem.config.rules import Problem
 from brushbem.config.sections_base import _MODEL_CONFIG, _inf_from_string, _Section
 from brushbem.config.sections_pillars import (
+    FibrilConfig,
     GradingConfig,
     LevelConfig,
     PillarLawConfig,
@@ -37,13 +38,13 @@ _SHAPE_KEYS: dict[str, tuple[str, ...]] = {
 
 # Keys a shape accepts but does not require (rejected by the other shapes).
 _SHAPE_OPTIONAL: dict[str, tuple[str, ...]] = {
-    "flat_punch": ("viscoelastic", "pillar_law"),
-    "sphere": ("viscoelastic", "pillar_law"),
-    "height_map": ("viscoelastic", "pillar_law"),
+    "flat_punch": ("viscoelastic", "pillar_law", "fibril"),
+    "sphere": ("viscoelastic", "pillar_law", "fibril"),
+    "height_map": ("viscoelastic", "pillar_law", "fibril"),
     "brush": (
         "region", "region_size", "pillars_per_side", "spacing", "pillar_count", "min_gap", "pillar_radius",
         "filling_factors", "stiffness_ratio", "seed", "roughness", "profile", "lengths_file", "levels", "tip", "tilt",
-        "grading", "viscoelastic", "pillar_law",
+        "grading", "viscoelastic", "pillar_law", "fibril",
     ),
 }
 
@@ -109,7 +110,11 @@ class IndenterConfig(_Section):
     connection whose relaxed stiffness is ``stiffness`` or
     ``stiffness_ratio``; it needs ``protocol.speed``.
     ``[indenter.pillar_law]`` (`PillarLawConfig`) makes it nonlinear (with
-    ``protocol.method = "fixed"``).
+    ``protocol.method = "fixed"``).  ``[indenter.fibril]`` (`FibrilConfig`)
+    gives the spring from the fibril's modulus, length and radius instead of
+    ``stiffness`` / ``stiffness_ratio`` (and, with its ``buckling``, the
+    pillar law of Euler buckling): the derived ``stiffness`` (and
+    ``pillar_law``) are filled in before validation.
     """
 
     model_config = _MODEL_CONFIG
@@ -138,6 +143,33 @@ class IndenterConfig(_Section):
     grading: GradingConfig | None = None
     viscoelastic: ViscoelasticConfig | None = None
     pillar_law: PillarLawConfig | None = None
+    fibril: FibrilConfig | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _spring_from_fibril(cls, data: Any, info: ValidationInfo) -> Any:
+        """Fill in ``stiffness`` (and ``pillar_law``) from a valid ``fibril`` table (`FibrilConfig`).
+
+        A given ``stiffness`` equal to the derived one (a recorded
+        configuration, `brushbem.config.config_to_dict`) is accepted; any other
+        spring given beside ``fibril`` is `_fibril_problems`'s.
+        """
+        if not isinstance(data, dict) or not isinstance(data.get("fibril"), dict):
+            return data
+        try:
+            fibril = FibrilConfig.model_validate(data["fibril"], context=info.context)
+        except ValidationError:  # the table's own problems, reported by its field
+            return data
+        radius = fibril.radius or _fibril_default_radius(data)
+        if radius is None:  # `_fibril_problems` asks for fibril.radius
+            return data
+        data = dict(data)
+        if "stiffness" not in data and "stiffness_ratio" not in data:
+            data["stiffness"] = fibril.stiffness(radius)
+        law = fibril.buckling_law(radius)
+        if law is not None and "pillar_law" not in data:
+            data["pillar_law"] = law
+        return data
 
     @field_validator("stiffness", "stiffness_ratio", mode="before")
     @classmethod
@@ -222,6 +254,33 @@ class IndenterConfig(_Section):
                 )
         if self.is_brush:
             problems.extend(self._brush_problems())
+        if self.fibril is not None:
+            problems.extend(self._fibril_problems())
+        return problems
+
+    def _fibril_problems(self) -> list[Problem]:
+        """A fibril needs its radius, and is the only spring given (its derived stiffness and law aside)."""
+        fibril = self.fibril
+        assert fibril is not None
+        radius = fibril.radius or _fibril_default_radius(self)
+        if radius is None:
+            return [Problem("fibril.radius", "missing", f"required with shape = {self.shape!r}"
+                            + (f", layout = {self.layout!r}" if self.is_brush else "")
+                            + " (no pillar or punch radius to take it from)")]
+        problems = []
+        derived = fibril.stiffness(radius)
+        if self.stiffness_ratio is not None or ("stiffness" in self.model_fields_set
+                                                and not math.isclose(self.stiffness, derived, rel_tol=1e-12)):
+            given = (f"stiffness_ratio = {_show(self.stiffness_ratio)}" if self.stiffness_ratio is not None
+                     else f"stiffness = {_show(self.stiffness)}")
+            problems.append(Problem("fibril", given, f"give either fibril (k = pi r^2 E_f / l = {derived:.6g}) or "
+                                                     "stiffness / stiffness_ratio, not both"))
+        law = fibril.buckling_law(radius)
+        if law is not None and self.pillar_law is not None and (
+                list(self.pillar_law.forces) != law["forces"] or list(self.pillar_law.factors) != law["factors"]):
+            problems.append(Problem("fibril.buckling", _show(fibril.buckling),
+                                    "gives the pillar law of Euler buckling; remove indenter.pillar_law or "
+                                    "fibril.buckling"))
         return problems
 
     def _brush_problems(self) -> list[Problem]:
@@ -273,3 +332,18 @@ class IndenterConfig(_Section):
         if self.stiffness_ratio is not None:
             return self.stiffness_ratio * contact_modulus * size
         return self.stiffness
+
+
+def _fibril_default_radius(indenter: Any) -> float | None:
+    """The radius a fibril takes by default: a square or random brush's pillar radius, a punch's radius.
+
+    ``indenter`` is the raw table (a mapping, before validation) or the validated `IndenterConfig`.
+    """
+    def get(key: str) -> Any:
+        return indenter.get(key) if isinstance(indenter, dict) else getattr(indenter, key, None)
+
+    shape = get("shape")
+    key = "radius" if shape == "flat_punch" else "pillar_radius" if shape == "brush" else None
+    value = get(key) if key is not None else None
+    finite = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
+    return float(value) if finite else None

@@ -1,7 +1,7 @@
 """The sub-tables of an indenter: a brush's pillars, their tips and connections, and its levels.
 
 `RoughnessConfig`, `ProfileConfig`, `TipConfig`, `TiltConfig`,
-`GradingConfig`, `ViscoelasticConfig`, `PillarLawConfig` and `LevelConfig`,
+`GradingConfig`, `ViscoelasticConfig`, `PillarLawConfig`, `FibrilConfig` and `LevelConfig`,
 each with the rules between its keys (`IndenterConfig` holds them).
 """
 
@@ -320,3 +320,65 @@ class LevelConfig(_Section):
                 "give exactly one of stiffness_ratio and stiffness (inf = rigid)",
             )]
         return []
+
+
+#: How a fibril's ends are held for its Euler buckling law (`brushbem.physics.theory.BUCKLING_LENGTH_FACTORS`).
+BUCKLING_ENDS = ("clamped-clamped", "clamped-pinned", "clamped-free")
+
+
+class FibrilConfig(_Section):
+    """The indenter's spring from the fibril that carries it: ``k = pi r^2 E_f / l`` (thesis sec. 6.3).
+
+    Given instead of ``stiffness`` / ``stiffness_ratio`` (a brush: each pillar's
+    spring; a punch or sphere: the one spring).  With ``buckling`` the spring
+    also follows Euler's buckling law of the same geometry, carried as
+    ``indenter.pillar_law``: slope k up to P_cr = pi^2 E_f (pi r^4 / 4) / (K l)^2,
+    then ``post_buckling_factor`` k (`brushbem.physics.pillar_laws`).
+
+    Attributes
+    ----------
+    youngs_modulus : float
+        The fibril's Young's modulus E_f, in units of stress.
+    length : float
+        The fibril's length l, in units of length.
+    radius : float or None
+        The fibril's radius r, in units of length; default the pillar radius
+        (a square or random brush) or the punch's radius.  Required for a
+        sphere, a height map and a clustered brush.
+    buckling : {"clamped-clamped", "clamped-pinned", "clamped-free"} or None
+        How the ends are held (backing end first): K = 0.5, 0.699, 2.  None
+        (default): no buckling, a linear spring.
+    post_buckling_factor : float
+        The post-buckled plateau's slope as a factor of k (> 0, the law must
+        stay increasing); default 0.01.  Only with ``buckling``.
+    """
+
+    model_config = _MODEL_CONFIG
+
+    youngs_modulus: float = Field(gt=0, allow_inf_nan=False)
+    length: float = Field(gt=0, allow_inf_nan=False)
+    radius: float | None = Field(None, gt=0, allow_inf_nan=False)
+    buckling: Literal["clamped-clamped", "clamped-pinned", "clamped-free"] | None = None
+    post_buckling_factor: float | None = Field(None, gt=0, le=1, allow_inf_nan=False)
+
+    def _rule_problems(self) -> list[Problem]:
+        if self.post_buckling_factor is not None and self.buckling is None:
+            return [Problem("post_buckling_factor", _show(self.post_buckling_factor),
+                            "only used with fibril.buckling; remove it")]
+        return []
+
+    def stiffness(self, radius: float) -> float:
+        """k = pi r^2 E_f / l at the fibril radius ``radius`` (this table's own where given)."""
+        from brushbem.physics.theory import fibril_stiffness
+
+        return float(fibril_stiffness(self.length, self.radius or radius, youngs_modulus=self.youngs_modulus))
+
+    def buckling_law(self, radius: float) -> dict[str, Any] | None:
+        """The ``indenter.pillar_law`` table of the Euler buckling law, or None without ``buckling``."""
+        if self.buckling is None:
+            return None
+        from brushbem.physics.theory import euler_buckling_force
+
+        force = float(euler_buckling_force(self.length, self.radius or radius, youngs_modulus=self.youngs_modulus,
+                                           ends=self.buckling))
+        return {"forces": [force], "factors": [1.0, self.post_buckling_factor or 0.01]}

@@ -57,6 +57,7 @@ module global (``IN_MEMORY_LIMIT``, ``_check_free_space``, ``open``) patches
 from __future__ import annotations
 
 from brushbem.io.atomic import (
+    CURVE_FILE,
     DATASET_FILE,
     SUMMARY_FILE,
     FolderBusyError,
@@ -71,9 +72,10 @@ from brushbem.io.atomic import _check_free_space as _check_free_space  # patch i
 from brushbem.io.dataset import REFERENCES, to_dataset
 from brushbem.io.encoding import from_json_safe, netcdf_attributes
 from brushbem.io.reading import InconsistentCaseError, from_dataset, load_result, read_case, stage_field, stages
-from brushbem.io.writing import IN_MEMORY_LIMIT, source_commit, write_case, write_dataset
+from brushbem.io.writing import IN_MEMORY_LIMIT, source_commit, write_case, write_curve, write_dataset
 
 __all__ = [
+    "CURVE_FILE",
     "DATASET_FILE",
     "IN_MEMORY_LIMIT",
     "REFERENCES",
@@ -96,5 +98,6 @@ __all__ = [
     "temporary_of",
     "to_dataset",
     "write_case",
+    "write_curve",
     "write_dataset",
 ]

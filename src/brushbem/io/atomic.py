@@ -21,6 +21,7 @@ from pathlib import Path
 
 SUMMARY_FILE = "summary.json"
 DATASET_FILE = "result.nc"
+CURVE_FILE = "curve.csv"
 
 #: Free space kept beyond a file's own size when writing it (bytes).
 _FREE_SPACE_MARGIN = 2**20
@@ -39,7 +40,7 @@ def temporary_of(name: str) -> str | None:
 
 
 def remove_stale_temporaries(folder: str | Path,
-                             names: tuple[str, ...] = (SUMMARY_FILE, DATASET_FILE)) -> list[Path]:
+                             names: tuple[str, ...] = (SUMMARY_FILE, DATASET_FILE, CURVE_FILE)) -> list[Path]:
     """Delete the temporary files that a killed writer left in ``folder`` (never a complete file).
 
     Only the names `atomic_path` creates for the files ``names``

@@ -18,13 +18,14 @@ import uuid
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
 from brushbem.workflow.results import CaseResult
 
-from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
+from brushbem.io.atomic import CURVE_FILE, DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
 from brushbem.io.dataset import _dataset, _field_compression, _units_of
 from brushbem.io.encoding import _json
 
@@ -276,9 +277,45 @@ def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | N
     summary = _json({**result.summary, "run_id": run_id,
                      "provenance": _provenance(result, config, created, commit)}, indent=2) + "\n"
     _check_free_space(out_dir, len(summary))
-    # The dataset first, the summary last: the summary is the pair's commit.
+    # The dataset and the curve first, the summary last: the summary is the files' commit.
     write_dataset(result, out_dir / DATASET_FILE, config=config)
+    write_curve(result, out_dir / CURVE_FILE, config=config)
     with atomic_path(out_dir / SUMMARY_FILE) as temporary, open(temporary, "w", encoding="utf-8") as handle:
         handle.write(summary)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+#: The columns of ``curve.csv``: the `Curve` field, and its physical dimension (None: a count or a flag).
+CURVE_COLUMNS = (("displacement", "length"), ("force", "force"), ("contact_area", "length^2"),
+                 ("attached_pillars", None), ("loading", None), ("converged", None))
+
+
+def write_curve(result: CaseResult, path: str | Path, *, config: RunConfig | None = None) -> None:
+    """Write the force-displacement curve as ``curve.csv`` (atomically: a reader sees the old file or the new).
+
+    One row per recorded equilibrium, in the order of the path; the columns are `CURVE_COLUMNS`, named
+    ``displacement [um]`` with the configuration's ``[units]`` (`brushbem.workflow.units.Units.of`) and
+    plainly without; ``loading`` and ``converged`` are 1 or 0.  Numbers are written as the shortest
+    text that reads back as the same double (those of ``result.nc``, exactly).
+    """
+    import csv
+
+    from brushbem.workflow.units import Units
+
+    units = Units.from_config(config if config is not None else result.attributes.get("config"))
+    header = [name if dimension is None or units.dimensionless else f"{name} [{units.of(dimension)}]"
+              for name, dimension in CURVE_COLUMNS]
+    columns = [np.asarray(getattr(result.curve, name)) for name, _ in CURVE_COLUMNS]
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(header)
+    for row in zip(*columns, strict=True):
+        writer.writerow([int(v) if v.dtype.kind in "bi" else repr(float(v)) for v in row])
+    content = text.getvalue()
+    path = Path(path)
+    _check_free_space(path.parent, len(content))
+    with atomic_path(path) as temporary, open(temporary, "w", encoding="utf-8", newline="") as handle:
+        handle.write(content)
         handle.flush()
         os.fsync(handle.fileno())

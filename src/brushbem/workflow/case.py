@@ -21,7 +21,7 @@ from brushbem.workflow.assembly import (
     configuration_text,
 )
 from brushbem.numerics.backend import backend_name
-from brushbem.config import RunConfig, config_to_dict
+from brushbem.config import RunConfig, advice, config_to_dict
 from brushbem.protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from brushbem.workflow.pulloff import PullOff
 from brushbem.workflow.results import (
@@ -34,8 +34,8 @@ from brushbem.workflow.results import (
 )
 from brushbem.physics.structure import BrushGeometry
 
-__all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem", "run_case",
-           "run_problem", "run_warnings", "theory_for"]
+__all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem",
+           "design_numbers", "run_case", "run_problem", "run_warnings", "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.
@@ -364,7 +364,61 @@ def run_case(
     if isinstance(reason, str) and configuration_text(reason) != reason:  # a parameter's limit, as its key
         result = dataclasses.replace(result, summary=dataclasses.replace(result.summary,
                                                                          reason=configuration_text(reason)))
+    found = advice.resolution(built.config)
+    result = dataclasses.replace(result, summary=dataclasses.replace(
+        result.summary, warnings=[*advice.advice(built.config), *result.summary.warnings],
+        resolution=None if found is None else found.to_dict(),
+        design=design_numbers(built.problem, result.summary, built.config)))
     return PullOff(result, pulled.reference, built.config)
+
+
+def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: RunConfig) -> dict[str, Any]:
+    """What a designer reports, with the unit of each number (``summary.json``'s ``design``).
+
+    * ``adhesion_strength``: F_A / A0, A0 the apparent area (a brush's placement region, a punch's
+      pi r^2 as typed); absent for a sphere and a height map, which have none.
+    * ``adhesive_force_per_pillar``: F_A / N_p (a brush).
+    * ``spring``: the stiffness k of the (pillars') spring, where it came from (``indenter.fibril``:
+      k = pi r^2 E_f / l; ``indenter.stiffness``; ``indenter.stiffness_ratio``: k~ E* L), its k~ as the
+      run normalises it (``normalized.stiffness_ratio`` of a brush, ``theory.normalized_stiffness`` of a
+      punch or sphere) and, with ``fibril.buckling``, Euler's buckling force.
+    * ``units``: the unit of each dimensional number (`brushbem.workflow.units.Units`; "1" without ``[units]``).
+    """
+    from brushbem.workflow.units import Units
+
+    units = Units.from_config(config)
+    spec = config.indenter
+    force = float(summary.get("adhesive_force") or 0.0)
+    out: dict[str, Any] = {}
+    info = problem.indenter.description
+    if isinstance(info, BrushGeometry):
+        out["apparent_area"] = float(info.apparent_area)
+        out["adhesion_strength"] = force / float(info.apparent_area)
+        out["pillars"] = int(info.n_pillars)
+        out["adhesive_force_per_pillar"] = force / int(info.n_pillars)
+    elif spec.shape == "flat_punch" and spec.radius is not None:
+        out["apparent_area"] = math.pi * spec.radius**2
+        out["adhesion_strength"] = force / out["apparent_area"]
+    stiffness = _stiffness(problem)
+    if math.isfinite(stiffness):
+        if spec.fibril is not None:
+            origin = (f"indenter.fibril: k = pi r^2 E_f / l (E_f = {spec.fibril.youngs_modulus:g}, l = "
+                      f"{spec.fibril.length:g}, r = {spec.fibril.radius or advice.fibril_radius(config):g})")
+        elif spec.stiffness_ratio is not None:
+            origin = "indenter.stiffness_ratio: k = k~ E* L"
+        else:
+            origin = "indenter.stiffness"
+        normalized = summary.get("normalized") or {}
+        theory_record = summary.get("theory") or {}
+        ratio = normalized.get("stiffness_ratio", theory_record.get("normalized_stiffness"))
+        spring: dict[str, Any] = {"stiffness": stiffness, "from": origin, "stiffness_ratio": ratio}
+        if spec.fibril is not None and spec.pillar_law is not None and spec.fibril.buckling is not None:
+            spring["buckling_force"] = float(spec.pillar_law.forces[0])
+        out["spring"] = spring
+    out["units"] = {"adhesion_strength": units.of("stress"), "apparent_area": units.of("length^2"),
+                    "adhesive_force_per_pillar": units.of("force"), "stiffness": units.of("force / length"),
+                    "buckling_force": units.of("force")}
+    return out
 
 
 def run_problem(

@@ -258,15 +258,26 @@ class RunSummary(PullOffSummary):
         With ``brushbem run --refine``: the grids and the Richardson-
         extrapolated adhesive force and work with their error estimates
         (`brushbem.workflow.refine.Refinement`); not a key otherwise.
+    resolution : mapping or None
+        The elements across the length that decides F_A and the estimated
+        discretisation error of F_A and the work
+        (`brushbem.config.advice.Resolution.to_dict`); not a key where no
+        length decides (a height map, no adhesion) or without a configuration.
+    design : mapping or None
+        What a designer reports (`brushbem.workflow.case.design_numbers`):
+        the adhesion strength F_A / A0, F_A per pillar, the spring k, k~ and
+        where k came from, the units of each; not a key without a configuration.
     """
 
-    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement", "stages_not_reached"})
+    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement", "stages_not_reached", "resolution", "design"})
 
     critical_stress: float
     normalized: Mapping[str, Any] | None = None
     theory: Mapping[str, Any] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
     refinement: Mapping[str, Any] | None = None
+    resolution: Mapping[str, Any] | None = None
+    design: Mapping[str, Any] | None = None
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ CF-1.10 asks (``um`` is the micrometre; figures show it as µm).
 from __future__ import annotations
 
 import json
+import math
 import re
 from dataclasses import dataclass
 
@@ -97,6 +98,26 @@ class Units:
             numerator, _, denominator = text[:-2].rpartition(" ")
             text = f"{numerator}/{denominator}"
         return text.replace("2", "²")
+
+    def readable(self, value: float, dimension: str) -> str:
+        """``value`` (in this system's unit of ``dimension``) with the SI prefix that puts 1 <= |mantissa| < 1000.
+
+        ``7868.83`` µN reads "7.87 mN", ``0.0112`` MPa "11.2 kPa"; an area keeps the inputs' unit
+        (µm², mm²), and a dimensionless system (or a zero, an infinity) gives the number alone.
+        """
+        if self.dimensionless or not math.isfinite(value):
+            return f"{value:.4g}"
+        if dimension == "length^2":
+            return f"{value:.4g} {self.label(dimension)}"
+        metres, pascals = LENGTH_UNITS[str(self.length)], STRESS_UNITS[str(self.stress)]
+        exponent, base = {"length": (metres, "m"), "stress": (pascals, "Pa"), "force": (pascals + 2 * metres, "N"),
+                          "energy": (pascals + 3 * metres, "J"),
+                          "force / length": (pascals + metres, "N/m")}[dimension]
+        si = value * 10.0**exponent
+        if si == 0:
+            return f"0 {base}"
+        power = max(-12, min(9, 3 * math.floor(math.log10(abs(si)) / 3)))
+        return f"{si / 10.0**power:.4g} {_PREFIXES[power].replace('u', 'µ')}{base}"
 
     def axis(self, name: str, dimension: str) -> str:
         """An axis label: ``name (unit)``, or ``name (units of the inputs)`` when dimensionless."""

@@ -10,7 +10,8 @@ whichever submodule holds the function.
 Contents (by thesis chapter; equation numbers are the thesis's)
 ---------------------------------------------------------------
 ``material``
-    :func:`contact_modulus_from`, ``E* = E / (1 - nu**2)`` (eq. 2.1).
+    :func:`contact_modulus_from`, ``E* = E / (1 - nu**2)`` (eq. 2.1); a fibril's spring
+    :func:`fibril_stiffness` (``k = pi r^2 E_f / l``, sec. 6.3) and :func:`euler_buckling_force`.
 ``punch`` (ch. 2)
     Kendall flat punch (eq. 2.1-2.7): ``punch_stiffness``, ``kendall_*``; the
     punch on a spring (eq. 2.8, 2.16-2.19): ``normalized_punch_stiffness``,
@@ -76,7 +77,10 @@ from brushbem.physics.theory.hierarchy import (
     total_filling_factor,
 )
 from brushbem.physics.theory.material import (
+    BUCKLING_LENGTH_FACTORS,
     contact_modulus_from,
+    euler_buckling_force,
+    fibril_stiffness,
 )
 from brushbem.physics.theory.punch import (
     kendall_displacement,
@@ -141,6 +145,9 @@ from brushbem.physics.theory.sphere_spring import (
 __all__ = [  # noqa: RUF022 - grouped by thesis chapter
     # material
     "contact_modulus_from",
+    "fibril_stiffness",
+    "euler_buckling_force",
+    "BUCKLING_LENGTH_FACTORS",
     # Kendall flat punch
     "punch_stiffness",
     "kendall_force",

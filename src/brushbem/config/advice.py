@@ -1,0 +1,262 @@
+"""What a valid configuration is warned of before it runs: inputs far outside the physical range, and the
+discretisation error its resolution carries.
+
+Neither refuses a run: `brushbem validate` prints the warnings after "ok", `brushbem run` prints them and
+records them in ``summary.json`` (``warnings``), and every run records its `Resolution` (``resolution``).
+
+* `plausibility_warnings`: with ``[units]``, a work of adhesion above 1 J/m^2 (van der Waals and
+  hydrogen-bonded adhesion lie between about 1 mJ/m^2 and 0.1 J/m^2), a modulus below 1 kPa or above
+  1 TPa (the softest gels and diamond), a pillar, punch or fibril radius under 1 nm: each names the
+  likely slip of units ("did you mean 0.04 MPa um = 40 mJ/m^2?").  The bounds are ours (the thesis
+  states none): a factor 10 or more beyond any adhesive a designer builds.
+* `resolution`: the elements across the length that decides F_A (a flat punch's or a pillar's radius,
+  a sphere's or a spherical cap's JKR contact radius at pull-off) and the discretisation error of F_A
+  and the work at that resolution, read from the measured table ``brushbem/data/resolution_error.csv``
+  (`benchmarks/resolution_error.py`: a flat punch on a spring against Kendall, at the radius typed).
+  Below `MIN_ELEMENTS_PER_RADIUS` `resolution_warnings` warns with the estimate and the fix.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import math
+from dataclasses import dataclass
+from importlib.resources import files
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from brushbem.config.schema import RunConfig
+
+__all__ = ["MIN_ELEMENTS_PER_RADIUS", "Resolution", "advice", "fibril_radius", "plausibility_warnings", "resolution",
+           "resolution_warnings"]
+
+#: Fewest elements across the deciding radius without a warning: ours (the thesis states none).  At 8 the
+#: measured F_A error of a flat punch lies between -0.6 % and +7.1 % by where the circle's staircase falls
+#: (``resolution_error.csv``), at 4 between -9 % and +13 %, at 16 between +0.9 % and +3.3 %.
+MIN_ELEMENTS_PER_RADIUS = 8.0
+
+#: Physical ranges (SI) beyond which an input is taken for a slip of units: ours (the thesis states none).
+WORK_OF_ADHESION_MAX = 1.0       # J/m^2
+MODULUS_RANGE = (1e3, 1e12)      # Pa
+RADIUS_MIN = 1e-9                # m
+
+_LENGTH_EXPONENT = {"m": 0, "cm": -2, "mm": -3, "um": -6, "nm": -9}
+_STRESS_EXPONENT = {"Pa": 0, "kPa": 3, "MPa": 6, "GPa": 9}
+_SHOWN_LENGTH = {"um": "µm"}
+
+#: The sphere's F_A converges at first order in h / a (`brushbem.config.rules._sphere_resolution_problems`):
+#: a JKR contact of a_JKR / h = 39 elements was measured 4 % strong, so the error is about 1.56 h / a.
+_SPHERE_ERROR_TIMES_ELEMENTS = 0.04 * 39
+
+
+@dataclass(frozen=True)
+class Resolution:
+    """The resolution of the length that decides F_A, and the discretisation error it carries.
+
+    Attributes
+    ----------
+    length : str
+        What the length is ("pillar radius", "punch radius", "JKR contact radius at pull-off").
+    key : str
+        The configuration key it comes from.
+    value : float
+        The length, in units of length.
+    elements : float
+        The length over the element size h.
+    force_error, work_error : float
+        The estimated relative error of F_A and of the work of separation (signed: > 0, too high).
+    force_error_range, work_error_range : tuple of float
+        The smallest and largest error measured at this resolution (the staircase of the circle scatters
+        it), or (error, error) where only a rate is known.
+    basis : str
+        Where the estimate comes from.
+    """
+
+    length: str
+    key: str
+    value: float
+    elements: float
+    force_error: float
+    force_error_range: tuple[float, float]
+    work_error: float | None
+    work_error_range: tuple[float, float] | None
+    basis: str
+
+    @property
+    def resolved(self) -> bool:
+        return self.elements >= MIN_ELEMENTS_PER_RADIUS
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``resolution`` record of ``summary.json``."""
+        return {"length": self.length, "key": self.key, "value": self.value, "elements": self.elements,
+                "minimum_elements": MIN_ELEMENTS_PER_RADIUS,
+                "force_error_estimate": self.force_error, "force_error_range": list(self.force_error_range),
+                "work_error_estimate": self.work_error,
+                "work_error_range": None if self.work_error_range is None else list(self.work_error_range),
+                "basis": self.basis}
+
+
+@functools.cache
+def _table() -> tuple[dict[str, float], ...]:
+    text = files("brushbem.data").joinpath("resolution_error.csv").read_text(encoding="utf-8")
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    return tuple({key: float(value) for key, value in row.items()} for row in rows)
+
+
+def _interpolated(elements: float, column: str) -> float:
+    """The table's ``column`` at ``elements`` per radius: linear in log q inside, first order in h beyond."""
+    rows = _table()
+    first, last = rows[0], rows[-1]
+    if elements <= first["elements_per_radius"]:
+        return first[column]
+    if elements >= last["elements_per_radius"]:
+        return last[column] * last["elements_per_radius"] / elements
+    for low, high in zip(rows, rows[1:], strict=False):
+        if low["elements_per_radius"] <= elements <= high["elements_per_radius"]:
+            t = (math.log(elements / low["elements_per_radius"])
+                 / math.log(high["elements_per_radius"] / low["elements_per_radius"]))
+            return (1 - t) * low[column] + t * high[column]
+    raise AssertionError("unreachable: the table's rows are increasing")
+
+
+def _deciding_length(config: RunConfig) -> tuple[str, str, float] | None:
+    """(what, key, value) of the length that decides F_A, or None (a height map, no adhesion)."""
+    indenter, halfspace = config.indenter, config.halfspace
+    if halfspace.work_of_adhesion <= 0:
+        return None
+    modulus, dgamma = halfspace.effective_modulus, halfspace.work_of_adhesion
+
+    def jkr(radius: float) -> float:  # eq. 2.20b
+        return (9 * math.pi * dgamma * radius**2 / (8 * modulus)) ** (1 / 3)
+
+    if indenter.shape == "flat_punch" and indenter.radius is not None:
+        return "punch radius", "indenter.radius", indenter.radius
+    if indenter.shape == "sphere" and indenter.radius is not None:
+        return "JKR contact radius at pull-off", "indenter.radius", jkr(indenter.radius)
+    if indenter.shape != "brush":
+        return None
+    radius, key = indenter.pillar_radius, "indenter.pillar_radius"
+    if radius is None and indenter.filling_factors and indenter.pillars_per_side:
+        region = indenter.region_size or config.grid.size
+        radius = region / indenter.pillars_per_side * math.sqrt(math.prod(indenter.filling_factors) / math.pi)
+        key = "indenter.filling_factors"
+    if radius is None:
+        return None
+    tip = indenter.tip
+    if tip is not None and tip.shape == "spherical_cap" and isinstance(tip.radius, float) and jkr(tip.radius) < radius:
+        return "JKR contact radius of the tip at pull-off", "indenter.tip.radius", jkr(tip.radius)
+    return "pillar radius", key, radius
+
+
+def fibril_radius(config: RunConfig) -> float | None:
+    """The radius of ``indenter.fibril``: its own, or the pillar's or punch's it takes by default."""
+    from brushbem.config.sections_indenter import _fibril_default_radius
+
+    fibril = config.indenter.fibril
+    if fibril is None:
+        return None
+    return fibril.radius or _fibril_default_radius(config.indenter)
+
+
+def resolution(config: RunConfig) -> Resolution | None:
+    """The resolution of the deciding length and its estimated error, or None where none decides."""
+    found = _deciding_length(config)
+    if found is None:
+        return None
+    what, key, value = found
+    elements = value / config.grid.element_size
+    if what.startswith("JKR"):
+        error = _SPHERE_ERROR_TIMES_ELEMENTS / elements
+        return Resolution(what, key, value, elements, error, (error, error), None, None,
+                          "first order in h / a: a JKR sphere of a_JKR / h = 39 measured 4 % strong")
+    force = _interpolated(elements, "force_error_mean")
+    work = _interpolated(elements, "work_error_mean")
+    return Resolution(
+        what, key, value, elements, force,
+        (_interpolated(elements, "force_error_min"), _interpolated(elements, "force_error_max")), work,
+        (_interpolated(elements, "work_error_min"), _interpolated(elements, "work_error_max")),
+        "a flat punch on a spring at this many elements per radius against Kendall (eq. 2.4, 2.18-2.19), "
+        "mean and range over radii within 10 % (benchmarks/resolution_error.py)")
+
+
+def _percent(value: float) -> str:
+    return f"{100 * value:+.2g} %"
+
+
+def resolution_warnings(config: RunConfig) -> list[str]:
+    """A warning with the estimated error and the fix where the deciding length spans < 8 elements."""
+    found = resolution(config)
+    if found is None or found.resolved:
+        return []
+    needed = math.ceil(config.grid.elements * MIN_ELEMENTS_PER_RADIUS / found.elements)
+    low, high = found.force_error_range
+    spread = "" if low == high else f", between {_percent(low)} and {_percent(high)} by where the circle's staircase falls"
+    work = "" if found.work_error is None else f"; the work of separation about {_percent(found.work_error)}"
+    return [f"{found.key}: the {found.length}, {found.value:.4g}, spans {found.elements:.3g} elements (h = "
+            f"{config.grid.element_size:.4g}), under {MIN_ELEMENTS_PER_RADIUS:g}: F_A carries a discretisation error of "
+            f"about {_percent(found.force_error)}{spread}{work} ({found.basis}); raise grid.elements to {needed} or "
+            f"more, or to {2 * needed} with --refine 2 for an extrapolated F_A with its error bar (its coarser grid "
+            f"needs {MIN_ELEMENTS_PER_RADIUS:g} per radius too)"]
+
+
+def _slip(value: float, unit: str, factor: float, meant: str) -> str:
+    return f"did you mean {value * factor:.3g} {unit} = {value:g} {meant}?"
+
+
+def plausibility_warnings(config: RunConfig) -> list[str]:
+    """Inputs in ``[units]`` far outside the physical range, each with the likely slip of units.
+
+    Without ``[units]`` the numbers have no unit to judge them by, and nothing is said.
+    """
+    units = config.units
+    if units.length is None or units.stress is None:
+        return []
+    length, stress = units.length, units.stress
+    metres, pascals = 10.0 ** _LENGTH_EXPONENT[length], 10.0 ** _STRESS_EXPONENT[stress]
+    shown = f"{stress}·{_SHOWN_LENGTH.get(length, length)}"
+    warnings = []
+    dgamma = config.halfspace.work_of_adhesion
+    if dgamma * pascals * metres > WORK_OF_ADHESION_MAX:
+        si = dgamma * pascals * metres
+        warnings.append(
+            f"halfspace.work_of_adhesion = {dgamma:g} {shown} = {si:.3g} J/m², above the {WORK_OF_ADHESION_MAX:g} J/m² "
+            "of any adhesion by surface forces (about 1 mJ/m² to 0.1 J/m²): "
+            f"{_slip(dgamma, shown, 1e-3 / (pascals * metres), 'mJ/m²')} (energy per area in these units is "
+            f"{stress} × {_SHOWN_LENGTH.get(length, length)}; 1 {shown} = {pascals * metres:g} J/m²)")
+    moduli = [("halfspace.contact_modulus", config.halfspace.contact_modulus),
+              ("halfspace.youngs_modulus", config.halfspace.youngs_modulus)]
+    fibril = config.indenter.fibril
+    if fibril is not None:
+        moduli.append(("indenter.fibril.youngs_modulus", fibril.youngs_modulus))
+    low, high = MODULUS_RANGE
+    for key, value in moduli:
+        if value is None:
+            continue
+        si = value * pascals
+        if low <= si <= high:
+            continue
+        meant = min(_STRESS_EXPONENT, key=lambda unit: abs(math.log10(value * 10.0 ** _STRESS_EXPONENT[unit]) - 6))
+        side = f"below {low:g} Pa (the softest gels)" if si < low else f"above {high:g} Pa (diamond)"
+        warnings.append(f"{key} = {value:g} {stress} = {si:.3g} Pa, {side}: "
+                        f"{_slip(value, stress, 10.0 ** _STRESS_EXPONENT[meant] / pascals, meant)}")
+    radii = [("indenter.radius", config.indenter.radius if config.indenter.shape == "flat_punch" else None),
+             ("indenter.pillar_radius", config.indenter.pillar_radius),
+             ("indenter.fibril.radius", fibril.radius if fibril is not None else None)]
+    shown_length = _SHOWN_LENGTH.get(length, length)
+    for key, value in radii:
+        if value is None or value * metres >= RADIUS_MIN:
+            continue
+        # The slip is a number typed in a larger unit than [units] names: the one that puts it nearest 1 um.
+        larger = [unit for unit, exponent in _LENGTH_EXPONENT.items() if exponent > _LENGTH_EXPONENT[length]]
+        meant = min(larger, key=lambda unit: abs(math.log10(value * 10.0 ** _LENGTH_EXPONENT[unit]) + 6), default=None)
+        slip = ("check units.length" if meant is None else
+                _slip(value, shown_length, 10.0 ** _LENGTH_EXPONENT[meant] / metres, _SHOWN_LENGTH.get(meant, meant)))
+        warnings.append(f"{key} = {value:g} {shown_length} = {value * metres:.3g} m, under {RADIUS_MIN:g} m (a few "
+                        f"atoms): {slip}")
+    return warnings
+
+
+def advice(config: RunConfig) -> list[str]:
+    """Every warning of a valid configuration: `plausibility_warnings`, then `resolution_warnings`."""
+    return [*plausibility_warnings(config), *resolution_warnings(config)]
