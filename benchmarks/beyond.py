@@ -26,7 +26,7 @@ import math
 import statistics
 import time
 
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grading, Grid, brush
 from brushbem.physics.viscoelastic import Viscoelastic

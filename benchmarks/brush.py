@@ -24,7 +24,7 @@ import statistics
 import time
 
 from brushbem.physics import theory
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grid, brush
 

@@ -17,8 +17,8 @@ import json
 import math
 import time
 
-from brushbem.workflow.case import brush_scales
-from brushbem.workflow.design import design
+from brushbem.runs.case import brush_scales
+from brushbem.design import design
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grid, brush
 
@@ -31,7 +31,7 @@ def main() -> None:
     parser.add_argument("--stiffness-ratio", type=float, default=6e-4)
     parser.add_argument("--iterations", type=int, default=2)
     parser.add_argument("--bound", action="store_true",
-                        help="also the load-sharing bound (brushbem.workflow.design.sharing_bound; one solve per pillar)")
+                        help="also the load-sharing bound (brushbem.design.sharing_bound; one solve per pillar)")
     args = parser.parse_args()
     grid = Grid(1.0, args.elements)
     for n in args.pillars_per_side:

@@ -50,7 +50,7 @@ CHANGES = {
     "coarse_updates": ("brushbem.numerics.solver.preconditioners", "COARSE_UPDATE_RANK", 0),
     "set_reuse": ("brushbem.numerics.solver.set_solve", "REUSE_SET_SOLVER", False),
     "solution_deflection": ("brushbem.numerics.solver.set_solve", "KEEP_SOLUTION_DEFLECTION", False),
-    "empty_rows": ("brushbem.numerics.backend", "SKIP_EMPTY_ROWS", False),
+    "empty_rows": ("brushbem.backend", "SKIP_EMPTY_ROWS", False),
     "snapped_periods": ("brushbem.numerics.periods", "SNAP_PERIODS", False),
     "cascade_deflection": ("brushbem.numerics.solver.cascade_deflection", "KEEP_CASCADE_DEFLECTION", False),
     "symmetric_guess": ("brushbem.protocol.unit_guess", "SYMMETRIC_PRODUCTS", False),
@@ -70,9 +70,9 @@ def _child(args) -> None:
     from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 
     try:
-        from brushbem.workflow.case import brush_scales
+        from brushbem.runs.case import brush_scales
     except ImportError:  # a commit before the package's re-layout
-        from brushbem.case import brush_scales
+        from brushbem.runs.case import brush_scales
 
     grid = Grid(1.0, args.elements)
     n = args.pillars_per_side

@@ -21,7 +21,7 @@ import numpy as np
 import scipy.fft
 
 from brushbem.physics import theory
-from brushbem.numerics.backend import fft_workers
+from brushbem.backend import fft_workers
 from brushbem.protocol import ContactProblem, indent
 from brushbem.physics.structure import Grid, sphere
 

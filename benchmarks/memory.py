@@ -1,4 +1,4 @@
-"""Peak memory of ``brushbem run`` against `brushbem.workflow.resources.memory_estimate`.
+"""Peak memory of ``brushbem run`` against `brushbem.config.resources.memory_estimate`.
 
 Each case is one ``brushbem run`` in a fresh process; its peak resident set
 size is the ``ru_maxrss`` that ``os.wait4`` reports for that process alone
@@ -24,8 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.resources import format_bytes, memory_estimate, result_size_estimate
+from brushbem.runs.assembly import parse_config
+from brushbem.config.resources import format_bytes, memory_estimate, result_size_estimate
 
 HALFSPACE = {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}
 

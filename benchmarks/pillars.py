@@ -27,7 +27,7 @@ import math
 import statistics
 import time
 
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.pillars.basis import DENSE_PILLARS
 from brushbem.pillars import MODES

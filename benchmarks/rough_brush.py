@@ -46,8 +46,8 @@ import statistics
 import time
 from contextlib import contextmanager
 
-from brushbem.numerics import backend
-from brushbem.workflow.case import brush_scales
+from brushbem import backend
+from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grid, brush
 

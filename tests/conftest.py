@@ -26,10 +26,10 @@ def run_quick_study(name, tmp_path_factory):
 
     Returns (study, results by part, written figure paths).  Every part must
     ship both its full and its quick sweep file.  The figures are written as
-    PNG only (`brushbem.workflow.figstyle.raster_only`): the PDF beside each
+    PNG only (`brushbem.figures.figstyle.raster_only`): the PDF beside each
     is tested in tests/test_figures.py, and it is 40 % of the drawing's time.
     """
-    from brushbem.workflow import figstyle
+    from brushbem.figures import figstyle
 
     study = STUDIES[name]
     out = tmp_path_factory.mktemp(name)

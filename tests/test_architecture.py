@@ -1,10 +1,11 @@
 """The layers import one way, every module imports alone, and ``validate`` stays light.
 
-config (the schema) <- assembly (the built problem) <- case / sweep / cli;
-the studies' registry -> study modules -> `brushbem.studies.base`.  A cycle
-in the import graph (function-level imports included, type-checking-only
-imports excluded) fails here, as does a module that only imports after
-another has been imported.
+`LAYERS` declares the order, from the floor up; a module may import only its
+own layer and the layers below it.  Every import counts, function-level ones
+included; only those under ``if TYPE_CHECKING:`` (annotations, never run) are
+excluded.  ``from brushbem import NAME`` counts as an import of the module
+that `brushbem.__init__` takes NAME from.  A cycle in the import graph fails
+here too, as does a module that only imports after another has been imported.
 """
 
 from __future__ import annotations
@@ -39,10 +40,20 @@ def _type_checking_only(tree: ast.AST) -> set[int]:
     return lines
 
 
-def _import_graph(unresolved: list[str] | None = None) -> dict[str, set[str]]:
-    """Module -> the package modules it imports; ``unresolved`` collects imports of modules that do not exist."""
+def _public_names() -> dict[str, str]:
+    """``brushbem.NAME`` -> the module `brushbem.__init__` imports it from on first use (its ``_PUBLIC``)."""
+    tree = ast.parse((PACKAGE / "__init__.py").read_text(encoding="utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "_PUBLIC" for t in node.targets):
+            return {name: f"brushbem.{module}" for name, module in ast.literal_eval(node.value).items()}
+    raise AssertionError("brushbem/__init__.py has no _PUBLIC table")
+
+
+def _import_lines(unresolved: list[str] | None = None):
+    """(module, line, imported module) of every import of a package module, TYPE_CHECKING-only ones excluded;
+    ``unresolved`` collects imports of modules that do not exist."""
     modules = _modules()
-    graph: dict[str, set[str]] = {name: set() for name in modules}
+    public = _public_names()
     for name, path in modules.items():
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
         tree = ast.parse(path.read_text(encoding="utf-8"))
@@ -61,13 +72,21 @@ def _import_graph(unresolved: list[str] | None = None) -> dict[str, set[str]]:
                 if module.startswith("brushbem") and module not in modules and unresolved is not None:
                     unresolved.append(f"{name}:{node.lineno} imports {module}")
                 # `from pkg import sub` imports the submodule when there is one.
-                targets = [f"{module}.{alias.name}" if f"{module}.{alias.name}" in modules else module
+                targets = [f"{module}.{alias.name}" if f"{module}.{alias.name}" in modules
+                           else public.get(alias.name, module) if module == "brushbem" else module
                            for alias in node.names]
             for target in targets:
                 while target not in modules and "." in target:
                     target = target.rpartition(".")[0]
                 if target in modules and target != name:
-                    graph[name].add(target)
+                    yield name, node.lineno, target
+
+
+def _import_graph(unresolved: list[str] | None = None) -> dict[str, set[str]]:
+    """Module -> the package modules it imports; ``unresolved`` collects imports of modules that do not exist."""
+    graph: dict[str, set[str]] = {name: set() for name in _modules()}
+    for name, _, target in _import_lines(unresolved):
+        graph[name].add(target)
     return graph
 
 
@@ -122,13 +141,85 @@ def test_the_cycle_finder_finds_a_cycle():
     assert _cycles({"a": {"b"}, "b": set()}) == []
 
 
+#: The layers from the floor up: a module imports only its own layer and those below.  The floor holds
+#: what every layer may read (errors, the array backend, shared settings, the typed result records);
+#: the library is everything up to `brushbem.api`; the applications above it are never imported by it.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("brushbem", "brushbem.errors", "brushbem.backend", "brushbem.settings", "brushbem.results", "brushbem.examples"),
+    ("brushbem.physics",),
+    ("brushbem.config",),
+    ("brushbem.numerics",),
+    ("brushbem.protocol", "brushbem.pillars"),
+    ("brushbem.io",),
+    ("brushbem.figures",),
+    ("brushbem.runs", "brushbem.design", "brushbem.design_files"),
+    ("brushbem.api",),
+    ("brushbem.sweep",),
+    ("brushbem.studies",),
+    ("brushbem.reproduction",),
+    ("brushbem.report",),
+    ("brushbem.cli", "brushbem.__main__"),
+)
+
+
+def _layer_of(module: str, layers=LAYERS) -> int | None:
+    """The index in ``layers`` of the longest package prefix of ``module`` (None: in no layer).
+
+    ``brushbem`` itself (its ``__init__``) is only itself: a new package must be given its layer.
+    """
+    best, found = -1, None
+    for index, layer in enumerate(layers):
+        for package in layer:
+            inside = module == package or (package != "brushbem" and module.startswith(package + "."))
+            if inside and len(package) > best:
+                best, found = len(package), index
+    return found
+
+
+def _against_the_layers(lines, layers=LAYERS) -> list[str]:
+    """``module:line imports target`` for every import of a higher layer."""
+    return [f"{name}:{line} imports {target}" for name, line, target in lines
+            if _layer_of(target, layers) > _layer_of(name, layers)]
+
+
+def test_every_module_has_a_layer():
+    assert [name for name in _modules() if _layer_of(name) is None] == []
+
+
+def test_the_layer_order_holds():
+    """No import against `LAYERS`, lazy (function-level) ones included."""
+    found = _against_the_layers(_import_lines())
+    assert not found, "\n".join(found)
+
+
+def test_the_layer_check_finds_an_import_upwards():
+    """The check can fail: an import of a higher layer, at any depth of the package, is reported."""
+    layers = (("brushbem.results",), ("brushbem.io",), ("brushbem.cli",))
+    lines = [("brushbem.io.reading", 14, "brushbem.results.case"), ("brushbem.results.case", 3, "brushbem.io"),
+             ("brushbem.io", 96, "brushbem.cli.common")]
+    assert _against_the_layers(lines, layers) == ["brushbem.results.case:3 imports brushbem.io",
+                                                  "brushbem.io:96 imports brushbem.cli.common"]
+
+
+def test_the_library_imports_no_application():
+    """physics, numerics, protocol, results, io, config and the runs import nothing of sweep, studies,
+    reproduction, report or cli (implied by `LAYERS`; stated here by name)."""
+    library = ("brushbem.physics", "brushbem.numerics", "brushbem.protocol", "brushbem.pillars", "brushbem.results",
+               "brushbem.io", "brushbem.config", "brushbem.runs", "brushbem.figures", "brushbem.backend")
+    applications = ("brushbem.sweep", "brushbem.studies", "brushbem.reproduction", "brushbem.report",
+                    "brushbem.cli")
+    found = [f"{name}:{line} imports {target}" for name, line, target in _import_lines()
+             if name.startswith(library) and target.startswith(applications)]
+    assert not found, "\n".join(found)
+
+
 def test_no_import_cycles():
     unresolved: list[str] = []
     graph = _import_graph(unresolved)
     # A function-level import runs only when called: one of a module that does not exist is caught here.
     assert unresolved == []
-    assert graph["brushbem.workflow.assembly"] >= {"brushbem.config", "brushbem.physics.structure"}
-    assert "brushbem.workflow.assembly" not in graph["brushbem.config"]
+    assert graph["brushbem.runs.assembly"] >= {"brushbem.config", "brushbem.physics.structure"}
+    assert "brushbem.runs.assembly" not in graph["brushbem.config"]
     assert _cycles(graph) == []
 
 
@@ -285,7 +376,7 @@ KEY_HITS_PENDING: set[tuple[str, str]] = set()
 
 
 def test_no_numerics_module_names_a_configuration_key():
-    """The numerics name their own parameters; only the workflow layer (assembly) knows configuration keys."""
+    """The numerics name their own parameters; only the run layer (assembly) knows configuration keys."""
     keys = _configuration_keys()
     found = []
     for name in PHYSICS:
@@ -306,9 +397,9 @@ def test_the_key_rule_finds_a_key_and_spares_attributes():
     assert _key_hits(source, keys) == [(1, "grid.size"), (2, "protocol.speed")]
 
 
-def test_the_workflow_layer_maps_parameters_back_to_keys():
-    """`brushbem.workflow.assembly.PARAMETER_KEYS` names schema keys; a `ParameterError` reads as a `ConfigError` by key."""
-    from brushbem.workflow.assembly import PARAMETER_KEYS, configuration_errors
+def test_the_run_layer_maps_parameters_back_to_keys():
+    """`brushbem.runs.assembly.PARAMETER_KEYS` names schema keys; a `ParameterError` reads as a `ConfigError` by key."""
+    from brushbem.runs.assembly import PARAMETER_KEYS, configuration_errors
     from brushbem.config import ConfigError
     from brushbem.errors import ParameterError
 
@@ -326,7 +417,7 @@ def _stacks_at_transforms(run) -> dict[tuple[str, ...], int]:
     """The package modules on the call stack at every padded convolution of ``run()``, in order, repeats merged."""
     import collections
 
-    from brushbem.numerics import backend
+    from brushbem import backend
 
     stacks: collections.Counter = collections.Counter()
     originals = {name: getattr(backend, name) for name in ("padded_convolution", "padded_convolution_rows")}

@@ -25,7 +25,7 @@ import math
 import numpy as np
 import pytest
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grid, Level, Profile, brush, flat_punch, sphere
 

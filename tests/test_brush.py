@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from brushbem.physics import theory
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import build_problem, run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import build_problem, run_case
 from brushbem.config import ConfigError, config_to_dict
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics.operator import ContactOperator, MaskedOperator, Window
@@ -544,7 +544,8 @@ def test_nested_loop_per_pillar_equals_the_coupled_operator():
     for the per-pillar force balance, stopped at 100 x tolerance).
     """
     from brushbem.numerics.nested import nested_loop_brush_equilibrium
-    from brushbem.numerics.solver import Settings, Start, critical_stress, equilibrium
+    from brushbem.numerics.solver import Settings, Start, equilibrium
+    from brushbem.physics.adhesion import critical_stress
 
     grid = Grid(1.0, 64)
     indenter = brush(grid, layout="square", pillars_per_side=5, pillar_radius=0.06, contact_modulus=E_STAR,
@@ -603,7 +604,8 @@ def test_events_reach_pillars_outside_the_first_window():
 
 def test_sparse_and_stencil_spring_preconditioners_agree(monkeypatch):
     """The CPU path (sparse B on S) and the array-namespace path (stencils) are the same M^-1."""
-    from brushbem.numerics import backend, solver
+    from brushbem import backend
+    from brushbem.numerics import solver
 
     indenter = _brush(pillars_per_side=8, pillar_radius=3 * GRID.element_size, stiffness=1e-4,
                       levels=(Level(2, 1e-3), Level(2, 1e-2)))
@@ -662,10 +664,10 @@ def test_local_cascade_ends_in_an_equilibrium_that_obeys_the_criterion(fraction)
     from brushbem.numerics.solver import (
         Settings,
         Start,
-        critical_stress,
         equilibrium,
         tip_deflection,
     )
+    from brushbem.physics.adhesion import critical_stress
 
     indenter = _brush(stiffness=1e-3)
     halfspace = HalfSpace(GRID.elements, GRID.element_size, E_STAR)

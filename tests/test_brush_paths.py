@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from brushbem import protocol
-from brushbem.workflow.assembly import load_config
-from brushbem.workflow.case import brush_scales, build_path, build_problem
+from brushbem.runs.assembly import load_config
+from brushbem.runs.case import brush_scales, build_path, build_problem
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import Grading, Grid, Level, Profile, Tilt, Tip, brush
 

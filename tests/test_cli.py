@@ -19,12 +19,12 @@ import pytest
 from click.testing import CliRunner
 
 import brushbem
-from brushbem.workflow.assembly import Assembly
+from brushbem.runs.assembly import Assembly
 from brushbem.cli import main
 from brushbem.config import RunConfig, config_to_dict
 from brushbem.io import read_case
-from brushbem.workflow.pulloff import PullOff
-from brushbem.workflow.results import CaseResult, Curve, Snapshot
+from brushbem.runs.pulloff import PullOff
+from brushbem.results import CaseResult, Curve, Snapshot
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -92,13 +92,13 @@ def fake_result(converged: bool = True, n: int = 8) -> CaseResult:
 
 @pytest.fixture
 def fake_run_case(monkeypatch):
-    """Replace `brushbem.workflow.case.run_case` by a fake; returns the list of its calls."""
+    """Replace `brushbem.runs.case.run_case` by a fake; returns the list of its calls."""
     try:
-        case_module = importlib.import_module("brushbem.workflow.case")
+        case_module = importlib.import_module("brushbem.runs.case")
     except ImportError:
         # The numerics may not be installed in this tree: stand in a module.
-        case_module = types.ModuleType("brushbem.workflow.case")
-        monkeypatch.setitem(sys.modules, "brushbem.workflow.case", case_module)
+        case_module = types.ModuleType("brushbem.runs.case")
+        monkeypatch.setitem(sys.modules, "brushbem.runs.case", case_module)
         monkeypatch.setattr(brushbem, "case", case_module, raising=False)
     calls: list[RunConfig] = []
     state = {"converged": True}
@@ -230,7 +230,7 @@ def test_run_writes_the_three_files(tmp_path, fake_run_case):
     assert "adhesive force" in result.output
     assert "adhesive_force_ratio" in result.output
     assert len(fake_run_case.calls) == 1
-    # The run gets the configuration built from its one rasterisation (brushbem.workflow.assembly).
+    # The run gets the configuration built from its one rasterisation (brushbem.runs.assembly).
     assert isinstance(fake_run_case.calls[0], Assembly)
     assert isinstance(fake_run_case.calls[0].config, RunConfig)
 

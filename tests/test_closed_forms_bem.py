@@ -18,7 +18,7 @@ r/h = 32, the same order as the discretisation error being measured.  Kendall's
 force ~ r^(3/2) would inherit a 0.8 % error that has nothing to do with the
 mechanics.  The radius of the disc of the same area is the best single-number
 description of the rasterised punch (its stiffness 2 E* a converges to the
-staircase's; see brushbem.workflow.case.theory_for, which does the same).
+staircase's; see brushbem.runs.case.theory_for, which does the same).
 """
 
 from __future__ import annotations
@@ -337,8 +337,8 @@ def test_a_sphere_preloaded_below_jkr_pull_off_radius_is_compared_with_the_force
     3/2 pi dgamma R.  The closed form is the curve's tension at a_p (named in the summary); the run is
     +8.0 % of it at N = 128 (a_p / h = 9; +4.0 % at N = 256), the mesh's error (a deep preload is +11.5 %
     against 3/2 pi dgamma R on this grid), where JKR's force gave 0.90.  A deep preload (a_p beyond the pull-off radius) keeps eq. 2.24."""
-    from brushbem.workflow.assembly import parse_config
-    from brushbem.workflow.case import run_case
+    from brushbem.runs.assembly import parse_config
+    from brushbem.runs.case import run_case
 
     def theory_of(preload):
         config = parse_config({

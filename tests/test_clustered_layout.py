@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import brushbem
-from brushbem.workflow.assembly import load_config, parse, parse_config
+from brushbem.runs.assembly import load_config, parse, parse_config
 from brushbem.config import ConfigError, config_to_dict
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import (

@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pydantic import ValidationError
 
-from brushbem.workflow.assembly import load_config, parse_config
+from brushbem.runs.assembly import load_config, parse_config
 from brushbem.config import (
     ConfigError,
     GridConfig,
@@ -94,7 +94,7 @@ def test_sphere_example_is_the_jkr_sphere_on_a_spring():
 def test_sphere_example_does_what_its_header_says():
     """The header: preload contact radius 0.166, beyond a_JKR = 0.152 and below a_o = 0.242, and F_A within
     4.4 % of 3/2 pi dgamma R at this grid (the measured +4.41 %, tests/test_closed_forms_bem.py)."""
-    from brushbem.workflow.case import run_case
+    from brushbem.runs.case import run_case
 
     result = run_case(load_config(EXAMPLES / "sphere_spring.toml")).result
     theory = result.summary["theory"]
@@ -542,7 +542,7 @@ def test_three_mistakes_are_reported_in_one_pass_each_once(tmp_path):
     it) is not repeated; the overlap is found on the layout keys although
     other indenter keys failed.
     """
-    from brushbem.workflow.assembly import load_config as full_check
+    from brushbem.runs.assembly import load_config as full_check
 
     path = tmp_path / "three.toml"
     path.write_text(

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.cli import main
-from brushbem.workflow.design import (
+from brushbem.design import (
     DesignError,
     DesignInterrupted,
     critical_forces,
@@ -181,7 +181,7 @@ def test_cli_design_writes_the_design(tmp_path):
 def test_the_design_figure_draws_on_given_axes():
     from matplotlib.figure import Figure
 
-    from brushbem.workflow.design_files import design_figure
+    from brushbem.design_files import design_figure
 
     problem = _problem(10.0)
     result = design(problem, _path(problem), iterations=0)
@@ -233,7 +233,7 @@ def _small_brush_file(tmp_path):
 def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
     """A second design into the same folder needs --overwrite; a folder that takes no files is refused
     before anything is computed (exit 2), as `brushbem run` does."""
-    import brushbem.workflow.design
+    import brushbem.design
 
     path = _small_brush_file(tmp_path)
     out = tmp_path / "design"
@@ -247,7 +247,7 @@ def test_cli_design_has_runs_protections(tmp_path, monkeypatch):
     def never(*args, **kwargs):
         raise AssertionError("the design ran before --out was checked")
 
-    monkeypatch.setattr(brushbem.workflow.design, "design", never)
+    monkeypatch.setattr(brushbem.design, "design", never)
     blocked = tmp_path / "a file"
     blocked.write_text("")
     refused = CliRunner().invoke(main, ["design", str(path), "--out", str(blocked / "design"), "--quiet"])
@@ -287,7 +287,7 @@ def test_a_tilted_brush_is_verified_with_its_tilt():
     brush give the heights of the untilted one plus the tilt's rise from each pillar's centre (1e-15 of
     the offsets), and the design says that its direct solve assumed untilted tips."""
     from brushbem.physics.structure import Tilt
-    from brushbem.workflow.design import _with_offsets
+    from brushbem.design import _with_offsets
 
     tilted, flat = _tilted_brush(0.2), _tilted_brush(0.0)
     values = np.linspace(0.0, 0.003, tilted.indenter.n_pillars)
@@ -313,8 +313,8 @@ def test_every_designed_tip_is_in_full_contact_at_the_raised_preload_decided_bef
     surface sinks around their pressed neighbours).  The raised preload presses every footprint element
     (checked by a separate contact solve), and the first verification then reaches the prediction (1e-3).
     A force preload that cannot press them all is refused before any pull-off, naming the force that can."""
-    import brushbem.workflow.design as module
-    from brushbem.workflow.design import _with_offsets
+    import brushbem.design as module
+    from brushbem.design import _with_offsets
 
     grid = Grid(1.0, 64)
     indenter = brush(grid, layout="square", pillars_per_side=6, pillar_radius=0.04, contact_modulus=1.0,
@@ -365,7 +365,7 @@ def test_a_failed_design_write_names_its_file_and_keeps_nothing(tmp_path, monkey
     names design.png, the three files are removed, and the next design needs no --overwrite."""
     import errno
 
-    from brushbem.workflow import figstyle
+    from brushbem.figures import figstyle
 
     path = _small_brush_file(tmp_path)
     out = tmp_path / "design"
@@ -389,8 +389,8 @@ def test_the_thesis_shape_is_fitted_with_its_level_and_drawn_only_where_it_fits(
     from matplotlib.figure import Figure
 
     from brushbem.physics import theory
-    from brushbem.workflow.design import Design
-    from brushbem.workflow.design_files import design_figure, thesis_profile_fit
+    from brushbem.design import Design
+    from brushbem.design_files import design_figure, thesis_profile_fit
 
     problem = _problem(10.0)
     info = problem.indenter.description

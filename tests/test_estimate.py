@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem.cli import main
-from brushbem.workflow.estimate import SweepEstimate, estimate_sweep, sample_indices
+from brushbem.sweep.estimate import SweepEstimate, estimate_sweep, sample_indices
 from brushbem.sweep import load_sweep
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "punch_stiffness.toml"

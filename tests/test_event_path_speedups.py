@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics import periods
 from brushbem.numerics.operator import ContactOperator, Window

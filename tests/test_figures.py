@@ -16,9 +16,9 @@ import pytest
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
-from brushbem.workflow.plot import plot_pull_off, pull_off_figure
-from brushbem.workflow.results import CaseResult, Curve, Snapshot
-from brushbem.workflow.units import Units
+from brushbem.figures.plot import plot_pull_off, pull_off_figure
+from brushbem.results import CaseResult, Curve, Snapshot
+from brushbem.results.units import Units
 
 matplotlib.use("Agg")
 
@@ -136,14 +136,14 @@ def test_stage_numbers_cover_neither_each_other_nor_the_adhesive_force_marker():
 
 
 def test_sweep_axes_are_named_by_the_configuration_keys(tmp_path):
-    from brushbem.workflow.report import _plot_against
+    from brushbem.report.sweeps import _plot_against
 
     frame = pd.DataFrame({"indenter.stiffness_ratio": [0.001, 0.01, 0.1],
                           "adhesive_force": [1.0e-3, 2.0e-3, 3.0e-3]})
     path = _plot_against(frame, "indenter.stiffness_ratio", [], "adhesive_force", tmp_path / "fa.png",
                          Units("mm", "MPa"))
     assert path.with_suffix(".pdf").is_file()
-    import brushbem.workflow.figstyle as figstyle
+    import brushbem.figures.figstyle as figstyle
 
     assert figstyle.key_label("indenter.stiffness_ratio") == r"pillar stiffness $\tilde k = k/(E^* L)$"
     assert figstyle.key_label("adhesive_force", Units("mm", "MPa")) == r"adhesive force $F_\mathrm{A}$ (N)"
@@ -152,7 +152,7 @@ def test_sweep_axes_are_named_by_the_configuration_keys(tmp_path):
 
 
 def test_sweep_figure_labels_read_the_key_names(monkeypatch, tmp_path):
-    from brushbem.workflow import report
+    from brushbem.report import sweeps as report
 
     drawn = []
     monkeypatch.setattr(report, "_save", lambda figure, path: drawn.append(figure) or path)

@@ -368,7 +368,7 @@ def test_support_aware_period_gives_the_same_deflection(window, support):
 
 def test_row_pruned_convolution_equals_the_full_one():
     """padded_convolution_rows on the loaded rows = padded_convolution kept on those rows."""
-    from brushbem.numerics import backend
+    from brushbem import backend
 
     rng = np.random.default_rng(0)
     halfspace = HalfSpace(40, 0.025, 1.0)

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from brushbem.workflow.assembly import load_config
+from brushbem.runs.assembly import load_config
 from brushbem.cli import EXAMPLES, main
 from brushbem.sweep import load_sweep
 

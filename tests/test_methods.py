@@ -35,10 +35,10 @@ from brushbem.numerics.solver import (
     Settings,
     Start,
     conjugate_gradient,
-    critical_stress,
     equilibrium,
     laplacian_preconditioner,
 )
+from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid, Indenter, SpringLevel, flat_punch, sphere
 
 E_STAR = 1.0

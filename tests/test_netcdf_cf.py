@@ -20,8 +20,8 @@ import h5py
 import numpy as np
 import pytest
 
-from brushbem.workflow.assembly import load_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import load_config
+from brushbem.runs.case import run_case
 from brushbem.config.schema import UnitsConfig
 from brushbem.io import write_case
 

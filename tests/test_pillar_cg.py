@@ -19,8 +19,8 @@ from brushbem import pillars
 from brushbem.pillars import cg as pillar_cg
 from brushbem.pillars import solver as pillar_solver
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.workflow.case import brush_scales
-from brushbem.workflow.resources import memory_estimate
+from brushbem.runs.case import brush_scales
+from brushbem.config.resources import memory_estimate
 
 DGAMMA = 1e-4
 

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from brushbem.workflow.assembly import load
+from brushbem.runs.assembly import load
 from brushbem.config import ConfigError
 from brushbem.physics.pillar_laws import PiecewiseLinear
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
@@ -235,7 +235,7 @@ def test_config_names_a_non_monotone_law(tmp_path):
 
 def test_a_law_beyond_the_documented_magnitudes_is_refused():
     """pillar_law.forces = [1e300] passed the documented 1e30 limit of every number; now refused by name."""
-    from brushbem.workflow.assembly import parse_config
+    from brushbem.runs.assembly import parse_config
     from brushbem.config import ConfigError
 
     config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
@@ -248,7 +248,7 @@ def test_a_law_beyond_the_documented_magnitudes_is_refused():
 
 def test_a_fixed_step_that_cannot_reach_the_preload_within_max_steps_is_refused():
     """step = 1e-12 on a 1e-3 preload is 1e9 steps: refused up front, naming the step that would do."""
-    from brushbem.workflow.assembly import parse_config
+    from brushbem.runs.assembly import parse_config
     from brushbem.config import ConfigError
 
     config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},

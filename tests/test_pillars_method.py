@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import brushbem
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem import pillars
 from brushbem.pillars import events as pillar_events
 from brushbem.pillars import loading as pillar_loading
@@ -277,7 +277,7 @@ def test_refuses_other_indenters_and_connections():
 
 def test_validation_refuses_a_brush_outside_the_pillar_model_before_any_run():
     """A tilted brush with method = "pillars" is a configuration problem of protocol.method, found by validate."""
-    from brushbem.workflow.assembly import parse_config
+    from brushbem.runs.assembly import parse_config
     from brushbem.config import ConfigError
 
     config = {

@@ -11,9 +11,9 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 import brushbem
-from brushbem.workflow.plot import as_case_result, draw_with_jumps, pull_off_figure
-from brushbem.workflow.report import _case_label, _plot_curves
-from brushbem.workflow.units import Units
+from brushbem.figures.plot import as_case_result, draw_with_jumps, pull_off_figure
+from brushbem.report.sweeps import _case_label, _plot_curves
+from brushbem.results.units import Units
 
 matplotlib.use("Agg")
 
@@ -121,7 +121,7 @@ def test_units_name_forces_works_and_refuse_half_a_system():
 def test_sweep_curves_are_labelled_by_swept_value(tmp_path, punch, monkeypatch):
     import pandas as pd
 
-    from brushbem.workflow import report
+    from brushbem.report import sweeps as report
 
     drawn = []
     monkeypatch.setattr(report, "_save", lambda figure, path: drawn.append(figure) or path)

@@ -29,8 +29,8 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 from brushbem.config import ConfigError
 from brushbem.io import read_case, write_case
 

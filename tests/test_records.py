@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from brushbem.workflow.case import theory_for
+from brushbem.runs.case import theory_for
 from brushbem.protocol import ContactProblem, LoadPath
-from brushbem.workflow.results import BrushTheory, PunchTheory, ReferenceCurve, SphereTheory
+from brushbem.results import BrushTheory, PunchTheory, ReferenceCurve, SphereTheory
 from brushbem.physics.structure import (
     BrushGeometry,
     Geometry,

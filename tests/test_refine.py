@@ -1,6 +1,6 @@
 """Mesh error bars (``brushbem run --refine``): Richardson extrapolation checked against closed forms.
 
-The Pohrt-Popov criterion converges at first order in h; `brushbem.workflow.refine`
+The Pohrt-Popov criterion converges at first order in h; `brushbem.runs.refine`
 extrapolates with that order and reports an error estimate that must bound
 the true error.  Checked on JKR (a sphere, F_A and work), Kendall's punch
 (work, and the bound on F_A, whose rasterised staircase makes the sequence
@@ -16,10 +16,10 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem.physics import theory
-from brushbem.workflow.assembly import parse_config
+from brushbem.runs.assembly import parse_config
 from brushbem.cli import main
 from brushbem.config import ConfigError
-from brushbem.workflow.refine import refined_configs, refined_run, richardson
+from brushbem.runs.refine import refined_configs, refined_run, richardson
 
 
 def _punch(elements: int, stiffness="inf"):
@@ -134,7 +134,7 @@ def test_the_order_used_says_why(values, reason):
 
 def test_a_refinement_holds_a_random_layout_fixed():
     """The default min_gap is 2 h: without holding it, N = 128 and 256 placed 13 of 20 pillars alike."""
-    from brushbem.workflow.assembly import build_indenter
+    from brushbem.runs.assembly import build_indenter
 
     config = parse_config({
         "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3},

@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from brushbem.workflow.assembly import load_config
+from brushbem.runs.assembly import load_config
 from brushbem.cli import main
 from brushbem.config import (
     MAGNITUDE_RANGE,
@@ -42,7 +42,7 @@ from brushbem.config import (
     TipConfig,
     ViscoelasticConfig,
 )
-from brushbem.workflow.resources import (
+from brushbem.config.resources import (
     MEMORY_LIMIT_VARIABLE,
     available_memory,
     memory_estimate,
@@ -1071,7 +1071,7 @@ def test_the_spring_floor_is_the_solvers():
 def test_the_pillar_model_refuses_keys_it_does_not_use(table, key, value):
     """The pillar model ignored solver.tolerance, max_iterations, coupling, cascade and protocol.step: given, each is
     refused naming the key; their defaults (not given) are accepted."""
-    from brushbem.workflow.assembly import parse_config
+    from brushbem.runs.assembly import parse_config
     from brushbem.config import ConfigError
 
     config = {

@@ -23,8 +23,8 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem import protocol
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 from brushbem.cli import main
 from brushbem.io import InconsistentCaseError, read_case
 
@@ -206,8 +206,8 @@ def test_full_disk_is_a_message_not_a_crash(tmp_path):
         script = textwrap.dedent(f"""
             import errno, sys
             import brushbem.io.writing as io
-            from brushbem.workflow.case import run_case
-            from brushbem.workflow.assembly import load_config
+            from brushbem.runs.case import run_case
+            from brushbem.runs.assembly import load_config
             io._check_free_space = lambda folder, needed: None
             config = load_config({str(_punch(tmp_path))!r})
             result = run_case(config).result
@@ -239,8 +239,8 @@ def test_writer_killed_between_its_two_files(tmp_path):
     script = textwrap.dedent(f"""
         import os
         import brushbem.io.writing as io
-        from brushbem.workflow.case import run_case
-        from brushbem.workflow.assembly import load_config
+        from brushbem.runs.case import run_case
+        from brushbem.runs.assembly import load_config
         original = io.write_dataset
         def write_then_die(*args, **kwargs):
             original(*args, **kwargs)
@@ -438,7 +438,7 @@ def test_only_the_runs_own_temporaries_are_removed(tmp_path, monkeypatch):
     ``*.tmp`` files in --out (an editor's swap file, another program's temporaries) are kept:
     every hidden ``*.tmp`` used to be deleted, in the working folder with ``--out .``.  The lock a
     killed run left (its pid) is taken over."""
-    from brushbem.workflow import case
+    from brushbem.runs import case
 
     def stop(*args, **kwargs):
         raise _Computed

@@ -63,7 +63,7 @@ SITECUSTOMIZE = """\
 import os
 if os.environ.get("BRUSHBEM_TEST_LOG"):
     import time
-    import brushbem.workflow.case as _case
+    import brushbem.runs.case as _case
     _real = _case.run_case
     def _hooked(config, **kwargs):
         with open(os.environ["BRUSHBEM_TEST_LOG"], "a") as log:

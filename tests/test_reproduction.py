@@ -197,7 +197,7 @@ def test_every_committed_row_beyond_five_percent_is_explained():
 
 
 def test_a_study_report_shows_the_explanation_beside_an_amber_number():
-    from brushbem.workflow.report import _explanation, _notes_text, _numbers_table
+    from brushbem.report.sweeps import _explanation, _notes_text, _numbers_table
 
     notes = _notes_text()
     assert "## Why the ch. 5–7 deviations" in notes  # found from a clone
@@ -252,10 +252,10 @@ def test_the_committed_comparison_is_what_the_committed_tables_give():
 def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
     """Every committed figure is one the tables draw, and every one they draw is committed.
 
-    Drawn as PNG only (`brushbem.workflow.figstyle.raster_only`): the committed set is the PNGs, and
+    Drawn as PNG only (`brushbem.figures.figstyle.raster_only`): the committed set is the PNGs, and
     the PDF beside each is tested in tests/test_figures.py.
     """
-    from brushbem.workflow import figstyle
+    from brushbem.figures import figstyle
 
     figures = DOCS / "figures"
     committed = {folder.name: sorted(folder.glob("*.png")) for folder in sorted(figures.iterdir()) if folder.is_dir()}

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 from brushbem.io import from_dataset, load_result, read_case, stage_field, stages, write_case
 
 

@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 from brushbem.cli import main
-from brushbem.workflow.estimate import estimate_run
+from brushbem.sweep.estimate import estimate_run
 
 PUNCH = textwrap.dedent("""
     [halfspace]

@@ -13,8 +13,8 @@ import pytest
 from click.testing import CliRunner
 
 from brushbem.cli import main
-from brushbem.workflow.run_report import GENERATOR, is_run_folder
-from brushbem.workflow.units import Units
+from brushbem.report.run import GENERATOR, is_run_folder
+from brushbem.results.units import Units
 
 #: A flat punch on a spring at N = 32 (a tenth of a second): Kendall's closed forms apply, with ratios.
 PUNCH = textwrap.dedent("""
@@ -143,7 +143,7 @@ def test_without_pulloff_png_the_curve_is_drawn_from_result_nc(run_folder, tmp_p
 
 
 def test_a_closed_form_that_does_not_apply_is_named_as_such():
-    from brushbem.workflow.run_report import _theory_html
+    from brushbem.report.run import _theory_html
 
     reason = "the closed form is of a linear elastic spring; this spring is viscoelastic"
     summary = {
@@ -221,7 +221,7 @@ def _cells(table: str) -> list[list[str]]:
 
 
 def test_the_brush_report_shows_the_computed_value_and_ratio_beside_every_closed_form():
-    from brushbem.workflow.run_report import _theory_html
+    from brushbem.report.run import _theory_html
 
     text = _theory_html(BRUSH_SUMMARY, Units())
     assert text.count("<table") == 1  # one table: no second table of ratios
@@ -240,7 +240,7 @@ def test_the_brush_report_shows_the_computed_value_and_ratio_beside_every_closed
 
 
 def test_every_normalised_number_has_a_symbol_and_a_definition():
-    from brushbem.workflow.run_report import NORMALISED, _summary_html
+    from brushbem.report.run import NORMALISED, _summary_html
 
     text = _summary_html(BRUSH_SUMMARY, Units())
     section = text[text.index("Normalised"):]
@@ -254,7 +254,7 @@ def test_every_normalised_number_has_a_symbol_and_a_definition():
 def _snapshot_result(scale_of_zero_force: float):
     import numpy as np
 
-    from brushbem.workflow.results import CaseResult, Curve, Snapshot
+    from brushbem.results import CaseResult, Curve, Snapshot
 
     contact = np.zeros((8, 8), bool)
     contact[2:6, 2:6] = True
@@ -268,7 +268,7 @@ def _snapshot_result(scale_of_zero_force: float):
 
 
 def test_the_snapshot_panels_share_one_colour_scale_and_an_all_zero_field_has_none():
-    from brushbem.workflow.run_report import snapshots_figure
+    from brushbem.report.run import snapshots_figure
 
     order = ["max_preload", "zero_force", "adhesive_force"]
     figure, largest = snapshots_figure(_snapshot_result(1e-17), Units(), order)
@@ -306,7 +306,7 @@ def test_the_report_embeds_only_a_regular_png_of_the_run_folder(run_folder, tmp_
 
 
 def test_the_report_computes_nothing_from_the_stored_configuration(run_folder, tmp_path, monkeypatch):
-    import brushbem.workflow.assembly as assembly
+    import brushbem.runs.assembly as assembly
 
     def refuse(*args, **kwargs):
         raise AssertionError("the report validated the stored configuration")

@@ -1,4 +1,4 @@
-"""Warnings of a finished run (`brushbem.workflow.case.run_warnings`): converged, but questionable.
+"""Warnings of a finished run (`brushbem.runs.case.run_warnings`): converged, but questionable.
 
 Each warning is provoked by a small run and absent from its well-posed twin,
 so that neither the condition nor its absence is taken on trust.
@@ -10,8 +10,8 @@ import math
 
 import pytest
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 
 
 def _document(shape: str, radius: float, **protocol) -> dict:

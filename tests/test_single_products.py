@@ -21,7 +21,7 @@ from brushbem.numerics.solver.cg import ProductLedger
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.physics.structure import Grid, brush
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 
 GRID = Grid(1.0, 128)
 PER_SIDE = 8

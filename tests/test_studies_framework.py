@@ -18,11 +18,11 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-import brushbem.workflow.case
+import brushbem.runs.case
 import brushbem.sweep.execution as sweep_execution
 from brushbem import studies
 from brushbem.cli import main
-from brushbem.workflow.report import config_hash, draw_figures, write_report
+from brushbem.report.sweeps import config_hash, draw_figures, write_report
 from brushbem.studies import Study, ThesisNumber, finished, run_study
 
 BASE_TOML = """\
@@ -110,7 +110,7 @@ def fake_study(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 @pytest.fixture
 def calls(monkeypatch: pytest.MonkeyPatch) -> list[float]:
     """Count the runs; the case of radius `BAD_RADIUS` raises."""
-    real = brushbem.workflow.case.run_case
+    real = brushbem.runs.case.run_case
     seen: list[float] = []
 
     def counting(config, **kwargs):
@@ -119,7 +119,7 @@ def calls(monkeypatch: pytest.MonkeyPatch) -> list[float]:
             raise RuntimeError("deliberate failure <script>alert(1)</script>")
         return real(config, **kwargs)
 
-    monkeypatch.setattr(brushbem.workflow.case, "run_case", counting)
+    monkeypatch.setattr(brushbem.runs.case, "run_case", counting)
     return seen
 
 
@@ -137,7 +137,7 @@ def _no_computing(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args, **kwargs):
         raise AssertionError("nothing may be computed here")
 
-    monkeypatch.setattr(brushbem.workflow.case, "run_case", refuse)
+    monkeypatch.setattr(brushbem.runs.case, "run_case", refuse)
 
 
 def test_finished_filters_status() -> None:

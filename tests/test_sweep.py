@@ -24,11 +24,11 @@ import xarray as xr
 from click.testing import CliRunner
 from rich.console import Console
 
-import brushbem.workflow.case
+import brushbem.runs.case
 import brushbem.sweep as sweep_module
 import brushbem.sweep.progress as sweep_progress
 import brushbem.sweep.spec as sweep_spec
-from brushbem.workflow.assembly import parse_config
+from brushbem.runs.assembly import parse_config
 from brushbem.cli import main
 from brushbem.sweep import (
     SweepError,
@@ -240,7 +240,7 @@ def test_key_rules_and_base_file_reported_beside_bad_spec_values(tmp_path):
 
 def test_every_case_validated_before_running(tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(brushbem.workflow.case, "run_case", lambda *a, **k: calls.append(a))
+    monkeypatch.setattr(brushbem.runs.case, "run_case", lambda *a, **k: calls.append(a))
     problems = problems_of(spec(realizations=2, sweep={
         "indenter.radius": [0.25, -1.0, 0.9],
         "indenter.stiffnes": [10.0],
@@ -290,7 +290,7 @@ def test_cli_invalid_sweep_exits_2(tmp_path):
 
 @pytest.mark.slow
 def test_failures_recorded_and_others_finish(tmp_path, monkeypatch):
-    real = brushbem.workflow.case.run_case
+    real = brushbem.runs.case.run_case
     calls = []
 
     def flaky(config, **kwargs):
@@ -299,7 +299,7 @@ def test_failures_recorded_and_others_finish(tmp_path, monkeypatch):
             raise FloatingPointError("boom at radius 0.2")
         return real(config, **kwargs)
 
-    monkeypatch.setattr(brushbem.workflow.case, "run_case", flaky)
+    monkeypatch.setattr(brushbem.runs.case, "run_case", flaky)
     # One CG iteration cannot solve a punch of over 1000 elements (a punch of a few
     # hundred would be solved exactly by its one-block preconditioner).
     base = {**BASE, "grid": {"size": 1.0, "elements": 96}}
@@ -331,7 +331,7 @@ def test_failures_recorded_and_others_finish(tmp_path, monkeypatch):
         run = run_sweep(document, out, pool)
     assert not calls and not run.computed and len(run.skipped) == 4
     # ... unless asked to retry the failed ones (never the unconverged one).
-    monkeypatch.setattr(brushbem.workflow.case, "run_case", lambda c, **k: (calls.append(c), real(c, **k))[1])
+    monkeypatch.setattr(brushbem.runs.case, "run_case", lambda c, **k: (calls.append(c), real(c, **k))[1])
     with ThreadPoolExecutor(2) as pool:
         run = run_sweep(document, out, pool, retry_failed=True)
     assert sorted(run.computed) == sorted(frame.loc[:1, "case_id"])
@@ -425,7 +425,7 @@ SITECUSTOMIZE = """\
 import os
 if os.environ.get("BRUSHBEM_TEST_CALLS"):
     import time
-    import brushbem.workflow.case as _case
+    import brushbem.runs.case as _case
     _real = _case.run_case
     def _counted(config, **kwargs):
         with open(os.environ["BRUSHBEM_TEST_CALLS"], "a") as log:

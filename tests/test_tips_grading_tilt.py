@@ -17,7 +17,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from brushbem.workflow.assembly import load
+from brushbem.runs.assembly import load
 from brushbem.config import ConfigError
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.physics.structure import (
@@ -350,7 +350,7 @@ def test_a_cap_too_small_for_the_grid_is_refused_like_a_sphere():
     (N = 64, R = 0.05: a = 0.6 elements, refused; N = 256: 2.5 elements, accepted)."""
     from brushbem.config import ConfigError
 
-    from brushbem.workflow.assembly import parse_config
+    from brushbem.runs.assembly import parse_config
 
     config = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 64},
               "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 1, "pillar_radius": 0.1,

@@ -30,7 +30,7 @@ import textwrap
 import pytest
 from scipy.optimize import brentq
 
-from brushbem.workflow.assembly import load
+from brushbem.runs.assembly import load
 from brushbem.config import ConfigError
 from brushbem.errors import ParameterError
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off

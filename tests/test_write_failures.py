@@ -21,8 +21,8 @@ from click.testing import CliRunner
 
 import brushbem.io as bio
 import brushbem.io.writing as bio_writing  # where IN_MEMORY_LIMIT and open are read
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 from brushbem.cli import main
 
 PUNCH = textwrap.dedent("""
@@ -128,9 +128,9 @@ def test_a_figure_that_cannot_be_written_says_so_and_that_the_results_were(tmp_p
     def full_disk(result, path, reference=None, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
-    import brushbem.workflow.plot
+    import brushbem.figures.plot
 
-    monkeypatch.setattr(brushbem.workflow.plot, "plot_pull_off", full_disk)
+    monkeypatch.setattr(brushbem.figures.plot, "plot_pull_off", full_disk)
     done = CliRunner().invoke(main, ["run", str(config), "--out", str(out), "--quiet", "--overwrite"])
     assert done.exit_code == 4, done.output
     assert "could not write the figure pulloff.png (pulloff.png: No space left on device)" in done.output

@@ -40,7 +40,7 @@ from pathlib import Path
 
 from brushbem.physics.structure import Grid, Level, Profile, brush
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "validation.jsonl"

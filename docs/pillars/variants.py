@@ -27,7 +27,7 @@ from brushbem.physics.structure import Grid, brush
 from brushbem import pillars
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.protocol.recording import work_of_separation
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 
 HERE = Path(__file__).resolve().parent
 PHI, DGAMMA, SEED = 0.16, 1e-4, 3

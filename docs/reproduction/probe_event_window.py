@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import copy
 
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 
 BRUSH = {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
          "pillar_radius": 0.056, "stiffness_ratio": 0.1}

@@ -1,4 +1,4 @@
-"""Where a mesh refinement of Kendall's punch is in its asymptotic range (`brushbem.workflow.refine`).
+"""Where a mesh refinement of Kendall's punch is in its asymptotic range (`brushbem.runs.refine`).
 
 A rigid flat punch (r = 0.25, E* = 1, dgamma = 1e-3, L = 1, preload displacement 0.01) on N = 8
 to 256 (r / h = 2 to 64).  Prints F_A and the work of separation against Kendall's closed forms
@@ -12,8 +12,8 @@ Run from the repository root: ``python docs/reproduction/probe_refine.py`` (abou
 from __future__ import annotations
 
 from brushbem.physics import theory
-from brushbem.workflow.assembly import parse_config
-from brushbem.workflow.case import run_case
+from brushbem.runs.assembly import parse_config
+from brushbem.runs.case import run_case
 
 RADIUS = 0.25
 force = float(theory.kendall_force(RADIUS, contact_modulus=1.0, work_of_adhesion=1e-3))

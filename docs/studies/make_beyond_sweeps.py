@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem
 from brushbem.physics.structure import Grid, brush
 

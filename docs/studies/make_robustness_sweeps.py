@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 from make_beyond_sweeps import _toml
 
-from brushbem.workflow.case import brush_scales
-from brushbem.workflow.design import design
+from brushbem.runs.case import brush_scales
+from brushbem.design import design
 from brushbem.protocol import ContactProblem, LoadPath
 from brushbem.physics.structure import Grid, brush
 

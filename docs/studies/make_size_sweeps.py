@@ -27,7 +27,7 @@ from pathlib import Path
 
 from brushbem.physics.structure import Grid, brush
 from brushbem.protocol import ContactProblem
-from brushbem.workflow.case import brush_scales
+from brushbem.runs.case import brush_scales
 
 SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
 DGAMMA, PHI = 1e-4, 0.12

@@ -7,20 +7,24 @@ pillars on springs.
 Sign convention: the base displacement d is positive when the indenter presses
 into the half-space; pressure and force are positive when compressive.
 
-The package, from the model to the applications:
+The package, from the floor to the applications (the order
+``tests/test_architecture.py`` enforces):
 
-- `brushbem.physics`: the half-space, the pillars' connections (springs, laws,
-  viscoelastic), the geometry (`physics.structure`) and the closed forms
-  (`physics.theory`);
-- `brushbem.numerics`: the array backend, the contact operator and the solvers;
+- the floor: `brushbem.errors`, `brushbem.backend` (the array backend),
+  `brushbem.settings` and `brushbem.results` (the typed records of a run);
+- `brushbem.physics`: the half-space, the adhesion criterion, the pillars'
+  connections (springs, laws, viscoelastic), the geometry
+  (`physics.structure`) and the closed forms (`physics.theory`);
+- `brushbem.config`: the schema of a run's TOML file, its rules, the memory rule;
+- `brushbem.numerics`: the contact operator and the solvers;
 - `brushbem.protocol`: the load path of a pull-off (fixed steps, events, the
   pillar-level model) and what it records;
-- `brushbem.config` (the schema of a run's TOML file), `brushbem.workflow`
-  (assembly, running a case, results, figures, reports, refine, estimate,
-  design) and `brushbem.io` (the result files);
+- `brushbem.io` (the result files), `brushbem.figures`, `brushbem.runs`
+  (assembly, running a case, its `PullOff`, refine) and `brushbem.design`;
+- `brushbem.api` (`run`, `pull_off`) is the entry, re-exported here;
 - the applications: `brushbem.sweep`, `brushbem.studies`,
-  `brushbem.reproduction` (the thesis comparison) and `brushbem.cli`;
-- `brushbem.api` (`run`, `pull_off`) is the entry, re-exported here.
+  `brushbem.reproduction` (the thesis comparison), `brushbem.report` and
+  `brushbem.cli`.
 """
 
 
@@ -39,7 +43,7 @@ def _version() -> str:
 _PUBLIC = {
     "run": "api",
     "pull_off": "api",
-    "PullOff": "workflow.pulloff",
+    "PullOff": "runs.pulloff",
     "Grid": "physics.structure",
     "Level": "physics.structure",
     "Profile": "physics.structure",
@@ -54,8 +58,8 @@ _PUBLIC = {
     "height_map": "physics.structure",
     "ConfigError": "config",
     "RunConfig": "config",
-    "load_config": "workflow.assembly",
-    "parse_config": "workflow.assembly",
+    "load_config": "runs.assembly",
+    "parse_config": "runs.assembly",
 }
 
 __all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC

@@ -31,9 +31,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from brushbem.workflow.assembly import Assembly, load, parse
+from brushbem.runs.assembly import Assembly, load, parse
 from brushbem.config import RunConfig
-from brushbem.workflow.pulloff import PullOff
+from brushbem.runs.pulloff import PullOff
 
 if TYPE_CHECKING:
     from brushbem.physics.structure import Grid, Indenter
@@ -56,7 +56,7 @@ def run(
     advances; ``stop()``, polled after every state, ends it early (the result
     then holds the path so far, ``interrupted`` and not converged).
     ``refine`` (2 or 3, as ``brushbem run --refine``) also runs the coarser
-    grids and adds the Richardson extrapolation (`brushbem.workflow.refine.refined_run`).
+    grids and adds the Richardson extrapolation (`brushbem.runs.refine.refined_run`).
     """
     built: RunConfig | Assembly
     if isinstance(config, (RunConfig, Assembly)):
@@ -67,11 +67,11 @@ def run(
         built = load(config)
     else:
         raise TypeError(f"config = {config!r}: expected a file path, a mapping of tables, a RunConfig or an Assembly")
-    from brushbem.workflow import case
+    from brushbem.runs import case
 
     if refine is None:
         return case.run_case(built, progress=progress, stop=stop)
-    from brushbem.workflow.refine import refined_run
+    from brushbem.runs.refine import refined_run
 
     return refined_run(built if isinstance(built, RunConfig) else built.config, refine, progress=progress, stop=stop)
 
@@ -140,7 +140,7 @@ def pull_off(
     xp : array namespace
         NumPy (default) or a GPU namespace such as CuPy.
     """
-    from brushbem.workflow.case import run_problem
+    from brushbem.runs.case import run_problem
     from brushbem.protocol import ContactProblem, LoadPath
 
     contact_modulus = _material("contact_modulus", contact_modulus, indenter)

@@ -2,7 +2,7 @@
 
 The numerics and physics name the Python parameters they check (``LoadPath.step``,
 ``brush(stiffness=...)``, ``Grid.elements``), never configuration keys; the
-workflow layer (`brushbem.workflow.assembly`) maps ``(owner, parameter)`` back to the
+run layer (`brushbem.runs.assembly`) maps ``(owner, parameter)`` back to the
 configuration key a user wrote.  Imports nothing from brushbem.
 """
 

@@ -1,8 +1,8 @@
 """Command line: ``brushbem run``, ``sweep``, ``validate``, ``study``, ``figure``, ``report``.
 
 Each command is a thin shell over library functions: `brushbem.config` loads
-and validates, `brushbem.workflow.case.run_case` computes, `brushbem.io` and
-`brushbem.workflow.plot` write.  Exit status: 0 success, 2 invalid configuration
+and validates, `brushbem.runs.case.run_case` computes, `brushbem.io` and
+`brushbem.figures.plot` write.  Exit status: 0 success, 2 invalid configuration
 (or an --out that cannot be written, or is in use by another process),
 3 the run finished but some solve did not converge (results still written),
 4 the results could not be written (a full disk: nothing half-written is

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, Self
 import click
 
 if TYPE_CHECKING:  # the command line imports what a command needs when it runs (`brushbem --help` stays light)
-    from brushbem.workflow import assembly
+    from brushbem.runs import assembly
     from brushbem.config import RunConfig
 
 def Console(*args: Any, **kwargs: Any):  # noqa: N802 - stands in for rich's class, imported on first use
@@ -33,11 +33,11 @@ EXIT_WRITE_FAILED = 4
 
 
 def _load_or_exit(config_path: Path, build: bool = False) -> RunConfig | assembly.Assembly:
-    """Load and check a configuration completely (`brushbem.workflow.assembly`); ``build``: its `Assembly`.
+    """Load and check a configuration completely (`brushbem.runs.assembly`); ``build``: its `Assembly`.
 
     On any problem print them all and exit with status 2.
     """
-    from brushbem.workflow import assembly
+    from brushbem.runs import assembly
     from brushbem.config import ConfigError
 
     try:

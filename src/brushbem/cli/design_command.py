@@ -44,7 +44,7 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
 
     Every pillar is brought to the criterion at the same moment by a direct
     solve for prescribed pillar forces; the ordinary pull-off of the designed
-    brush then verifies F~ = F_A / (N F_K) (brushbem.workflow.design).  --out is
+    brush then verifies F~ = F_A / (N F_K) (brushbem.design).  --out is
     checked and locked before anything is computed; Ctrl-C (or SIGTERM) stops
     after the current verification and writes the best design verified so far
     (exit 130, or 143).
@@ -56,9 +56,9 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
                    "or choose another --out", err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
     _prepare_out(out_dir)
-    from brushbem.workflow.design import DesignError, DesignInterrupted
-    from brushbem.workflow.design_files import DesignWriteError, write_design
-    from brushbem.workflow.design import design as run_design
+    from brushbem.design import DesignError, DesignInterrupted
+    from brushbem.design_files import DesignWriteError, write_design
+    from brushbem.design import design as run_design
     from brushbem.io import FolderBusyError, exclusive_folder, remove_stale_temporaries
 
     with contextlib.ExitStack() as stack:

@@ -13,7 +13,7 @@ if TYPE_CHECKING:  # the command line imports what a command needs when it runs 
     pass
 
 # The figure files of a run, named by a light module (no numerics).
-from brushbem.workflow.pulloff import FIGURE_FILES
+from brushbem.runs.pulloff import FIGURE_FILES
 
 from brushbem.cli.common import (
     EXIT_INVALID_CONFIG,
@@ -32,9 +32,9 @@ from brushbem.cli.common import (
 
 
 def _summary_table(summary: dict[str, Any], units: Any = None) -> Table:
-    """The headline numbers of a run with their units (``units``: `brushbem.workflow.units.Units`), theory ratios
+    """The headline numbers of a run with their units (``units``: `brushbem.results.units.Units`), theory ratios
     included, then what a designer reports (``design``) and the resolution's error estimate."""
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
     units = units if units is not None else Units()
 
@@ -132,7 +132,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         raise click.UsageError("Missing option '--out' (only --estimate runs without it).")
     built = _load_or_exit(config_path, build=True)
     config = built.config
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
     if not estimate:
         earlier = [name for name in RESULT_FILES if (out_dir / name).exists()]
         if earlier and not overwrite:
@@ -142,7 +142,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
     refined = None
     if grids is not None:
         from brushbem.config import ConfigError
-        from brushbem.workflow.refine import refined_configs
+        from brushbem.runs.refine import refined_configs
 
         try:
             refined = refined_configs(config, grids)
@@ -248,10 +248,10 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
 def _remove_earlier_report(out_dir: Path) -> None:
     """Remove the ``report.html`` of an earlier run in ``out_dir`` (it describes results just replaced).
 
-    Only a report that `brushbem.workflow.run_report` wrote (its generator mark) is
+    Only a report that `brushbem.report.run` wrote (its generator mark) is
     removed; any other file of that name is left as it is.
     """
-    from brushbem.workflow.run_report import REPORT_FILE, is_run_report
+    from brushbem.report.run import REPORT_FILE, is_run_report
 
     report = out_dir / REPORT_FILE
     if report.is_file() and not report.is_symlink() and is_run_report(report):
@@ -284,8 +284,8 @@ def _duration(seconds: float) -> str:
 
 def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
     """``run --estimate``: the expected cost of the run (of every grid of --refine), with its basis; no file."""
-    from brushbem.workflow.estimate import estimate_run
-    from brushbem.workflow.resources import available_memory, format_bytes
+    from brushbem.sweep.estimate import estimate_run
+    from brushbem.config.resources import available_memory, format_bytes
 
     estimates = [estimate_run(config) for config in configs]
     total = sum(estimate.seconds for estimate in estimates)
@@ -307,7 +307,7 @@ def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
                        f"states after the first) + {estimate.setup_seconds:.2g} s (set-up and first state)")
             for line in estimate.basis:
                 click.echo(f"    basis        {line}")
-        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.workflow.resources.memory_estimate); "
+        click.echo(f"    peak memory  {format_bytes(estimate.memory_bytes)} (brushbem.config.resources.memory_estimate); "
                    f"result.nc at most {format_bytes(estimate.result_bytes)}")
         if estimate.stops:
             click.echo(f"    note         {estimate.stops}")

@@ -130,7 +130,7 @@ def sweep(
 
 
 def _estimate(study: Any, samples: int, quiet: bool) -> Any:
-    from brushbem.workflow.estimate import estimate_sweep
+    from brushbem.sweep.estimate import estimate_sweep
 
     def report(message: str) -> None:
         if not quiet:
@@ -312,7 +312,7 @@ def study(
 @click.argument("out_dir", metavar="DIR", type=click.Path(path_type=Path, file_okay=False, exists=True))
 def figure(out_dir: Path) -> None:
     """Redraw the figures of the study or sweep in DIR from its stored results (no computing)."""
-    from brushbem.workflow.report import draw_figures
+    from brushbem.report.sweeps import draw_figures
 
     with _reading_results():
         paths = draw_figures(out_dir)
@@ -332,7 +332,7 @@ def report(out_dir: Path, redraw: bool) -> None:
     summary with units, the comparison with the closed forms and the
     provenance.
     """
-    from brushbem.workflow.run_report import RunReportError, is_run_folder, not_a_results_folder, write_run_report
+    from brushbem.report.run import RunReportError, is_run_folder, not_a_results_folder, write_run_report
 
     if not is_run_folder(out_dir) and not (out_dir / "study.json").is_file() and not (out_dir / "sweep.json").is_file():
         click.echo(not_a_results_folder(out_dir), err=True)
@@ -348,7 +348,7 @@ def report(out_dir: Path, redraw: bool) -> None:
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
         click.echo(str(path))
         return
-    from brushbem.workflow.report import write_report
+    from brushbem.report.sweeps import write_report
 
     with _reading_results():
         path = write_report(out_dir, redraw=redraw)

@@ -16,9 +16,9 @@ allowed, so that a user fixes a file in one pass instead of one error per run.
 
 This package is the schema: the fields and the rules between keys.  Rules that
 need the rasterised structure (overlapping pillars, a preload that never
-reaches the lowest element) belong to `brushbem.workflow.assembly`, which passes them
+reaches the lowest element) belong to `brushbem.runs.assembly`, which passes them
 in as ``rules`` (`StructureRules`) and builds the problem from the same
-rasterisation; ``brushbem.workflow.assembly.load_config`` is the complete check.
+rasterisation; ``brushbem.runs.assembly.load_config`` is the complete check.
 
 Modules (each imports only those above it; `rules` names the models for
 type checking only):

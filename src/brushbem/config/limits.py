@@ -35,7 +35,7 @@ MAX_PRELOAD_DOMAIN_SIZES = 1e3
 # The solver's rounding floor (`brushbem.numerics.solver.cg.ROUNDING_FLOOR`, kept equal by a test): a solve
 # whose half-space part is below this fraction of its right-hand side, times solver.tolerance, cannot
 # be resolved in double precision.  Validation refuses a spring whose estimated fraction lies a
-# margin below that (`brushbem.workflow.assembly.Rules`), where the run could only fail, or, where its
+# margin below that (`brushbem.runs.assembly.Rules`), where the run could only fail, or, where its
 # residual happens to round to zero, report a result that double precision did not resolve.
 SPRING_ROUNDING_FLOOR = 16 * 2.0**-52
 SPRING_RESOLUTION_MARGIN = 10.0

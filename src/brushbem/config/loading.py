@@ -87,7 +87,7 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
         Folder against which relative file names (``indenter.file``) are
         resolved; the current directory if not given.
     rules : StructureRules, optional
-        The rules on the rasterised structure (`brushbem.workflow.assembly`); without
+        The rules on the rasterised structure (`brushbem.runs.assembly`); without
         them only the schema and the rules between keys are checked.
 
     Returns

@@ -5,7 +5,7 @@ pydantic's error list to the formatter (`brushbem.config.errors`).  The rules
 between the keys of one table are the `_rule_problems` methods of its model
 (`brushbem.config.schema`); the rules between sections are here
 (`_cross_section_problems`, `_resource_problems`), with the protocol of the
-rules on the rasterised structure that `brushbem.workflow.assembly` supplies
+rules on the rasterised structure that `brushbem.runs.assembly` supplies
 (`StructureRules`).
 """
 
@@ -41,7 +41,7 @@ class Problem:
 
 
 class StructureRules(Protocol):
-    """Rules on the rasterised structure, supplied by `brushbem.workflow.assembly` (keys absolute).
+    """Rules on the rasterised structure, supplied by `brushbem.runs.assembly` (keys absolute).
 
     ``structure_problems`` runs with the other rules between sections, on the
     sections that validated (so it is reported beside their problems);
@@ -65,8 +65,8 @@ def _rules_error(problems: list[Problem]) -> PydanticCustomError:
 
 
 def _resource_problems(config: RunConfig) -> list[Problem]:
-    """A run that would not fit in memory (`brushbem.workflow.resources`), refused before it starts."""
-    from brushbem.workflow.resources import MEMORY_LIMIT_VARIABLE, memory_problem
+    """A run that would not fit in memory (`brushbem.config.resources`), refused before it starts."""
+    from brushbem.config.resources import MEMORY_LIMIT_VARIABLE, memory_problem
 
     try:
         problem = memory_problem(config)

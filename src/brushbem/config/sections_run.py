@@ -104,7 +104,7 @@ class SolverConfig(_Model):
 
 
 class UnitsConfig(_Section):
-    """The unit system of the inputs (`brushbem.workflow.units`): names only, the numbers do not change.
+    """The unit system of the inputs (`brushbem.results.units`): names only, the numbers do not change.
 
     Attributes
     ----------

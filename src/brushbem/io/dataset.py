@@ -14,8 +14,8 @@ import xarray as xr
 
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
-from brushbem.workflow.results import CaseResult
-from brushbem.workflow.units import DIMENSIONS, Units
+from brushbem.results import CaseResult
+from brushbem.results.units import DIMENSIONS, Units
 
 from brushbem.io.encoding import netcdf_attributes
 
@@ -43,7 +43,7 @@ REFERENCES = (
 )
 
 def _units_of(result: CaseResult, config: RunConfig | None) -> Units:
-    """The configuration's ``[units]`` (`brushbem.workflow.units`): from ``config``, else from the provenance."""
+    """The configuration's ``[units]`` (`brushbem.results.units`): from ``config``, else from the provenance."""
     return Units.from_config(config) if config is not None else Units.of_record(result.attributes)
 
 

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from brushbem.workflow.results import CaseResult
+from brushbem.results import CaseResult
 
 from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE
 from brushbem.io.encoding import _attribute, from_json_safe
@@ -93,7 +93,7 @@ def from_dataset(dataset: xr.Dataset) -> CaseResult:
     their moment), the per-pillar arrays, the summary and the provenance
     attributes are read back; nothing is recomputed.
     """
-    from brushbem.workflow.results import Curve, Snapshot
+    from brushbem.results import Curve, Snapshot
 
     def column(name: str, dtype: Any, default: Any = 0) -> np.ndarray:
         if name in dataset:

@@ -23,7 +23,7 @@ import xarray as xr
 
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
-from brushbem.workflow.results import CaseResult
+from brushbem.results import CaseResult
 
 from brushbem.io.atomic import CURVE_FILE, DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
 from brushbem.io.dataset import _dataset, _field_compression, _units_of
@@ -295,13 +295,13 @@ def write_curve(result: CaseResult, path: str | Path, *, config: RunConfig | Non
     """Write the force-displacement curve as ``curve.csv`` (atomically: a reader sees the old file or the new).
 
     One row per recorded equilibrium, in the order of the path; the columns are `CURVE_COLUMNS`, named
-    ``displacement [um]`` with the configuration's ``[units]`` (`brushbem.workflow.units.Units.of`) and
+    ``displacement [um]`` with the configuration's ``[units]`` (`brushbem.results.units.Units.of`) and
     plainly without; ``loading`` and ``converged`` are 1 or 0.  Numbers are written as the shortest
     text that reads back as the same double (those of ``result.nc``, exactly).
     """
     import csv
 
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
     units = Units.from_config(config if config is not None else result.attributes.get("config"))
     header = [name if dimension is None or units.dimensionless else f"{name} [{units.of(dimension)}]"

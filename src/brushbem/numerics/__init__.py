@@ -18,5 +18,5 @@ Modules
 
 No module here knows a configuration key: errors name the parameters of the
 Python objects (`brushbem.errors.ParameterError`), and
-`brushbem.workflow.assembly` maps them back to keys.
+`brushbem.runs.assembly` maps them back to keys.
 """

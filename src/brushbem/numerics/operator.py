@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.periods import halfspace_on_support
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.physics.springs import PillarSprings

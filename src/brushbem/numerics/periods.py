@@ -11,7 +11,7 @@ instead of making one per support.
 
 from __future__ import annotations
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.physics.halfspace import HalfSpace
 
 __all__ = ["SNAP_PERIODS", "halfspace_on_support", "snapped_period"]

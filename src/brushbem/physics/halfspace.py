@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
-from brushbem.numerics import backend
+from brushbem import backend
 
 __all__ = ["BLOCK_CACHE_BYTES", "HalfSpace", "influence_coefficients"]
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from array_api_compat import is_numpy_namespace
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.physics.structure import Indenter, SpringLevel
 
 __all__ = ["LevelLabels", "PillarSprings", "SetSprings"]

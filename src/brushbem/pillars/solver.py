@@ -15,17 +15,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from brushbem import settings
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import LatticeCG
 
 __all__ = ["KEPT_PILLARS", "RADIATE_UNIFORM", "Solver", "full_solve", "radiate"]
 
-#: Attached pillars of a lattice brush beyond which the solve is CG (`LatticeCG`) instead of the kept
-#: inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None: always the kept inverse.
-#: Level chapter-5 brushes, k~ = 1e-2, CPU seconds: 32 x 32 2.4-2.7 with a limit of 512 against 2.7-3.1
-#: kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against 39.4 kept, 100 x 100 42 against
-#: 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline``).
-KEPT_PILLARS: int | None = 1024
+#: The attached pillars beyond which a lattice brush is solved by CG (`brushbem.settings.KEPT_PILLARS`).
+KEPT_PILLARS = settings.KEPT_PILLARS
 
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
 _RESIDUAL = 1e-10

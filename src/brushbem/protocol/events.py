@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
 from brushbem.protocol.problem import LoadPath, State, event_tie

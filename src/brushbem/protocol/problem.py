@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushbem.errors import ParameterError
-from brushbem.numerics.solver import critical_stress
+from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid, Indenter
 
 __all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "event_tie"]

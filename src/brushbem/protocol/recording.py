@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from brushbem.workflow.results import Curve, PullOffSummary, Snapshot
+from brushbem.results import Curve, PullOffSummary, Snapshot
 from brushbem.protocol.paths import pull_off
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
 
@@ -79,7 +79,7 @@ class _Recorder:
     """What `record_pull_off` keeps of the states of one pull-off, as they come."""
 
     def __init__(self, problem: ContactProblem):
-        from brushbem.numerics.backend import to_numpy
+        from brushbem.backend import to_numpy
 
         self.to_numpy = to_numpy
         self.labels = np.asarray(to_numpy(problem.indenter.pillar)).ravel()

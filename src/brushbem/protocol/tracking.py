@@ -30,7 +30,7 @@ import dataclasses
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.numerics.solver import (
     Equilibrium,

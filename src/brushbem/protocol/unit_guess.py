@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.operator import ContactOperator
 
 __all__ = ["SYMMETRIC_PRODUCTS", "cascade_record", "unit_guess"]

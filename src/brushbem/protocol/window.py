@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics.operator import ContactOperator, Window, fast_size
 from brushbem.numerics.solver import penetration

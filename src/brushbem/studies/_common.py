@@ -13,7 +13,7 @@ import pandas as pd
 import xarray as xr
 from matplotlib.figure import Figure
 
-from brushbem.workflow import figstyle
+from brushbem.figures import figstyle
 from brushbem.studies.base import finished as finished_rows
 
 NAN = float("nan")
@@ -60,7 +60,7 @@ def column(frame: pd.DataFrame, key: str) -> np.ndarray:
 def new_figure(ncols: int = 1, nrows: int = 1, width: float = 4.2, height: float = 3.4):
     """A figure of ``nrows`` x ``ncols`` panels of ``width`` x ``height`` inches, in brushbem's look.
 
-    Draw inside `brushbem.workflow.figstyle.style` (a study's ``draw`` is `styled`) so
+    Draw inside `brushbem.figures.figstyle.style` (a study's ``draw`` is `styled`) so
     that every line and text takes the look too.
     """
     fig = figstyle.new_figure(width * ncols, height * nrows)

@@ -17,7 +17,7 @@ and ``tests/test_pillar_laws.py``.
 * ``viscoelastic``: F_A and the work of separation against the pulling
   speed, for one flat pillar and a brush on standard-linear-solid
   connections, between the relaxed and the instantaneous elastic limits.
-* ``robustness``: the equal-load-sharing design of `brushbem.workflow.design`
+* ``robustness``: the equal-load-sharing design of `brushbem.design`
   against the flat and the concave brush, under added roughness and tilt
   (its designs are shipped as lengths files, written by
   ``docs/studies/make_robustness_sweeps.py``).
@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 from brushbem.studies._ch5_7 import FIS, K, K_TEXT, empty_note, figure, finished, has, save
 from brushbem.studies.base import Study
 

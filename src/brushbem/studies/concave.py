@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 from brushbem.studies._ch5_7 import (
     FA_TEXT,
     FIS,

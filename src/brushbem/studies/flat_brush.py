@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 from brushbem.studies._common import (
     case_config,
     column,

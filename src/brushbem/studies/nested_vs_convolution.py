@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics.nested import nested_loop_brush_equilibrium, nested_loop_equilibrium
 from brushbem.numerics.operator import ContactOperator, Window

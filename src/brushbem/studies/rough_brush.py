@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from matplotlib import colormaps
 
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 from brushbem.io import atomic_path
 from brushbem.studies._ch5_7 import (
     FA,

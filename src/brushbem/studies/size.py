@@ -33,7 +33,7 @@ from matplotlib.ticker import FormatStrFormatter, NullFormatter
 
 from brushbem.studies._ch5_7 import empty_note, figure, finished, has, save
 from brushbem.studies.base import Study
-from brushbem.workflow.figstyle import styled
+from brushbem.figures.figstyle import styled
 
 PARTS = ("stiff", "soft", "softer", "rough_small", "rough_large")
 LEVEL = ("stiff", "soft", "softer")

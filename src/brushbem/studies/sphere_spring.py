@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from brushbem.physics import theory
-from brushbem.workflow.figstyle import styled
-from brushbem.workflow.plot import draw_with_jumps
+from brushbem.figures.figstyle import styled
+from brushbem.figures.plot import draw_with_jumps
 from brushbem.studies._common import (
     case_config,
     column,

@@ -30,7 +30,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from brushbem import __version__
-from brushbem.workflow.assembly import parse_config
+from brushbem.runs.assembly import parse_config
 from brushbem.config import (
     MAX_CONFIG_BYTES,
     MAX_SWEEP_BYTES,
@@ -66,7 +66,7 @@ class SweepSpec(BaseModel):
         Entropy of the `numpy.random.SeedSequence` the case seeds come from.
     refine : int or None
         Run every case on 2 or 3 grids and record the Richardson-extrapolated
-        F_A and work (`brushbem.workflow.refine`, as ``brushbem run --refine``).
+        F_A and work (`brushbem.runs.refine`, as ``brushbem run --refine``).
     sweep : dict
         Dotted run-config key -> non-empty list of values.
     """

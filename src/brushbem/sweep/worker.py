@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Literal
 from brushbem.config import RunConfig
 
 if TYPE_CHECKING:
-    from brushbem.workflow.results import CaseResult
+    from brushbem.results import CaseResult
 
 #: Seconds between two checks of a local worker that its driver is alive.
 WATCH_INTERVAL_S = 0.5
@@ -63,7 +63,7 @@ def compute_case(config: RunConfig, refine: int | None = None) -> CaseOutcome:
     neighbours, and turns the exception into text: an exception object may not
     unpickle in the driver.
     """
-    # `run` runs `brushbem.workflow.case.run_case`, looked up at call time: tests patch it.
+    # `run` runs `brushbem.runs.case.run_case`, looked up at call time: tests patch it.
     from brushbem.api import run
 
     start = time.perf_counter()

@@ -34,11 +34,9 @@ from brushbem.numerics.solver.cg import (
     conjugate_gradient,
 )
 from brushbem.numerics.solver.equilibria import (
-    ELEMENT_ENERGY_COEFFICIENT,
     Equilibrium,
     Settings,
     Start,
-    critical_stress,
     equilibrium,
     local_cascade,
     penetration,
@@ -58,7 +56,6 @@ from brushbem.numerics.solver.preconditioners import (
 
 __all__ = [
     "BLOCK_LIMIT",
-    "ELEMENT_ENERGY_COEFFICIENT",
     "MAX_BLOCK_PILLARS",
     "PRECONDITIONER_SHIFT",
     "ROUNDING_FLOOR",
@@ -72,7 +69,6 @@ __all__ = [
     "Start",
     "conjugate_gradient",
     "contact_preconditioner",
-    "critical_stress",
     "equilibrium",
     "laplacian_preconditioner",
     "local_cascade",

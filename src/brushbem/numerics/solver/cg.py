@@ -8,7 +8,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from brushbem.numerics import backend
+from brushbem import backend
 
 __all__ = ["ROUNDING_FLOOR", "WARM_START_WITHIN_TOLERANCE", "CallableOperator", "ProductLedger", "SetOperator",
            "SolveResult", "conjugate_gradient"]
@@ -207,7 +207,7 @@ def conjugate_gradient(
     """
     apply, mask, xp = operator.apply, operator.mask, operator.xp
     if xp is None:
-        from brushbem.numerics.backend import namespace
+        from brushbem.backend import namespace
 
         xp = namespace(rhs)
     maskf = xp.astype(mask, rhs.dtype)

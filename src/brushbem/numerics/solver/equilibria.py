@@ -1,5 +1,7 @@
 """The adhesive equilibrium at a base displacement (Pohrt-Popov criterion) and the non-adhesive contact problem.
 
+The criterion itself, Sigma_c of the mesh, is `brushbem.physics.adhesion.critical_stress`.
+
 The CG solve on a fixed contact set (`solve_on_set`, with its pillar-block
 path and the switches ``REUSE_SET_SOLVER`` and ``KEEP_SOLUTION_DEFLECTION``)
 is in `brushbem.numerics.solver.set_solve`; it is re-exported here.
@@ -12,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.operator import ContactOperator
 from brushbem.numerics.solver.cascade_deflection import moved_deflection
 from brushbem.numerics.solver.cg import WARM_START_WITHIN_TOLERANCE, ProductLedger
@@ -20,11 +22,9 @@ from brushbem.numerics.solver.preconditioners import BLOCK_LIMIT, laplacian_prec
 from brushbem.numerics.solver.set_solve import solve_on_set
 
 __all__ = [
-    "ELEMENT_ENERGY_COEFFICIENT",
     "Equilibrium",
     "Settings",
     "Start",
-    "critical_stress",
     "equilibrium",
     "local_cascade",
     "penetration",
@@ -32,15 +32,6 @@ __all__ = [
     "solve_on_set",
     "tip_deflection",
 ]
-
-
-#: Elastic energy of a uniformly loaded square element, in units of p^2 h^3 / E* (eq. 2.13).
-ELEMENT_ENERGY_COEFFICIENT = 0.473201
-
-
-def critical_stress(contact_modulus: float, work_of_adhesion: float, element_size: float) -> float:
-    """Sigma_c = sqrt(E* dgamma / (0.473201 h)), thesis eq. 2.14, in units of stress."""
-    return math.sqrt(contact_modulus * work_of_adhesion / (ELEMENT_ENERGY_COEFFICIENT * element_size))
 
 
 def local_cascade(operator: ContactOperator, contact, pressure, leaving, critical: float,

@@ -9,7 +9,7 @@ import scipy.linalg
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.operator import ContactOperator, ContactSystem
 
 __all__ = [

@@ -16,7 +16,7 @@ import dataclasses
 
 import numpy as np
 
-from brushbem.numerics import backend
+from brushbem import backend
 from brushbem.numerics.operator import SINGLE_ERROR, ContactOperator, MaskedOperator
 from brushbem.numerics.solver.block_deflection import BlockDeflection
 from brushbem.numerics.solver.cg import ProductLedger, SolveResult, _norm, conjugate_gradient

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from brushbem.errors import ParameterError
-from brushbem.workflow.records import MappingRecord
+from brushbem.results.mapping import MappingRecord
 
 __all__ = [
     "BrushGeometry",

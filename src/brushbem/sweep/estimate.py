@@ -15,7 +15,7 @@ first states of one run's path for a couple of seconds, which measures the
 cost of a state on its grid, and counts the states of the whole path from
 the load path (fixed steps: the displacement range over the step; event
 paths: the sampled loading extrapolated in d, about one event per pillar on
-a brush's pull-off); its peak memory is `brushbem.workflow.resources.memory_estimate`.
+a brush's pull-off); its peak memory is `brushbem.config.resources.memory_estimate`.
 Nothing is written either.
 """
 
@@ -151,7 +151,7 @@ class RunEstimate:
         Why the run would stop before separation (a branch needs more steps
         than ``protocol.max_steps``: the run ends there, not converged).
     memory_bytes, result_bytes : int
-        Peak memory (`brushbem.workflow.resources.memory_estimate`) and the
+        Peak memory (`brushbem.config.resources.memory_estimate`) and the
         uncompressed size of ``result.nc``.
     loading_seconds : float or None
         The loading branch as measured, where the sample ran it whole (the
@@ -177,7 +177,7 @@ class RunEstimate:
 
 def _branch_end(problem, path) -> tuple[float, str] | None:
     """The closed-form displacement at which the pull-off ends roughly, and what it is; None without one."""
-    from brushbem.workflow.case import theory_for
+    from brushbem.runs.case import theory_for
 
     try:
         closed = theory_for(problem, {}, path)[0]
@@ -240,8 +240,8 @@ def estimate_run(config, *, sample_seconds: float = SAMPLE_SECONDS) -> RunEstima
 
     Where the sample finishes the whole path, the time is the measured one.
     """
-    from brushbem.workflow.assembly import Assembly, assemble
-    from brushbem.workflow.resources import memory_estimate, result_size_estimate
+    from brushbem.runs.assembly import Assembly, assemble
+    from brushbem.config.resources import memory_estimate, result_size_estimate
 
     start = time.perf_counter()
     built = config if isinstance(config, Assembly) else assemble(config)

@@ -42,7 +42,7 @@ import numpy as np
 from brushbem.physics import theory
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.workflow.records import MappingRecord
+from brushbem.results.mapping import MappingRecord
 from brushbem.physics.structure import BrushGeometry, Indenter, SpringLevel
 
 __all__ = ["Design", "DesignError", "DesignInterrupted", "critical_forces", "design", "prescribed_force_state",

@@ -11,7 +11,7 @@ import numpy as np
 
 from brushbem import __version__
 from brushbem.physics import theory
-from brushbem.workflow.assembly import (
+from brushbem.runs.assembly import (
     Assembly,
     assemble,
     build_indenter,
@@ -20,11 +20,11 @@ from brushbem.workflow.assembly import (
     configuration_errors,
     configuration_text,
 )
-from brushbem.numerics.backend import backend_name
+from brushbem.backend import backend_name
 from brushbem.config import RunConfig, advice, config_to_dict
 from brushbem.protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
-from brushbem.workflow.pulloff import PullOff
-from brushbem.workflow.results import (
+from brushbem.runs.pulloff import PullOff
+from brushbem.results import (
     BrushTheory,
     CaseResult,
     PunchTheory,
@@ -382,9 +382,9 @@ def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: 
       k = pi r^2 E_f / l; ``indenter.stiffness``; ``indenter.stiffness_ratio``: k~ E* L), its k~ as the
       run normalises it (``normalized.stiffness_ratio`` of a brush, ``theory.normalized_stiffness`` of a
       punch or sphere) and, with ``fibril.buckling``, Euler's buckling force.
-    * ``units``: the unit of each dimensional number (`brushbem.workflow.units.Units`; "1" without ``[units]``).
+    * ``units``: the unit of each dimensional number (`brushbem.results.units.Units`; "1" without ``[units]``).
     """
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
     units = Units.from_config(config)
     spec = config.indenter

@@ -7,7 +7,7 @@ figures are PNG data URIs, the style sheet is inline, nothing is fetched):
   path did not pass through);
 * the pull-off curve: the run's ``pulloff.png`` (only a regular PNG file of
   the folder, never a link), or, where it is missing (or with ``redraw``),
-  `brushbem.workflow.plot.pull_off_figure` drawn from ``result.nc`` with the
+  `brushbem.figures.plot.pull_off_figure` drawn from ``result.nc`` with the
   closed-form limits that ``summary.json`` records;
 * the snapshots: the pressure on the contact set at every stage of thesis
   Fig. 4-3 that the path passed through, on one colour scale for every
@@ -46,7 +46,7 @@ from pathlib import Path
 from typing import Any
 
 from brushbem import __version__
-from brushbem.workflow.units import Units
+from brushbem.results.units import Units
 
 __all__ = ["GENERATOR", "REPORT_FILE", "RunReportError", "is_run_folder", "is_run_report", "not_a_results_folder",
            "write_run_report"]
@@ -439,7 +439,7 @@ def _curve_html(folder: Path, summary: Mapping[str, Any], result: Any, redraw: b
         if data is None and why != f"no {_FIGURE}":
             caption = f"drawn from result.nc; {why}, not embedded"
     if data is None:
-        from brushbem.workflow.plot import pull_off_figure
+        from brushbem.figures.plot import pull_off_figure
 
         try:
             # The closed-form limits the figure draws are those summary.json records: nothing recomputed.
@@ -467,7 +467,7 @@ def snapshots_figure(result: Any, units: Units, order: Sequence[str]) -> tuple[A
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from brushbem.workflow.plot import STAGES
+    from brushbem.figures.plot import STAGES
 
     recorded = {snapshot.name: snapshot for snapshot in result.snapshots}
     figure = Figure(figsize=(3.0 * len(order) + 0.8, 3.3), layout="constrained")
@@ -509,7 +509,7 @@ def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> st
     """The pressure on the contact set at every stage reached (grey: no contact), one panel each."""
     import numpy as np
 
-    from brushbem.workflow.plot import STAGES
+    from brushbem.figures.plot import STAGES
 
     recorded = {snapshot.name: snapshot for snapshot in result.snapshots}
     order = [name for name in STAGES if name in recorded] + [n for n in recorded if n not in STAGES]

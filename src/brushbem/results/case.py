@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from brushbem.workflow.records import MappingRecord
+from brushbem.results.mapping import MappingRecord
 
 __all__ = ["BrushTheory", "CaseResult", "Curve", "PullOffSummary", "PunchTheory", "ReferenceCurve", "RunSummary",
            "Snapshot", "SphereTheory"]
@@ -257,14 +257,14 @@ class RunSummary(PullOffSummary):
     refinement : mapping or None
         With ``brushbem run --refine``: the grids and the Richardson-
         extrapolated adhesive force and work with their error estimates
-        (`brushbem.workflow.refine.Refinement`); not a key otherwise.
+        (`brushbem.runs.refine.Refinement`); not a key otherwise.
     resolution : mapping or None
         The elements across the length that decides F_A and the estimated
         discretisation error of F_A and the work
         (`brushbem.config.advice.Resolution.to_dict`); not a key where no
         length decides (a height map, no adhesion) or without a configuration.
     design : mapping or None
-        What a designer reports (`brushbem.workflow.case.design_numbers`):
+        What a designer reports (`brushbem.runs.case.design_numbers`):
         the adhesion strength F_A / A0, F_A per pillar, the spring k, k~ and
         where k came from, the units of each; not a key without a configuration.
     """

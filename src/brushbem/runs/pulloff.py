@@ -1,7 +1,7 @@
 """The typed result of one pull-off, `PullOff`: the record, its closed-form reference, and views of them.
 
-`brushbem.workflow.case.run_case` and `run_problem` (and so `brushbem.run`,
-`brushbem.pull_off` and `brushbem.workflow.refine.refined_run`) return it.  Its views
+`brushbem.runs.case.run_case` and `run_problem` (and so `brushbem.run`,
+`brushbem.pull_off` and `brushbem.runs.refine.refined_run`) return it.  Its views
 (`to_xarray`, `figure`, `save`) import the file and figure code on first use.
 """
 
@@ -17,11 +17,11 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from brushbem.config import RunConfig
-    from brushbem.workflow.results import CaseResult, Curve, ReferenceCurve, Snapshot
+    from brushbem.results import CaseResult, Curve, ReferenceCurve, Snapshot
 
 __all__ = ["FIGURE_FILES", "PullOff"]
 
-#: The figure files of a run (`brushbem.workflow.plot.plot_pull_off` writes the PNG and a PDF beside it).
+#: The figure files of a run (`brushbem.figures.plot.plot_pull_off` writes the PNG and a PDF beside it).
 FIGURE_FILES = ("pulloff.png", "pulloff.pdf")
 
 
@@ -80,7 +80,7 @@ class PullOff:
 
     def _headline(self) -> list[tuple[str, str]]:
         """The few numbers a reader wants first: (label, value with unit words), in order."""
-        from brushbem.workflow.units import Units
+        from brushbem.results.units import Units
 
         summary = self.summary
         units = Units.from_config(self.config) if self.config is not None else Units()
@@ -118,8 +118,8 @@ class PullOff:
         return to_dataset(self.result, self.config)
 
     def figure(self) -> Figure:
-        """Force against displacement beside the detachment pattern (`brushbem.workflow.plot.pull_off_figure`)."""
-        from brushbem.workflow.plot import pull_off_figure
+        """Force against displacement beside the detachment pattern (`brushbem.figures.plot.pull_off_figure`)."""
+        from brushbem.figures.plot import pull_off_figure
 
         return pull_off_figure(self.result, self.reference)
 
@@ -143,13 +143,13 @@ class PullOff:
         return out
 
     def save_figure(self, out_dir: str | Path) -> Path:
-        """Draw the figure into ``out_dir/pulloff.png`` (and ``pulloff.pdf``, `brushbem.workflow.plot.plot_pull_off`).
+        """Draw the figure into ``out_dir/pulloff.png`` (and ``pulloff.pdf``, `brushbem.figures.plot.plot_pull_off`).
 
         On any failure no figure file is left there (one of an earlier run
         included, so that it is never taken for this one's) and the exception
         is raised.
         """
-        from brushbem.workflow import plot
+        from brushbem.figures import plot
 
         out = Path(out_dir)
         try:

@@ -1,14 +1,14 @@
 """One look for every brushbem figure: the style, the axis labels, and how a figure is written.
 
-The run figure (`brushbem.workflow.plot`), the study figures (`brushbem.studies`), the
-sweep figures (`brushbem.workflow.report`) and the design figure (`brushbem.workflow.design`)
+The run figure (`brushbem.figures.plot`), the study figures (`brushbem.studies`), the
+sweep figures (`brushbem.report.sweeps`) and the design figure (`brushbem.design`)
 are drawn inside `style` (or a function decorated with `styled`) and written
 with `save`: a PNG at 300 dpi and a PDF (vector) beside it, each replaced
 atomically.
 
 Labels are matplotlib mathtext (``r"$\\tilde F = F/F_\\mathrm{K}$"``).  A
 dimensional quantity is labelled with its unit when the configuration names
-one (``[units]``, `brushbem.workflow.units.Units`) and as "dimensionless" when it does
+one (``[units]``, `brushbem.results.units.Units`) and as "dimensionless" when it does
 not; a normalised quantity needs neither.  `KEY_LABELS` names the
 configuration keys and summary columns that sweeps vary and report;
 `key_label` and `key_symbol` read it and fall back to the key itself.
@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
 __all__ = [
     "COLOURS",
@@ -219,7 +219,7 @@ class Quantity:
     symbol : str
         Mathtext, e.g. ``r"$\\tilde k$"``; in legends (``symbol = value``).
     dimension : str or None
-        One of `brushbem.workflow.units.DIMENSIONS` (labelled with the unit, or
+        One of `brushbem.results.units.DIMENSIONS` (labelled with the unit, or
         "dimensionless"); ``"angle"`` (degrees); None for a normalised or
         counted quantity (no unit).
     definition : str

@@ -1,7 +1,7 @@
 """Assembly: a validated configuration in, the problem and the load path out.
 
 The layers import one way: `brushbem.config` (the schema: fields and the rules
-between keys) <- this module <- `brushbem.workflow.case`, `brushbem.sweep`,
+between keys) <- this module <- `brushbem.runs.case`, `brushbem.sweep`,
 `brushbem.cli`.  Here the configured indenter is rasterised, the rules that
 need the rasterised structure run on it (`Rules`: a layout that cannot be
 built, a preload that never reaches the lowest element, a spring coupling

@@ -1,6 +1,6 @@
 """The files of a design (`write_design`) and its figure (`design_figure`, with the thesis's S_c fitted).
 
-The design itself is `brushbem.workflow.design`.
+The design itself is `brushbem.design`.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 
 from brushbem.physics import theory
 from brushbem.protocol import ContactProblem
-from brushbem.workflow.design import Design
+from brushbem.design import Design
 
 __all__ = ["DESIGN_FILE_NAMES", "DesignWriteError", "design_figure", "thesis_profile_fit", "write_design"]
 
@@ -53,7 +53,7 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
     """
     from matplotlib.ticker import MaxNLocator
 
-    from brushbem.workflow import figstyle
+    from brushbem.figures import figstyle
 
     info = problem.indenter.description
     centres = np.asarray(info.centres)
@@ -129,7 +129,7 @@ def write_design(problem: ContactProblem, result: Design, out_dir, config_path: 
     import json
     from pathlib import Path
 
-    from brushbem.workflow import figstyle
+    from brushbem.figures import figstyle
     from brushbem.io import atomic_path
 
     out = Path(out_dir)

@@ -3,7 +3,7 @@
 Figures are drawn on a `matplotlib.figure.Figure` with an explicit Agg canvas,
 never through pyplot: importing this module selects no backend and opens no
 window, so it is safe in scripts, workers and tests.  They take brushbem's one
-look (`brushbem.workflow.figstyle`) and are written as a PNG at 300 dpi with a PDF
+look (`brushbem.figures.figstyle`) and are written as a PNG at 300 dpi with a PDF
 beside it.
 
 Sign convention: d > 0 presses into the half-space, F > 0 is compressive; the
@@ -26,9 +26,9 @@ from matplotlib.patches import Circle, Patch, Rectangle
 from matplotlib.ticker import MaxNLocator
 from matplotlib.transforms import Bbox
 
-from brushbem.workflow import figstyle
-from brushbem.workflow.results import CaseResult
-from brushbem.workflow.units import Units
+from brushbem.figures import figstyle
+from brushbem.results import CaseResult
+from brushbem.results.units import Units
 
 __all__ = ["STAGES", "as_case_result", "draw_with_jumps", "plot_pull_off", "pull_off_figure"]
 
@@ -64,7 +64,7 @@ def plot_pull_off(
     """Draw `pull_off_figure` and write it at ``path`` (a PNG at 300 dpi) with a PDF beside it.
 
     ``pulloff.png`` writes ``pulloff.png`` and ``pulloff.pdf``, each replaced
-    atomically (`brushbem.workflow.figstyle.save`).  Returns ``path``.
+    atomically (`brushbem.figures.figstyle.save`).  Returns ``path``.
     """
     return figstyle.save(pull_off_figure(result, reference, units=units), path)
 
@@ -129,7 +129,7 @@ def pull_off_figure(
         Draw the curve on these axes (of any figure, pyplot's included) and
         return their figure (``ax.figure``: a `SubFigure` where the axes
         lie in one); the pattern is not drawn then.
-    units : brushbem.workflow.units.Units, optional
+    units : brushbem.results.units.Units, optional
         The unit system of the axis labels; by default the run's
         configuration's ``[units]`` (dimensionless without it).
 

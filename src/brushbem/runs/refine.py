@@ -50,12 +50,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from brushbem.workflow.assembly import parse_config
+from brushbem.runs.assembly import parse_config
 from brushbem.config import ConfigError, RunConfig, config_to_dict
-from brushbem.workflow.records import MappingRecord
+from brushbem.results.mapping import MappingRecord
 
 if TYPE_CHECKING:
-    from brushbem.workflow.pulloff import PullOff
+    from brushbem.runs.pulloff import PullOff
 
 __all__ = ["ASYMPTOTIC_ORDERS", "FORMAL_ORDER", "MIN_REFINE_ELEMENTS", "Extrapolation", "Refinement",
            "deciding_length", "refined_configs", "refined_run", "richardson"]
@@ -161,7 +161,7 @@ def deciding_length(config: RunConfig, indenter: Any = None) -> tuple[str, float
     if spec.shape != "brush":
         return None
     if indenter is None:
-        from brushbem.workflow.assembly import build_indenter
+        from brushbem.runs.assembly import build_indenter
 
         indenter = build_indenter(config)
     pillar = float(indenter.description.pillar_radius)
@@ -239,7 +239,7 @@ def _check_same_brush(configs: Sequence[RunConfig]) -> None:
         return
     import numpy as np
 
-    from brushbem.workflow.assembly import build_indenter
+    from brushbem.runs.assembly import build_indenter
 
     geometries = [build_indenter(cfg).description for cfg in configs]
     finest = geometries[-1]
@@ -260,8 +260,8 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
                 stop: Callable[[], bool] | None = None) -> PullOff:
     """Run ``config`` on ``grids`` grids; the finest (configured) result with ``summary.refinement`` added.
 
-    Returns the `PullOff` of the configured grid, as `brushbem.workflow.case.run_case`
-    does, with the ``config`` as given.  ``run`` (`brushbem.workflow.case.run_case` by
+    Returns the `PullOff` of the configured grid, as `brushbem.runs.case.run_case`
+    does, with the ``config`` as given.  ``run`` (`brushbem.runs.case.run_case` by
     default) is called as ``run(config, progress=...)``, with ``stop=`` too
     where ``stop`` is given.  A coarse grid's run that does not converge makes
     the refinement ``converged = False`` (and the extrapolation is still
@@ -269,7 +269,7 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
     """
     import dataclasses
 
-    from brushbem.workflow import case as case_module
+    from brushbem.runs import case as case_module
 
     run = case_module.run_case if run is None else run
     configs = refined_configs(config, grids)

@@ -1,11 +1,11 @@
-"""The HTML pieces of the sweep and study report (`brushbem.workflow.report.write_report`).
+"""The HTML pieces of the sweep and study report (`brushbem.report.sweeps.write_report`).
 
 The inline style sheet, escaping and cell text, the summary table of the cases
 (rows classed by status), the list of cases that did not finish, the figures as
 PNG data URIs, the thesis-numbers table with the reproduction notes' explanation
 beside an amber (more than 5 % off) number, definition tables, the timings of
 the cases, the swept keys of a folder and the list of what happened to it.
-`brushbem.workflow.report` assembles them into ``report.html`` and re-exports the names
+`brushbem.report.sweeps` assembles them into ``report.html`` and re-exports the names
 that are imported from it.
 """
 

@@ -16,6 +16,8 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from brushbem.settings import KEPT_PILLARS
+
 if TYPE_CHECKING:
     from brushbem.config import RunConfig
 
@@ -90,8 +92,6 @@ def memory_estimate(config: RunConfig) -> int:
 def _pillar_matrices(config: RunConfig) -> float:
     """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (at most
     ``KEPT_PILLARS`` attached, twice with its work array), every mode's couplings and the inverse off it."""
-    from brushbem.pillars.solver import KEPT_PILLARS
-
     indenter = config.indenter
     if indenter.layout == "random":
         pillars = indenter.pillar_count or 0

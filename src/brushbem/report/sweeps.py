@@ -14,7 +14,7 @@ outside the file.
 
 This module holds the figures, the provenance and the assembly of the
 report; the HTML pieces (style sheet, tables, figure embedding, the thesis
-numbers and their explanations) are in `brushbem.workflow.report_html`.
+numbers and their explanations) are in `brushbem.report.html`.
 """
 
 from __future__ import annotations
@@ -33,9 +33,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from brushbem import __version__
-from brushbem.workflow import figstyle
+from brushbem.figures import figstyle
 from brushbem.io import atomic_path
-from brushbem.workflow.report_html import (
+from brushbem.report.html import (
     _CSS,
     _cell,
     _definition_list,
@@ -55,7 +55,7 @@ from brushbem.workflow.report_html import (
 if TYPE_CHECKING:
     import pandas as pd
 
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
 __all__ = [
     "MAX_CURVES",
@@ -81,7 +81,7 @@ def _new_figure(size: tuple[float, float] = (5.0, 3.8)):
 
 
 def _save(figure: Any, path: Path) -> Path:
-    """``path`` (a PNG at 300 dpi) and a PDF beside it, atomically (`brushbem.workflow.figstyle.save`)."""
+    """``path`` (a PNG at 300 dpi) and a PDF beside it, atomically (`brushbem.figures.figstyle.save`)."""
     return figstyle.save(figure, path)
 
 
@@ -110,7 +110,7 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
     """``column`` against swept ``key``: one line per combination of the other swept values.
 
     Axes are labelled by the quantities' names, symbols and units
-    (`brushbem.workflow.figstyle.key_label`), the lines by the other keys' symbols.
+    (`brushbem.figures.figstyle.key_label`), the lines by the other keys' symbols.
     """
     figure = _new_figure()
     axes = figure.add_subplot()
@@ -147,7 +147,7 @@ def _plot_against(frame: pd.DataFrame, key: str, others: list[str], column: str,
 
 
 def _legend_names(keys: Sequence[str]) -> list[str]:
-    """How the keys are named in a legend: their symbols (`brushbem.workflow.figstyle.key_symbol`), or the keys
+    """How the keys are named in a legend: their symbols (`brushbem.figures.figstyle.key_symbol`), or the keys
     themselves where two would share one."""
     short = [figstyle.key_symbol(key) for key in keys]
     return short if len(set(short)) == len(short) else list(keys)
@@ -243,7 +243,7 @@ def draw_sweep_figures(out_dir: str | Path, figures_dir: str | Path | None = Non
 
 def _sweep_units(record: Mapping[str, Any]) -> Units:
     """The units the sweep's base configuration names (``sweep.json``'s ``base``); dimensionless without."""
-    from brushbem.workflow.units import Units
+    from brushbem.results.units import Units
 
     try:
         return Units.from_config(record.get("base"))

@@ -1,0 +1,35 @@
+"""The typed records of a run, below the load path and the files.
+
+`brushbem.protocol` records a pull-off into them, `brushbem.runs` adds the
+closed forms, `brushbem.io` writes them and reads them back as the same
+types, and sweeps and studies read their fields.  Nothing here imports any
+other part of brushbem.
+
+Modules
+    `mapping`
+        `MappingRecord`: a frozen record that also reads as the mapping of
+        its fields (the keys of ``summary.json``).
+    `case`
+        The curve, the snapshots, the summary, the closed-form records and
+        `CaseResult`, everything one run produces.
+    `units`
+        The unit system a configuration declares (``[units]``).
+"""
+
+from __future__ import annotations
+
+from brushbem.results.case import (
+    BrushTheory,
+    CaseResult,
+    Curve,
+    PullOffSummary,
+    PunchTheory,
+    ReferenceCurve,
+    RunSummary,
+    Snapshot,
+    SphereTheory,
+)
+from brushbem.results.mapping import MappingRecord
+
+__all__ = ["BrushTheory", "CaseResult", "Curve", "MappingRecord", "PullOffSummary", "PunchTheory",
+           "ReferenceCurve", "RunSummary", "Snapshot", "SphereTheory"]
