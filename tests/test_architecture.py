@@ -145,7 +145,8 @@ def test_the_cycle_finder_finds_a_cycle():
 #: what every layer may read (errors, the array backend, shared settings, the typed result records);
 #: the library is everything up to `brushbem.api`; the applications above it are never imported by it.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("brushbem", "brushbem.errors", "brushbem.backend", "brushbem.settings", "brushbem.results", "brushbem.examples"),
+    ("brushbem", "brushbem.errors", "brushbem.backend", "brushbem.settings", "brushbem.results", "brushbem.examples",
+     "brushbem.data"),
     ("brushbem.physics",),
     ("brushbem.config",),
     ("brushbem.numerics",),
