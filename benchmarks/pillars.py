@@ -15,8 +15,14 @@ alone (its time, states, solves, and the memory of its dense pillar-level
 arrays); a size whose arrays exceed ``--memory-gb`` is reported with its
 estimate instead of run.
 
+With ``--tips Q ...`` instead: the tip resolution.  The same brush (``--tip-brush`` pillars per side) on the
+grid that gives its tips Q elements per radius (the pillar model holds each tip on its raster of the global
+grid, so the tip's resolution is the grid's): per Q the pillar model's CPU time and F_A and work, and the
+exact path's beside it on grids of at most ``--exact-elements`` elements per side, with their differences.
+
     nice python benchmarks/pillars.py
     nice python benchmarks/pillars.py --compare 16 --sizes 16 32 48 100
+    nice python benchmarks/pillars.py --tips 4 8 16 --tip-brush 8 --exact-elements 600
 """
 
 from __future__ import annotations
@@ -37,8 +43,11 @@ PHI, RADIUS_ELEMENTS = 0.16, 3.6
 E, DGAMMA = 1.0, 1e-4
 
 
-def _problem(per_side: int, ratio: float, sigma: float, seed: int) -> tuple[ContactProblem, float]:
-    grid = Grid(1.0, 16 * per_side)
+def _problem(per_side: int, ratio: float, sigma: float, seed: int,
+             tip_elements: float | None = None) -> tuple[ContactProblem, float]:
+    """The brush and its preload F_c; ``tip_elements``: the grid that gives the tips that many elements per radius."""
+    elements = 16 * per_side if tip_elements is None else round(16 * per_side * tip_elements / RADIUS_ELEMENTS)
+    grid = Grid(1.0, elements)
     radius = math.sqrt(PHI / math.pi) / per_side
 
     def build(roughness: float) -> ContactProblem:
@@ -74,7 +83,14 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=3)
     parser.add_argument("--memory-gb", type=float, default=4.0)
     parser.add_argument("--repeat", type=int, default=3, help="runs of the model in the comparison (median)")
+    parser.add_argument("--tips", type=float, nargs="*", default=None,
+                        help="instead: tip resolutions (elements per pillar radius) of the pillar model")
+    parser.add_argument("--tip-brush", type=int, default=8, help="pillars per side of --tips")
+    parser.add_argument("--exact-elements", type=int, default=600, help="largest grid of the exact path in --tips")
     args = parser.parse_args()
+    if args.tips:
+        _tip_resolutions(args)
+        return
     modes = len(MODES["quadratic"])
     if args.compare:
         problem, preload = _problem(args.compare, args.stiffness_ratio, args.sigma, args.seed)
@@ -109,6 +125,24 @@ def main() -> None:
         line.update({"cpu_seconds": round(seconds, 2), "states": summary["n_states"], "solves": summary["n_solves"],
                      "adhesive_force": summary["adhesive_force"], "work": summary["work_of_separation"],
                      "converged": summary["converged"]})
+        print(json.dumps(line), flush=True)
+
+
+def _tip_resolutions(args: argparse.Namespace) -> None:
+    """``--tips``: the pillar model (and the exact path where the grid allows) against the tips' resolution."""
+    for tip in args.tips:
+        problem, preload = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, tip)
+        seconds, model = _run(problem, "pillars", preload)
+        line = {"pillars": problem.indenter.n_pillars, "elements": problem.grid.elements,
+                "tip_elements_per_radius": tip, "pillars_cpu_seconds": round(seconds, 2),
+                "pillars_adhesive_force": model["adhesive_force"], "pillars_work": model["work_of_separation"],
+                "converged": model["converged"]}
+        if problem.grid.elements <= args.exact_elements:
+            t_exact, exact = _run(problem, "events", preload)
+            line.update({"events_cpu_seconds": round(t_exact, 2), "events_adhesive_force": exact["adhesive_force"],
+                         "events_work": exact["work_of_separation"],
+                         "adhesive_force_rel_diff": model["adhesive_force"] / exact["adhesive_force"] - 1,
+                         "work_rel_diff": model["work_of_separation"] / exact["work_of_separation"] - 1})
         print(json.dumps(line), flush=True)
 
 

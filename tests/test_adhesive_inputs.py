@@ -292,3 +292,23 @@ def test_terminal_summary_carries_units_and_designer_numbers(tmp_path):
                  "3.927 N/m", "elements per pillar radius", "F_A discretisation error (est.)"):
         assert text in result.output, text
     assert (tmp_path / "out" / "curve.csv").is_file()
+
+
+def test_buckled_fibrils_carry_euler_force_and_pull_off_as_before():
+    """Pressed 3 um, every fibril (clamped-free, P_cr = 1.514 uN) buckles: each carries at least P_cr and at most
+    P_cr + 0.01 k (3 um - P_cr / k), the plateau's slope over the largest compression the base allows.  The
+    pull-off happens in tension, where the law is the linear spring: F_A is the linear brush's (the event path's,
+    which the fixed path's located detachments reproduce; rel 1e-6 leaves room for the located events' rounding).
+    """
+    import brushbem
+
+    document = fibril_brush(buckling="clamped-free")
+    document["protocol"] = {"method": "fixed", "step": 0.05, "preload_displacement": 3.0}
+    buckled = brushbem.run(document)
+    linear = brushbem.run(fibril_brush())
+    assert buckled.converged and linear.converged
+    k = 1.25 * math.pi
+    p_cr = theory.euler_buckling_force(LENGTH, RADIUS, youngs_modulus=E_FIBRIL, ends="clamped-free")
+    assert buckled.summary["design"]["spring"]["buckling_force"] == pytest.approx(p_cr, rel=1e-15, abs=0)
+    assert 16 * p_cr < buckled.summary["preload_force"] <= 16 * (p_cr + 0.01 * k * (3.0 - p_cr / k))
+    assert buckled.adhesive_force == pytest.approx(linear.adhesive_force, rel=1e-6, abs=0)

@@ -95,6 +95,14 @@ class PullOff:
             ("converged", f"{self.converged} ({summary.get('reason', '')})"),
             ("states recorded", f"{len(self.curve.displacement)}"),
         ]
+        design = summary.get("design") or {}
+        if design.get("adhesion_strength") is not None:
+            rows.insert(1, ("adhesion strength F_A / A0", f"{design['adhesion_strength']:.6g}{unit('stress')}"))
+        resolution = summary.get("resolution")
+        if resolution:
+            rows.append(("F_A discretisation error (est.)", f"{100 * resolution['force_error_estimate']:+.2g} % at "
+                                                             f"{resolution['elements']:.3g} elements per "
+                                                             f"{resolution['length']}"))
         if summary.get("warnings"):
             rows.append(("warnings", f"{len(summary['warnings'])}"))
         return rows
