@@ -33,19 +33,16 @@ report.
 
 from __future__ import annotations
 
-import base64
 import datetime as _dt
 import html
-import io
 import json
 import numbers
-import os
-import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from brushbem import __version__
+from brushbem.report.run_figures import figure_png, own_png, png_uri, snapshots_figure
 from brushbem.results.units import Units
 
 __all__ = ["GENERATOR", "REPORT_FILE", "RunReportError", "is_run_folder", "is_run_report", "not_a_results_folder",
@@ -381,61 +378,11 @@ def _theory_html(summary: Mapping[str, Any], units: Units) -> str:
 # ------------------------------------------------------------------ figures
 
 
-def _png_uri(data: bytes) -> str:
-    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
-
-
-def _figure_png(figure: Any, dpi: int = 110) -> bytes:
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=dpi)
-    return buffer.getvalue()
-
-
-#: The PNG signature: the first bytes of every PNG file.
-_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-#: The largest pulloff.png embedded (bytes); the run's own is about 0.3 MB at 300 dpi.
-_MAX_FIGURE_BYTES = 32 * 2**20
-
-
-def _own_png(path: Path) -> tuple[bytes | None, str]:
-    """The bytes of ``path`` where it is a regular PNG file of its folder (opened without following a link).
-
-    Returns (None, why) for a link, anything but a regular file, a file with other names (a hard link), a
-    file that is not a PNG or is too large: a report made to be shared embeds nothing but the run's figure.
-    """
-    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
-    try:
-        if stat.S_ISLNK(os.lstat(path).st_mode):
-            return None, f"{path.name} is a link"
-        handle = os.open(path, flags)
-    except FileNotFoundError:
-        return None, f"no {path.name}"
-    except OSError as exc:
-        return None, f"{path.name} cannot be opened ({exc.strerror or exc})"
-    try:
-        opened = os.fstat(handle)
-        if not stat.S_ISREG(opened.st_mode):
-            return None, f"{path.name} is not a regular file"
-        if opened.st_nlink != 1:
-            return None, f"{path.name} is a hard link (a file with other names)"
-        if opened.st_size > _MAX_FIGURE_BYTES:
-            return None, f"{path.name} is larger than {_MAX_FIGURE_BYTES // 2**20} MiB"
-        with os.fdopen(handle, "rb", closefd=False) as stream:
-            data = stream.read(_MAX_FIGURE_BYTES + 1)
-    except OSError as exc:
-        return None, f"{path.name} cannot be read ({exc.strerror or exc})"
-    finally:
-        os.close(handle)
-    if not data.startswith(_PNG_SIGNATURE):
-        return None, f"{path.name} is not a PNG file"
-    return data, ""
-
-
 def _curve_html(folder: Path, summary: Mapping[str, Any], result: Any, redraw: bool) -> str:
     caption = "the run's pulloff.png"
     data = None
     if not redraw:
-        data, why = _own_png(folder / _FIGURE)
+        data, why = own_png(folder / _FIGURE)
         if data is None and why != f"no {_FIGURE}":
             caption = f"drawn from result.nc; {why}, not embedded"
     if data is None:
@@ -443,66 +390,13 @@ def _curve_html(folder: Path, summary: Mapping[str, Any], result: Any, redraw: b
 
         try:
             # The closed-form limits the figure draws are those summary.json records: nothing recomputed.
-            data = _figure_png(pull_off_figure(result))
+            data = figure_png(pull_off_figure(result))
             caption = caption if caption.startswith("drawn") else "drawn from result.nc"
         except Exception as exc:  # noqa: BLE001 - the report still shows the numbers
             return f'<p class="bad" id="curve">The curve could not be drawn: {_e(type(exc).__name__)}: {_e(exc)}</p>'
-    return (f'<figure id="curve"><img alt="force against base displacement" src="{_png_uri(data)}">'
+    return (f'<figure id="curve"><img alt="force against base displacement" src="{png_uri(data)}">'
             f"<figcaption>Force against base displacement ({_e(caption)}): loading and unloading branches, the "
             "adhesive force marked, the stages numbered.</figcaption></figure>")
-
-
-def _axis(units: Units, name: str, dimension: str) -> str:
-    """An axis label with its unit; without one where the configuration names none (the report says so once)."""
-    return name if units.dimensionless else f"{name} ({units.label(dimension)})"
-
-
-def snapshots_figure(result: Any, units: Units, order: Sequence[str]) -> tuple[Any, float]:
-    """The pressure on the contact set at the stages ``order``, one panel each, on one colour scale.
-
-    Returns the figure and the largest |p| on a contact (the colour scale's half-width; 0 where every
-    pressure on the contact is zero: then the panels show the contact in grey and there is no colour bar).
-    """
-    import numpy as np
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    from brushbem.figures.plot import STAGES
-
-    recorded = {snapshot.name: snapshot for snapshot in result.snapshots}
-    figure = Figure(figsize=(3.0 * len(order) + 0.8, 3.3), layout="constrained")
-    FigureCanvasAgg(figure)
-    axes = figure.subplots(1, len(order), squeeze=False)[0]
-    h = float(result.element_size)
-    # One colour scale for every panel, so that the panels compare; none where every pressure on the
-    # contact is zero (a colour bar would scale round-off).
-    largest = max((float(np.max(np.abs(np.asarray(s.pressure, float)[np.asarray(s.contact, bool)])))
-                   for s in recorded.values() if np.any(s.contact)), default=0.0)
-    image = None
-    for ax, name in zip(axes, order):
-        snapshot = recorded[name]
-        pressure = np.asarray(snapshot.pressure, dtype=float)
-        contact = np.asarray(snapshot.contact, dtype=bool)
-        half = 0.5 * pressure.shape[0] * h
-        ax.set_facecolor("0.85")
-        ax.grid(False)
-        if largest > 0.0:
-            image = ax.imshow(np.ma.masked_where(~contact, pressure), origin="lower", cmap="RdBu_r",
-                              vmin=-largest, vmax=largest, interpolation="nearest",
-                              extent=(-half, half, -half, half))
-        else:
-            ax.imshow(np.ma.masked_where(~contact, np.zeros_like(pressure)), origin="lower", cmap="Greys",
-                      vmin=-1.0, vmax=1.0, interpolation="nearest", extent=(-half, half, -half, half))
-        number = STAGES.index(name) + 1 if name in STAGES else "-"
-        ax.set_title(f"{number}: {name.replace('_', ' ')}", fontsize="small")
-        ax.set_xlabel(_axis(units, "x", "length"), fontsize="small")
-        ax.set_ylabel(_axis(units, "y", "length") if ax is axes[0] else "", fontsize="small")
-        ax.tick_params(labelsize="x-small")
-    if image is not None:
-        bar = figure.colorbar(image, ax=list(axes), shrink=0.75)
-        bar.set_label(_axis(units, "p, compressive > 0", "stress"), fontsize="small")
-        bar.ax.tick_params(labelsize="x-small")
-    return figure, largest
 
 
 def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> str:
@@ -518,7 +412,7 @@ def _snapshots_html(summary: Mapping[str, Any], result: Any, units: Units) -> st
     if order:
         figure, largest = snapshots_figure(result, units, order)
         items.append(f'<figure id="snapshots"><img alt="contact pressure at every stage" '
-                     f'src="{_png_uri(_figure_png(figure))}"><figcaption>Pressure on the contact set (grey: no '
+                     f'src="{png_uri(figure_png(figure))}"><figcaption>Pressure on the contact set (grey: no '
                      "contact) at the stages of thesis Fig. 4-3, every panel on one colour scale"
                      + ("" if largest > 0.0 else " (none: every pressure on the contact is zero)")
                      + ".</figcaption></figure>")
