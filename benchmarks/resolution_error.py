@@ -17,6 +17,11 @@ area's.  `brushbem.config.advice` reads the committed table (``src/brushbem/data
 
     python benchmarks/resolution_error.py --out src/brushbem/data/resolution_error.csv
 
+``--sphere`` measures the sphere's table (``src/brushbem/data/sphere_resolution_error.csv``), a rigid JKR
+sphere at 2 to 24 elements across its pull-off contact radius a_JKR against JKR::
+
+    python benchmarks/resolution_error.py --sphere --out src/brushbem/data/sphere_resolution_error.csv
+
 ``--brush`` measures how far a brush's error follows the single punch's: a 4 x 4 brush of pillars on springs
 at each resolution against the first-order extrapolation of its two finest::
 
@@ -35,6 +40,8 @@ import numpy as np
 
 import brushbem
 from brushbem.physics import theory
+from brushbem.runs.assembly import parse
+from brushbem.runs.case import run_problem
 
 MODULUS, DGAMMA, RADIUS, RATIO = 1.0, 1e-3, 1.0, 1.0
 RESOLUTIONS = (2.25, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 11.0, 16.0, 23.0, 32.0)
@@ -84,6 +91,32 @@ def brush(q: float, pillars_per_side: int = 4) -> tuple[float, float, float]:
     return pulled.adhesive_force, pulled.work_of_separation, time.perf_counter() - start
 
 
+#: The sphere's table: elements across the JKR contact radius at pull-off, a_JKR / h.
+SPHERE_RESOLUTIONS = (2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0)
+
+
+def sphere(q: float) -> tuple[float, float | None, float]:
+    """A rigid JKR sphere (R = 1, a_JKR = 0.1) at q elements across a_JKR: its F_A and work errors against JKR
+    (eq. 2.20, 2.37; `summary.theory.ratios`), and the seconds."""
+    a_jkr = 0.1
+    dgamma = a_jkr**3 * 8 * MODULUS / (9 * math.pi * RADIUS**2)
+    h = a_jkr / q
+    elements = math.ceil(8 * q)
+    start = time.perf_counter()
+    # The run without the configuration's advice (`run_problem`), which reads the table this measures.
+    built = parse({
+        "halfspace": {"contact_modulus": MODULUS, "work_of_adhesion": dgamma},
+        "grid": {"size": elements * h, "elements": elements},
+        "indenter": {"shape": "sphere", "radius": RADIUS},
+        "protocol": {"method": "events", "preload_displacement": a_jkr**2 / RADIUS},
+    })
+    pulled = run_problem(built.problem, built.path)
+    assert pulled.converged, pulled.summary.get("reason")
+    ratios = pulled.summary["theory"]["ratios"]
+    work = ratios.get("work_of_separation")
+    return ratios["adhesive_force"] - 1.0, None if work is None else work - 1.0, time.perf_counter() - start
+
+
 def brush_study(resolutions: list[float]) -> None:
     """The brush's F_A and work against q, and their errors against the first-order extrapolation of the two finest."""
     found = {q: brush(q) for q in resolutions}
@@ -100,11 +133,29 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=None, help="CSV file to write (default: print only)")
     parser.add_argument("--resolutions", default=",".join(f"{q:g}" for q in RESOLUTIONS))
+    parser.add_argument("--sphere", action="store_true",
+                        help="instead: the rigid JKR sphere at SPHERE_RESOLUTIONS elements across a_JKR (--out: CSV)")
     parser.add_argument("--brush", action="store_true",
                         help="instead: a 4 x 4 brush at --resolutions against its extrapolation (two finest, h^1)")
     args = parser.parse_args()
     if args.brush:
         brush_study([float(value) for value in args.resolutions.split(",")])
+        return
+    if args.sphere:
+        sphere_rows = []
+        for q in SPHERE_RESOLUTIONS:
+            force, work, seconds = sphere(q)
+            sphere_rows.append({"elements_per_radius": q, "force_error": force, "work_error": work})
+            print(json.dumps({**sphere_rows[-1], "seconds": seconds}), flush=True)
+        if args.out:
+            with open(args.out, "w", newline="", encoding="utf-8") as handle:
+                handle.write("# rigid JKR sphere (a_JKR = 0.1 R) by the exact event path against JKR (eq. 2.20, 2.37) at "
+                             "q elements across a_JKR; benchmarks/resolution_error.py --sphere\n")
+                writer = csv.DictWriter(handle, fieldnames=list(sphere_rows[0]), lineterminator="\n")
+                writer.writeheader()
+                for row in sphere_rows:
+                    writer.writerow({key: (f"{value:.5g}" if isinstance(value, float) else value)
+                                     for key, value in row.items()})
         return
     rows = []
     for q in (float(value) for value in args.resolutions.split(",")):

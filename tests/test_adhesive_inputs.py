@@ -208,20 +208,41 @@ def test_the_table_says_what_the_punch_measures():
     assert row["work_error_mean"] == pytest.approx(sum(works) / len(works), rel=1e-4, abs=0)
 
 
+def test_the_sphere_table_says_what_the_sphere_measures():
+    """The committed sphere table's row at 3 elements across a_JKR against a fresh run (5 significant digits)."""
+    import importlib.util
+    from pathlib import Path
+
+    from brushbem.config import advice
+
+    path = Path(__file__).parents[1] / "benchmarks" / "resolution_error.py"
+    spec = importlib.util.spec_from_file_location("resolution_error", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    row = next(r for r in advice._table(advice.SPHERE_TABLE) if r["elements_per_radius"] == 3.0)
+    force, work, _ = module.sphere(3.0)
+    assert row["force_error"] == pytest.approx(force, rel=1e-4, abs=0)
+    assert row["work_error"] == pytest.approx(work, rel=1e-4, abs=0)
+
+
 @pytest.mark.parametrize(("indenter", "length"), [
     ({"shape": "flat_punch", "radius": 10.0}, "punch radius"),
     ({"shape": "sphere", "radius": 400.0}, "JKR contact radius at pull-off"),
 ])
 def test_every_indenter_names_its_deciding_length(indenter, length):
+    """a_JKR = (9 pi dgamma R^2 / (8 E*))^(1/3) = 13.4 um for R = 400 um: 10.7 elements of h = 1.25 um."""
     from brushbem.config import advice
 
     document = fibril_brush()
     document["indenter"] = indenter
     found = advice.resolution(parse_config(document))
     assert found.length == length
-    if length.startswith("JKR"):  # eq. 2.20b
+    if length.startswith("JKR"):  # eq. 2.20b, and the sphere's own measured table
         a_jkr = (9 * math.pi * 0.04 * 400.0**2 / (8 * 8 / 3)) ** (1 / 3)
         assert found.value == pytest.approx(a_jkr, rel=1e-14, abs=0)
+        assert "--sphere" in found.basis
+        rows = advice._table(advice.SPHERE_TABLE)
+        assert min(r["force_error"] for r in rows) <= found.force_error <= max(r["force_error"] for r in rows)
 
 
 # --- a run: the fibril's spring in the physics, what a designer reports, curve.csv ------------------------

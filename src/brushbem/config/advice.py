@@ -12,7 +12,9 @@ records them in ``summary.json`` (``warnings``), and every run records its `Reso
 * `resolution`: the elements across the length that decides F_A (a flat punch's or a pillar's radius,
   a sphere's or a spherical cap's JKR contact radius at pull-off) and the discretisation error of F_A
   and the work at that resolution, read from the measured table ``brushbem/data/resolution_error.csv``
-  (`benchmarks/resolution_error.py`: a flat punch on a spring against Kendall, at the radius typed).
+  (`benchmarks/resolution_error.py`: a flat punch on a spring against Kendall, at the radius typed), and
+  for a sphere or a spherical cap from ``sphere_resolution_error.csv`` (a rigid JKR sphere against JKR; it
+  converges at first order, +20 % at 8 and +6.4 % at 24 elements across a_JKR).
   Below `MIN_ELEMENTS_PER_RADIUS` `resolution_warnings` warns with the estimate and the fix.
 """
 
@@ -44,10 +46,6 @@ RADIUS_MIN = 1e-9                # m
 _LENGTH_EXPONENT = {"m": 0, "cm": -2, "mm": -3, "um": -6, "nm": -9}
 _STRESS_EXPONENT = {"Pa": 0, "kPa": 3, "MPa": 6, "GPa": 9}
 _SHOWN_LENGTH = {"um": "µm"}
-
-#: The sphere's F_A converges at first order in h / a (`brushbem.config.rules._sphere_resolution_problems`):
-#: a JKR contact of a_JKR / h = 39 elements was measured 4 % strong, so the error is about 1.56 h / a.
-_SPHERE_ERROR_TIMES_ELEMENTS = 0.04 * 39
 
 
 @dataclass(frozen=True)
@@ -97,16 +95,20 @@ class Resolution:
                 "basis": self.basis}
 
 
+#: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
+PUNCH_TABLE, SPHERE_TABLE = "resolution_error.csv", "sphere_resolution_error.csv"
+
+
 @functools.cache
-def _table() -> tuple[dict[str, float], ...]:
-    text = files("brushbem.data").joinpath("resolution_error.csv").read_text(encoding="utf-8")
+def _table(name: str = PUNCH_TABLE) -> tuple[dict[str, float], ...]:
+    text = files("brushbem.data").joinpath(name).read_text(encoding="utf-8")
     rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
-    return tuple({key: float(value) for key, value in row.items()} for row in rows)
+    return tuple({key: float(value) for key, value in row.items() if value != ""} for row in rows)
 
 
-def _interpolated(elements: float, column: str) -> float:
+def _interpolated(elements: float, column: str, name: str = PUNCH_TABLE) -> float:
     """The table's ``column`` at ``elements`` per radius: linear in log q inside, first order in h beyond."""
-    rows = _table()
+    rows = _table(name)
     first, last = rows[0], rows[-1]
     if elements <= first["elements_per_radius"]:
         return first[column]
@@ -167,9 +169,13 @@ def resolution(config: RunConfig) -> Resolution | None:
     what, key, value = found
     elements = value / config.grid.element_size
     if what.startswith("JKR"):
-        error = _SPHERE_ERROR_TIMES_ELEMENTS / elements
-        return Resolution(what, key, value, elements, error, (error, error), None, None,
-                          "first order in h / a: a JKR sphere of a_JKR / h = 39 measured 4 % strong")
+        error = _interpolated(elements, "force_error", SPHERE_TABLE)
+        work = _interpolated(elements, "work_error", SPHERE_TABLE) if what == "JKR contact radius at pull-off" \
+            else None
+        return Resolution(what, key, value, elements, error, (error, error), work,
+                          None if work is None else (work, work),
+                          "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
+                          "benchmarks/resolution_error.py --sphere)")
     force = _interpolated(elements, "force_error_mean")
     work = _interpolated(elements, "work_error_mean")
     return Resolution(
