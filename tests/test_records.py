@@ -72,3 +72,76 @@ def test_brush_and_non_adhesive_theory():
     assert record.rigid_brush_displacement < 0 and set(record.ratios) == {
         "adhesive_force_by_rigid_brush", "adhesive_force_by_ideal_sharing"}
     assert theory_for(ContactProblem(GRID, flat_punch(GRID, 0.25), 1.0, 0.0), {}) == ({}, None)
+
+
+# ---------------------------------------------------------------- the typed results floor, to disk and back
+
+
+def _small_brush():
+    return {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+            "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 2,
+                         "pillar_radius": 0.1, "stiffness_ratio": 0.05},
+            "protocol": {"method": "events", "preload_displacement": 2e-3}}
+
+
+@pytest.mark.parametrize("kind", ["brush", "punch_on_spring"])
+def test_load_gives_back_the_typed_pull_off_that_run_returned_and_saved(kind, tmp_path):
+    """`brushbem.load` rebuilds every record of the summary; only ``run_id`` and ``provenance`` are added."""
+    import dataclasses
+    import json
+
+    import brushbem
+    from brushbem.results import BrushNormalization, BrushTheory, Provenance, PunchTheory, RunSummary
+
+    config = _small_brush() if kind == "brush" else {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+        "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.1},
+        "protocol": {"method": "events", "preload_displacement": 1e-3}}
+    ran = brushbem.run(config)
+    ran.save(tmp_path, figure=False)
+    loaded = brushbem.load(tmp_path)
+    summary = loaded.summary
+    assert isinstance(summary, RunSummary) and isinstance(summary.provenance, Provenance)
+    assert isinstance(summary.theory, BrushTheory if kind == "brush" else PunchTheory)
+    assert isinstance(summary.normalized, BrushNormalization) if kind == "brush" else summary.normalized is None
+    assert len(summary.run_id) == 32 and summary.provenance.config == json.loads(json.dumps(
+        summary.provenance.config))
+    assert dataclasses.replace(summary, run_id=None, provenance=None) == ran.summary
+    # summary.json is the loaded record, key by key and in order.
+    from brushbem.io.encoding import _json
+
+    assert _json(summary, indent=2) + "\n" == (tmp_path / "summary.json").read_text(encoding="utf-8")
+    for name in ("displacement", "force", "contact_area", "loading"):
+        np.testing.assert_array_equal(getattr(loaded.curve, name), getattr(ran.curve, name))
+    assert loaded.config == ran.config
+    assert (ran.reference is None) == (kind == "brush")  # a punch's figure draws its closed form
+    if ran.reference is not None:
+        np.testing.assert_array_equal(loaded.reference.force, ran.reference.force)
+        assert loaded.reference.label == ran.reference.label
+    else:
+        assert loaded.reference is None
+
+
+def test_a_record_is_rebuilt_from_its_mapping_and_refuses_another_layout():
+    import json
+
+    from brushbem.results import Extrapolation, Refinement, RunSummary
+
+    refinement = Refinement(elements=[16, 32, 64], converged=True,
+                            adhesive_force=Extrapolation(values=[1.0, 1.5, 1.75], extrapolated=2.0,
+                                                         error_estimate=0.01, observed_order=1.0),
+                            work_of_separation=Extrapolation(values=[2.0, 2.5], extrapolated=3.0,
+                                                             error_estimate=0.5, observed_order=None))
+    decoded = json.loads(json.dumps(refinement.to_dict(), default=dict))
+    assert Refinement.from_mapping(decoded) == refinement
+    assert isinstance(Refinement.from_mapping(decoded).adhesive_force, Extrapolation)
+    with pytest.raises(ValueError, match=r"Refinement: unknown keys \['grids'\]"):
+        Refinement.from_mapping({**decoded, "grids": [1]})
+    with pytest.raises(ValueError, match="RunSummary: .*critical_stress"):
+        RunSummary.from_mapping({key: value for key, value in _a_summary().items() if key != "critical_stress"})
+
+
+def _a_summary():
+    import brushbem
+
+    return dict(brushbem.run(_small_brush()).summary)

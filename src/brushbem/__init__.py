@@ -21,7 +21,7 @@ The package, from the floor to the applications (the order
   pillar-level model) and what it records;
 - `brushbem.io` (the result files), `brushbem.figures`, `brushbem.runs`
   (assembly, running a case, its `PullOff`, refine) and `brushbem.design`;
-- `brushbem.api` (`run`, `pull_off`) is the entry, re-exported here;
+- `brushbem.api` (`run`, `pull_off`, `load`) is the entry, re-exported here;
 - the applications: `brushbem.sweep`, `brushbem.studies`,
   `brushbem.reproduction` (the thesis comparison), `brushbem.report` and
   `brushbem.cli`.
@@ -42,6 +42,7 @@ def _version() -> str:
 #: not load the numerics.
 _PUBLIC = {
     "run": "api",
+    "load": "api",
     "pull_off": "api",
     "PullOff": "runs.pulloff",
     "Grid": "physics.structure",
@@ -64,7 +65,7 @@ _PUBLIC = {
 
 __all__ = [  # noqa: RUF022 - the version first, then the names of _PUBLIC
     "__version__", "ConfigError", "Grid", "Level", "Profile", "Tip", "Tilt", "Grading", "Viscoelastic",
-    "PiecewiseLinear", "PullOff", "RunConfig", "brush", "flat_punch", "height_map", "load_config", "parse_config",
+    "PiecewiseLinear", "PullOff", "RunConfig", "brush", "flat_punch", "height_map", "load", "load_config", "parse_config",
     "pull_off", "run", "sphere",
 ]
 

@@ -31,14 +31,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from brushbem.runs.assembly import Assembly, load, parse
-from brushbem.config import RunConfig
+from brushbem.runs.assembly import Assembly, parse
+from brushbem.runs.assembly import load as load_assembly
+from brushbem.config import ConfigError, RunConfig
 from brushbem.runs.pulloff import PullOff
 
 if TYPE_CHECKING:
     from brushbem.physics.structure import Grid, Indenter
 
-__all__ = ["PullOff", "pull_off", "run"]
+__all__ = ["PullOff", "load", "pull_off", "run"]
 
 
 def run(
@@ -64,7 +65,7 @@ def run(
     elif isinstance(config, Mapping):
         built = parse(config)
     elif isinstance(config, (str, Path)):
-        built = load(config)
+        built = load_assembly(config)
     else:
         raise TypeError(f"config = {config!r}: expected a file path, a mapping of tables, a RunConfig or an Assembly")
     from brushbem.runs import case
@@ -74,6 +75,43 @@ def run(
     from brushbem.runs.refine import refined_run
 
     return refined_run(built if isinstance(built, RunConfig) else built.config, refine, progress=progress, stop=stop)
+
+
+def load(folder: str | Path) -> PullOff:
+    """The `PullOff` a run saved into ``folder`` (``brushbem run --out``, `PullOff.save`), read back typed.
+
+    The curve, the snapshots and the per-pillar arrays come from ``result.nc``;
+    the summary from ``summary.json``, as the same `RunSummary` the run returned
+    (its ``normalized``, ``theory`` and ``refinement`` records rebuilt), with the
+    ``run_id`` and the ``provenance`` that saving recorded.  The configuration is
+    the resolved one the provenance records, validated again; with it the
+    closed-form reference curve of the figure is computed again (a
+    rasterisation, no pull-off).  Neither exists for a run of built objects
+    (`pull_off`), nor where the configuration no longer validates (a file it
+    names has moved): ``config`` and ``reference`` are None then.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``folder`` does not exist.
+    brushbem.io.InconsistentCaseError
+        Its two files come from different runs.
+    ValueError
+        Its ``summary.json`` is not a run's summary.
+    """
+    from brushbem.io import load_result
+    from brushbem.runs.case import reference_for
+
+    result = load_result(folder)
+    provenance = getattr(result.summary, "provenance", None)
+    stored = provenance.config if provenance is not None else None
+    if not isinstance(stored, Mapping):
+        return PullOff(result)
+    try:
+        assembly = parse(stored)
+    except ConfigError:  # a file it names has moved since: the numbers stand, the configuration does not
+        return PullOff(result)
+    return PullOff(result, reference_for(assembly, result.summary), assembly.config)
 
 
 def _material(name: str, given: float | None, indenter: Indenter) -> float:

@@ -71,7 +71,15 @@ from brushbem.io.atomic import (
 from brushbem.io.atomic import _check_free_space as _check_free_space  # patch it in `brushbem.io.writing`
 from brushbem.io.dataset import REFERENCES, to_dataset
 from brushbem.io.encoding import from_json_safe, netcdf_attributes
-from brushbem.io.reading import InconsistentCaseError, from_dataset, load_result, read_case, stage_field, stages
+from brushbem.io.reading import (
+    InconsistentCaseError,
+    from_dataset,
+    load_result,
+    read_case,
+    stage_field,
+    stages,
+    summary_from_mapping,
+)
 from brushbem.io.writing import IN_MEMORY_LIMIT, source_commit, write_case, write_curve, write_dataset
 
 __all__ = [
@@ -95,6 +103,7 @@ __all__ = [
     "source_commit",
     "stage_field",
     "stages",
+    "summary_from_mapping",
     "temporary_of",
     "to_dataset",
     "write_case",

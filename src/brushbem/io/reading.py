@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 from typing import Any
@@ -11,7 +12,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from brushbem.results import CaseResult
+from brushbem.results import CaseResult, RunSummary
 
 from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE
 from brushbem.io.encoding import _attribute, from_json_safe
@@ -127,18 +128,43 @@ def from_dataset(dataset: xr.Dataset) -> CaseResult:
     attributes = {str(key): _attribute(value) for key, value in dataset.attrs.items()}
     summary = attributes.pop("summary", {})
     return CaseResult(
-        curve=curve, snapshots=tuple(snapshots), summary=from_json_safe(summary) if isinstance(summary, dict) else {},
+        curve=curve, snapshots=tuple(snapshots), summary=summary_from_mapping(summary),
         attributes=attributes, element_size=float(x[1] - x[0]) if x.size > 1 else 1.0, pillars=pillars,
     )
 
 
+def summary_from_mapping(mapping: Any) -> RunSummary | dict[str, Any]:
+    """The typed `RunSummary` of a decoded ``summary.json`` or ``summary`` attribute, nested records rebuilt.
+
+    A mapping without ``adhesive_force`` (no run's summary: an empty attribute) stays a plain dict.
+
+    Raises
+    ------
+    ValueError
+        A run's summary of another layout (a key that is no field, a field missing), named.
+    """
+    if not isinstance(mapping, dict):
+        return {}
+    mapping = from_json_safe(mapping)
+    if "adhesive_force" not in mapping:
+        return mapping
+    return RunSummary.from_mapping(mapping)
+
+
 def load_result(path: str | Path) -> CaseResult:
-    """The `CaseResult` of a case folder (``brushbem run --out``) or of one ``.nc`` file (a sweep's case)."""
+    """The `CaseResult` of a case folder (``brushbem run --out``) or of one ``.nc`` file (a sweep's case).
+
+    From a case folder the summary is ``summary.json``'s, with its ``run_id`` and ``provenance``; from
+    one ``.nc`` file its ``summary`` attribute's.
+    """
     path = Path(path)
     if path.is_dir():
-        dataset = read_case(path)
-    elif path.is_file():
-        dataset = xr.load_dataset(path, engine="h5netcdf")
-    else:
-        raise FileNotFoundError(f"{path}: no such case folder or result file")
-    return from_dataset(dataset)
+        result = from_dataset(read_case(path))
+        try:
+            saved = json.loads((path / SUMMARY_FILE).read_text(encoding="utf-8"))
+        except (OSError, ValueError):  # no summary.json beside a result.nc of no run_id: the dataset's summary
+            return result
+        return dataclasses.replace(result, summary=summary_from_mapping(saved))
+    if path.is_file():
+        return from_dataset(xr.load_dataset(path, engine="h5netcdf"))
+    raise FileNotFoundError(f"{path}: no such case folder or result file")

@@ -16,6 +16,7 @@ import json
 import os
 import uuid
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,7 @@ import xarray as xr
 
 from brushbem import __version__
 from brushbem.config import RunConfig, config_to_dict
-from brushbem.results import CaseResult
+from brushbem.results import CaseResult, Provenance, RunSummary
 
 from brushbem.io.atomic import CURVE_FILE, DATASET_FILE, SUMMARY_FILE, _check_free_space, atomic_path
 from brushbem.io.dataset import _dataset, _field_compression, _units_of
@@ -253,6 +254,13 @@ def _provenance(result: CaseResult, config: RunConfig | None, created: str, comm
     }
 
 
+def saved_summary(summary: Mapping[str, Any], run_id: str, provenance: Provenance) -> Mapping[str, Any]:
+    """The summary as ``summary.json`` holds it: ``summary`` with the files' ``run_id`` and the ``provenance``."""
+    if isinstance(summary, RunSummary):
+        return dataclasses.replace(summary, run_id=run_id, provenance=provenance)
+    return {**summary, "run_id": run_id, "provenance": provenance}
+
+
 def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | None = None) -> None:
     """Write ``summary.json`` and ``result.nc`` of one case into ``out_dir``.
 
@@ -274,8 +282,8 @@ def write_case(result: CaseResult, out_dir: str | Path, *, config: RunConfig | N
     commit = source_commit()
     result = dataclasses.replace(result, attributes={**result.attributes, "run_id": run_id, "date_created": created,
                                                      **({"commit": commit} if commit else {})})
-    summary = _json({**result.summary, "run_id": run_id,
-                     "provenance": _provenance(result, config, created, commit)}, indent=2) + "\n"
+    summary = _json(saved_summary(result.summary, run_id, Provenance.from_mapping(
+        _provenance(result, config, created, commit))), indent=2) + "\n"
     _check_free_space(out_dir, len(summary))
     # The dataset and the curve first, the summary last: the summary is the files' commit.
     write_dataset(result, out_dir / DATASET_FILE, config=config)

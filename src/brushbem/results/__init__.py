@@ -12,6 +12,9 @@ Modules
     `case`
         The curve, the snapshots, the summary, the closed-form records and
         `CaseResult`, everything one run produces.
+    `normalization`, `refinement`, `provenance`
+        The summary's ``normalized`` (a brush in the thesis's scales),
+        ``refinement`` (``--refine``) and ``provenance`` (recorded on saving).
     `units`
         The unit system a configuration declares (``[units]``).
 """
@@ -28,8 +31,14 @@ from brushbem.results.case import (
     RunSummary,
     Snapshot,
     SphereTheory,
+    Theory,
+    theory_from_mapping,
 )
 from brushbem.results.mapping import MappingRecord
+from brushbem.results.normalization import BrushNormalization
+from brushbem.results.provenance import Provenance
+from brushbem.results.refinement import Extrapolation, Refinement
 
-__all__ = ["BrushTheory", "CaseResult", "Curve", "MappingRecord", "PullOffSummary", "PunchTheory",
-           "ReferenceCurve", "RunSummary", "Snapshot", "SphereTheory"]
+__all__ = ["BrushNormalization", "BrushTheory", "CaseResult", "Curve", "Extrapolation", "MappingRecord", "Provenance",
+           "PullOffSummary", "PunchTheory", "ReferenceCurve", "Refinement", "RunSummary", "Snapshot", "SphereTheory",
+           "Theory", "theory_from_mapping"]

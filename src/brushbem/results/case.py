@@ -14,9 +14,12 @@ from typing import Any
 import numpy as np
 
 from brushbem.results.mapping import MappingRecord
+from brushbem.results.normalization import BrushNormalization
+from brushbem.results.provenance import Provenance
+from brushbem.results.refinement import Refinement
 
 __all__ = ["BrushTheory", "CaseResult", "Curve", "PullOffSummary", "PunchTheory", "ReferenceCurve", "RunSummary",
-           "Snapshot", "SphereTheory"]
+           "Snapshot", "SphereTheory", "Theory", "theory_from_mapping"]
 
 
 @dataclass(frozen=True)
@@ -248,13 +251,14 @@ class RunSummary(PullOffSummary):
     ----------
     critical_stress : float
         Sigma_c of the mesh (eq. 2.14).
-    normalized : mapping or None
+    normalized : BrushNormalization or None
         A brush's thesis normalisations (``force_by_compact_punch``, ...);
         not a key for other indenters.
-    theory : mapping
-        The closed-form values and the ratios of the computed ones to them.
+    theory : PunchTheory, SphereTheory, BrushTheory or an empty mapping
+        The closed-form values and the ratios of the computed ones to them
+        (empty where no closed form applies).
     warnings : list of str
-    refinement : mapping or None
+    refinement : Refinement or None
         With ``brushbem run --refine``: the grids and the Richardson-
         extrapolated adhesive force and work with their error estimates
         (`brushbem.runs.refine.Refinement`); not a key otherwise.
@@ -267,17 +271,51 @@ class RunSummary(PullOffSummary):
         What a designer reports (`brushbem.runs.case.design_numbers`):
         the adhesion strength F_A / A0, F_A per pillar, the spring k, k~ and
         where k came from, the units of each; not a key without a configuration.
+    run_id : str or None
+        The id ``summary.json`` and ``result.nc`` share (`brushbem.io.write_case`); not a key before saving.
+    provenance : Provenance or None
+        Where the numbers come from (version, commit, time, backend, units, configuration), recorded
+        when the run is saved; not a key before saving.
     """
 
-    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement", "stages_not_reached", "resolution", "design"})
+    _ABSENT_WHEN_NONE = frozenset({"normalized", "refinement", "stages_not_reached", "resolution", "design",
+                                   "run_id", "provenance"})
 
     critical_stress: float
-    normalized: Mapping[str, Any] | None = None
-    theory: Mapping[str, Any] = field(default_factory=dict)
+    normalized: BrushNormalization | None = None
+    theory: Theory | Mapping[str, Any] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
-    refinement: Mapping[str, Any] | None = None
+    refinement: Refinement | None = None
     resolution: Mapping[str, Any] | None = None
     design: Mapping[str, Any] | None = None
+    run_id: str | None = None
+    provenance: Provenance | None = None
+
+    @classmethod
+    def _nested(cls):
+        return {"normalized": BrushNormalization.from_mapping, "theory": theory_from_mapping,
+                "refinement": Refinement.from_mapping, "provenance": Provenance.from_mapping}
+
+
+#: The closed-form record of a run (``summary.json``'s ``theory``).
+Theory = PunchTheory | SphereTheory | BrushTheory
+
+
+def theory_from_mapping(mapping: Mapping[str, Any]) -> Theory | dict:
+    """The typed ``theory`` record of ``mapping`` (as ``summary.json`` holds it); an empty one stays empty.
+
+    The kind is told by a field only it has: ``equivalent_radius`` (a punch), ``compact_punch_force``
+    (a brush), else a sphere.
+    """
+    if isinstance(mapping, (PunchTheory, SphereTheory, BrushTheory)):
+        return mapping
+    if not mapping:
+        return {}
+    if "equivalent_radius" in mapping:
+        return PunchTheory.from_mapping(mapping)
+    if "compact_punch_force" in mapping:
+        return BrushTheory.from_mapping(mapping)
+    return SphereTheory.from_mapping(mapping)
 
 
 @dataclass(frozen=True)
@@ -306,7 +344,7 @@ class CaseResult:
 
     curve: Curve
     snapshots: tuple[Snapshot, ...]
-    summary: Mapping[str, Any]
+    summary: RunSummary
     attributes: dict[str, Any] = field(default_factory=dict)
     element_size: float = 1.0
     pillars: dict[str, np.ndarray] = field(default_factory=dict)

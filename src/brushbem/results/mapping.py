@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import fields
 from typing import Any
 
@@ -19,6 +19,39 @@ class MappingRecord(Mapping):
     """
 
     _ABSENT_WHEN_NONE: frozenset[str] = frozenset()
+
+    @classmethod
+    def _nested(cls) -> Mapping[str, Callable[[Any], Any]]:
+        """Field -> what rebuilds its value from a mapping (a nested record); none by default."""
+        return {}
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping[str, Any]) -> Any:
+        """The record of ``mapping``, as `to_dict` or ``summary.json`` gives it, nested records rebuilt.
+
+        The inverse of reading the record as a mapping: ``type(r).from_mapping(r) == r`` for every record.
+
+        Raises
+        ------
+        ValueError
+            A key that is no field of the record, or a field without a default that is missing
+            (a file of another layout), named.
+        """
+        if isinstance(mapping, cls):
+            return mapping
+        if not isinstance(mapping, Mapping):
+            raise ValueError(f"{cls.__name__}: expected a mapping of its fields, got {type(mapping).__name__}")
+        names = [f.name for f in fields(cls)]
+        unknown = sorted(set(mapping) - set(names))
+        if unknown:
+            raise ValueError(f"{cls.__name__}: unknown keys {unknown}; its fields are {names}")
+        nested = cls._nested()
+        values = {key: nested[key](value) if key in nested and value is not None else value
+                  for key, value in mapping.items()}
+        try:
+            return cls(**values)
+        except TypeError as exc:  # a required field missing
+            raise ValueError(f"{cls.__name__}: {exc}; its fields are {names}") from None
 
     def _keys(self) -> list[str]:
         return [f.name for f in fields(self)

@@ -25,6 +25,7 @@ from brushbem.config import RunConfig, advice, config_to_dict
 from brushbem.protocol import ContactProblem, LoadPath, PullOffRecord, record_pull_off
 from brushbem.runs.pulloff import PullOff
 from brushbem.results import (
+    BrushNormalization,
     BrushTheory,
     CaseResult,
     PunchTheory,
@@ -35,7 +36,7 @@ from brushbem.results import (
 from brushbem.physics.structure import BrushGeometry
 
 __all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem",
-           "design_numbers", "run_case", "run_problem", "run_warnings", "theory_for"]
+           "design_numbers", "reference_for", "run_case", "run_problem", "run_warnings", "theory_for"]
 
 # A fixed-step pull-off whose tensile part spans fewer steps than this samples
 # the force minimum and the tensile area too coarsely to be read as results.
@@ -238,11 +239,11 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
     }
 
 
-def brush_normalizations(problem: ContactProblem, summary: Mapping[str, Any]) -> dict[str, Any] | None:
+def brush_normalizations(problem: ContactProblem, summary: Mapping[str, Any]) -> BrushNormalization | None:
     """The thesis's normalisations of an adhesive brush's summary numbers (``normalized``), else None."""
     if not isinstance(problem.indenter.description, BrushGeometry) or problem.work_of_adhesion <= 0:
         return None
-    return _brush_theory(problem, summary)[1]
+    return BrushNormalization(**_brush_theory(problem, summary)[1])
 
 
 def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[BrushTheory, dict[str, Any]]:
@@ -370,6 +371,11 @@ def run_case(
         resolution=None if found is None else found.to_dict(),
         design=design_numbers(built.problem, result.summary, built.config)))
     return PullOff(result, pulled.reference, built.config)
+
+
+def reference_for(assembly: Assembly, summary: Mapping[str, Any]) -> ReferenceCurve | None:
+    """The closed-form reference curve of a run of ``assembly`` whose summary is ``summary`` (its figure's)."""
+    return theory_for(assembly.problem, summary, assembly.path)[1]
 
 
 def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: RunConfig) -> dict[str, Any]:

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from brushbem.config import RunConfig
-    from brushbem.results import CaseResult, Curve, ReferenceCurve, Snapshot
+    from brushbem.results import CaseResult, Curve, ReferenceCurve, RunSummary, Snapshot
 
 __all__ = ["FIGURE_FILES", "PullOff"]
 
@@ -55,8 +55,9 @@ class PullOff:
         return {snapshot.name: snapshot for snapshot in self.result.snapshots}
 
     @property
-    def summary(self) -> dict[str, Any]:
-        """The ``summary.json`` contract (docs/site/outputs.md): F_A, d_A, work, convergence, theory ratios, warnings."""
+    def summary(self) -> RunSummary:
+        """The ``summary.json`` contract (docs/site/outputs.md): F_A, d_A, work, convergence, theory ratios, warnings;
+        after saving (and from `brushbem.load`) with the ``run_id`` and the ``provenance``."""
         return self.result.summary
 
     @property

@@ -47,21 +47,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from brushbem.runs.assembly import parse_config
 from brushbem.config import ConfigError, RunConfig, config_to_dict
-from brushbem.results.mapping import MappingRecord
+from brushbem.results.refinement import FORMAL_ORDER, Extrapolation, Refinement
 
 if TYPE_CHECKING:
     from brushbem.runs.pulloff import PullOff
 
 __all__ = ["ASYMPTOTIC_ORDERS", "FORMAL_ORDER", "MIN_REFINE_ELEMENTS", "Extrapolation", "Refinement",
            "deciding_length", "refined_configs", "refined_run", "richardson"]
-
-#: The order in h of the Pohrt-Popov criterion's error.
-FORMAL_ORDER = 1.0
 
 #: Observed orders taken as the asymptotic range of a first-order method: within a factor 2 of
 #: FORMAL_ORDER at the low end (JKR: 0.8) and half an order above it (a punch's F_A from r / h = 8:
@@ -72,29 +68,6 @@ ASYMPTOTIC_ORDERS = (0.5, 1.5)
 #: Fewest elements across the length that decides F_A on every grid of a refinement (the
 #: punch's F_A sequence is monotone from r / h = 8 on; module docstring).
 MIN_REFINE_ELEMENTS = 8.0
-
-
-@dataclass(frozen=True, kw_only=True)
-class Extrapolation(MappingRecord):
-    """One quantity on the refined grids (module docstring)."""
-
-    values: list
-    extrapolated: float
-    error_estimate: float
-    observed_order: float | None
-    order: float = FORMAL_ORDER
-    basis: str = "formal order"
-    formal_order: float = FORMAL_ORDER
-
-
-@dataclass(frozen=True, kw_only=True)
-class Refinement(MappingRecord):
-    """``summary.json``'s ``refinement``: the grids and the extrapolated quantities."""
-
-    elements: list
-    adhesive_force: Extrapolation
-    work_of_separation: Extrapolation
-    converged: bool
 
 
 def _extrapolate(fine: float, middle: float, ratio: float, order: float) -> float:
