@@ -10,6 +10,7 @@ import numpy as np
 from brushbem.physics import theory
 from brushbem.protocol import ContactProblem
 from brushbem.design import Design
+from brushbem.physics.scales import normalized_stiffness
 
 __all__ = ["DESIGN_FILE_NAMES", "DesignWriteError", "design_figure", "thesis_profile_fit", "write_design"]
 
@@ -80,7 +81,7 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
                                             "not drawn")
             left.set(ylabel=r"offset $g/|d_\mathrm{c}|$")
         else:
-            left.plot(radial / outer, result.values / (problem.contact_modulus * problem.grid.size), "o",
+            left.plot(radial / outer, normalized_stiffness(result.values, problem.contact_modulus, problem.grid.size), "o",
                       label=r"designed stiffness $k_n$")
             left.set(ylabel=r"pillar stiffness $\tilde k_n = k_n/(E^* L)$")
         left.set(xlabel=r"distance from the centre $\rho/\rho_\mathrm{max}$",

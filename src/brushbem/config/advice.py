@@ -27,6 +27,8 @@ from dataclasses import dataclass
 from importlib.resources import files
 from typing import TYPE_CHECKING, Any
 
+from brushbem.physics.scales import jkr_contact_radius
+
 if TYPE_CHECKING:
     from brushbem.config.schema import RunConfig
 
@@ -130,7 +132,7 @@ def _deciding_length(config: RunConfig) -> tuple[str, str, float] | None:
     modulus, dgamma = halfspace.effective_modulus, halfspace.work_of_adhesion
 
     def jkr(radius: float) -> float:  # eq. 2.20b
-        return (9 * math.pi * dgamma * radius**2 / (8 * modulus)) ** (1 / 3)
+        return jkr_contact_radius(radius, modulus, dgamma)
 
     if indenter.shape == "flat_punch" and indenter.radius is not None:
         return "punch radius", "indenter.radius", indenter.radius

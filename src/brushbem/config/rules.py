@@ -11,7 +11,6 @@ rules on the rasterised structure that `brushbem.runs.assembly` supplies
 
 from __future__ import annotations
 
-import math
 import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
@@ -20,6 +19,7 @@ from pydantic_core import PydanticCustomError
 
 from brushbem.config.errors import _show
 from brushbem.config.files import _height_map_shape
+from brushbem.physics.scales import jkr_contact_radius
 
 if TYPE_CHECKING:
     from brushbem.config.schema import GridConfig, HalfSpaceConfig, IndenterConfig, RunConfig
@@ -160,7 +160,7 @@ def _cap_resolution_problems(grid: GridConfig, radius: float | str, pillar_radiu
     problems = _sphere_resolution_problems(grid, smallest, halfspace, key="indenter.tip.radius")
     if problems and pillar_radius is not None:
         modulus = halfspace.effective_modulus
-        a_jkr = (9 * math.pi * halfspace.work_of_adhesion * smallest**2 / (8 * modulus)) ** (1 / 3)
+        a_jkr = jkr_contact_radius(smallest, modulus, halfspace.work_of_adhesion)
         if a_jkr >= pillar_radius:  # the contact fills the face: the flat pillar's resolution decides
             return []
     return problems
@@ -183,7 +183,7 @@ def _sphere_resolution_problems(grid: GridConfig, radius: float, halfspace: Half
         modulus = halfspace.effective_modulus
     except (TypeError, ValueError, ArithmeticError):  # reported by the section's own rules
         return []
-    a_jkr = (9 * math.pi * halfspace.work_of_adhesion * radius**2 / (8 * modulus)) ** (1 / 3)
+    a_jkr = jkr_contact_radius(radius, modulus, halfspace.work_of_adhesion)
     if a_jkr >= SPHERE_MIN_PULL_OFF_ELEMENTS * h:
         return []
     return [Problem(

@@ -7,6 +7,7 @@ from pydantic import Field
 from brushbem.config.errors import _show
 from brushbem.config.rules import Problem
 from brushbem.config.sections_base import _MODEL_CONFIG, _Model, _Section
+from brushbem.physics import scales
 
 
 class HalfSpaceConfig(_Section):
@@ -54,7 +55,7 @@ class HalfSpaceConfig(_Section):
             return self.contact_modulus
         # The validator guarantees both are set when contact_modulus is not.
         assert self.youngs_modulus is not None and self.poisson_ratio is not None
-        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+        return scales.contact_modulus(self.youngs_modulus, self.poisson_ratio)
 
 
 class GridConfig(_Model):

@@ -23,6 +23,7 @@ from brushbem.config.sections_pillars import (
     TipConfig,
     ViscoelasticConfig,
 )
+from brushbem.physics.scales import stiffness_of_ratio
 
 
 # Which optional keys each indenter shape needs.  Every key listed for some
@@ -330,7 +331,7 @@ class IndenterConfig(_Section):
     def pillar_stiffness(self, contact_modulus: float, size: float) -> float:
         """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L)."""
         if self.stiffness_ratio is not None:
-            return self.stiffness_ratio * contact_modulus * size
+            return stiffness_of_ratio(self.stiffness_ratio, contact_modulus, size)
         return self.stiffness
 
 

@@ -9,13 +9,12 @@ from collections.abc import Iterator
 
 from threadpoolctl import ThreadpoolController
 
-from brushbem.errors import ParameterError
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.events import events
 from brushbem.pillars.state import PillarState
-from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 
 __all__ = ["pull_off"]
 
@@ -27,13 +26,7 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic
     variants (the defaults meet the accuracy of the module docstring).
     """
     check_applicable(problem, path)
-    lowest = problem.indenter.lowest_height
-    if path.preload_displacement is not None and path.preload_displacement <= lowest:
-        raise ParameterError(
-            "LoadPath", "preload_displacement",
-            f"LoadPath.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
-            "the height of the indenter's lowest element (where it first touches)"
-        )
+    check_preload(problem.indenter, path)
     # The pillar-level matrices are small (M^2 for M pillars): BLAS threads gain little there, and on a
     # machine whose cores are busy they lose a great deal (a 256 x 256 Cholesky factorisation took 0.26 s
     # on two threads of two loaded cores against 0.75 ms on one).  The limit holds while the states are

@@ -24,7 +24,7 @@ from brushbem.protocol.contact_loading import (
 )
 from brushbem.protocol.events import _event_step, _events_in_step
 from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated
-from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 from brushbem.protocol.tracking import Tracker
 
 __all__ = ["LOADING_SAMPLES", "indent", "pull_off"]
@@ -62,14 +62,7 @@ def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
     if problem.indenter.pillar_law is not None:
         _check_law_path(problem, path)
     tracker = Tracker(problem, path)
-    if path.preload_displacement is not None:
-        lowest = problem.indenter.lowest_height
-        if path.preload_displacement <= lowest:
-            raise ParameterError(
-                "LoadPath", "preload_displacement",
-                f"LoadPath.preload_displacement = {path.preload_displacement:g} must be > {lowest:.6g}, "
-                "the height of the indenter's lowest element (where it first touches)"
-            )
+    check_preload(problem.indenter, path)
     states = _fixed(tracker, path) if path.method == "fixed" else _events(tracker, path)
     preload = None
     for state in states:

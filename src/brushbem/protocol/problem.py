@@ -14,7 +14,7 @@ from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "event_tie"]
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "check_preload", "event_tie"]
 
 
 class NotConvergedError(RuntimeError):
@@ -184,3 +184,14 @@ class State:
     reason: str
     pressure: object
     contact: object
+
+
+def check_preload(indenter: Indenter, path: LoadPath) -> None:
+    """Raise `ParameterError` (of ``LoadPath.preload_displacement``) where the preload does not reach the
+    indenter (`Indenter.preload_reaches`)."""
+    if path.preload_displacement is not None and not indenter.preload_reaches(path.preload_displacement):
+        raise ParameterError(
+            "LoadPath", "preload_displacement",
+            f"LoadPath.preload_displacement = {path.preload_displacement:g} must be > {indenter.lowest_height:.6g}, "
+            "the height of the indenter's lowest element (where it first touches)"
+        )

@@ -53,6 +53,7 @@ from brushbem.physics.structure import (
     height_map,
     sphere,
 )
+from brushbem.physics.scales import stiffness_of_ratio
 
 if TYPE_CHECKING:
     from brushbem.protocol import ContactProblem, LoadPath
@@ -152,9 +153,9 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
     spec = indenter_config
     grid = Grid(grid_config.size, grid_config.elements)
     modulus = halfspace_config.effective_modulus
-    scale = modulus * grid.size
     levels = tuple(
-        Level(lv.cluster, lv.stiffness if lv.stiffness is not None else lv.stiffness_ratio * scale,
+        Level(lv.cluster, lv.stiffness if lv.stiffness is not None
+              else stiffness_of_ratio(lv.stiffness_ratio, modulus, grid.size),
               _grading(lv.grading))
         for lv in (spec.levels or ())
     )
@@ -315,7 +316,7 @@ class Rules:
         problems = []
         preload = config.protocol.preload_displacement
         lowest = indenter.lowest_height
-        if preload is not None and preload <= lowest:
+        if preload is not None and not indenter.preload_reaches(preload):
             deepest = MAX_PRELOAD_DOMAIN_SIZES * config.grid.size
             problems.append(Problem(
                 "protocol.preload_displacement", show_value(preload),
@@ -417,7 +418,8 @@ def _spring_key(config: RunConfig, index: int) -> tuple[str, Any, float | None]:
     base = table.stiffness if ratio is None else ratio
     if table.grading is not None:
         grading = table.grading
-        ungraded = table.stiffness if ratio is None else ratio * config.halfspace.effective_modulus * config.grid.size
+        ungraded = (table.stiffness if ratio is None
+                    else stiffness_of_ratio(ratio, config.halfspace.effective_modulus, config.grid.size))
         if grading.rule == "file":
             return f"{prefix}.grading.file", grading.file, ungraded
         return f"{prefix}.grading.amplitude", grading.amplitude, None

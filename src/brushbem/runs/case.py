@@ -34,6 +34,7 @@ from brushbem.results import (
     SphereTheory,
 )
 from brushbem.physics.structure import BrushGeometry
+from brushbem.physics.scales import normalized_stiffness
 
 __all__ = ["PullOff", "brush_normalizations", "brush_scales", "build_indenter", "build_path", "build_problem",
            "design_numbers", "reference_for", "run_case", "run_problem", "run_warnings", "theory_for"]
@@ -254,7 +255,7 @@ def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
     n = info.n_pillars
     # A graded level is normalised by its mean stiffness.
     stiffnesses = [_level_stiffness(level) for level in indenter.levels] or [math.inf]
-    ratios = [k / scales["stiffness_scale"] for k in stiffnesses]
+    ratios = [normalized_stiffness(k, problem.contact_modulus, problem.grid.size) for k in stiffnesses]
     force = summary.get("adhesive_force") or 0.0
     d_c = scales["rigid_brush_displacement"]
 

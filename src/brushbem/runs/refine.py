@@ -52,6 +52,7 @@ from typing import TYPE_CHECKING, Any
 from brushbem.runs.assembly import parse_config
 from brushbem.config import ConfigError, RunConfig, config_to_dict
 from brushbem.results.refinement import FORMAL_ORDER, Extrapolation, Refinement
+from brushbem.physics.scales import jkr_contact_radius
 
 if TYPE_CHECKING:
     from brushbem.runs.pulloff import PullOff
@@ -123,7 +124,7 @@ def deciding_length(config: RunConfig, indenter: Any = None) -> tuple[str, float
     spec, halfspace = config.indenter, config.halfspace
 
     def jkr_radius(radius: float) -> float:
-        return (9 * math.pi * halfspace.work_of_adhesion * radius**2 / (8 * halfspace.effective_modulus)) ** (1 / 3)
+        return jkr_contact_radius(radius, halfspace.effective_modulus, halfspace.work_of_adhesion)
 
     if spec.shape == "flat_punch":
         return "indenter.radius", float(spec.radius)

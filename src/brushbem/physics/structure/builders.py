@@ -15,6 +15,7 @@ from brushbem.physics.structure.layouts import ClusteredLattice, clustered_latti
 from brushbem.physics.structure.raster import clustered_filling_factors, rasterise_pillars
 from brushbem.physics.structure.records import BrushGeometry, HeightMapGeometry, Indenter, PunchGeometry, SphereGeometry, SpringLevel
 from brushbem.physics.structure.tips import Grading, Profile, Tilt, Tip, _brush_heights, _pillar_offsets
+from brushbem.physics.scales import stiffness_of_ratio
 
 __all__ = ["brush", "flat_punch", "height_map", "sphere"]
 
@@ -257,7 +258,7 @@ def _pillar_stiffness(grid: Grid, stiffness, stiffness_ratio: float | None, cont
                                  "give stiffness (k) or stiffness_ratio (k~ = k / (E* L)), not both")
         if not (isinstance(stiffness_ratio, (int, float)) and stiffness_ratio > 0):
             raise StructureError("stiffness_ratio", stiffness_ratio, "must be a number > 0 (inf: rigid)")
-        stiffness = float(stiffness_ratio) * float(contact_modulus) * grid.size
+        stiffness = stiffness_of_ratio(float(stiffness_ratio), float(contact_modulus), grid.size)
     return stiffness
 
 

@@ -268,6 +268,15 @@ class Indenter:
         """Height of the lowest element: the base displacement at which the tip first touches."""
         return float(np.min(self.height[self.footprint]))
 
+    def preload_reaches(self, displacement: float) -> bool:
+        """The preload rule, stated once: a base displacement presses the indenter only beyond
+        `lowest_height`; at or below it nothing touches and there is nothing to pull off.
+
+        The load paths (`brushbem.protocol.problem.check_preload`), the pillar model and the
+        configuration's rules on the rasterised structure (`brushbem.runs.assembly`) all ask this.
+        """
+        return displacement > self.lowest_height
+
     @property
     def elastic_levels(self) -> tuple[SpringLevel, ...]:
         """The levels with finite stiffness (the rigid ones add nothing to the operator)."""

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from brushbem.physics.theory._common import _check, _out, _positive
+from brushbem.physics import scales
 
 __all__ = [
     "BUCKLING_LENGTH_FACTORS",
@@ -47,7 +48,7 @@ def contact_modulus_from(*, youngs_modulus, poisson_ratio):
     """
     youngs = _positive("youngs_modulus", youngs_modulus)
     nu = _check("poisson_ratio", poisson_ratio, "in (-1, 0.5] (-1 < poisson_ratio <= 0.5)", lambda x: (x > -1) & (x <= 0.5))
-    return _out(youngs / (1.0 - nu**2))
+    return _out(scales.contact_modulus(youngs, nu))
 
 
 def fibril_stiffness(length, radius, *, youngs_modulus):

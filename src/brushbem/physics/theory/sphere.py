@@ -26,6 +26,7 @@ from brushbem.physics.theory.sphere_regimes import (
     tabor_parameter,
 )
 from brushbem.physics.theory.sphere_spring import sphere_spring_work_of_separation
+from brushbem.physics import scales
 
 __all__ = [  # noqa: RUF022 - in the thesis's order
     "hertz_force",
@@ -229,7 +230,7 @@ def jkr_pull_off_radius(radius, *, contact_modulus, work_of_adhesion):
     modulus = _positive("contact_modulus", contact_modulus)
     dgamma = _nonnegative("work_of_adhesion", work_of_adhesion)
     r = _positive("radius", radius)
-    return _out(np.cbrt(9.0 * np.pi * dgamma * r**2 / (8.0 * modulus)))
+    return _out(scales.jkr_contact_radius(r, modulus, dgamma))
 
 
 def jkr_pull_off_displacement(radius, *, contact_modulus, work_of_adhesion):
