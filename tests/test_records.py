@@ -145,3 +145,34 @@ def _a_summary():
     import brushbem
 
     return dict(brushbem.run(_small_brush()).summary)
+
+
+def test_the_sweep_table_columns_are_the_record_fields():
+    """A run's summary, flattened as a sweep's table flattens it, has only declared columns; a study names an
+    undeclared one at import (`summary_column`), with the closest declared ones."""
+    import json
+
+    import pandas as pd
+
+    import brushbem
+    from brushbem.io.encoding import _json
+    from brushbem.results.columns import OPEN_PREFIXES, SUMMARY_COLUMNS, summary_column
+
+    punch = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+             "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.1},
+             "protocol": {"method": "events", "preload_displacement": 1e-3}}
+    sphere = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3}, "grid": {"size": 1.0, "elements": 32},
+              "indenter": {"shape": "sphere", "radius": 1.0, "stiffness": 0.5},
+              "protocol": {"method": "events", "preload_displacement": 5e-3}}
+    seen = set()
+    for config in (_small_brush(), punch, sphere):
+        summary = json.loads(_json(brushbem.run(config).summary))
+        columns = set(pd.json_normalize([summary], sep=".").columns)
+        undeclared = {c for c in columns - SUMMARY_COLUMNS if not any(c.startswith(p + ".") for p in OPEN_PREFIXES)}
+        assert not undeclared
+        seen |= columns
+    assert {"normalized.stiffness_ratio", "theory.equivalent_radius", "theory.zero_force_radius",
+            "theory.compact_punch_force"} <= seen & SUMMARY_COLUMNS
+    assert summary_column("theory.ratios.adhesive_force") == "theory.ratios.adhesive_force"  # an open mapping
+    with pytest.raises(KeyError, match="'normalized.stifness_ratio' is no column .* normalized.stiffness_ratio"):
+        summary_column("normalized.stifness_ratio")

@@ -15,14 +15,15 @@ from matplotlib.figure import Figure
 from brushbem.studies._common import case_path as common_case_path
 from brushbem.studies._common import finished, new_figure  # noqa: F401 (finished: re-exported)
 from brushbem.studies._common import save as save_figure
+from brushbem.results.columns import summary_column
 
-FA = "normalized.force_by_rigid_brush"
-FP = "normalized.preload_by_rigid_brush"
-SIG = "normalized.roughness_by_rigid_brush"
+FA = summary_column("normalized.force_by_rigid_brush")
+FP = summary_column("normalized.preload_by_rigid_brush")
+SIG = summary_column("normalized.roughness_by_rigid_brush")
 K = "indenter.stiffness_ratio"
 SIGMA = "indenter.roughness.sigma"
 PRELOAD = "protocol.preload_force"
-FIS = "normalized.force_by_ideal_sharing"
+FIS = summary_column("normalized.force_by_ideal_sharing")
 H = "indenter.profile.amplification"
 REGION = "indenter.region"
 RADIUS = "indenter.pillar_radius"

@@ -35,13 +35,20 @@ import pandas as pd
 from brushbem.figures.figstyle import styled
 from brushbem.studies._ch5_7 import FIS, K, K_TEXT, empty_note, figure, finished, has, save
 from brushbem.studies.base import Study
+from brushbem.results.columns import summary_column
+
+#: The columns of the sweep table this module reads (`brushbem.results.columns`).
+NORMALIZED_PILLARS = summary_column("normalized.pillars")
+NORMALIZED_FILLING_FACTOR = summary_column("normalized.filling_factor")
+THEORY_PULL_OFF_DISPLACEMENT = summary_column("theory.pull_off_displacement")
+THEORY_NORMALIZED_STIFFNESS = summary_column("theory.normalized_stiffness")
 
 CAP = "indenter.tip.radius"
 DEPTH = "indenter.tip.depth"
 ANGLE = "indenter.tilt.angle"
 AMPLITUDE = "indenter.grading.amplitude"
 SPEED = "protocol.speed"
-RIGID_DC = "theory.rigid_brush_displacement"
+RIGID_DC = summary_column("theory.rigid_brush_displacement")
 #: The force of these studies: the adhesive force over equal load sharing (eq. 7.4).
 F_SHARING = r"$\tilde F = F_\mathrm{A}/(N_\mathrm{p} F_\mathrm{K})$"
 
@@ -69,9 +76,9 @@ def _draw_tip_shape(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> l
     written: list[Path] = []
     caps, dishes = finished(results, "caps"), finished(results, "dishes")
     fig, ax = figure(2, 1)
-    if has(caps, CAP, "normalized.pillars"):
+    if has(caps, CAP, NORMALIZED_PILLARS):
         # r / R from the pillar radius r = sqrt(phi A0 / (pi N)); A0 = 1 (square region of side L = 1).
-        radius = np.sqrt(caps["normalized.filling_factor"] / (math.pi * caps["normalized.pillars"]))
+        radius = np.sqrt(caps[NORMALIZED_FILLING_FACTOR] / (math.pi * caps[NORMALIZED_PILLARS]))
         _by_stiffness(ax[0, 0], caps, (radius / caps[CAP]).round(3), CAP_CURVATURE,
                       r"Spherical caps (flat: $r/R_\mathrm{tip} \to 0$)", log=True)
     else:
@@ -134,7 +141,7 @@ def _draw_viscoelastic(results: Mapping[str, pd.DataFrame], figures_dir: Path) -
             continue
         slowest = frame.iloc[0]
         if part == "punch":
-            scale = abs(float(slowest["theory.pull_off_displacement"])) if "theory.pull_off_displacement" in frame \
+            scale = abs(float(slowest[THEORY_PULL_OFF_DISPLACEMENT])) if THEORY_PULL_OFF_DISPLACEMENT in frame \
                 else 1.0
             speed = frame[SPEED] / scale
             xlabel = r"pulling speed $v\tau/|d_\mathrm{A}|$ (relaxed punch)"
@@ -150,9 +157,9 @@ def _draw_viscoelastic(results: Mapping[str, pd.DataFrame], figures_dir: Path) -
             a_.axhline(1.0, ls=":", color="0.5", lw=0.8)
             a_.text(0.02, 1.0, r"relaxed (elastic $k_\infty$)", fontsize="small", color="0.4", va="bottom",
                     transform=a_.get_yaxis_transform())
-            if part == "punch" and key == "work_of_separation" and "theory.normalized_stiffness" in frame:
+            if part == "punch" and key == "work_of_separation" and THEORY_NORMALIZED_STIFFNESS in frame:
                 # Closed form (eq. 2.18-2.19): W = W_rigid (1 + 1/k~); instantaneous k~_0 = 10 k~_inf.
-                k_inf = float(slowest["theory.normalized_stiffness"])
+                k_inf = float(slowest[THEORY_NORMALIZED_STIFFNESS])
                 ratio = (1 + 1 / (10 * k_inf)) / (1 + 1 / k_inf)
                 a_.axhline(ratio, ls="--", color="tab:red", lw=0.8)
                 a_.text(0.02, ratio, r"instantaneous (eq. 2.19, $k_0 = 10 k_\infty$)", fontsize="small",

@@ -36,9 +36,10 @@ from brushbem.studies._ch5_7 import (
 )
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE
+from brushbem.results.columns import summary_column
 
 PHI = "phi"
-DISP = "normalized.displacement_by_rigid_brush"
+DISP = summary_column("normalized.displacement_by_rigid_brush")
 #: Mathtext of the chapter's quantities (eq. 7.1-7.5).
 H_TEXT = r"$\tilde h$"
 SHARING = r"$N_\mathrm{p} F_\mathrm{K}$"

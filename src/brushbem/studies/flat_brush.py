@@ -33,9 +33,16 @@ from brushbem.studies._common import (
 )
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE
+from brushbem.results.columns import summary_column
+
+#: The columns of the sweep table this module reads (`brushbem.results.columns`).
+NORMALIZED_STIFFNESS_RATIO = summary_column("normalized.stiffness_ratio")
+NORMALIZED_PILLARS = summary_column("normalized.pillars")
+NORMALIZED_FILLING_FACTOR = summary_column("normalized.filling_factor")
+NORMALIZED_DISPLACEMENT_BY_RIGID_BRUSH = summary_column("normalized.displacement_by_rigid_brush")
 
 SNAPSHOTS = ("max_preload", "zero_force", "adhesive_force", "half_detached", "before_separation")
-FA = "normalized.force_by_compact_punch"
+FA = summary_column("normalized.force_by_compact_punch")
 #: Labels of the chapter's normalisations (eq. 4.11-4.15).
 K_TILDE = r"$\tilde k = k/(E^* L)$"
 F_TILDE_A = r"$\tilde F_\mathrm{A} = F_\mathrm{A}/F_\mathrm{K}$ (eq. 4.11)"
@@ -46,9 +53,9 @@ def _frame(results, part):
     frame = finished(results, part)
     if len(frame):
         frame = frame.assign(
-            k_tilde=column(frame, "normalized.stiffness_ratio"),
-            n=column(frame, "normalized.pillars"),
-            phi=column(frame, "normalized.filling_factor"),
+            k_tilde=column(frame, NORMALIZED_STIFFNESS_RATIO),
+            n=column(frame, NORMALIZED_PILLARS),
+            phi=column(frame, NORMALIZED_FILLING_FACTOR),
             F=column(frame, FA),
         )
     return frame
@@ -89,7 +96,7 @@ def _draw_curves(results, figures_dir):
         if ds is None:
             continue
         f_scale = float(row.adhesive_force) / float(row.F)
-        d_scale = float(row.pull_off_displacement) / float(row["normalized.displacement_by_rigid_brush"])
+        d_scale = float(row.pull_off_displacement) / float(row[NORMALIZED_DISPLACEMENT_BY_RIGID_BRUSH])
         ax.plot(ds.displacement.values / d_scale, ds.force.values / f_scale, lw=1)
         for j, name in enumerate(SNAPSHOTS):
             snap = stage_field(ds, "contact", name)

@@ -40,6 +40,10 @@ from brushbem.studies._ch5_7 import (
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, STATED_CHOICE
 from brushbem.physics.theory import equivalent_single_level_stiffness
+from brushbem.results.columns import summary_column
+
+#: The columns of the sweep table this module reads (`brushbem.results.columns`).
+NORMALIZED_SEPARATION_DISPLACEMENT_BY_RIGID_BRUSH = summary_column("normalized.separation_displacement_by_rigid_brush")
 
 LEVELS = ("one", "two", "three")
 LEVEL_COLOURS = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
@@ -47,9 +51,9 @@ LEVEL_COLOURS = {"one": "tab:blue", "two": "tab:orange", "three": "tab:green"}
 FA_DEFINED = r"$\tilde F_\mathrm{A} = F_\mathrm{A}/F_\mathrm{c}$"
 #: The large preload of Fig. 6-7 and 6-8.
 AT_PRELOAD = rf"{FA_TEXT} ({FP_TEXT} = 14.3)"
-KEQ = "normalized.equivalent_single_level_stiffness_ratio"
+KEQ = summary_column("normalized.equivalent_single_level_stiffness_ratio")
 K3 = "indenter.levels.1.stiffness_ratio"
-K1 = "normalized.stiffness_ratio"  # a brush's bottom-level k~1
+K1 = summary_column("normalized.stiffness_ratio")  # a brush's bottom-level k~1
 
 
 def effective_stiffness(results: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
@@ -563,7 +567,7 @@ STUDY = Study(
         ThesisNumber("separation displacement, three levels over one level, sigma~ = 0.04, F~_P = 14.3 ('a larger "
                      "critical displacement appears in the case of the structure with more levels', L1185)",
                      "Fig. 6-4 b, text (L1185)", 1.0,
-                     _plateau_ratio("three", "one", 0.04, 14.3, "normalized.separation_displacement_by_rigid_brush"),
+                     _plateau_ratio("three", "one", 0.04, 14.3, NORMALIZED_SEPARATION_DISPLACEMENT_BY_RIGID_BRUSH),
                      claim=">"),
         ThesisNumber("c = F~_A / F~_P at sigma~ = 1.6, F~_P = 1, three levels over one level ('the structure with "
                      "more levels determines a relatively larger adhesion coefficient', L1199)",

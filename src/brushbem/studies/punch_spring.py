@@ -30,6 +30,12 @@ from brushbem.studies._common import (
 )
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED
+from brushbem.results.columns import summary_column
+
+#: The columns of the sweep table this module reads (`brushbem.results.columns`).
+THEORY_NORMALIZED_STIFFNESS = summary_column("theory.normalized_stiffness")
+THEORY_WORK_OF_SEPARATION = summary_column("theory.work_of_separation")
+THEORY_EQUIVALENT_RADIUS = summary_column("theory.equivalent_radius")
 
 PART = "stiffness"
 
@@ -38,9 +44,9 @@ def _frame(results):
     frame = finished(results, PART)
     if len(frame):
         k = column(frame, "indenter.stiffness")
-        kt = np.where(np.isfinite(k), column(frame, "theory.normalized_stiffness"), math.inf)
+        kt = np.where(np.isfinite(k), column(frame, THEORY_NORMALIZED_STIFFNESS), math.inf)
         # w~ = w / w_K; theory.work_of_separation is w_K (1 + 1/k~) (eq. 2.18-2.19).
-        w_k = column(frame, "theory.work_of_separation") / (1 + 1 / kt)
+        w_k = column(frame, THEORY_WORK_OF_SEPARATION) / (1 + 1 / kt)
         frame = frame.assign(k_tilde=kt, w_tilde=column(frame, "work_of_separation") / w_k)
     return frame
 
@@ -80,7 +86,7 @@ def draw(results, figures_dir: Path) -> list[Path]:
         cfg = case_config(ds)
         modulus = cfg["halfspace"]["contact_modulus"]
         dgamma = cfg["halfspace"]["work_of_adhesion"]
-        r = float(row["theory.equivalent_radius"])
+        r = float(row[THEORY_EQUIVALENT_RADIUS])
         fk = theory.kendall_force(r, contact_modulus=modulus, work_of_adhesion=dgamma)
         dk = theory.kendall_displacement(r, contact_modulus=modulus, work_of_adhesion=dgamma)
         label = "rigid" if not np.isfinite(row.k_tilde) else rf"$\tilde k$ = {row.k_tilde:.3g}"

@@ -34,17 +34,18 @@ from matplotlib.ticker import FormatStrFormatter, NullFormatter
 from brushbem.studies._ch5_7 import empty_note, figure, finished, has, save
 from brushbem.studies.base import Study
 from brushbem.figures.figstyle import styled
+from brushbem.results.columns import summary_column
 
 PARTS = ("stiff", "soft", "softer", "rough_small", "rough_large")
 LEVEL = ("stiff", "soft", "softer")
 LABELS = {"stiff": r"$\tilde k$ = 10", "soft": r"$\tilde k$ = $10^{-2}$", "softer": r"$\tilde k$ = $10^{-4}$",
           "rough_small": r"$\tilde k$ = $10^{-2}$, $\tilde\sigma$ = 0.1",
           "rough_large": r"$\tilde k$ = $10^{-2}$, $\tilde\sigma$ = 1"}
-N_P = "normalized.pillars"
-PHI = "normalized.filling_factor"
-F_COMPACT = "normalized.force_by_compact_punch"
-F_RIGID = "normalized.force_by_rigid_brush"
-K_RATIO = "normalized.stiffness_ratio"
+N_P = summary_column("normalized.pillars")
+PHI = summary_column("normalized.filling_factor")
+F_COMPACT = summary_column("normalized.force_by_compact_punch")
+F_RIGID = summary_column("normalized.force_by_rigid_brush")
+K_RATIO = summary_column("normalized.stiffness_ratio")
 DGAMMA = "halfspace.work_of_adhesion"
 
 

@@ -30,6 +30,11 @@ from brushbem.studies._common import (
     save,
 )
 from brushbem.studies.base import Study, ThesisNumber
+from brushbem.results.columns import summary_column
+
+#: The columns of the sweep table this module reads (`brushbem.results.columns`).
+THEORY_NORMALIZED_STIFFNESS = summary_column("theory.normalized_stiffness")
+THEORY_ADHESIVE_FORCE = summary_column("theory.adhesive_force")
 
 PART = "stiffness"
 
@@ -38,12 +43,12 @@ def _frame(results):
     frame = finished(results, PART)
     if len(frame):
         k = column(frame, "indenter.stiffness")
-        kbar = np.where(np.isfinite(k), column(frame, "theory.normalized_stiffness"), math.inf)
+        kbar = np.where(np.isfinite(k), column(frame, THEORY_NORMALIZED_STIFFNESS), math.inf)
         # w_bar = W / W_rigid with the rigid sphere's closed form (eq. 2.27) of the study's material
         # (R = 1, E* = 1, dgamma = 1e-3: the sweep's base), whichever closed form the run compared with.
         w_rigid = theory.jkr_work_of_separation(1.0, contact_modulus=1.0, work_of_adhesion=1.0e-3)
         w_bar = column(frame, "work_of_separation") / w_rigid
-        f_jkr = column(frame, "theory.adhesive_force")
+        f_jkr = column(frame, THEORY_ADHESIVE_FORCE)
         frame = frame.assign(k_bar=kbar, w_bar=w_bar, force_ratio=column(frame, "adhesive_force") / f_jkr)
     return frame
 
