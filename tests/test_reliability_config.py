@@ -67,7 +67,7 @@ BASES: dict[str, dict[str, Any]] = {
         "halfspace": {"youngs_modulus": 1.0, "poisson_ratio": 0.3, "work_of_adhesion": 1e-3},
         "grid": GRID,
         "indenter": {"shape": "sphere", "radius": 1.0},
-        "protocol": {"preload_force": 1e-3},
+        "protocol": {"preload_force": 1e-3, "event_window": 1e-7},
     },
     "height_map": {
         "halfspace": HALFSPACE, "grid": GRID,
