@@ -73,15 +73,19 @@ def test_the_default_run_figure_is_dimensionless_not_in_units_of_the_inputs():
     texts = _texts(figure)
     assert not [text for text in texts if "units of the inputs" in text]
     curve = figure.axes[0]
-    assert curve.get_xlabel() == "base displacement $d$ (dimensionless)"
-    assert curve.get_ylabel() == "force $F$ (dimensionless)"
+    # "dimensionless" once, in the title, not on every axis.
+    assert curve.get_xlabel() == "base displacement $d$" and curve.get_ylabel() == "force $F$"
+    assert sum("dimensionless" in text for text in texts) == 1 and "(dimensionless)" in curve.get_title()
+    assert not any("(dimensionless)" in ax.get_xlabel() + ax.get_ylabel() for ax in figure.axes)
     # Numbers in titles are named: the title gives F_A and W by their symbols.
     assert curve.get_title().startswith(r"$F_\mathrm{A}$ = 1,") and "$W$ = 0.011" in curve.get_title()
-    # With [units] set, the units of the configuration.
+    # With [units] set, the units of the configuration, with the SI prefix that reads: |d| <= 0.012 mm is
+    # drawn in µm, F_A = 1 N in N, W = 0.011 mJ written 11 µJ.
     named = pull_off_figure(fake_result({"units": {"length": "mm", "stress": "MPa"}}))
-    assert named.axes[0].get_xlabel() == "base displacement $d$ (mm)"
+    assert named.axes[0].get_xlabel() == "base displacement $d$ (µm)"
     assert named.axes[0].get_ylabel() == "force $F$ (N)"
-    assert named.axes[0].get_title().endswith("$W$ = 0.011 mJ")
+    assert named.axes[0].get_title().endswith("$W$ = 11 µJ")
+    assert named.axes[0].get_xlim()[0] == pytest.approx(-12.6, abs=0.5)  # the data in µm, not mm
 
 
 def test_the_run_figure_is_written_as_png_at_300_dpi_and_pdf(tmp_path):
@@ -147,7 +151,7 @@ def test_sweep_axes_are_named_by_the_configuration_keys(tmp_path):
 
     assert figstyle.key_label("indenter.stiffness_ratio") == r"pillar stiffness $\tilde k = k/(E^* L)$"
     assert figstyle.key_label("adhesive_force", Units("mm", "MPa")) == r"adhesive force $F_\mathrm{A}$ (N)"
-    assert figstyle.key_label("indenter.radius") == "indenter radius $R$ (dimensionless)"
+    assert figstyle.key_label("indenter.radius") == "indenter radius $R$"  # no "(dimensionless)" on an axis
     assert figstyle.key_label("indenter.not_a_key") == "indenter.not_a_key"
 
 
@@ -162,7 +166,7 @@ def test_sweep_figure_labels_read_the_key_names(monkeypatch, tmp_path):
                          tmp_path / "fa.png")
     axes = drawn[0].axes[0]
     assert axes.get_xlabel() == r"pillar stiffness $\tilde k = k/(E^* L)$"
-    assert axes.get_ylabel() == r"adhesive force $F_\mathrm{A}$ (dimensionless)"
+    assert axes.get_ylabel() == r"adhesive force $F_\mathrm{A}$"
     assert [t.get_text() for t in axes.get_legend().get_texts()] == [r"$\sigma$ = 0"]
     assert "indenter." not in axes.get_title()
 
@@ -205,3 +209,77 @@ def test_study_figures_speak_mathematics_and_keep_their_titles(tmp_path, monkeyp
     fig5.canvas.draw()
     title = fig5.axes[0].title.get_window_extent(fig5.canvas.get_renderer())
     assert fig5.bbox.x0 <= title.x0 and title.x1 <= fig5.bbox.x1
+
+
+# --------------------------------------------------------------------------- figures that read (issue 62)
+
+#: A brush's closed-form limits as summary.json records them: F_c and N_p F_K, and -|d_c|.
+BRUSH_THEORY = {"model": "brush limits (thesis eq. 4.5-4.13, 5.3-5.5, 7.4)", "rigid_brush_force": 0.8,
+                "ideal_sharing_force": 1.6, "rigid_brush_displacement": -0.008, "compact_punch_force": 0.5}
+
+
+def _with_theory(result: CaseResult, theory: dict) -> CaseResult:
+    import dataclasses
+
+    return dataclasses.replace(result, summary={**result.summary, "theory": theory})
+
+
+def test_a_brush_curve_shows_its_reference_limits_and_both_branches():
+    figure = pull_off_figure(_with_theory(fake_result(), BRUSH_THEORY))
+    curve = figure.axes[0]
+    limits = {line.get_label(): line.get_ydata()[0] for line in curve.lines
+              if "rigid brush" in line.get_label() or "equal sharing" in line.get_label()}
+    assert sorted(limits.values()) == [-1.6, -0.8], limits  # -N_p F_K and -F_c
+    assert curve.get_ylim()[0] < -1.6  # the limit lies inside the view
+    (loading,) = [line for line in curve.lines if line.get_label() == "loading"]
+    (unloading,) = [line for line in curve.lines if line.get_label() == "unloading"]
+    # The loading branch is drawn dashed on top of the unloading one: where they coincide both show.
+    assert loading.get_zorder() > unloading.get_zorder() and loading.get_linestyle() != "-"
+
+
+def test_numbers_and_axes_take_the_si_prefix_that_reads():
+    from brushbem.workflow.plot import _prefixed
+
+    assert _prefixed("µN", 6.208e4) == pytest.approx((1e-3, "mN"))
+    assert _prefixed("pJ", 4.335e5) == pytest.approx((1e-3, "nJ"))
+    assert _prefixed("N", 2.1e-2) == pytest.approx((1e3, "mN"))
+    assert _prefixed("N/mm", 2.1e-2) == (1.0, "N/mm")  # a compound unit keeps its own
+    assert _prefixed("mm", 0.0) == (1.0, "mm")
+    # um and MPa: forces in µN; a brush of 6.208e4 µN is titled in mN.
+    import dataclasses
+
+    result = fake_result({"units": {"length": "um", "stress": "MPa"}})
+    curve = dataclasses.replace(result.curve, force=result.curve.force * 6.208e4)
+    result = dataclasses.replace(result, curve=curve, summary={"adhesive_force": 6.208e4, "work_of_separation": 4.335e5})
+    axes = pull_off_figure(result).axes[0]
+    assert axes.get_title().startswith(r"$F_\mathrm{A}$ = 62.08 mN") and "e+0" not in axes.get_title()
+    assert axes.get_ylabel() == "force $F$ (mN)"
+
+
+def test_normalised_axes_are_the_thesis_groups():
+    figure = pull_off_figure(_with_theory(fake_result(), BRUSH_THEORY), normalized=True)
+    curve = figure.axes[0]
+    assert "d_\\mathrm{c}" in curve.get_xlabel() and "N_\\mathrm{p} F_\\mathrm{K}" in curve.get_ylabel()
+    (unloading,) = [line for line in curve.lines if line.get_label() == "unloading"]
+    assert min(unloading.get_ydata()) == pytest.approx(-1.0 / 1.6, rel=1e-12, abs=0.0)  # F / (N_p F_K)
+    assert min(unloading.get_xdata()) == pytest.approx(-0.012 / 0.008, rel=1e-12, abs=0.0)  # d / |d_c|
+    with pytest.raises(ValueError, match="no closed form"):
+        pull_off_figure(fake_result(), normalized=True)
+
+
+def test_the_pressure_map_of_ten_thousand_pillars_is_not_covered_by_outlines():
+    import dataclasses
+
+    from matplotlib.collections import PatchCollection
+
+    side = 100  # 10^4 pillars on the 16 x 16 map
+    centres = -0.5 + (np.arange(side) + 0.5) / side
+    x, y = np.meshgrid(centres, centres)
+    many = {"x": x.ravel(), "y": y.ravel(), "elements": np.ones(side * side)}
+    figure = pull_off_figure(dataclasses.replace(fake_result(), pillars=many))
+    pattern = figure.axes[1]
+    assert not [c for c in pattern.collections if isinstance(c, PatchCollection)]  # no outline drawn
+    assert any("too small to outline" in text for text in _texts(figure))
+    # Four pillars are outlined as before.
+    few = pull_off_figure(fake_result()).axes[1]
+    assert [c for c in few.collections if isinstance(c, PatchCollection)]

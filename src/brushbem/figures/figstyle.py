@@ -8,8 +8,8 @@ atomically.
 
 Labels are matplotlib mathtext (``r"$\\tilde F = F/F_\\mathrm{K}$"``).  A
 dimensional quantity is labelled with its unit when the configuration names
-one (``[units]``, `brushbem.results.units.Units`) and as "dimensionless" when it does
-not; a normalised quantity needs neither.  `KEY_LABELS` names the
+one (``[units]``, `brushbem.results.units.Units`) and without a unit when it does
+not (the numbers are then in the units of the inputs); a normalised quantity needs none.  `KEY_LABELS` names the
 configuration keys and summary columns that sweeps vary and report;
 `key_label` and `key_symbol` read it and fall back to the key itself.
 
@@ -289,18 +289,22 @@ KEY_LABELS: dict[str, Quantity] = {
 
 
 def unit_text(dimension: str | None, units: Units | None = None) -> str:
-    """The parenthesised unit of an axis: ``" (mm)"``, ``" (dimensionless)"``, ``" (°)"``; ``""`` for None."""
+    """The parenthesised unit of an axis: ``" (mm)"``, ``" (°)"``; ``""`` for None or without ``[units]``.
+
+    Without ``[units]`` the numbers are in the units of the inputs: an axis says nothing rather than
+    "(dimensionless)" on every axis; the figure says it once where it matters (the run figure's title).
+    """
     if dimension is None:
         return ""
     if dimension == "angle":
         return " (°)"
     if units is None or units.dimensionless:
-        return " (dimensionless)"
+        return ""
     return f" ({units.label(dimension)})"
 
 
 def axis_label(name: str, dimension: str | None = None, units: Units | None = None) -> str:
-    """``name`` with its unit: ``"force $F$ (N)"``, ``"force $F$ (dimensionless)"``, or ``name`` alone."""
+    """``name`` with its unit: ``"force $F$ (N)"``, or ``name`` alone (no unit, or no ``[units]``)."""
     return name + unit_text(dimension, units)
 
 
@@ -308,7 +312,8 @@ def key_label(key: str, units: Units | None = None) -> str:
     """The axis label of a configuration key or summary column: name, symbol, definition and unit.
 
     ``key_label("indenter.stiffness_ratio")`` is ``r"pillar stiffness $\\tilde k = k/(E^* L)$"``;
-    ``key_label("indenter.radius", Units("mm", "MPa"))`` is ``"indenter radius $R$ (mm)"``.
+    ``key_label("indenter.radius", Units("mm", "MPa"))`` is ``"indenter radius $R$ (mm)"``, without
+    ``[units]`` ``"indenter radius $R$"``.
     A key not in `KEY_LABELS` is its own label.
     """
     quantity = KEY_LABELS.get(key)

@@ -52,6 +52,9 @@ _REFERENCE_COLOUR = "0.2"
 _STAGE_COLOUR = "0.2"
 _DETACHED_COLOUR = figstyle.COLOURS[1]
 _MARKER_SIZE = 6.0  # points, the adhesive-force marker
+#: The least diameter (points) at which the pressure map outlines each pillar: below it the outlines' ink
+#: (0.5 to 0.7 points wide) would cover the pressure they enclose.
+_LEAST_OUTLINED = 2.5
 
 
 def plot_pull_off(
@@ -60,13 +63,14 @@ def plot_pull_off(
     reference: Mapping[str, Any] | None = None,
     *,
     units: Units | None = None,
+    normalized: bool = False,
 ) -> Path:
     """Draw `pull_off_figure` and write it at ``path`` (a PNG at 300 dpi) with a PDF beside it.
 
     ``pulloff.png`` writes ``pulloff.png`` and ``pulloff.pdf``, each replaced
     atomically (`brushbem.figures.figstyle.save`).  Returns ``path``.
     """
-    return figstyle.save(pull_off_figure(result, reference, units=units), path)
+    return figstyle.save(pull_off_figure(result, reference, units=units, normalized=normalized), path)
 
 
 def as_case_result(result: Any) -> CaseResult:
@@ -100,6 +104,7 @@ def pull_off_figure(
     *,
     ax: Axes | None = None,
     units: Units | None = None,
+    normalized: bool = False,
 ) -> Figure:
     """Force against base displacement, as a `matplotlib.figure.Figure` (no pyplot, no window).
 
@@ -114,8 +119,18 @@ def pull_off_figure(
     the curve, with every pillar of a brush outlined: solid and filled by the
     pressure where it is attached, dashed and hollow where it is not.
 
-    Axes carry the configuration's units, or say "dimensionless" when it
-    names none.
+    The closed-form limits that ``summary.json`` records are drawn as dashed
+    horizontal lines where they exist: a brush's F_c (rigid brush, eq. 4.5)
+    and N_p F_K (every pillar at its Kendall force, eq. 7.4), a punch's or a
+    sphere's closed-form adhesive force (Kendall, JKR) where no closed-form
+    curve is given.  Numbers and axes take the SI prefix that reads
+    (62.08 mN, not 6.208e+04 µN) where the configuration names units; without
+    ``[units]`` the axes carry no unit and the title says once that the
+    numbers are dimensionless.
+
+    With ``normalized`` the axes are the thesis's: F/(N_p F_K) against
+    d/|d_c| for a brush (eq. 7.4, 4.12), F/F_A and d/|d_A| of the closed form
+    (Kendall, JKR) for a punch or a sphere.
 
     Parameters
     ----------
@@ -132,19 +147,31 @@ def pull_off_figure(
     units : brushbem.results.units.Units, optional
         The unit system of the axis labels; by default the run's
         configuration's ``[units]`` (dimensionless without it).
+    normalized : bool
+        Draw the curve on normalised axes (above).
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        With ``normalized``, for a run whose summary records no closed form
+        to normalise by.
     """
     if reference is None:
         reference = getattr(result, "reference", None)  # a PullOff's closed-form curve, as its figure() draws
     result = as_case_result(result)
     units = units if units is not None else Units.of_record(result.attributes)
     curve = result.curve
+    summary = result.summary if isinstance(result.summary, Mapping) else {}
+    theory = summary.get("theory") if isinstance(summary.get("theory"), Mapping) else {}
     displacement = np.asarray(curve.displacement, dtype=float)
     force = np.asarray(curve.force, dtype=float)
     loading = np.asarray(curve.loading, dtype=bool)
+    scales = _Scales.of(theory, units, displacement, force, normalized)
+    displacement, force = displacement * scales.x, force * scales.y
 
     pattern = next((snap for snap in result.snapshots if snap.name == "adhesive_force"), None)
     map_axes = None
@@ -159,40 +186,44 @@ def pull_off_figure(
             axes = figure.add_subplot()
     axes.axhline(0.0, color="0.7", linewidth=0.8)
 
-    if reference is not None:
+    if reference is not None and not normalized:
         axes.plot(
-            np.asarray(reference["displacement"], dtype=float),
-            np.asarray(reference["force"], dtype=float),
+            np.asarray(reference["displacement"], dtype=float) * scales.x,
+            np.asarray(reference["force"], dtype=float) * scales.y,
             linestyle="--",
             color=_REFERENCE_COLOUR,
             linewidth=1.0,
             label=str(reference.get("label", "reference")),
         )
-    if np.any(loading):
-        # Wide and light beneath the unloading line, so both branches show where they coincide.
-        axes.plot(displacement[loading], force[loading], color=_LOADING_COLOUR, linewidth=3.0, alpha=0.45,
-                  label="loading")
+    # Lines across the curve's span (not axhline): the numbers and the inset see them as lines to keep off.
+    span = (float(np.min(displacement)), float(np.max(displacement))) if displacement.size else (0.0, 1.0)
+    for value, label, style in _limits(theory, reference is not None and not normalized):
+        axes.plot(span, [-value * scales.y] * 2, color=_REFERENCE_COLOUR, linewidth=0.9, linestyle=style,
+                  zorder=1, label=label)
     unloading = np.flatnonzero(~loading)
     if unloading.size:
         # Start the unloading line at the turning point so the branches join.
         start = max(int(unloading[0]) - 1, 0)
         rows = np.concatenate([[start], unloading]) if start < unloading[0] else unloading
-        axes.plot(displacement[rows], force[rows], color=_UNLOADING_COLOUR, label="unloading")
-    summary = result.summary if isinstance(result.summary, Mapping) else {}
-    force_unit = _unit(units, "force")
+        axes.plot(displacement[rows], force[rows], color=_UNLOADING_COLOUR, linewidth=1.2, label="unloading",
+                  zorder=2)
+    if np.any(loading):
+        # Dashed on top of the unloading line: where the branches coincide both show.
+        axes.plot(displacement[loading], force[loading], color=_LOADING_COLOUR, linewidth=1.4,
+                  linestyle=(0, (3.0, 2.0)), label="loading", zorder=2.5)
     weakest = None
     if force.size:
         weakest = int(np.argmin(force))
         axes.plot(displacement[weakest], force[weakest], marker="o", markersize=_MARKER_SIZE, linestyle="none",
                   markerfacecolor="none", markeredgecolor="black", markeredgewidth=1.2, zorder=4,
-                  label=rf"adhesive force $F_\mathrm{{A}}$ = {-force[weakest]:.4g}{force_unit}")
+                  label=rf"adhesive force $F_\mathrm{{A}}$ = {scales.force_text(-force[weakest] / scales.y, physical=True)}")
 
     stages = [(number, name, next((s for s in result.snapshots if s.name == name), None))
               for number, name in enumerate(STAGES, start=1)]
     reached = [(number, snapshot) for number, _, snapshot in stages if snapshot is not None]
-    for _, snapshot in reached:
-        axes.plot(snapshot.displacement, snapshot.force, marker=".", markersize=4, color=_STAGE_COLOUR,
-                  linestyle="none", zorder=3)
+    points = {number: (snapshot.displacement * scales.x, snapshot.force * scales.y) for number, snapshot in reached}
+    for number, _ in reached:
+        axes.plot(*points[number], marker=".", markersize=4, color=_STAGE_COLOUR, linestyle="none", zorder=3)
     # A stage the path does not pass through is said so; one that does not apply (half of the pillars of
     # a single body) is left out.
     missing = summary.get("stages_not_reached") or {}
@@ -200,11 +231,11 @@ def pull_off_figure(
                         label=STAGE_NAMES[name] + (" (not reached)" if snapshot is None else ""))
                  for number, name, snapshot in stages if snapshot is not None or name in missing]
 
-    axes.set_title(rf"$F_\mathrm{{A}}$ = {_number(summary.get('adhesive_force'))}{force_unit},  "
-                   rf"$W$ = {_number(summary.get('work_of_separation'))}{_unit(units, 'energy')}")
-    axes.set_xlabel(figstyle.axis_label(r"base displacement $d$", "length", units))
-    axes.set_ylabel(figstyle.axis_label(r"force $F$", "force", units))
-
+    axes.set_title(rf"$F_\mathrm{{A}}$ = {scales.force_text(summary.get('adhesive_force'), physical=True)},  "
+                   rf"$W$ = {scales.energy_text(summary.get('work_of_separation'))}"
+                   + ("  (dimensionless)" if units.dimensionless and not normalized else ""))
+    axes.set_xlabel(scales.x_label)
+    axes.set_ylabel(scales.y_label)
     curve_key = axes.get_legend_handles_labels()[0]
     pillar_key = _draw_pattern(map_axes, pattern, result, units) if map_axes is not None else []
     if ax is None:
@@ -223,11 +254,105 @@ def pull_off_figure(
     blocked = [inset.get_tightbbox(_renderer(axes))] if inset is not None else []
     if weakest is not None:
         blocked.append(_marker_box(axes, displacement[weakest], force[weakest], _MARKER_SIZE + 2.0))
-    for _, snapshot in reached:
-        blocked.append(_marker_box(axes, snapshot.displacement, snapshot.force, 3.0))
-    _place_labels(axes, [(str(number), snapshot.displacement, snapshot.force) for number, snapshot in reached],
-                  blocked, curve_pixels)
+    for number, _ in reached:
+        blocked.append(_marker_box(axes, *points[number], 3.0))
+    _place_labels(axes, [(str(number), *points[number]) for number, _ in reached], blocked, curve_pixels)
     return figure
+
+
+def _limits(theory: Mapping[str, Any], curve_drawn: bool) -> list[tuple[float, str, Any]]:
+    """The closed-form adhesive forces drawn as horizontal lines: (force magnitude, label, line style)."""
+    def value(key: str) -> float | None:
+        number = theory.get(key)
+        return float(number) if isinstance(number, (int, float)) and math.isfinite(number) and number > 0 else None
+
+    limits = []
+    if value("rigid_brush_force") is not None:
+        limits.append((value("rigid_brush_force"), r"$-F_\mathrm{c}$, rigid brush (eq. 4.5)", (0, (5.0, 3.0))))
+    if value("ideal_sharing_force") is not None:
+        limits.append((value("ideal_sharing_force"), r"$-N_\mathrm{p}F_\mathrm{K}$, equal sharing (eq. 7.4)",
+                       (0, (1.0, 2.0))))
+    if not limits and not curve_drawn and value("adhesive_force") is not None:
+        limits.append((value("adhesive_force"), f"closed form: {str(theory.get('model', '')).split(' (')[0]}",
+                       (0, (5.0, 3.0))))
+    return limits
+
+
+#: SI prefixes by their power of ten, for numbers and axes that read (62.08 mN, not 6.208e+04 µN).
+_SI = {-15: "f", -12: "p", -9: "n", -6: "µ", -3: "m", 0: "", 3: "k", 6: "M", 9: "G"}
+_SI_POWER = {prefix: power for power, prefix in _SI.items()} | {"u": -6}
+#: The units a prefix is chosen for (a compound unit such as N/mm keeps its own).
+_SI_BASES = ("Pa", "N", "J", "m")
+
+
+def _prefixed(label: str, magnitude: float) -> tuple[float, str]:
+    """The factor and unit that write ``magnitude`` (in unit ``label``) with 1 to 999 before the unit.
+
+    ``_prefixed("µN", 6.208e4)`` is ``(1e-3, "mN")``: 6.208e4 µN is 62.08 mN.  A unit that is not a
+    prefix and one of `_SI_BASES` (N/mm, MPa·mm) or a magnitude of 0 keeps its unit (factor 1).
+    """
+    base = next((b for b in _SI_BASES if label.endswith(b) and label[:-len(b)] in _SI_POWER), None)
+    if base is None or not (math.isfinite(magnitude) and magnitude > 0):
+        return 1.0, label
+    power = _SI_POWER[label[:-len(base)]]
+    target = power + 3 * math.floor(math.log10(magnitude) / 3 + 1e-9)
+    target = min(max(target, min(_SI)), max(_SI))
+    if base == "m" and target > 0:  # km of a contact: keep metres
+        target = 0
+    return 10.0 ** (power - target), _SI[target] + base
+
+
+class _Scales:
+    """How the curve's numbers are shown: factors (SI prefix or normalisation) and labels of the two axes."""
+
+    def __init__(self, x: float, y: float, x_label: str, y_label: str, units: Units, force_unit: str,
+                 force_factor: float, normalized: bool) -> None:
+        self.x, self.y, self.x_label, self.y_label = x, y, x_label, y_label
+        self._units, self._force_unit, self._force_factor, self._normalized = units, force_unit, force_factor, normalized
+
+    @classmethod
+    def of(cls, theory: Mapping[str, Any], units: Units, displacement: np.ndarray, force: np.ndarray,
+           normalized: bool) -> _Scales:
+        force_factor, force_unit = (_prefixed(units.label("force"), float(np.max(np.abs(force), initial=0.0)))
+                                    if not units.dimensionless else (1.0, ""))
+        if normalized:
+            brush = theory.get("ideal_sharing_force"), theory.get("rigid_brush_displacement")
+            single = theory.get("adhesive_force"), theory.get("pull_off_displacement")
+            if all(isinstance(v, (int, float)) and v for v in brush):
+                f_scale, d_scale = float(brush[0]), abs(float(brush[1]))
+                labels = (r"$d\,/\,|d_\mathrm{c}|$ (eq. 4.12)", r"$F\,/\,(N_\mathrm{p} F_\mathrm{K})$ (eq. 7.4)")
+            elif all(isinstance(v, (int, float)) and v for v in single):
+                f_scale, d_scale = float(single[0]), abs(float(single[1]))
+                labels = (r"$d\,/\,|d_\mathrm{A}^\mathrm{closed}|$", r"$F\,/\,F_\mathrm{A}^\mathrm{closed}$")
+            else:
+                raise ValueError("normalized axes: the run's summary records no closed form to normalise by "
+                                 "(theory); draw it on physical axes")
+            return cls(1.0 / d_scale, 1.0 / f_scale, *labels, units, force_unit, force_factor, True)
+        if units.dimensionless:
+            return cls(1.0, 1.0, r"base displacement $d$", r"force $F$", units, "", 1.0, False)
+        x_factor, x_unit = _prefixed(units.label("length"), float(np.max(np.abs(displacement), initial=0.0)))
+        return cls(x_factor, force_factor, rf"base displacement $d$ ({x_unit})", rf"force $F$ ({force_unit})",
+                   units, force_unit, force_factor, False)
+
+    def force_text(self, value: Any, *, physical: bool = False) -> str:
+        """A force in the unit of the axis's prefix (on normalised axes: normalised, unless ``physical``)."""
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            return "nan"
+        if self._normalized and not physical:
+            return f"{number * self.y:.4g}"
+        return f"{number * self._force_factor:.4g}" + (f" {self._force_unit}" if self._force_unit else "")
+
+    def energy_text(self, value: Any) -> str:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            return "nan"
+        if self._units.dimensionless:
+            return f"{number:.4g}"
+        factor, unit = _prefixed(self._units.label("energy"), abs(number))
+        return f"{number * factor:.4g} {unit}"
 
 
 def _columns(groups: Sequence[list[Any]]) -> tuple[list[Any], int]:
@@ -515,8 +640,20 @@ def _draw_pattern(axes: Axes, snapshot, result: CaseResult, units: Units) -> lis
     pillars = result.pillars or {}
     if not all(key in pillars for key in ("x", "y", "elements")) or len(pillars["x"]) < 2:
         return [Patch(facecolor="0.88", edgecolor="0.6", label="not in contact")]
-    attached = _attached(snapshot, pillars, element_size)
     radius = np.sqrt(np.asarray(pillars["elements"], float) * element_size**2 / math.pi)
+    # Outlines denser than their own ink hide what they enclose: at 10^4-10^5 pillars the map would be
+    # black.  They are drawn only where a pillar, and the spacing of the pillars (the side over sqrt(N_p)),
+    # span at least `_LEAST_OUTLINED` points on the map.
+    figure = _root(axes)
+    points_per_length = axes.get_position().width * figure.get_figwidth() * 72.0 / (2.0 * half)
+    spacing = 2.0 * half / math.sqrt(len(radius))
+    if min(2.0 * float(np.median(radius)), spacing) * points_per_length < _LEAST_OUTLINED:
+        axes.set_xlim(-half, half)
+        axes.set_ylim(-half, half)
+        return [Patch(facecolor="0.88", edgecolor="none", label="not in contact"),
+                Patch(facecolor="none", edgecolor="none",
+                      label=f"{len(radius)} pillars (too small to outline)")]
+    attached = _attached(snapshot, pillars, element_size)
     circles = [Circle((float(x), float(y)), float(r)) for x, y, r in zip(pillars["x"], pillars["y"], radius)]
     entries = []
     if attached.any():

@@ -126,11 +126,14 @@ class PullOff:
 
         return to_dataset(self.result, self.config)
 
-    def figure(self) -> Figure:
-        """Force against displacement beside the detachment pattern (`brushbem.figures.plot.pull_off_figure`)."""
+    def figure(self, *, normalized: bool = False) -> Figure:
+        """Force against displacement beside the detachment pattern (`brushbem.figures.plot.pull_off_figure`).
+
+        ``normalized``: on the thesis's axes, F/(N_p F_K) against d/|d_c| for a brush.
+        """
         from brushbem.figures.plot import pull_off_figure
 
-        return pull_off_figure(self.result, self.reference)
+        return pull_off_figure(self.result, self.reference, normalized=normalized)
 
     def save(self, out_dir: str | Path, *, figure: bool = True) -> Path:
         """Write ``summary.json`` and ``result.nc`` into ``out_dir``, then (``figure``) `save_figure` (as ``brushbem run``).
