@@ -81,7 +81,8 @@ def design_figure(problem: ContactProblem, result: Design, axes=None):
                                             "not drawn")
             left.set(ylabel=r"offset $g/|d_\mathrm{c}|$")
         else:
-            left.plot(radial / outer, normalized_stiffness(result.values, problem.contact_modulus, problem.grid.size), "o",
+            side = float(getattr(problem.indenter.description, "region_size", problem.grid.size))  # L of eq. 4.13
+            left.plot(radial / outer, normalized_stiffness(result.values, problem.contact_modulus, side), "o",
                       label=r"designed stiffness $k_n$")
             left.set(ylabel=r"pillar stiffness $\tilde k_n = k_n/(E^* L)$")
         left.set(xlabel=r"distance from the centre $\rho/\rho_\mathrm{max}$",

@@ -348,20 +348,39 @@ def init(name: str, out_dir: Path, force: bool, list_only: bool) -> None:
         for key, (file, text) in EXAMPLES.items():
             click.echo(f"{key:14s} {file:20s} {text}")
         return
+    from brushbem.io import atomic_path
+
     names = [EXAMPLES[name][0]] + (["punch_spring.toml"] if name == "sweep" else [])
     targets = [out_dir / file for file in names]
-    existing = [str(t) for t in targets if t.exists()]
+    folders = [str(t) for t in targets if t.is_dir() and not t.is_symlink()]
+    if folders:
+        click.echo(f"{', '.join(folders)} is a folder, not an example file; choose another --out", err=True)
+        raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
+    existing = [str(t) for t in targets if t.exists() or t.is_symlink()]
     if existing and not force:
         click.echo(f"{', '.join(existing)} exists; --force replaces it, or choose another --out", err=True)
         raise click.exceptions.Exit(EXIT_INVALID_CONFIG)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for file, target in zip(names, targets):
-        target.write_text(files("brushbem.examples").joinpath(file).read_text(encoding="utf-8"), encoding="utf-8")
+    _prepare_out(out_dir)  # a folder that cannot be created or written: exit 2 before any file
+    written = []
+    try:
+        for file, target in zip(names, targets):
+            # A temporary renamed over the name: a link of that name is replaced, never written through.
+            with atomic_path(target) as temporary:
+                temporary.write_text(files("brushbem.examples").joinpath(file).read_text(encoding="utf-8"),
+                                     encoding="utf-8")
+            written.append(target)
+    except OSError as exc:
+        click.echo(f"--out {out_dir}: could not write the example ({_os_error(exc)})"
+                   + (f"; written before: {', '.join(map(str, written))}" if written else "; nothing written"),
+                   err=True)
+        raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
+    for target in written:
         click.echo(f"wrote {target}")
     first = targets[0]
     check = f"brushbem sweep {first} --dry-run" if name == "sweep" else f"brushbem validate {first}"
     command = "sweep" if name == "sweep" else "run"
-    click.echo(f"next: {check} && brushbem {command} {first} --out out/{first.stem}")
+    # The results beside the example, as the tutorial and the README run it (`--out DIR/out`).
+    click.echo(f"next: {check} && brushbem {command} {first} --out {out_dir / 'out'}")
 
 
 @click.command()

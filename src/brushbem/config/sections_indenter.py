@@ -84,7 +84,8 @@ class IndenterConfig(_Section):
         the configuration file's folder; after validation the path is absolute.
         Required for ``height_map``.
 
-    Brush keys (``shape = "brush"``, thesis ch. 3-7; k~ = k / (E* L) with L = grid.size)
+    Brush keys (``shape = "brush"``, thesis ch. 3-7; k~ = k / (E* L) with L the brush's side, region_size,
+    by default grid.size)
         layout : ``"square"`` (regular lattice, ``pillars_per_side``, optional
         ``spacing``, default region_size / pillars_per_side), ``"random"``
         (``pillar_count`` non-overlapping positions, optional ``min_gap``
@@ -329,7 +330,8 @@ class IndenterConfig(_Section):
         return problems
 
     def pillar_stiffness(self, contact_modulus: float, size: float) -> float:
-        """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L)."""
+        """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L, ``size`` = L, the
+        brush's side)."""
         if self.stiffness_ratio is not None:
             return stiffness_of_ratio(self.stiffness_ratio, contact_modulus, size)
         return self.stiffness

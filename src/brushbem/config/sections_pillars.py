@@ -292,7 +292,8 @@ class LevelConfig(_Section):
     cluster : int
         n: n x n units of the level below form one unit of this level.
     stiffness_ratio : float or None
-        k~ = k / (E* L) of this level's springs (L = grid.size).
+        k~ = k / (E* L) of this level's springs (L the brush's side: indenter.region_size, by default
+        grid.size).
     stiffness : float or None
         k of this level's springs, in units of force / length; inf = rigid.
         Exactly one of the two.

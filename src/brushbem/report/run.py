@@ -284,8 +284,8 @@ NORMALISED: dict[str, tuple[str, str]] = {
     "preload_by_compact_punch": ("F_P / F_K", "preload force over Kendall's force of the compact punch"),
     "roughness_by_rigid_brush": ("σ / |d_c|", "roughness (standard deviation of the pillars' length offsets) "
                                  "over |d_c|"),
-    "stiffness_ratio": ("k~ = k / (E* L)", "pillar stiffness over E* times the side L of the domain "
-                        "(grid.size; eq. 4.13); a graded level's mean stiffness"),
+    "stiffness_ratio": ("k~ = k / (E* L)", "pillar stiffness over E* times the brush's side L "
+                        "(indenter.region_size, by default grid.size; eq. 4.13); a graded level's mean stiffness"),
     "level_stiffness_ratios": ("k~_l", "k~ of every spring level, the pillars' first (eq. 6.24)"),
     "equivalent_single_level_stiffness_ratio": ("k~_eq", "the single level of the same stiffness as the "
                                                 "hierarchy (eq. 6.28)"),

@@ -140,11 +140,23 @@ def configuration_errors() -> Iterator[None]:
         raise ConfigError([message]) from exc
 
 
+def brush_side(grid_config: GridConfig, indenter_config: IndenterConfig) -> float:
+    """L of k~ = k / (E* L) (thesis eq. 4.13): the brush's side, ``indenter.region_size`` (a circle's diameter).
+
+    The thesis's L is the side of the "square area L x L" the pillars are distributed in (L736), which is
+    its whole domain; a domain padded around the brush keeps the brush's k~.  Without ``region_size`` the
+    brush fills the domain and L = ``grid.size``, as in every committed study (their k~ are unchanged).
+    """
+    region_size = getattr(indenter_config, "region_size", None)
+    return float(region_size) if region_size is not None else float(grid_config.size)
+
+
 def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
                 halfspace_config: HalfSpaceConfig) -> Indenter:
     """The brush of the configuration sections (``shape = "brush"``).
 
-    Converts the stiffness ratios k~ = k / (E* L), L = grid.size, to
+    Converts the stiffness ratios k~ = k / (E* L), L the brush's side
+    (``indenter.region_size``, by default ``grid.size``; eq. 4.13), to
     stiffnesses; a `StructureError` names the ``indenter`` key it comes from.
     A clustered layout (``layout = "clustered"``) derives its pillar radius
     from ``filling_factors`` and records the filling factor of every level as
@@ -153,9 +165,10 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
     spec = indenter_config
     grid = Grid(grid_config.size, grid_config.elements)
     modulus = halfspace_config.effective_modulus
+    side = brush_side(grid_config, indenter_config)
     levels = tuple(
         Level(lv.cluster, lv.stiffness if lv.stiffness is not None
-              else stiffness_of_ratio(lv.stiffness_ratio, modulus, grid.size),
+              else stiffness_of_ratio(lv.stiffness_ratio, modulus, side),
               _grading(lv.grading))
         for lv in (spec.levels or ())
     )
@@ -170,7 +183,7 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
             pillar_radius=spec.pillar_radius,
             contact_modulus=modulus,
             work_of_adhesion=halfspace_config.work_of_adhesion,
-            stiffness=spec.pillar_stiffness(modulus, grid.size),
+            stiffness=spec.pillar_stiffness(modulus, brush_side(grid_config, indenter_config)),
             region=spec.region or "square",
             region_size=spec.region_size,
             pillars_per_side=spec.pillars_per_side,
@@ -419,7 +432,7 @@ def _spring_key(config: RunConfig, index: int) -> tuple[str, Any, float | None]:
     if table.grading is not None:
         grading = table.grading
         ungraded = (table.stiffness if ratio is None
-                    else stiffness_of_ratio(ratio, config.halfspace.effective_modulus, config.grid.size))
+                    else stiffness_of_ratio(ratio, config.halfspace.effective_modulus, brush_side(config.grid, spec)))
         if grading.rule == "file":
             return f"{prefix}.grading.file", grading.file, ungraded
         return f"{prefix}.grading.amplitude", grading.amplitude, None

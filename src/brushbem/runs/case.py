@@ -218,7 +218,8 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
       seen by the mesh).
     * ``rigid_brush_displacement``: |d_c| = sqrt(2 pi phi dgamma sqrt(A0/pi) / E*)
       (eq. 4.12, 5.4, 7.5), a magnitude as in the thesis.
-    * ``stiffness_scale``: E* L, L = grid.size (eq. 4.13, 5.5, 6.24, 7.6).
+    * ``stiffness_scale``: E* L, L the brush's side ``region_size`` (eq. 4.13, 5.5, 6.24, 7.6; the domain
+      side where the brush fills it, as in the thesis), so a margin of domain around the brush leaves k~.
     """
     indenter = problem.indenter
     info = indenter.description
@@ -235,7 +236,7 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
                                                                  work_of_adhesion=dgamma))),
         "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(
             phi, info.apparent_area, contact_modulus=modulus, work_of_adhesion=dgamma))),
-        "stiffness_scale": modulus * problem.grid.size,
+        "stiffness_scale": modulus * float(info.region_size),
         "filling_factor": phi,
     }
 

@@ -126,8 +126,11 @@ def brush(
         k of every pillar's own spring (level 1), or of each pillar's
         (`graded_stiffness`); inf = rigid.
     stiffness_ratio : float, optional
-        The dimensionless k~ = k / (E* L) (thesis eq. 4.13, L = ``Grid.size``); give
-        this or ``stiffness``, not both.
+        The dimensionless k~ = k / (E* L) (thesis eq. 4.13) with L the brush's
+        side, ``region_size`` (the thesis's "square area L x L" the pillars are
+        distributed in, L736; by default the domain side, as in every thesis
+        study), not the domain padded around it; give this or ``stiffness``,
+        not both.
     region : {"square", "circle"}
         Where pillars are placed: a square of side ``region_size`` or a circle
         of that diameter, centred on the domain.  Its area is the apparent area
@@ -194,7 +197,7 @@ def brush(
         raise StructureError("pillar_radius", None, f"required with layout = {layout!r}")
     else:
         _check_pillar_radius(grid, pillar_radius)  # before a random layout is searched for
-    stiffness = _pillar_stiffness(grid, stiffness, stiffness_ratio, contact_modulus)
+    stiffness = _pillar_stiffness(size, stiffness, stiffness_ratio, contact_modulus)
     layout_seed, roughness_seed = np.random.SeedSequence(int(seed)).spawn(2)
 
     # Layout: the pillar centres (and their lattice indices for a hierarchy).
@@ -250,15 +253,16 @@ def brush(
     return Indenter(height=height, pillar=labels, levels=tuple(spring_levels), description=description)
 
 
-def _pillar_stiffness(grid: Grid, stiffness, stiffness_ratio: float | None, contact_modulus: float):
-    """The pillars' own stiffness k, from ``stiffness`` or from k~ = ``stiffness_ratio`` (k = k~ E* L)."""
+def _pillar_stiffness(side: float, stiffness, stiffness_ratio: float | None, contact_modulus: float):
+    """The pillars' own stiffness k, from ``stiffness`` or from k~ = ``stiffness_ratio`` (k = k~ E* L, L = ``side``,
+    the brush's side: eq. 4.13)."""
     if stiffness_ratio is not None:
         if not (isinstance(stiffness, (int, float)) and math.isinf(stiffness)):
             raise StructureError("stiffness_ratio", stiffness_ratio,
                                  "give stiffness (k) or stiffness_ratio (k~ = k / (E* L)), not both")
         if not (isinstance(stiffness_ratio, (int, float)) and stiffness_ratio > 0):
             raise StructureError("stiffness_ratio", stiffness_ratio, "must be a number > 0 (inf: rigid)")
-        stiffness = stiffness_of_ratio(float(stiffness_ratio), float(contact_modulus), grid.size)
+        stiffness = stiffness_of_ratio(float(stiffness_ratio), float(contact_modulus), float(side))
     return stiffness
 
 
