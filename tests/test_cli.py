@@ -365,3 +365,33 @@ def test_the_command_line_imports_no_numerics_until_a_command_runs():
             "print(sorted(m for m in ('numpy', 'pydantic', 'rich', 'scipy', 'xarray') if m in sys.modules))")
     loaded = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout.strip()
     assert loaded == "[]"
+
+
+def test_study_list_fits_80_columns_with_a_cost_per_study():
+    """``study --list``: one line a study with its cost, the title wrapped beneath, nothing wider than 80."""
+    from brushbem.cli.sweep_commands import STUDY_COSTS
+    from brushbem.studies import STUDIES
+
+    listed = CliRunner().invoke(main, ["study", "--list"])
+    assert listed.exit_code == 0, listed.output
+    lines = listed.output.splitlines()
+    assert max(len(line) for line in lines) <= 80
+    assert any(line.split()[-1:] == ["cost"] for line in lines[:5])  # the cost column's heading
+    rows = {line.split()[0]: line for line in lines if line and not line.startswith(" ") and line.split()[0] in STUDIES}
+    assert set(rows) == set(STUDIES)  # one line a study, its name whole
+    for name, row in rows.items():
+        assert row.rstrip().endswith(STUDY_COSTS.get(name, "--estimate" if STUDIES[name].parts else "no sweep"))
+    assert len(lines) < 6 * len(STUDIES)  # no title folded into 6-10 lines of a narrow column
+
+
+def test_the_pillar_model_does_not_report_zero_cg_iterations(tmp_path):
+    """The pillar model's solves are not element CG solves: its summary row says so instead of "0"."""
+    config = tmp_path / "pillars.toml"
+    config.write_text(
+        '[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\nelements = 32\n'
+        '[indenter]\nshape = "brush"\nlayout = "square"\npillars_per_side = 4\npillar_radius = 0.07\n'
+        'stiffness_ratio = 0.01\n[protocol]\nmethod = "pillars"\npreload_displacement = 0.002\n')
+    done = CliRunner().invoke(main, ["run", str(config), "--out", str(tmp_path / "out")])
+    assert done.exit_code == 0, done.output
+    (row,) = [line for line in done.output.splitlines() if "CG iterations per solve" in line]
+    assert "pillar model: not counted" in row and not row.rstrip(" │").endswith(" 0")

@@ -557,3 +557,34 @@ def test_three_mistakes_are_reported_in_one_pass_each_once(tmp_path):
     assert lines[1].startswith("`indenter.stifness_ratio`") and "did you mean `stiffness_ratio`" in lines[1]
     assert lines[2].startswith("`indenter.pillar_radius`") and "overlap" in lines[2]
     assert not any("None" in line for line in lines)
+
+
+# --------------------------------------------------------------------------- messages and unit names (issue 62)
+
+
+def test_a_missing_protocol_names_what_it_needs_and_only_that_as_required():
+    from brushbem.config import ConfigError, parse_config as load_mapping
+
+    mapping = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-3},
+               "grid": {"size": 1.0, "elements": 32}, "indenter": {"shape": "flat_punch", "radius": 0.25}}
+    with pytest.raises(ConfigError) as caught:
+        load_mapping(mapping)
+    (line,) = [line for line in str(caught.value).splitlines() if "`protocol`" in line]
+    required, _, optional = line.partition("(optional: ")
+    assert "exactly one of preload_displacement and preload_force" in required
+    for key in ("method", "step", "max_steps", "speed"):  # defaults: not required
+        assert key not in required and key in optional
+    with pytest.raises(ConfigError) as caught:
+        load_mapping({key: value for key, value in mapping.items() if key != "halfspace"}
+                     | {"protocol": {"preload_displacement": 0.01}})
+    assert "give contact_modulus, or youngs_modulus and poisson_ratio (optional: work_of_adhesion)" in str(caught.value)
+
+
+@pytest.mark.parametrize("name", ["um", "µm", "μm", "micron", "micrometre", "micrometer"])
+def test_the_micrometre_is_accepted_by_its_usual_names(name):
+    from brushbem.config import parse_config as load_mapping
+
+    config = load_mapping({"halfspace": {"contact_modulus": 1.0}, "grid": {"size": 1.0, "elements": 32},
+                           "indenter": {"shape": "flat_punch", "radius": 0.25},
+                           "protocol": {"preload_displacement": 0.01}, "units": {"length": name, "stress": "MPa"}})
+    assert config.units.length == "um"  # written as UDUNITS-2's um, shown as µm

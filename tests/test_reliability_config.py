@@ -377,8 +377,8 @@ def test_unknown_sections_and_unicode_keys_and_values(folder):
 @pytest.mark.parametrize(
     ("text", "says"),
     [
-        pytest.param("", "missing — required table", id="empty"),
-        pytest.param("\n\n# only a comment\n", "missing — required table", id="comment"),
+        pytest.param("", "missing — a required table", id="empty"),
+        pytest.param("\n\n# only a comment\n", "missing — a required table", id="comment"),
         pytest.param(bytes(range(256)) * 16, "not UTF-8", id="binary"),
         pytest.param(b"\xef\xbb\xbf[grid]\nsize = 1.0\n", "byte-order mark (U+FEFF)", id="byte-order-mark"),
         pytest.param("[grid\nsize = 1", "not valid TOML", id="truncated"),

@@ -31,9 +31,10 @@ from brushbem.cli.common import (
 )
 
 
-def _summary_table(summary: dict[str, Any], units: Any = None) -> Table:
+def _summary_table(summary: dict[str, Any], units: Any = None, method: str | None = None) -> Table:
     """The headline numbers of a run with their units (``units``: `brushbem.results.units.Units`), theory ratios
-    included, then what a designer reports (``design``) and the resolution's error estimate."""
+    included, then what a designer reports (``design``) and the resolution's error estimate (``method``: the
+    load path's, ``protocol.method``)."""
     from brushbem.results.units import Units
 
     units = units if units is not None else Units()
@@ -101,7 +102,12 @@ def _summary_table(summary: dict[str, Any], units: Any = None) -> Table:
             table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
                           f"{value(entry['extrapolated'], dimension)} ± {value(entry['error_estimate'], dimension)}")
     table.add_row("converged", _number(summary.get("converged", "—")))
-    table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
+    if method == "pillars":
+        # The pillar model solves the pillar-level system (directly, or by its own CG on a lattice's FFT that
+        # the element CG's count does not hold): a 0 here would read as "no work".
+        table.add_row("CG iterations per solve", "— (pillar model: not counted)")
+    else:
+        table.add_row("CG iterations per solve", _number(summary.get("mean_cg_iterations_per_solve", "—")))
     table.add_row("time (s)", _number(summary.get("wall_time_s", "—")))
     return table
 
@@ -212,7 +218,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
             pulled.save(out_dir, figure=False)
         except OSError as exc:
             if not quiet:
-                Console().print(_summary_table(result.summary, Units.from_config(config)))
+                Console().print(_summary_table(result.summary, Units.from_config(config), built.path.method))
             click.echo(f"--out {out_dir}: could not write the results ({_os_error(exc)}); no file there "
                        "was left half-written", err=True)
             raise click.exceptions.Exit(EXIT_WRITE_FAILED) from None
@@ -220,7 +226,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         figure_error = _draw_run_figure(pulled, out_dir)
 
     if not quiet:
-        Console().print(_summary_table(result.summary, Units.from_config(config)))
+        Console().print(_summary_table(result.summary, Units.from_config(config), built.path.method))
         click.echo(f"results written to {out_dir}" if figure_error is None else
                    f"summary.json and result.nc written to {out_dir}")
     for warning in result.summary.get("warnings", []):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -164,17 +165,52 @@ def _print_estimates(estimates: dict[str, Any], workers: int | None) -> None:
     Console().print(table)
 
 
+#: What each study costs at its full grids, in CPU hours on one core: measured on the runs whose tables are
+#: committed (`docs/reproduction/*/provenance.json`, `docs/beyond/*/provenance.json`, summed over the parts'
+#: wall times on one of 2 shared cores), or "~" estimated by `brushbem study NAME --estimate` where only a
+#: sampled subset was run (docs/site/studies.md, "What a full study costs").  A study not named here has not
+#: been timed: its row says to estimate it.
+STUDY_COSTS = {
+    "punch_spring": "0.02 h",
+    "sphere_spring": "0.28 h",
+    "flat_brush": "4.2 h",
+    "concave": "1.2 h",
+    "rough_brush": "~790 h",
+    "hierarchy": "~150 h a part",
+    "size": "4.1 h",
+    "robustness": "0.45 h",
+}
+_LIST_WIDTH = 80
+
+
+def _figure_span(figures: Sequence[str]) -> str:
+    """The thesis figures of a study in a few characters: "7-3 to 7-7", "5-2 to 5-7, Table 1", "3-5"."""
+    import re
+
+    numbered = [f for f in figures if re.fullmatch(r"\d+-\d+", f)]
+    others = [f for f in figures if f not in numbered]
+    span = (f"{numbered[0]} to {numbered[-1]}" if len(numbered) > 2 else ", ".join(numbered))
+    return ", ".join(part for part in (span, *others) if part) or "—"
+
+
 def _list_studies() -> None:
+    """One line a study (name, thesis figures, parts, cost), its title and parts wrapped beneath: 80 columns."""
+    import textwrap
+
     from brushbem import studies
 
-    table = Table(title=f"{len(studies.STUDIES)} studies")
-    # The names a user types are never cut: the study column is as wide as the longest name, the rest folds.
-    table.add_column("study", no_wrap=True, min_width=max(len(name) for name in studies.STUDIES))
-    for column in ("title", "thesis figures", "parts"):
-        table.add_column(column, overflow="fold")
+    width = max(len(name) for name in studies.STUDIES) + 2
+    lines = [f"{len(studies.STUDIES)} studies. cost: CPU hours at the full grids on one core, measured",
+             "(~: estimated); `brushbem study NAME --estimate` prices any; --quick: minutes.", "",
+             f"{'study':<{width}}{'thesis figures':<22}{'parts':>5}  cost"]
     for study in studies.STUDIES.values():
-        table.add_row(study.name, study.title, ", ".join(study.figures), ", ".join(study.parts))
-    Console().print(table)
+        cost = STUDY_COSTS.get(study.name, "--estimate" if study.parts else "no sweep")
+        lines.append(f"{study.name:<{width}}{_figure_span(study.figures):<22}{len(study.parts):>5}  {cost}")
+        text = study.title.rstrip(".") + (f". Parts: {', '.join(study.parts)}." if study.parts else ".")
+        lines += textwrap.wrap(text, width=_LIST_WIDTH, initial_indent="    ", subsequent_indent="    ",
+                               break_on_hyphens=False)
+    for line in lines:
+        click.echo(line)
 
 
 @click.command()

@@ -119,8 +119,17 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
     for name, model in _SECTIONS.items():
         if name not in mapping:
             if RunConfig.model_fields[name].is_required():
-                keys = ", ".join(model.model_fields)
-                problems.append(f"`{name}`: missing — required table with keys {keys}")
+                one_of = tuple(getattr(model, "REQUIRED_ONE_OF", ()))
+                required = [key for key, field in model.model_fields.items() if field.is_required()]
+                stated = getattr(model, "REQUIRED_TEXT", "")
+                named = set(one_of) | {key for key in model.model_fields if key in stated.replace(",", " ").split()}
+                optional = [key for key in model.model_fields if key not in required and key not in named]
+                needs = ([", ".join(required)] if required else []) + (
+                    [f"exactly one of {' and '.join(one_of)}"] if one_of else []) + ([stated] if stated else [])
+                others = (f" (optional: {', '.join(optional)})" if len(optional) <= 8 else
+                          " (its other keys depend on these: docs/site/configuration.md)")
+                problems.append(f"`{name}`: missing — a required table; give {'; '.join(needs) or 'the table'}"
+                                + (others if optional else ""))
             continue
         try:
             sections[name] = model.model_validate(mapping[name], context=context)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from pydantic import Field
 
 from brushbem.config.errors import _show
@@ -30,6 +32,8 @@ class HalfSpaceConfig(_Section):
     """
 
     model_config = _MODEL_CONFIG
+    #: What a missing [halfspace] must give (the message names it).
+    REQUIRED_TEXT: ClassVar[str] = "contact_modulus, or youngs_modulus and poisson_ratio"
 
     contact_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)
     youngs_modulus: float | None = Field(None, gt=0, allow_inf_nan=False)

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import ClassVar, Literal
 
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from brushbem.config.errors import _show
 from brushbem.config.rules import Problem
@@ -56,6 +56,8 @@ class ProtocolConfig(_Section):
     """
 
     model_config = _MODEL_CONFIG
+    #: Keys of which exactly one is required (the message for a missing [protocol] names them).
+    REQUIRED_ONE_OF: ClassVar[tuple[str, ...]] = ("preload_displacement", "preload_force")
 
     method: Literal["events", "element_events", "fixed", "pillars"] = "events"
     preload_displacement: float | None = Field(None, gt=0, allow_inf_nan=False)
@@ -109,7 +111,8 @@ class UnitsConfig(_Section):
     Attributes
     ----------
     length : {"m", "cm", "mm", "um", "nm"} or None
-        The unit of ``grid.size`` and every length.
+        The unit of ``grid.size`` and every length; ``"µm"``, ``"micron"``
+        and ``"micrometre"`` are read as ``"um"``.
     stress : {"Pa", "kPa", "MPa", "GPa"} or None
         The unit of E* and every stress; forces, works and the work of
         adhesion follow.  Both or neither; neither (the default) is
@@ -120,6 +123,15 @@ class UnitsConfig(_Section):
 
     length: Literal["m", "cm", "mm", "um", "nm"] | None = None
     stress: Literal["Pa", "kPa", "MPa", "GPa"] | None = None
+
+    #: Other names of the micrometre, read as "um" (UDUNITS-2's name, which result.nc writes).
+    LENGTH_ALIASES: ClassVar[dict[str, str]] = {"µm": "um", "μm": "um", "micron": "um", "microns": "um",
+                                                "micrometre": "um", "micrometer": "um"}
+
+    @field_validator("length", mode="before")
+    @classmethod
+    def _micrometre(cls, value: object) -> object:
+        return cls.LENGTH_ALIASES.get(value, value) if isinstance(value, str) else value
 
     def _rule_problems(self) -> list[Problem]:
         length, stress = getattr(self, "length", None), getattr(self, "stress", None)
