@@ -473,3 +473,35 @@ def test_an_empty_out_is_refused(tmp_path, monkeypatch):
     assert result.exit_code == 2, result.output
     assert "--out" in result.output and "empty path" in result.output
     assert sorted(tmp_path.iterdir()) == before
+
+
+def test_a_second_ctrl_c_while_writing_ends_at_once_and_removes_the_temporary(tmp_path):
+    """The second SIGINT lands while the writer holds a non-reentrant lock (as xarray's does while result.nc
+    is written) whose cleanup takes it again: raising KeyboardInterrupt there hung the process.  Under
+    `_Stop.writing` it removes the temporary and exits 130 at once."""
+    script = tmp_path / "write.py"
+    script.write_text(textwrap.dedent(f"""
+        import os, signal, threading, time
+        from pathlib import Path
+        from brushbem.cli.common import _Stop
+        from brushbem.io import atomic_path
+
+        out = Path({str(tmp_path / "out")!r})
+        out.mkdir()
+        lock = threading.Lock()
+        with _Stop() as stop, stop.writing(out, ("result.nc",)):
+            with atomic_path(out / "result.nc") as temporary:
+                temporary.write_bytes(b"half a file")
+                lock.acquire()
+                try:
+                    os.kill(os.getpid(), signal.SIGINT)  # the first: stop after the current state
+                    os.kill(os.getpid(), signal.SIGINT)  # the second, inside the library's lock
+                    time.sleep(5)
+                finally:
+                    lock.acquire()  # the library's cleanup under its own lock: never returns
+    """))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60, check=False,
+                          env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")})
+    assert done.returncode == 130, (done.returncode, done.stderr[-2000:])
+    assert "aborted while writing" in done.stderr and "Traceback" not in done.stderr
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []  # the temporary removed, nothing written

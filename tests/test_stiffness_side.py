@@ -21,7 +21,7 @@ def _brush(domain: float, elements: int, region_size: float | None) -> dict:
 def test_the_same_brush_in_a_padded_domain_keeps_its_stiffness_force_and_k_tilde():
     # h = 1/32 in both: the padded grid (1.5, N = 48) holds the brush's grid (1, N = 32) at its centre, element
     # for element, so the rasterised footprints are the same and only zero-pressure elements are added.
-    from brushbem.workflow.assembly import parse
+    from brushbem.runs.assembly import parse
 
     configs = (_brush(1.0, 32, None), _brush(1.5, 48, 1.0))
     alone, padded = (brushbem.run(config) for config in configs)

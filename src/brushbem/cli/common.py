@@ -114,17 +114,50 @@ def _executor_options(function: Any) -> Any:
 
 
 class _Stop:
-    """SIGINT and SIGTERM ask a run to stop after its current state (a second SIGINT aborts at once)."""
+    """SIGINT and SIGTERM ask a run to stop after its current state (a second SIGINT aborts at once).
+
+    While the results are written (`writing`), a second SIGINT does not raise `KeyboardInterrupt` into the
+    writer: landing inside a library that holds a non-reentrant lock (xarray's, HDF5's) it left the process
+    hung on that lock, holding the folder's lock, its temporary behind.  It removes the temporaries of the
+    files being written and ends the process at once (`os._exit`, status 130; the kernel releases the
+    folder's lock): the files already in place stay as they were, ``summary.json`` (written last) is the
+    earlier run's or absent.
+    """
 
     def __init__(self) -> None:
         self.signal: int | None = None
         self._previous: dict[int, Any] = {}
+        self._writing: tuple[Path, tuple[str, ...]] | None = None
 
     def __call__(self) -> bool:
         return self.signal is not None
 
+    @contextlib.contextmanager
+    def writing(self, folder: Path, names: tuple[str, ...]) -> Any:
+        """Within this block a second SIGINT removes the temporaries of ``names`` in ``folder`` and exits 130."""
+        self._writing = (Path(folder), tuple(names))
+        try:
+            yield
+        finally:
+            self._writing = None
+
+    def _abort_writing(self) -> None:
+        import os
+
+        from brushbem.io import remove_stale_temporaries
+
+        folder, names = self._writing  # type: ignore[misc]
+        with contextlib.suppress(OSError):
+            remove_stale_temporaries(folder, names)
+        with contextlib.suppress(Exception):
+            click.echo(f"\nSIGINT again: aborted while writing into {folder}; the files being written were not "
+                       "replaced (their temporaries removed)", err=True)
+        os._exit(128 + int(signal.SIGINT))
+
     def _handle(self, number: int, frame: Any) -> None:
         if self.signal is not None and number == signal.SIGINT:
+            if self._writing is not None:
+                self._abort_writing()
             raise KeyboardInterrupt
         self.signal = number
         click.echo(f"\n{signal.Signals(number).name}: stopping after the current state and keeping the "

@@ -214,6 +214,8 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
             pulled = run_pull_off(built, progress=report, stop=stop, refine=grids)
         result = pulled.result
 
+        # From here a second Ctrl-C ends the process at once, removing what was being written (_Stop.writing).
+        stack.enter_context(stop.writing(out_dir, tuple(dict.fromkeys((*RESULT_FILES, *FIGURE_FILES)))))
         try:
             pulled.save(out_dir, figure=False)
         except OSError as exc:

@@ -349,10 +349,7 @@ class _Scales:
             number = float(value)
         except (TypeError, ValueError):
             return "nan"
-        if self._units.dimensionless:
-            return f"{number:.4g}"
-        factor, unit = _prefixed(self._units.label("energy"), abs(number))
-        return f"{number * factor:.4g} {unit}"
+        return self._units.readable(number, "energy")
 
 
 def _columns(groups: Sequence[list[Any]]) -> tuple[list[Any], int]:
