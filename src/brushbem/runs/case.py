@@ -236,7 +236,7 @@ def brush_scales(problem: ContactProblem) -> dict[str, Any]:
                                                                  work_of_adhesion=dgamma))),
         "rigid_brush_displacement": abs(float(theory.rigid_brush_displacement(
             phi, info.apparent_area, contact_modulus=modulus, work_of_adhesion=dgamma))),
-        "stiffness_scale": modulus * float(info.region_size),
+        "stiffness_scale": modulus * float(info.region_size),  # E* L, L the brush's side
         "filling_factor": phi,
     }
 
@@ -256,7 +256,8 @@ def _brush_theory(problem: ContactProblem, summary: Mapping[str, Any]) -> tuple[
     n = info.n_pillars
     # A graded level is normalised by its mean stiffness.
     stiffnesses = [_level_stiffness(level) for level in indenter.levels] or [math.inf]
-    ratios = [normalized_stiffness(k, problem.contact_modulus, problem.grid.size) for k in stiffnesses]
+    # L of eq. 4.13: the brush's side (region_size), not the domain around it (brush_scales' stiffness_scale).
+    ratios = [normalized_stiffness(k, problem.contact_modulus, float(info.region_size)) for k in stiffnesses]
     force = summary.get("adhesive_force") or 0.0
     d_c = scales["rigid_brush_displacement"]
 
