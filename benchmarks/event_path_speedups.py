@@ -57,22 +57,37 @@ CHANGES = {
     "compact_event_search": ("brushbem.protocol.events", "COMPACT_EVENT_SEARCH", False),
     "preload_model": ("brushbem.protocol.contact_loading", "PRELOAD_MODEL", False),
 }
+#: Each speed-up's field of `brushbem.settings.Switches` (the module attributes above are older commits').
+SWITCHES = {"coarse_updates": "coarse_update_rank", "set_reuse": "reuse_set_solver",
+            "solution_deflection": "keep_solution_deflection", "empty_rows": "skip_empty_rows",
+            "snapped_periods": "snap_periods", "cascade_deflection": "keep_cascade_deflection",
+            "symmetric_guess": "symmetric_products", "compact_event_search": "compact_event_search",
+            "preload_model": "preload_model"}
 
 
 def _child(args) -> None:
     """One pull-off in this process: print its CPU and wall time, solves, F_A and work as JSON."""
     import importlib
 
-    for name in args.switch_off:
-        module, attribute, value = CHANGES[name]
-        setattr(importlib.import_module(module), attribute, value)
+    try:
+        from brushbem import settings
+
+        if not hasattr(settings, "using"):
+            raise ImportError
+    except ImportError:  # a commit whose switches were module attributes
+        for name in args.switch_off:
+            module, attribute, value = CHANGES[name]
+            setattr(importlib.import_module(module), attribute, value)
+    else:
+        switched = settings.using(**{SWITCHES[name]: CHANGES[name][2] for name in args.switch_off})
+        switched.__enter__()  # for the rest of this child process
     from brushbem import Grid, brush  # the public names: the same in an older commit's layout
     from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 
     try:
         from brushbem.runs.case import brush_scales
     except ImportError:  # a commit before the package's re-layout
-        from brushbem.runs.case import brush_scales
+        from brushbem.workflow.case import brush_scales
 
     grid = Grid(1.0, args.elements)
     n = args.pillars_per_side

@@ -6,6 +6,8 @@ import concurrent.futures
 import os
 import signal
 
+import pytest
+
 from brushbem.studies import STUDIES, sweep_file
 from brushbem.sweep import load_summary, run_sweep
 
@@ -41,3 +43,14 @@ def run_quick_study(name, tmp_path_factory):
         results[part] = load_summary(out / part)
     with figstyle.raster_only():
         return study, results, study.draw(results, out / "figures")
+
+
+@pytest.fixture
+def switches():
+    """``switches(name=value, ...)`` sets `brushbem.settings.Switches` for the rest of the test (`settings.using`)."""
+    import contextlib
+
+    from brushbem import settings
+
+    with contextlib.ExitStack() as stack:
+        yield lambda **changes: stack.enter_context(settings.using(**changes))

@@ -480,3 +480,39 @@ def test_no_module_is_over_600_lines():
     long = {name: n for name, path in _modules().items()
             if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES}
     assert not long, f"split these modules (at most {MAX_MODULE_LINES} lines): {long}"
+
+
+#: The packages of the load path, whose numerical choices are `brushbem.settings.Switches` fields.
+_LOAD_PATH = ("brushbem.backend", "brushbem.numerics", "brushbem.protocol", "brushbem.pillars", "brushbem.physics")
+
+
+def _switch_setattrs(source: str) -> list[str]:
+    """``name.ATTRIBUTE`` of every ``setattr(name, "ATTRIBUTE", ...)`` (monkeypatch's too) of an upper-case
+    attribute on a module of the load path imported in ``source``."""
+    import re
+
+    tree = ast.parse(source)
+    aliases = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            for alias in node.names:
+                if f"{node.module}.{alias.name}".startswith(_LOAD_PATH):
+                    aliases.add(alias.asname or alias.name)
+    return [f"{m.group(1)}.{m.group(2)}"
+            for m in re.finditer(r"setattr\(\s*(\w+)\s*,\s*[\"']([A-Z][A-Z0-9_]*)[\"']", source) if m.group(1) in aliases]
+
+
+def test_no_switch_of_the_load_path_is_set_by_setattr():
+    """Tests and benchmarks switch the numerics through `brushbem.settings.using`, one frozen value, never by
+    setting a module attribute (a benchmark's fallback for commits before the settings aside)."""
+    root = PACKAGE.parents[1]
+    found = [f"{path.relative_to(root)}: {hit}" for folder in ("tests", "benchmarks", "src")
+             for path in sorted((root / folder).rglob("*.py"))
+             for hit in _switch_setattrs(path.read_text(encoding="utf-8"))]
+    assert not found, "\n".join(found)
+
+
+def test_the_switch_check_finds_a_setattr():
+    source = ("from brushbem.numerics.solver import set_solve\nfrom brushbem.io import writing\n"
+              "monkeypatch.setattr(set_solve, 'SINGLE_PRODUCTS', False)\nsetattr(writing, 'IN_MEMORY_LIMIT', 0)\n")
+    assert _switch_setattrs(source) == ["set_solve.SINGLE_PRODUCTS"]

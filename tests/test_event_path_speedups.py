@@ -8,13 +8,13 @@ set, and a solve keeps its solution's tip deflection on the window in step
 with the iterations (`brushbem.numerics.solver.block_deflection.BlockDeflection`) instead
 of transforming the solution again.  Fewer and smaller transforms follow: a
 pressure on a few pillars is transformed with a period on a short ladder
-(`brushbem.numerics.periods.SNAP_PERIODS`), a local cascade moves the known
+(`brushbem.settings.Switches.snap_periods`), a local cascade moves the known
 deflection by the change on the pillars it peeled
-(`brushbem.numerics.solver.cascade_deflection.KEEP_CASCADE_DEFLECTION`), the unit
+(`brushbem.settings.Switches.keep_cascade_deflection`), the unit
 response's Galerkin guess takes its inner products through the symmetry of A
-(`brushbem.protocol.unit_guess.SYMMETRIC_PRODUCTS`), and the next events are
+(`brushbem.settings.Switches.symmetric_products`), and the next events are
 searched on the footprint's elements only
-(`brushbem.protocol.events.COMPACT_EVENT_SEARCH`).  All give the former
+(`brushbem.settings.Switches.compact_event_search`).  All give the former
 results to rounding, so a pull-off keeps its F_A and work of separation to 1e-9.
 """
 
@@ -27,15 +27,16 @@ import numpy as np
 import pytest
 import scipy.linalg
 
+from brushbem import settings
 from brushbem.runs.case import brush_scales
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics import periods
 from brushbem.numerics.operator import ContactOperator, Window
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
-from brushbem.numerics.solver import cascade_deflection, equilibria, preconditioners, set_solve
+from brushbem.numerics.solver import cascade_deflection, equilibria, preconditioners
 from brushbem.physics.pillar_laws import PiecewiseLinear
 from brushbem.physics.structure import Grid, Indenter, Level, SpringLevel, brush
-from brushbem.protocol import contact_loading, events
+from brushbem.protocol import contact_loading
 from brushbem.protocol import unit_guess as unit_guess_module
 
 GRID = Grid(1.0, 128)
@@ -69,10 +70,10 @@ def _problem(stiffness: float, sigma: float, **extra) -> tuple[ContactProblem, f
 
 
 @pytest.mark.parametrize("case", list(RECORDED))
-def test_pull_off_keeps_the_recorded_answer(case, monkeypatch):
+def test_pull_off_keeps_the_recorded_answer(case, monkeypatch, switches):
     # The recorded answers' preload search: the secant (the model's search ends at another state within
     # the solver's tolerance, `test_the_preload_search_by_the_independent_pillars_ends_at_the_same_state`).
-    monkeypatch.setattr(contact_loading, "PRELOAD_MODEL", False)
+    switches(preload_model=False)
     spec, force, work = RECORDED[case]
     problem, f_c = _problem(**spec)
     summary = record_pull_off(problem, LoadPath(method="events", preload_force=f_c, max_steps=10**6)).summary
@@ -82,7 +83,7 @@ def test_pull_off_keeps_the_recorded_answer(case, monkeypatch):
 
 
 #: Polonsky-Keer iterations of the loading of the "rough soft" brush with the secant search of F(d)
-#: (``PRELOAD_MODEL = False``, the recorded answer's search).
+#: (``Switches.preload_model = False``, the recorded answer's search).
 SECANT_LOADING_ITERATIONS = 124
 
 
@@ -93,7 +94,7 @@ def test_the_preload_search_by_the_independent_pillars_ends_at_the_same_state():
     the solutions are converged to a relative residual of 1e-8 (LoadPath.tolerance), so the two
     preload states, and the pull-offs from them, agree to that and not to rounding.
     """
-    assert contact_loading.PRELOAD_MODEL
+    assert settings.switches().preload_model
     spec, force, work = RECORDED["rough soft"]
     problem, f_c = _problem(**spec)
     record = record_pull_off(problem, LoadPath(method="events", preload_force=f_c, max_steps=10**6))
@@ -122,15 +123,13 @@ def test_independent_pillars_model_is_the_sum_of_punches_on_springs():
 
 
 @pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
-def test_switching_the_speed_ups_off_gives_the_same_pull_off(monkeypatch):
+def test_switching_the_speed_ups_off_gives_the_same_pull_off(monkeypatch, switches):
     """The factorised path (rank 0, no reuse) and the updated one agree to rounding on one brush."""
-    monkeypatch.setattr(set_solve, "SINGLE_PRODUCTS", False)  # both runs' products in double precision
+    switches(single_products=False)  # both runs' products in double precision
     problem, f_c = _problem(0.01, 1.0)
     path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
     fast = record_pull_off(problem, path).summary
-    monkeypatch.setattr(preconditioners, "COARSE_UPDATE_RANK", 0)
-    monkeypatch.setattr(set_solve, "REUSE_SET_SOLVER", False)
-    monkeypatch.setattr(set_solve, "KEEP_SOLUTION_DEFLECTION", False)
+    switches(coarse_update_rank=0, reuse_set_solver=False, keep_solution_deflection=False)
     plain = record_pull_off(problem, path).summary
     assert fast["n_solves"] == plain["n_solves"]
     assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12, abs=0.0)
@@ -193,8 +192,8 @@ def test_a_stiffer_pillar_or_a_new_one_is_factorised_afresh():
     assert operator.cache.coarse_base is not second
 
 
-def test_many_changes_are_factorised_afresh(monkeypatch):
-    monkeypatch.setattr(preconditioners, "COARSE_UPDATE_RANK", 4)
+def test_many_changes_are_factorised_afresh(switches):
+    switches(coarse_update_rank=4)
     operator = _operator()
     n = operator.indenter.n_pillars
     values = np.full(n, 0.7)
@@ -256,24 +255,18 @@ def test_a_pillar_law_of_factor_one_pieces_is_the_linear_spring():
     np.testing.assert_allclose(pieces.curve.force, linear.curve.force, rtol=1e-9, atol=1e-15)
 
 
-TRANSFORM_SAVINGS = [
-    (periods, "SNAP_PERIODS"),
-    (cascade_deflection, "KEEP_CASCADE_DEFLECTION"),
-    (unit_guess_module, "SYMMETRIC_PRODUCTS"),
-    (events, "COMPACT_EVENT_SEARCH"),
-]
+TRANSFORM_SAVINGS = ["snap_periods", "keep_cascade_deflection", "symmetric_products", "compact_event_search"]
 
 
 @pytest.mark.slow  # over 3 s on 2 cores: `make test` runs it, `make test-fast` does not
-def test_the_transform_savings_keep_the_pull_off(monkeypatch):
+def test_the_transform_savings_keep_the_pull_off(monkeypatch, switches):
     """Snapped periods, the cascade's kept deflection, the symmetric unit guess and the event search on the
     footprint, all switched off at once, give the same solves, F_A and work to 1e-12 (rounding)."""
-    monkeypatch.setattr(set_solve, "SINGLE_PRODUCTS", False)  # both runs' products in double precision
+    switches(single_products=False)  # both runs' products in double precision
     problem, f_c = _problem(0.01, 1.0)
     path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
     fast = record_pull_off(problem, path).summary
-    for module, switch in TRANSFORM_SAVINGS:
-        monkeypatch.setattr(module, switch, False)
+    switches(**{switch: False for switch in TRANSFORM_SAVINGS})
     plain = record_pull_off(problem, path).summary
     assert fast["n_solves"] == plain["n_solves"]
     assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12, abs=0.0)
@@ -281,14 +274,14 @@ def test_the_transform_savings_keep_the_pull_off(monkeypatch):
 
 
 @pytest.mark.slow  # each saving alone (the fast test switches them off together)
-@pytest.mark.parametrize("module, switch", TRANSFORM_SAVINGS)
-def test_each_transform_saving_keeps_the_pull_off(monkeypatch, module, switch):
+@pytest.mark.parametrize("switch", TRANSFORM_SAVINGS)
+def test_each_transform_saving_keeps_the_pull_off(monkeypatch, switch, switches):
     """Each saving alone changes round-off only (the event search on the footprint not even that)."""
-    monkeypatch.setattr(set_solve, "SINGLE_PRODUCTS", False)  # both runs' products in double precision
+    switches(single_products=False)  # both runs' products in double precision
     problem, f_c = _problem(0.01, 1.0)
     path = LoadPath(method="events", preload_force=f_c, max_steps=10**6)
     fast = record_pull_off(problem, path).summary
-    monkeypatch.setattr(module, switch, False)
+    switches(**{switch: False})
     plain = record_pull_off(problem, path).summary
     assert fast["n_solves"] == plain["n_solves"]
     assert fast["adhesive_force"] == pytest.approx(plain["adhesive_force"], rel=1e-12, abs=0.0)
@@ -336,10 +329,11 @@ def test_the_symmetric_unit_guess_is_the_transformed_one(monkeypatch, levels):
     deflections = [operator._tip_deflection(v) for v in (unit, predicted, pressure)]
     results = []
     for symmetric in (True, False):
-        monkeypatch.setattr(unit_guess_module, "SYMMETRIC_PRODUCTS", symmetric)
-        record = unit_guess_module.cascade_record(operator, new, predicted, pressure, deflections[2], deflections[1])
-        assert (record[1] is None) == symmetric
-        results.append(unit_guess_module.unit_guess(operator, new, unit, deflections[0], record))
+        with settings.using(symmetric_products=symmetric):
+            record = unit_guess_module.cascade_record(operator, new, predicted, pressure, deflections[2],
+                                                      deflections[1])
+            assert (record[1] is None) == symmetric
+            results.append(unit_guess_module.unit_guess(operator, new, unit, deflections[0], record))
     (guess, product), (plain_guess, plain_product) = results
     assert guess == pytest.approx(plain_guess, rel=0.0, abs=1e-12 * np.abs(plain_guess).max())
     assert product == pytest.approx(plain_product, rel=0.0, abs=1e-12 * np.abs(plain_product).max())

@@ -17,7 +17,6 @@ from brushbem.config import parse_config
 from brushbem.physics.structure import Grid, Level, brush
 from brushbem import pillars
 from brushbem.pillars import cg as pillar_cg
-from brushbem.pillars import solver as pillar_solver
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.runs.case import brush_scales
 from brushbem.config.resources import memory_estimate
@@ -72,16 +71,16 @@ def test_circulant_preconditioner_is_near_exact_on_the_full_lattice():
     assert 1 <= solver.iterations <= 10
 
 
-def test_a_solve_that_does_not_converge_says_so(monkeypatch):
+def test_a_solve_that_does_not_converge_says_so(monkeypatch, switches):
     problem, _ = _problem(6, 10.0)
     model = pillars.PillarModel(problem)
-    monkeypatch.setattr(pillar_cg, "MAX_ITERATIONS", 1)
+    switches(pillar_cg_iterations=1)
     with pytest.raises(pillar_cg.NotConverged, match=r"relative residual of .* not 1e-11, in 1 iterations"):
         pillar_cg.LatticeCG(model).solve(np.ones(model.M, dtype=bool), model.force[:, None])
 
 
 @pytest.mark.parametrize(("stiffness", "sigma"), [(1e-2, 0.0), (1e-2, 1.0)])
-def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, sigma):
+def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, sigma, switches):
     """With the kept inverse dropped beyond 16 attached pillars (taken up again under 8), an 8 x 8 pull-off
     - level, or rough so that pillars join and leave across the limit - is the kept inverse's: F_A and the
     work to 1e-9 (both solves reach 1e-11 on every system), the pillars attached at pull-off and the
@@ -89,7 +88,7 @@ def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, s
     problem, force = _problem(8, stiffness, sigma)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     kept = record_pull_off(problem, path).summary
-    monkeypatch.setattr(pillar_solver, "KEPT_PILLARS", 16)
+    switches(kept_pillars=16)
     iterative = record_pull_off(problem, path).summary
     assert iterative["converged"], iterative["reason"]
     assert iterative["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
@@ -98,10 +97,10 @@ def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, s
     assert iterative["n_solves"] == kept["n_solves"]
 
 
-def test_pull_off_stops_unconverged_with_the_reason(monkeypatch):
+def test_pull_off_stops_unconverged_with_the_reason(monkeypatch, switches):
     problem, force = _problem(6, 1e-2)
-    monkeypatch.setattr(pillar_solver, "KEPT_PILLARS", 4)
-    monkeypatch.setattr(pillar_cg, "MAX_ITERATIONS", 1)
+    switches(kept_pillars=4)
+    switches(pillar_cg_iterations=1)
     record = record_pull_off(problem, LoadPath(method="pillars", preload_force=force, max_steps=10**6))
     assert not record.summary["converged"]
     assert "pillar-level CG" in record.summary["reason"]

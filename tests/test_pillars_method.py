@@ -426,7 +426,7 @@ def test_touch_bound_never_misses_a_touch():
 
 
 @pytest.mark.slow
-def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch):
+def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch, switches):
     """A concave 16 x 16 brush (N = 256, k~ = 1e-2, h~ = 0.5): a ring of tips ends the loading in partial contact.
 
     Where a contact's edge lies on such a tip depends on its neighbours'
@@ -445,7 +445,7 @@ def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch):
     problem, force = validation.problem("concave", 16, 1e-2)
     reference, model = _compare(problem, force)
     _assert_close(reference, model, attached_exact=True)
-    monkeypatch.setattr(pillar_loading, "RADIATE_WHILE_PRESSING", False)
+    switches(radiate_while_pressing=False)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     without = record_pull_off(problem, path).summary
     assert without["adhesive_force"] / reference["adhesive_force"] - 1 > 0.05

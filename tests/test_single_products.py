@@ -82,7 +82,7 @@ def test_a_solve_with_single_products_meets_its_tolerance(monkeypatch):
 
 
 @pytest.mark.slow  # two pull-offs, 5 s on 2 cores
-def test_a_pull_off_with_single_products_keeps_its_answer(monkeypatch):
+def test_a_pull_off_with_single_products_keeps_its_answer(monkeypatch, switches):
     """The soft rough brush: F_A and the work the same to 1e-9 (issue 46's bound for a faster exact path), a
     third or more of the products single, the ledgers refreshed and never above CHAIN_SHARE."""
 
@@ -105,7 +105,7 @@ def test_a_pull_off_with_single_products_keeps_its_answer(monkeypatch):
     monkeypatch.setattr(ProductLedger, "due", watched)
     fast = record_pull_off(problem, path).summary
     share = counts["single"] / (counts["single"] + counts["double"])
-    monkeypatch.setattr(set_solve, "SINGLE_PRODUCTS", False)
+    switches(single_products=False)
     plain = record_pull_off(problem, path).summary
     assert share >= 0.3  # 53 % when written
     assert fast["n_solves"] == plain["n_solves"]
@@ -116,7 +116,7 @@ def test_a_pull_off_with_single_products_keeps_its_answer(monkeypatch):
 
 
 @pytest.mark.slow  # two pull-offs, 4 s on 2 busy cores
-def test_a_soft_brush_keeps_its_answer(monkeypatch):
+def test_a_soft_brush_keeps_its_answer(monkeypatch, switches):
     """Springs of k~ = 1e-6 carry all but 5e-5 of the unit response's right-hand side: the solves' shares
     are measured by the half-space part at the current iterate, not at the cold start (which put F_A 8e-9
     off on the 8 x 8 brush), so F_A and the work stay within 1e-9 of double products."""
@@ -129,7 +129,7 @@ def test_a_soft_brush_keeps_its_answer(monkeypatch):
     counts = _counting(monkeypatch)
     fast = brushbem.run(config)
     assert counts["single"] > 0
-    monkeypatch.setattr(set_solve, "SINGLE_PRODUCTS", False)
+    switches(single_products=False)
     plain = brushbem.run(config)
     assert fast.adhesive_force == pytest.approx(plain.adhesive_force, rel=1e-9, abs=0.0)
     assert fast.work_of_separation == pytest.approx(plain.work_of_separation, rel=1e-9, abs=0.0)

@@ -16,6 +16,8 @@ import numpy as np
 import scipy.fft
 from array_api_compat import array_namespace, is_numpy_namespace
 
+from brushbem import settings
+
 __all__ = [
     "backend_name",
     "bounding_box",
@@ -36,9 +38,6 @@ __all__ = [
 _THREADED_MIN_POINTS = 512 * 512
 
 _cpu_count = os.cpu_count() or 1
-
-#: Whether `padded_convolution` of a 2-D array transforms along the rows only the rows that are not zero.
-SKIP_EMPTY_ROWS = True
 
 
 def fft_workers(points: int | None = None) -> int:
@@ -102,7 +101,7 @@ def padded_convolution(xp, array, spectrum, padded_shape: tuple[int, int] | None
     rows, cols = array.shape[-2:]
     long_rows, long_cols = (2 * rows, 2 * cols) if padded_shape is None else padded_shape
     if is_numpy_namespace(xp):
-        if SKIP_EMPTY_ROWS and array.ndim == 2:
+        if settings.switches().skip_empty_rows and array.ndim == 2:
             # A pressure on a few pillars, or on a contact that fills part of its window: the
             # transforms along the rows skip the rows that hold nothing (the same numbers).
             occupied = np.flatnonzero(array.any(axis=1))

@@ -1,19 +1,128 @@
-"""Numerical settings that more than one layer reads, stated once at the floor of the package.
+"""The numerical switches of brushbem as one frozen value, at the floor of the package.
 
-`KEPT_PILLARS` decides how the pillar-level model (``protocol.method =
-"pillars"``) solves, and so how much memory it needs: the model
-(`brushbem.protocol.pillar_solver`) and the memory rule of the configuration
-(`brushbem.config.resources`) both read it here, so that validating a file
-loads no solver.
+`Switches` holds every choice that a test or a benchmark turns off to
+measure what it buys (each default is the measured better one): whether the
+solver keeps and reuses what it computed, how the pillar model solves, and
+where a cheaper equivalent path is taken.  Nothing sets a module attribute:
+the switches in force are a frozen value, `switches()`, replaced for a block
+with `using`::
+
+    from brushbem import settings
+
+    with settings.using(single_products=False, kept_pillars=16):
+        record = record_pull_off(problem, path)   # every solve of this run sees them
+
+A value set by `using` holds in the thread (and the asyncio task) that set it,
+for the generators consumed inside the block too; worker processes of a sweep
+start from the defaults.  `kept_pillars` also sets how much memory the pillar
+model needs, so the memory rule of the configuration (`brushbem.config.resources`)
+reads it here, and validating a file loads no solver.
 """
 
 from __future__ import annotations
 
-__all__ = ["KEPT_PILLARS"]
+import contextlib
+import dataclasses
+from collections.abc import Iterator
+from contextvars import ContextVar
+from dataclasses import dataclass
 
-#: Attached pillars of a lattice brush beyond which the solve is CG (`LatticeCG`) instead of the kept
-#: inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None: always the kept inverse.
-#: Level chapter-5 brushes, k~ = 1e-2, CPU seconds: 32 x 32 2.4-2.7 with a limit of 512 against 2.7-3.1
-#: kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against 39.4 kept, 100 x 100 42 against
-#: 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline``).
-KEPT_PILLARS: int | None = 1024
+__all__ = ["DEFAULT", "Switches", "switches", "using"]
+
+
+@dataclass(frozen=True)
+class Switches:
+    """The numerical switches in force (one frozen value; `using` replaces it for a block).
+
+    Attributes
+    ----------
+    kept_pillars : int or None
+        Attached pillars of a lattice brush beyond which the pillar model solves by CG (`LatticeCG`)
+        instead of the kept inverse (n^2 numbers: 8 GB at 3 x 10^4, and O(n^3) to refactorise); None:
+        always the kept inverse.  Level chapter-5 brushes, k~ = 1e-2, CPU seconds: 32 x 32 2.4-2.7 with a
+        limit of 512 against 2.7-3.1 kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against
+        39.4 kept, 100 x 100 42 against 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0
+        --exact-max 0 --kept-baseline``).
+    pillar_cg_iterations : int
+        Iterations of the pillar model's CG before its solve is declared not converged.
+    radiate_uniform : bool
+        Whether the pillar model's uniform amplitudes answer the higher modes' near field too (one global
+        solve a round).  Without it the concave 16 x 16 brush of ``tests/test_pillars_method.py`` keeps its
+        F_A +9.7 % error.
+    radiate_while_pressing : bool
+        Whether the higher modes' near field is fed back while a brush of unequal tips is pressed
+        (`brushbem.pillars.loading.press_rough`).
+    reuse_set_solver : bool
+        Whether a solve on the set of the operator's last pillar-block solve reuses its system and
+        preconditioner.
+    single_products : bool
+        Whether a pillar-block solve given a `ProductLedger` takes its late iterations' products in single
+        precision (`BlockDeflection.apply_single`, ``conjugate_gradient``'s ``inexact``).
+    keep_solution_deflection : bool
+        Whether a pillar-block solve keeps its solution's tip deflection on the window (`BlockDeflection`).
+    keep_cascade_deflection : bool
+        Whether a local cascade keeps the known tip deflection of the state it starts from in step.
+    coarse_update_rank : int
+        Most pillars by which T^-1 + H may differ from the last factorised one (pillars that left the
+        contact set, or whose stiffness fell) for a solve through that factor and a correction of this
+        rank (`_CoarseBase`); more, and it is factorised afresh.  0: every matrix is factorised.
+    skip_empty_rows : bool
+        Whether `brushbem.backend.padded_convolution` of a 2-D array transforms along the rows only the
+        rows that are not zero.
+    snap_periods : bool
+        Whether `halfspace_on_support` rounds the shorter periods up with `snapped_period`.
+    symmetric_products : bool
+        Whether `unit_guess` forms the Galerkin system through the symmetry of A and its block on the
+        elements that left (one transform per cascade) instead of transforming A a_E and A p_E (two).
+    compact_event_search : bool
+        Whether `_events_ahead` works on the footprint elements of the window only (NumPy): no element off
+        the footprint is in contact or can touch, so the events are the same, with a sixth of the array
+        work of the window's arrays for a brush of phi = 0.16.
+    preload_model : bool
+        Whether the search for a preload force extrapolates below the target with the independent
+        pillars' model (`_IndependentPillars`) instead of the secant of F (5 contact problems instead of 8
+        on the chapter-5 brush; the preload state moves within the solver's tolerance).
+    """
+
+    kept_pillars: int | None = 1024
+    pillar_cg_iterations: int = 2000
+    radiate_uniform: bool = True
+    radiate_while_pressing: bool = True
+    reuse_set_solver: bool = True
+    single_products: bool = True
+    keep_solution_deflection: bool = True
+    keep_cascade_deflection: bool = True
+    coarse_update_rank: int = 64
+    skip_empty_rows: bool = True
+    snap_periods: bool = True
+    symmetric_products: bool = True
+    compact_event_search: bool = True
+    preload_model: bool = True
+
+
+#: The defaults: every switch at its measured better setting.
+DEFAULT = Switches()
+
+_CURRENT: ContextVar[Switches] = ContextVar("brushbem_switches", default=DEFAULT)
+
+
+def switches() -> Switches:
+    """The switches in force here (`DEFAULT` outside every `using` block)."""
+    return _CURRENT.get()
+
+
+@contextlib.contextmanager
+def using(**changes) -> Iterator[Switches]:
+    """The switches in force with ``changes`` (field = value) for the block; the previous ones after it.
+
+    Raises
+    ------
+    TypeError
+        A name that is no field of `Switches`.
+    """
+    value = dataclasses.replace(_CURRENT.get(), **changes)
+    token = _CURRENT.set(value)
+    try:
+        yield value
+    finally:
+        _CURRENT.reset(token)

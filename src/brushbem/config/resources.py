@@ -16,7 +16,7 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from brushbem.settings import KEPT_PILLARS
+from brushbem import settings
 
 if TYPE_CHECKING:
     from brushbem.config import RunConfig
@@ -91,13 +91,14 @@ def memory_estimate(config: RunConfig) -> int:
 
 def _pillar_matrices(config: RunConfig) -> float:
     """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (at most
-    ``KEPT_PILLARS`` attached, twice with its work array), every mode's couplings and the inverse off it."""
+    ``Switches.kept_pillars`` attached, twice with its work array), every mode's couplings and the inverse off it."""
     indenter = config.indenter
     if indenter.layout == "random":
         pillars = indenter.pillar_count or 0
         return 8.0 * (_PILLAR_MODES + 2) * pillars**2
     per_side = indenter.pillars_per_side or 0
-    kept = per_side**2 if KEPT_PILLARS is None else min(per_side**2, KEPT_PILLARS)
+    limit = settings.switches().kept_pillars
+    kept = per_side**2 if limit is None else min(per_side**2, limit)
     return 8.0 * 2 * kept**2
 
 

@@ -4,20 +4,17 @@ The half-space convolution of a pressure that vanishes outside a box well
 inside the window needs a period of only about the window plus the box, not
 twice the window (`brushbem.physics.halfspace.HalfSpace.wrapped_spectrum`).
 Each period needs its own wrapped spectrum (a kernel evaluation and a
-transform, cached in the half-space); with ``SNAP_PERIODS`` the periods are
+transform, cached in the half-space); with ``Switches.snap_periods`` the periods are
 rounded up to a short ladder, so the pillars of a brush share a few of them
 instead of making one per support.
 """
 
 from __future__ import annotations
 
-from brushbem import backend
+from brushbem import backend, settings
 from brushbem.physics.halfspace import HalfSpace
 
-__all__ = ["SNAP_PERIODS", "halfspace_on_support", "snapped_period"]
-
-#: Whether `halfspace_on_support` rounds the shorter periods up with `snapped_period`.
-SNAP_PERIODS = True
+__all__ = ["halfspace_on_support", "snapped_period"]
 
 #: The ladder's step: the window's side divided by this.
 _PERIOD_STEPS = 4
@@ -33,10 +30,10 @@ def halfspace_on_support(halfspace: HalfSpace, pressure, support):
     """K p on the window for a pressure that vanishes outside the box ``support`` (None: anywhere).
 
     ``HalfSpace.apply(pressure, support=support)``, with the period rounded
-    up by `snapped_period` under ``SNAP_PERIODS``: the same convolution up
+    up by `snapped_period` under ``Switches.snap_periods``: the same convolution up
     to round-off.
     """
-    if not SNAP_PERIODS or support is None:
+    if not settings.switches().snap_periods or support is None:
         return halfspace.apply(pressure, support=support)
     rows, cols = pressure.shape[-2:]
     r0, r1, c0, c1 = support

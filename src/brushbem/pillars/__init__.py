@@ -38,7 +38,7 @@ Equilibrium
     whose inverse is kept and updated by rank-one steps as pillars join,
     leave or change shape (checked by its residual, refactorised when it
     drifts); on a lattice with more than
-    `brushbem.pillars.solver.KEPT_PILLARS` attached, by CG on the
+    `brushbem.settings.Switches.kept_pillars` attached, by CG on the
     lattice's FFT product with a circulant preconditioner
     (`brushbem.pillars.cg`), to a relative residual of 1e-11.  The
     higher modes follow locally from the field that the
@@ -91,7 +91,7 @@ each against the exact path) hold every case within 1 % on F_A, 3 % on
 the work and 2 % on the pillars attached at pull-off.
 
 Cost: per event O(n^2) for the n attached pillars (the kept inverse), or
-O(M log M) per CG iteration beyond ``KEPT_PILLARS`` on a lattice (7-9
+O(M log M) per CG iteration beyond ``Switches.kept_pillars`` on a lattice (7-9
 iterations a solve), and O(M log M) for the M pillars of a lattice (the
 FFT, and a bound at pillar level on how far each free tip is from the
 surface, so that only the attached pillars and the free ones that may touch

@@ -25,14 +25,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
+from brushbem import settings
+
 __all__ = ["LatticeCG", "NotConverged", "TOLERANCE"]
 
 #: Relative residual ||b - A x|| / ||b|| of every right-hand side at which the CG stops (the kept inverse's
 #: own check, `brushbem.pillars.solver`, refactorises above 1e-10).
 TOLERANCE = 1e-11
-
-#: Iterations before the solve is declared not converged.
-MAX_ITERATIONS = 2000
 
 
 class NotConverged(RuntimeError):
@@ -139,7 +138,8 @@ class LatticeCG:
         z = self.precondition(r, attached)
         p = z.copy()
         rz = np.sum(r * z, axis=0)
-        for iteration in range(1, MAX_ITERATIONS + 1):
+        most = settings.switches().pillar_cg_iterations
+        for iteration in range(1, most + 1):
             ap = self._product(p, attached, active)
             curvature = np.sum(p * ap, axis=0)
             if bool(np.any(active & ~(curvature > 0))):
@@ -159,5 +159,5 @@ class LatticeCG:
             rz = rz_next
         worst = float(np.max(residual / np.where(norms > 0, norms, 1.0)))
         raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not {tolerance:g}, "
-                           f"in {MAX_ITERATIONS} iterations ({int(attached.sum())} pillars attached, "
+                           f"in {most} iterations ({int(attached.sum())} pillars attached, "
                            f"{k} right-hand sides)")

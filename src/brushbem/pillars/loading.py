@@ -16,19 +16,17 @@ from collections.abc import Generator
 
 import numpy as np
 
+from brushbem import settings
 from brushbem.pillars.state import PillarState
 from brushbem.protocol.contact_loading import LOADING_SAMPLES
 from brushbem.protocol.problem import LoadPath, State
 
-__all__ = ["RADIATE_WHILE_PRESSING", "press", "press_rough"]
+__all__ = ["press", "press_rough"]
 
 #: How often a footprint slot may join or leave in one contact problem (`press`).  The fit of the
 #: neighbours' field across a tip is not exact, so a slot at a contact's edge can penetrate while off and
 #: be in tension while on; after this many changes it stays off (out of contact, as without tension).
 _FLIPS = 6
-
-#: Whether the higher modes' near field is fed back while a brush of unequal tips is pressed (`press_rough`).
-RADIATE_WHILE_PRESSING = True
 
 def press(run: PillarState, d: float) -> int:
     """The non-adhesive contact problem at d: the rounds it took (solves of the pillar-level system).
@@ -81,7 +79,7 @@ def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[St
     below it for the loading curve.
     """
     model = run.model
-    run.press_radiates = RADIATE_WHILE_PRESSING
+    run.press_radiates = settings.switches().radiate_while_pressing
     samples: list[float] = []
     if path.preload_displacement is not None:
         target = float(path.preload_displacement)

@@ -2,7 +2,7 @@
 
 `Solver` keeps the inverse of the uniform modes' system (G00 + H) over the
 attached pillars and updates it by rank-one steps as pillars join and leave
-(``coupling = "local"``); on a lattice with more than ``KEPT_PILLARS``
+(``coupling = "local"``); on a lattice with more than ``Switches.kept_pillars``
 attached it drops the inverse and solves by CG on the lattice's FFT product
 (`brushbem.pillars.cg.LatticeCG`), and keeps one again once the
 attached set is back under half that.  `full_solve` factorises the system of
@@ -19,10 +19,7 @@ from brushbem import settings
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import LatticeCG
 
-__all__ = ["KEPT_PILLARS", "RADIATE_UNIFORM", "Solver", "full_solve", "radiate"]
-
-#: The attached pillars beyond which a lattice brush is solved by CG (`brushbem.settings.KEPT_PILLARS`).
-KEPT_PILLARS = settings.KEPT_PILLARS
+__all__ = ["Solver", "full_solve", "radiate"]
 
 #: Relative residual of the pillar-level solve above which the kept inverse is refactorised.
 _RESIDUAL = 1e-10
@@ -45,7 +42,7 @@ class Solver:
     ``order[:n]`` (``position`` maps a pillar to its row, -1 when off); a pillar
     that joins is appended and one that leaves is swapped with the last, each
     a rank-one update of O(n^2).  While ``iterative`` (a lattice with more than
-    ``KEPT_PILLARS`` attached) there is no ``B`` (nor ``order``): joins and
+    ``Switches.kept_pillars`` attached) there is no ``B`` (nor ``order``): joins and
     leaves only mark ``attached`` and `solve` runs `LatticeCG`, warm-started
     from the last solution.
     """
@@ -72,9 +69,10 @@ class Solver:
         return self._cg
 
     def _drop_inverse_beyond_kept(self, attached: int) -> bool:
-        """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond ``KEPT_PILLARS``;
+        """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond ``Switches.kept_pillars``;
         whether it did."""
-        if KEPT_PILLARS is None or self.model.lattice is None or attached <= KEPT_PILLARS:
+        kept = settings.switches().kept_pillars
+        if kept is None or self.model.lattice is None or attached <= kept:
             return False
         self.iterative = True
         self._B = np.zeros((16, 16))
@@ -83,12 +81,12 @@ class Solver:
         return True
 
     def _mark(self, pillars, on: bool) -> None:
-        """Iterative: pillars join or leave (no inverse to update); under half of ``KEPT_PILLARS``
+        """Iterative: pillars join or leave (no inverse to update); under half of ``Switches.kept_pillars``
         attached, the inverse is kept again."""
         self.attached[pillars] = on
         self.n = int(np.count_nonzero(self.attached))
         self.updates += int(np.size(pillars))
-        if 2 * self.n <= KEPT_PILLARS:
+        if 2 * self.n <= settings.switches().kept_pillars:
             self.refactor()
 
     @property
@@ -318,10 +316,6 @@ def full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np
 _RADIATION_TOLERANCE = 1e-7
 _RADIATION_ROUNDS = 30
 
-#: Whether the uniform amplitudes answer the higher modes' near field too (one global solve a round).
-#: Without it the concave 16 x 16 brush of `tests/test_pillars_method.py` keeps its F_A +9.7 % error.
-RADIATE_UNIFORM = True
-
 
 def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.ndarray,
             fields: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -331,7 +325,7 @@ def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.nd
     neighbours (`PillarModel.radiation`, near blocks only) shifts the neighbours' higher modes in turn.
     Fixed point, pillar by pillar: xh = -(field + r)_h / gram_h, r = radiation(xh), until the higher
     amplitudes change by less than ``_RADIATION_TOLERANCE`` of their size.  The uniform amplitudes keep
-    the uniform modes' solution (``RADIATE_UNIFORM``: they answer r_0 too, one global solve a round).
+    the uniform modes' solution (``Switches.radiate_uniform``: they answer r_0 too, one global solve a round).
     """
     attached = attached[:, None, None]
     gram = model.gram[:, 1:, None]
@@ -339,7 +333,7 @@ def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.nd
     total_sol, total_fields = sol, fields
     for rounds in range(1, _RADIATION_ROUNDS + 1):
         r = model.radiation(xh)
-        if RADIATE_UNIFORM:
+        if settings.switches().radiate_uniform:
             correction = -solver.inverse_product(r[0])
             shift = model.fields(correction)
             shift[0] -= model.gram[:, :1] * correction

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from brushbem import settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state
 from brushbem.protocol.problem import LoadPath
@@ -23,11 +24,6 @@ from brushbem.protocol.tracking import Tracker
 #: Displacements at which `_contact_loading` samples the loading branch besides
 #: those of the search for a preload force (evenly spaced from first touch).
 LOADING_SAMPLES = 4
-
-#: Whether the search for a preload force extrapolates below the target with the independent pillars'
-#: model (`_IndependentPillars`) instead of the secant of F (5 contact problems instead of 8 on the
-#: chapter-5 brush; the preload state moves within the solver's tolerance).
-PRELOAD_MODEL = True
 
 #: An element of an earlier sample that a later one has left counts as
 #: released when its gap there exceeds this fraction of the indentation depth
@@ -168,10 +164,10 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     model = _IndependentPillars(problem.indenter, problem.contact_modulus, tracker.h2)
     lo = hi = None  # samples below and above the target
     interaction: list[tuple[float, float]] = []  # (F, d - the independent pillars' d at F) below the target
-    lo_points = [(lowest, 0.0)]  # (d, F) below the target, for the secant without PRELOAD_MODEL
+    lo_points = [(lowest, 0.0)]  # (d, F) below the target, for the secant without the preload model
     f_lo = f_hi = 0.0  # residuals F - target at the ends, halved by the Illinois rule
     side = 0
-    d = model.displacement(target) if PRELOAD_MODEL else lowest + target * model.punch_compliance
+    d = model.displacement(target) if settings.switches().preload_model else lowest + target * model.punch_compliance
     start = None
     for _ in range(200):
         sample = solve_at(d, start)
@@ -196,7 +192,7 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
                 f_hi *= 0.5
             side = -1
         if hi is None:
-            if not PRELOAD_MODEL:  # the secant of the last two points
+            if not settings.switches().preload_model:  # the secant of the last two points
                 (d0, g0), (d1, g1) = lo_points[-2], lo_points[-1]
                 step = (target - g1) * (d1 - d0) / (g1 - g0) if g1 > g0 else 2.0 * (d1 - lowest)
                 d = d1 + max(step, 1e-3 * (d1 - lowest))
@@ -259,7 +255,7 @@ class _IndependentPillars:
                 compliance = compliance + 1.0 / level.stiffnesses[level.cluster]
             else:
                 self.series += 1.0 / float(np.sum(level.stiffnesses))
-        # The whole footprint as one punch on the springs in series (the first guess without PRELOAD_MODEL).
+        # The whole footprint as one punch on the springs in series (the first guess without the preload model).
         area = float(np.sum(counts)) * h2
         self.punch_compliance = 1.0 / (2.0 * contact_modulus * math.sqrt(area / math.pi)) + every_level
         order = np.argsort(heights)

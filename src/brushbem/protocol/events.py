@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from brushbem import backend
+from brushbem import backend, settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
 from brushbem.protocol.problem import LoadPath, State, event_tie
@@ -266,11 +266,6 @@ class _Ahead:
         return out
 
 
-#: Whether `_events_ahead` works on the footprint elements of the window only (NumPy): no element off
-#: the footprint is in contact or can touch, so the events are the same, with a sixth of the array work
-#: of the window's arrays for a brush of phi = 0.16.
-COMPACT_EVENT_SEARCH = True
-
 
 def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a) -> _Ahead:
     """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
@@ -286,7 +281,7 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
     elements = None
     known_deflection, known_unit_deflection = deflection, unit_deflection
-    if COMPACT_EVENT_SEARCH and backend.is_numpy_namespace(xp):
+    if settings.switches().compact_event_search and backend.is_numpy_namespace(xp):
         rows, cols = tracker.footprint_elements()
         elements = (rows, cols, contact.shape)
         contact, pressure, height, a = contact[rows, cols], pressure[rows, cols], height[rows, cols], a[rows, cols]

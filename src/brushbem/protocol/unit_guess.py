@@ -7,7 +7,7 @@ single element leaving S).  The 2 x 2 system needs the products A a|S' and
 A dp.  Of those, the tracker knows A a (the previous response's deflection)
 and A Delta for Delta = p - p_pred (the cascade's deflection minus the
 prediction's); the rest are products with the pressures a_E and p_E that the
-elements E that left carried.  With ``SYMMETRIC_PRODUCTS`` the inner
+elements E that left carried.  With ``settings.Switches.symmetric_products`` the inner
 products of the 2 x 2 system take those through the symmetry of A and its
 dense block A_EE on E (a few pillars' elements), and only the one combination
 that the starting product needs is transformed; without it, A a_E and A p_E
@@ -18,14 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from brushbem import backend
+from brushbem import backend, settings
 from brushbem.numerics.operator import ContactOperator
 
-__all__ = ["SYMMETRIC_PRODUCTS", "cascade_record", "unit_guess"]
-
-#: Whether `unit_guess` forms the Galerkin system through the symmetry of A and its block on the
-#: elements that left (one transform per cascade) instead of transforming A a_E and A p_E (two).
-SYMMETRIC_PRODUCTS = True
+__all__ = ["cascade_record", "unit_guess"]
 
 #: Most elements that left for the dense block A_EE (beyond, A a_E and A p_E are transformed).
 _BLOCK_ELEMENTS = 2048
@@ -42,7 +38,7 @@ def cascade_record(operator: ContactOperator, contact, before, pressure, deflect
     change = pressure - xp.where(contact, before, 0.0)
     if not bool(xp.any(change != 0)):
         return None
-    if SYMMETRIC_PRODUCTS:
+    if settings.switches().symmetric_products:
         return change, None, (before, deflection - predicted_deflection, pressure - before)
     return change, deflection - predicted_deflection + operator.element_deflection(before, ~contact), None
 

@@ -3,7 +3,7 @@
 The criterion itself, Sigma_c of the mesh, is `brushbem.physics.adhesion.critical_stress`.
 
 The CG solve on a fixed contact set (`solve_on_set`, with its pillar-block
-path and the switches ``REUSE_SET_SOLVER`` and ``KEEP_SOLUTION_DEFLECTION``)
+path and the switches `brushbem.settings.Switches.reuse_set_solver` and ``keep_solution_deflection``)
 is in `brushbem.numerics.solver.set_solve`; it is re-exported here.
 """
 

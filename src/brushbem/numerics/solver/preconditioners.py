@@ -9,7 +9,7 @@ import scipy.linalg
 from scipy import sparse
 from scipy.sparse import linalg as sparse_linalg
 
-from brushbem import backend
+from brushbem import backend, settings
 from brushbem.numerics.operator import ContactOperator, ContactSystem
 
 __all__ = [
@@ -349,10 +349,6 @@ _COARSE_STALE = 0.02
 _COARSE_DRIFT = 0.3
 #: Fewer pillars than this are refactorised for every contact set (a few ms).
 _COARSE_REUSE_MIN = 1024
-#: Most pillars by which T^-1 + H may differ from the last factorised one (pillars that left the
-#: contact set, or whose stiffness fell) for a solve through that factor and a correction of this
-#: rank (`_CoarseBase`); more, and it is factorised afresh.  0: every matrix is factorised.
-COARSE_UPDATE_RANK = 64
 #: ... and the largest fraction of the factorised pillars that may have left the contact set.
 _COARSE_UPDATE_SHRINK = 0.25
 
@@ -410,7 +406,7 @@ class _CoarseBase:
         if removed.size > _COARSE_UPDATE_SHRINK * n0:
             return None
         dirty = np.union1d(positions[delta != 0], removed)
-        if dirty.size > COARSE_UPDATE_RANK:
+        if dirty.size > settings.switches().coarse_update_rank:
             return None
         if dirty.size == 0:
             solve = self.solve
@@ -459,7 +455,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
     the pillars lost over ``_COARSE_DRIFT`` of their stiffness.  A new one is
     the exact matrix of ``active``: solved through the last Cholesky factor
     and a low-rank correction while the two differ on at most
-    ``COARSE_UPDATE_RANK`` pillars (`_CoarseBase`), else factorised.
+    ``Switches.coarse_update_rank`` pillars (`_CoarseBase`), else factorised.
     """
     cached = operator.cache.coarse
     if cached is not None:
@@ -473,7 +469,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
                 if stale <= max(2, _COARSE_STALE * pillars.size):
                     return solve, positions, base, pillars.size
     factored = operator.cache.coarse_base
-    solve = None if factored is None or COARSE_UPDATE_RANK <= 0 else factored.near(active, stiffness)
+    solve = None if factored is None or settings.switches().coarse_update_rank <= 0 else factored.near(active, stiffness)
     if solve is not None:
         operator.cache.coarse = (solve, np.array(active), stiffness.copy())
         return solve, np.arange(active.size), stiffness, active.size

@@ -5,9 +5,9 @@ preconditioner (brushes of a few pillars, NumPy) or on the window's arrays with
 the contact preconditioner.  On the pillar blocks it keeps the solution's tip
 deflection in step with the iterations (`BlockDeflection`) and reuses the
 system and preconditioner of the operator's last solve on the same set
-(`_set_solver`).  ``REUSE_SET_SOLVER``, ``KEEP_SOLUTION_DEFLECTION`` and
-``SINGLE_PRODUCTS`` (the late iterations' products in single precision) switch
-these off (tests and benchmarks set them by attribute on this module).
+(`_set_solver`).  ``Switches.reuse_set_solver``, ``Switches.keep_solution_deflection`` and
+``Switches.single_products`` (the late iterations' products in single precision) switch
+these off (`brushbem.settings.using`, for tests and benchmarks).
 """
 
 from __future__ import annotations
@@ -16,13 +16,13 @@ import dataclasses
 
 import numpy as np
 
-from brushbem import backend
+from brushbem import backend, settings
 from brushbem.numerics.operator import SINGLE_ERROR, ContactOperator, MaskedOperator
 from brushbem.numerics.solver.block_deflection import BlockDeflection
 from brushbem.numerics.solver.cg import ProductLedger, SolveResult, _norm, conjugate_gradient
 from brushbem.numerics.solver.preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
-__all__ = ["KEEP_SOLUTION_DEFLECTION", "REUSE_SET_SOLVER", "SINGLE_PRODUCTS", "solve_on_set"]
+__all__ = ["solve_on_set"]
 
 
 def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
@@ -50,7 +50,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     equilibrium and the tracker's unit response, have it).  With a
     ``ledger`` (the chain of kept deflections this solve continues), the
     late iterations there take their products in single precision
-    (``SINGLE_PRODUCTS``, `ProductLedger`); a solve that leaves the chain's
+    (``Switches.single_products``, `ProductLedger`); a solve that leaves the chain's
     error due for a refresh does not keep its deflection.
     """
     xp = operator.xp
@@ -64,8 +64,8 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
             def reference(v):
                 return _norm(xp, rhs_on_set - system.spring_deflection(v))
 
-            keeps = KEEP_SOLUTION_DEFLECTION and system.gives_block_deflection
-            single = SINGLE_PRODUCTS and ledger is not None and keeps
+            keeps = settings.switches().keep_solution_deflection and system.gives_block_deflection
+            single = settings.switches().single_products and ledger is not None and keeps
             if single and initial_product is not None and initial_on_set is not None and ledger.carried:
                 scale = tolerance * min(_norm(xp, rhs_on_set), reference(initial_on_set))
                 if not ledger.admits(scale):
@@ -110,16 +110,6 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     )
 
 
-#: Whether a solve on the set of the operator's last pillar-block solve reuses its system and preconditioner.
-REUSE_SET_SOLVER = True
-
-#: Whether a pillar-block solve given a `ProductLedger` takes its late iterations' products in single
-#: precision (`BlockDeflection.apply_single`, ``conjugate_gradient``'s ``inexact``).
-SINGLE_PRODUCTS = True
-
-#: Whether a pillar-block solve keeps its solution's tip deflection on the window (`BlockDeflection`).
-KEEP_SOLUTION_DEFLECTION = True
-
 
 def _set_solver(operator: ContactOperator, mask):
     """The `ContactSystem` of ``mask`` and its `pillar_block_preconditioner` (None where it does not apply).
@@ -131,7 +121,7 @@ def _set_solver(operator: ContactOperator, mask):
     """
     mask_host = np.asarray(backend.to_numpy(mask), dtype=bool)
     last = operator.set_solver
-    if (REUSE_SET_SOLVER and last is not None and last[3] is operator.cache.coarse
+    if (settings.switches().reuse_set_solver and last is not None and last[3] is operator.cache.coarse
             and last[0].shape == mask_host.shape and np.array_equal(last[0], mask_host)):
         return last[1], last[2]
     system = operator.system(mask)
