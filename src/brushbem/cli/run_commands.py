@@ -100,7 +100,9 @@ def _summary_table(summary: dict[str, Any], units: Any = None, method: str | Non
                                       ("work extrapolated", "work_of_separation", "energy")):
             entry = refinement[key]
             table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
-                          f"{value(entry['extrapolated'], dimension)} ± {value(entry['error_estimate'], dimension)}")
+                          f"{value(entry['extrapolated'], dimension)} ± {value(entry['error_estimate'], dimension)}"
+                          if entry.get("error_estimate") is not None else
+                          f"{value(entry['extrapolated'], dimension)}, no error bound (two grids: --refine 3 bounds it)")
     table.add_row("converged", _number(summary.get("converged", "—")))
     if method == "pillars":
         # The pillar model solves the pillar-level system (directly, or by its own CG on a lattice's FFT that

@@ -23,7 +23,7 @@ class Extrapolation(MappingRecord):
 
     values: list
     extrapolated: float
-    error_estimate: float
+    error_estimate: float | None  # None: no bound (two grids)
     observed_order: float | None
     order: float = FORMAL_ORDER
     basis: str = "formal order"
