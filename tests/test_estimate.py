@@ -32,6 +32,18 @@ def test_estimate_extrapolates_the_mean_sampled_time():
         estimate.wall_hours(0)
 
 
+def test_one_sample_says_it_has_no_spread(capsys):
+    """One sampled case has no spread: the error is not known (it printed "± 0"), and the total says so."""
+    from brushbem.cli.sweep_commands import _print_estimates
+
+    one = SweepEstimate(cases=10, sampled=("a",), seconds=(1.12,), statuses=("finished",))
+    assert one.cpu_hours_error is None
+    _print_estimates({"one": one, "two": SweepEstimate(cases=10, sampled=("a", "b"), seconds=(1.0, 2.0),
+                                                       statuses=("finished",) * 2)}, workers=1)
+    shown = " ".join(capsys.readouterr().out.split())
+    assert "one sample" in shown and "error not known" in shown and "± 0 " not in shown
+
+
 def test_estimate_runs_the_sampled_cases_and_writes_nothing(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     sweep = load_sweep(EXAMPLE)

@@ -104,3 +104,52 @@ def test_the_pillar_model_loading_is_measured_whole_and_the_unloading_priced_apa
     assert not estimate.complete and estimate.sampled_states == 6
     assert estimate.loading_seconds is not None and estimate.loading_seconds > 0
     assert estimate.seconds >= estimate.loading_seconds
+
+
+def test_a_run_too_large_to_sample_is_sized_from_its_keys_in_seconds(tmp_path, monkeypatch):
+    """10^6 pillars at N = 8192 (pillar model): --estimate rasterises nothing and computes no state (it
+    spent a minute rasterising and was killed at 40 s), prints the memory the run would need and says it
+    cannot give the wall time."""
+    import brushbem.workflow.assembly as assembly
+
+    def never(*args, **kwargs):
+        raise AssertionError("the brush was built for --estimate")
+
+    monkeypatch.setattr(assembly, "load", never)
+    monkeypatch.setattr(assembly, "build_indenter", never)
+    path = tmp_path / "huge.toml"
+    path.write_text(textwrap.dedent("""
+        [halfspace]
+        contact_modulus = 1.0
+        work_of_adhesion = 1e-4
+        [grid]
+        size = 1.0
+        elements = 8192
+        [indenter]
+        shape = "brush"
+        layout = "square"
+        pillars_per_side = 1000
+        pillar_radius = 0.0003
+        stiffness_ratio = 0.01
+        [protocol]
+        method = "pillars"
+        preload_displacement = 0.0002
+    """))
+    result = CliRunner().invoke(main, ["run", str(path), "--estimate"])
+    assert result.exit_code == 0, result.output
+    assert "1,000,000 pillars" in result.output and "wall time    not estimated" in result.output
+    assert "peak memory  16" in result.output  # GiB, from brushbem.workflow.resources.memory_estimate
+    assert list(tmp_path.iterdir()) == [path]
+
+
+def test_ctrl_c_during_an_estimate_exits_130(tmp_path, monkeypatch):
+    """Ctrl-C while --estimate samples the path: the status of an interrupted command (130), not 1."""
+    import brushbem.workflow.estimate as estimate
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(estimate, "estimate_run", interrupted)
+    path = _config(tmp_path, "preload_displacement = 0.01")
+    result = CliRunner().invoke(main, ["run", str(path), "--estimate"])
+    assert result.exit_code == 130 and "interrupted: no estimate" in result.output

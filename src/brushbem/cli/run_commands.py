@@ -16,6 +16,7 @@ if TYPE_CHECKING:  # the command line imports what a command needs when it runs 
 from brushbem.runs.pulloff import FIGURE_FILES
 
 from brushbem.cli.common import (
+    EXIT_INTERRUPTED,
     EXIT_INVALID_CONFIG,
     EXIT_NOT_CONVERGED,
     EXIT_WRITE_FAILED,
@@ -138,6 +139,13 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
     """
     if out_dir is None and not estimate:
         raise click.UsageError("Missing option '--out' (only --estimate runs without it).")
+    if estimate:
+        try:
+            if _print_size_estimate(config_path, grids):
+                return
+        except KeyboardInterrupt:
+            click.echo("\ninterrupted: no estimate", err=True)
+            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
     built = _load_or_exit(config_path, build=True)
     config = built.config
     from brushbem.results.units import Units
@@ -160,7 +168,11 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
                 click.echo(f"  {line}", err=True)
             raise click.exceptions.Exit(EXIT_INVALID_CONFIG) from None
     if estimate:
-        _print_run_estimate(config_path, [built] if refined is None else refined)
+        try:
+            _print_run_estimate(config_path, [built] if refined is None else refined)
+        except KeyboardInterrupt:  # Ctrl-C: the status of an interrupted command, not click's 1
+            click.echo("\ninterrupted: no estimate", err=True)
+            raise click.exceptions.Exit(EXIT_INTERRUPTED) from None
         return
     assert out_dir is not None
     _prepare_out(out_dir)  # before the computation, so that a bad --out does not lose it
@@ -290,6 +302,44 @@ def _duration(seconds: float) -> str:
         if seconds >= 2 * size:
             return f"{seconds / size:.3g} {unit}"
     return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+
+
+def _print_size_estimate(config_path: Path, grids: int | None) -> bool:
+    """``run --estimate`` of a run too large to sample in seconds: its size and memory from the keys alone.
+
+    True when printed (the configuration's sections are validated, but its brush is not rasterised and no
+    state is computed); False when the run is small enough for `_print_run_estimate`.
+    """
+    from brushbem.config import ConfigError
+    from brushbem.config.loading import load_config
+    from brushbem.workflow.estimate import configured_pillars, too_large_to_sample
+    from brushbem.workflow.resources import available_memory, format_bytes, memory_estimate, result_size_estimate
+
+    try:
+        config = load_config(config_path)  # the sections and their rules, without rasterising
+    except ConfigError:
+        return False  # the full load says what is wrong
+    why = too_large_to_sample(config)
+    if why is None:
+        return False
+    click.echo(f"estimate for {config_path} (nothing written, nothing computed: {why}, so even building the "
+               "brush would take long; the rasterised checks of `brushbem validate` are not run either):")
+    click.echo(f"  N = {config.grid.elements} ({config.grid.elements ** 2:,} elements), "
+               f"{configured_pillars(config):,} pillars, method \"{config.protocol.method}\"" +
+               (f", on {grids} grids (the finest shown)" if grids else ""))
+    click.echo("    wall time    not estimated: a state of this size must be computed to measure its cost "
+               "(time a smaller grid or fewer pillars with --estimate, or run a few minutes and read the "
+               "progress)")
+    click.echo(f"    peak memory  {format_bytes(memory_estimate(config))} "
+               f"(brushbem.workflow.resources.memory_estimate); result.nc at most "
+               f"{format_bytes(result_size_estimate(config))}")
+    try:
+        limit, source = available_memory()
+    except ValueError:
+        limit, source = None, "unknown"
+    if limit is not None:
+        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+    return True
 
 
 def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:

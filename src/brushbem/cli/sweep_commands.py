@@ -149,19 +149,24 @@ def _print_estimates(estimates: dict[str, Any], workers: int | None) -> None:
     for column in ("sweep", "cases", "sampled s (each)", "CPU h", "wall h"):
         table.add_column(column)
     total_cpu = total_error2 = total_wall = 0.0
+    unknown = False
     for name, estimate in estimates.items():
         seconds = ", ".join(f"{t:.1f}" for t in estimate.seconds)
         failed = [s for s in estimate.statuses if s != "finished"]
         note = f" ({len(failed)} not finished)" if failed else ""
-        table.add_row(name, str(estimate.cases), seconds + note,
-                      f"{estimate.cpu_hours:.3g} ± {estimate.cpu_hours_error:.2g}",
+        error = estimate.cpu_hours_error
+        spread = (f" ± {error:.2g}" if error is not None
+                  else " (one sample: no spread, the error is not known; --samples 3 measures it)")
+        table.add_row(name, str(estimate.cases), seconds + note, f"{estimate.cpu_hours:.3g}{spread}",
                       f"{estimate.wall_hours(workers):.3g}")
         total_cpu += estimate.cpu_hours
-        total_error2 += estimate.cpu_hours_error**2
+        unknown = unknown or error is None
+        total_error2 += (error or 0.0) ** 2
         total_wall += estimate.wall_hours(workers)
     if len(estimates) > 1:
+        total_spread = " (error not known: a sweep with one sample)" if unknown else f" ± {total_error2**0.5:.2g}"
         table.add_row("total", str(sum(e.cases for e in estimates.values())), "",
-                      f"{total_cpu:.3g} ± {total_error2**0.5:.2g}", f"{total_wall:.3g}")
+                      f"{total_cpu:.3g}{total_spread}", f"{total_wall:.3g}")
     Console().print(table)
 
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from brushbem.sweep import Sweep, compute_case
 
-__all__ = ["RunEstimate", "SweepEstimate", "estimate_run", "estimate_sweep", "sample_indices"]
+__all__ = ["RunEstimate", "SweepEstimate", "estimate_run", "estimate_sweep", "sample_indices", "too_large_to_sample"]
 
 
 @dataclass(frozen=True)
@@ -65,10 +65,10 @@ class SweepEstimate:
         return self.cases * self.mean_seconds / 3600.0
 
     @property
-    def cpu_hours_error(self) -> float:
-        """Standard error of ``cpu_hours`` from the spread of the samples (0 for one sample)."""
+    def cpu_hours_error(self) -> float | None:
+        """Standard error of ``cpu_hours`` from the spread of the samples (None for one sample: no spread)."""
         if len(self.seconds) < 2:
-            return 0.0
+            return None
         return self.cases * statistics.stdev(self.seconds) / math.sqrt(len(self.seconds)) / 3600.0
 
     def wall_hours(self, workers: int) -> float:
@@ -173,6 +173,38 @@ class RunEstimate:
     memory_bytes: int
     result_bytes: int
     loading_seconds: float | None = None
+
+
+#: The largest grid (N) and the most pillars whose first states `estimate_run` computes: beyond either, building
+#: the brush alone takes tens of seconds (10^6 pillars at N = 8192: a minute to rasterise, before any state),
+#: so the estimate gives the run's size and memory from the configuration, and says it cannot give its time.
+SAMPLE_MAX_ELEMENTS = 2048
+SAMPLE_MAX_PILLARS = 100_000
+
+
+def configured_pillars(config) -> int:
+    """How many pillars the configuration asks for, from its keys alone (1 for a punch, sphere or height map)."""
+    spec = config.indenter
+    if spec.shape != "brush":
+        return 1
+    if spec.pillar_count is not None:
+        return int(spec.pillar_count)
+    per_side = int(spec.pillars_per_side or 1)
+    clusters = 1
+    if spec.layout == "clustered":  # pillars_per_side sub-pillars per side in every cluster of every level
+        for level in spec.levels or ():
+            clusters *= max(int(getattr(level, "cluster", 1) or 1), 1) ** 2
+    return per_side**2 * clusters
+
+
+def too_large_to_sample(config) -> str | None:
+    """Why ``estimate_run`` would compute something the size of the run (None: it samples in seconds)."""
+    elements, pillars = config.grid.elements, configured_pillars(config)
+    if elements > SAMPLE_MAX_ELEMENTS:
+        return f"grid.elements = {elements} is beyond {SAMPLE_MAX_ELEMENTS}"
+    if pillars > SAMPLE_MAX_PILLARS:
+        return f"{pillars:,} pillars are beyond {SAMPLE_MAX_PILLARS:,}"
+    return None
 
 
 def _branch_end(problem, path) -> tuple[float, str] | None:
