@@ -449,3 +449,29 @@ def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch, swi
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     without = record_pull_off(problem, path).summary
     assert without["adhesive_force"] / reference["adhesive_force"] - 1 > 0.05
+
+
+def test_a_stop_request_ends_the_pillar_model_inside_its_cascade(monkeypatch):
+    """A stop asked while a cascade runs ends the path in that cascade's next round (no solve more; the
+    cascade ran to its end before, up to 27 s on a large brush), and the record says interrupted."""
+    from brushbem.pillars.state import PillarState
+
+    problem, force = _brush(64, 4, 1e-2)
+    asked, solves_after = [], []
+    cascade, solve = PillarState.cascade, PillarState.solve
+
+    def cascade_and_ask(self, d, loading):
+        if not loading:
+            asked.append(True)  # Ctrl-C arrives as the first pull-off cascade starts
+        return cascade(self, d, loading)
+
+    def counted_solve(self):
+        if asked:
+            solves_after.append(True)
+        return solve(self)
+
+    monkeypatch.setattr(PillarState, "cascade", cascade_and_ask)
+    monkeypatch.setattr(PillarState, "solve", counted_solve)
+    record = record_pull_off(problem, LoadPath(method="pillars", preload_force=force), stop=lambda: bool(asked))
+    assert asked and not solves_after
+    assert record.summary["interrupted"] and not record.summary["converged"]

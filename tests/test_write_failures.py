@@ -140,3 +140,27 @@ def test_a_figure_that_cannot_be_written_says_so_and_that_the_results_were(tmp_p
     data = bio.read_case(out)
     assert data.attrs["run_id"] == json.loads((out / "summary.json").read_text())["run_id"]
     assert not (out / "pulloff.png").exists()
+
+
+def test_a_signal_during_the_writing_of_a_complete_result_is_not_an_interruption(tmp_path, monkeypatch):
+    """Ctrl-C (SIGINT) while a complete, converged result is written: the files are written whole and the
+    run says so, exit 0 (it said "partial result" and exited 130 for a result that was not partial)."""
+    import signal
+
+    from brushbem.workflow.pulloff import PullOff
+
+    config = tmp_path / "punch.toml"
+    config.write_text(PUNCH)
+    save = PullOff.save
+
+    def save_under_a_signal(self, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # the run's handler records it; the write goes on
+        return save(self, *args, **kwargs)
+
+    monkeypatch.setattr(PullOff, "save", save_under_a_signal)
+    out = tmp_path / "out"
+    done = CliRunner().invoke(main, ["run", str(config), "--out", str(out), "--quiet"])
+    assert done.exit_code == 0, done.output
+    assert "partial" not in done.output and "SIGINT arrived after the pull-off was computed" in done.output
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and not summary["interrupted"]

@@ -113,6 +113,11 @@ def _executor_options(function: Any) -> Any:
     return function
 
 
+def signal_name(number: int) -> str:
+    """SIGINT, SIGTERM: the name of a signal's number."""
+    return signal.Signals(number).name
+
+
 class _Stop:
     """SIGINT and SIGTERM ask a run to stop after its current state (a second SIGINT aborts at once).
 
@@ -126,6 +131,8 @@ class _Stop:
 
     def __init__(self) -> None:
         self.signal: int | None = None
+        #: Set once the computation has ended (the result is being written): a signal then cuts nothing short.
+        self.computed = False
         self._previous: dict[int, Any] = {}
         self._writing: tuple[Path, tuple[str, ...]] | None = None
 
@@ -160,6 +167,10 @@ class _Stop:
                 self._abort_writing()
             raise KeyboardInterrupt
         self.signal = number
+        if self.computed:
+            click.echo(f"\n{signal.Signals(number).name}: the computation is complete; its result is being "
+                       "written whole (Ctrl-C again aborts without writing)", err=True)
+            return
         click.echo(f"\n{signal.Signals(number).name}: stopping after the current state and keeping the "
                    "partial result (Ctrl-C again aborts without writing)", err=True)
 

@@ -19,6 +19,7 @@ from brushbem.cli.common import (
     _OutFolder,
     _prepare_out,
     _Stop,
+    signal_name,
 )
 
 #: The files of a design's output folder (`brushbem design` refuses to replace them without --overwrite).
@@ -82,6 +83,7 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
         except DesignInterrupted as exc:
             click.echo(f"design of {config_path} {exc}", err=True)
             raise click.exceptions.Exit(stop.exit_status) from None
+        stop.computed = True
         try:
             write_design(built.problem, result, out_dir, str(config_path))
         except DesignWriteError as exc:
@@ -107,5 +109,8 @@ def design(config_path: Path, out_dir: Path, target: str, iterations: int, bound
     if not result.converged:
         click.echo("warning: a verification pull-off did not converge", err=True)
         raise click.exceptions.Exit(EXIT_NOT_CONVERGED)
-    if stop.signal is not None:
+    if stop.signal is not None and result.interrupted:
         raise click.exceptions.Exit(stop.exit_status)
+    if stop.signal is not None:  # after the design was complete: written whole, nothing cut short
+        click.echo(f"{signal_name(stop.signal)} arrived after the design was complete: it was written whole",
+                   err=True)

@@ -29,6 +29,7 @@ from brushbem.cli.common import (
     _OutFolder,
     _prepare_out,
     _Stop,
+    signal_name,
 )
 
 
@@ -227,6 +228,7 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
 
             pulled = run_pull_off(built, progress=report, stop=stop, refine=grids)
         result = pulled.result
+        stop.computed = True
 
         # From here a second Ctrl-C ends the process at once, removing what was being written (_Stop.writing).
         stack.enter_context(stop.writing(out_dir, tuple(dict.fromkeys((*RESULT_FILES, *FIGURE_FILES)))))
@@ -251,10 +253,13 @@ def run(config_path: Path, out_dir: Path | None, quiet: bool, grids: int | None,
         click.echo(f"--out {out_dir}: could not write the figure pulloff.png ({figure_error}); the results "
                    "summary.json and result.nc were written (`brushbem report` draws the figure from them)",
                    err=True)
-    if stop.signal is not None:
+    if stop.signal is not None and result.summary.get("interrupted", False):
         click.echo(f"interrupted: the partial result in {out_dir} is marked interrupted and not converged",
                    err=True)
         raise click.exceptions.Exit(stop.exit_status)
+    if stop.signal is not None:  # it came after the last state: nothing was cut short
+        click.echo(f"{signal_name(stop.signal)} arrived after the pull-off was computed: the result in {out_dir} "
+                   "is complete, and was written whole", err=True)
     if not result.summary.get("converged", False):
         click.echo(
             f"warning: the pull-off did not converge ({result.summary.get('reason', 'no reason given')}); "

@@ -46,6 +46,7 @@ def press(run: PillarState, d: float) -> int:
     for radiate in phases:
         run.radiate = radiate
         for _ in range(4 * _FLIPS + 100):
+            run.check_stop()
             rounds += 1
             run.solve()
             pressure = run.pressures_at(d)

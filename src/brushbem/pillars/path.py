@@ -13,17 +13,20 @@ from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.events import events
-from brushbem.pillars.state import PillarState
+from brushbem.pillars.state import Interrupted, PillarState
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 
 __all__ = ["pull_off"]
 
 def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic", coupling: str = "local",
-             peel: bool = True, near: float | None = None) -> Iterator[State]:
+             peel: bool = True, near: float | None = None, stop=None) -> Iterator[State]:
     """The states of a press-and-pull-off in the pillar model (module docstring), as `paths.pull_off` yields them.
 
     ``modes``, ``coupling``, ``peel`` and ``near`` select the model's
     variants (the defaults meet the accuracy of the module docstring).
+    ``stop`` (callable or None) is asked in every round of the model's long
+    steps (cascades, peels, presses): when it returns True the path ends
+    there, without a state for the unfinished step.
     """
     check_applicable(problem, path)
     check_preload(problem.indenter, path)
@@ -33,9 +36,11 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str = "quadratic
     # consumed too, and is lifted when the generator ends or is closed.
     with ThreadpoolController().limit(limits=1, user_api="blas"):
         model = PillarModel(problem, modes=modes, coupling=coupling, peel=peel, near=near)
-        run = PillarState(model, path)
+        run = PillarState(model, path, stop)
         try:
             yield from events(run, path)
+        except Interrupted:
+            return  # the caller asked to stop: the last state yielded stands
         except NotConverged as error:
             # The last state stands; the path stops there, saying why (as the element paths do).
             d, loading = run.last

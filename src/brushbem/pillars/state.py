@@ -19,13 +19,22 @@ from brushbem.protocol.problem import LoadPath, State
 __all__ = ["PillarState"]
 
 
+class Interrupted(Exception):
+    """``stop()`` turned True inside a long step of the pillar model (a cascade, a peel, a press)."""
+
+
 class PillarState:
     """The state of a pull-off in the pillar model (amplitudes, attached pillars, their rasters) and its steps:
-    the solves, the peeling and the cascades."""
+    the solves, the peeling and the cascades.
 
-    def __init__(self, model: PillarModel, path: LoadPath):
+    ``stop`` (a callable, or None) is asked in every round of those steps; when it returns True they raise
+    `Interrupted`, so that a stop request is honoured within a round, not after the whole cascade.
+    """
+
+    def __init__(self, model: PillarModel, path: LoadPath, stop=None):
         self.model = model
         self.path = path
+        self.stop = stop
         self.solver = Solver(model)
         self.attached = self.solver.attached  # shared
         self.alpha = np.zeros((model.M, model.m))
@@ -46,6 +55,11 @@ class PillarState:
         self.last = (0.0, True)  # (d, loading) of the last state yielded
 
     # -- state ---------------------------------------------------------------
+    def check_stop(self) -> None:
+        """Raise `Interrupted` when ``stop()`` asks to stop (one flag read: asked in every round)."""
+        if self.stop is not None and self.stop():
+            raise Interrupted("stopped inside a step of the pillar model")
+
     def _changed(self) -> None:
         self._stamp += 1
         self._memo.clear()
@@ -298,6 +312,7 @@ class PillarState:
         if not model.peel:
             return np.zeros_like(mask)
         while mask.any():
+            self.check_stop()
             a, basis = self.local_amplitudes(p, mask, frozen, x, d)
             pressure = basis.phi @ a
             tense = pressure < -model.critical * (1 + 1e-10) if model.critical > 0 else pressure < 0
@@ -318,6 +333,7 @@ class PillarState:
         model = self.model
         tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
         for _ in range(10 * model.M + 100):
+            self.check_stop()
             self.solve()
             x = self.amplitudes(d)
             p = self.pressures_at(d)

@@ -45,17 +45,19 @@ def indent(problem: ContactProblem, displacement: float, tolerance: float = 1e-8
     return _eq_state(tracker, eq, True)
 
 
-def pull_off(problem: ContactProblem, path: LoadPath) -> Iterator[State]:
+def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[State]:
     """Yield the states of a press-and-pull-off (module docstring).
 
     The last state has ``kind == "separated"`` when the indenter came off, or
     ``converged == False`` with the reason when a solve failed or the step
-    budget ran out.
+    budget ran out.  ``stop`` (callable or None): the pillar model asks it in
+    every round of its long steps and ends the path there when it returns
+    True (the element paths end between states, where the caller asks it).
     """
     if path.method == "pillars":
         from brushbem.pillars import pull_off as pillar_pull_off
 
-        yield from pillar_pull_off(problem, path)
+        yield from pillar_pull_off(problem, path, stop=stop)
         return
     if problem.indenter.viscoelastic is not None or path.speed is not None:
         path = _time_stepped(problem, path)

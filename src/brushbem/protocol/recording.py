@@ -51,9 +51,11 @@ def record_pull_off(
     """
     start = time.perf_counter()
     recorder = _Recorder(problem)
-    for state in pull_off(problem, path):
+    last = None
+    for state in pull_off(problem, path, stop=stop):
         if not recorder.add(state):
             break
+        last = state
         if progress is not None:
             progress(_progress_fraction(state, path, recorder.max_area),
                      f"d = {state.displacement:.4g}, F = {state.force:.4g}")
@@ -62,6 +64,10 @@ def record_pull_off(
         if stop is not None and stop():
             recorder.interrupt(state)
             break
+    else:
+        # The pillar model ends its path inside a step when asked to stop: interrupted, not "ended early".
+        if stop is not None and last is not None and last.kind != "separated" and stop():
+            recorder.interrupt(last)
     return recorder.finish(path, time.perf_counter() - start)
 
 
