@@ -110,7 +110,7 @@ def test_a_run_too_large_to_sample_is_sized_from_its_keys_in_seconds(tmp_path, m
     """10^6 pillars at N = 8192 (pillar model): --estimate rasterises nothing and computes no state (it
     spent a minute rasterising and was killed at 40 s), prints the memory the run would need and says it
     cannot give the wall time."""
-    import brushbem.workflow.assembly as assembly
+    import brushbem.runs.assembly as assembly
 
     def never(*args, **kwargs):
         raise AssertionError("the brush was built for --estimate")
@@ -138,13 +138,13 @@ def test_a_run_too_large_to_sample_is_sized_from_its_keys_in_seconds(tmp_path, m
     result = CliRunner().invoke(main, ["run", str(path), "--estimate"])
     assert result.exit_code == 0, result.output
     assert "1,000,000 pillars" in result.output and "wall time    not estimated" in result.output
-    assert "peak memory  16" in result.output  # GiB, from brushbem.workflow.resources.memory_estimate
+    assert "peak memory  16" in result.output  # GiB, from brushbem.config.resources.memory_estimate
     assert list(tmp_path.iterdir()) == [path]
 
 
 def test_ctrl_c_during_an_estimate_exits_130(tmp_path, monkeypatch):
     """Ctrl-C while --estimate samples the path: the status of an interrupted command (130), not 1."""
-    import brushbem.workflow.estimate as estimate
+    import brushbem.sweep.estimate as estimate
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt

@@ -309,6 +309,17 @@ def _duration(seconds: float) -> str:
     return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
 
 
+def _print_available_memory() -> None:
+    from brushbem.config.resources import available_memory, format_bytes
+
+    try:
+        limit, source = available_memory()
+    except ValueError:
+        limit, source = None, "unknown"
+    if limit is not None:
+        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+
+
 def _print_size_estimate(config_path: Path, grids: int | None) -> bool:
     """``run --estimate`` of a run too large to sample in seconds: its size and memory from the keys alone.
 
@@ -317,8 +328,8 @@ def _print_size_estimate(config_path: Path, grids: int | None) -> bool:
     """
     from brushbem.config import ConfigError
     from brushbem.config.loading import load_config
-    from brushbem.workflow.estimate import configured_pillars, too_large_to_sample
-    from brushbem.workflow.resources import available_memory, format_bytes, memory_estimate, result_size_estimate
+    from brushbem.sweep.estimate import configured_pillars, too_large_to_sample
+    from brushbem.config.resources import format_bytes, memory_estimate, result_size_estimate
 
     try:
         config = load_config(config_path)  # the sections and their rules, without rasterising
@@ -336,21 +347,16 @@ def _print_size_estimate(config_path: Path, grids: int | None) -> bool:
                "(time a smaller grid or fewer pillars with --estimate, or run a few minutes and read the "
                "progress)")
     click.echo(f"    peak memory  {format_bytes(memory_estimate(config))} "
-               f"(brushbem.workflow.resources.memory_estimate); result.nc at most "
+               f"(brushbem.config.resources.memory_estimate); result.nc at most "
                f"{format_bytes(result_size_estimate(config))}")
-    try:
-        limit, source = available_memory()
-    except ValueError:
-        limit, source = None, "unknown"
-    if limit is not None:
-        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+    _print_available_memory()
     return True
 
 
 def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
     """``run --estimate``: the expected cost of the run (of every grid of --refine), with its basis; no file."""
     from brushbem.sweep.estimate import estimate_run
-    from brushbem.config.resources import available_memory, format_bytes
+    from brushbem.config.resources import format_bytes
 
     estimates = [estimate_run(config) for config in configs]
     total = sum(estimate.seconds for estimate in estimates)
@@ -379,12 +385,7 @@ def _print_run_estimate(config_path: Path, configs: list[Any]) -> None:
     if len(estimates) > 1:
         kinds = {estimate.kind for estimate in estimates if estimate.kind != "measured"}
         click.echo(f"  total wall time {kinds.pop() if len(kinds) == 1 else 'about'} {_duration(total)}")
-    try:
-        limit, source = available_memory()
-    except ValueError:
-        limit, source = None, "unknown"
-    if limit is not None:
-        click.echo(f"  available memory {format_bytes(limit)} ({source})")
+    _print_available_memory()
     click.echo("  (the computation only: writing the files and the figure takes a few seconds more)")
 
 
