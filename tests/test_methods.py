@@ -803,8 +803,8 @@ def test_coupled_operator_equals_the_dense_matrix_and_is_spd(coupling, levels):
 
 @pytest.mark.parametrize("method", ["events", "pillars"])
 def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
-    """The 4 x 4 brush (N = 64, k~ = 0.1): events closer than protocol.event_window x h are one event, a
-    length of the grid.  A CG tolerance of 1e-3 (the event path) and a preload 500 x deeper each move F_A
+    """The 4 x 4 brush (N = 64, k~ = 0.1): the events taken together are those within protocol.event_window
+    (x Sigma_c of the criterion, x h along the path), neither the CG's tolerance nor the depth.  A CG tolerance of 1e-3 (the event path) and a preload 500 x deeper each move F_A
     by < 1e-3 (the tolerance's own error; measured 2.5e-4 and 0); they took 4.7 % (4.8 % by the pillar
     model) when the window was 100 x tolerance x |d|.  The default window against 1e-12: the same F_A."""
     from brushbem.physics.structure import brush

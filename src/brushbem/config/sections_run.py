@@ -47,12 +47,14 @@ class ProtocolConfig(_Section):
         ``indenter.viscoelastic``, ``method = "fixed"`` and
         ``preload_displacement``.
     event_window : float
-        Events of the event paths ("events", "element_events", "pillars")
-        closer than event_window x h along the path (h = grid.size /
-        grid.elements) are taken together, in one cascade; dimensionless,
-        in [0, 1e-3].  A length of the grid: independent of
-        ``solver.tolerance`` and of the depth of the path.  The default 1e-7
-        changes F_A by < 1e-6 against 1e-12 on the validation families.
+        Which events of the event paths ("events", "element_events",
+        "pillars") are taken together, in one cascade: every element whose
+        pressure is within event_window x Sigma_c of the criterion at the
+        first detachment, and every event within event_window x h along the
+        path (h = grid.size / grid.elements); dimensionless, in [0, 1e-3].
+        Independent of ``solver.tolerance`` and of the depth of the path.
+        The default 1e-7 changes F_A by < 1e-6 against 1e-12 on the
+        validation families.
     """
 
     model_config = _MODEL_CONFIG

@@ -12,7 +12,7 @@ import numpy as np
 
 from brushbem.pillars.loading import press_rough
 from brushbem.pillars.state import PillarState
-from brushbem.protocol.problem import LoadPath, State, event_tie
+from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
 
 __all__ = ["events"]
 
@@ -48,7 +48,7 @@ def events(run: PillarState, path: LoadPath) -> Iterator[State]:
             return
         direction = 1.0 if loading else -1.0
         attached = run.on()
-        t_detach = _detachment_times(run, d, direction)
+        t_detach, slack = _detachment_times(run, path, d, direction)
         t_det = float(t_detach.min(initial=math.inf))
         t_target = _preload_distance(run, path, d) if loading else math.inf
         rows, t_touch = _touch_times(run, path, d, direction, min(t_det, t_target))
@@ -71,8 +71,9 @@ def events(run: PillarState, path: LoadPath) -> Iterator[State]:
         x = run.amplitudes(new_d)
         yield run.state(new_d, loading, "event", "event")
         d = new_d
-        leaving = np.flatnonzero((t_detach <= t + tie).any(axis=1)) if t_det <= t + tie else np.array([], int)
-        run.peel_all([(int(attached[i]), t_detach[i] <= t + tie) for i in leaving], x, d)
+        detaching = t_detach <= t + np.maximum(tie, slack)
+        leaving = np.flatnonzero(detaching.any(axis=1)) if t_det <= t + tie else np.array([], int)
+        run.peel_all([(int(attached[i]), detaching[i]) for i in leaving], x, d)
         if t_att <= t + tie:
             touching = t_attach <= t + tie
             masks = np.zeros(model.full.shape, dtype=bool)
@@ -89,15 +90,17 @@ def events(run: PillarState, path: LoadPath) -> Iterator[State]:
             steps = 0
 
 
-def _detachment_times(run: PillarState, d: float, direction: float) -> np.ndarray:
+def _detachment_times(run: PillarState, path: LoadPath, d: float,
+                      direction: float) -> tuple[np.ndarray, np.ndarray]:
     """How far the base moves before each slot of each attached pillar (`PillarState.on`) reaches the criterion:
-    (n, width), inf where its tension does not grow."""
+    (n, width), inf where its tension does not grow; and how much further each stays within the event
+    window (`brushbem.protocol.problem.detachment_slack`)."""
     model = run.model
     p = run.pressures_at(d)
     rate = direction * run.pressures(run.alpha)
     grows = model.raster[run.on()] & (rate < 0)
     t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
-    return np.maximum(t_detach, 0.0)
+    return np.maximum(t_detach, 0.0), detachment_slack(path, model.critical, grows, rate)
 
 
 def _preload_distance(run: PillarState, path: LoadPath, d: float) -> float:

@@ -20,7 +20,7 @@ import numpy as np
 from brushbem import backend, settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated
-from brushbem.protocol.problem import LoadPath, State, event_tie
+from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
 from brushbem.protocol.tracking import Tracker
 
 
@@ -199,7 +199,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     leave = xp.zeros_like(tracker.contact)
     join = xp.zeros_like(tracker.contact)
     if t_det <= t + tie:
-        leave[sl] = ahead.within(grows, t_detach, t + tie)
+        leave[sl] = ahead.within(grows, t_detach, t + xp.maximum(tie, ahead.detach_slack))
     if t_att <= t + tie:
         join[sl] = ahead.within(closing, t_attach, t + tie)
     tracker.set_pressure(new_pressure, new_deflection)
@@ -254,9 +254,13 @@ class _Ahead:
     unit_deflection: object  # tip deflection of a
     candidates: list  # (t, kind, None): detach, attach, and the targets and window bounds ahead
     elements: tuple | None = None  # (rows, cols, window shape) when the arrays above hold these elements only
+    # How much further along the path each element of ``grows`` is still within the event window of its
+    # detachment: its pressure within event_window x Sigma_c of the criterion (`detachment_slack`).
+    detach_slack: object = 0.0
 
-    def within(self, kind, times, bound: float):
-        """The elements of ``kind`` (``grows`` or ``closing``) whose ``times`` are <= ``bound``, on the window."""
+    def within(self, kind, times, bound):
+        """The elements of ``kind`` (``grows`` or ``closing``) whose ``times`` are <= ``bound`` (a number or one
+        per element), on the window."""
         chosen = kind & (times <= bound)
         if self.elements is None:
             return chosen
@@ -318,4 +322,4 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
     return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,
-                  candidates, elements)
+                  candidates, elements, detachment_slack(path, tracker.critical, grows, rate, xp))

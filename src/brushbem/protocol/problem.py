@@ -14,7 +14,8 @@ from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "check_preload", "event_tie"]
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "check_preload", "detachment_slack",
+           "event_tie"]
 
 
 class NotConvergedError(RuntimeError):
@@ -64,13 +65,25 @@ MAX_EVENT_WINDOW = 1e-3
 def event_tie(path: LoadPath, element_size: float) -> float:
     """The distance along the path within which two events are one (``path.event_window`` x h), a length.
 
-    Events computed from a converged solve differ from their exact places by the CG's residual, and
-    events equal by symmetry differ by rounding: taking those together saves steps of no length.  The
-    window is a length of the grid, not of the tolerance or of the displacement d, so a looser CG or a
-    deeper preload does not merge events that are apart.  The default 1e-7 h changes F_A by < 1e-6
-    against 1e-12 h on the validation families (`docs/site/internals.md`).
+    Events equal by symmetry differ by rounding, and events computed from a converged solve by its
+    residual: taking those together saves steps of no length.  The window is a length of the grid (and,
+    for detachments, a margin of stress, `detachment_slack`), not of the tolerance or of the
+    displacement d, so a looser CG or a deeper preload does not merge events that are apart.  The
+    default 1e-7 changes F_A by < 1e-6 against 1e-12 on the validation families
+    (`docs/reproduction/probe_event_window.py`).
     """
     return path.event_window * element_size + 1e-300
+
+
+def detachment_slack(path: LoadPath, critical: float, grows, rate, xp=np):
+    """How much further along the path each detaching element stays within the event window, a length.
+
+    An element whose pressure falls at ``rate`` per unit of the path (< 0 where ``grows``) is taken with
+    the first detachment while its pressure is within ``path.event_window`` x Sigma_c of the criterion:
+    event_window x Sigma_c / |rate|.  A margin of stress, so the same for every CG tolerance and depth;
+    on soft springs (a small rate) it spans the longer way that the same stress margin takes.
+    """
+    return xp.where(grows, (path.event_window * critical) / xp.where(grows, -rate, 1.0), 0.0)
 
 
 @dataclass(frozen=True)
@@ -101,11 +114,14 @@ class LoadPath:
         "fixed"): every displacement step is the time step dd / v, in the
         time units of the pillars' relaxation time.
     event_window : float
-        Events of the event paths ("events", "element_events", "pillars")
-        closer than ``event_window`` x h (h the element size) along the path
-        are taken together, in one cascade: dimensionless, >= 0 (0: only
-        exact ties).  A length of the grid, so the same for every CG
-        tolerance and every depth |d| of the path (`event_tie`).
+        Which events of the event paths ("events", "element_events",
+        "pillars") are taken together, in one cascade: at the first, every
+        element whose pressure is within ``event_window`` x Sigma_c of the
+        criterion (`detachment_slack`), and every event within
+        ``event_window`` x h along the path (h the element size,
+        `event_tie`).  Dimensionless, in [0, 1e-3] (0: only exact ties); a
+        margin of stress and of the grid's length, so the same for every CG
+        tolerance and every depth |d| of the path.
     """
 
     method: str = "events"
