@@ -147,7 +147,7 @@ def test_a_signal_during_the_writing_of_a_complete_result_is_not_an_interruption
     run says so, exit 0 (it said "partial result" and exited 130 for a result that was not partial)."""
     import signal
 
-    from brushbem.workflow.pulloff import PullOff
+    from brushbem.runs.pulloff import PullOff
 
     config = tmp_path / "punch.toml"
     config.write_text(PUNCH)
