@@ -1,8 +1,8 @@
 """Full pull-off of the thesis's chapter-5 rough brush: the exact path against its references.
 
 A square n x n lattice of flat pillars filling the 1 x 1 domain at filling
-factor phi = 0.16 (32 x 32 pillars of 3.6 elements' radius at N = 512, the
-thesis's grid), Gaussian pillar lengths of standard deviation
+factor phi = 0.16 (32 x 32 pillars of 3.6 elements' radius at N = 512: ours, the
+thesis states no grid for chapter 5), Gaussian pillar lengths of standard deviation
 sigma = sigma~ d_c, pressed to the force F_P = F~_P F_c and pulled off to
 complete separation.  d_c and F_c are the rigid brush's pull-off
 displacement and force of this rasterised brush (``case.brush_scales``),

@@ -2,7 +2,7 @@
 
 Quick grid (8 x 8 pillars in a circle, phi = 0.06, N = 128: 2.2 elements per
 pillar radius, the thesis's ch. 7 setting coarsened): it tests the machinery;
-the thesis-grid numbers are in the measurements of docs/site/design.md.
+the full-grid numbers are in the measurements of docs/site/design.md.
 """
 
 from __future__ import annotations

@@ -7,6 +7,7 @@ import json
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from conftest import run_quick_study
 
@@ -38,7 +39,7 @@ def concave(tmp_path_factory):
 #: roughnesses), and the chapter-5 numbers are read strictly at their points (never off another
 #: roughness or preload), so every one is n/a here.  Each is computed from the sampled file's
 #: points in tests/test_reproduction.py (Table 1 recovered from the thesis's own eq. 5.8) and from
-#: the thesis-grid tables in docs/reproduction/rough_brush.
+#: the full-grid tables in docs/reproduction/rough_brush.
 EXPECTED_NAN = {
     # every row but the two the quick identification part and the quick curves give
     "rough_brush": {number.quantity for number in get_study("rough_brush").numbers
@@ -222,3 +223,27 @@ def test_eq58_fit_minimises_the_relative_residuals():
     assert worst(alpha, beta) < worst(*fit_eq58(sigma, c, weighting="absolute"))
     with pytest.raises(ValueError, match="weighting must be"):
         fit_eq58(sigma, c, weighting="log")
+
+
+def test_h_in_the_unit_sigma_c_is_the_same_profile_as_in_the_runs_unit():
+    """Chapter 7's identification rescales h~ from the committed runs: S_p = h~ S_c is linear in p_c, so a
+    brush built with (h~, p_c = F_K / (pi r^2)) is the brush with (h~ p_c / Sigma_c, Sigma_c), to rounding;
+    `_in_unit` gives that h~ from a table's radius and critical stress."""
+    from brushbem.physics import theory
+    from brushbem.physics.structure import Grid, brush
+    from brushbem.physics.structure.tips import Profile
+    from brushbem.studies.concave import _in_unit
+
+    grid, radius, sigma_c, h = Grid(1.0, 64), 3 / 64, 0.3289, 0.062
+    p_c = float(theory.concave_reference_stress(radius, contact_modulus=1.0, work_of_adhesion=1e-4))
+    table = pd.DataFrame({"indenter.profile.amplification": [h], "indenter.pillar_radius": [radius],
+                          "critical_stress": [sigma_c]})
+    h_sigma = float(_in_unit(table)["indenter.profile.amplification"].iloc[0])
+    assert h_sigma == pytest.approx(h * p_c / sigma_c, rel=1e-12)
+
+    def offsets(profile):
+        return brush(grid, layout="square", pillars_per_side=6, pillar_radius=radius, stiffness=1.0, contact_modulus=1.0,
+                     work_of_adhesion=1e-4, profile=profile).description["offsets"]
+    np.testing.assert_allclose(offsets(Profile(h)), offsets(Profile(h_sigma, reference_stress=sigma_c)),
+                               rtol=1e-12, atol=1e-18)
+    assert np.ptp(offsets(Profile(h))) > 0

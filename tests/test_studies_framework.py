@@ -308,7 +308,7 @@ def test_export_update_merges_a_folder_into_the_recorded_tables(
     # Without update, the folder's tables replace the recorded ones.
     _, tables = load_tables(export_tables([tmp_path / "set"], tmp_path / "tables"))
     assert tables["a"]["indenter.radius"].tolist() == [0.25]
-    # Tables of the quick grids are not updated with a thesis-grid folder.
+    # Tables of the quick grids are not updated with a full-grid folder.
     provenance = json.loads((folder / "provenance.json").read_text())
     (folder / "provenance.json").write_text(json.dumps({**provenance, "quick": True}))
     with pytest.raises(studies.StudyError, match="--update.*'fake' \\(quick\\), not 'fake'"):

@@ -4,7 +4,7 @@ Chapter 5 (``rough_brush.preload``):
 
 The full chapter-5 preload sweep (``rough_brush.preload.toml``: the thesis's 1188
 points, then the 192 of `EXTRA_SIGMA` that this script appends; x 10 realisations)
-costs hundreds of CPU hours at the thesis's grid.  The thesis's stated numbers need only some of its points (``plan.md``, section 3):
+costs hundreds of CPU hours at our full grid (N = 512; the thesis states none for chapter 5).  The thesis's stated numbers need only some of its points (``plan.md``, section 3):
 
 * the plateaus (5a-5e, 5m): k~ {10, 1, 0.55, 0.001} x sigma~ {0.01, 0.07, 2.1}
   x F~_P {20, 15, 10};

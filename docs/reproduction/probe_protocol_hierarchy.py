@@ -1,8 +1,9 @@
 """Chapter 6, Fig. 6-4 e: the small-preload case (sigma~ = 1.6, F~_P = 1, seed 0) of each level on the
-thesis's fixed-step protocol against the exact event path.
+fixed-step protocol (ours: the thesis states no step) against the exact event path.
 
-The sweeps run the exact event path; the thesis pulled off in fixed displacement steps
-(``protocol.step`` of the sweep, about d_c / 5 scaled by the pillars' compliance).  This
+The sweeps run the exact event path; the thesis pulls off by an 'incremental displacement' (L648)
+and states no step, so the fixed step here is ours (``protocol.step`` of the sweep, about d_c / 5
+scaled by the pillars' compliance).  This
 measures F~_A at the fixed step and at half of it, per level named (the exact path's is in the
 tables, `docs/reproduction/hierarchy/`):
 

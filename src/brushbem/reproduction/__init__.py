@@ -25,7 +25,7 @@ The package's modules:
 - `tables`: exporting, loading and the recorded cases of the compact tables;
 - `comparison`: the numbers from the tables, with standard errors over realisations (`compare`);
 - `document`: the comparison document, the notes that explain deviations, deviations;
-- `figures`: the thesis-grid studies' figures drawn from the tables;
+- `figures`: the full-grid (not quick) studies' figures drawn from the tables;
 - `rows`: planning and recomputing one row (`plan_row`, `reproduce_row`, rivals).
 """
 
@@ -51,6 +51,7 @@ from brushbem.reproduction.document import (
     comparison_document,
     deviation_of,
     explaining_sections,
+    identifications,
     note_anchor,
     notes_sections,
     render,
@@ -92,6 +93,7 @@ __all__ = [
     "deviation_of",
     "draw_table_figures",
     "explaining_sections",
+    "identifications",
     "export_tables",
     "load_tables",
     "note_anchor",

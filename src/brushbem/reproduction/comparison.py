@@ -18,7 +18,7 @@ from typing import Any
 
 import pandas as pd
 
-from brushbem.studies.verdicts import judge
+from brushbem.studies.verdicts import REPRODUCED, judgement
 from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["ComparisonRow", "compare"]
@@ -39,6 +39,9 @@ class ComparisonRow:
     verdict: str | None = None  # None: judged on the numbers alone (`judge` with nothing declared)
     evidence: str = ""
     claim: str | None = None  # ">" or "<": a trend the thesis asserts against ``thesis``
+    reason: str = ""  # why the rule, not the study, decided the verdict ("imprecise, ...")
+    qualitative: bool = False  # a trend or a thesis 0: judged by its side of a threshold
+    outside: str = ""  # non-empty: outside the counts, and why (`ThesisNumber.outside`)
 
     @property
     def deviation(self) -> float:
@@ -174,11 +177,22 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                 if set(_realizations(tables)) - set(counted):  # the number of the seeds with all its points
                     ours, note = _compute(number, _of_realizations(tables, counted))
                 error, realizations = _standard_error(number, tables, counted)
-            verdict = judge(float(number.thesis), ours, error, number.verdict, number.claim)
+                if number.error is not None:  # the number's own estimator (a bootstrap of a fit)
+                    error, _ = _compute(_Own(number.error), _of_realizations(tables, counted))
+            judged = judgement(float(number.thesis), ours, error, number.verdict, number.claim, realizations)
+            verdict = judged.verdict
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note, verdict,
-                                      number.evidence if number.verdict in (None, verdict) else "", number.claim))
+                                      number.evidence if number.verdict is None or verdict != REPRODUCED else "", number.claim,
+                                      judged.reason, judged.qualitative, number.outside))
     return rows, provenances
+
+
+@dataclass(frozen=True)
+class _Own:
+    """A number's own standard-error estimator, computed as `_compute` computes a number."""
+
+    compute: Any
 
 
 def _same(a: float, b: float) -> bool:

@@ -14,15 +14,25 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from brushbem.studies.verdicts import REPRODUCED, REPRODUCED_WITHIN, STANDARD_ERRORS, VERDICTS, count_by_chapter, judge
+from brushbem.studies.verdicts import (
+    PRECISE_WITHIN,
+    REPRODUCED,
+    REPRODUCED_WITHIN,
+    STANDARD_ERRORS,
+    VANISHES_BELOW,
+    VERDICTS,
+    count_by_chapter,
+    judge,
+)
 from brushbem.reproduction.comparison import ComparisonRow, compare
-from brushbem.reproduction.tables import NOTES_FILE
+from brushbem.reproduction.tables import NOTES_FILE, PROVENANCE_FILE, load_tables
 
-__all__ = ["comparison_document", "deviation_of", "explaining_sections", "note_anchor", "notes_sections", "render"]
+__all__ = ["comparison_document", "deviation_of", "explaining_sections", "identifications", "note_anchor", "notes_sections",
+           "render"]
 
 #: Deviations above this need the explanation of a measurement (the notes): relative to the
 #: thesis's value, or, where the thesis states 0 ("tends to zero", "vanishes": every such number is
@@ -87,13 +97,34 @@ def _anchored(notes: str) -> str:
                   flags=re.MULTILINE)
 
 
+def _row_line(row: ComparisonRow, verdict: str, explained: str) -> str:
+    """One row of a study's table (Markdown)."""
+    ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
+    error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
+    _, far, deviation = deviation_of(row.thesis, row.ours)
+    if row.claim:  # a trend: judged by its side of the threshold, not by its distance
+        far, deviation = verdict != REPRODUCED, f"trend ({row.claim} {_number(row.thesis)})"
+    # a number the cases cannot give (n/a) is explained like a far one, where the notes explain the study
+    unexplained = "**no explanation in the notes**" if far else ""
+    where = (explained or unexplained) if far or not math.isfinite(row.ours) else ""
+    text = f"**{verdict}**" + (" (qualitative)" if row.qualitative else "")
+    details = [part for part in (row.reason, row.evidence) if part]
+    text += (": " + "; ".join(_cell(part) for part in details)) if details else ""
+    return (f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
+            f"{error} | {deviation} | {text} | {where} |")
+
+
 def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any]], notes: str = "",
-           figures: Mapping[str, list[str]] | None = None) -> str:
+           figures: Mapping[str, list[str]] | None = None,
+           identifications: Mapping[str, str] | None = None) -> str:
     """The comparison document (Markdown) of `compare`'s rows, then ``notes``.
 
     ``figures``: study -> figure paths (relative to the document) linked in its section.
+    ``identifications``: study -> the Markdown of its chapter's identification (the candidates
+    tried and their score, `brushbem.studies.base.Study.identification`), after its rows.
     """
     figures = figures or {}
+    identifications = identifications or {}
     lines = [
         "# Thesis comparison: the thesis's numbers beside ours",
         "",
@@ -109,21 +140,36 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         f"Deviations above {100 * EXPLAIN_ABOVE:.0f} % are explained in the notes below (where the thesis states",
         f"0, an absolute {EXPLAIN_ABOVE:g} of the normalising force).",
         "",
-        "Every row has a verdict: *reproduced* (within "
-        f"{100 * REPRODUCED_WITHIN:.0f} % or {STANDARD_ERRORS:g} standard errors;",
-        "a thesis 0 only within the standard errors), *reproduced with a stated choice* (of a",
-        "parameter the thesis leaves open, named in the row), *contradicted* (the row names the",
-        "closed form, limit or run that shows the thesis's number cannot hold for the model it",
-        "states), or *open* (the row names what was tried).",
+        "Every row has a verdict, by one rule that no row's declaration bends (`brushbem.studies.verdicts`):",
+        f"*reproduced* (within {100 * REPRODUCED_WITHIN:.0f} %, or a standard error within "
+        f"{100 * PRECISE_WITHIN:.0f} % of the value and a gap within",
+        f"{STANDARD_ERRORS:g} of them; a larger standard error within reach of the thesis's number makes the row *open*,",
+        "imprecise), *reproduced with a stated choice* (meets the same rule with a parameter the thesis leaves",
+        "open, fixed once per chapter by its identification and named in the row; a choice that does not meet",
+        "the rule leaves the row *open*), *contradicted* (the row names the closed form, limit",
+        "or run that shows the thesis's number cannot hold for the model it states), *open* (the row names what",
+        "was tried), or *used to identify* (the row decided a parameter of its chapter's one identification, so",
+        "it does not also test it).  Qualitative claims (a trend the text asserts, and a thesis 0 read as",
+        f"|ours| < {VANISHES_BELOW:g}) are judged both ways alike: reproduced or contradicted when ours lies on",
+        f"one side of the threshold by more than {STANDARD_ERRORS:g} standard errors, open in between.  Fitted quantities",
+        "(alpha, beta, sigma~_c of eq. 5.8) take their standard error from a bootstrap over seeds of the same fit.",
+        "Rows outside the counts (a sensitivity to a choice the identification did not make, or a duplicate of a",
+        "counted row) follow each study's counted rows.",
         "",
-        "| chapter | " + " | ".join(VERDICTS) + " | rows |",
-        "| --- | " + " | ".join("---" for _ in VERDICTS) + " | --- |",
+        "| chapter | " + " | ".join(VERDICTS) + " | rows | of which qualitative | outside the counts |",
+        "| --- | " + " | ".join("---" for _ in VERDICTS) + " | --- | --- | --- |",
     ]
     verdicts = {id(row): row.verdict or judge(row.thesis, row.ours, row.standard_error, None, row.claim)
                 for row in rows}
-    for chapter, counts in count_by_chapter((row.study, verdicts[id(row)]) for row in rows).items():
+    counted = [row for row in rows if not row.outside]
+    qualitative = count_by_chapter((row.study, REPRODUCED) for row in counted if row.qualitative)
+    outside = count_by_chapter((row.study, REPRODUCED) for row in rows if row.outside)
+    chapters = count_by_chapter((row.study, verdicts[id(row)]) for row in counted)
+    for chapter in sorted(set(chapters) | set(outside)):
+        counts = chapters.get(chapter, dict.fromkeys(VERDICTS, 0))
         lines.append(f"| {chapter or 'other'} | " + " | ".join(str(counts[v]) for v in VERDICTS)
-                     + f" | {sum(counts.values())} |")
+                     + f" | {sum(counts.values())} | {qualitative.get(chapter, {}).get(REPRODUCED, 0)}"
+                     + f" | {outside.get(chapter, {}).get(REPRODUCED, 0)} |")
     lines.append("")
     by_study: dict[str, list[ComparisonRow]] = {}
     for row in rows:
@@ -183,26 +229,26 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
                 f"{info.get('cases', 0)} ({statuses}) | {realizations} | {seed_text} | "
                 f"{info.get('wall_time_s', 0.0):.0f} s |"
             )
-        lines += [
-            "",
-            "| quantity | where | thesis | ours | standard error | deviation | verdict | explained in |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- |",
-        ]
         explained = "; ".join(f"[{_cell(heading)}](#{note_anchor(heading)})"
                               for heading, _ in explaining_sections(name, notes))
-        for row in by_study[name]:
-            ours = _number(row.ours) if math.isfinite(row.ours) else f"n/a ({_cell(row.note)})"
-            error = _number(row.standard_error) if math.isfinite(row.standard_error) else "—"
-            _, far, deviation = deviation_of(row.thesis, row.ours)
-            if row.claim:  # a trend: judged by its side of the threshold, not by its distance
-                far, deviation = verdicts[id(row)] != REPRODUCED, f"trend ({row.claim} {_number(row.thesis)})"
-            # a number the cases cannot give (n/a) is explained like a far one, where the notes explain the study
-            unexplained = "**no explanation in the notes**" if far else ""
-            where = (explained or unexplained) if far or not math.isfinite(row.ours) else ""
-            verdict = f"**{verdicts[id(row)]}**" + (f": {_cell(row.evidence)}" if row.evidence else "")
-            lines.append(f"| {_cell(row.quantity)} | {_cell(row.where)} | {_number(row.thesis)} | {ours} | "
-                         f"{error} | {deviation} | {verdict} | {where} |")
+        counted_rows = [row for row in by_study[name] if not row.outside]
+        outside_rows = [row for row in by_study[name] if row.outside]
+        for title, chosen, extra in (("", counted_rows, False),
+                                     ("Outside the counts (sensitivities and duplicates):", outside_rows, True)):
+            if not chosen:
+                continue
+            lines += ["", title, ""] if title else [""]
+            lines += [
+                ("| quantity outside the counts" if extra else "| quantity")
+                + " | where | thesis | ours | standard error | deviation | verdict | explained in |"
+                + (" outside the counts because |" if extra else ""),
+                "| --- | --- | --- | --- | --- | --- | --- | --- |" + (" --- |" if extra else ""),
+            ]
+            for row in chosen:
+                lines.append(_row_line(row, verdicts[id(row)], explained) + (f" {_cell(row.outside)} |" if extra else ""))
         lines.append("")
+        if identifications.get(name):
+            lines += [identifications[name].strip(), ""]
         if figures.get(name):
             lines += ["Figures drawn from these tables (`brushbem compare-thesis ... --figures DIR`):", ""]
             lines += [f"![{Path(path).stem}]({path})" for path in figures[name]]
@@ -222,5 +268,17 @@ def comparison_document(tables_root: str | Path, figures: Mapping[str, list[str]
     rows, provenances = compare(root)
     notes_path = root / NOTES_FILE
     notes = notes_path.read_text(encoding="utf-8") if notes_path.is_file() else ""
-    return render(rows, provenances, notes, figures or {})
+    return render(rows, provenances, notes, figures or {}, identifications(root, provenances))
+
+
+def identifications(tables_root: str | Path, studies: Iterable[str]) -> dict[str, str]:
+    """Study -> the Markdown of its chapter's identification (`Study.identification`) from its tables."""
+    from brushbem.studies import get_study
+
+    root, found = Path(tables_root), {}
+    for name in studies:
+        study = get_study(name)
+        if study.identification is not None and (root / name / PROVENANCE_FILE).is_file():
+            found[name] = study.identification(load_tables(root / name)[1])
+    return found
 

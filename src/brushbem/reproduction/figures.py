@@ -1,4 +1,4 @@
-"""The thesis-grid studies' figures, drawn from the committed tables."""
+"""The full-grid (not quick) studies' figures, drawn from the committed tables."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ __all__ = ["draw_table_figures"]
 
 
 def draw_table_figures(tables_root: str | Path, figures_root: str | Path) -> dict[str, list[Path]]:
-    """Draw, for every thesis-grid study in ``tables_root`` with ``draw_tables``, its figures from the tables.
+    """Draw, for every full-grid (not quick) study in ``tables_root`` with ``draw_tables``, its figures from the tables.
 
     The figures go to ``figures_root/<study>/``; they carry the thesis's
     axes, normalisations and closed-form lines, and are drawn from the

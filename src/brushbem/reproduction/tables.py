@@ -82,7 +82,7 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
     Raises
     ------
     StudyError
-        The folders are of different studies, or of quick and thesis grids,
+        The folders are of different studies, or of quick and full grids,
         or ``update`` finds tables of another study there.
     """
     from brushbem.studies import StudyError, load_results

@@ -89,7 +89,7 @@ def adhesion_coefficients(frame: pd.DataFrame, keys: list[str]) -> pd.DataFrame:
     standard error) and ``largest_preload`` (the largest mean F~_P, which tells
     whether ``plateau`` is one).  ``c`` is NaN where the
     group's smallest preload already gives `SATURATED` of its largest force: a group
-    sampled only at plateau preloads (the thesis-grid sampled sweep ships such groups
+    sampled only at plateau preloads (the sampled sweep ships such groups
     for the plateaus) has no linear region to read c from.
     """
     columns = [*keys, "c", "sigma", "plateau", "largest_preload"]
@@ -167,6 +167,66 @@ def fit_eq58(sigma: np.ndarray, c: np.ndarray, weighting: str = "relative") -> t
         design, target = design / target[:, None], np.ones_like(target)
     (alpha, beta), *_ = np.linalg.lstsq(design, target, rcond=None)
     return float(alpha), float(beta)
+
+
+_BOOTSTRAPS: dict[tuple, dict[str, np.ndarray]] = {}
+
+
+def bootstrap_eq58(frame: pd.DataFrame, points: int, span: float, resamples: int) -> dict[str, np.ndarray]:
+    """eq. 5.8 fitted per k~ over ``resamples`` resamples of the seeds of ``frame`` (finished cases),
+    by the estimator of `rough_brush.table_1`.
+
+    Each resample draws the realisations with replacement (numpy's generator, seed 0) and computes,
+    as `adhesion_coefficients` does, every group's c (the mean over the drawn seeds of F~_A / F~_P at
+    its smallest preload, NaN where saturated), then the fit of eq. 5.8 (`fit_eq58`) per k~ where c > 0
+    at ``points`` roughnesses or more spanning a factor ``span``.  Returns ``stiffness_ratio`` (k~ per
+    column) and ``alpha``, ``beta``, ``critical_roughness`` arrays of shape (resamples, k~); {} without
+    the columns it reads.
+    """
+    if not has(frame, FA, FP, PRELOAD, SIG, K, SIGMA, "realization"):
+        return {}
+    read = frame[[K, SIGMA, PRELOAD, FA, FP, SIG, "realization"]]
+    key = (points, span, resamples, pd.util.hash_pandas_object(read, index=False).to_numpy().tobytes())
+    if key in _BOOTSTRAPS:
+        return _BOOTSTRAPS[key]
+    seeds = np.array(sorted(read["realization"].unique()))
+    draws = np.random.default_rng(0).integers(0, len(seeds), size=(resamples, len(seeds)))
+    weights = np.stack([np.bincount(d, minlength=len(seeds)) for d in draws]).astype(float)  # (B, seeds)
+    groups = []
+    for (k, sigma), g in read.groupby([K, SIGMA], sort=True):
+        smallest = g[g[PRELOAD] == g[PRELOAD].min()]
+        per_seed = pd.DataFrame({
+            "ratio": (smallest[FA] / smallest[FP]).groupby(smallest["realization"]).mean(),
+            "small": smallest.groupby("realization")[FA].mean(),
+            "largest": g.groupby("realization")[FA].max(),
+        }).reindex(seeds)
+
+        def mean(column, per_seed=per_seed):
+            values = per_seed[column].to_numpy(float)
+            present = np.isfinite(values)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                return (weights @ np.where(present, values, 0.0)) / (weights @ present)
+        c = mean("ratio")
+        if g[PRELOAD].nunique() > 1:
+            c = np.where(mean("small") >= SATURATED * mean("largest"), np.nan, c)
+        groups.append((float(k), float(g[SIG].mean()), c))
+    ks = sorted({k for k, _, _ in groups})
+    out = {name: np.full((resamples, len(ks)), np.nan) for name in ("alpha", "beta", "critical_roughness")}
+    for j, k in enumerate(ks):
+        sig = np.array([sigma for kk, sigma, _ in groups if kk == k])
+        cs = np.stack([c for kk, _, c in groups if kk == k], axis=1)  # (B, roughnesses)
+        for b in range(resamples):
+            usable = np.isfinite(cs[b]) & (cs[b] > 0) & (sig > 0)
+            if usable.sum() < points or sig[usable].max() < span * sig[usable].min():
+                continue
+            alpha, beta = fit_eq58(sig[usable], cs[b][usable])
+            out["alpha"][b, j], out["beta"][b, j] = alpha, beta
+            out["critical_roughness"][b, j] = alpha / beta if beta > 0 else np.nan
+    out["stiffness_ratio"] = np.array(ks)
+    _BOOTSTRAPS[key] = out
+    if len(_BOOTSTRAPS) > 16:
+        _BOOTSTRAPS.pop(next(iter(_BOOTSTRAPS)))
+    return out
 
 
 def case_path(figures_dir: Path, part: str, case_id: str, row: pd.Series | None = None) -> Path:

@@ -45,6 +45,15 @@ class ThesisNumber:
     claim : str, optional
         ``">"`` or ``"<"``: the row is a trend the text asserts, ours above or
         below ``thesis`` (`brushbem.studies.verdicts.judge`); None: a value.
+    error : callable, optional
+        ``error(results) -> float``: the number's standard error by its own
+        estimator (for a fitted quantity, a bootstrap over seeds of the same
+        fit that gives the value).  None: the standard error of the
+        per-seed values (`brushbem.reproduction.comparison`).
+    outside : str
+        Non-empty: the row stays outside the verdict counts, and this says why
+        (a sensitivity to a choice the chapter's identification did not
+        make, or a duplicate of a counted row).
     """
 
     quantity: str
@@ -54,6 +63,8 @@ class ThesisNumber:
     verdict: str | None = None
     evidence: str = ""
     claim: str | None = None
+    error: Callable[[Mapping[str, pd.DataFrame]], float] | None = None
+    outside: str = ""
 
 
 @dataclass(frozen=True)
@@ -84,6 +95,11 @@ class Study:
         snapshots or load curves), drawn from ``docs/reproduction/<name>``
         by `brushbem.reproduction.draw_table_figures`.  None: the study's
         figures all need case files.
+    identification : callable, optional
+        ``identification(tables) -> str``: the Markdown of the chapter's one
+        identification from the committed tables (the candidates tried for the
+        parameters the thesis leaves open, and their score on the rows used to
+        identify them), printed after the study's rows.
     """
 
     name: str
@@ -94,6 +110,7 @@ class Study:
     numbers: tuple[ThesisNumber, ...] = ()
     notes: str = ""
     draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
+    identification: Callable[[Mapping[str, pd.DataFrame]], str] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 
 

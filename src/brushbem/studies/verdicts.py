@@ -1,42 +1,76 @@
-"""The verdict on each thesis number: reproduced, reproduced with a stated choice, contradicted, or open.
+"""The verdict on each thesis number: reproduced, reproduced with a stated choice, contradicted, open, or used to identify.
 
-A row is *reproduced* when ours is within `REPRODUCED_WITHIN` of the thesis's
-value or within `STANDARD_ERRORS` standard errors of it (a thesis 0 is met
-only within the standard errors: a trend the text asserts is judged against
-the spread of the seeds, never against an absolute threshold).  Otherwise the
-verdict is the one the study declares for the number (`ThesisNumber.verdict`,
-with the evidence that supports it), and *open* where it declares none.  A
-declared verdict never overrides the rule: a row that meets it is reproduced.
+The rule, which no declaration bends:
+
+* A value is *reproduced* when ours is within `REPRODUCED_WITHIN` of the
+  thesis's value, or when our standard error is precise (at most
+  `PRECISE_WITHIN` of our value) and the gap is within `STANDARD_ERRORS` of
+  them.  A gap within the standard errors of an imprecise estimate is *open*
+  ("imprecise"): its seeds neither meet nor refute the thesis's value.
+* A qualitative claim (a trend the text asserts, ``claim`` ``">"`` or ``"<"``
+  against a threshold, and a thesis 0: "vanishes", "tends to zero", read as
+  ``|ours| < VANISHES_BELOW``) is judged both ways alike: reproduced when ours
+  lies on the asserted side by more than `STANDARD_ERRORS` standard errors,
+  contradicted when it lies on the other side by as much, open in between.  A
+  declaration does not change a qualitative verdict.
+* A row that meets the rule and is declared *reproduced with a stated choice*
+  keeps that verdict: its number rests on a parameter the thesis leaves open,
+  fixed once by its chapter's identification and named in the row.
+* A row that fails the rule takes the verdict the study declares for it
+  (`ThesisNumber.verdict`, with the evidence that supports it) where that is
+  *contradicted* or *open*; it is *open* where the study declares nothing or
+  declares *reproduced with a stated choice* (the choice does not meet the
+  rule).  *Reproduced* cannot be declared: a declaration never turns a failing
+  row into a reproduced one, with or without a choice.
+* A row that a chapter's one identification uses (*used to identify*) keeps
+  that verdict whatever its numbers: it decided a parameter, so it cannot also
+  test it.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 __all__ = [
     "CHAPTERS",
     "CONTRADICTED",
+    "DECLARABLE",
     "OPEN",
+    "PRECISE_WITHIN",
     "REPRODUCED",
     "REPRODUCED_WITHIN",
     "STANDARD_ERRORS",
     "STATED_CHOICE",
+    "USED_TO_IDENTIFY",
+    "VANISHES_BELOW",
     "VERDICTS",
+    "Judgement",
     "count_by_chapter",
     "judge",
+    "judgement",
 ]
 
 REPRODUCED = "reproduced"
 STATED_CHOICE = "reproduced with a stated choice"
 CONTRADICTED = "contradicted"
 OPEN = "open"
+USED_TO_IDENTIFY = "used to identify"
 #: Every verdict, in the order of the count table.
-VERDICTS = (REPRODUCED, STATED_CHOICE, CONTRADICTED, OPEN)
+VERDICTS = (REPRODUCED, STATED_CHOICE, CONTRADICTED, OPEN, USED_TO_IDENTIFY)
+#: The verdicts a study may declare for a number (never *reproduced*: the rule alone gives that).
+DECLARABLE = (STATED_CHOICE, CONTRADICTED, OPEN, USED_TO_IDENTIFY)
 #: Relative distance within which a number is reproduced (the tolerance the comparison has always used).
 REPRODUCED_WITHIN = 0.05
-#: A number within this many standard errors of the thesis's value is reproduced.
+#: A number within this many standard errors of the thesis's value is reproduced, if its error is precise.
 STANDARD_ERRORS = 2.0
+#: A standard error counts (for the standard-error path) only up to this fraction of our value: a larger
+#: one reproduces any nearby thesis number, and rewards running fewer seeds.
+PRECISE_WITHIN = 0.05
+#: A thesis 0 ("vanishes", "tends to zero") is the qualitative claim |ours| < this (every such number is
+#: a force normalised by the rigid brush's or the equal-sharing force: 5 % of it).
+VANISHES_BELOW = 0.05
 
 #: The thesis chapter of each study.
 CHAPTERS = {
@@ -45,35 +79,70 @@ CHAPTERS = {
 }
 
 
-def judge(thesis: float, ours: float, standard_error: float, declared: str | None,
-          claim: str | None = None) -> str:
-    """The verdict of one row (module docstring); ``declared`` is the study's verdict, or None.
+@dataclass(frozen=True)
+class Judgement:
+    """A verdict and, where the rule and not the study decided it, why (else "")."""
 
+    verdict: str
+    reason: str = ""
+    qualitative: bool = False
+
+
+def judgement(thesis: float, ours: float, standard_error: float, declared: str | None,
+              claim: str | None = None, realizations: int = 0) -> Judgement:
+    """The verdict of one row, with the rule's reason (module docstring).
+
+    ``declared`` is the study's verdict (one of `DECLARABLE`), or None.
     ``claim`` ``">"`` or ``"<"`` makes the row a trend the text asserts (ours above or below
-    ``thesis``): reproduced when ours lies on the asserted side by more than `STANDARD_ERRORS`
-    standard errors (by any margin where there are none), contradicted when it lies on the other
-    side by as much, and else the declared verdict.
+    ``thesis``); a ``thesis`` of 0 is the claim ``|ours| < VANISHES_BELOW``.  ``realizations``:
+    the seeds behind the standard error (named in the reason of an imprecise row).
+
+    Raises
+    ------
+    ValueError
+        ``declared`` not one of `DECLARABLE` (*reproduced* included), or ``claim`` not ``">"``/``"<"``.
     """
-    if declared is not None and declared not in VERDICTS:
-        raise ValueError(f"declared verdict must be one of {VERDICTS}; got {declared!r}")
-    if claim is not None:
-        if claim not in (">", "<"):
-            raise ValueError(f"claim must be '>' or '<'; got {claim!r}")
-        if math.isfinite(ours):
-            margin = STANDARD_ERRORS * standard_error if math.isfinite(standard_error) else 0.0
+    if declared is not None and declared not in DECLARABLE:
+        raise ValueError(f"declared verdict must be one of {DECLARABLE} (a declaration never makes a row "
+                         f"{REPRODUCED!r}: the rule alone does); got {declared!r}")
+    if claim is not None and claim not in (">", "<"):
+        raise ValueError(f"claim must be '>' or '<'; got {claim!r}")
+    if declared == USED_TO_IDENTIFY:
+        return Judgement(USED_TO_IDENTIFY)
+    qualitative = claim is not None or thesis == 0
+    if qualitative:
+        if not math.isfinite(ours):
+            return Judgement(OPEN, "not computable", True)
+        margin = STANDARD_ERRORS * standard_error if math.isfinite(standard_error) else 0.0
+        if claim is None:  # a thesis 0: |ours| below the threshold
+            above = VANISHES_BELOW - abs(ours)
+        else:
             above = ours - thesis if claim == ">" else thesis - ours
-            if above > margin:
-                return REPRODUCED
-            if -above > margin:
-                return CONTRADICTED
-        return declared if declared is not None else OPEN
+        if above > margin:
+            return Judgement(REPRODUCED, "", True)
+        if -above > margin:
+            return Judgement(CONTRADICTED, "", True)
+        return Judgement(OPEN, f"undecided: within {STANDARD_ERRORS:g} standard errors of the threshold", True)
     if math.isfinite(ours):
         gap = abs(ours - thesis)
-        if thesis != 0 and gap <= REPRODUCED_WITHIN * abs(thesis):
-            return REPRODUCED
+        met = REPRODUCED if declared != STATED_CHOICE else STATED_CHOICE
+        if gap <= REPRODUCED_WITHIN * abs(thesis):
+            return Judgement(met)
         if math.isfinite(standard_error) and standard_error > 0 and gap <= STANDARD_ERRORS * standard_error:
-            return REPRODUCED
-    return declared if declared is not None else OPEN
+            if standard_error <= PRECISE_WITHIN * abs(ours):
+                return Judgement(met)
+            seeds = f", {realizations} seeds" if realizations else ""
+            return Judgement(OPEN, f"imprecise{seeds}: the standard error is {100 * standard_error / abs(ours):.0f} % "
+                                   f"of the value (the rule counts it up to {100 * PRECISE_WITHIN:.0f} %)")
+    if declared == STATED_CHOICE:
+        return Judgement(OPEN, "the stated choice does not meet the rule")
+    return Judgement(declared if declared is not None else OPEN)
+
+
+def judge(thesis: float, ours: float, standard_error: float, declared: str | None,
+          claim: str | None = None, realizations: int = 0) -> str:
+    """The verdict of one row (`judgement`'s, without its reason)."""
+    return judgement(thesis, ours, standard_error, declared, claim, realizations).verdict
 
 
 def count_by_chapter(rows: Iterable[tuple[str, str]]) -> dict[int, dict[str, int]]:
