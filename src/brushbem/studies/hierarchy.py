@@ -8,9 +8,8 @@ Our hierarchy clusters n x n units of one uniform lattice.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import math
+from dataclasses import replace
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -492,13 +491,10 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     return written
 
 
-def _clustered_or_outside(number: ThesisNumber) -> ThesisNumber:
-    """Counted: the closed forms (eq. 6.26-6.28) and the rows on the clustered layout; a uniform-lattice
-    row is a sensitivity, outside the counts (it counts the thesis's numbers a second time)."""
-    if "clustered" in number.quantity or number.where.startswith(("eq. 6.2", "text after eq. 6.28")):
-        return number
-    return replace(number, quantity=number.quantity + ", uniform lattice", outside="sensitivity: the uniform "
-                   "lattice, not the thesis's clustered layout of Fig. 6-3 (the clustered rows are counted)")
+def _clustered_or_outside(n: ThesisNumber) -> ThesisNumber:  # eq. 6.26-6.28 and clustered rows are counted
+    return n if "clustered" in n.quantity or n.where.startswith(("eq. 6.2", "text after eq. 6.28")) else replace(
+        n, quantity=n.quantity + ", uniform lattice", outside="sensitivity: the uniform lattice, not the thesis's "
+        "clustered layout of Fig. 6-3 (the clustered rows are counted)")
 
 
 STUDY = Study(
