@@ -39,7 +39,7 @@ type checking only):
   `SolverConfig`, `RunConfig`) with the rules between a table's keys.
 - `brushbem.config.loading`: `load_config`, `parse_config`, `read_toml`
   (a TOML file within size and nesting limits), `nesting_depth`,
-  `config_to_dict` and `to_json_safe`.
+  and `config_to_dict` (JSON through `brushbem.results.plain.to_json_safe`).
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ from brushbem.config.limits import MAX_PRELOAD_DOMAIN_SIZES as MAX_PRELOAD_DOMAI
 from brushbem.config.limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
 from brushbem.config.limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
 from brushbem.config.limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH
-from brushbem.config.loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml, to_json_safe
+from brushbem.config.loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml
 from brushbem.config.rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
 from brushbem.config.rules import Problem, StructureRules
 from brushbem.config.schema import (
@@ -95,5 +95,4 @@ __all__ = [
     "parse_config",
     "read_toml",
     "show_value",
-    "to_json_safe",
 ]

@@ -19,15 +19,15 @@ from pathlib import Path
 from types import NoneType, UnionType
 from typing import Any, Union, get_args, get_origin
 
-import numpy as np
 from pydantic import BaseModel, ValidationError
 
+from brushbem.results.plain import to_json_safe
 from brushbem.config.errors import ConfigError, _capped, _dotted, _problem_lines, _show, did_you_mean
 from brushbem.config.limits import _MAX_DEPTH, MAX_CONFIG_BYTES
 from brushbem.config.rules import StructureRules, _cross_section_problems
 from brushbem.config.schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
 
-__all__ = ["config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml", "to_json_safe"]
+__all__ = ["config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml"]
 
 
 def _skipped_rule_lines(
@@ -362,37 +362,6 @@ def load_config(path: str | Path, *, rules: StructureRules | None = None) -> Run
     path = Path(path)
     document = read_toml(path)
     return parse_config(document, base_dir=path.resolve().parent, rules=rules)
-
-
-def to_json_safe(value: Any) -> Any:
-    """Convert to plain JSON data; non-finite floats become strings.
-
-    JSON has no infinity or NaN, and ``null`` would read as "missing", so
-    ``inf``, ``-inf`` and ``nan`` become ``"inf"``, ``"-inf"`` and ``"nan"``.
-    NumPy scalars and arrays become Python numbers and lists.
-
-    Parameters
-    ----------
-    value : any
-        Nested dicts, lists, tuples, numbers, strings, booleans, None, NumPy
-        scalars or arrays.
-
-    Returns
-    -------
-    any
-        The same structure with JSON-representable leaves only.
-    """
-    if isinstance(value, Mapping):
-        return {str(key): to_json_safe(item) for key, item in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_json_safe(item) for item in value]
-    if isinstance(value, np.ndarray):
-        return to_json_safe(value.tolist())
-    if isinstance(value, np.generic):
-        return to_json_safe(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
-    return value
 
 
 def config_to_dict(config: RunConfig) -> dict[str, Any]:

@@ -70,7 +70,8 @@ from brushbem.io.atomic import (
 )
 from brushbem.io.atomic import _check_free_space as _check_free_space  # patch it in `brushbem.io.writing`
 from brushbem.io.dataset import REFERENCES, to_dataset
-from brushbem.io.encoding import from_json_safe, netcdf_attributes
+from brushbem.io.encoding import netcdf_attributes
+from brushbem.results.plain import from_json_safe
 from brushbem.io.reading import (
     InconsistentCaseError,
     from_dataset,

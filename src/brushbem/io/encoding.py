@@ -1,8 +1,9 @@
 """Values turned into JSON and NetCDF attributes, and back.
 
-`_json` (strict JSON of `to_json_safe`'s values), `netcdf_attributes` (what
-NetCDF can store as an attribute), `from_json_safe` (a decoded summary's
-non-finite numbers restored) and `_attribute` (an attribute as written).
+`_json` (strict JSON of `brushbem.results.plain.to_json_safe`'s values),
+`netcdf_attributes` (what NetCDF can store as an attribute) and `_attribute`
+(an attribute as written); `from_json_safe`, the inverse of `to_json_safe`,
+is `brushbem.results.plain`'s.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from brushbem.config import to_json_safe
+from brushbem.results.plain import to_json_safe
 
 
 def _json(value: Any, indent: int | None = None) -> str:
@@ -44,19 +45,6 @@ def netcdf_attributes(attributes: dict[str, Any]) -> dict[str, Any]:
     dict
     """
     return {str(key): _netcdf_attribute(value) for key, value in attributes.items()}
-
-
-#: How `to_json_safe` writes the non-finite numbers JSON has no literal for.
-_NON_FINITE = {"nan": float("nan"), "inf": float("inf"), "-inf": float("-inf")}
-
-
-def from_json_safe(node: Any) -> Any:
-    """A decoded summary with its non-finite numbers ("nan", "inf") numbers again (`to_json_safe`'s inverse)."""
-    if isinstance(node, dict):
-        return {key: from_json_safe(value) for key, value in node.items()}
-    if isinstance(node, list):
-        return [from_json_safe(value) for value in node]
-    return _NON_FINITE.get(node, node) if isinstance(node, str) else node
 
 
 def _attribute(value: Any) -> Any:

@@ -15,7 +15,8 @@ import xarray as xr
 from brushbem.results import CaseResult, RunSummary
 
 from brushbem.io.atomic import DATASET_FILE, SUMMARY_FILE
-from brushbem.io.encoding import _attribute, from_json_safe
+from brushbem.io.encoding import _attribute
+from brushbem.results.plain import from_json_safe
 
 
 class InconsistentCaseError(ValueError):

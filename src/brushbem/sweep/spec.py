@@ -41,8 +41,8 @@ from brushbem.config import (
     config_to_dict,
     nesting_depth,
     read_toml,
-    to_json_safe,
 )
+from brushbem.results.plain import to_json_safe
 from brushbem.sweep.errors import SweepError, _show
 
 # A dotted run-config key: bare TOML names joined by dots.

@@ -22,7 +22,8 @@ from pathlib import Path
 from typing import Any
 
 from brushbem import __version__
-from brushbem.config import config_to_dict, to_json_safe
+from brushbem.config import config_to_dict
+from brushbem.results.plain import to_json_safe
 from brushbem.sweep.errors import SweepFolderError, _brief, _show
 from brushbem.sweep.spec import Sweep, SweepCase
 from brushbem.sweep.worker import _RECORDED, CaseOutcome

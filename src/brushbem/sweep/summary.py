@@ -15,7 +15,7 @@ import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from brushbem.config import to_json_safe
+from brushbem.results.plain import to_json_safe
 from brushbem.sweep.errors import SweepWarning, _brief
 from brushbem.sweep.store import (
     CASES_DIR,
