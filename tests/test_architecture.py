@@ -178,9 +178,9 @@ def _layer_of(module: str, layers=LAYERS) -> int | None:
 
 
 def _against_the_layers(lines, layers=LAYERS) -> list[str]:
-    """``module:line imports target`` for every import of a higher layer."""
-    return [f"{name}:{line} imports {target}" for name, line, target in lines
-            if _layer_of(target, layers) > _layer_of(name, layers)]
+    """``module:line imports target`` for every import of a higher layer (once per line and target)."""
+    return list(dict.fromkeys(f"{name}:{line} imports {target}" for name, line, target in lines
+                              if _layer_of(target, layers) > _layer_of(name, layers)))
 
 
 def test_every_module_has_a_layer():
