@@ -238,7 +238,7 @@ def test_a_brush_curve_shows_its_reference_limits_and_both_branches():
 
 
 def test_numbers_and_axes_take_the_si_prefix_that_reads():
-    from brushbem.figures.plot import _prefixed
+    from brushbem.figures.curve_axes import si_prefixed as _prefixed
 
     assert _prefixed("µN", 6.208e4) == pytest.approx((1e-3, "mN"))
     assert _prefixed("pJ", 4.335e5) == pytest.approx((1e-3, "nJ"))
