@@ -81,14 +81,15 @@ def test_a_solve_that_does_not_converge_says_so(monkeypatch, switches):
 
 @pytest.mark.parametrize(("stiffness", "sigma"), [(1e-2, 0.0), (1e-2, 1.0)])
 def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, sigma, switches):
-    """With the kept inverse dropped beyond 16 attached pillars (taken up again under 8), an 8 x 8 pull-off
+    """With the kept inverse dropped beyond 16 attached pillars (taken up again under 8; ``kept_partial`` as
+    low, so that the rough loading's higher-mode feedback runs warm-started CG solves), an 8 x 8 pull-off
     - level, or rough so that pillars join and leave across the limit - is the kept inverse's: F_A and the
     work to 1e-9 (both solves reach 1e-11 on every system), the pillars attached at pull-off and the
     solves exactly."""
     problem, force = _problem(8, stiffness, sigma)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     kept = record_pull_off(problem, path).summary
-    switches(kept_pillars=16)
+    switches(kept_pillars=16, kept_partial=16)  # partial sets too (the rough loading's feedback)
     iterative = record_pull_off(problem, path).summary
     assert iterative["converged"], iterative["reason"]
     assert iterative["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
@@ -131,3 +132,59 @@ def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypa
     element_bytes = memory_estimate(parse_config(config))
     assert 5.8e9 < pillar_bytes < 8e9
     assert element_bytes > 2 * pillar_bytes
+
+
+def test_the_solve_is_chosen_by_the_load_path():
+    """``LoadPath.pillar_solve``: the kept inverse always, CG always and the default limits give one answer on
+    a rough 8 x 8 pull-off (F_A and the work to 1e-9: every solve reaches 1e-11), and CG ran where asked."""
+    problem, force = _problem(8, 1e-2, 1.0)
+    summaries = {}
+    for solve in ("auto", "kept", "cg"):
+        path = LoadPath(method="pillars", preload_force=force, max_steps=10**6, pillar_solve=solve)
+        summaries[solve] = record_pull_off(problem, path).summary
+    for solve in ("kept", "cg"):
+        assert summaries[solve]["adhesive_force"] == pytest.approx(summaries["auto"]["adhesive_force"], rel=1e-9)
+        assert summaries[solve]["work_of_separation"] == pytest.approx(summaries["auto"]["work_of_separation"],
+                                                                       rel=1e-9)
+    model = pillars.PillarModel(problem)
+    solver = pillar_solver.Solver(model, "cg")
+    solver.add_many(np.arange(4))
+    assert solver.iterative
+    assert not pillar_solver.Solver(model, "kept")._kept_limit(model.M) < np.inf
+
+
+def test_the_modes_and_near_radius_are_reachable_from_the_configuration():
+    """``protocol.pillar_modes``, ``pillar_near`` and ``pillar_solve`` reach the path; the uniform mode alone
+    is another model (F_A 6.5-22 % off, `docs/pillars/variants.md`); with another method they are refused,
+    naming the key, as are values out of range."""
+    from brushbem.config import ConfigError
+    from brushbem.workflow.assembly import build_path
+
+    config = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
+                     "pillar_radius": 0.05, "stiffness_ratio": 0.05, "seed": 3},
+        "protocol": {"method": "pillars", "preload_displacement": 2e-3, "pillar_modes": "uniform",
+                     "pillar_near": 4.0, "pillar_solve": "kept"},
+    }
+    path = build_path(parse_config(config))
+    assert (path.pillar_modes, path.pillar_near, path.pillar_solve) == ("uniform", 4.0, "kept")
+    problem, force = _problem(4, 1e-2)
+    default = record_pull_off(problem, LoadPath(method="pillars", preload_force=force)).summary
+    uniform = record_pull_off(problem, LoadPath(method="pillars", preload_force=force,
+                                                pillar_modes="uniform")).summary
+    assert uniform["adhesive_force"] / default["adhesive_force"] - 1 > 0.03
+    config["protocol"]["method"] = "events"
+    with pytest.raises(ConfigError, match=r"protocol\.pillar_modes.*method = 'pillars' only"):
+        build_path(parse_config(config))
+    for key, value in (("pillar_modes", "cubic"), ("pillar_near", 0.0), ("pillar_solve", "lu")):
+        with pytest.raises(ValueError, match=key):
+            LoadPath(method="pillars", preload_force=1.0, **{key: value})
+
+
+def test_the_load_path_names_the_modes_of_the_model():
+    """`brushbem.protocol.problem.PILLAR_MODES` (the protocol does not import the model) are the model's."""
+    from brushbem.protocol.problem import PILLAR_MODES
+
+    assert set(PILLAR_MODES) == set(pillars.MODES)

@@ -43,6 +43,12 @@ class Switches:
         limit of 512 against 2.7-3.1 kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against
         39.4 kept, 100 x 100 42 against 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0
         --exact-max 0 --kept-baseline``).
+    kept_partial : int
+        While the attached pillars are at most half of the lattice (a rough brush's partial contact), the
+        pillar model keeps its inverse up to this many of them (n^2 numbers: 134 MB at 4096): the circulant
+        preconditioner of `LatticeCG` fits a full lattice, and on such a set it took 22-32 iterations a
+        solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the preload; its
+        loading 60 CPU s by CG, 10 s kept).
     pillar_cg_iterations : int
         Iterations of the pillar model's CG before its solve is declared not converged.
     radiate_uniform : bool
@@ -85,6 +91,7 @@ class Switches:
     """
 
     kept_pillars: int | None = 1024
+    kept_partial: int = 4096
     pillar_cg_iterations: int = 2000
     radiate_uniform: bool = True
     radiate_while_pressing: bool = True

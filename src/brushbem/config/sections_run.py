@@ -55,6 +55,15 @@ class ProtocolConfig(_Section):
         Independent of ``solver.tolerance`` and of the depth of the path.
         The default 1e-7 changes F_A by < 1e-6 against 1e-12 on the
         validation families.
+    pillar_modes : {"quadratic", "tilt", "uniform"}
+        ``method = "pillars"`` only: the pressure modes of every tip.
+    pillar_near : float or None
+        ``method = "pillars"`` only: centres closer than this many pillar
+        radii are coupled exactly (default 8).
+    pillar_solve : {"auto", "kept", "cg"}
+        ``method = "pillars"`` only: the kept inverse up to a limit of
+        attached pillars and CG on the lattice's FFT beyond, always the kept
+        inverse, or always CG (pillars on a lattice).
     """
 
     model_config = _MODEL_CONFIG
@@ -68,6 +77,9 @@ class ProtocolConfig(_Section):
     max_steps: int = Field(200_000, gt=0, le=1_000_000_000)
     speed: float | None = Field(None, gt=0, allow_inf_nan=False)
     event_window: float = Field(1e-7, ge=0, le=1e-3, allow_inf_nan=False)
+    pillar_modes: Literal["quadratic", "tilt", "uniform"] = "quadratic"
+    pillar_near: float | None = Field(None, gt=0, allow_inf_nan=False)
+    pillar_solve: Literal["auto", "kept", "cg"] = "auto"
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):

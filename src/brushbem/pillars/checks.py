@@ -1,8 +1,8 @@
 """Where the pillar model (``LoadPath.method = "pillars"``) does not apply: `check_applicable`.
 
 It refuses, naming the key, indenters that are not brushes, viscoelastic
-connections, nonlinear pillar laws, tips that are not flat, tilted bases, a
-pulling speed and backends other than NumPy.  Tips of unequal lengths
+connections, nonlinear pillar laws, tips that are not flat, tilted bases, no
+adhesion (work of adhesion 0), a pulling speed and backends other than NumPy.  Tips of unequal lengths
 (roughness, a length profile or file) are modelled (`brushbem.pillars.loading`).
 """
 
@@ -37,6 +37,11 @@ def check_applicable(problem: ContactProblem, path: LoadPath | None = None) -> N
                          "partly: use method = 'events'")
     if path is not None and path.speed is not None:
         raise _refused(f"{where}: LoadPath.speed applies to viscoelastic pillars only; remove it")
+    if not problem.work_of_adhesion > 0:
+        # Without adhesion a slot leaves at the least tension (the criterion is p < 0), and at the edge of a
+        # partial contact the fitted field lets it touch again at once: the model's cascade does not settle.
+        raise _refused(f"{where} models adhesive pull-off; ContactProblem.work_of_adhesion = "
+                       f"{problem.work_of_adhesion:g} must be > 0 (without adhesion F_A = 0): use method = 'events'")
     if problem.xp is not np:
         raise _refused(f"{where} runs on NumPy (the pillar-level arrays are small); use the default backend")
     height = np.asarray(indenter.height)

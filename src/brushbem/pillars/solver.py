@@ -47,7 +47,9 @@ class Solver:
     from the last solution.
     """
 
-    def __init__(self, model: PillarModel):
+    def __init__(self, model: PillarModel, solve: str = "auto"):
+        #: ``"auto"`` (`_kept_limit`), ``"kept"`` (the inverse always kept) or ``"cg"`` (CG on a lattice always).
+        self.choice = solve
         self.model = model
         self.attached = np.zeros(model.M, dtype=bool)
         self._B = np.zeros((16, 16))
@@ -68,11 +70,23 @@ class Solver:
             self._cg = LatticeCG(self.model)
         return self._cg
 
+    def _kept_limit(self, attached: int) -> float:
+        """The most attached pillars for which the inverse is kept: ``Switches.kept_pillars``, or
+        ``Switches.kept_partial`` while they are at most half of the lattice; no limit off a lattice, with
+        ``kept_pillars = None`` or ``choice = "kept"``; none kept with ``"cg"``."""
+        switches = settings.switches()
+        if switches.kept_pillars is None or self.model.lattice is None or self.choice == "kept":
+            return np.inf
+        if self.choice == "cg":
+            return 0
+        if 2 * attached <= self.model.M:
+            return max(switches.kept_pillars, switches.kept_partial)
+        return switches.kept_pillars
+
     def _drop_inverse_beyond_kept(self, attached: int) -> bool:
-        """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond ``Switches.kept_pillars``;
+        """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond `_kept_limit`;
         whether it did."""
-        kept = settings.switches().kept_pillars
-        if kept is None or self.model.lattice is None or attached <= kept:
+        if attached <= self._kept_limit(attached):
             return False
         self.iterative = True
         self._B = np.zeros((16, 16))
@@ -81,12 +95,12 @@ class Solver:
         return True
 
     def _mark(self, pillars, on: bool) -> None:
-        """Iterative: pillars join or leave (no inverse to update); under half of ``Switches.kept_pillars``
-        attached, the inverse is kept again."""
+        """Iterative: pillars join or leave (no inverse to update); under half of `_kept_limit` attached,
+        the inverse is kept again."""
         self.attached[pillars] = on
         self.n = int(np.count_nonzero(self.attached))
         self.updates += int(np.size(pillars))
-        if 2 * self.n <= settings.switches().kept_pillars:
+        if 2 * self.n <= self._kept_limit(self.n):
             self.refactor()
 
     @property
@@ -282,14 +296,15 @@ class Solver:
             break
         return sol, fields
 
-    def inverse_product(self, v: np.ndarray) -> np.ndarray:
-        """(G00 + H)_SS^-1 v on the attached set S (0 off it) for v (M, k)."""
+    def inverse_product(self, v: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(x, fields of x): x = (G00 + H)_SS^-1 v on the attached set S (0 off it) for v (M, k), and
+        `PillarModel.fields` of x; ``start``: the CG's warm start (while ``iterative``)."""
         if self.iterative:
-            return self.cg.solve(self.attached, v)[0]
+            return self.cg.solve(self.attached, v, start=start)
         out = np.zeros_like(v)
         on = self.order[:self.n]
         out[on] = self.B @ v[on]
-        return out
+        return out, self.model.fields(out)
 
 
 def full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -331,11 +346,13 @@ def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.nd
     gram = model.gram[:, 1:, None]
     xh = np.where(attached, -fields[1:].transpose(1, 0, 2) / gram, 0.0)
     total_sol, total_fields = sol, fields
+    correction = None
     for rounds in range(1, _RADIATION_ROUNDS + 1):
         r = model.radiation(xh)
         if settings.switches().radiate_uniform:
-            correction = -solver.inverse_product(r[0])
-            shift = model.fields(correction)
+            # The last round's correction is the warm start (the rounds converge: r changes less each time).
+            negative, shift = solver.inverse_product(r[0], start=None if correction is None else -correction)
+            correction, shift = -negative, -shift
             shift[0] -= model.gram[:, :1] * correction
             total_sol, total_fields = sol + correction, fields + shift + r
         else:

@@ -35,7 +35,7 @@ class PillarState:
         self.model = model
         self.path = path
         self.stop = stop
-        self.solver = Solver(model)
+        self.solver = Solver(model, path.pillar_solve)
         self.attached = self.solver.attached  # shared
         self.alpha = np.zeros((model.M, model.m))
         self.beta = np.zeros((model.M, model.m))
@@ -47,6 +47,9 @@ class PillarState:
         #: Whether `press` feeds the higher modes' near field back once its active set has settled without.
         self.press_radiates = False
         self.radiation_rounds = 0
+        #: The d of the last contact problem settled with the near field fed back (`loading.press`), None
+        #: once the state has changed otherwise.
+        self.pressed: float | None = None
         #: Bumped by every change of the state (a solve, a pillar that joins, leaves or peels): the key of
         #: `_memo`, which keeps the element pressures and penetrations of the current state (the event search
         #: asks for those the cascade has just computed at the same d).

@@ -86,6 +86,11 @@ def detachment_slack(path: LoadPath, critical: float, grows, rate, xp=np):
     return xp.where(grows, (path.event_window * critical) / xp.where(grows, -rate, 1.0), 0.0)
 
 
+#: The pillar model's choices of modes (`brushbem.pillars.basis.MODES`) and of its pillar-level solve.
+PILLAR_MODES = ("quadratic", "tilt", "uniform")
+PILLAR_SOLVES = ("auto", "kept", "cg")
+
+
 @dataclass(frozen=True)
 class LoadPath:
     """How the indenter is pressed and pulled off.
@@ -122,6 +127,15 @@ class LoadPath:
         `event_tie`).  Dimensionless, in [0, 1e-3] (0: only exact ties); a
         margin of stress and of the grid's length, so the same for every CG
         tolerance and every depth |d| of the path.
+    pillar_modes : {"quadratic", "tilt", "uniform"}
+        Method "pillars" only: the pressure modes of every tip (`brushbem.pillars`).
+    pillar_near : float or None
+        Method "pillars" only: centres closer than this many pillar radii are
+        coupled exactly (None: `brushbem.pillars.basis.NEAR_RADII`).
+    pillar_solve : {"auto", "kept", "cg"}
+        Method "pillars" only: the pillar-level solve - the kept inverse up to
+        a limit of attached pillars and CG on the lattice's FFT beyond
+        (``"auto"``), always the kept inverse, or always CG (a lattice only).
     """
 
     method: str = "events"
@@ -135,6 +149,9 @@ class LoadPath:
     cascade: str = "local"
     speed: float | None = None
     event_window: float = 1e-7
+    pillar_modes: str = "quadratic"
+    pillar_near: float | None = None
+    pillar_solve: str = "auto"
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -156,6 +173,24 @@ class LoadPath:
                                  f"in [0, {MAX_EVENT_WINDOW:g}] (a fraction of the element size)")
         if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
             raise ParameterError("LoadPath", "speed", f"LoadPath.speed = {self.speed} must be finite and > 0")
+        self._check_pillar_options()
+
+    def _check_pillar_options(self) -> None:
+        """The pillar model's options: their values, and none but the defaults with another method."""
+        if self.pillar_modes not in PILLAR_MODES:
+            raise ParameterError("LoadPath", "pillar_modes", f"LoadPath.pillar_modes = {self.pillar_modes!r} must "
+                                 f"be one of {', '.join(map(repr, PILLAR_MODES))}")
+        if self.pillar_near is not None and not (math.isfinite(self.pillar_near) and self.pillar_near > 0):
+            raise ParameterError("LoadPath", "pillar_near", f"LoadPath.pillar_near = {self.pillar_near} must be "
+                                 "finite and > 0 (pillar radii)")
+        if self.pillar_solve not in PILLAR_SOLVES:
+            raise ParameterError("LoadPath", "pillar_solve", f"LoadPath.pillar_solve = {self.pillar_solve!r} must "
+                                 f"be one of {', '.join(map(repr, PILLAR_SOLVES))}")
+        if self.method != "pillars":
+            for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto")):
+                if getattr(self, name) != default:
+                    raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
+                                         f"method = 'pillars' only (method = {self.method!r}); remove it")
 
 
 @dataclass(frozen=True)
