@@ -121,6 +121,13 @@ BASES: dict[str, dict[str, Any]] = {
                      "pillar_law": {"forces": [0.002], "factors": [1.0, 0.05], "tension_limit": 0.01}},
         "protocol": {"method": "fixed", "preload_displacement": 0.01, "step": 1e-3},
     },
+    "pillar_brush": {
+        "halfspace": HALFSPACE, "grid": GRID,
+        "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.07,
+                     "stiffness_ratio": 0.5, "seed": 1},
+        "protocol": {"method": "pillars", "preload_displacement": 0.01, "pillar_near": 6.0,
+                     "pillar_modes": "tilt", "pillar_solve": "kept"},
+    },
     "random_brush": {
         "halfspace": HALFSPACE, "grid": GRID,
         "indenter": {
