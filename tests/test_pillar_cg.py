@@ -17,6 +17,7 @@ from brushbem.config import parse_config
 from brushbem.physics.structure import Grid, Level, brush
 from brushbem import pillars
 from brushbem.pillars import cg as pillar_cg
+from brushbem.pillars import solver as pillar_solver
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.runs.case import brush_scales
 from brushbem.config.resources import memory_estimate
@@ -158,7 +159,7 @@ def test_the_modes_and_near_radius_are_reachable_from_the_configuration():
     is another model (F_A 6.5-22 % off, `docs/pillars/variants.md`); with another method they are refused,
     naming the key, as are values out of range."""
     from brushbem.config import ConfigError
-    from brushbem.workflow.assembly import build_path
+    from brushbem.runs.assembly import build_path
 
     config = {
         "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
