@@ -23,7 +23,6 @@ from brushbem.config.sections_pillars import (
     TipConfig,
     ViscoelasticConfig,
 )
-from brushbem.physics.scales import stiffness_of_ratio
 
 
 # Which optional keys each indenter shape needs.  Every key listed for some
@@ -328,13 +327,6 @@ class IndenterConfig(_Section):
                 "top level's clusters in the region",
             ))
         return problems
-
-    def pillar_stiffness(self, contact_modulus: float, size: float) -> float:
-        """k of the pillars' own springs, from ``stiffness`` or ``stiffness_ratio`` (k~ E* L, ``size`` = L, the
-        brush's side)."""
-        if self.stiffness_ratio is not None:
-            return stiffness_of_ratio(self.stiffness_ratio, contact_modulus, size)
-        return self.stiffness
 
 
 def _fibril_default_radius(indenter: Any) -> float | None:
