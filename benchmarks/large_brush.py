@@ -20,6 +20,7 @@ work.
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
     nice python benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline
+    nice python benchmarks/large_brush.py --sizes 32 100 316 --sigma 0.5 --limit 3600   # rough
 """
 
 from __future__ import annotations
