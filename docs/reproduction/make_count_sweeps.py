@@ -52,11 +52,14 @@ PLATEAU_PRELOADS = (20.0,)
 BASE_16 = ('{ halfspace = { contact_modulus = 1.0, work_of_adhesion = 0.0001 }, grid = { size = 1.0, elements = 256 }, '
            'indenter = { shape = "brush", layout = "square", region = "square", pillars_per_side = 16, '
            'pillar_radius = 0.01410474, stiffness_ratio = 1.0, seed = 0 }, '
-           'protocol = { method = "%s", preload_force = 1.0, step = 1.0 } }')
+           'protocol = { method = "%s", preload_force = 1.0%s } }')
 BASE_QUICK = ('{ halfspace = { contact_modulus = 1.0, work_of_adhesion = 0.0001 }, grid = { size = 1.0, elements = 64 }, '
               'indenter = { shape = "brush", layout = "square", region = "square", pillars_per_side = 4, '
               'pillar_radius = 0.056419, stiffness_ratio = 1.0, seed = 0 }, '
-              'protocol = { method = "%s", preload_force = 1.0, step = 1.0 } }')
+              'protocol = { method = "%s", preload_force = 1.0%s } }')
+#: The protocol's method and the rest of its table: the event path keeps the step of the other chapter-5
+#: sweeps (unused by it), the pillar-level model takes none.
+EVENTS, PILLARS = ("events", ", step = 1.0"), ("pillars", "")
 
 
 def _list(values) -> str:
@@ -84,34 +87,34 @@ def main() -> None:
     plateau = [(k, s, p) for k, s in PLATEAUS for p in PLATEAU_PRELOADS]
     _write("rough_brush.count.toml",
            "# Chapter 5's pillar-count identification at 16 x 16 pillars: the plateau rows (F~_P = 10 and 20),\n"
-           "# the exact event path.\n" + common, BASE_16 % "events", 3, plateau)
+           "# the exact event path.\n" + common, BASE_16 % EVENTS, 3, plateau)
     _write("rough_brush.count_rough.toml",
            "# The stiff rough plateau at 16 x 16 pillars (k~ = 1, sigma~ = 2.1, F~_P = 20: 'almost vanishes'), one\n"
            "# realisation (the seed of rough_brush.count.toml's first), the exact event path.\n" + common,
-           BASE_16 % "events", 1, [(*ROUGH_PLATEAU, p) for p in PLATEAU_PRELOADS])
+           BASE_16 % EVENTS, 1, [(*ROUGH_PLATEAU, p) for p in PLATEAU_PRELOADS])
     table = [(k, s, READING_PRELOAD) for k in COLUMNS for s in SIGMAS]
     _write("rough_brush.table1.toml",
            "# Table 1 at 16 x 16 pillars: c = F~_A / F~_P read at F~_P = 0.1 for every column and roughness\n"
            "# (the reading rule, declared before computing), the pillar-level model (docs/pillars/validation.md).\n"
-           + common, BASE_16 % "pillars", 10, table)
+           + common, BASE_16 % PILLARS, 10, table)
     for k in COLUMNS:  # one sampled set per column: a sweep runs seed by seed, a set finishes a column
         _write(f"rough_brush.table1.{column_set(k)}.sampled.toml",
                f"# Table 1's column k~ = {k:g} of rough_brush.table1.toml (same base, seeds and case hashes): a\n"
                "# named sampled set, so that a column reaches its ten seeds before the next begins.\n" + common,
-               BASE_16 % "pillars", 10, [(k, s, READING_PRELOAD) for s in SIGMAS])
+               BASE_16 % PILLARS, 10, [(k, s, READING_PRELOAD) for s in SIGMAS])
     events = [(k, s, READING_PRELOAD) for k in (10.0, 0.001) for s in SIGMAS]
     _write("rough_brush.table1_events.toml",
            "# The pillar-level model's error on Table 1's cases: k~ = 10 and 0.001 over the thirteen roughnesses,\n"
            "# F~_P = 0.1, the exact event path, the first realisation of rough_brush.table1.toml's seeds.\n"
-           + common, BASE_16 % "events", 1, events)
+           + common, BASE_16 % EVENTS, 1, events)
     quick = "# Quick check (4 x 4 pillars, N = 64): tests the machinery, not the thesis's numbers.\n"
-    _write("rough_brush.count.quick.toml", quick, BASE_QUICK % "events", 2,
+    _write("rough_brush.count.quick.toml", quick, BASE_QUICK % EVENTS, 2,
            [(k, s, p) for k, s in PLATEAUS[:3] for p in PLATEAU_PRELOADS])
-    _write("rough_brush.count_rough.quick.toml", quick, BASE_QUICK % "events", 1,
+    _write("rough_brush.count_rough.quick.toml", quick, BASE_QUICK % EVENTS, 1,
            [(*ROUGH_PLATEAU, p) for p in PLATEAU_PRELOADS])
-    _write("rough_brush.table1.quick.toml", quick, BASE_QUICK % "pillars", 2,
+    _write("rough_brush.table1.quick.toml", quick, BASE_QUICK % PILLARS, 2,
            [(k, s, READING_PRELOAD) for k in (10.0, 0.001) for s in (0.01, 0.07, 0.5, 2.1, 3.0)])
-    _write("rough_brush.table1_events.quick.toml", quick, BASE_QUICK % "events", 1,
+    _write("rough_brush.table1_events.quick.toml", quick, BASE_QUICK % EVENTS, 1,
            [(k, s, READING_PRELOAD) for k in (10.0, 0.001) for s in (0.01, 2.1)])
 
 
