@@ -387,9 +387,10 @@ def test_study_list_fits_80_columns_with_a_cost_per_study():
 def test_the_pillar_model_does_not_report_zero_cg_iterations(tmp_path):
     """The pillar model's solves are not element CG solves: its summary row says so instead of "0"."""
     config = tmp_path / "pillars.toml"
+    # phi = 16 pi 0.05^2 = 0.126, inside the pillar model's validated domain; 3.2 elements per radius.
     config.write_text(
-        '[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\nelements = 32\n'
-        '[indenter]\nshape = "brush"\nlayout = "square"\npillars_per_side = 4\npillar_radius = 0.07\n'
+        '[halfspace]\ncontact_modulus = 1.0\nwork_of_adhesion = 1e-4\n[grid]\nsize = 1.0\nelements = 64\n'
+        '[indenter]\nshape = "brush"\nlayout = "square"\npillars_per_side = 4\npillar_radius = 0.05\n'
         'stiffness_ratio = 0.01\n[protocol]\nmethod = "pillars"\npreload_displacement = 0.002\n')
     done = CliRunner().invoke(main, ["run", str(config), "--out", str(tmp_path / "out")])
     assert done.exit_code == 0, done.output
