@@ -401,12 +401,13 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
     # configuration, and with it every sweep's case hashes, stays what it was
     # for a configuration that does not use them (a sweep folder resumes).
     for key in _LATER_PROTOCOL_KEYS:
-        if data["protocol"].get(key) is None:
-            data["protocol"].pop(key, None)
+        if key in data["protocol"] and data["protocol"][key] == type(config.protocol).model_fields[key].default:
+            del data["protocol"][key]
     if not any(value is not None for value in data.get("units", {}).values()):
         data.pop("units", None)  # names only: the default (dimensionless) leaves case hashes as they were
     return to_json_safe(data)
 
 
-#: Protocol keys that arrived after sweeps were first recorded (omitted when unset).
-_LATER_PROTOCOL_KEYS = ("speed",)
+#: Protocol keys that arrived after sweeps were first recorded: omitted while at their schema default,
+#: so the case hashes of the recorded sweeps stay what they were.
+_LATER_PROTOCOL_KEYS = ("speed", "event_window", "pillar_modes", "pillar_near", "pillar_solve")

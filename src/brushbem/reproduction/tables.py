@@ -140,7 +140,9 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
             for column, dtype in tables[0].dtypes.items():
                 if pd.api.types.is_integer_dtype(dtype) and column in table.columns:
                     values = table[column]
-                    if values.notna().all() and (values == values.round()).all():
+                    # A column another run wrote as text (object) is left as it reads.
+                    if (pd.api.types.is_numeric_dtype(values) and values.notna().all()
+                            and (values == values.round()).all()):
                         table[column] = values.astype(dtype)
         with atomic_path(folder_out / f"{part}.csv") as temporary:
             table.to_csv(temporary, index=False)
