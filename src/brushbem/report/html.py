@@ -49,6 +49,18 @@ _TAIL_COLUMNS = ("realization", "seed", "adhesive_force")
 _END_COLUMNS = ("converged", "status", "reason", "wall_time_s")
 
 
+def write_document(path: Path, title: str, sections: Sequence[str], css: str, meta: str = "") -> Path:
+    """Write one self-contained HTML page (inline style sheet, ``meta`` tags in its head) atomically to ``path``."""
+    from brushbem.io import atomic_path
+
+    document = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">" + meta
+                + f"<title>{_e(title)}</title><style>{css}</style></head><body>\n"
+                + "\n".join(sections) + "\n</body></html>\n")
+    with atomic_path(path) as temporary:
+        temporary.write_text(document, encoding="utf-8")
+    return path
+
+
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", text).strip("_") or "value"
 

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from brushbem import __version__
+from brushbem.report.html import write_document
 from brushbem.report.run_figures import figure_png, own_png, png_uri, snapshots_figure
 from brushbem.results.units import Units
 
@@ -509,8 +510,6 @@ def write_run_report(folder: str | Path, *, redraw: bool = False) -> Path:
 
 
 def _write(folder: Path, redraw: bool) -> Path:
-    from brushbem.io import atomic_path
-
     summary, result = _read(folder)
     units = _units(summary, result)
     shape = _mapping(_config(summary).get("indenter")).get("shape") or "run"
@@ -527,11 +526,5 @@ def _write(folder: Path, redraw: bool) -> Path:
         "<h2>Closed forms</h2>" + _theory_html(summary, units),
         "<h2>Provenance</h2>" + _provenance_html(folder, summary, result),
     ]
-    document = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-                f'<meta name="generator" content="{_e(GENERATOR)}">'
-                f"<title>{_e(title)}</title><style>{_CSS}</style></head><body>\n"
-                + "\n".join(sections) + "\n</body></html>\n")
-    path = folder / REPORT_FILE
-    with atomic_path(path) as temporary:
-        temporary.write_text(document, encoding="utf-8")
-    return path
+    return write_document(folder / REPORT_FILE, title, sections, _CSS,
+                          meta=f'<meta name="generator" content="{_e(GENERATOR)}">')

@@ -34,7 +34,6 @@ import numpy as np
 
 from brushbem import __version__
 from brushbem.figures import figstyle
-from brushbem.io import atomic_path
 from brushbem.report.html import (
     _CSS,
     _cell,
@@ -43,6 +42,7 @@ from brushbem.report.html import (
     _explanation,  # noqa: F401 - re-exported (imported from here)
     _figures_html,
     _incidents_html,
+    write_document,
     _notes_text,  # noqa: F401 - re-exported (imported from here)
     _numbers_table,
     _problems,
@@ -434,10 +434,4 @@ def write_report(out_dir: str | Path, *, redraw: bool = False) -> Path:
                     + "<h3>Timings</h3>" + _definition_list(_timings(frames))
                     + "<h3>Configuration hashes (SHA-256 of the resolved configuration)</h3>"
                     + _definition_list(hashes_all))
-    document = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-                f"<title>{_e(title)}</title><style>{_CSS}</style></head><body>\n"
-                + "\n".join(sections) + "\n</body></html>\n")
-    path = out_dir / REPORT_FILE
-    with atomic_path(path) as temporary:
-        temporary.write_text(document, encoding="utf-8")
-    return path
+    return write_document(out_dir / REPORT_FILE, title, sections, _CSS)

@@ -403,6 +403,14 @@ def _contact_loading(loading: list) -> bool:
     return bool(loading) and loading[0].reason.startswith("contact problem")
 
 
+def _counted_loading(loading: list, unloading: list) -> float | None:
+    """The loading's states where the sample counted them (it reached the unloading, or solved a brush's
+    contact problems, one more to come), else None."""
+    if unloading:
+        return float(len(loading))
+    return float(len(loading) + 1) if _contact_loading(loading) else None
+
+
 def _fixed_states(problem, path, sampled: list) -> tuple[float, float, list[str], str]:
     """States of a fixed-step path on each branch (floats: they may exceed any integer of interest), the basis,
     and the kind of the count (`RunEstimate.kind`)."""
@@ -410,8 +418,9 @@ def _fixed_states(problem, path, sampled: list) -> tuple[float, float, list[str]
     unloading = [state for state in sampled if not state.loading]
     preload, preload_text = _preload(path, loading, unloading)
     basis = []
-    if unloading or _contact_loading(loading):
-        n_loading = float(len(loading)) if unloading else float(len(loading) + 1)
+    counted = _counted_loading(loading, unloading)
+    if counted is not None:
+        n_loading = counted
         basis.append(f"loading: {int(n_loading)} states ({'sampled' if unloading else 'contact problems'})")
     else:
         n_loading = float(_steps(preload, path.step))
@@ -429,8 +438,9 @@ def _event_states(problem, path, sampled: list) -> tuple[float, float, list[str]
     unloading = [state for state in sampled if not state.loading]
     preload, preload_text = _preload(path, loading, unloading)
     basis = []
-    if unloading or _contact_loading(loading):
-        n_loading = float(len(loading)) if unloading else float(len(loading) + 1)
+    counted = _counted_loading(loading, unloading)
+    if counted is not None:
+        n_loading = counted
         basis.append(f"loading: {int(n_loading)} states ({'sampled' if unloading else 'contact problems'})")
     else:
         first, last = loading[0].displacement, loading[-1].displacement
