@@ -361,7 +361,7 @@ COMPARISON_STAMP = {
     "flat_brush": "6cb6ba34f0f1",
     "hierarchy": "716945a58ef1",
     "punch_spring": "648c4b61ebf1",
-    "rough_brush": "146a2b8fe5dd",
+    "rough_brush": "8e747d9a7283",
     "sphere_spring": "b3e61e93bc4e",
 }
 
