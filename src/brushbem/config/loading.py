@@ -126,7 +126,7 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
                 optional = [key for key in model.model_fields if key not in required and key not in named]
                 needs = ([", ".join(required)] if required else []) + (
                     [f"exactly one of {' and '.join(one_of)}"] if one_of else []) + ([stated] if stated else [])
-                others = (f" (optional: {', '.join(optional)})" if len(optional) <= 8 else
+                others = (f" (optional: {', '.join(optional)})" if len(optional) <= 10 else
                           " (its other keys depend on these: docs/site/configuration.md)")
                 problems.append(f"`{name}`: missing — a required table; give {'; '.join(needs) or 'the table'}"
                                 + (others if optional else ""))
@@ -410,4 +410,5 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
 
 #: Protocol keys that arrived after sweeps were first recorded: omitted while at their schema default,
 #: so the case hashes of the recorded sweeps stay what they were.
-_LATER_PROTOCOL_KEYS = ("speed", "event_window", "pillar_modes", "pillar_near", "pillar_solve")
+_LATER_PROTOCOL_KEYS = ("speed", "event_window", "pillar_modes", "pillar_near", "pillar_solve",
+                        "pillar_tip_resolution")

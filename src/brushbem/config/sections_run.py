@@ -64,6 +64,10 @@ class ProtocolConfig(_Section):
         ``method = "pillars"`` only: the kept inverse up to a limit of
         attached pillars and CG on the lattice's FFT beyond, always the kept
         inverse, or always CG (pillars on a lattice).
+    pillar_tip_resolution : float or None
+        ``method = "pillars"`` only: every tip on a raster of its own with at
+        least this many elements per pillar radius (>= 2; the grid subdivided
+        by the smallest integer that gives it); None: the grid's own.
     """
 
     model_config = _MODEL_CONFIG
@@ -80,6 +84,7 @@ class ProtocolConfig(_Section):
     pillar_modes: Literal["quadratic", "tilt", "uniform"] = "quadratic"
     pillar_near: float | None = Field(None, gt=0, allow_inf_nan=False)
     pillar_solve: Literal["auto", "kept", "cg"] = "auto"
+    pillar_tip_resolution: float | None = Field(None, ge=2, allow_inf_nan=False)
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):

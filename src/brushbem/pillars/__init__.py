@@ -112,6 +112,15 @@ the preload, the kept inverse held on the partial set: `Switches.kept_partial`)
 and pull-off 65 s (2959 states) in 0.51 GB; by CG on the partial sets its
 loading had not reached the preload in 600 s.
 
+Tip resolution
+    By default a tip is held on the global grid's elements, so its
+    resolution is the grid's (a lone flat tip's F_A is +2.7, +3.4, +2.1 and
+    +1.0 % off at 4, 8, 16 and 32 elements per radius,
+    ``data/resolution_error.csv``).  ``LoadPath.pillar_tip_resolution`` puts
+    every tip on a finer raster of its own (`brushbem.pillars.tips`): the
+    same brush on the grid N with tips f times finer is the model on the grid
+    f N, while the global grid only places the pillars.
+
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
 connections (``Indenter.viscoelastic``), nonlinear pillar laws
@@ -132,13 +141,15 @@ The package's modules:
   pillar level).
 * `basis` - `PillarModel`: the bases, couplings and springs.
 * `lattice` - the far field on a lattice by FFT.
+* `tips` - the tips' raster: the global grid's footprints, or every tip on a
+  finer raster of its own (``LoadPath.pillar_tip_resolution``).
 * `solver` - the pillar-level solve (the kept inverse, the full coupling)
   and the higher modes' near field fed back (`radiate`).
 * `cg` - the solve without a kept inverse (CG on the lattice's FFT).
 * `checks` - the refusals (`check_applicable`).
 * `domain` - where it is accurate: the warning beyond `VALIDATED_FILLING`.
 
-Imports run one way: basis, lattice, cg < solver < state < loading <
+Imports run one way: tips, lattice < basis, cg < solver < state < loading <
 events < path.
 """
 

@@ -19,6 +19,7 @@ import scipy.linalg
 
 from brushbem.physics.halfspace import influence_coefficients
 from brushbem.pillars.lattice import Lattice
+from brushbem.pillars.tips import TipRaster
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
@@ -77,42 +78,41 @@ class PillarModel:
     """Bases, couplings and springs of a brush in the pillar model (`brushbem.pillars`)."""
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
-                 peel: bool = True, near: float | None = None, lattice: bool = True):
+                 peel: bool = True, near: float | None = None, lattice: bool = True, tips: int = 1):
         if modes not in MODES:
             raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
         if coupling not in ("local", "full"):
             raise ValueError(f"coupling = {coupling!r} must be 'local' or 'full'")
-        grid, indenter = problem.grid, problem.indenter
-        self.n = grid.elements
-        self.h2 = grid.element_size ** 2
-        self.critical = problem.critical_stress
+        indenter = problem.indenter
+        #: The tips' raster (`brushbem.pillars.tips`): the global grid subdivided ``tips`` times.
+        self.tips = raster = TipRaster.build(problem, tips)
+        self.n = raster.elements
+        h = raster.element_size
+        self.h2 = h ** 2
+        self.critical = raster.critical_stress
         self.powers = MODES[modes]
         self.m = len(self.powers)
         self.coupling = coupling if self.m > 1 else "full"
         self.peel = peel
-        labels = np.asarray(indenter.pillar).ravel()
-        flat = np.flatnonzero(labels >= 0)
-        owner = labels[flat]
-        order = np.argsort(owner, kind="stable")
-        flat, owner = flat[order], owner[order]
+        flat, owner = raster.flat, raster.owner
         M = self.M = indenter.n_pillars
         bounds = np.searchsorted(owner, np.arange(M + 1))
         sizes = np.diff(bounds)
         width = int(sizes.max())
-        #: Flat grid indices of every pillar's footprint (row-major), padded with -1: (M, width).
+        #: Flat indices (the tips' raster) of every pillar's footprint (row-major), padded with -1: (M, width).
         self.slots = np.full((M, width), -1, dtype=np.int64)
         within = np.arange(width)[None, :] < sizes[:, None]
         self.slots[within] = flat
         self.rows, self.cols = np.divmod(np.where(within, self.slots, 0), self.n)
         self.full = within
-        self.g = np.asarray(indenter.height).ravel()[self.slots[:, 0]].astype(np.float64)
+        self.g = raster.heights
         self.levels = [(np.asarray(level.cluster), level.stiffnesses) for level in indenter.elastic_levels]
         radius = math.sqrt(float(sizes.max()) / math.pi)
-        self.near = NEAR_RADII * radius if near is None else float(near)
+        #: Centres closer than this (elements of the tips' raster; ``near`` pillar radii) are coupled exactly.
+        self.near = (NEAR_RADII if near is None else float(near)) * radius
         extent = int(max(np.ptp(np.where(within, self.rows, self.rows[:, :1]), axis=1).max(),
                          np.ptp(np.where(within, self.cols, self.cols[:, :1]), axis=1).max())) + 1
         span = min(int(math.ceil(self.near)) + 2 * extent + 2, self.n)
-        h = grid.element_size
         i = np.arange(span, dtype=np.float64) * h
         self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
         self.scale = h / (math.pi * problem.contact_modulus)

@@ -10,12 +10,14 @@ from collections.abc import Iterator
 
 from threadpoolctl import ThreadpoolController
 
+from brushbem.errors import ParameterError
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.domain import PillarDomainWarning, domain_warning
 from brushbem.pillars.events import events
 from brushbem.pillars.state import Interrupted, PillarState
+from brushbem.pillars.tips import tip_factor
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 
 __all__ = ["pull_off"]
@@ -44,7 +46,8 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str | None = Non
     # consumed too, and is lifted when the generator ends or is closed.
     with ThreadpoolController().limit(limits=1, user_api="blas"):
         model = PillarModel(problem, modes=path.pillar_modes if modes is None else modes, coupling=coupling,
-                            peel=peel, near=path.pillar_near if near is None else near)
+                            peel=peel, near=path.pillar_near if near is None else near,
+                            tips=tip_factor(problem, path.pillar_tip_resolution))
         if path.pillar_solve == "cg" and model.lattice is None:
             raise ParameterError("LoadPath", "pillar_solve", "LoadPath.pillar_solve = 'cg' solves on a lattice's "
                                  "FFT; this brush's pillars are not on a lattice: use 'auto' or 'kept'")

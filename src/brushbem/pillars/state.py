@@ -237,23 +237,21 @@ class PillarState:
     def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
         model = self.model
         self.last = (float(d), loading)
-        n = model.n
-        pressure = np.zeros(n * n)
-        contact = np.zeros(n * n, dtype=bool)
         rows = self.on()
         on = model.raster[rows]
         force = 0.0
+        slots, values = np.zeros(0, dtype=np.int64), np.zeros(0)
         if kind != "separated" and rows.size:
             slots = model.slots[rows][on]
             values = self.pressures_at(d)[on]
-            pressure[slots] = values
-            contact[slots] = True
             force = float(model.h2 * values.sum())
+        # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
+        pressure, contact = model.tips.to_grid(slots, values)
         solves, self._reported = self.solves - self._reported, self.solves
         return State(displacement=float(d), force=force, contact_area=model.h2 * int(np.count_nonzero(on)),
                      attached_pillars=int(np.count_nonzero(self.attached)), loading=loading, kind=kind,
                      trial_force=force, cg_iterations=0, n_solves=solves, converged=converged, reason=reason,
-                     pressure=pressure.reshape(n, n), contact=contact.reshape(n, n))
+                     pressure=pressure, contact=contact)
 
     # -- changes -------------------------------------------------------------
     def attach_many(self, pillars: np.ndarray) -> None:

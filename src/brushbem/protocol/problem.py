@@ -136,6 +136,11 @@ class LoadPath:
         Method "pillars" only: the pillar-level solve - the kept inverse up to
         a limit of attached pillars and CG on the lattice's FFT beyond
         (``"auto"``), always the kept inverse, or always CG (a lattice only).
+    pillar_tip_resolution : float or None
+        Method "pillars" only: every tip on a raster of its own with at
+        least this many elements per pillar radius, the global grid
+        subdivided by the smallest integer that gives it
+        (`brushbem.pillars.tips`); None: the global grid's.
     """
 
     method: str = "events"
@@ -152,6 +157,7 @@ class LoadPath:
     pillar_modes: str = "quadratic"
     pillar_near: float | None = None
     pillar_solve: str = "auto"
+    pillar_tip_resolution: float | None = None
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -183,11 +189,16 @@ class LoadPath:
         if self.pillar_near is not None and not (math.isfinite(self.pillar_near) and self.pillar_near > 0):
             raise ParameterError("LoadPath", "pillar_near", f"LoadPath.pillar_near = {self.pillar_near} must be "
                                  "finite and > 0 (pillar radii)")
+        if self.pillar_tip_resolution is not None and not (math.isfinite(self.pillar_tip_resolution)
+                                                           and self.pillar_tip_resolution >= 2):
+            raise ParameterError("LoadPath", "pillar_tip_resolution", "LoadPath.pillar_tip_resolution = "
+                                 f"{self.pillar_tip_resolution} must be finite and >= 2 (elements per pillar radius)")
         if self.pillar_solve not in PILLAR_SOLVES:
             raise ParameterError("LoadPath", "pillar_solve", f"LoadPath.pillar_solve = {self.pillar_solve!r} must "
                                  f"be one of {', '.join(map(repr, PILLAR_SOLVES))}")
         if self.method != "pillars":
-            for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto")):
+            for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto"),
+                                  ("pillar_tip_resolution", None)):
                 if getattr(self, name) != default:
                     raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
                                          f"method = 'pillars' only (method = {self.method!r}); remove it")
