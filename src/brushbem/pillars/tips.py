@@ -36,6 +36,7 @@ import numpy as np
 from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid
+from brushbem.physics.structure.raster import footprint_blocks
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["TipRaster", "tip_factor"]
@@ -130,21 +131,12 @@ class TipRaster:
 
 def _rasterise(grid: Grid, centres: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """(flat indices, owners) of every element of ``grid`` whose centre lies inside a pillar's circle, pillar by
-    pillar, row-major: `rasterise_pillars`'s rule and arithmetic, without the grid's label array."""
-    h = grid.element_size
-    half = 0.5 * grid.size
+    pillar, row-major: `rasterise_pillars`'s rule, without the grid's label array."""
     n = grid.elements
-    x = grid.centres()
-    reach = math.ceil(radius / h) + 1
     flats, owners = [], []
-    for k, (cy, cx) in enumerate(centres):
-        i0 = max(math.floor((cy + half) / h) - reach, 0)
-        j0 = max(math.floor((cx + half) / h) - reach, 0)
-        rows = slice(i0, min(i0 + 2 * reach + 1, n))
-        cols = slice(j0, min(j0 + 2 * reach + 1, n))
-        inside = (x[rows, None] - cy) ** 2 + (x[None, cols] - cx) ** 2 <= radius * radius
+    for k, (rows, cols, inside) in enumerate(footprint_blocks(grid, centres, radius)):
         i, j = np.nonzero(inside)
-        flats.append((i + i0) * n + (j + j0))
+        flats.append((i + rows.start) * n + (j + cols.start))
         owners.append(np.full(i.size, k, dtype=np.int64))
     return np.concatenate(flats).astype(np.int64), np.concatenate(owners)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -11,7 +12,7 @@ from brushbem.physics.structure.errors import StructureError
 from brushbem.physics.structure.grid import Grid, _check_pillar_radius
 from brushbem.physics.structure.layouts import ClusteredLattice
 
-__all__ = ["clustered_filling_factors", "rasterise_pillars"]
+__all__ = ["clustered_filling_factors", "footprint_blocks", "rasterise_pillars"]
 
 
 def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndarray:
@@ -26,20 +27,29 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     if np.any(np.abs(centres) + radius > half * (1 + 1e-12)):
         raise StructureError("pillar_radius", radius, "pillars reach outside the domain (Grid.size)")
     n = grid.elements
-    x = grid.centres()
     labels = np.full((n, n), -1, dtype=np.int64)
-    reach = math.ceil(radius / h) + 1
-    for k, (cy, cx) in enumerate(centres):
-        i0 = max(math.floor((cy + half) / h) - reach, 0)
-        j0 = max(math.floor((cx + half) / h) - reach, 0)
-        rows = slice(i0, min(i0 + 2 * reach + 1, n))
-        cols = slice(j0, min(j0 + 2 * reach + 1, n))
-        inside = (x[rows, None] - cy) ** 2 + (x[None, cols] - cx) ** 2 <= radius * radius
+    for k, (rows, cols, inside) in enumerate(footprint_blocks(grid, centres, radius)):
         block = labels[rows, cols]
         if np.any(block[inside] >= 0):
             raise StructureError("pillar_radius", radius, "pillars overlap; reduce pillar_radius or increase spacing")
         block[inside] = k
     return labels
+
+
+def footprint_blocks(grid: Grid, centres: np.ndarray, radius: float) -> Iterator[tuple[slice, slice, np.ndarray]]:
+    """For every pillar (in order): the rows and columns of the grid around it and which of those elements'
+    centres lie inside its circle (the rule of `rasterise_pillars`, which checks the pillars first)."""
+    h = grid.element_size
+    half = 0.5 * grid.size
+    n = grid.elements
+    x = grid.centres()
+    reach = math.ceil(radius / h) + 1
+    for cy, cx in centres:
+        i0 = max(math.floor((cy + half) / h) - reach, 0)
+        j0 = max(math.floor((cx + half) / h) - reach, 0)
+        rows = slice(i0, min(i0 + 2 * reach + 1, n))
+        cols = slice(j0, min(j0 + 2 * reach + 1, n))
+        yield rows, cols, (x[rows, None] - cy) ** 2 + (x[None, cols] - cx) ** 2 <= radius * radius
 
 
 def clustered_filling_factors(grid: Grid, pillar: np.ndarray, lattice: ClusteredLattice) -> tuple[float, ...]:
