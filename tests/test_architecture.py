@@ -284,6 +284,64 @@ def test_validate_loads_neither_the_solver_nor_scipy(example):
     assert done.stdout.strip() == "[]"
 
 
+_PILLARS_FILE = """
+[halfspace]
+contact_modulus = 1.0
+work_of_adhesion = 1e-4
+[grid]
+size = 1.0
+elements = 64
+[indenter]
+shape = "brush"
+layout = "square"
+region = "square"
+pillars_per_side = 4
+pillar_radius = 0.05
+stiffness_ratio = 0.05
+[protocol]
+method = "pillars"
+preload_displacement = 2e-3
+"""
+
+
+@pytest.mark.parametrize("adhesion", [1e-4, 0.0])
+def test_validating_a_pillar_model_file_loads_no_solver(tmp_path, adhesion):
+    """The pillar model's domain is checked on the rasterised brush by its rule alone: neither the pillar model,
+    the load paths, the operator nor SciPy is loaded (a file it refuses, no adhesion, takes the same light way)."""
+    path = tmp_path / "pillars.toml"
+    path.write_text(_PILLARS_FILE.replace("work_of_adhesion = 1e-4", f"work_of_adhesion = {adhesion}"))
+    code = (
+        "import sys\n"
+        "from click.testing import CliRunner\n"
+        "from brushbem.cli import main\n"
+        f"result = CliRunner().invoke(main, ['validate', {str(path)!r}])\n"
+        "print(result.exit_code, repr(result.output[:60]), 'models adhesive pull-off' in result.output)\n"
+        "heavy = ('scipy', 'brushbem.numerics.solver', 'brushbem.numerics.operator', 'brushbem.protocol', "
+        "'brushbem.pillars', 'brushbem.physics.halfspace')\n"
+        "print(sorted(m for m in sys.modules if m.startswith(heavy)))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    status, loaded = done.stdout.strip().splitlines()[-2:]
+    assert loaded == "[]"
+    if adhesion:
+        assert status.startswith("0 'ok") and status.endswith("False"), status
+    else:
+        assert status.startswith("2 'invalid") and status.endswith("True"), status
+
+
+def test_the_pillar_model_rule_refuses_by_key_without_the_model():
+    """The configuration reports the pillar model's domain (`pillar_model_problems`) by key before a run."""
+    from brushbem.config import ConfigError
+    from brushbem.runs.assembly import parse_config
+
+    document = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 64},
+                "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": 0.05},
+                "protocol": {"method": "pillars", "preload_displacement": 2e-3}}
+    with pytest.raises(ConfigError, match=r"protocol\.method.*models brushes of flat pillars"):
+        parse_config(document)
+
+
 #: The numerical core: the modules whose functions the size rule covers.
 NUMERICS = ("numerics", "physics/halfspace.py", "physics/springs.py", "physics/structure", "protocol", "pillars")
 MAX_LINES = 80  # code lines, the docstring not counted

@@ -18,7 +18,7 @@ r/h = 32, the same order as the discretisation error being measured.  Kendall's
 force ~ r^(3/2) would inherit a 0.8 % error that has nothing to do with the
 mechanics.  The radius of the disc of the same area is the best single-number
 description of the rasterised punch (its stiffness 2 E* a converges to the
-staircase's; see brushbem.runs.case.theory_for, which does the same).
+staircase's; see brushbem.physics.comparison.theory_for, which does the same).
 """
 
 from __future__ import annotations

@@ -91,7 +91,16 @@ def test_load_gives_back_the_typed_pull_off_that_run_returned_and_saved(kind, tm
     import json
 
     import brushbem
-    from brushbem.results import BrushNormalization, BrushTheory, Provenance, PunchTheory, RunSummary
+    from brushbem.results import (
+        BrushNormalization,
+        BrushTheory,
+        DesignNumbers,
+        Provenance,
+        PunchTheory,
+        ResolutionRecord,
+        RunSummary,
+        Spring,
+    )
 
     config = _small_brush() if kind == "brush" else {
         "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
@@ -104,6 +113,9 @@ def test_load_gives_back_the_typed_pull_off_that_run_returned_and_saved(kind, tm
     assert isinstance(summary, RunSummary) and isinstance(summary.provenance, Provenance)
     assert isinstance(summary.theory, BrushTheory if kind == "brush" else PunchTheory)
     assert isinstance(summary.normalized, BrushNormalization) if kind == "brush" else summary.normalized is None
+    assert isinstance(summary.resolution, ResolutionRecord) and isinstance(summary.design, DesignNumbers)
+    assert isinstance(summary.design.spring, Spring) and summary.design["spring"]["from"] == summary.design.spring.origin
+    assert summary.resolution.length == ("pillar radius" if kind == "brush" else "punch radius")
     assert len(summary.run_id) == 32 and summary.provenance.config == json.loads(json.dumps(
         summary.provenance.config))
     assert dataclasses.replace(summary, run_id=None, provenance=None) == ran.summary
@@ -172,7 +184,8 @@ def test_the_sweep_table_columns_are_the_record_fields():
         assert not undeclared
         seen |= columns
     assert {"normalized.stiffness_ratio", "theory.equivalent_radius", "theory.zero_force_radius",
-            "theory.compact_punch_force"} <= seen & SUMMARY_COLUMNS
+            "theory.compact_punch_force", "resolution.force_error_estimate", "design.spring.from",
+            "design.adhesion_strength"} <= seen & SUMMARY_COLUMNS
     assert summary_column("theory.ratios.adhesive_force") == "theory.ratios.adhesive_force"  # an open mapping
     with pytest.raises(KeyError, match="'normalized.stifness_ratio' is no column .* normalized.stiffness_ratio"):
         summary_column("normalized.stifness_ratio")

@@ -1,14 +1,22 @@
-"""`ParameterError`: a bad parameter of a numerics object, named as the object and its parameter.
+"""`ParameterError`: a bad parameter of a numerics object, named as the object and its parameter;
+`ParameterProblem`: the same as a value, what a rule returns.
 
 The numerics and physics name the Python parameters they check (``LoadPath.step``,
 ``brush(stiffness=...)``, ``Grid.elements``), never configuration keys; the
 run layer (`brushbem.runs.assembly`) maps ``(owner, parameter)`` back to the
-configuration key a user wrote.  Imports nothing from brushbem.
+configuration key a user wrote.  A rule between parameters lives with the
+object that owns it, as a predicate that returns `ParameterProblem` values
+(every problem at once); the load paths raise the first (`ParameterProblem.error`),
+the configuration collects them all and names each by its key.  Imports
+nothing from brushbem.
 """
 
 from __future__ import annotations
 
-__all__ = ["ParameterError"]
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["ParameterError", "ParameterProblem", "raise_first"]
 
 
 class ParameterError(ValueError):
@@ -34,3 +42,39 @@ class ParameterError(ValueError):
     def name(self) -> str:
         """``owner.parameter``, as the message writes it."""
         return f"{self.owner}.{self.parameter}"
+
+
+@dataclass(frozen=True)
+class ParameterProblem:
+    """One problem a rule found: whose parameter, its value, and what is allowed.
+
+    ``allowed`` names other parameters as ``Owner.parameter`` (the configuration
+    reads each as its key); ``value`` is the parameter's value as given (None:
+    not given).
+    """
+
+    owner: str
+    parameter: str
+    value: Any
+    allowed: str
+
+    @property
+    def name(self) -> str:
+        """``owner.parameter``."""
+        return f"{self.owner}.{self.parameter}"
+
+    @property
+    def message(self) -> str:
+        """``Owner.parameter = value: allowed`` (``Owner.parameter: allowed`` where no value was given)."""
+        shown = "" if self.value is None else f" = {self.value!r}"
+        return f"{self.name}{shown}: {self.allowed}"
+
+    def error(self) -> ParameterError:
+        """The problem raised: a `ParameterError` of its owner and parameter."""
+        return ParameterError(self.owner, self.parameter, self.message)
+
+
+def raise_first(problems: list[ParameterProblem]) -> None:
+    """Raise the first of ``problems`` as a `ParameterError` (nothing without problems)."""
+    if problems:
+        raise problems[0].error()

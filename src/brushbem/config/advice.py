@@ -28,11 +28,12 @@ from importlib.resources import files
 from typing import TYPE_CHECKING, Any
 
 from brushbem.physics.scales import jkr_contact_radius
+from brushbem.results.design import ResolutionRecord
 
 if TYPE_CHECKING:
     from brushbem.config.schema import RunConfig
 
-__all__ = ["MIN_ELEMENTS_PER_RADIUS", "Resolution", "advice", "fibril_radius", "plausibility_warnings", "resolution",
+__all__ = ["MIN_ELEMENTS_PER_RADIUS", "DecidingLength", "Resolution", "advice", "deciding_length", "fibril_radius", "plausibility_warnings", "resolution",
            "resolution_warnings"]
 
 #: Fewest elements across the deciding radius without a warning: ours (the thesis states none).  At 8 the
@@ -87,14 +88,18 @@ class Resolution:
     def resolved(self) -> bool:
         return self.elements >= MIN_ELEMENTS_PER_RADIUS
 
-    def to_dict(self) -> dict[str, Any]:
+    def record(self) -> ResolutionRecord:
         """The ``resolution`` record of ``summary.json``."""
-        return {"length": self.length, "key": self.key, "value": self.value, "elements": self.elements,
-                "minimum_elements": MIN_ELEMENTS_PER_RADIUS,
-                "force_error_estimate": self.force_error, "force_error_range": list(self.force_error_range),
-                "work_error_estimate": self.work_error,
-                "work_error_range": None if self.work_error_range is None else list(self.work_error_range),
-                "basis": self.basis}
+        return ResolutionRecord(
+            length=self.length, key=self.key, value=self.value, elements=self.elements,
+            minimum_elements=MIN_ELEMENTS_PER_RADIUS, force_error_estimate=self.force_error,
+            force_error_range=list(self.force_error_range), work_error_estimate=self.work_error,
+            work_error_range=None if self.work_error_range is None else list(self.work_error_range),
+            basis=self.basis)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``resolution`` record of ``summary.json`` as a plain mapping."""
+        return self.record().to_dict()
 
 
 #: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
@@ -124,23 +129,39 @@ def _interpolated(elements: float, column: str, name: str = PUNCH_TABLE) -> floa
     raise AssertionError("unreachable: the table's rows are increasing")
 
 
-def _deciding_length(config: RunConfig) -> tuple[str, str, float] | None:
-    """(what, key, value) of the length that decides F_A, or None (a height map, no adhesion)."""
+@dataclass(frozen=True)
+class DecidingLength:
+    """The length that decides F_A's resolution: what it is, the key it comes from, its value (units of length)."""
+
+    what: str
+    key: str
+    value: float
+
+
+def deciding_length(config: RunConfig, pillar_radius: float | None = None) -> DecidingLength | None:
+    """The length that decides F_A's resolution, stated once (the run's `resolution`, the refinement's check).
+
+    A flat punch's radius; a sphere's JKR contact radius at pull-off (eq. 2.20b; None without adhesion);
+    a brush's pillar radius (``pillar_radius``: as built, where known, which a clustered layout derives;
+    else from ``indenter.filling_factors``), or with spherical-cap tips the smaller of it and the cap's JKR
+    radius (the smallest cap of a per-pillar file); None for a height map.
+    """
     indenter, halfspace = config.indenter, config.halfspace
-    if halfspace.work_of_adhesion <= 0:
-        return None
     modulus, dgamma = halfspace.effective_modulus, halfspace.work_of_adhesion
 
     def jkr(radius: float) -> float:  # eq. 2.20b
         return jkr_contact_radius(radius, modulus, dgamma)
 
     if indenter.shape == "flat_punch" and indenter.radius is not None:
-        return "punch radius", "indenter.radius", indenter.radius
+        return DecidingLength("punch radius", "indenter.radius", float(indenter.radius))
     if indenter.shape == "sphere" and indenter.radius is not None:
-        return "JKR contact radius at pull-off", "indenter.radius", jkr(indenter.radius)
+        return DecidingLength("JKR contact radius at pull-off", "indenter.radius", jkr(float(indenter.radius))) \
+            if dgamma > 0 else None
     if indenter.shape != "brush":
         return None
-    radius, key = indenter.pillar_radius, "indenter.pillar_radius"
+    radius, key = pillar_radius, "indenter.pillar_radius"
+    if radius is None:
+        radius = indenter.pillar_radius
     if radius is None and indenter.filling_factors and indenter.pillars_per_side:
         region = indenter.region_size or config.grid.size
         radius = region / indenter.pillars_per_side * math.sqrt(math.prod(indenter.filling_factors) / math.pi)
@@ -148,9 +169,20 @@ def _deciding_length(config: RunConfig) -> tuple[str, str, float] | None:
     if radius is None:
         return None
     tip = indenter.tip
-    if tip is not None and tip.shape == "spherical_cap" and isinstance(tip.radius, float) and jkr(tip.radius) < radius:
-        return "JKR contact radius of the tip at pull-off", "indenter.tip.radius", jkr(tip.radius)
-    return "pillar radius", key, radius
+    if tip is not None and tip.shape == "spherical_cap" and tip.radius is not None and dgamma > 0:
+        cap = jkr(_smallest_cap(tip.radius))
+        if cap < radius:
+            return DecidingLength("JKR contact radius of the tip at pull-off", "indenter.tip.radius", cap)
+    return DecidingLength("pillar radius", key, float(radius))
+
+
+def _smallest_cap(radius: float | str) -> float:
+    """A cap radius, or the smallest of a per-pillar file's."""
+    if not isinstance(radius, str):
+        return float(radius)
+    import numpy as np
+
+    return float(np.min(np.load(radius, allow_pickle=False)))
 
 
 def fibril_radius(config: RunConfig) -> float | None:
@@ -165,10 +197,10 @@ def fibril_radius(config: RunConfig) -> float | None:
 
 def resolution(config: RunConfig) -> Resolution | None:
     """The resolution of the deciding length and its estimated error, or None where none decides."""
-    found = _deciding_length(config)
+    found = deciding_length(config) if config.halfspace.work_of_adhesion > 0 else None
     if found is None:
         return None
-    what, key, value = found
+    what, key, value = found.what, found.key, found.value
     elements = value / config.grid.element_size
     if what.startswith("JKR"):
         error = _interpolated(elements, "force_error", SPHERE_TABLE)

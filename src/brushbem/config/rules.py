@@ -19,12 +19,19 @@ from pydantic_core import PydanticCustomError
 
 from brushbem.config.errors import _show
 from brushbem.config.files import _height_map_shape
+from brushbem.errors import ParameterError, ParameterProblem
 from brushbem.physics.scales import jkr_contact_radius
 
 if TYPE_CHECKING:
-    from brushbem.config.schema import GridConfig, HalfSpaceConfig, IndenterConfig, RunConfig
+    from brushbem.config.schema import (
+        GridConfig,
+        HalfSpaceConfig,
+        IndenterConfig,
+        RunConfig,
+    )
 
-__all__ = ["SPHERE_MIN_PULL_OFF_ELEMENTS", "Problem", "StructureRules"]
+__all__ = ["PARAMETER_KEYS", "SPHERE_MIN_PULL_OFF_ELEMENTS", "Problem", "StructureRules", "configuration_key",
+           "configuration_text", "parameter_problems"]
 
 
 @dataclass(frozen=True)
@@ -53,6 +60,74 @@ class StructureRules(Protocol):
                            halfspace: HalfSpaceConfig) -> list[Problem]: ...
 
     def rasterised_problems(self, config: RunConfig) -> list[Problem]: ...
+
+
+#: The configuration key of every parameter a numerics object checks (`ParameterError`): the one place
+#: that maps the numerics' names (``LoadPath.step``, ``Grid.elements``) back to the keys a user wrote.
+PARAMETER_KEYS: dict[tuple[str, str], str] = {
+    ("LoadPath", "method"): "protocol.method",
+    ("LoadPath", "preload_displacement"): "protocol.preload_displacement",
+    ("LoadPath", "preload_force"): "protocol.preload_force",
+    ("LoadPath", "step"): "protocol.step",
+    ("LoadPath", "max_steps"): "protocol.max_steps",
+    ("LoadPath", "speed"): "protocol.speed",
+    ("LoadPath", "event_window"): "protocol.event_window",
+    ("LoadPath", "pillar_modes"): "protocol.pillar_modes",
+    ("LoadPath", "pillar_near"): "protocol.pillar_near",
+    ("LoadPath", "pillar_solve"): "protocol.pillar_solve",
+    ("LoadPath", "pillar_tip_resolution"): "protocol.pillar_tip_resolution",
+    ("LoadPath", "tolerance"): "solver.tolerance",
+    ("LoadPath", "max_iterations"): "solver.max_iterations",
+    ("LoadPath", "cascade"): "solver.cascade",
+    ("ContactProblem", "coupling"): "solver.coupling",
+    ("ContactProblem", "contact_modulus"): "halfspace.contact_modulus",
+    ("ContactProblem", "work_of_adhesion"): "halfspace.work_of_adhesion",
+    ("Grid", "size"): "grid.size",
+    ("Grid", "elements"): "grid.elements",
+    ("Indenter", "viscoelastic"): "indenter.viscoelastic",
+    ("Indenter", "pillar_law"): "indenter.pillar_law",
+    ("Indenter", "levels"): "indenter.stiffness",
+    ("flat_punch", "radius"): "indenter.radius",
+    ("flat_punch", "stiffness"): "indenter.stiffness",
+    ("sphere", "radius"): "indenter.radius",
+    ("sphere", "stiffness"): "indenter.stiffness",
+    ("height_map", "heights"): "indenter.file",
+    ("height_map", "stiffness"): "indenter.stiffness",
+}
+
+
+def configuration_key(exc: ParameterError) -> str | None:
+    """The configuration key of ``exc``'s parameter (`PARAMETER_KEYS`; a brush parameter is ``indenter.<name>``)."""
+    key = PARAMETER_KEYS.get((exc.owner, exc.parameter))
+    if key is None and exc.owner == "brush":
+        key = f"indenter.{exc.parameter}"
+    return key
+
+
+def configuration_text(text: str, keys: dict[tuple[str, str], str] | None = None) -> str:
+    """``text`` (a numerics message, or a run's reason) with every ``Owner.parameter`` of ``keys`` (by default
+    `PARAMETER_KEYS`) as its key."""
+    for (owner, parameter), key in (PARAMETER_KEYS if keys is None else keys).items():
+        text = text.replace(f"{owner}.{parameter}", key)
+    return text
+
+
+def parameter_problems(found: list[ParameterProblem], keys: dict[tuple[str, str], str] | None = None,
+                       names: dict[str, str] | None = None) -> list[Problem]:
+    """A domain rule's problems (`brushbem.errors.ParameterProblem`) as configuration problems, by key.
+
+    Each ``(owner, parameter)`` reads as its key (`PARAMETER_KEYS`, ``keys`` first: where the key depends on
+    the configuration, such as ``indenter.stiffness_ratio`` or ``indenter.stiffness``), every
+    ``Owner.parameter`` in the text as its key, and ``names`` replaces further words of the text.
+    """
+    keys = {**PARAMETER_KEYS, **(keys or {})}
+    out = []
+    for problem in found:
+        allowed = configuration_text(problem.allowed, keys)
+        for old, new in (names or {}).items():
+            allowed = allowed.replace(old, new)
+        out.append(Problem(keys.get((problem.owner, problem.parameter), problem.name), _show(problem.value), allowed))
+    return out
 
 
 def _rules_error(problems: list[Problem]) -> PydanticCustomError:

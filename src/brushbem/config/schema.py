@@ -22,10 +22,20 @@ from pydantic import BaseModel, ValidationInfo, model_validator
 
 from brushbem.config.errors import _show
 from brushbem.config.limits import MAX_PRELOAD_DOMAIN_SIZES
-from brushbem.config.rules import Problem, _cross_section_problems, _resource_problems, _rules_error
+from brushbem.config.rules import (
+    Problem,
+    _cross_section_problems,
+    _resource_problems,
+    _rules_error,
+    parameter_problems,
+)
 from brushbem.config.sections_base import _MODEL_CONFIG
-from brushbem.config.sections_base import _Model as _Model  # re-exported: imported from this module
-from brushbem.config.sections_base import _Section as _Section  # re-exported: `brushbem.config.loading`
+from brushbem.config.sections_base import (
+    _Model as _Model,  # re-exported: imported from this module
+)
+from brushbem.config.sections_base import (
+    _Section as _Section,  # re-exported: `brushbem.config.loading`
+)
 from brushbem.config.sections_domain import GridConfig, HalfSpaceConfig
 from brushbem.config.sections_indenter import IndenterConfig
 from brushbem.config.sections_pillars import (
@@ -39,6 +49,8 @@ from brushbem.config.sections_pillars import (
     ViscoelasticConfig,
 )
 from brushbem.config.sections_run import ProtocolConfig, SolverConfig, UnitsConfig
+from brushbem.physics.pillar_laws import law_path_problems
+from brushbem.physics.viscoelastic import time_stepping_problems
 
 __all__ = [
     "GradingConfig",
@@ -180,57 +192,35 @@ class RunConfig(BaseModel):
                                            "or choose another method")
                 for key, (given, value, why) in unused.items() if given]
 
+    def _stiffness_keys(self) -> dict[tuple[str, str], str]:
+        """The key of the pillars' stiffness as given (``Indenter.levels`` of the domain rules)."""
+        given = "indenter.stiffness_ratio" if self.indenter.stiffness_ratio is not None else "indenter.stiffness"
+        return {("Indenter", "levels"): given}
+
+    def _given_stiffness(self) -> float:
+        spec = self.indenter
+        return spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness
+
     def _pillar_law_problems(self) -> list[Problem]:
-        """A nonlinear pillar law: fixed steps to a displacement, a finite stiffness, no viscoelasticity."""
+        """A nonlinear pillar law's rule (`brushbem.physics.pillar_laws.law_path_problems`), by key."""
         spec, protocol = self.indenter, self.protocol
-        if spec.pillar_law is None:
-            return []
-        problems = []
-        law = ("indenter.fibril.buckling (Euler's law, an indenter.pillar_law)"
-               if spec.fibril is not None and spec.fibril.buckling is not None else "indenter.pillar_law")
-        if protocol.method != "fixed":
-            problems.append(Problem("protocol.method", _show(protocol.method),
-                                    f"must be 'fixed' with {law} (the law is followed step by step)"))
-        if protocol.preload_displacement is None:
-            problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
-                                    f"a nonlinear pillar law ({law}) is pressed to protocol.preload_displacement "
-                                    "instead"))
-        if spec.viscoelastic is not None:
-            problems.append(Problem("indenter.pillar_law", _show(spec.pillar_law),
-                                    "cannot be combined with indenter.viscoelastic: remove one of them"))
-        stiffness = spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness
-        if not math.isfinite(stiffness):
-            problems.append(Problem("indenter.stiffness_ratio" if spec.stiffness_ratio is not None
-                                    else "indenter.stiffness", _show(stiffness),
-                                    "must be finite with indenter.pillar_law (its slopes are factors of it)"))
-        return problems
+        names = ({"indenter.pillar_law": "indenter.fibril.buckling (Euler's law, an indenter.pillar_law)"}
+                 if spec.fibril is not None and spec.fibril.buckling is not None else None)
+        found = law_path_problems(spec.pillar_law, method=protocol.method,
+                                  preload_displacement=protocol.preload_displacement,
+                                  preload_force=protocol.preload_force,
+                                  viscoelastic=spec.viscoelastic is not None,
+                                  stiffness=None if spec.pillar_law is None else self._given_stiffness())
+        return parameter_problems(found, self._stiffness_keys(), names)
 
     def _time_stepping_problems(self) -> list[Problem]:
-        """Viscoelastic pillars and the pulling speed go together, on a fixed-step path to a displacement."""
-        viscoelastic, protocol = self.indenter.viscoelastic, self.protocol
-        if viscoelastic is None:
-            if protocol.speed is None:
-                return []
-            return [Problem("protocol.speed", _show(protocol.speed),
-                            "only used with viscoelastic pillars (indenter.viscoelastic); remove it")]
-        problems = []
-        if protocol.speed is None:
-            problems.append(Problem("protocol.speed", "missing",
-                                    "required with indenter.viscoelastic: the pulling speed (> 0)"))
-        if protocol.method != "fixed":
-            problems.append(Problem("protocol.method", _show(protocol.method),
-                                    "must be 'fixed' with indenter.viscoelastic (the path is stepped in time: "
-                                    "dt = step / speed)"))
-        if protocol.preload_displacement is None:
-            problems.append(Problem("protocol.preload_force", _show(protocol.preload_force),
-                                    "viscoelastic pillars are pressed to protocol.preload_displacement instead"))
-        spec = self.indenter
-        stiffness = (spec.stiffness_ratio if spec.stiffness_ratio is not None else spec.stiffness)
-        if not math.isfinite(stiffness):
-            problems.append(Problem("indenter.stiffness_ratio" if spec.stiffness_ratio is not None
-                                    else "indenter.stiffness", _show(stiffness),
-                                    "must be finite with indenter.viscoelastic (it is the relaxed stiffness)"))
-        return problems
+        """Viscoelastic pillars' rule (`brushbem.physics.viscoelastic.time_stepping_problems`), by key."""
+        spec, protocol = self.indenter, self.protocol
+        found = time_stepping_problems(spec.viscoelastic is not None, method=protocol.method, speed=protocol.speed,
+                                       preload_displacement=protocol.preload_displacement,
+                                       preload_force=protocol.preload_force,
+                                       stiffness=None if spec.viscoelastic is None else self._given_stiffness())
+        return parameter_problems(found, self._stiffness_keys())
 
 
 _SECTIONS: dict[str, type[BaseModel]] = {

@@ -21,6 +21,13 @@ Modules
         The closed forms the computations are checked against: Kendall's
         punch, JKR, a punch or sphere on a spring, brushes (eq. 4.10),
         hierarchies, concave brushes, rough brushes.
+    `comparison`
+        A run's comparison with them (the ``theory`` record, a brush's
+        scales and normalisations), beside the closed forms it calls.
+    `pillar_model_domain`
+        The rule of which problems the pillar-level model represents.
+    `scales`, `adhesion`
+        E*, k <-> k~ and the JKR radius once; the adhesion criterion.
 
 Where are the pillar springs? Their stiffness is a record of the geometry
 (`structure.SpringLevel`), their action on the elements is `springs` (linear)

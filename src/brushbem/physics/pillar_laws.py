@@ -36,7 +36,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MAX_PIECE_ROUNDS", "PieceState", "PiecewiseLinear"]
+from brushbem.errors import ParameterProblem
+
+__all__ = ["MAX_PIECE_ROUNDS", "PieceState", "PiecewiseLinear", "law_path_problems"]
 
 #: Most piece-selection rounds of one step before it is reported not converged.
 MAX_PIECE_ROUNDS = 50
@@ -147,3 +149,33 @@ class PieceState:
         new = ~self.broken & (forces < -limit)
         self.broken |= new
         return new
+
+
+def law_path_problems(law: object, *, method: str, preload_displacement: float | None, viscoelastic: bool,
+                      preload_force: float | None = None, stiffness: float | None = None) -> list[ParameterProblem]:
+    """The rule of a nonlinear pillar law, stated once: it is followed by fixed steps to a preload displacement,
+    on elastic connections of finite stiffness (its slopes are factors of it).
+
+    ``law``: the `PiecewiseLinear` law (None: no rule applies); ``stiffness``: the pillars' stiffness where it
+    is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one).  Returns
+    every problem; the load path raises the first, the configuration names them all by key.
+    """
+    if law is None:
+        return []
+    problems = []
+    if method != "fixed":
+        problems.append(ParameterProblem("LoadPath", "method", method,
+                                         "needs method = 'fixed' with Indenter.pillar_law (the law is followed step "
+                                         "by step)"))
+    if preload_displacement is None:
+        problems.append(ParameterProblem("LoadPath", "preload_force", preload_force,
+                                         "a nonlinear pillar law (Indenter.pillar_law) is pressed to "
+                                         "LoadPath.preload_displacement instead (a force target would search across "
+                                         "the law's pieces)"))
+    if viscoelastic:
+        problems.append(ParameterProblem("Indenter", "pillar_law", law,
+                                         "cannot be combined with Indenter.viscoelastic: remove one of them"))
+    if stiffness is not None and not math.isfinite(stiffness):
+        problems.append(ParameterProblem("Indenter", "levels", stiffness,
+                                         "must be finite with Indenter.pillar_law (its slopes are factors of it)"))
+    return problems

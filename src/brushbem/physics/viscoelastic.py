@@ -41,9 +41,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from brushbem.errors import ParameterProblem
 from brushbem.physics.structure import Indenter, SpringLevel
 
-__all__ = ["MODELS", "Memory", "Viscoelastic"]
+__all__ = ["MODELS", "Memory", "Viscoelastic", "time_stepping_problems"]
 
 MODELS = ("kelvin_voigt", "standard_linear_solid")
 
@@ -134,3 +135,37 @@ class Memory:
         compression = forces / self.stiffness + self.offset
         self.arm_force = self.arm * (compression - self.compression) + self.keep * self.arm_force
         self.compression = compression
+
+
+def time_stepping_problems(viscoelastic: bool, *, method: str, speed: float | None,
+                           preload_displacement: float | None, preload_force: float | None = None,
+                           stiffness: float | None = None) -> list[ParameterProblem]:
+    """The rule of viscoelastic pillars, stated once: they and the pulling speed go together, on fixed steps
+    (a step is the time step times the speed) to a preload displacement, with a finite (relaxed) stiffness.
+
+    ``viscoelastic``: whether the pillars are (`Indenter.viscoelastic`); ``stiffness``: the pillars' stiffness
+    where it is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one).
+    Returns every problem; the load path raises the first, the configuration names them all by key.
+    """
+    if not viscoelastic:
+        if speed is None:
+            return []
+        return [ParameterProblem("LoadPath", "speed", speed,
+                                 "only applies to viscoelastic pillars (Indenter.viscoelastic); remove it")]
+    problems = []
+    if speed is None:
+        problems.append(ParameterProblem("LoadPath", "speed", None,
+                                         "required with Indenter.viscoelastic: the pulling speed (> 0)"))
+    if method != "fixed":
+        problems.append(ParameterProblem("LoadPath", "method", method,
+                                         "needs method = 'fixed' with Indenter.viscoelastic (the path is stepped in "
+                                         "time: dt = step / speed)"))
+    if preload_displacement is None:
+        problems.append(ParameterProblem("LoadPath", "preload_force", preload_force,
+                                         "viscoelastic pillars (Indenter.viscoelastic) are pressed to "
+                                         "LoadPath.preload_displacement instead (a force target would need steps of "
+                                         "changing length)"))
+    if stiffness is not None and not math.isfinite(stiffness):
+        problems.append(ParameterProblem("Indenter", "levels", stiffness,
+                                         "must be finite with Indenter.viscoelastic (it is the relaxed stiffness)"))
+    return problems

@@ -16,7 +16,9 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from brushbem.errors import ParameterError
+from brushbem.errors import raise_first
+from brushbem.physics.pillar_laws import law_path_problems
+from brushbem.physics.viscoelastic import time_stepping_problems
 from brushbem.protocol.contact_loading import (
     LOADING_SAMPLES,
     _contact_loading,
@@ -59,10 +61,14 @@ def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[Sta
 
         yield from pillar_pull_off(problem, path, stop=stop)
         return
-    if problem.indenter.viscoelastic is not None or path.speed is not None:
-        path = _time_stepped(problem, path)
-    if problem.indenter.pillar_law is not None:
-        _check_law_path(problem, path)
+    indenter = problem.indenter
+    preload = {"preload_displacement": path.preload_displacement, "preload_force": path.preload_force}
+    raise_first(time_stepping_problems(indenter.viscoelastic is not None, method=path.method, speed=path.speed,
+                                       **preload))
+    raise_first(law_path_problems(indenter.pillar_law, method=path.method,
+                                  viscoelastic=indenter.viscoelastic is not None, **preload))
+    if indenter.viscoelastic is not None:
+        path = _time_stepped(path)
     tracker = Tracker(problem, path)
     check_preload(problem.indenter, path)
     states = _fixed(tracker, path) if path.method == "fixed" else _events(tracker, path)
@@ -82,43 +88,15 @@ def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[Sta
         yield state
 
 
-def _time_stepped(problem: ContactProblem, path: LoadPath) -> LoadPath:
-    """The path of viscoelastic pillars: fixed steps to a preload displacement, at a speed; one step size.
+def _time_stepped(path: LoadPath) -> LoadPath:
+    """The path of viscoelastic pillars (`time_stepping_problems` holds): one step size to the preload.
 
     The step is shortened so that the preload is a whole number of steps: the
     time step, and with it the connections' step stiffness, is then the same
     along the whole path (`brushbem.physics.viscoelastic`).
     """
-    if problem.indenter.viscoelastic is None:
-        raise ParameterError("LoadPath", "speed",
-                             f"LoadPath.speed = {path.speed:g} only applies to viscoelastic pillars "
-                             "(Indenter.viscoelastic); remove it")
-    if path.speed is None:
-        raise ParameterError("LoadPath", "speed", "viscoelastic pillars need LoadPath.speed, the pulling speed (> 0)")
-    if path.method != "fixed":
-        raise ParameterError("LoadPath", "method",
-                             f"LoadPath.method = {path.method!r}: viscoelastic pillars are stepped in time and need "
-                         "method = 'fixed' (its step is the time step times the speed)")
-    if path.preload_displacement is None:
-        raise ParameterError("LoadPath", "preload_displacement",
-                             "viscoelastic pillars are pressed to LoadPath.preload_displacement (a force target "
-                             "would need steps of changing length)")
     steps = max(1, math.ceil(path.preload_displacement / path.step - 1e-9))
     return dataclasses.replace(path, step=path.preload_displacement / steps)
-
-
-def _check_law_path(problem: ContactProblem, path: LoadPath) -> None:
-    """A nonlinear pillar law is followed by fixed steps, on elastic connections."""
-    if path.method != "fixed":
-        raise ParameterError("LoadPath", "method",
-                             f"LoadPath.method = {path.method!r}: a nonlinear pillar law (Indenter.pillar_law) is "
-                         "followed step by step and needs method = 'fixed'")
-    if problem.indenter.viscoelastic is not None:
-        raise ParameterError("Indenter", "pillar_law", "Indenter.pillar_law and Indenter.viscoelastic cannot be combined")
-    if path.preload_displacement is None:
-        raise ParameterError("LoadPath", "preload_displacement",
-                             "a nonlinear pillar law is pressed to LoadPath.preload_displacement (a force target "
-                             "would search across the law's pieces)")
 
 
 def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:

@@ -12,9 +12,10 @@ Modules
     `case`
         The curve, the snapshots, the summary, the closed-form records and
         `CaseResult`, everything one run produces.
-    `normalization`, `refinement`, `provenance`
+    `normalization`, `refinement`, `provenance`, `design`
         The summary's ``normalized`` (a brush in the thesis's scales),
-        ``refinement`` (``--refine``) and ``provenance`` (recorded on saving).
+        ``refinement`` (``--refine``), ``provenance`` (recorded on saving),
+        ``resolution`` and ``design``.
     `units`
         The unit system a configuration declares (``[units]``).
 """
@@ -34,11 +35,12 @@ from brushbem.results.case import (
     Theory,
     theory_from_mapping,
 )
+from brushbem.results.design import DesignNumbers, ResolutionRecord, Spring
 from brushbem.results.mapping import MappingRecord
 from brushbem.results.normalization import BrushNormalization
 from brushbem.results.provenance import Provenance
 from brushbem.results.refinement import Extrapolation, Refinement
 
-__all__ = ["BrushNormalization", "BrushTheory", "CaseResult", "Curve", "Extrapolation", "MappingRecord", "Provenance",
-           "PullOffSummary", "PunchTheory", "ReferenceCurve", "Refinement", "RunSummary", "Snapshot", "SphereTheory",
-           "Theory", "theory_from_mapping"]
+__all__ = ["BrushNormalization", "BrushTheory", "CaseResult", "Curve", "DesignNumbers", "Extrapolation",
+           "MappingRecord", "Provenance", "PullOffSummary", "PunchTheory", "ReferenceCurve", "Refinement",
+           "ResolutionRecord", "RunSummary", "Snapshot", "SphereTheory", "Spring", "Theory", "theory_from_mapping"]

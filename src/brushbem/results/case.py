@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from brushbem.results.design import DesignNumbers, ResolutionRecord
 from brushbem.results.mapping import MappingRecord
 from brushbem.results.normalization import BrushNormalization
 from brushbem.results.provenance import Provenance
@@ -262,12 +263,12 @@ class RunSummary(PullOffSummary):
         With ``brushbem run --refine``: the grids and the Richardson-
         extrapolated adhesive force and work with their error estimates
         (`brushbem.runs.refine.Refinement`); not a key otherwise.
-    resolution : mapping or None
+    resolution : ResolutionRecord or None
         The elements across the length that decides F_A and the estimated
         discretisation error of F_A and the work
-        (`brushbem.config.advice.Resolution.to_dict`); not a key where no
+        (`brushbem.config.advice.Resolution.record`); not a key where no
         length decides (a height map, no adhesion) or without a configuration.
-    design : mapping or None
+    design : DesignNumbers or None
         What a designer reports (`brushbem.runs.case.design_numbers`):
         the adhesion strength F_A / A0, F_A per pillar, the spring k, k~ and
         where k came from, the units of each; not a key without a configuration.
@@ -286,15 +287,16 @@ class RunSummary(PullOffSummary):
     theory: Theory | Mapping[str, Any] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
     refinement: Refinement | None = None
-    resolution: Mapping[str, Any] | None = None
-    design: Mapping[str, Any] | None = None
+    resolution: ResolutionRecord | None = None
+    design: DesignNumbers | None = None
     run_id: str | None = None
     provenance: Provenance | None = None
 
     @classmethod
     def _nested(cls):
         return {"normalized": BrushNormalization.from_mapping, "theory": theory_from_mapping,
-                "refinement": Refinement.from_mapping, "provenance": Provenance.from_mapping}
+                "refinement": Refinement.from_mapping, "provenance": Provenance.from_mapping,
+                "resolution": ResolutionRecord.from_mapping, "design": DesignNumbers.from_mapping}
 
 
 #: The closed-form record of a run (``summary.json``'s ``theory``).

@@ -9,8 +9,7 @@ it reads through `summary_column`, at import, so that a renamed field fails
 when the study is imported and not at a missing column of a finished sweep.
 
 Fields whose value is a plain mapping with open keys (``theory.ratios``,
-``theory.not_applicable``, ``stages_not_reached``, ``resolution``,
-``design``) are declared as prefixes (`OPEN_PREFIXES`): any column under
+``theory.not_applicable``, ``stages_not_reached``, ``design.units``) are declared as prefixes (`OPEN_PREFIXES`): any column under
 them is a column of the table.
 """
 
@@ -20,6 +19,7 @@ import difflib
 from dataclasses import fields
 
 from brushbem.results.case import BrushTheory, PunchTheory, RunSummary, SphereTheory
+from brushbem.results.design import DesignNumbers, ResolutionRecord, Spring
 from brushbem.results.normalization import BrushNormalization
 from brushbem.results.refinement import Extrapolation, Refinement
 
@@ -28,7 +28,8 @@ __all__ = ["OPEN_PREFIXES", "SUMMARY_COLUMNS", "summary_column"]
 #: The record types of the summary's nested fields, by field (a field's several kinds all count).
 _NESTED: dict[type, dict[str, tuple[type, ...]]] = {
     RunSummary: {"normalized": (BrushNormalization,), "theory": (PunchTheory, SphereTheory, BrushTheory),
-                 "refinement": (Refinement,)},
+                 "refinement": (Refinement,), "resolution": (ResolutionRecord,), "design": (DesignNumbers,)},
+    DesignNumbers: {"spring": (Spring,)},
     Refinement: {"adhesive_force": (Extrapolation,), "work_of_separation": (Extrapolation,)},
 }
 
@@ -36,7 +37,7 @@ _NESTED: dict[type, dict[str, tuple[type, ...]]] = {
 _NOT_IN_THE_TABLE = frozenset({"run_id", "provenance"})
 
 #: Fields whose value is a mapping of open keys: every column under ``prefix.`` belongs to the table.
-OPEN_PREFIXES: frozenset[str] = frozenset({"stages_not_reached", "resolution", "design", "theory.ratios",
+OPEN_PREFIXES: frozenset[str] = frozenset({"stages_not_reached", "design.units", "theory.ratios",
                                            "theory.not_applicable"})
 
 
@@ -46,7 +47,7 @@ def _columns(record: type, prefix: str = "") -> set[str]:
     for field in fields(record):
         if record is RunSummary and field.name in _NOT_IN_THE_TABLE:
             continue
-        name = prefix + field.name
+        name = prefix + getattr(record, "_KEY_OF", {}).get(field.name, field.name)
         if name in OPEN_PREFIXES:
             continue
         if field.name in nested:

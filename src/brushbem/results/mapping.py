@@ -15,10 +15,12 @@ class MappingRecord(Mapping):
     Code reads the attributes (``summary.adhesive_force``); JSON, NetCDF
     attributes and sweep tables read it as a mapping, in field order.  A field
     named in ``_ABSENT_WHEN_NONE`` that is None is not a key (a punch has no
-    brush normalisations).
+    brush normalisations).  ``_KEY_OF`` names the key of a field whose key is no
+    Python name (``origin`` read as ``"from"``).
     """
 
     _ABSENT_WHEN_NONE: frozenset[str] = frozenset()
+    _KEY_OF: Mapping[str, str] = {}
 
     @classmethod
     def _nested(cls) -> Mapping[str, Callable[[Any], Any]]:
@@ -42,24 +44,30 @@ class MappingRecord(Mapping):
         if not isinstance(mapping, Mapping):
             raise ValueError(f"{cls.__name__}: expected a mapping of its fields, got {type(mapping).__name__}")
         names = [f.name for f in fields(cls)]
-        unknown = sorted(set(mapping) - set(names))
+        field_of = {cls._KEY_OF.get(name, name): name for name in names}
+        unknown = sorted(set(mapping) - set(field_of))
         if unknown:
-            raise ValueError(f"{cls.__name__}: unknown keys {unknown}; its fields are {names}")
+            raise ValueError(f"{cls.__name__}: unknown keys {unknown}; its keys are {list(field_of)}")
         nested = cls._nested()
-        values = {key: nested[key](value) if key in nested and value is not None else value
-                  for key, value in mapping.items()}
+        values = {field_of[key]: nested[field_of[key]](value) if field_of[key] in nested and value is not None
+                  else value for key, value in mapping.items()}
         try:
             return cls(**values)
         except TypeError as exc:  # a required field missing
             raise ValueError(f"{cls.__name__}: {exc}; its fields are {names}") from None
 
+    def _fields_by_key(self) -> dict[str, str]:
+        """Key -> field, in field order, the absent ones left out."""
+        return {self._KEY_OF.get(f.name, f.name): f.name for f in fields(self)
+                if not (f.name in self._ABSENT_WHEN_NONE and getattr(self, f.name) is None)}
+
     def _keys(self) -> list[str]:
-        return [f.name for f in fields(self)
-                if not (f.name in self._ABSENT_WHEN_NONE and getattr(self, f.name) is None)]
+        return list(self._fields_by_key())
 
     def __getitem__(self, key: str) -> Any:
-        if key in self._keys():
-            return getattr(self, key)
+        field_name = self._fields_by_key().get(key)
+        if field_name is not None:
+            return getattr(self, field_name)
         raise KeyError(key)
 
     def __iter__(self) -> Iterator[str]:
@@ -70,4 +78,4 @@ class MappingRecord(Mapping):
 
     def to_dict(self) -> dict[str, Any]:
         """The plain mapping (nested mappings as they are)."""
-        return {key: getattr(self, key) for key in self._keys()}
+        return {key: getattr(self, name) for key, name in self._fields_by_key().items()}

@@ -4,7 +4,7 @@ The scales are the thesis's (eq. 4.5-4.13, 7.4): F_c of one compact punch of
 the brush's real area (eq. 4.11), F_c of the rigid brush (eq. 4.5), N F_K of
 ideal load sharing (eq. 7.4), and the rigid brush's critical displacement
 |d_c| (eq. 4.12); stiffnesses as k~ = k / (E* L) (eq. 4.13).
-`brushbem.runs.case.brush_normalizations` computes it.
+`brushbem.physics.comparison.brush_normalizations` computes it.
 """
 
 from __future__ import annotations

@@ -38,7 +38,9 @@ from brushbem.config import (
     show_value,
 )
 from brushbem.config.limits import SPRING_RESOLUTION_MARGIN, SPRING_ROUNDING_FLOOR
+from brushbem.config.rules import PARAMETER_KEYS, configuration_key, configuration_text, parameter_problems
 from brushbem.errors import ParameterError
+from brushbem.physics.scales import stiffness_of_ratio
 from brushbem.physics.structure import (
     Grading,
     Grid,
@@ -53,12 +55,12 @@ from brushbem.physics.structure import (
     height_map,
     sphere,
 )
-from brushbem.physics.scales import stiffness_of_ratio
 
 if TYPE_CHECKING:
     from brushbem.protocol import ContactProblem, LoadPath
 
 __all__ = [
+    "PARAMETER_KEYS",
     "Assembly",
     "Rules",
     "assemble",
@@ -73,55 +75,6 @@ __all__ = [
     "parse",
     "parse_config",
 ]
-
-
-#: The configuration key of every parameter a numerics object checks (`ParameterError`): the one place
-#: that maps the numerics' names (``LoadPath.step``, ``Grid.elements``) back to the keys a user wrote.
-PARAMETER_KEYS: dict[tuple[str, str], str] = {
-    ("LoadPath", "method"): "protocol.method",
-    ("LoadPath", "preload_displacement"): "protocol.preload_displacement",
-    ("LoadPath", "preload_force"): "protocol.preload_force",
-    ("LoadPath", "step"): "protocol.step",
-    ("LoadPath", "max_steps"): "protocol.max_steps",
-    ("LoadPath", "speed"): "protocol.speed",
-    ("LoadPath", "event_window"): "protocol.event_window",
-    ("LoadPath", "pillar_modes"): "protocol.pillar_modes",
-    ("LoadPath", "pillar_near"): "protocol.pillar_near",
-    ("LoadPath", "pillar_solve"): "protocol.pillar_solve",
-    ("LoadPath", "pillar_tip_resolution"): "protocol.pillar_tip_resolution",
-    ("LoadPath", "tolerance"): "solver.tolerance",
-    ("LoadPath", "max_iterations"): "solver.max_iterations",
-    ("LoadPath", "cascade"): "solver.cascade",
-    ("ContactProblem", "coupling"): "solver.coupling",
-    ("ContactProblem", "contact_modulus"): "halfspace.contact_modulus",
-    ("ContactProblem", "work_of_adhesion"): "halfspace.work_of_adhesion",
-    ("Grid", "size"): "grid.size",
-    ("Grid", "elements"): "grid.elements",
-    ("Indenter", "viscoelastic"): "indenter.viscoelastic",
-    ("Indenter", "pillar_law"): "indenter.pillar_law",
-    ("Indenter", "levels"): "indenter.stiffness",
-    ("flat_punch", "radius"): "indenter.radius",
-    ("flat_punch", "stiffness"): "indenter.stiffness",
-    ("sphere", "radius"): "indenter.radius",
-    ("sphere", "stiffness"): "indenter.stiffness",
-    ("height_map", "heights"): "indenter.file",
-    ("height_map", "stiffness"): "indenter.stiffness",
-}
-
-
-def configuration_key(exc: ParameterError) -> str | None:
-    """The configuration key of ``exc``'s parameter (`PARAMETER_KEYS`; a brush parameter is ``indenter.<name>``)."""
-    key = PARAMETER_KEYS.get((exc.owner, exc.parameter))
-    if key is None and exc.owner == "brush":
-        key = f"indenter.{exc.parameter}"
-    return key
-
-
-def configuration_text(text: str) -> str:
-    """``text`` (a numerics message, or a run's reason) with every ``Owner.parameter`` of `PARAMETER_KEYS` as its key."""
-    for (owner, parameter), key in PARAMETER_KEYS.items():
-        text = text.replace(f"{owner}.{parameter}", key)
-    return text
 
 
 @contextmanager
@@ -343,13 +296,12 @@ class Rules:
             ))
         problems.extend(_unresolvable_spring_problems(config, indenter))
         if config.protocol.method == "pillars":
-            # The pillar model's domain, checked here on the rasterised brush and not first at run time.
-            from brushbem.pillars.checks import check_applicable
+            # The pillar model's domain, checked here on the rasterised brush and not first at run time (its rule
+            # alone: neither the model nor SciPy is loaded to validate).
+            from brushbem.physics.pillar_model_domain import pillar_model_problems
 
-            try:
-                check_applicable(build_problem(config, indenter))
-            except ParameterError as exc:
-                problems.append(Problem("protocol.method", show_value("pillars"), configuration_text(exc.message)))
+            problems.extend(parameter_problems(pillar_model_problems(
+                indenter, work_of_adhesion=config.halfspace.work_of_adhesion, speed=config.protocol.speed)))
         if config.solver.coupling == "discriminant":
             from brushbem.numerics.operator import (
                 discriminant_half_width,  # the transforms: only for this coupling

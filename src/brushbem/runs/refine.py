@@ -54,13 +54,13 @@ from typing import TYPE_CHECKING, Any
 from brushbem.runs.assembly import parse_config
 from brushbem.config import ConfigError, RunConfig, config_to_dict
 from brushbem.results.refinement import FORMAL_ORDER, Extrapolation, Refinement
-from brushbem.physics.scales import jkr_contact_radius
+from brushbem.config.advice import deciding_length
 
 if TYPE_CHECKING:
     from brushbem.runs.pulloff import PullOff
 
 __all__ = ["ASYMPTOTIC_ORDERS", "FORMAL_ORDER", "MIN_REFINE_ELEMENTS", "Extrapolation", "Refinement",
-           "deciding_length", "refined_configs", "refined_run", "richardson"]
+           "refined_configs", "refined_run", "richardson"]
 
 #: Observed orders taken as the asymptotic range of a first-order method: within a factor 2 of
 #: FORMAL_ORDER at the low end (JKR: 0.8) and half an order above it (a punch's F_A from r / h = 8:
@@ -117,45 +117,6 @@ def richardson(values: Sequence[float], ratio: float = 2.0, order: float = FORMA
                          observed_order=observed, order=order, basis=basis, formal_order=order)
 
 
-def deciding_length(config: RunConfig, indenter: Any = None) -> tuple[str, float] | None:
-    """The key and the length that decide F_A's resolution: ``None`` for a height map.
-
-    A flat punch's radius, a sphere's JKR contact radius at pull-off (eq.
-    2.20b), a brush's pillar radius (as built: a clustered layout derives it),
-    or with spherical-cap tips the smaller of the pillar radius and the cap's
-    JKR radius (the smallest cap of a per-pillar file).
-    """
-    spec, halfspace = config.indenter, config.halfspace
-
-    def jkr_radius(radius: float) -> float:
-        return jkr_contact_radius(radius, halfspace.effective_modulus, halfspace.work_of_adhesion)
-
-    if spec.shape == "flat_punch":
-        return "indenter.radius", float(spec.radius)
-    if spec.shape == "sphere":
-        if halfspace.work_of_adhesion <= 0:
-            return None
-        return "indenter.radius (its JKR contact radius)", jkr_radius(float(spec.radius))
-    if spec.shape != "brush":
-        return None
-    if indenter is None:
-        from brushbem.runs.assembly import build_indenter
-
-        indenter = build_indenter(config)
-    pillar = float(indenter.description.pillar_radius)
-    key, length = "indenter.pillar_radius", pillar
-    if spec.tip is not None and spec.tip.shape == "spherical_cap" and halfspace.work_of_adhesion > 0:
-        radius = spec.tip.radius
-        if isinstance(radius, str):
-            import numpy as np
-
-            radius = float(np.min(np.load(radius, allow_pickle=False)))
-        cap = jkr_radius(float(radius))
-        if cap < pillar:
-            key, length = "indenter.tip.radius (its JKR contact radius)", cap
-    return key, length
-
-
 def refined_configs(config: RunConfig, grids: int, base_dir: Any = None) -> list[RunConfig]:
     """The configuration on ``grids`` grids N / 2^(grids-1), ..., N (coarse to fine), each validated.
 
@@ -198,10 +159,16 @@ def refined_configs(config: RunConfig, grids: int, base_dir: Any = None) -> list
 
 
 def _check_resolution(coarsest: RunConfig, elements: int, step: int) -> None:
-    decided = deciding_length(coarsest)
+    pillar = None
+    if coarsest.indenter.shape == "brush":
+        from brushbem.runs.assembly import build_indenter
+
+        pillar = float(build_indenter(coarsest).description.pillar_radius)  # as built (a clustered layout's)
+    decided = deciding_length(coarsest, pillar)
     if decided is None:
         return
-    key, length = decided
+    key = decided.key if decided.what in ("punch radius", "pillar radius") else f"{decided.key} (its {decided.what})"
+    length = decided.value
     spans = length / coarsest.grid.element_size
     if spans < MIN_REFINE_ELEMENTS:
         finer = math.ceil(MIN_REFINE_ELEMENTS / spans * elements) * step
