@@ -7,6 +7,13 @@ import os
 import signal
 
 import pytest
+from hypothesis import settings
+
+# Property tests check answers, not speed: on a shared machine one example can
+# take ten times its usual time, so no example has a deadline (speed is measured
+# in benchmarks/, never in unit tests).
+settings.register_profile("brushbem", deadline=None)
+settings.load_profile("brushbem")
 
 from brushbem.studies import STUDIES, sweep_file
 from brushbem.sweep import load_summary, run_sweep
