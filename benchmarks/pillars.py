@@ -15,14 +15,18 @@ alone (its time, states, solves, and the memory of its dense pillar-level
 arrays); a size whose arrays exceed ``--memory-gb`` is reported with its
 estimate instead of run.
 
-With ``--tips Q ...`` instead: the tip resolution.  The same brush (``--tip-brush`` pillars per side) on the
-grid that gives its tips Q elements per radius (the pillar model holds each tip on its raster of the global
-grid, so the tip's resolution is the grid's): per Q the pillar model's CPU time and F_A and work, and the
-exact path's beside it on grids of at most ``--exact-elements`` elements per side, with their differences.
+With ``--tips Q ...`` instead: the tips' resolution (``protocol.pillar_tip_resolution``).  The same brush
+(``--tip-brush`` pillars per side, ``--sigma``, ``--stiffness-ratio``) on the chapter-5 grid (3.6 elements
+per radius: 16 per pitch, ``--tip-grid`` times that) with every tip on its own raster of at least Q elements
+per radius (the grid subdivided f times; Q <= 3.6 x ``--tip-grid``: the grid's own): per Q the pillar model's
+CPU time, F_A and work, and the exact path's beside it on the grid f N, the same brush (the same absolute
+tip heights), where f N <= ``--exact-elements``, with their differences.  The first line is the pillar model
+with the grid's own tips (today's default).
 
     nice python benchmarks/pillars.py
     nice python benchmarks/pillars.py --compare 16 --sizes 16 32 48 100
-    nice python benchmarks/pillars.py --tips 4 8 16 --tip-brush 8 --exact-elements 600
+    nice python benchmarks/pillars.py --tips 4 8 16 32 --tip-brush 8 --exact-elements 600
+    nice python benchmarks/pillars.py --tips 4 8 16 32 --tip-brush 32 --exact-elements 0
 """
 
 from __future__ import annotations
@@ -37,33 +41,36 @@ from brushbem.runs.case import brush_scales
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.pillars.basis import DENSE_PILLARS
 from brushbem.pillars import MODES
+from brushbem.pillars.tips import tip_factor
 from brushbem.physics.structure import Grid, brush
 
 PHI, RADIUS_ELEMENTS = 0.16, 3.6
 E, DGAMMA = 1.0, 1e-4
 
 
-def _problem(per_side: int, ratio: float, sigma: float, seed: int,
-             tip_elements: float | None = None) -> tuple[ContactProblem, float]:
-    """The brush and its preload F_c; ``tip_elements``: the grid that gives the tips that many elements per radius."""
-    elements = 16 * per_side if tip_elements is None else round(16 * per_side * tip_elements / RADIUS_ELEMENTS)
-    grid = Grid(1.0, elements)
+def _problem(per_side: int, ratio: float, sigma: float, seed: int, tip_grid: float = 1.0,
+             factor: int = 1) -> tuple[ContactProblem, float]:
+    """The brush and its preload F_c on the grid of ``tip_grid`` x 16 elements per pitch, or on that grid
+    times ``factor`` with the same tip heights (sigma~ times d_c of the first grid)."""
+    elements = round(16 * per_side * tip_grid)
     radius = math.sqrt(PHI / math.pi) / per_side
 
-    def build(roughness: float) -> ContactProblem:
+    def build(roughness: float, elements: int) -> ContactProblem:
+        grid = Grid(1.0, elements)
         indenter = brush(grid, layout="square", pillars_per_side=per_side, pillar_radius=radius, contact_modulus=E,
                          work_of_adhesion=DGAMMA, stiffness=ratio * E * grid.size, roughness=roughness, seed=seed)
         return ContactProblem(grid, indenter, contact_modulus=E, work_of_adhesion=DGAMMA)
 
-    scales = brush_scales(build(0.0))
-    return build(sigma * scales["rigid_brush_displacement"]), scales["rigid_brush_force"]
+    scales = brush_scales(build(0.0, elements))
+    return build(sigma * scales["rigid_brush_displacement"], elements * factor), scales["rigid_brush_force"]
 
 
-def _run(problem: ContactProblem, method: str, preload: float) -> tuple[float, dict]:
+def _run(problem: ContactProblem, method: str, preload: float, tips: float | None = None) -> tuple[float, dict]:
     """The CPU time of a pull-off (``time.process_time``: other processes on a shared machine do not count) and
     its summary."""
+    extra = {} if tips is None else {"pillar_tip_resolution": tips}
     start = time.process_time()
-    record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**7))
+    record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**7, **extra))
     return time.process_time() - start, record.summary
 
 
@@ -86,6 +93,8 @@ def main() -> None:
     parser.add_argument("--tips", type=float, nargs="*", default=None,
                         help="instead: tip resolutions (elements per pillar radius) of the pillar model")
     parser.add_argument("--tip-brush", type=int, default=8, help="pillars per side of --tips")
+    parser.add_argument("--tip-grid", type=float, default=1.0,
+                        help="the grid of --tips: this times 16 elements per pitch (3.6 per radius)")
     parser.add_argument("--exact-elements", type=int, default=600, help="largest grid of the exact path in --tips")
     args = parser.parse_args()
     if args.tips:
@@ -129,18 +138,23 @@ def main() -> None:
 
 
 def _tip_resolutions(args: argparse.Namespace) -> None:
-    """``--tips``: the pillar model (and the exact path where the grid allows) against the tips' resolution."""
-    for tip in args.tips:
-        problem, preload = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, tip)
-        seconds, model = _run(problem, "pillars", preload)
+    """``--tips``: the pillar model against the tips' resolution on one grid, the exact path on the grids that
+    resolve the tips as much (where at most ``--exact-elements``)."""
+    problem, preload = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, args.tip_grid)
+    grid_tips = problem.indenter.description.pillar_radius / problem.grid.element_size
+    for tip in [None, *args.tips]:
+        factor = tip_factor(problem, tip)
+        seconds, model = _run(problem, "pillars", preload, tip)
         line = {"pillars": problem.indenter.n_pillars, "elements": problem.grid.elements,
-                "tip_elements_per_radius": tip, "pillars_cpu_seconds": round(seconds, 2),
-                "pillars_adhesive_force": model["adhesive_force"], "pillars_work": model["work_of_separation"],
-                "converged": model["converged"]}
-        if problem.grid.elements <= args.exact_elements:
-            t_exact, exact = _run(problem, "events", preload)
-            line.update({"events_cpu_seconds": round(t_exact, 2), "events_adhesive_force": exact["adhesive_force"],
-                         "events_work": exact["work_of_separation"],
+                "sigma_by_dc": args.sigma, "stiffness_ratio": args.stiffness_ratio,
+                "pillar_tip_resolution": tip, "tip_elements_per_radius": round(factor * grid_tips, 3),
+                "pillars_cpu_seconds": round(seconds, 2), "pillars_adhesive_force": model["adhesive_force"],
+                "pillars_work": model["work_of_separation"], "converged": model["converged"]}
+        if factor * problem.grid.elements <= args.exact_elements and tip is not None:
+            fine, _ = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, args.tip_grid, factor)
+            t_exact, exact = _run(fine, "events", preload)
+            line.update({"exact_elements": fine.grid.elements, "events_cpu_seconds": round(t_exact, 2),
+                         "events_adhesive_force": exact["adhesive_force"], "events_work": exact["work_of_separation"],
                          "adhesive_force_rel_diff": model["adhesive_force"] / exact["adhesive_force"] - 1,
                          "work_rel_diff": model["work_of_separation"] / exact["work_of_separation"] - 1})
         print(json.dumps(line), flush=True)

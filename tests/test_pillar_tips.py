@@ -17,9 +17,9 @@ import pytest
 
 import brushbem
 from brushbem.errors import ParameterError
+from brushbem.physics.structure import Grid, brush
 from brushbem.pillars import PillarModel
 from brushbem.pillars.tips import TipRaster, tip_factor
-from brushbem.physics.structure import Grid, brush
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 
 DGAMMA = 1e-4
@@ -37,6 +37,17 @@ def _problem(elements: int, per_side: int = 4, stiffness: float = 1e-2, roughnes
                      contact_modulus=1.0, work_of_adhesion=DGAMMA, stiffness=stiffness, roughness=roughness, seed=3,
                      **extra)
     return ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=DGAMMA)
+
+
+def _mapping() -> dict:
+    """The configuration of the 4 x 4 brush at N = 64 (3.6 elements per radius) in the pillar model."""
+    return {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 4,
+                     "pillar_radius": math.sqrt(PHI / math.pi) / 4, "stiffness_ratio": 1e-2, "seed": 3},
+        "protocol": {"method": "pillars", "preload_force": PRELOAD},
+    }
 
 
 def _summary(problem: ContactProblem, method: str = "pillars", tips: float | None = None) -> dict:
@@ -127,16 +138,77 @@ def test_tip_resolution_from_the_configuration_leaves_case_ids_alone():
     from brushbem.config import config_to_dict, parse_config
     from brushbem.runs.assembly import assemble
 
-    base = {
-        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
-        "grid": {"size": 1.0, "elements": 64},
-        "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 4,
-                     "pillar_radius": math.sqrt(PHI / math.pi) / 4, "stiffness_ratio": 1e-2, "seed": 3},
-        "protocol": {"method": "pillars", "preload_force": PRELOAD},
-    }
+    base = _mapping()
     tuned = {**base, "protocol": {**base["protocol"], "pillar_tip_resolution": 8.0}}
     assert assemble(parse_config(tuned)).path.pillar_tip_resolution == 8.0
     default = {**base, "protocol": {**base["protocol"], "pillar_tip_resolution": None}}
     assert "pillar_tip_resolution" not in config_to_dict(parse_config(default))["protocol"]
     assert config_to_dict(parse_config(default)) == config_to_dict(parse_config(base))
     assert config_to_dict(parse_config(tuned))["protocol"]["pillar_tip_resolution"] == 8.0
+
+
+def test_a_peeled_rasters_modes_from_its_footprints_inverse_are_its_own():
+    """`Bases` on a footprint of `SCHUR_ELEMENTS` or more gives a peeled raster's modes through the Schur
+    complement of the footprint's kept inverse: the same modes, gram, moments and fit as the raster's own
+    factorisation, to round-off (1e-9 of their size; the inverse's condition is ~1e3)."""
+    from brushbem.physics.halfspace import influence_coefficients
+    from brushbem.pillars.modes import MODES, SCHUR_ELEMENTS, Bases
+
+    radius = 12.2  # 469 elements
+    i, j = np.mgrid[-13:14, -13:14]
+    inside = (i + 0.3) ** 2 + (j - 0.2) ** 2 <= radius**2
+    footprint = np.stack([i[inside], j[inside]], axis=1) + 13
+    assert footprint.shape[0] >= SCHUR_ELEMENTS
+    span = np.arange(30, dtype=np.float64)
+    ktab = influence_coefficients(span[:, None], span[None, :], 1.0, 1.0)
+    rng = np.random.default_rng(4)
+    for lost in (1, 40, 200):  # one element, a rim, less than half of the footprint
+        edge = np.argsort(np.hypot(*(footprint - footprint.mean(axis=0)).T) + 0.5 * rng.random(footprint.shape[0]))
+        mask = np.ones(footprint.shape[0], dtype=bool)
+        mask[edge[-lost:]] = False
+        schur = Bases(ktab, MODES["quadratic"]).get(footprint, mask)
+        direct = Bases(ktab, MODES["quadratic"])._direct(schur.offsets)
+        for name in ("phi", "gram", "m0", "m1", "m2", "fit"):
+            a, b = getattr(schur, name), getattr(direct, name)
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * np.max(np.abs(b)), err_msg=name)
+
+
+def test_refine_refines_the_pillar_models_tips_on_the_configured_grid():
+    """``--refine`` with ``method = "pillars"``: the tips at q0, 2 q0, 4 q0 elements per radius on the
+    configured grid, q0 the smallest multiple of the grid's (3.6 at N = 64) that reaches 8 (`MIN_REFINE_ELEMENTS`),
+    or the configured tips' where they are finer; the events path keeps refining the grid."""
+    from brushbem.config import parse_config
+    from brushbem.runs.refine import MIN_REFINE_ELEMENTS, refined_configs
+
+    mapping = _mapping()
+    per_radius = math.sqrt(PHI / math.pi) / 4 * 64
+    configs = refined_configs(parse_config(mapping), 3)
+    assert [c.grid.elements for c in configs] == [64, 64, 64]
+    tips = [c.protocol.pillar_tip_resolution for c in configs]
+    assert tips == pytest.approx([3 * per_radius, 6 * per_radius, 12 * per_radius])
+    assert tips[0] >= MIN_REFINE_ELEMENTS > 2 * per_radius
+    finer = {**mapping, "protocol": {**mapping["protocol"], "pillar_tip_resolution": 14.0}}
+    tips = [c.protocol.pillar_tip_resolution for c in refined_configs(parse_config(finer), 2)]
+    assert tips == pytest.approx([4 * per_radius, 8 * per_radius])
+
+
+@pytest.mark.slow
+def test_refine_of_the_pillar_model_reports_the_configured_run_and_its_tips():
+    """A 4 x 4 brush at 3.6 elements per radius (N = 64) refined on two tip resolutions (10.8, 21.7): the result
+    is the configured run's, the refinement's values the tips' runs, the extrapolation the formal first order
+    (two levels bound no error) and its ``elements`` the grids that resolve the tips as much."""
+    from brushbem.config import parse_config
+    from brushbem.runs.refine import refined_run
+
+    config = parse_config(_mapping())
+    pulled = refined_run(config, 2)
+    summary = pulled.result.summary
+    refinement = summary["refinement"]
+    assert pulled.config == config
+    assert refinement["elements"] == [192, 384]
+    assert refinement["tip_elements_per_radius"] == pytest.approx([10.83, 21.66], rel=1e-3)
+    direct = brushbem.run(config).summary
+    assert summary["adhesive_force"] == pytest.approx(direct["adhesive_force"], rel=1e-12)
+    force = refinement["adhesive_force"]
+    assert force["extrapolated"] == pytest.approx(2 * force["values"][1] - force["values"][0], rel=1e-12)
+    assert force["error_estimate"] is None

@@ -101,7 +101,10 @@ def _summary_table(summary: dict[str, Any], units: Any = None, method: str | Non
         for label, key, dimension in (("F_A extrapolated", "adhesive_force", "force"),
                                       ("work extrapolated", "work_of_separation", "energy")):
             entry = refinement[key]
-            table.add_row(f"{label} (N = {', '.join(map(str, refinement['elements']))})",
+            tips = refinement.get("tip_elements_per_radius")
+            levels = (f"tips at {', '.join(f'{q:.3g}' for q in tips)} elements per radius" if tips else
+                      f"N = {', '.join(map(str, refinement['elements']))}")
+            table.add_row(f"{label} ({levels})",
                           f"{value(entry['extrapolated'], dimension)} ± {value(entry['error_estimate'], dimension)}"
                           if entry.get("error_estimate") is not None else
                           f"{value(entry['extrapolated'], dimension)}, no error bound (two grids: --refine 3 bounds it)")

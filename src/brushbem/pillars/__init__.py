@@ -140,6 +140,8 @@ The package's modules:
 * `loading` - the loading of tips of unequal lengths (contact problems at
   pillar level).
 * `basis` - `PillarModel`: the bases, couplings and springs.
+* `modes` - `Basis`, `Bases`: the modes of one raster (a peeled raster of a
+  large footprint through the footprint's kept inverse).
 * `lattice` - the far field on a lattice by FFT.
 * `tips` - the tips' raster: the global grid's footprints, or every tip on a
   finer raster of its own (``LoadPath.pillar_tip_resolution``).
@@ -149,7 +151,7 @@ The package's modules:
 * `checks` - the refusals (`check_applicable`).
 * `domain` - where it is accurate: the warning beyond `VALIDATED_FILLING`.
 
-Imports run one way: tips, lattice < basis, cg < solver < state < loading <
+Imports run one way: tips, modes, lattice < basis, cg < solver < state < loading <
 events < path.
 """
 

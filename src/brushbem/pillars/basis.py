@@ -12,27 +12,16 @@ described in `brushbem.pillars`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from brushbem.physics.halfspace import influence_coefficients
 from brushbem.pillars.lattice import Lattice
+from brushbem.pillars.modes import MODES, SCHUR_ELEMENTS, Bases, Basis
 from brushbem.pillars.tips import TipRaster
 from brushbem.protocol.problem import ContactProblem
 
 __all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel"]
-
-#: The displacement polynomials (powers of x, y) of each choice of modes.
-MODES = {
-    "uniform": ((0, 0),),
-    "tilt": ((0, 0), (1, 0), (0, 1)),
-    "quadratic": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)),
-}
-
-#: The powers of each choice of modes by its number of modes.
-_POWERS = {len(powers): powers for powers in MODES.values()}
 
 #: On a lattice, G00 (M^2 numbers, with the step of each entry's last refresh) is kept up to this many pillars
 #: (0.3 GB) and computed where needed beyond.
@@ -40,38 +29,6 @@ DENSE_PILLARS = 5000
 
 #: Centres closer than this many pillar radii are coupled exactly (element-pair sums).
 NEAR_RADII = 8.0
-
-
-@dataclass(frozen=True)
-class Basis:
-    """The modes of one raster shape (offsets relative to the raster's first row and column).
-
-    phi : (n, m) pressure of each mode per unit amplitude; force : s = sum phi_0
-    (the uniform mode's force / h^2 per unit displacement); gram : (m,) the
-    diagonal of Phi^T K Phi (1 for a mode the raster cannot carry, whose
-    column is zero); centroid : (2,) in elements; m0, m1, m2 : the modes'
-    moments about the centroid, for the far field; size : the length (in
-    elements) that scales the polynomials; fit : (m, m) the pseudo-inverse of
-    Phi^T P, which turns the projections f = Phi^T u of a displacement field
-    on the modes into the coefficients of the polynomial that has them (the
-    field's fit across the raster, `PillarModel.fitted`).
-    """
-
-    offsets: np.ndarray
-    phi: np.ndarray
-    force: float
-    gram: np.ndarray
-    centroid: np.ndarray
-    m0: np.ndarray
-    m1: np.ndarray
-    m2: np.ndarray
-    size: float
-    fit: np.ndarray
-
-    def polynomials(self, offsets: np.ndarray) -> np.ndarray:
-        """The displacement polynomials at element ``offsets`` (relative to the raster's origin): (len, m)."""
-        xi = (np.asarray(offsets, dtype=np.float64) - self.centroid) / self.size
-        return np.stack([xi[:, 0] ** a * xi[:, 1] ** b for a, b in _POWERS[self.phi.shape[1]]], axis=1)
 
 
 class PillarModel:
@@ -105,6 +62,8 @@ class PillarModel:
         self.slots[within] = flat
         self.rows, self.cols = np.divmod(np.where(within, self.slots, 0), self.n)
         self.full = within
+        #: The global element each footprint slot reports to in the states (`TipRaster.reporting`).
+        self.reports = np.where(within, raster.reporting(np.where(within, self.slots, flat[0])), -1)
         self.g = raster.heights
         self.levels = [(np.asarray(level.cluster), level.stiffnesses) for level in indenter.elastic_levels]
         radius = math.sqrt(float(sizes.max()) / math.pi)
@@ -116,7 +75,12 @@ class PillarModel:
         i = np.arange(span, dtype=np.float64) * h
         self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
         self.scale = h / (math.pi * problem.contact_modulus)
-        self._bases: dict[bytes, Basis] = {}
+        self.bases = Bases(self.ktab, self.powers)
+        #: Footprints of `SCHUR_ELEMENTS` or more (fine tips): the others' modes' fields across them, kept
+        #: (`_exact`), and every pillar's footprint (row-major offsets from its first row and column).
+        self.large = int(sizes.max()) >= SCHUR_ELEMENTS
+        self._fields: dict[tuple, np.ndarray] = {}
+        self._fields_bytes = 0
         self._pairs: dict[tuple, np.ndarray] = {}
         # Current state of every pillar's raster (a sub-set of its footprint) and its basis.
         self.raster = within.copy()
@@ -211,9 +175,7 @@ class PillarModel:
     # -- bases ---------------------------------------------------------------
     def _install_basis(self, p: int) -> None:
         mask = self.raster[p]
-        rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
-        origin = rc.min(axis=0)
-        basis = self.raster_basis(rc - origin)
+        basis, origin = self.mask_basis(p, mask)
         self.basis[p] = basis
         self.origin[p] = origin
         self.centre[p] = origin + basis.centroid
@@ -224,12 +186,11 @@ class PillarModel:
         self.phi[p, mask] = basis.phi
         within = self.full[p]
         foot = np.stack([self.rows[p][within], self.cols[p][within]], axis=1) - origin
-        key = (id(basis), foot.tobytes())
+        key = (basis.serial, foot.tobytes())
         cached = self._footprints.get(key)
         if cached is None:
-            K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
-                          np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
-            cached = np.concatenate([basis.polynomials(foot) @ basis.fit, K @ basis.phi], axis=1)
+            cached = np.concatenate([basis.polynomials(foot) @ basis.fit, self._own_field(basis, foot, mask)],
+                                    axis=1)
             if len(self._footprints) > 20_000:
                 self._footprints.clear()
                 used = set(self.surface_group.tolist())
@@ -247,49 +208,40 @@ class PillarModel:
         """The `surface_map` rows (footprint slots, 2 m) that the pillars of ``surface_group`` ``group`` share."""
         return self._groups[group]
 
-    def raster_basis(self, offsets: np.ndarray) -> Basis:
-        """The `Basis` of a raster (element offsets from its first row and column, row-major); cached."""
-        key = offsets.tobytes()
-        basis = self._bases.get(key)
-        if basis is None:
-            basis = self._make_basis(offsets)
-            self._bases[key] = basis
-        return basis
+    def mask_basis(self, p: int, mask: np.ndarray) -> tuple[Basis, np.ndarray]:
+        """(basis, origin) of pillar p on the footprint slots ``mask`` (`brushbem.pillars.modes.Bases`)."""
+        size = int(np.count_nonzero(self.full[p]))
+        foot = np.stack([self.rows[p][:size], self.cols[p][:size]], axis=1)
+        on = mask[:size]
+        return self.bases.get(foot, on), foot[on].min(axis=0)
 
-    def _make_basis(self, offsets: np.ndarray) -> Basis:
-        d = np.abs(offsets[:, None, :] - offsets[None, :, :])
-        K = self.ktab[d[..., 0], d[..., 1]]
-        factor = scipy.linalg.cho_factor(K)
-        centroid = offsets.mean(axis=0)
-        xi = offsets - centroid
-        size = max(math.sqrt(float(np.mean(np.sum(xi ** 2, axis=1)))), 1.0)
-        P = np.stack([(xi[:, 0] / size) ** a * (xi[:, 1] / size) ** b for a, b in self.powers], axis=1)
-        F = scipy.linalg.cho_solve(factor, P)
-        # K-orthogonal modes (Gram-Schmidt in the K inner product, phi_0 = K^-1 1 kept); a mode the raster
-        # cannot carry (too few elements, all in a line) is dropped: zero column, unit gram.
-        phi = np.zeros_like(F)
-        gram = np.ones(F.shape[1])
-        for k in range(F.shape[1]):
-            v = F[:, k].copy()
-            for j in range(k):
-                if phi[:, j].any():
-                    v -= (phi[:, j] @ P[:, k]) / gram[j] * phi[:, j]
-            norm = float(v @ (K @ v))
-            if k == 0 or norm > 1e-9 * float(F[:, k] @ P[:, k]):
-                phi[:, k] = v
-                gram[k] = norm
-        m0 = phi.sum(axis=0)
-        m1 = phi.T @ xi
-        m2 = (phi.T @ (xi[:, :, None] * xi[:, None, :]).reshape(-1, 4)).reshape(-1, 2, 2)
-        fit = np.linalg.pinv(phi.T @ P, rcond=1e-10)
-        return Basis(offsets, phi, float(m0[0]), gram, centroid, m0, m1, m2, size, fit)
+    def _own_field(self, basis: Basis, foot: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        """The displacement of ``basis``'s modes on the footprint slots ``foot`` (offsets from the raster's
+        origin; ``mask`` those of the raster): K_FR Phi.  On a large footprint its raster's part is the
+        polynomial K_RR Phi = P (Phi^T P)^-1 diag(gram) (K Phi lies in P's span), the rest a product."""
+        if not self.large:
+            K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
+                          np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
+            return K @ basis.phi
+        on = mask[:foot.shape[0]]
+        out = np.empty((foot.shape[0], basis.phi.shape[1]))
+        out[on] = basis.polynomials(foot[on]) @ (basis.fit * basis.gram[None, :])
+        off = foot[~on]
+        K = self.ktab[np.abs(off[:, None, 0] - basis.offsets[None, :, 0]),
+                      np.abs(off[:, None, 1] - basis.offsets[None, :, 1])]
+        out[~on] = K @ basis.phi
+        return out
 
     # -- couplings -------------------------------------------------------------
-    def _exact(self, bp: Basis, origin: np.ndarray, q: int) -> np.ndarray:
-        """Phi_p^T K_pq Phi_q, exact, for a raster ``bp`` at ``origin``; cached by the shapes and their offset."""
+    def _exact(self, bp: Basis, origin: np.ndarray, q: int, p: int, mask: np.ndarray) -> np.ndarray:
+        """Phi_p^T K_pq Phi_q, exact, for p's raster ``bp`` on its footprint slots ``mask`` at ``origin``;
+        cached by the shapes and their offset.  On a large footprint through q's field across p's whole
+        footprint (`_field_across`), kept while q's raster stands: p peeling costs a product of its raster."""
         bq = self.basis[q]
+        if self.large:
+            return bp.phi.T @ self._field_across(p, q)[mask[:self.full[p].sum()]]
         dr, dc = self.origin[q] - origin
-        key = (id(bp), id(bq), int(dr), int(dc))
+        key = (bp.serial, bq.serial, int(dr), int(dc))
         block = self._pairs.get(key)
         if block is None:
             a, b = bp.offsets, bq.offsets + (dr, dc)
@@ -299,6 +251,26 @@ class PillarModel:
                 self._pairs.clear()
             self._pairs[key] = block
         return block
+
+    def _field_across(self, p: int, q: int) -> np.ndarray:
+        """K_Fq Phi_q: the field of q's modes on every slot of p's footprint F; cached by q's raster shape,
+        p's footprint shape and their offset."""
+        bq = self.basis[q]
+        size = int(np.count_nonzero(self.full[p]))
+        foot = np.stack([self.rows[p][:size], self.cols[p][:size]], axis=1)
+        corner = foot.min(axis=0)
+        dr, dc = self.origin[q] - corner
+        key = (bq.serial, int(dr), int(dc), (foot - corner).tobytes())
+        field = self._fields.get(key)
+        if field is None:
+            if self._fields_bytes > 2**29:
+                self._fields.clear()
+                self._fields_bytes = 0
+            a, b = foot - corner, bq.offsets + (dr, dc)
+            K = self.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
+            field = self._fields[key] = K @ bq.phi
+            self._fields_bytes += field.nbytes
+        return field
 
     def _far(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
         """Blocks G_pq (len(others), m, m) by the multipole expansion of 1/r to second order.
@@ -351,11 +323,9 @@ class PillarModel:
         ``others`` are the pillars q > ``upper`` but p; the other pillars count with their current rasters.
         """
         if mask is None:
-            bp, origin, centre = self.basis[p], self.origin[p], self.centre[p]
+            bp, origin, centre, mask = self.basis[p], self.origin[p], self.centre[p], self.raster[p]
         else:
-            rc = np.stack([self.rows[p][mask], self.cols[p][mask]], axis=1)
-            origin = rc.min(axis=0)
-            bp = self.raster_basis(rc - origin)
+            bp, origin = self.mask_basis(p, mask)
             centre = origin + bp.centroid
         others = np.arange(upper + 1, self.M)
         others = others[others != p]
@@ -366,7 +336,7 @@ class PillarModel:
             if far.any():
                 blocks[far] = self._far(bp, centre, others[far])
             for k in np.flatnonzero(near):
-                blocks[k] = self._exact(bp, origin, int(others[k]))
+                blocks[k] = self._exact(bp, origin, int(others[k]), p, mask)
         return others, blocks, bp
 
     def _install_lattice_row(self, p: int, upper: int) -> None:
@@ -375,7 +345,7 @@ class PillarModel:
         for j, q in enumerate(self.neighbours[p]):
             if q <= upper:
                 continue
-            self._set_near(p, j, int(q), self._exact(bp, origin, int(q)))
+            self._set_near(p, j, int(q), self._exact(bp, origin, int(q), p, self.raster[p]))
         if self.G0 is not None and upper < 0:
             # The kept G00's entries of p are refreshed when they are next read (`uniform_block`), those
             # read only: a pillar that peels in steps or comes off is not recomputed against every pillar.

@@ -242,7 +242,7 @@ class PillarState:
         force = 0.0
         slots, values = np.zeros(0, dtype=np.int64), np.zeros(0)
         if kind != "separated" and rows.size:
-            slots = model.slots[rows][on]
+            slots = model.reports[rows][on]
             values = self.pressures_at(d)[on]
             force = float(model.h2 * values.sum())
         # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
@@ -291,8 +291,7 @@ class PillarState:
             rhs = -np.einsum("jab,jb->a", blocks, x[others])
             rhs[0] += s * (d - model.g[p]) - s * siblings
             return np.linalg.solve(A, rhs), basis
-        rc = np.stack([model.rows[p][mask], model.cols[p][mask]], axis=1)
-        basis = model.raster_basis(rc - rc.min(axis=0))
+        basis, _ = model.mask_basis(p, mask)
         s = basis.force
         field = model.fitted[p][mask] @ (d * self.fields[:, p, 0] - self.fields[:, p, 1])
         projections = basis.phi.T @ field

@@ -107,25 +107,26 @@ class TipRaster:
                    critical_stress(problem.contact_modulus, problem.work_of_adhesion, h), flat, owner, heights,
                    per_radius, _coarse_elements(labels.reshape(grid.elements, grid.elements), flat, owner, factor))
 
-    def to_grid(self, slots: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(pressure, contact) on the global grid (n x n) of the fine elements ``slots`` carrying ``values``.
+    def reporting(self, slots: np.ndarray) -> np.ndarray:
+        """The global element (flat) that each of the fine elements ``slots`` reports to (`to_grid`).
 
         A fine element reports to the global element it lies in, or, where that
         one is not its pillar's (a fine element inside the circle whose global
         element's centre is outside), to the nearest of its pillar's global
         elements: every pillar's force and contact stay on its own footprint.
         """
-        n = self.grid_elements
         if self.factor == 1:
-            pressure = np.zeros(n * n)
-            contact = np.zeros(n * n, dtype=bool)
-            pressure[slots] = values
-            contact[slots] = True
-            return pressure.reshape(n, n), contact.reshape(n, n)
+            return slots
         fine, to = self.coarse
-        coarse = to[np.searchsorted(fine, slots)]
-        pressure = np.bincount(coarse, weights=values, minlength=n * n) / self.factor**2
-        contact = np.bincount(coarse, minlength=n * n) > 0
+        return to[np.searchsorted(fine, slots)]
+
+    def to_grid(self, elements: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(pressure, contact) on the global grid (n x n) of fine elements that report to the global
+        ``elements`` (`reporting`) and carry ``values``: each global element's pressure is the sum of its
+        fine elements' over ``factor``^2 (the same force), in contact where any of them is."""
+        n = self.grid_elements
+        pressure = np.bincount(elements, weights=values, minlength=n * n) / self.factor**2
+        contact = np.bincount(elements, minlength=n * n) > 0
         return pressure.reshape(n, n), contact.reshape(n, n)
 
 

@@ -38,6 +38,10 @@ class Refinement(MappingRecord):
     adhesive_force: Extrapolation
     work_of_separation: Extrapolation
     converged: bool
+    _ABSENT_WHEN_NONE = frozenset({"tip_elements_per_radius"})
+
+    #: The pillar model refines its tips alone (``elements`` are then the grids that resolve them as much).
+    tip_elements_per_radius: list | None = None
 
     @classmethod
     def _nested(cls):

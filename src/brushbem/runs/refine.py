@@ -41,8 +41,22 @@ times too small).  A random layout is held fixed across the grids: its
 ``min_gap``, whose default is 2 h, is set to the finest grid's value, and
 the grids' pillar centres and lengths are checked to be equal.
 
+The pillar model (``protocol.method = "pillars"``) refines its tips alone
+(`brushbem.pillars.tips`): the configured grid places the pillars, and the
+tips run at q0, 2 q0 and 4 q0 elements per radius (``pillar_tip_resolution``;
+the global grid subdivided f0, 2 f0, 4 f0 times), q0 the configured tips'
+resolution, or the smallest multiple of the grid's that reaches
+`MIN_REFINE_ELEMENTS`: a brush at the shipped 3-4 elements per radius
+refines with no finer global grid.  Its result is the configured run's (the
+tips as configured), with the refinement added; ``elements`` are the global
+grids that would resolve the tips as much (N f), ``tip_elements_per_radius``
+the tips'.  The exact paths hold their tips on the global grid and keep the
+grid refinement above: below `MIN_REFINE_ELEMENTS` on the coarsest grid they
+refuse, as no two- or three-grid estimate bounds their error there.
+
 The tests check the bound on Kendall's and JKR's closed forms and on a punch
-on a spring (``tests/test_refine.py``).
+on a spring (``tests/test_refine.py``), and the tips' refinement of a brush on
+its grid (``tests/test_pillar_tips.py``).
 """
 
 from __future__ import annotations
@@ -135,6 +149,8 @@ def refined_configs(config: RunConfig, grids: int, base_dir: Any = None) -> list
     """
     if grids not in (2, 3):
         raise ConfigError([f"`--refine`: {grids} — must be 2 or 3 grids"])
+    if config.protocol.method == "pillars":
+        return tip_configs(config, grids)
     elements = config.grid.elements
     step = 2 ** (grids - 1)
     if elements % step:
@@ -156,6 +172,22 @@ def refined_configs(config: RunConfig, grids: int, base_dir: Any = None) -> list
     _check_resolution(out[0], elements // step, step)
     _check_same_brush(out)
     return out
+
+
+def tip_configs(config: RunConfig, grids: int) -> list[RunConfig]:
+    """The pillar model's refinement (module docstring): the configuration with its tips at q0, 2 q0 (, 4 q0)
+    elements per radius, on the configured grid."""
+    from brushbem.runs.assembly import build_indenter
+
+    per_radius = float(build_indenter(config).description.pillar_radius) / config.grid.element_size
+    configured = config.protocol.pillar_tip_resolution
+    first = 1 if configured is None else max(1, math.ceil(configured / per_radius * (1 - 1e-12)))
+    if first * per_radius < MIN_REFINE_ELEMENTS:
+        first = math.ceil(MIN_REFINE_ELEMENTS / per_radius * (1 - 1e-12))
+    # Only the tips' resolution changes (>= MIN_REFINE_ELEMENTS, inside its range): the validated
+    # configuration with that one key replaced.
+    return [config.model_copy(update={"protocol": config.protocol.model_copy(
+        update={"pillar_tip_resolution": first * 2**k * per_radius})}) for k in range(grids)]
 
 
 def _check_resolution(coarsest: RunConfig, elements: int, step: int) -> None:
@@ -218,23 +250,50 @@ def refined_run(config: RunConfig, grids: int = 3, *, run: Callable | None = Non
 
     run = case_module.run_case if run is None else run
     configs = refined_configs(config, grids)
+    tips = config.protocol.method == "pillars"
+    # The pillar model refines its tips: the configured run too, where it is none of the refinement's.
+    runs = [*configs, config] if tips and config not in configs else configs
     results = []
-    for index, cfg in enumerate(configs):
-        def report(fraction, message, index=index, elements=cfg.grid.elements):
+    for index, cfg in enumerate(runs):
+        label = (f"tips at {_tip_resolution(cfg):.3g} elements per radius" if tips
+                 else f"grid N = {cfg.grid.elements}")
+
+        def report(fraction, message, index=index, label=label):
             if progress is not None:
-                progress((index + fraction) / len(configs), f"grid N = {elements}: {message}")
+                progress((index + fraction) / len(runs), f"{label}: {message}")
         results.append(run(cfg, progress=report) if stop is None else run(cfg, progress=report, stop=stop))
-    finest = results[-1]
-    summaries = [pulled.result.summary for pulled in results]
+    finest = results[runs.index(config)] if tips else results[-1]
+    summaries = [pulled.result.summary for pulled in results[:len(configs)]]
     converged = all(bool(s.get("converged")) for s in summaries)
+    per_radius = [_tip_resolution(cfg) for cfg in configs] if tips else None
     refinement = Refinement(
-        elements=[cfg.grid.elements for cfg in configs],
+        elements=[cfg.grid.elements * (_tip_factor(cfg) if tips else 1) for cfg in configs],
         adhesive_force=richardson([s["adhesive_force"] for s in summaries]),
         work_of_separation=richardson([s["work_of_separation"] for s in summaries]),
         converged=converged,
+        tip_elements_per_radius=per_radius,
     )
     # The configuration as given (the finest grid's may fix a random layout's min_gap): what the files record.
     return dataclasses.replace(finest, result=_with_refinement(finest.result, refinement), config=config)
+
+
+def _tip_resolution(config: RunConfig) -> float:
+    """The tips' elements per radius of a pillar-model run (`brushbem.pillars.tips`)."""
+    from brushbem.runs.assembly import build_indenter
+
+    per_radius = float(build_indenter(config).description.pillar_radius) / config.grid.element_size
+    return _tip_factor(config) * per_radius
+
+
+def _tip_factor(config: RunConfig) -> int:
+    """How many times the tips subdivide the grid in a pillar-model run."""
+    from brushbem.runs.assembly import build_indenter
+
+    resolution = config.protocol.pillar_tip_resolution
+    if resolution is None:
+        return 1
+    per_radius = float(build_indenter(config).description.pillar_radius) / config.grid.element_size
+    return max(1, math.ceil(resolution / per_radius * (1 - 1e-12)))
 
 
 def _with_refinement(result, refinement: Refinement):

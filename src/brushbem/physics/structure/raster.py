@@ -21,7 +21,6 @@ def rasterise_pillars(grid: Grid, centres: np.ndarray, radius: float) -> np.ndar
     Raises StructureError if a pillar is under ``MIN_PILLAR_RADIUS_ELEMENTS`` in
     radius, reaches outside the domain, or shares an element with another.
     """
-    h = grid.element_size
     _check_pillar_radius(grid, radius)
     half = 0.5 * grid.size
     if np.any(np.abs(centres) + radius > half * (1 + 1e-12)):
