@@ -33,6 +33,7 @@ from brushbem.protocol import ContactProblem, LoadPath, pull_off, record_pull_of
 from brushbem.numerics.solver import (
     CallableOperator,
     Settings,
+    SolverCache,
     Start,
     conjugate_gradient,
     equilibrium,
@@ -233,7 +234,8 @@ def test_sub_operator_applies_like_the_window_on_the_set(coupling, springs):
     mask = np.asarray(indenter.footprint)[window.slices] & (rng.random(window.shape) < 0.7)
     pressure = rng.standard_normal(window.shape) * mask
     expected = operator.apply(pressure, mask)
-    block, sub = operator.sub_operator(mask)
+    cache = SolverCache()
+    block, sub = cache.sub_operator(operator, mask)
     assert sub is not operator and sub.window.shape[0] < window.shape[0]
     outside = mask.copy()
     outside[block] = False
@@ -241,7 +243,8 @@ def test_sub_operator_applies_like_the_window_on_the_set(coupling, springs):
     got = np.zeros_like(expected)
     got[block] = sub.apply(pressure[block], mask[block])
     assert float(np.max(np.abs(got - expected))) <= 1e-12 * float(np.max(np.abs(expected)))
-    assert operator.sub_operator(mask)[1] is sub  # cached
+    assert cache.sub_operator(operator, mask)[1] is sub  # kept by the caller's cache
+    assert SolverCache().sub_operator(operator, mask)[1] is not sub  # the operator itself keeps nothing
 
 
 def test_equilibrium_on_the_block_agrees_with_the_whole_window():

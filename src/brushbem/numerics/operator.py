@@ -20,12 +20,15 @@ every level on that window (`brushbem.physics.springs.PillarSprings`); `MaskedOp
 restricts their sum to a contact set on the window's arrays, `ContactSystem` on
 the |S| values of S (the springs by `PillarSprings.on_set`).  The last two are
 the `brushbem.numerics.solver.cg.SetOperator`s that the conjugate gradient takes;
-`PillarCache` is the explicit cache of the pillar-block preconditioner.
+The operator computes and remembers nothing beyond its own spectra: what the
+solves reuse (the pillar-block preconditioner's `PillarCache`, the last set
+solver, the kept solution's deflection, the block operators) is the caller's
+`brushbem.numerics.solver.cache.SolverCache`, passed in.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
@@ -36,7 +39,8 @@ from brushbem.physics.halfspace import HalfSpace
 from brushbem.physics.springs import PillarSprings
 from brushbem.physics.structure import Indenter
 
-__all__ = ["SINGLE_ERROR", "ContactOperator", "ContactSystem", "MaskedOperator", "PillarCache", "Window", "discriminant_half_width", "fast_size"]
+__all__ = ["SINGLE_ERROR", "ContactOperator", "ContactSystem", "MaskedOperator", "Window", "discriminant_half_width",
+           "fast_size"]
 
 
 @dataclass(frozen=True)
@@ -76,8 +80,6 @@ class Window:
 #: transforming (one kernel pass costs ~1/30 of an FFT pair on a 100 x 100 window).
 FEW_ELEMENTS = 16
 
-#: Sub-operators kept per window operator (a block per contact extent seen recently).
-_SUB_OPERATOR_CACHE = 64
 
 def fast_size(size: int) -> int:
     """Smallest m >= size whose padded transform length 2m has only factors 2, 3 and 5.
@@ -133,42 +135,6 @@ def discriminant_half_width(labels: np.ndarray) -> int:
     return width
 
 
-@dataclass
-class PillarCache:
-    """What the solves of one indenter reuse across windows and contact sets.
-
-    Owned by the operators of one indenter (`ContactOperator.for_window`
-    hands it on) and filled by the pillar-block preconditioner
-    (`brushbem.numerics.solver.preconditioners`).
-
-    Attributes
-    ----------
-    centres : ndarray or None
-        (n_pillars, 2) footprint centroids, in elements of the whole grid.
-    coupling : tuple or None
-        (springs + point-load coupling, springs only): the pillars' dense
-        compliance matrices over all pillars.
-    coarse : tuple or None
-        (its solve, the pillars it was made for, their stiffnesses) of the
-        last coarse matrix, reused while it stays valid.
-    coarse_base : object or None
-        The last Cholesky factor of a coarse matrix, through which the
-        matrices near it are solved (`brushbem.numerics.solver.preconditioners`).
-    blocks : dict
-        Pillar -> (grid offsets of its last contact, inverse of its half-space
-        block): the parent a shrinking contact is downdated from.
-    signature : ndarray or None
-        Shape signature of every pillar's last contact.
-    """
-
-    centres: np.ndarray | None = None
-    coupling: tuple | None = None
-    coarse: tuple | None = None
-    coarse_base: object | None = None
-    blocks: dict = field(default_factory=dict)
-    signature: np.ndarray | None = None
-
-
 class ContactOperator:
     """A restricted to a window: ``apply(p, mask) = mask * (K p + springs(p))``.
 
@@ -192,7 +158,6 @@ class ContactOperator:
         window: Window,
         coupling: str = "segments",
         _widths: tuple | None = None,
-        cache: PillarCache | None = None,
     ):
         if coupling not in ("segments", "discriminant"):
             raise ValueError(f"coupling = {coupling!r} must be 'segments' or 'discriminant'")
@@ -202,8 +167,6 @@ class ContactOperator:
         self.coupling = coupling
         xp = halfspace.xp
         self.xp = xp
-        #: What the solves of this indenter reuse (shared by every window's operator).
-        self.cache = PillarCache() if cache is None else cache
         #: The springs of every elastic level on this window.
         self.springs = PillarSprings(indenter, halfspace.element_size, window.slices, xp)
         if _widths is None:
@@ -213,11 +176,6 @@ class ContactOperator:
                 for lv in self.springs.levels
             )
         self._widths = _widths
-        self._sub_operators: dict[Window, ContactOperator] = {}
-        #: (set, `ContactSystem`, preconditioner, the cache's coarse entry) of the last pillar-block solve.
-        self.set_solver: tuple | None = None
-        # (pressure, its tip deflection on the window) of the last solve that kept it (`remember_solution`).
-        self._solution: tuple | None = None
         rows, cols = window.shape
         spectrum = None
         if coupling == "discriminant":
@@ -238,12 +196,10 @@ class ContactOperator:
 
     def for_window(self, window: Window) -> ContactOperator:
         """The same operator on another window (the springs' labels and widths are shared)."""
-        return ContactOperator(
-            self.halfspace, self.indenter, window, self.coupling, _widths=self._widths, cache=self.cache
-        )
+        return ContactOperator(self.halfspace, self.indenter, window, self.coupling, _widths=self._widths)
 
-    def sub_operator(self, mask) -> tuple[tuple[slice, slice], ContactOperator]:
-        """The operator on the smallest FFT-friendly block of the window that holds ``mask``.
+    def block_window(self, mask) -> Window | None:
+        """The smallest FFT-friendly block of the window that holds ``mask`` (None: the window itself).
 
         A_S x for x supported on S only needs the deflection on S, so the
         padded convolution can run on a block around S instead of the whole
@@ -252,8 +208,8 @@ class ContactOperator:
         attachment predictions and the outside-penetration bound), so the
         block is typically 20-50 % smaller in area; the result is the same
         (the kernel is translation invariant and the springs only couple
-        elements of S).  Returns the block's slices relative to the window and
-        its operator (cached by block).
+        elements of S).  The operator on the block is ``for_window`` of it; the
+        solves keep it in their `brushbem.numerics.solver.cache.SolverCache`.
 
         Parameters
         ----------
@@ -262,20 +218,13 @@ class ContactOperator:
         """
         box = backend.bounding_box(self.xp, mask)
         if box is None:
-            return self.window.slices_local, self
+            return None
         w_rows, w_cols = self.window.shape
         r0, r1 = _fast_block(box[0], box[1], w_rows)
         c0, c1 = _fast_block(box[2], box[3], w_cols)
         if (r1 - r0, c1 - c0) == (w_rows, w_cols):
-            return self.window.slices_local, self
-        block = Window(self.window.r0 + r0, self.window.r0 + r1, self.window.c0 + c0, self.window.c0 + c1)
-        operator = self._sub_operators.get(block)
-        if operator is None:
-            if len(self._sub_operators) >= _SUB_OPERATOR_CACHE:
-                self._sub_operators.clear()
-            operator = self.for_window(block)
-            self._sub_operators[block] = operator
-        return (slice(r0, r1), slice(c0, c1)), operator
+            return None
+        return Window(self.window.r0 + r0, self.window.r0 + r1, self.window.c0 + c0, self.window.c0 + c1)
 
     def _box_spectrum(self, rows: int, cols: int, width: int):
         """Spectrum of the padded discriminant matrix (ones for |offset| <= width)."""
@@ -287,20 +236,6 @@ class ContactOperator:
         col_idx = np.r_[0 : wc + 1, 2 * cols - wc : 2 * cols]
         padded[np.ix_(row_idx, col_idx)] = 1.0
         return xp.real(backend.rfft2(xp, xp.asarray(padded), (2 * rows, 2 * cols)))
-
-    def pillar_centres(self) -> np.ndarray:
-        """Centroid of every pillar's footprint, (n_pillars, 2) in element units of the whole grid."""
-        centres = self.cache.centres
-        if centres is None:
-            labels = np.asarray(backend.to_numpy(self.indenter.pillar))
-            on = labels >= 0
-            rows, cols = np.nonzero(on)
-            n = self.indenter.n_pillars
-            counts = np.maximum(np.bincount(labels[on], minlength=n), 1)
-            centres = np.stack([np.bincount(labels[on], weights=rows, minlength=n) / counts,
-                                np.bincount(labels[on], weights=cols, minlength=n) / counts], axis=1)
-            self.cache.centres = centres
-        return centres
 
     def system(self, mask) -> ContactSystem:
         """A_S on the elements of ``mask`` (the window's shape), as a `ContactSystem`."""
@@ -333,26 +268,9 @@ class ContactOperator:
         The deflection that the penetration d - height - u is measured with
         (``deflection`` folds the springs into the spectrum for the
         discriminant coupling; on the footprint the two agree to round-off).
-        Of the solution of the last solve on this operator that kept it
-        (`remember_solution`), it is that solve's, without a transform.
+        Always transformed: a deflection a solve already knows is its
+        caller's (`brushbem.numerics.solver.cache.SolverCache`).
         """
-        known = self.known_tip_deflection(pressure)
-        if known is not None:
-            return self.xp.asarray(known, copy=True)
-        return self._tip_deflection(pressure)
-
-    def known_tip_deflection(self, pressure):
-        """The kept tip deflection of ``pressure`` (`remember_solution`; not to be modified), or None."""
-        known = self._solution
-        if known is not None and known[0].shape == pressure.shape and bool(self.xp.all(known[0] == pressure)):
-            return known[1]
-        return None
-
-    def remember_solution(self, pressure, deflection) -> None:
-        """Keep ``deflection``, the tip deflection of ``pressure`` on the window, for `tip_deflection`."""
-        self._solution = (pressure, deflection)
-
-    def _tip_deflection(self, pressure):
         deflection = halfspace_on_support(self.halfspace, pressure, _support(self.xp, pressure))
         if self.springs:
             deflection = deflection + self.springs.apply(pressure)
@@ -371,7 +289,7 @@ class ContactOperator:
         loaded = mask & (values != 0)
         rows_at, cols_at = (np.asarray(backend.to_numpy(i)) for i in xp.nonzero(loaded))
         if rows_at.size > FEW_ELEMENTS:
-            return self._tip_deflection(xp.where(loaded, values, 0.0))
+            return self.tip_deflection(xp.where(loaded, values, 0.0))
         rows, cols = self.window.shape
         deflection = xp.zeros((rows, cols), dtype=xp.float64)
         if rows_at.size == 0:

@@ -47,7 +47,7 @@ equilibrium a bound proves that nothing outside the window penetrates; when it
 cannot, the window is rebuilt around the contact and, if the bound still fails,
 the penetration is checked on the whole grid and the window enlarged to take in
 what touches (`window.WorkingWindow`).  The CG solves run on the block of
-the window around the contact set (``ContactOperator.sub_operator``).  The event path also keeps the
+the window around the contact set (``SolverCache.sub_operator``).  The event path also keeps the
 deflections of the pressure and of A_S^-1 1 on the window in step (both are
 affine between events), so that an event transforms only the new A_S^-1 1.
 

@@ -309,7 +309,8 @@ class Tracker:
                     attach=None if force_attach is None else force_attach[sl],
                 )
                 eq = equilibrium(self.operator, height, displacement, start, critical=self.critical,
-                                 settings=self.settings, length_scale=self.length_scale, ledger=self._ledgers[0])
+                                 settings=self.settings, length_scale=self.length_scale, ledger=self._ledgers[0],
+                                 cache=self.working.cache)
             iterations += eq.cg_iterations
             solves += eq.n_solves
             if trial is None:
@@ -379,7 +380,7 @@ class Tracker:
         """Tip deflection (half-space + springs) of the current pressure on the window."""
         deflection = self.known_deflection()
         if deflection is None:
-            deflection = tip_deflection(self.operator, self.pressure[self.window.slices])
+            deflection = tip_deflection(self.operator, self.pressure[self.window.slices], self.working.cache)
             self._known_deflection = (self.pressure, self.window, deflection)
         return deflection
 
@@ -394,7 +395,7 @@ class Tracker:
         known = self._unit_deflection
         if known is not None and known[0] is self.unit and known[1] == self.window:
             return known[2]
-        deflection = tip_deflection(self.operator, self.unit[self.window.slices])
+        deflection = tip_deflection(self.operator, self.unit[self.window.slices], self.working.cache)
         self._unit_deflection = (self.unit, self.window, deflection)
         return deflection
 
@@ -424,7 +425,7 @@ class Tracker:
         xp = self.xp
         sl = self.window.slices
         contact = self.contact[sl]
-        block, operator = self.operator.sub_operator(contact)
+        block, operator = self.working.cache.sub_operator(self.operator, contact)
         block_contact = contact[block]
         ones = xp.astype(block_contact, xp.float64)
         initial, product = self._unit_guess(contact)
@@ -433,6 +434,7 @@ class Tracker:
             initial=None if initial is None else initial[block],
             initial_product=None if product is None else product[block],
             tolerance=self.path.tolerance, max_iterations=self.path.max_iterations, ledger=self._ledgers[1],
+            cache=self.working.cache,
         )
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution

@@ -21,6 +21,7 @@ from brushbem import backend
 from brushbem.physics.halfspace import HalfSpace
 from brushbem.numerics.operator import ContactOperator, Window, fast_size
 from brushbem.numerics.solver import penetration
+from brushbem.numerics.solver.cache import SolverCache
 from brushbem.protocol.problem import ContactProblem, LoadPath
 
 __all__ = ["WorkingWindow"]
@@ -39,7 +40,9 @@ class WorkingWindow:
     ``problem`` is the problem whose springs the operator sees: `use_problem`
     swaps it (a nonlinear pillar law's new pieces) and rebuilds the operator.
     ``window`` (a `Window`, None before the first `ensure`) and ``operator``
-    (the `ContactOperator` on it) change together in `install`.  ``height``
+    (the `ContactOperator` on it) change together in `install`, and with them
+    ``cache``, the `SolverCache` the solves on the window are passed (its
+    pillar entries kept across windows, new with new springs).  ``height``
     and ``footprint`` are the full-grid tip heights (inf off the footprint)
     and the footprint, in the problem's array namespace; `raise_tips` moves
     the heights.  Windows and bounds are computed from host copies of the
@@ -59,6 +62,7 @@ class WorkingWindow:
         self.footprint = xp.isfinite(self.height)
         self.window: Window | None = None
         self.operator: ContactOperator | None = None
+        self.cache = SolverCache()
         self._height_host = np.asarray(indenter.height)
         self._footprint_host = np.isfinite(self._height_host)
         #: Bounding box (r0, r1, c0, c1) of the footprint.
@@ -92,6 +96,7 @@ class WorkingWindow:
         """
         self.problem = problem
         self.operator = None
+        self.cache = SolverCache()
         if self.window is not None:
             self.install(self.window)
 
@@ -164,6 +169,7 @@ class WorkingWindow:
             self.operator = ContactOperator(self.halfspace, self.problem.indenter, window, self.problem.coupling)
         else:
             self.operator = self.operator.for_window(window)
+        self.cache = self.cache.on_new_window()
         self._outside_lowest = self.lowest_outside(window)
 
     @property

@@ -17,13 +17,15 @@ problem with a unique solution; ``polonsky_keer`` solves it in one constrained
 CG loop (Polonsky & Keer 1999), which is much cheaper than the active-set
 loop.
 
-Modules: `cg` (conjugate gradients, `SolveResult`), `preconditioners`
+Modules: `cache` (`SolverCache`: what the solves on one indenter reuse, owned by
+the caller and passed in), `cg` (conjugate gradients, `SolveResult`), `preconditioners`
 (shifted Laplacian, springs, pillar blocks) and `equilibria` (the solve on a
 contact set, the local cascade, `equilibrium`, `polonsky_keer`).
 """
 
 from __future__ import annotations
 
+from brushbem.numerics.solver.cache import PillarCache, SolverCache
 from brushbem.numerics.solver.cg import (
     ROUNDING_FLOOR,
     WARM_START_WITHIN_TOLERANCE,
@@ -62,10 +64,12 @@ __all__ = [
     "WARM_START_WITHIN_TOLERANCE",
     "CallableOperator",
     "Equilibrium",
+    "PillarCache",
     "ProductLedger",
     "SetOperator",
     "Settings",
     "SolveResult",
+    "SolverCache",
     "Start",
     "conjugate_gradient",
     "contact_preconditioner",

@@ -16,6 +16,7 @@ import numpy as np
 
 from brushbem import backend
 from brushbem.numerics.operator import ContactOperator
+from brushbem.numerics.solver.cache import SolverCache
 from brushbem.numerics.solver.cascade_deflection import moved_deflection
 from brushbem.numerics.solver.cg import WARM_START_WITHIN_TOLERANCE, ProductLedger
 from brushbem.numerics.solver.preconditioners import BLOCK_LIMIT, laplacian_preconditioner
@@ -154,14 +155,15 @@ class Equilibrium:
     trial_pressure: object = None
 
 
-def tip_deflection(operator: ContactOperator, pressure):
-    """Half-space deflection plus spring deflection of ``pressure`` on the window (unmasked)."""
-    return operator.tip_deflection(pressure)
+def tip_deflection(operator: ContactOperator, pressure, cache: SolverCache | None = None):
+    """Half-space deflection plus spring deflection of ``pressure`` on the window (unmasked): the one a solve
+    kept in ``cache`` where it has it, else transformed."""
+    return operator.tip_deflection(pressure) if cache is None else cache.tip_deflection(operator, pressure)
 
 
-def penetration(operator: ContactOperator, height, displacement: float, pressure):
+def penetration(operator: ContactOperator, height, displacement: float, pressure, cache: SolverCache | None = None):
     """How far the tip reaches into the deformed half-space (> 0: penetrates), on the window."""
-    return displacement - height - tip_deflection(operator, pressure)
+    return displacement - height - tip_deflection(operator, pressure, cache)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -245,6 +247,7 @@ def equilibrium(
     settings: Settings = Settings(),
     length_scale: float = 0.0,
     ledger: ProductLedger | None = None,
+    cache: SolverCache | None = None,
 ) -> Equilibrium:
     """Adhesive equilibrium at base displacement ``displacement`` (module docstring).
 
@@ -273,6 +276,9 @@ def equilibrium(
         The chain of kept deflections that ``start.deflection`` belongs to:
         the solves may then take their late products in single precision
         (`solve_on_set`).
+    cache : SolverCache, optional
+        What the solves on this indenter reuse, the caller's (None: a fresh
+        one; the numbers are the same, nothing is reused).
 
     The loop (solve on S, drop the elements beyond the criterion, add the
     penetrating ones, until neither happens) is written out in one function:
@@ -281,6 +287,7 @@ def equilibrium(
     out of each.
     """
     xp = operator.xp
+    cache = SolverCache() if cache is None else cache
     footprint = xp.isfinite(height)
     local = (settings.cascade == "local" and settings.window_preconditioner is None
              and operator.indenter.n_pillars >= 2)
@@ -302,7 +309,7 @@ def equilibrium(
 
     for _ in range(settings.max_rounds):
         if bool(xp.any(contact)):
-            result, block = _solve(operator, contact, target, pressure, deflection, settings, ledger)
+            result, block = _solve(operator, contact, target, pressure, deflection, settings, ledger, cache)
             iterations += result.iterations
             solves += 1
             if result.iterations or result.reason != WARM_START_WITHIN_TOLERANCE:
@@ -319,7 +326,7 @@ def equilibrium(
         leaving = contact & (pressure < -critical) if critical > 0 else contact & (pressure < 0)
         n_leaving = int(xp.count_nonzero(leaving))
         if n_leaving and local:
-            known = operator.known_tip_deflection(pressure)
+            known = cache.known_tip_deflection(operator, pressure)
             cascaded = local_cascade(operator, contact, pressure, leaving, critical)
             if cascaded is not None:
                 deflection = moved_deflection(operator, known, pressure, cascaded[1])
@@ -334,7 +341,7 @@ def equilibrium(
             detached += n_leaving
             continue
         if deflection is None:
-            deflection = tip_deflection(operator, pressure)
+            deflection = tip_deflection(operator, pressure, cache)
         joining = footprint & ~contact & (displacement - height - deflection > slack)
         n_joining = int(xp.count_nonzero(joining))
         if n_joining:
@@ -374,20 +381,20 @@ def _apply_event(operator: ContactOperator, footprint, start: Start, critical: f
 
 
 def _solve(operator: ContactOperator, contact, target, pressure, deflection, settings: Settings,
-           ledger: ProductLedger | None = None):
+           ledger: ProductLedger | None, cache: SolverCache):
     """One solve on S: on the block around S, or on the whole window with the settings' preconditioner.
 
     Returns the solve's result and the slices of the window it covers.
     """
     if settings.window_preconditioner is None:
         # The solve only needs the deflection on S: run it on the block around S.
-        block, block_operator = operator.sub_operator(contact)
+        block, block_operator = cache.sub_operator(operator, contact)
     else:
         block, block_operator = operator.window.slices_local, operator
     result = solve_on_set(
         block_operator, contact[block], target[block], pressure[block],
         None if deflection is None else deflection[block], settings.tolerance, settings.max_iterations,
-        settings.window_preconditioner, ledger,
+        settings.window_preconditioner, ledger, cache,
     )
     return result, block
 

@@ -11,6 +11,7 @@ from scipy.sparse import linalg as sparse_linalg
 
 from brushbem import backend, settings
 from brushbem.numerics.operator import ContactOperator, ContactSystem
+from brushbem.numerics.solver.cache import SolverCache
 
 __all__ = [
     "BLOCK_LIMIT",
@@ -219,7 +220,8 @@ def contact_preconditioner(operator: ContactOperator, mask):
     return laplacian_preconditioner(mask)
 
 
-def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LIMIT):
+def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LIMIT,
+                                cache: SolverCache | None = None):
     """Two-level preconditioner for A_S on the pillars of a brush (vectors on S), or None.
 
     A_S = K_S + Z H_s Z^T, Z the element-to-pillar incidence on S and H_s the
@@ -252,6 +254,9 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
 
     Why one function: it builds one M^-1 from the pillar blocks, the coarse pillar-space matrix and their
     reuse in `PillarCache`, and returns the closure that applies it; the reuse logic needs all three.
+
+    ``cache``: the caller's `SolverCache`, whose `PillarCache` it reads and fills (None: a fresh one, nothing
+    reused).
     """
     labels = system.pillars
     if system.size == 0 or bool(np.any(labels < 0)):
@@ -287,7 +292,8 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
     # Each pillar's last block (grid coordinates, inverse) and its signature:
     # a pillar that lost a few elements since is downdated from it
     # (HalfSpace.block_inverse).
-    cache = operator.cache
+    solver_cache = SolverCache() if cache is None else cache
+    cache = solver_cache.pillars
     previous = cache.blocks
     if cache.signature is None:
         cache.signature = np.zeros(operator.indenter.n_pillars, dtype=np.uint64)
@@ -320,7 +326,7 @@ def pillar_block_preconditioner(system: ContactSystem, max_block: int = BLOCK_LI
         row_sums = inverse.sum(axis=1)
         stiffness[members] = row_sums.sum()
         blocks.append((elements, members, inverse, row_sums))
-    coarse = _coarse_factor(operator, active, stiffness)
+    coarse = _coarse_factor(operator, solver_cache, active, stiffness)
     xp = system.xp
 
     def apply(residual):
@@ -440,7 +446,7 @@ class _CoarseBase:
         return solve
 
 
-def _coarse_factor(operator: ContactOperator, active, stiffness):
+def _coarse_factor(operator: ContactOperator, solver_cache: SolverCache, active, stiffness):
     """Solves with T^-1 + H on the pillars ``active`` for `pillar_block_preconditioner`.
 
     Returns (``b -> (T_0^-1 + H)^-1 b`` on the pillars of the factorised set,
@@ -457,7 +463,8 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
     and a low-rank correction while the two differ on at most
     ``Switches.coarse_update_rank`` pillars (`_CoarseBase`), else factorised.
     """
-    cached = operator.cache.coarse
+    cache = solver_cache.pillars
+    cached = cache.coarse
     if cached is not None:
         solve, pillars, reference = cached
         positions = np.searchsorted(pillars, active)
@@ -468,12 +475,12 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
                 stale = int(np.sum(stiffness < (1 - _COARSE_DRIFT) * base)) + (pillars.size - active.size)
                 if stale <= max(2, _COARSE_STALE * pillars.size):
                     return solve, positions, base, pillars.size
-    factored = operator.cache.coarse_base
+    factored = cache.coarse_base
     solve = None if factored is None or settings.switches().coarse_update_rank <= 0 else factored.near(active, stiffness)
     if solve is not None:
-        operator.cache.coarse = (solve, np.array(active), stiffness.copy())
+        cache.coarse = (solve, np.array(active), stiffness.copy())
         return solve, np.arange(active.size), stiffness, active.size
-    coupling = operator.cache.coupling
+    coupling = cache.coupling
     if coupling is None:
         # H over all pillars (fixed): springs of every level and the point-load coupling.
         halfspace = operator.halfspace
@@ -483,14 +490,14 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         for compliance, cluster in operator.spring_levels:
             units = np.asarray(cluster)
             springs += np.asarray(compliance)[units][:, None] * (units[:, None] == units[None, :])
-        centres = operator.pillar_centres()
+        centres = solver_cache.pillar_centres(operator)
         distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=-1)) * h
         np.fill_diagonal(distance, np.inf)
         coupling = (springs + h * h / (math.pi * halfspace.contact_modulus * distance), springs)
-        operator.cache.coupling = coupling
+        cache.coupling = coupling
     selection = np.ix_(active, active)
     matrix, springs_only = coupling[0][selection], coupling[1][selection]
-    operator.cache.coarse_base = None
+    cache.coarse_base = None
     for with_coupling, candidate in ((True, matrix), (False, springs_only)):
         candidate[np.diag_indices(active.size)] += 1.0 / stiffness
         try:
@@ -501,7 +508,7 @@ def _coarse_factor(operator: ContactOperator, active, stiffness):
         base = _CoarseBase(factor, pillars, 1.0 / stiffness)
         if with_coupling:
             # Only a factor with the point-load coupling is the one a fresh factorisation would find.
-            operator.cache.coarse_base = base
-        operator.cache.coarse = (base.solve, pillars, stiffness.copy())
+            cache.coarse_base = base
+        cache.coarse = (base.solve, pillars, stiffness.copy())
         return base.solve, np.arange(active.size), stiffness, active.size
     return None

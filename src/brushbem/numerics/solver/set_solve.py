@@ -4,8 +4,8 @@
 preconditioner (brushes of a few pillars, NumPy) or on the window's arrays with
 the contact preconditioner.  On the pillar blocks it keeps the solution's tip
 deflection in step with the iterations (`BlockDeflection`) and reuses the
-system and preconditioner of the operator's last solve on the same set
-(`_set_solver`).  ``Switches.reuse_set_solver``, ``Switches.keep_solution_deflection`` and
+system and preconditioner of the last solve on the same set and window
+(`_set_solver`), both in the caller's `SolverCache`.  ``Switches.reuse_set_solver``, ``Switches.keep_solution_deflection`` and
 ``Switches.single_products`` (the late iterations' products in single precision) switch
 these off (`brushbem.settings.using`, for tests and benchmarks).
 """
@@ -19,6 +19,7 @@ import numpy as np
 from brushbem import backend, settings
 from brushbem.numerics.operator import SINGLE_ERROR, ContactOperator, MaskedOperator
 from brushbem.numerics.solver.block_deflection import BlockDeflection
+from brushbem.numerics.solver.cache import SolverCache
 from brushbem.numerics.solver.cg import ProductLedger, SolveResult, _norm, conjugate_gradient
 from brushbem.numerics.solver.preconditioners import MAX_BLOCK_PILLARS, contact_preconditioner, pillar_block_preconditioner
 
@@ -27,7 +28,7 @@ __all__ = ["solve_on_set"]
 
 def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_product=None,
                  tolerance: float = 1e-8, max_iterations: int = 10000, preconditioner=None,
-                 ledger: ProductLedger | None = None) -> SolveResult:
+                 ledger: ProductLedger | None = None, cache: SolverCache | None = None) -> SolveResult:
     """Solve A_S p = rhs on the set ``mask`` of the operator's window by preconditioned CG.
 
     On a brush of 2 to ``MAX_BLOCK_PILLARS`` pillars whose contacts have at
@@ -43,8 +44,9 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     ``rhs``, ``initial`` and ``initial_product`` (A applied to ``initial``,
     if known) are window-shaped; so is the solution.  On the pillar blocks,
     the solution's tip deflection on the whole window is kept in step with
-    the iterations (`BlockDeflection`), and ``operator.tip_deflection`` of
-    the solution returns it without a transform; ``initial_product`` must
+    the iterations (`BlockDeflection`) and kept in ``cache`` (the caller's
+    `SolverCache`; None: a fresh one), whose ``tip_deflection`` of the
+    solution returns it without a transform; ``initial_product`` must
     then be `ContactOperator.tip_deflection` of ``initial`` restricted to S
     on the whole window, not only its values on S (as both callers, the
     equilibrium and the tracker's unit response, have it).  With a
@@ -54,9 +56,10 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     error due for a refresh does not keep its deflection.
     """
     xp = operator.xp
+    cache = SolverCache() if cache is None else cache
     if (preconditioner is None and 2 <= operator.indenter.n_pillars <= MAX_BLOCK_PILLARS
             and backend.is_numpy_namespace(xp)):
-        system, blocked = _set_solver(operator, mask)
+        system, blocked = _set_solver(operator, mask, cache)
         if blocked is not None:
             rhs_on_set = system.gather(rhs)
             initial_on_set = None if initial is None else system.gather(initial)
@@ -94,7 +97,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
                 kept = None
                 ledger.carried = 0.0
             if kept is not None:
-                operator.remember_solution(xp.asarray(solution, copy=True), kept)
+                cache.remember_solution(operator, xp.asarray(solution, copy=True), kept)
             return dataclasses.replace(result, solution=solution)
     restricted = MaskedOperator(operator, mask)
     return conjugate_gradient(
@@ -111,20 +114,20 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
 
 
 
-def _set_solver(operator: ContactOperator, mask):
+def _set_solver(operator: ContactOperator, mask, cache: SolverCache):
     """The `ContactSystem` of ``mask`` and its `pillar_block_preconditioner` (None where it does not apply).
 
     A unit response follows the equilibrium on the same contact set: when
-    ``mask`` is the set of the operator's last call and no other pillar-block
+    ``mask`` is the set of the last call on the operator's window (``cache``) and no other pillar-block
     preconditioner was built on the indenter since (its coarse matrix is
     still the cached one), the pair is the one a rebuild would make.
     """
     mask_host = np.asarray(backend.to_numpy(mask), dtype=bool)
-    last = operator.set_solver
-    if (settings.switches().reuse_set_solver and last is not None and last[3] is operator.cache.coarse
+    last = cache.set_solvers.get(operator.window)
+    if (settings.switches().reuse_set_solver and last is not None and last[3] is cache.pillars.coarse
             and last[0].shape == mask_host.shape and np.array_equal(last[0], mask_host)):
         return last[1], last[2]
     system = operator.system(mask)
-    blocked = pillar_block_preconditioner(system)
-    operator.set_solver = (mask_host.copy(), system, blocked, operator.cache.coarse)
+    blocked = pillar_block_preconditioner(system, cache=cache)
+    cache.set_solvers[operator.window] = (mask_host.copy(), system, blocked, cache.pillars.coarse)
     return system, blocked
