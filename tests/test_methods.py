@@ -829,3 +829,31 @@ def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
     assert force(preload_displacement=1.0) == pytest.approx(reference, rel=1e-3, abs=0.0)
     with pytest.raises(ValueError, match="event_window"):
         LoadPath(preload_displacement=0.002, event_window=0.1)
+
+
+def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
+    """`Tracker.point` is a `PathPoint` (no tuple); `restore` puts back its pressure and contact, and a
+    deflection known of another pressure is not taken for it (`Known.of`: the same array on the same window)."""
+    import dataclasses
+
+    from brushbem.protocol import Tracker
+    from brushbem.protocol.values import Known, PathPoint
+
+    grid = _sphere_grid(40)
+    problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
+    tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3))
+    d = 0.5 * A_JKR**2 / SPHERE_RADIUS
+    tracker.solve(d)
+    point, deflection = tracker.point(d), tracker.deflection()
+    assert isinstance(point, PathPoint) and point.displacement == d and point.pieces is None
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        point.pressure = None
+    tracker.solve(1.5 * d)
+    assert tracker.known_deflection() is not None and tracker.pressure is not point.pressure
+    tracker.restore(point)
+    assert tracker.pressure is point.pressure and tracker.contact is point.contact
+    assert tracker.known_deflection() is None  # the kept one was of the other pressure
+    assert np.array_equal(tracker.deflection(), deflection)
+    known = Known(point.pressure, tracker.window, deflection)
+    assert known.of(point.pressure, tracker.window) is deflection
+    assert known.of(point.pressure.copy(), tracker.window) is None and known.of(point.pressure, None) is None

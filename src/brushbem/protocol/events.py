@@ -41,7 +41,7 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
             return eq
         crossing, detach, broken = event
         yield crossing
-        tracker.restore_pieces(before[3])
+        tracker.restore_pieces(before)
         tracker.set_state(crossing.pressure, crossing.contact)
         if broken is not None:
             detach = detach | tracker.break_pillars(broken)
@@ -54,7 +54,7 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
             yield tracker.state(crossing.displacement, False, "separated", tracker.force(), 0, 0, True,
                                 "complete separation")
             return None
-        before = (crossing.displacement, tracker.pressure, tracker.contact, tracker.pieces_state())
+        before = tracker.point(crossing.displacement)
         eq = tracker.step_solve(d, advance=False)
     return dataclasses.replace(eq, converged=False,
                                reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
@@ -68,7 +68,7 @@ MAX_EVENTS_PER_STEP = 100_000
 def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
     """The state at which the first element of a fixed step's contact set reached the criterion.
 
-    ``before`` = (d, pressure, contact) is the equilibrium the step started
+    ``before`` (a `PathPoint`) is the equilibrium the step started
     from and ``eq`` the step's equilibrium, whose first solve
     (``eq.trial_pressure``) is on the same contact set.  On a fixed set the
     pressure is affine in d, so the first element to reach -Sigma_c (the
@@ -94,7 +94,7 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
     xp = tracker.xp
     if eq.trial_pressure is None:
         return None
-    d0, p0, c0 = before[:3]
+    d0, p0, c0 = before.displacement, before.pressure, before.contact
     p1 = eq.trial_pressure
     critical = tracker.critical
     # Elements of the old set whose trial pressure is beyond the criterion.
@@ -110,7 +110,7 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
     if limit is not None:
         f0 = tracker.pillar_forces(p0, c0)
         f1 = tracker.pillar_forces(p1, c0)
-        intact = ~tracker.broken_pillars(before[3] if len(before) > 3 else None)
+        intact = ~tracker.broken_pillars(before.pieces)
         candidates = intact & (f1 < -limit) & (f0 > f1)
         if candidates.any():
             pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)

@@ -139,7 +139,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
                 yield _budget_exhausted(tracker, d, True, path)
                 return
             d += step
-            saved = (tracker.pressure, tracker.contact)
+            saved = tracker.point(previous[0])
             eq = tracker.solve(d)
             force = tracker.force()
             if not eq.converged:
@@ -160,7 +160,7 @@ def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
     d = d_max
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
-        before = (d + step, tracker.pressure, tracker.contact, tracker.pieces_state())
+        before = tracker.point(d + step)
         eq = tracker.step_solve(d)
         eq = yield from _events_in_step(tracker, before, eq, d)
         if eq is None:  # separated at an event inside the step
@@ -180,7 +180,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
     """The smallest displacement at which the loading force reaches ``target``.
 
     ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
-    target bracket it; every trial solves from ``saved``, the contact state at
+    target bracket it; every trial solves from ``saved`` (a `PathPoint`), the contact state at
     ``below``, so the history of the contact set is kept.  False position,
     with a bisection whenever a step fails to halve the bracket, ends when the
     force at the upper end is within 1e-6 of the target, or when the bracket
@@ -191,7 +191,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
     """
     lo, f_lo = below
     hi, f_hi, eq = above
-    at_hi = (tracker.pressure, tracker.contact)  # the tracker holds ``above``'s state on entry
+    at_hi = tracker.point(hi)  # the tracker holds ``above``'s state on entry
     bisect = False
     solves, iterations = eq.n_solves, eq.cg_iterations
     for _ in range(200):
@@ -214,7 +214,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
             lo, f_lo = trial, f
         else:
             hi, f_hi, eq = trial, f, trial_eq
-            at_hi = (tracker.pressure, tracker.contact)
+            at_hi = tracker.point(trial)
         bisect = hi - lo > 0.5 * width
     tracker.restore(at_hi)
     return dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi

@@ -45,6 +45,7 @@ from brushbem.numerics.solver import (
 from brushbem.protocol.unit_guess import cascade_record, unit_guess
 from brushbem.protocol.connections import ConnectionState, SpringChange
 from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.values import Known, PathPoint
 from brushbem.protocol.window import WorkingWindow
 
 __all__ = ["Tracker"]
@@ -75,14 +76,14 @@ class Tracker:
         self.pressure = xp.zeros((n, n), dtype=xp.float64)
         self.contact = xp.zeros((n, n), dtype=xp.bool)
         self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
-        # Deflections known without another transform, each as (array, window,
-        # tip deflection of the array on that window): of self.pressure, and of
-        # self.unit (module docstring: when they are dropped).
-        self._known_deflection: tuple | None = None
-        self._unit_deflection: tuple | None = None
-        # (contact array, window, dp, K dp): how the last cascade changed the
-        # pressure beyond the affine prediction, for the next unit response.
-        self._pressure_change: tuple | None = None
+        # Deflections known without another transform (`Known`: of an array on a
+        # window): of self.pressure, and of self.unit (module docstring: when they
+        # are dropped).
+        self._known_deflection: Known | None = None
+        self._unit_deflection: Known | None = None
+        # Of the contact array on the window: (dp, K dp), how the last cascade changed
+        # the pressure beyond the affine prediction, for the next unit response.
+        self._pressure_change: Known | None = None
         # The error that single-precision products left in the kept deflections of the equilibria and
         # of the unit responses (`brushbem.numerics.solver.cg.ProductLedger`).
         self._ledgers = (ProductLedger(), ProductLedger())
@@ -198,17 +199,17 @@ class Tracker:
         """The pillar law's tension limit, or None."""
         return self.connections.tension_limit
 
-    def pieces_state(self):
-        """The pillar law's pieces and breaks (a copy), or None: what `restore_pieces` returns to."""
-        return self.connections.saved()
+    def point(self, displacement: float | None = None) -> PathPoint:
+        """The current state as a value to return to: pressure, contact and the pillar law's pieces (a copy)."""
+        return PathPoint(displacement, self.pressure, self.contact, self.connections.saved())
 
-    def broken_pillars(self, saved=None) -> np.ndarray:
-        """The broken pillars (bool per pillar) now, or in ``saved`` (a `pieces_state`) when given."""
-        return self.connections.broken(saved)
+    def broken_pillars(self, pieces=None) -> np.ndarray:
+        """The broken pillars (bool per pillar) now, or in ``pieces`` (a `PathPoint`'s) when given."""
+        return self.connections.broken(pieces)
 
-    def restore_pieces(self, saved) -> None:
-        """Back to the pieces and breaks of `pieces_state`: the springs and the tips with them."""
-        self._apply(self.connections.restore(saved, self.problem))
+    def restore_pieces(self, point: PathPoint) -> None:
+        """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
+        self._apply(self.connections.restore(point.pieces, self.problem))
 
     def break_pillars(self, pillars: np.ndarray):
         """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
@@ -323,7 +324,7 @@ class Tracker:
             self.pressure[sl] = eq.pressure
             self.contact = xp.zeros_like(self.contact)
             self.contact[sl] = eq.contact
-            self._known_deflection = None if eq.deflection is None else (self.pressure, self.window, eq.deflection)
+            self._known_deflection = None if eq.deflection is None else Known(self.pressure, self.window, eq.deflection)
             if not eq.converged:
                 break
             if self.covers_footprint or self.working.outside_safe(displacement, self.pressure, self.contact):
@@ -359,9 +360,9 @@ class Tracker:
         self.contact = contact
         self.set_pressure(pressure)
 
-    def restore(self, saved) -> None:
-        """Back to ``saved`` = (pressure, contact) held before; a deflection still cached of that pressure is kept."""
-        self.pressure, self.contact = saved
+    def restore(self, point: PathPoint) -> None:
+        """Back to the pressure and contact of ``point``; a deflection still cached of that pressure is kept."""
+        self.pressure, self.contact = point.pressure, point.contact
 
     def forget_deflections(self) -> None:
         """Drop every cached deflection and the unit response (the next ones are computed afresh)."""
@@ -372,31 +373,29 @@ class Tracker:
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
         known = self._known_deflection
-        if known is not None and known[0] is self.pressure and known[1] == self.window:
-            return known[2]
-        return None
+        return None if known is None else known.of(self.pressure, self.window)
 
     def deflection(self):
         """Tip deflection (half-space + springs) of the current pressure on the window."""
         deflection = self.known_deflection()
         if deflection is None:
             deflection = tip_deflection(self.operator, self.pressure[self.window.slices], self.working.cache)
-            self._known_deflection = (self.pressure, self.window, deflection)
+            self._known_deflection = Known(self.pressure, self.window, deflection)
         return deflection
 
     def set_pressure(self, pressure, deflection=None) -> None:
         """Replace the pressure (full grid), with its tip deflection on the window if known."""
         self.pressure = pressure
-        self._known_deflection = None if deflection is None else (pressure, self.window, deflection)
+        self._known_deflection = None if deflection is None else Known(pressure, self.window, deflection)
 
     # -- the unit response of the event path ---------------------------------------
     def unit_deflection(self):
         """Tip deflection of the unit response on the window (transformed once per response)."""
-        known = self._unit_deflection
-        if known is not None and known[0] is self.unit and known[1] == self.window:
-            return known[2]
+        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.window)
+        if known is not None:
+            return known
         deflection = tip_deflection(self.operator, self.unit[self.window.slices], self.working.cache)
-        self._unit_deflection = (self.unit, self.window, deflection)
+        self._unit_deflection = Known(self.unit, self.window, deflection)
         return deflection
 
     def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
@@ -418,7 +417,7 @@ class Tracker:
         record = cascade_record(self.operator, self.contact[sl], predicted[sl], self.pressure[sl], deflection,
                                 predicted_deflection)
         if record is not None:
-            self._pressure_change = (self.contact, window, record)
+            self._pressure_change = Known(self.contact, window, record)
 
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
@@ -458,13 +457,11 @@ class Tracker:
         if self.unit is None:
             return None, None
         previous = self.unit[self.window.slices]
-        known = self._unit_deflection
-        if known is None or known[0] is not self.unit or known[1] != self.window:
+        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.window)
+        if known is None:
             return self.xp.where(contact, previous, 0.0), None
-        change = self._pressure_change
-        if change is None or change[0] is not self.contact or change[1] != self.window:
-            change = None
-        return unit_guess(self.operator, contact, previous, known[2], None if change is None else change[2])
+        change = None if self._pressure_change is None else self._pressure_change.of(self.contact, self.window)
+        return unit_guess(self.operator, contact, previous, known, change)
 
     # -- records ------------------------------------------------------------
     def _on_window(self, array):
