@@ -195,11 +195,17 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         for subset in named_sets:
             command += f" and `brushbem study {name} --sampled-set {subset} --out out/{name}-{subset}`"
             folders += f" out/{name}-{subset}"
+        if any(info.get("sweep_file") for info in provenance["parts"].values()):
+            one_row = [
+                f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
+                "and those closest to changing it (`--dry-run` lists them with their recorded time;",
+                "`--realizations 1` checks the row as its first seed gives it, for a row that reads ten).",
+            ]
+        else:  # a study without a sweep: its one run computes every row's table
+            one_row = ["One row: the study has no sweep; its one run above computes the table every row reads."]
         lines += [
             f"Recompute: {command}, then `brushbem export-tables {folders} --to docs/reproduction`.",
-            f"One row: `brushbem reproduce {name} \"QUANTITY\" --out out/row` runs only the cases that row reads",
-            "and those closest to changing it (`--dry-run` lists them with their recorded time;",
-            "`--realizations 1` checks the row as its first seed gives it, for a row that reads ten).",
+            *one_row,
             f"brushbem {provenance.get('brushbem_version')}, commit {provenance.get('commit') or 'unknown'}.",
             "",
         ]

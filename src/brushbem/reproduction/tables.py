@@ -85,7 +85,7 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
         The folders are of different studies, or of quick and full grids,
         or ``update`` finds tables of another study there.
     """
-    from brushbem.studies import StudyError, load_results
+    from brushbem.studies import StudyError, get_study, load_results
     from brushbem.studies._framework import read_study_record
     from brushbem.sweep import SWEEP_FILE
 
@@ -121,6 +121,11 @@ def export_tables(study_dir: str | Path | Sequence[str | Path], tables_root: str
                 table = table.sort_values("index", kind="stable")
             frames.setdefault(part, []).append(table)
             sources.setdefault(part, []).append((folder, record))
+    study = get_study(name)
+    for folder, record in zip(dirs, records):
+        # the tables a study computes without a sweep: the latest folder's replace the recorded ones
+        for part, table in (study.tables(folder) if study.tables is not None else {}).items():
+            frames[part], sources[part] = [table], [(folder, record)]
     folder_out.mkdir(parents=True, exist_ok=True)
     parts: dict[str, Any] = {}
     for part, tables in frames.items():

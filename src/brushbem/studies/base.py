@@ -100,6 +100,10 @@ class Study:
         identification from the committed tables (the candidates tried for the
         parameters the thesis leaves open, and their score on the rows used to
         identify them), printed after the study's rows.
+    tables : callable, optional
+        ``tables(run_folder) -> {part: DataFrame}``: the tables a study computes without a sweep
+        (read from its run folder), which `brushbem.reproduction.export_tables` commits as parts
+        beside the sweep parts' tables.  None: every table is a sweep's.
     """
 
     name: str
@@ -111,6 +115,7 @@ class Study:
     notes: str = ""
     draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
     identification: Callable[[Mapping[str, pd.DataFrame]], str] | None = None
+    tables: Callable[[Path], Mapping[str, pd.DataFrame]] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 
 

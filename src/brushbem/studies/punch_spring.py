@@ -65,6 +65,26 @@ def _separation_ratio(results, k_tilde: float) -> float:
     return abs(float(soft.separation_displacement)) / abs(float(rigid.separation_displacement.iloc[0]))
 
 
+def _largest_separation_over_pull_off(results) -> float:
+    """|separation| over |pull-off| displacement, the largest over every punch (1: it separates at F_A)."""
+    frame = _frame(results)
+    return float((column(frame, "separation_displacement") / column(frame, "pull_off_displacement")).max())
+
+
+def _softest_over_rigid_separation(results) -> float:
+    """|separation displacement| of the softest spring over the rigid punch's."""
+    frame = _frame(results)
+    rigid = frame[~np.isfinite(frame.k_tilde)]
+    softest = frame.loc[frame.k_tilde.idxmin()]
+    return abs(float(softest.separation_displacement)) / abs(float(rigid.separation_displacement.iloc[0]))
+
+
+def _force_spread(results) -> float:
+    """The largest adhesive force over the smallest, across every stiffness."""
+    force = column(_frame(results), "adhesive_force")
+    return float(force.max() / force.min())
+
+
 #: The punch's normalised stiffness (eq. 2.16), named in the figures' legends.
 K_TILDE = r"$\tilde k = k/(2E^* r)$"
 
@@ -147,6 +167,18 @@ NUMBERS = (
                  "the closed form of a punch on a spring (eq. 2.8, 2.16-2.17): it separates at "
                  "d_K (1 + 1/k~) = 101 d_K at k~ = k / (2 E* r) = 0.01 (theory.punch_spring_separation_displacement); "
                  "the simulation gives 100.8, the thesis's 67 would need k~ = 0.015"),
+    ThesisNumber("separation over pull-off displacement, the largest over every punch ('the normal force is "
+                 "linearly increased with displacement till to the complete separation ... detachment does not appear "
+                 "until the maximum tensile force', L321)", "sec. 2.3.1.1, Fig. 2-4 (L321)", 1.0,
+                 safe(_largest_separation_over_pull_off)),
+    ThesisNumber("separation displacement of the softest spring (k~ = 0.01) over the rigid punch's ('with the "
+                 "decrease of stiffness, the critical displacement becomes larger', L321)",
+                 "sec. 2.3.1.1, Fig. 2-4 (L321)", 1.0, safe(_softest_over_rigid_separation), claim=">"),
+    ThesisNumber("adhesive force, the largest over the smallest across k~ = 0.01 to rigid ('the curves of "
+                 "force-contact radius for different stiffnesses are practically the same', L321)",
+                 "sec. 2.3.1.1, Fig. 2-5 (L321)", 1.0, safe(_force_spread),
+                 evidence="the contact radius is not in the tables: every punch keeps its whole face in contact "
+                 "up to the pull-off (row above), so its curve is the vertical a = r up to F_A"),
 )
 
 STUDY = Study(
