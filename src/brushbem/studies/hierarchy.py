@@ -38,6 +38,10 @@ from brushbem.studies._ch5_7 import (
     read_curve,
     save,
 )
+from brushbem.studies._ch6_fig63 import FIG63_NUMBERS, IDENTIFICATION, identification
+from brushbem.studies._ch6_fig63 import part_difference as _plateau_difference
+from brushbem.studies._ch6_fig63 import part_plateau as _plateau
+from brushbem.studies._ch6_fig63 import part_ratio as _plateau_ratio
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, STATED_CHOICE
 from brushbem.physics.theory import equivalent_single_level_stiffness
@@ -92,46 +96,6 @@ def _eq628_value(results):
 def _standard_error(per_seed: pd.Series) -> float:
     """Standard error of the mean over the seeds (0 for a single seed)."""
     return float(per_seed.std() / math.sqrt(len(per_seed))) if len(per_seed) > 1 else 0.0
-
-
-def _plateau(part: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
-    """F~_A (mean over realisations) of ``part`` at sigma~ (and F~_P): the plateau (largest mean over
-    the preloads) when ``preload`` is None.
-
-    The sweeps' sigma~ and F~_P are normalised by the rasterised brush's d_c and F_c, a few per cent
-    from the nominal values the thesis quotes: a point within 10 % counts, and where the tables have
-    none the number is not computable (nan), never read off another point.
-    """
-    def compute(results):
-        frame = finished(results, part)
-        if not has(frame, FA, SIG, PRELOAD):
-            return math.nan
-        nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
-        if abs(nearest[SIG] - sigma_tilde) > 0.1 * sigma_tilde:
-            return math.nan
-        frame = frame[np.isclose(frame[SIGMA], nearest[SIGMA])]
-        means = frame.groupby(PRELOAD).agg(fa=(column, "mean"), fp=(FP, "mean"))
-        if preload is None:
-            return float(means["fa"].max())
-        row = means.iloc[np.argmin(np.abs(means["fp"] - preload))]
-        return float(row["fa"]) if abs(row["fp"] - preload) <= 0.1 * preload else math.nan
-    return compute
-
-
-def _plateau_ratio(part: str, over: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
-    """F~_A (or ``column``) of ``part`` over that of ``over`` at sigma~ (and F~_P), each as `_plateau` reads it."""
-    top, bottom = _plateau(part, sigma_tilde, preload, column), _plateau(over, sigma_tilde, preload, column)
-
-    def compute(results):
-        b = bottom(results)  # magnitudes: a separation displacement is signed (negative: pulled away)
-        return abs(top(results)) / abs(b) if math.isfinite(b) and b != 0 else math.nan
-    return compute
-
-
-def _plateau_difference(part: str, less: str, sigma_tilde: float, preload: float | None = None):
-    """F~_A of ``part`` less that of ``less`` at sigma~ (and F~_P), each as `_plateau` reads it."""
-    top, bottom = _plateau(part, sigma_tilde, preload), _plateau(less, sigma_tilde, preload)
-    return lambda results: top(results) - bottom(results)
 
 
 def _nearest_sigma(frame: pd.DataFrame, sigma_tilde: float) -> float | None:
@@ -491,10 +455,15 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
     return written
 
 
-def _clustered_or_outside(n: ThesisNumber) -> ThesisNumber:  # eq. 6.26-6.28 and clustered rows are counted
-    return n if "clustered" in n.quantity or n.where.startswith(("eq. 6.2", "text after eq. 6.28")) else replace(
-        n, quantity=n.quantity + ", uniform lattice", outside="sensitivity: the uniform lattice, not the thesis's "
-        "clustered layout of Fig. 6-3 (the clustered rows are counted)")
+def _counted_or_outside(n: ThesisNumber) -> ThesisNumber:
+    """The closed forms (eq. 6.26-6.28) and the rows of the parts fig63_* are counted; the others are sensitivities."""
+    if n.where.startswith(("eq. 6.2", "text after eq. 6.28")):
+        return n
+    if "clustered" in n.quantity:
+        return replace(n, quantity=n.quantity + ", exact path, N = 1024", outside="sensitivity: the exact path at 2.25 "
+                       "elements a radius, N3 = 4 (the counted rows: parts fig63_*, chapter 6's identification)")
+    return replace(n, quantity=n.quantity + ", uniform lattice", outside="sensitivity: the uniform lattice, not the "
+                   "thesis's clustered layout of Fig. 6-3 (the counted rows: parts fig63_*)")
 
 
 STUDY = Study(
@@ -502,13 +471,14 @@ STUDY = Study(
     title="Ch. 6: one-, two- and three-level rough brushes, equivalent single-level stiffness eq. 6.28 (Fig. 6-4 to 6-8)",
     figures=("6-4", "6-5", "6-6", "6-7", "6-8"),
     parts=("one", "two", "three", "equivalent", "stiffness_one", "stiffness_three", "stiffness_k3",
-           "clustered_one", "clustered_two", "clustered_three"),
+           "clustered_one", "clustered_two", "clustered_three", "fig63_one", "fig63_two", "fig63_three"),
     draw=draw,
     draw_tables=draw_tables,
-    numbers=tuple(_clustered_or_outside(n) for n in (
+    identification=identification,
+    numbers=tuple(sorted(FIG63_NUMBERS + tuple(_counted_or_outside(n) for n in (
         ThesisNumber("equivalent single-level stiffness k~1' (eq. 6.28)", "text after eq. 6.28", 0.4e-4, _eq628_value,
-                     STATED_CHOICE, "N1 = 25, N2 = 16 (ours; the thesis states neither): 4.21e-5; N1 = 16, N2 = 25 give "
-                     "4.39e-5, N1 = 4, N2 = 100 4.66e-5, N1 = 100, N2 = 4 3.11e-5 (notes)"),
+                     STATED_CHOICE, IDENTIFICATION + "; eq. 6.28 reads N1 = 25, N2 = 16 only (4.21e-5, whatever N3); "
+                     "N1 = 16, N2 = 25 give 4.39e-5, N1 = 4, N2 = 100 4.66e-5, N1 = 100, N2 = 4 3.11e-5 (notes)"),
         ThesisNumber("k~2 = k~1/phi1 (eq. 6.26)", "eq. 6.26", 9e-3,
                      lambda r: 1e-3 / 0.12, CONTRADICTED,
                      "eq. 6.21 with phi1 = 0.12 (L1163) gives k~1 / phi1 = 8.33e-3; 9e-3 would need phi1 = 0.111"),
@@ -577,6 +547,9 @@ STUDY = Study(
                      "Fig. 6-4 b, text (L1185)", 1.0,
                      _plateau_ratio("three", "one", 0.04, 14.3, NORMALIZED_SEPARATION_DISPLACEMENT_BY_RIGID_BRUSH),
                      claim=">"),
+        ThesisNumber("F~_A at sigma~ = 1.6, F~_P = 1, three levels less two levels ('the three-level structure "
+                     "attains the largest adhesive force')", "Fig. 6-4 e, text (L1183)", 0.0,
+                     _plateau_difference("three", "two", 1.6, 1.0), claim=">"),
         ThesisNumber("c = F~_A / F~_P at sigma~ = 1.6, F~_P = 1, three levels over one level ('the structure with "
                      "more levels determines a relatively larger adhesion coefficient', L1199)",
                      "Fig. 6-6 a, text (L1199)", 1.0, _plateau_ratio("three", "one", 1.6, 1.0), claim=">"),
@@ -595,6 +568,6 @@ STUDY = Study(
                      "(probe_level3_count.py), 1.026 on the uniform lattice"),
         ThesisNumber("plateau F~_A, two levels over one level, sigma~ = 0.04, clustered (Fig. 6-3)",
                      "Fig. 6-5, text (L1197)", 1.65 / 1.6, _plateau_ratio("clustered_two", "clustered_one", 0.04)),
-    )),
+    )), key=lambda n: (bool(n.outside), not n.where.startswith(("eq. 6.2", "text after eq. 6.28"))))),
 )
 _ = equivalent_single_level_stiffness  # the closed form behind normalized.equivalent_single_level_stiffness_ratio

@@ -1,0 +1,126 @@
+"""Write chapter 6's sweeps on the clustered layout of Fig. 6-3 by the pillar-level model (``hierarchy.fig63_*``).
+
+Parts ``fig63_one``, ``fig63_two``, ``fig63_three``: the brushes of ``hierarchy.clustered_*`` (the
+layout of Fig. 6-3, phi1 = 0.12, phi2 = phi3 = 0.45 of L1163, k~1 = 1e-3, k~2 = 9e-3 and k~3 = 2e-2 as eq.
+6.25-6.26 print them; clusters of 5 x 5 sub-pillars, 4 x 4 of those per level-3 cluster: N1 = 25,
+N2 = 16, eq. 6.28's 4.21e-5) run by ``method = "pillars"`` (`brushbem.pillars`), which follows the
+exact path within 0.8 % on F~_A on these brushes (the chapter-6 notes), at a pillar radius of 4.5
+elements (ours: the thesis states no grid).  One, two and three levels share the positions, radius and
+drawn lengths of each seed.
+
+Named sets (``brushbem study hierarchy --sampled-set SET --parts fig63_one,fig63_two,fig63_three``):
+
+* ``identify`` and ``identify16``: the plateau sigma~ = 0.04, F~_P = 14.3 (L1197) for N3 = 4 and 9, and
+  16, level-3 clusters (40 x 40, 60 x 60 and 80 x 80 sub-pillars; N1 N2 = 400 for each, so eq. 6.28
+  gives 4.21e-5 for each), at N = 2048, 3072 and 4096 elements (4.5 elements a radius): chapter 6's
+  identification (the 80 x 80 brush, several CPU-minutes a case, in a set of its own).
+* ``mesh``: the same plateau at the identified N3 on 1024 and 4096 elements (2.25 and 9 elements a
+  radius; 2048 is in ``identify``): the mesh refinement of the plateau.
+* ``rows``: the points of the held-out rows at the identified N3 and N = 2048: sigma~ = 0.04, 0.8
+  and 1.6 at the small preload F~_P = 1 (Fig. 6-4 a, c, e; ours: the thesis states none), and
+  sigma~ = 2.5 at F~_P = 20 (Fig. 6-6 b, "close to each other" for sigma~ > 2).
+* ``stiffness`` (one and three levels): k~1 = 5e-4 and 5e-2 (k~2 = 9 k~1, k~3 = 20 k~1 as eq. 6.26
+  scales them; Fig. 6-8 a, L1240) at the plateau point; three levels with k~3 = 2e-3 (0.1 k~3,
+  Fig. 6-8 b, L1249) at sigma~ = 0.04 and 0.2, and k~3 = 2e-2 at sigma~ = 0.2.
+
+Each part's full sweep is the union of its sets (zip mode), so a set's case has the full sweep's
+seed and hash.  Every set lists the thesis's ten realisations (L1187); a sweep runs them one after
+the other and resumes, so a run stopped after some seeds leaves those seeds complete (the rows read
+the seeds that have every point they need).  ``python docs/reproduction/make_fig63.py`` rewrites the files.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / "sweeps"
+F_C = 0.00331177  # eq. 6.23 at phi = 0.0243, L = 1 (independent of the pillar count)
+D_C = 0.00293498
+K1, K2, K3 = 1e-3, 9e-3, 2e-2  # eq. 6.25-6.26 as printed
+#: Sub-pillars per side and elements per side for each candidate N3 (4.5 elements a pillar radius).
+CANDIDATES = {4: (40, 2048), 9: (60, 3072), 16: (80, 4096)}
+#: The identified N3 (chapter 6's identification; `brushbem.studies._ch6_fig63.N3_IDENTIFIED`).
+N3 = 4
+LEVELS = ("one", "two", "three")
+KEYS = ("grid.elements", "indenter.pillars_per_side", "indenter.roughness.sigma", "protocol.preload_force",
+        "indenter.stiffness_ratio", "indenter.levels.0.stiffness_ratio", "indenter.levels.1.stiffness_ratio")
+
+
+def _g(x: float) -> float:
+    return float(f"{x:.6g}")
+
+
+def point(level: str, n3: int, sigma: float, preload: float, k1: float = K1, k2: float | None = None,
+          k3: float | None = None, elements: int | None = None) -> dict:
+    side, grid = CANDIDATES[n3]
+    k2 = 9 * k1 if k2 is None else k2
+    k3 = 20 * k1 if k3 is None else k3
+    return {"grid.elements": elements or grid, "indenter.pillars_per_side": side,
+            "indenter.roughness.sigma": _g(sigma * D_C), "protocol.preload_force": _g(preload * F_C),
+            "indenter.stiffness_ratio": k1, "indenter.levels.0.stiffness_ratio": _g(k2),
+            "indenter.levels.1.stiffness_ratio": _g(k3)}
+
+
+def sets(level: str) -> dict[str, list[dict]]:
+    out = {"identify": [point(level, n3, 0.04, 14.3) for n3 in (4, 9)],
+           "identify16": [point(level, 16, 0.04, 14.3)],
+           "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 4096)],
+           "rows": [point(level, N3, s, 1.0) for s in (0.04, 0.8, 1.6)] + [point(level, N3, 2.5, 20.0)]}
+    if level != "two":
+        out["stiffness"] = [point(level, N3, 0.04, 14.3, k1=k) for k in (5e-4, 5e-2)]
+    if level == "three":
+        out["stiffness"] += [point(level, N3, 0.04, 14.3, k3=2e-3), point(level, N3, 0.2, 14.3, k3=2e-3),
+                             point(level, N3, 0.2, 14.3)]
+    return out
+
+
+def _keys(level: str) -> tuple[str, ...]:
+    """The swept keys: a rigid level has no stiffness ratio to sweep."""
+    return KEYS[:5] + {"one": (), "two": KEYS[5:6], "three": KEYS[5:]}[level]
+
+
+def _levels(level: str) -> str:
+    rigid = "stiffness = inf"
+    k2 = rigid if level == "one" else f"stiffness_ratio = {K2}"
+    k3 = rigid if level != "three" else f"stiffness_ratio = {K3}"
+    return f"[{{ cluster = 5, {k2} }}, {{ cluster = 4, {k3} }}]"
+
+
+def text(level: str, points: list[dict], what: str, realizations: int = 10) -> str:
+    base = ('base = { halfspace = { contact_modulus = 1.0, work_of_adhesion = 0.0001 }, grid = { size = 1.0, '
+            'elements = 2048 }, indenter = { shape = "brush", layout = "clustered", region = "square", '
+            'pillars_per_side = 40, filling_factors = [0.12, 0.45, 0.45], stiffness_ratio = 0.001, seed = 0, '
+            f'levels = {_levels(level)} }}, protocol = {{ method = "pillars", preload_force = 1.0 }} }}')
+    header = [f"# {what} (docs/reproduction/make_fig63.py writes this file; its docstring names the points).",
+              f"# Thesis ch. 6 on the clustered layout of Fig. 6-3, {level} level{'s' if level != 'one' else ''}, by the "
+              "pillar-level model (method = \"pillars\").",
+              "# phi1 = 0.12, phi2 = phi3 = 0.45 (L1163), k~1 = 1e-3, k~2 = 9e-3, k~3 = 2e-2 (eq. 6.25-6.26); clusters",
+              "# 5 x 5 then 4 x 4 (N1 = 25, N2 = 16; ours: the thesis states neither).  F_c = 0.00331177,",
+              "# d_c = 0.00293498.  Grid: 4.5 elements a pillar radius (ours: the thesis states none).",
+              "# Units E* = 1, dgamma = 1e-4, L = 1."]
+    lines = header + [base, 'mode = "zip"', f"realizations = {realizations}", "seed = 5", "", "[sweep]"]
+    for key in _keys(level):
+        lines.append(f'"{key}" = [' + ", ".join(f"{p[key]:g}" if isinstance(p[key], float) else str(p[key])
+                                                for p in points) + "]")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    for level in LEVELS:
+        named = sets(level)
+        every: list[dict] = []
+        for points in named.values():
+            every += [p for p in points if p not in every]
+        part = f"hierarchy.fig63_{level}"
+        (SWEEPS / f"{part}.toml").write_text(text(level, every, "Every point of the named sets"), encoding="utf-8")
+        for name, points in named.items():
+            (SWEEPS / f"{part}.{name}.sampled.toml").write_text(
+                text(level, points, f"Named set {name!r} of {part}.toml"), encoding="utf-8")
+        quick = [{**p, "grid.elements": 512, "indenter.pillars_per_side": 20} for p in named["rows"][:2]]
+        (SWEEPS / f"{part}.quick.toml").write_text(
+            text(level, quick, "Quick check of the machinery: 20 x 20 sub-pillars (N3 = 1), N = 512", 2),
+            encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()

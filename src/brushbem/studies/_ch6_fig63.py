@@ -1,0 +1,269 @@
+"""Chapter 6 on the clustered layout of Fig. 6-3 by the pillar-level model: parts ``fig63_one``, ``fig63_two``, ``fig63_three``.
+
+The sweeps (written by ``docs/reproduction/make_fig63.py``) run the brushes of Fig. 6-3 (phi1 = 0.12,
+phi2 = phi3 = 0.45, L1163; clusters of 5 x 5 sub-pillars and 4 x 4 of those, N1 = 25, N2 = 16, so that eq.
+6.28 gives 4.21e-5 against the thesis's 0.4e-4) with ``method = "pillars"`` at 4.5 elements a pillar radius.
+
+Chapter 6's one identification: N3, the number of level-3 clusters (the thesis states N1, N2, N3 nowhere;
+eq. 6.28 fixes N1 N2 only), among 4, 9 and 16 (40 x 40, 60 x 60, 80 x 80 sub-pillars), scored on the three
+plateau numbers at sigma~ = 0.04 (L1197), the rows *used to identify*.  Every other row of these parts reads
+the identified N3 at N = `ELEMENTS[N3_IDENTIFIED]` and declares no choice of its own: the small preload
+F~_P = 1 of Fig. 6-4 a, c, e is the chapter's one (ours: the thesis states none), fixed before computing.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+
+import numpy as np
+import pandas as pd
+
+from brushbem.studies._ch5_7 import FA, FP, PRELOAD, SIG, SIGMA, K, finished, has
+from brushbem.studies.base import ThesisNumber
+from brushbem.studies.verdicts import STATED_CHOICE, USED_TO_IDENTIFY
+
+__all__ = ["FIG63_LEVELS", "FIG63_NUMBERS", "IDENTIFICATION", "N3_CANDIDATES", "N3_IDENTIFIED", "identification", "part_difference",
+           "part_plateau", "part_ratio", "plateau", "plateau_difference", "plateau_ratio"]
+
+FIG63_LEVELS = {"one": "fig63_one", "two": "fig63_two", "three": "fig63_three"}
+#: Candidate N3 -> (sub-pillars per side, elements per side): 4.5 elements a pillar radius each.
+N3_CANDIDATES = {4: (40, 2048), 9: (60, 3072), 16: (80, 4096)}
+#: Chapter 6's identified N3 (`identification`: the smallest score on the rows used to identify).
+N3_IDENTIFIED = 4
+PILLARS = "indenter.pillars_per_side"
+ELEMENTS = "grid.elements"
+K2 = "indenter.levels.0.stiffness_ratio"
+K3 = "indenter.levels.1.stiffness_ratio"
+#: The thesis's plateaus at sigma~ = 0.04, F~_P = 14.3 (L1197): the rows used to identify N3.
+PLATEAUS = {"one": 1.6, "two": 1.65, "three": 1.9}
+#: Fig. 6-4's small preload (a, c, e): ours, the thesis states none; one value for every row.
+SMALL_PRELOAD = 1.0
+IDENTIFICATION = (f"chapter 6's identification: N3 = {N3_IDENTIFIED} level-3 clusters ({N3_CANDIDATES[N3_IDENTIFIED][0]} x "
+                  f"{N3_CANDIDATES[N3_IDENTIFIED][0]} sub-pillars; N1 = 25, N2 = 16, "
+                  "ours: the thesis states none) from the three plateaus at sigma~ = 0.04 among N3 = 4, 9, 16 "
+                  "(table after the rows); clustered layout of Fig. 6-3, pillar-level model, 4.5 elements a radius")
+
+
+def _select(frame: pd.DataFrame, n3: int = N3_IDENTIFIED, elements: int | None = None, k1: float = 1e-3,
+            k3: float | None = None) -> pd.DataFrame:
+    """The rows of ``frame`` at candidate ``n3`` (its grid unless ``elements``), bottom stiffness ``k1`` and,
+    for three levels, top stiffness ``k3`` (default 20 k1, eq. 6.26's scaling)."""
+    if not has(frame, PILLARS, ELEMENTS):
+        return frame.iloc[0:0]
+    side, grid = N3_CANDIDATES[n3]
+    mask = (frame[PILLARS] == side) & (frame[ELEMENTS] == (elements or grid))
+    if K in frame.columns:
+        mask &= np.isclose(frame[K], k1, rtol=1e-6)
+    if K3 in frame.columns:
+        mask &= np.isclose(frame[K3], 20 * k1 if k3 is None else k3, rtol=1e-3)
+    return frame[mask]
+
+
+def plateau(level: str, sigma_tilde: float, preload: float, column: str = FA, **where) -> Callable:
+    """F~_A (or ``column``), mean over the seeds, of ``level`` at sigma~ and F~_P (each within 10 % of the
+    rasterised brush's value), at the identified N3 unless ``where`` (`_select`) says otherwise; nan where
+    the tables have no such point."""
+    def compute(results: Mapping[str, pd.DataFrame]) -> float:
+        frame = _select(finished(results, FIG63_LEVELS[level]), **where)
+        if not has(frame, column, SIG, FP):
+            return math.nan
+        frame = frame[np.isclose(frame[SIG], sigma_tilde, rtol=0.1) & np.isclose(frame[FP], preload, rtol=0.1)]
+        return float(frame[column].mean()) if len(frame) else math.nan
+    return compute
+
+
+def plateau_ratio(top: Callable, bottom: Callable) -> Callable:
+    """``top`` over ``bottom`` (magnitudes), each a `plateau`."""
+    def compute(results):
+        b = bottom(results)
+        return abs(top(results)) / abs(b) if math.isfinite(b) and b != 0 else math.nan
+    return compute
+
+
+def plateau_difference(top: Callable, bottom: Callable) -> Callable:
+    """``top`` less ``bottom``, each a `plateau`."""
+    return lambda results: top(results) - bottom(results)
+
+
+# The readers of the chapter's other parts (one sweep table per part: uniform lattice, exact clustered).
+
+def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
+    """F~_A (mean over realisations) of ``part`` at sigma~ (and F~_P): the plateau (largest mean over
+    the preloads) when ``preload`` is None.
+
+    The sweeps' sigma~ and F~_P are normalised by the rasterised brush's d_c and F_c, a few per cent
+    from the nominal values the thesis quotes: a point within 10 % counts, and where the tables have
+    none the number is not computable (nan), never read off another point.
+    """
+    def compute(results):
+        frame = finished(results, part)
+        if not has(frame, FA, SIG, PRELOAD):
+            return math.nan
+        nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
+        if abs(nearest[SIG] - sigma_tilde) > 0.1 * sigma_tilde:
+            return math.nan
+        frame = frame[np.isclose(frame[SIGMA], nearest[SIGMA])]
+        means = frame.groupby(PRELOAD).agg(fa=(column, "mean"), fp=(FP, "mean"))
+        if preload is None:
+            return float(means["fa"].max())
+        row = means.iloc[np.argmin(np.abs(means["fp"] - preload))]
+        return float(row["fa"]) if abs(row["fp"] - preload) <= 0.1 * preload else math.nan
+    return compute
+
+
+def part_ratio(part: str, over: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
+    """F~_A (or ``column``) of ``part`` over that of ``over`` at sigma~ (and F~_P), each as `part_plateau` reads it."""
+    top, bottom = part_plateau(part, sigma_tilde, preload, column), part_plateau(over, sigma_tilde, preload, column)
+
+    def compute(results):
+        b = bottom(results)  # magnitudes: a separation displacement is signed (negative: pulled away)
+        return abs(top(results)) / abs(b) if math.isfinite(b) and b != 0 else math.nan
+    return compute
+
+
+def part_difference(part: str, less: str, sigma_tilde: float, preload: float | None = None):
+    """F~_A of ``part`` less that of ``less`` at sigma~ (and F~_P), each as `part_plateau` reads it."""
+    top, bottom = part_plateau(part, sigma_tilde, preload), part_plateau(less, sigma_tilde, preload)
+    return lambda results: top(results) - bottom(results)
+
+
+def _most_of_the_others(sigma_tilde: float, preload: float) -> Callable:
+    """Three levels less the larger of one and two levels at sigma~, F~_P ("the three-level structure attains
+    the largest adhesive force, compared with other two structures", L1183)."""
+    three, one, two = (plateau(level, sigma_tilde, preload) for level in ("three", "one", "two"))
+    return lambda results: three(results) - max(one(results), two(results))
+
+
+def _refinement_error(results: Mapping[str, pd.DataFrame], level: str) -> float:
+    """The change of the plateau from 4.5 to 9 elements a radius (twice the identified N3's elements): the
+    mesh error of the rows' grid (nan where the mesh set has not run)."""
+    _, grid = N3_CANDIDATES[N3_IDENTIFIED]
+    fine = plateau(level, 0.04, 14.3, elements=2 * grid)(results)
+    return fine - plateau(level, 0.04, 14.3)(results)
+
+
+def identification(results: Mapping[str, pd.DataFrame]) -> str:
+    """The Markdown of chapter 6's identification: each N3's plateaus and its score on the rows used to identify."""
+    lines = ["Chapter 6's identification (the rows *used to identify*): N3, the number of level-3 clusters, on the "
+             "clustered layout of Fig. 6-3 (N1 = 25, N2 = 16: eq. 6.28 gives 4.21e-5 for every N3), pillar-level "
+             "model, 4.5 elements a pillar radius; score = root mean square of F~_A / thesis - 1 over the three "
+             "plateaus at sigma~ = 0.04, F~_P = 14.3 (1.6, 1.65, 1.9; L1197), smaller wins.", "",
+             "| N3 | sub-pillars | N | one level | two levels | three levels | three over one | score | seeds |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for n3, (side, grid) in N3_CANDIDATES.items():
+        values, seeds = {}, set()
+        for level in PLATEAUS:
+            frame = _select(finished(results, FIG63_LEVELS[level]), n3=n3)
+            at = frame[np.isclose(frame[SIG], 0.04, rtol=0.1)] if has(frame, SIG, FA) else frame.iloc[0:0]
+            per_seed = at.groupby("realization")[FA].mean() if len(at) else pd.Series(dtype=float)
+            error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else math.nan
+            values[level] = (float(per_seed.mean()) if len(per_seed) else math.nan, error)
+            seeds.add(len(per_seed))
+        score = math.sqrt(sum((values[lv][0] / PLATEAUS[lv] - 1) ** 2 for lv in PLATEAUS) / 3)
+        shown = [f"{m:.3f} ± {e:.3f}" if math.isfinite(e) else (f"{m:.3f}" if math.isfinite(m) else "not run")
+                 for m, e in values.values()]
+        ratio = values["three"][0] / values["one"][0]
+        lines.append(f"| {n3}{' (identified)' if n3 == N3_IDENTIFIED else ''} | {side} x {side} | {grid} | "
+                     f"{' | '.join(shown)} | {f'{ratio:.3f}' if math.isfinite(ratio) else '—'} | "
+                     f"{f'{100 * score:.1f} %' if math.isfinite(score) else '—'} | "
+                     f"{', '.join(str(s) for s in sorted(seeds))} |")
+    refined = {level: _refinement_error(results, level) for level in PLATEAUS}
+    if any(math.isfinite(v) for v in refined.values()):
+        lines += ["", "Mesh refinement of the identified plateaus (N = 2048 -> 4096, 4.5 -> 9 elements a radius; the "
+                  "rows' mesh error): " + ", ".join(f"{level} {v:+.3f}" for level, v in refined.items()) + "."]
+    return "\n".join(lines)
+
+
+def _held_out(text: str = "") -> str:
+    return IDENTIFICATION + (f"; {text}" if text else "")
+
+
+def _by(*names: str) -> str:
+    """The sets whose cases a row reads, and the command that runs them."""
+    return "; ".join(f"set {name}: `brushbem study hierarchy --sampled-set {name} --parts fig63_one,fig63_two,"
+                     f"fig63_three --out out/fig63-{name}`" for name in names)
+
+
+_WHERE = f"clustered (Fig. 6-3), N3 = {N3_IDENTIFIED}"
+FIG63_NUMBERS = (
+    ThesisNumber(f"plateau F~_A of one level, sigma~ = 0.04, F~_P = 14.3, {_WHERE}", "Fig. 6-5, text (L1197)", 1.6,
+                 plateau("one", 0.04, 14.3), USED_TO_IDENTIFY, IDENTIFICATION),
+    ThesisNumber(f"plateau F~_A of two levels, sigma~ = 0.04, F~_P = 14.3, {_WHERE}", "Fig. 6-5, text (L1197)",
+                 1.65, plateau("two", 0.04, 14.3), USED_TO_IDENTIFY, IDENTIFICATION),
+    ThesisNumber(f"plateau F~_A of three levels, sigma~ = 0.04, F~_P = 14.3, {_WHERE}", "Fig. 6-5, text (L1197)",
+                 1.9, plateau("three", 0.04, 14.3), USED_TO_IDENTIFY, IDENTIFICATION),
+    ThesisNumber(f"plateau F~_A, three levels over one level, sigma~ = 0.04 (1.9 / 1.6), {_WHERE}",
+                 "Fig. 6-5, text (L1197)", 1.9 / 1.6,
+                 plateau_ratio(plateau("three", 0.04, 14.3), plateau("one", 0.04, 14.3)), USED_TO_IDENTIFY,
+                 IDENTIFICATION + " (the ratio of two rows used to identify)"),
+    ThesisNumber(f"separation displacement, three levels over one level, sigma~ = 0.04, F~_P = 14.3 ('a larger "
+                 f"critical displacement appears in the case of the structure with more levels'), {_WHERE}",
+                 "Fig. 6-4 b, text (L1185)", 1.0,
+                 plateau_ratio(plateau("three", 0.04, 14.3, "normalized.separation_displacement_by_rigid_brush"),
+                               plateau("one", 0.04, 14.3, "normalized.separation_displacement_by_rigid_brush")),
+                 evidence=_by("identify"), claim=">"),
+    *(ThesisNumber(f"F~_A at small preload F~_P = 1, sigma~ = {s:g}, three levels less the larger of one and two "
+                   f"('the three-level structure attains the largest adhesive force'), {_WHERE}",
+                   f"Fig. 6-4 {panel}, text (L1183)", 0.0, _most_of_the_others(s, SMALL_PRELOAD), evidence=_by("rows"),
+                   claim=">")
+      for s, panel in ((0.04, "a"), (0.8, "c"), (1.6, "e"))),
+    ThesisNumber(f"three-level F~_A at sigma~ = 1.6, small preload (F~_P = 1), {_WHERE}", "Fig. 6-4 e, text (L1185)",
+                 0.4, plateau("three", 1.6, SMALL_PRELOAD), STATED_CHOICE,
+                 _held_out("the small preload F~_P = 1 (ours, one for Fig. 6-4 a, c, e; the thesis states none); "
+                           + _by("rows"))),
+    ThesisNumber(f"one-level F~_A at sigma~ = 1.6, small preload (F~_P = 1; 'tend to zero'), {_WHERE}",
+                 "Fig. 6-4 e, text (L1185)", 0.0, plateau("one", 1.6, SMALL_PRELOAD), evidence=_by("rows")),
+    ThesisNumber(f"two-level F~_A at sigma~ = 1.6, small preload (F~_P = 1; 'tend to zero'), {_WHERE}",
+                 "Fig. 6-4 e, text (L1185)", 0.0, plateau("two", 1.6, SMALL_PRELOAD), evidence=_by("rows")),
+    ThesisNumber(f"F~_A at sigma~ = 1.6, F~_P = 1, three levels less two levels (more levels stronger: two levels "
+                 f"do not beat three), {_WHERE}", "Fig. 6-4 e, text (L1183)", 0.0,
+                 plateau_difference(plateau("three", 1.6, SMALL_PRELOAD), plateau("two", 1.6, SMALL_PRELOAD)),
+                 evidence=_by("rows"), claim=">"),
+    ThesisNumber(f"c = F~_A / F~_P at sigma~ = 1.6, F~_P = 1, three levels over one level ('the structure with more "
+                 f"levels determines a relatively larger adhesion coefficient'), {_WHERE}", "Fig. 6-6 a, text (L1199)",
+                 1.0, plateau_ratio(plateau("three", 1.6, SMALL_PRELOAD), plateau("one", 1.6, SMALL_PRELOAD)),
+                 evidence=_by("rows"), claim=">"),
+    ThesisNumber(f"three-level c = F~_A / F~_P at F~_P = 1, sigma~ = 0.04 over sigma~ = 1.6 ('for small roughness "
+                 f"... the adhesive force increases rapidly with preload'), {_WHERE}", "Fig. 6-5, text (L1195)", 1.0,
+                 plateau_ratio(plateau("three", 0.04, SMALL_PRELOAD), plateau("three", 1.6, SMALL_PRELOAD)),
+                 evidence=_by("rows"), claim=">"),
+    ThesisNumber(f"three-level F~_A at the large preload, sigma~ = 0.04 (F~_P = 14.3) less sigma~ = 2.5 (F~_P = 20) "
+                 f"('the maximum adhesive force at the plateau is higher' for small roughness), {_WHERE}",
+                 "Fig. 6-5, text (L1195)", 0.0,
+                 plateau_difference(plateau("three", 0.04, 14.3), plateau("three", 2.5, 20.0)),
+                 evidence=_by("identify", "rows"), claim=">"),
+    ThesisNumber(f"F~_A at sigma~ = 2.5, F~_P = 20, three levels less one level ('all curves go close to each "
+                 f"other' for sigma~ > 2), {_WHERE}", "Fig. 6-6 b, text (L1201)", 0.0,
+                 plateau_difference(plateau("three", 2.5, 20.0), plateau("one", 2.5, 20.0)), evidence=_by("rows")),
+    ThesisNumber(f"F~_A at sigma~ = 2.5, F~_P = 20, three levels less two levels ('all curves go close to each "
+                 f"other' for sigma~ > 2), {_WHERE}", "Fig. 6-6 b, text (L1201)", 0.0,
+                 plateau_difference(plateau("three", 2.5, 20.0), plateau("two", 2.5, 20.0)), evidence=_by("rows")),
+    ThesisNumber(f"three levels less one level: sigma~ = 0.04 (F~_P = 14.3) less sigma~ = 2.5 (F~_P = 20) ('the "
+                 f"difference of adhesive force among the three structures becomes smaller as roughness "
+                 f"increases'), {_WHERE}", "Fig. 6-5, text (L1197)", 0.0,
+                 plateau_difference(
+                     plateau_difference(plateau("three", 0.04, 14.3), plateau("one", 0.04, 14.3)),
+                     plateau_difference(plateau("three", 2.5, 20.0), plateau("one", 2.5, 20.0))),
+                 evidence=_by("identify", "rows"), claim=">"),
+    ThesisNumber(f"F~_A at sigma~ = 2.5, F~_P = 20, three levels over one level (k~1' < k~1: 'hierarchy results in "
+                 f"smaller effective stiffness than stiffness k1'; one level's F~_A falls with k~1), {_WHERE}",
+                 "Fig. 6-7 b, text (L1234)", 1.0,
+                 plateau_ratio(plateau("three", 2.5, 20.0), plateau("one", 2.5, 20.0)), evidence=_by("rows"), claim=">"),
+    ThesisNumber(f"F~_A at k~1 = 5e-4 (k~2 = 9 k~1, k~3 = 20 k~1), sigma~ = 0.04, F~_P = 14.3, three levels over one "
+                 f"('a very limited enhancement ... when stiffness is small'), {_WHERE}", "Fig. 6-8 a, text (L1240)",
+                 1.0, plateau_ratio(plateau("three", 0.04, 14.3, k1=5e-4), plateau("one", 0.04, 14.3, k1=5e-4)),
+                 evidence=_by("stiffness"), claim=">"),
+    ThesisNumber(f"F~_A at k~1 = 5e-2 (k~2 = 9 k~1, k~3 = 20 k~1), sigma~ = 0.04, F~_P = 14.3, three levels less one "
+                 f"('this enhancement even disappears when stiffness is large'), {_WHERE}", "Fig. 6-8 a, text (L1240)",
+                 0.0, plateau_difference(plateau("three", 0.04, 14.3, k1=5e-2), plateau("one", 0.04, 14.3, k1=5e-2)),
+                 evidence=_by("stiffness")),
+    ThesisNumber(f"three-level F~_A at sigma~ = 0.04, F~_P = 14.3, k~3 = 2e-3 (0.1 k~3) over k~3 = 2e-2 ('a minor "
+                 f"improvement for the structure with small k3'), {_WHERE}", "Fig. 6-8 b, text (L1249)", 1.0,
+                 plateau_ratio(plateau("three", 0.04, 14.3, k3=2e-3), plateau("three", 0.04, 14.3)),
+                 evidence=_by("identify", "stiffness"), claim=">"),
+    ThesisNumber(f"three-level F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 "
+                 f"('roughness has little effect ... when sigma~ < 0.3'), {_WHERE}", "Fig. 6-8 b, text (L1249)", 1.0,
+                 plateau_ratio(plateau("three", 0.2, 14.3, k3=2e-3), plateau("three", 0.04, 14.3, k3=2e-3)),
+                 STATED_CHOICE, _held_out(_by("stiffness"))),
+)
