@@ -15,21 +15,29 @@ times (the exact path over the model).  ``--kept-baseline`` runs the model a
 second time with the kept inverse at every size (``settings.using(kept_pillars=None)``:
 no CG on the lattice, `brushbem.pillars.cg`) and prints the ratio of
 its CPU time to the default's and the relative differences of F_A and the
-work.
+work.  ``--before REF`` runs the model a second time at every size on the sources of the git revision REF
+(its ``src/``, exported to a temporary folder) and prints the ratio of that run's CPU times (loading,
+pull-off, all) to this tree's, and the relative differences of F_A and the work: before and after in one
+run.  ``--repeat R`` runs the model (and the revision's) R times, alternating, and reports the median CPU
+times.
 
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
     nice python benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline
     nice python benchmarks/large_brush.py --sizes 32 100 316 --sigma 0.5 --limit 3600   # rough
+    nice python benchmarks/large_brush.py --sizes 100 --sigma 0.5 --exact-max 0 --before main~3
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
+import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -81,14 +89,19 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
                       "work_of_separation": work}), flush=True)
 
 
-def _measure(per_side: int, method: str, args) -> dict:
-    """Run one pull-off in a child process under the time limit: its last report and peak memory."""
+def _measure(per_side: int, method: str, args, sources: Path | None = None) -> dict:
+    """Run one pull-off in a child process under the time limit: its last report and peak memory.
+
+    ``sources``: a folder holding the package's ``src/`` to run (``--before``); by default this tree's, whatever
+    an installed copy of the package would give."""
     command = [sys.executable, __file__, "--child", str(per_side), method, str(args.stiffness_ratio),
                str(args.sigma), str(args.seed)]
+    environment = dict(os.environ)
+    environment["PYTHONPATH"] = os.pathsep.join([str((sources or ROOT) / "src"), environment.get("PYTHONPATH", "")])
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     start = time.perf_counter()
     try:
-        completed = subprocess.run(command, capture_output=True, text=True, timeout=args.limit)
+        completed = subprocess.run(command, capture_output=True, text=True, timeout=args.limit, env=environment)
         output, timed_out = completed.stdout, False
         if completed.returncode != 0:
             return {"failed": completed.stderr.strip().splitlines()[-1:]}
@@ -118,6 +131,37 @@ def _against(model: dict, reference: dict, ratio_key: str, prefix: str) -> dict:
             f"{prefix}work_rel_diff": model["work_of_separation"] / reference["work_of_separation"] - 1}
 
 
+def _median(runs: list[dict]) -> dict:
+    """The first run's report with the median of every CPU time over ``runs`` (and each run's total)."""
+    done = [run for run in runs if "done" in run]
+    if len(done) < len(runs) or len(runs) == 1:
+        return runs[0] if len(runs) == 1 or not done else {**runs[0], "runs_done": len(done)}
+    out = dict(done[0])
+    for key in ("cpu_seconds", "loading_cpu_seconds", "pull_off_cpu_seconds", "build_cpu_seconds"):
+        out[key] = statistics.median(run[key] for run in done)
+    out["peak_memory_gb"] = max((run["peak_memory_gb"] for run in done if isinstance(run["peak_memory_gb"], float)),
+                                default=done[0]["peak_memory_gb"])
+    out["cpu_seconds_runs"] = [run["cpu_seconds"] for run in done]
+    return out
+
+
+def _export(revision: str, folder: Path) -> Path:
+    """The ``src/`` of git ``revision`` of this repository, exported into ``folder``."""
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", revision, "src"], capture_output=True, check=True)
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=archive.stdout, check=True)
+    return folder
+
+
+def _before_after(now: dict, before: dict) -> dict:
+    """The CPU times of ``before`` over ``now`` (loading, pull-off, all) and now's differences of F_A and work."""
+    if "done" not in now or "done" not in before:
+        return {}
+    ratios = {f"cpu_ratio_before_over_now_{key}": round(before[f"{key}cpu_seconds"] / now[f"{key}cpu_seconds"], 3)
+              for key in ("loading_", "pull_off_", "") if now[f"{key}cpu_seconds"] > 0}
+    return {**ratios, "before_adhesive_force_rel_diff": now["adhesive_force"] / before["adhesive_force"] - 1,
+            "before_work_rel_diff": now["work_of_separation"] / before["work_of_separation"] - 1}
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
         per_side, method, ratio, sigma, seed = sys.argv[2:7]
@@ -132,19 +176,37 @@ def main() -> None:
     parser.add_argument("--limit", type=float, default=600.0, help="seconds per run")
     parser.add_argument("--kept-baseline", action="store_true",
                         help="also run the model with the kept inverse at every size (no CG on the lattice)")
+    parser.add_argument("--before", metavar="REF", help="also run the model on the sources of git revision REF")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="runs of the model (and of --before's) per size; their median CPU times")
     args = parser.parse_args()
-    for per_side in args.sizes:
-        line = {"pillars": per_side**2, "pillars_per_side": per_side, "elements": 16 * per_side,
-                "pillars_method": _measure(per_side, "pillars", args)}
-        if args.kept_baseline:
-            line["kept_inverse"] = _measure(per_side, "pillars-kept", args)
-            line.update(_against(line["pillars_method"], line["kept_inverse"], "cpu_ratio_kept_over_default",
-                                 "kept_"))
-        if per_side <= args.exact_max:
-            line["events_method"] = _measure(per_side, "events", args)
-            line.update(_against(line["pillars_method"], line["events_method"], "cpu_ratio_events_over_pillars",
-                                 ""))
-        print(json.dumps(line), flush=True)
+    with tempfile.TemporaryDirectory(prefix="large_brush_before_") as folder:
+        sources = _export(args.before, Path(folder)) if args.before else None
+        for per_side in args.sizes:
+            _size(per_side, args, sources)
+
+
+def _size(per_side: int, args, sources: Path | None) -> None:
+    """The line of one size: the model, and beside it what the options ask for."""
+    now, before = [], []
+    for _ in range(args.repeat):  # alternating, so that a change of the machine's load falls on both
+        now.append(_measure(per_side, "pillars", args))
+        if sources is not None:
+            before.append(_measure(per_side, "pillars", args, sources))
+    line = {"pillars": per_side**2, "pillars_per_side": per_side, "elements": 16 * per_side,
+            "pillars_method": _median(now)}
+    if sources is not None:
+        line["before"] = _median(before)
+        line.update(_before_after(line["pillars_method"], line["before"]))
+    if args.kept_baseline:
+        line["kept_inverse"] = _measure(per_side, "pillars-kept", args)
+        line.update(_against(line["pillars_method"], line["kept_inverse"], "cpu_ratio_kept_over_default",
+                             "kept_"))
+    if per_side <= args.exact_max:
+        line["events_method"] = _measure(per_side, "events", args)
+        line.update(_against(line["pillars_method"], line["events_method"], "cpu_ratio_events_over_pillars",
+                             ""))
+    print(json.dumps(line), flush=True)
 
 
 if __name__ == "__main__":

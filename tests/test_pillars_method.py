@@ -442,6 +442,15 @@ def test_kept_inverse_follows_joins_and_leaves():
     assert sorted(S.tolist()) == np.flatnonzero(solver.attached).tolist() and not solver.attached[[3, 20, 29]].any()
     fresh = np.linalg.inv(model.uniform_block(S, S) + model.spring_matrix(S))
     assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
+    # In place: attached pillars peel (a new raster, so a new row and diagonal, springs' row included).
+    for p in (7, 12):
+        mask = model.full[p].copy()
+        mask[np.flatnonzero(mask)[:3]] = False
+        model.set_raster(p, mask)
+        solver.reshape(p)
+    assert (solver.order[:solver.n] == S).all()
+    fresh = np.linalg.inv(model.uniform_block(S, S) + model.spring_matrix(S))
+    assert np.abs(solver.B - fresh).max() < 1e-10 * np.abs(fresh).max()
 
 
 def test_touch_bound_never_misses_a_touch():

@@ -107,10 +107,17 @@ states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
 4096 pillars 12.6 s by CG against 39.4 s with the kept inverse, 10^4 pillars
 42 s in at most 1 GB against 356 s in 4.1 GB (the same F_A to 5e-11 and work
 to 4e-10).  A rough brush attaches a part (``--sizes 100 --sigma 0.5``): 10^4
-pillars, k~ = 1e-2, pressed to F_c, loading 20 s (1424 pillars attached at
+pillars, k~ = 1e-2, pressed to F_c, loading 18.5 s (1424 pillars attached at
 the preload, the kept inverse held on the partial set: `Switches.kept_partial`)
-and pull-off 65 s (2959 states) in 0.51 GB; by CG on the partial sets its
-loading had not reached the preload in 600 s.
+and pull-off 47 s (2959 states, 2108 solves) in 0.53 GB, against 21.5 s and
+61 s for the same pull-off before the per-state costs fell (``--before``,
+same run, the same F_A to 7e-15); by CG on the partial sets its loading had
+not reached the preload in 600 s.  Where that pull-off's time goes (cProfile,
+800 states from the 800th): the solves 50 % (each the far field's FFT over the
+whole lattice, about 8 ms, and the kept inverse's product), the peels 24 %
+(the kept inverse's updates, the peeled rasters' amplitudes), the states 12 %
+(the N x N pressure and contact arrays every `State` carries), the rest the
+event search.
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its

@@ -522,16 +522,18 @@ class PillarModel:
         if self.lattice is None:
             m = 1 if uniform else self.m
             return (self.Gs[modes].reshape(m * self.M, self.M) @ x0).reshape(m, self.M, x0.shape[1])
-        out = np.ascontiguousarray(np.matmul(self._near_uniform[:, modes], x0[self.near_index]).transpose(1, 0, 2))
-        out[0] += self.gram[:, :1] * x0
+        # Pillar by pillar (M, m, k) and transposed once: near blocks, the pillar's own uniform mode, far field.
+        out = np.matmul(self._near_uniform[:, modes], x0[self.near_index])
+        out[:, 0] += self.gram[:, :1] * x0
         sources, targets = self._weights
-        out += self.lattice.weighted_far_field(x0, sources, targets[:, modes])
-        return out
+        out += self.lattice.far_by_pillar(x0, sources, targets[:, modes])
+        return np.ascontiguousarray(out.transpose(1, 0, 2))
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:
         """All modes' amplitudes (M, m) from the uniform ones and their ``fields`` (``coupling = 'local'``)."""
         x = np.zeros((self.M, self.m))
-        x[:, 0] = np.where(attached, x0, 0.0)
+        on = np.flatnonzero(attached)
+        x[on, 0] = x0[on]
         if self.m > 1:
-            x[:, 1:] = np.where(attached[:, None], -field[1:].T / self.gram[:, 1:], 0.0)
+            x[on, 1:] = -field[1:, on].T / self.gram[on, 1:]
         return x

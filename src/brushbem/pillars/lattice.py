@@ -67,6 +67,10 @@ class Lattice:
         kernels = [f1, -ry * f3, -rx * f3, 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3]
         #: Spectra of f, grad f (y, x) and hess f (yy, xy, xx) over the lattice offsets, near ones zero.
         self.spectra = scipy.fft.rfft2(np.stack(kernels), s=self.padded)
+        #: Every pillar's lattice site in row-major order, and whether the pillars are the sites in that order
+        #: (a full lattice: its grids are the pillars' values reshaped, no scatter or gather).
+        self._site = index[:, 0] * shape[1] + index[:, 1]
+        self._in_order = bool(np.array_equal(self._site, np.arange(shape[0] * shape[1])))
         order = np.full(shape, -1, dtype=np.int64)
         order[index[:, 0], index[:, 1]] = np.arange(index.shape[0])
         self.neighbours = []
@@ -143,25 +147,55 @@ class Lattice:
 
     def weighted_far_field(self, x0: np.ndarray, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
         """`far_field` with the moments as `weights` gives them."""
+        return self.far_by_pillar(x0, sources, targets).transpose(1, 0, 2)
+
+    def far_by_pillar(self, x0: np.ndarray, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """`weighted_far_field` pillar by pillar: (M, m, c), contiguous."""
         ny, nx = self.shape
-        iy, ix = self.index[:, 0], self.index[:, 1]
         c = x0.shape[1]
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
         # along x, and only the rows of the lattice come back along x.
         py, px = self.padded
-        grid = np.zeros((6, c, ny, nx))
-        grid[:, :, iy, ix] = sources[:, None, :] * x0.T[None]
+        values = sources[:, None, :] * x0.T[None]
+        if self._in_order:
+            grid = values.reshape(6, c, ny, nx)
+        else:
+            grid = np.zeros((6, c, ny * nx))
+            grid[:, :, self._site] = values
+            grid = grid.reshape(6, c, ny, nx)
         # The transforms pad with zeros themselves (the same numbers as a padded copy, without it).
         half = scipy.fft.rfft(grid, n=px, axis=-1)
         s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(half, n=py, axis=-2, overwrite_x=True)
-        f, gy, gx, hyy, hxy, hxx = self.spectra[:, None]
-        sums = np.stack([f * s0 - gy * s1y - gx * s1x + 0.5 * (hyy * s2yy + hxx * s2xx) + hxy * s2xy,
-                         gy * s0 - hyy * s1y - hxy * s1x, gx * s0 - hxy * s1y - hxx * s1x,
-                         hyy * s0, hxy * s0, hxx * s0])
+        f, gy, gx, hyy, hxy, hxx = self.spectra
+        # The six sums' spectra, written in place (the temporaries of the products cost as much as the
+        # products): f s0 - gy s1y - gx s1x + (hyy s2yy + hxx s2xx) / 2 + hxy s2xy, gy s0 - hyy s1y - hxy s1x,
+        # gx s0 - hxy s1y - hxx s1x, hyy s0, hxy s0, hxx s0.
+        sums = np.empty((6,) + s0.shape, dtype=s0.dtype)
+        term = np.empty_like(s0)
+        potential, along_y, along_x = sums[0], sums[1], sums[2]
+        np.multiply(f, s0, out=potential)
+        potential -= np.multiply(gy, s1y, out=term)
+        potential -= np.multiply(gx, s1x, out=term)
+        np.multiply(hyy, s2yy, out=term)
+        term += np.multiply(hxx, s2xx, out=along_y)
+        term *= 0.5
+        potential += term
+        potential += np.multiply(hxy, s2xy, out=term)
+        np.multiply(gy, s0, out=along_y)
+        along_y -= np.multiply(hyy, s1y, out=term)
+        along_y -= np.multiply(hxy, s1x, out=term)
+        np.multiply(gx, s0, out=along_x)
+        along_x -= np.multiply(hxy, s1y, out=term)
+        along_x -= np.multiply(hxx, s1x, out=term)
+        for k, kernel in ((3, hyy), (4, hxy), (5, hxx)):
+            np.multiply(kernel, s0, out=sums[k])
         sums = scipy.fft.ifft(sums, axis=-2, overwrite_x=True)[..., :ny, :]
-        sums = scipy.fft.irfft(sums, n=px, axis=-1)[..., :nx][..., iy, ix]
+        sums = scipy.fft.irfft(sums, n=px, axis=-1)[..., :nx].reshape(6, c, ny * nx)
+        if not self._in_order:
+            sums = sums[..., self._site]
         field = np.matmul(targets, sums.transpose(2, 0, 1))  # (M, m, c)
-        return self.scale * field.transpose(1, 0, 2)
+        field *= self.scale
+        return field
 
     def pair_couplings(self, rows: np.ndarray, cols: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],
                        targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:

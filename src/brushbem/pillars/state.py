@@ -19,6 +19,11 @@ from brushbem.protocol.problem import LoadPath, State
 __all__ = ["PillarState"]
 
 
+#: At most this many attached pillars that change their raster at once are updated in the kept inverse one by
+#: one in place (`Solver.reshape`, one pass over it each); more leave and join in two block updates.
+_RESHAPED = 2
+
+
 class Interrupted(Exception):
     """``stop()`` turned True inside a long step of the pillar model (a cascade, a peel, a press)."""
 
@@ -123,12 +128,15 @@ class PillarState:
         out = np.zeros((on.size, model.phi.shape[1]))
         if on.size == 0:
             return out
-        _, inverse, counts = np.unique(model.surface_group[on], return_inverse=True, return_counts=True)
-        order = np.argsort(inverse, kind="stable")
-        for members in np.split(order, np.cumsum(counts)[:-1]):
+        for members in self._remember(("groups",), self._surface_groups):
             pillars = on[members]
             out[members] = x[pillars] @ model.phi[pillars[0]].T
         return np.where(model.raster[on], out, 0.0)
+
+    def _surface_groups(self) -> list[np.ndarray]:
+        """The attached pillars (`on`) by `PillarModel.surface_group`: positions in `on` per group."""
+        _, inverse, counts = np.unique(self.model.surface_group[self.on()], return_inverse=True, return_counts=True)
+        return np.split(np.argsort(inverse, kind="stable"), np.cumsum(counts)[:-1])
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
@@ -197,13 +205,17 @@ class PillarState:
         a convex function of d' whose largest value on [d, end] is at an end.
         (Entries of attached pillars mean nothing.)
         """
-        model = self.model
-        fa, fb = self.fields[..., 0], self.fields[..., 1]  # (m, M)
-        centre, spread = model.fit_centre, model.fit_spread
+        spread = self.model.fit_spread
+        fa, fb, level_a, level_b = self._remember(("touch",), self._touch_terms)
+        return np.maximum(d * level_a - level_b + np.sum(spread * np.abs(d * fa - fb), axis=0),
+                          end * level_a - level_b + np.sum(spread * np.abs(end * fa - fb), axis=0))
+
+    def _touch_terms(self) -> tuple[np.ndarray, ...]:
+        """`touch_bound`'s terms of the state: the fields fa, fb (m, M) and wa - c . fa, wb - c . fb (M,)."""
+        fa, fb = np.ascontiguousarray(self.fields[..., 0]), np.ascontiguousarray(self.fields[..., 1])
+        centre = self.model.fit_centre
         wa, wb = self._tip_levels(slice(None))
-        ca, cb = np.sum(centre * fa, axis=0), np.sum(centre * fb, axis=0)
-        return np.maximum(d * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(d * fa - fb), axis=0),
-                          end * (wa - ca) - (wb - cb) + np.sum(spread * np.abs(end * fa - fb), axis=0))
+        return fa, fb, wa - np.sum(centre * fa, axis=0), wb - np.sum(centre * fb, axis=0)
 
     def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
         """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off)."""
@@ -213,7 +225,8 @@ class PillarState:
         """Each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
 
         In the kept inverse the pillars that leave or change their raster go out in one block update and
-        those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`).
+        those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`); one or two
+        attached pillars that only change their raster (a peel) are updated in place (`Solver.reshape`).
         """
         model = self.model
         self._changed()
@@ -224,7 +237,16 @@ class PillarState:
             return
         leaving = [p for p, mask in changes if self.attached[p] and not (
             mask.any() and np.array_equal(mask, model.raster[p]))]
-        self.solver.remove_many(np.array(leaving, dtype=np.int64))
+        reshaping = [(p, mask) for p, mask in changes if self.attached[p] and mask.any()
+                     and not np.array_equal(mask, model.raster[p])]
+        if len(reshaping) <= _RESHAPED and not self.solver.iterative:
+            others = {p for p, _ in reshaping}
+            self.solver.remove_many(np.array([p for p in leaving if p not in others], dtype=np.int64))
+            for p, mask in reshaping:
+                model.set_raster(p, mask)
+                self.solver.reshape(p)
+        else:
+            self.solver.remove_many(np.array(leaving, dtype=np.int64))
         joining = []
         for p, mask in changes:
             if not mask.any():
