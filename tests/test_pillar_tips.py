@@ -212,3 +212,17 @@ def test_refine_of_the_pillar_model_reports_the_configured_run_and_its_tips():
     force = refinement["adhesive_force"]
     assert force["extrapolated"] == pytest.approx(2 * force["values"][1] - force["values"][0], rel=1e-12)
     assert force["error_estimate"] is None
+
+
+def test_the_resolution_warning_counts_the_tips_raster():
+    """At 3.6 elements per radius the pillar model warns with the tips' fix; its tips at 16 resolve the radius
+    (no warning) and the estimated error is that of 18 elements per radius (the grid subdivided 5 times)."""
+    from brushbem.config import parse_config
+    from brushbem.config.advice import resolution, resolution_warnings
+
+    coarse = parse_config(_mapping())
+    (warning,) = resolution_warnings(coarse)
+    assert "protocol.pillar_tip_resolution" in warning and "raise grid.elements" not in warning
+    fine = parse_config({**_mapping(), "protocol": {**_mapping()["protocol"], "pillar_tip_resolution": 16.0}})
+    assert resolution_warnings(fine) == []
+    assert resolution(fine).elements == pytest.approx(5 * resolution(coarse).elements)

@@ -201,7 +201,7 @@ def resolution(config: RunConfig) -> Resolution | None:
     if found is None:
         return None
     what, key, value = found.what, found.key, found.value
-    elements = value / config.grid.element_size
+    elements = value / config.grid.element_size * _tip_factor(config, value)
     if what.startswith("JKR"):
         error = _interpolated(elements, "force_error", SPHERE_TABLE)
         work = _interpolated(elements, "work_error", SPHERE_TABLE) if what == "JKR contact radius at pull-off" \
@@ -220,6 +220,15 @@ def resolution(config: RunConfig) -> Resolution | None:
         "mean and range over radii within 10 % (benchmarks/resolution_error.py)")
 
 
+def _tip_factor(config: RunConfig, length: float) -> int:
+    """How many times the pillar model subdivides the grid for its tips (``protocol.pillar_tip_resolution``,
+    `brushbem.pillars.tips`): 1 for every other method and by default."""
+    tips = config.protocol.pillar_tip_resolution if config.protocol.method == "pillars" else None
+    if tips is None:
+        return 1
+    return max(1, math.ceil(tips / (length / config.grid.element_size) * (1 - 1e-12)))
+
+
 def _percent(value: float) -> str:
     return f"{100 * value:+.2g} %"
 
@@ -230,14 +239,20 @@ def resolution_warnings(config: RunConfig) -> list[str]:
     if found is None or found.resolved:
         return []
     needed = math.ceil(config.grid.elements * MIN_ELEMENTS_PER_RADIUS / found.elements)
+    if config.protocol.method == "pillars":
+        # The pillar model resolves its tips apart from the grid.
+        fix = (f"set protocol.pillar_tip_resolution = {2 * MIN_ELEMENTS_PER_RADIUS:g} or more (the tips on a raster "
+               "of their own; the grid only places the pillars), or run with --refine 3 for an extrapolated F_A "
+               "with its error bar (the tips alone refined)")
+    else:
+        fix = (f"raise grid.elements to {needed} or more, or to {2 * needed} with --refine 2 for an extrapolated "
+               f"F_A with its error bar (its coarser grid needs {MIN_ELEMENTS_PER_RADIUS:g} per radius too)")
     low, high = found.force_error_range
     spread = "" if low == high else f", between {_percent(low)} and {_percent(high)} by where the circle's staircase falls"
     work = "" if found.work_error is None else f"; the work of separation about {_percent(found.work_error)}"
     return [f"{found.key}: the {found.length}, {found.value:.4g}, spans {found.elements:.3g} elements (h = "
             f"{config.grid.element_size:.4g}), under {MIN_ELEMENTS_PER_RADIUS:g}: F_A carries a discretisation error of "
-            f"about {_percent(found.force_error)}{spread}{work} ({found.basis}); raise grid.elements to {needed} or "
-            f"more, or to {2 * needed} with --refine 2 for an extrapolated F_A with its error bar (its coarser grid "
-            f"needs {MIN_ELEMENTS_PER_RADIUS:g} per radius too)"]
+            f"about {_percent(found.force_error)}{spread}{work} ({found.basis}); {fix}"]
 
 
 def _slip(value: float, unit: str, factor: float, meant: str) -> str:
