@@ -8,6 +8,7 @@ import pytest
 
 from brushbem.config import ConfigError, config_to_dict, parse_config
 from brushbem.physics import theory
+from brushbem.results import ResolutionRecord
 
 # The PDMS fibril brush of the documentation ("From your adhesive to a run"): r = 5 um, l = 40 um,
 # E_f = 2 MPa, a half-space of E = 2 MPa, nu = 0.5 (E* = 2.67 MPa) and dgamma = 40 mJ/m^2 = 0.04 MPa um.
@@ -178,8 +179,9 @@ def test_resolution_reads_the_measured_table():
     found = advice.resolution(parse_config(document))
     assert (found.length, found.key, found.elements) == ("pillar radius", "indenter.pillar_radius", 4.0)
     row = next(r for r in advice._table() if r["elements_per_radius"] == 4.0)
-    assert found.force_error == row["force_error_mean"]
-    assert found.force_error_range == (row["force_error_min"], row["force_error_max"])
+    assert found.force_error_estimate == row["force_error_mean"]
+    assert found.force_error_range == [row["force_error_min"], row["force_error_max"]]
+    assert isinstance(found, ResolutionRecord) and not found.resolved  # the summary's record itself
     (warning,) = advice.resolution_warnings(parse_config(document))
     assert "spans 4 elements" in warning and "raise grid.elements to 256" in warning and "--refine" in warning
     document["grid"]["elements"] = 256  # 8 elements per radius: resolved, no warning, the error still reported
@@ -242,7 +244,7 @@ def test_every_indenter_names_its_deciding_length(indenter, length):
         assert found.value == pytest.approx(a_jkr, rel=1e-14, abs=0)
         assert "--sphere" in found.basis
         rows = advice._table(advice.SPHERE_TABLE)
-        assert min(r["force_error"] for r in rows) <= found.force_error <= max(r["force_error"] for r in rows)
+        assert min(r["force_error"] for r in rows) <= found.force_error_estimate <= max(r["force_error"] for r in rows)
 
 
 # --- a run: the fibril's spring in the physics, what a designer reports, curve.csv ------------------------

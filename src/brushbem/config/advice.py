@@ -51,55 +51,8 @@ _STRESS_EXPONENT = {"Pa": 0, "kPa": 3, "MPa": 6, "GPa": 9}
 _SHOWN_LENGTH = {"um": "µm"}
 
 
-@dataclass(frozen=True)
-class Resolution:
-    """The resolution of the length that decides F_A, and the discretisation error it carries.
-
-    Attributes
-    ----------
-    length : str
-        What the length is ("pillar radius", "punch radius", "JKR contact radius at pull-off").
-    key : str
-        The configuration key it comes from.
-    value : float
-        The length, in units of length.
-    elements : float
-        The length over the element size h.
-    force_error, work_error : float
-        The estimated relative error of F_A and of the work of separation (signed: > 0, too high).
-    force_error_range, work_error_range : tuple of float
-        The smallest and largest error measured at this resolution (the staircase of the circle scatters
-        it), or (error, error) where only a rate is known.
-    basis : str
-        Where the estimate comes from.
-    """
-
-    length: str
-    key: str
-    value: float
-    elements: float
-    force_error: float
-    force_error_range: tuple[float, float]
-    work_error: float | None
-    work_error_range: tuple[float, float] | None
-    basis: str
-
-    @property
-    def resolved(self) -> bool:
-        return self.elements >= MIN_ELEMENTS_PER_RADIUS
-
-    def record(self) -> ResolutionRecord:
-        """The ``resolution`` record of ``summary.json``."""
-        return ResolutionRecord(
-            length=self.length, key=self.key, value=self.value, elements=self.elements,
-            minimum_elements=MIN_ELEMENTS_PER_RADIUS, force_error_estimate=self.force_error,
-            force_error_range=list(self.force_error_range), work_error_estimate=self.work_error,
-            work_error_range=None if self.work_error_range is None else list(self.work_error_range),
-            basis=self.basis)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The ``resolution`` record of ``summary.json`` as a plain mapping."""
-        return self.record().to_dict()
+#: The resolution of the deciding length and its estimated error: the ``resolution`` record of ``summary.json``.
+Resolution = ResolutionRecord
 
 
 #: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
@@ -195,7 +148,14 @@ def fibril_radius(config: RunConfig) -> float | None:
     return fibril.radius or _fibril_default_radius(config.indenter)
 
 
-def resolution(config: RunConfig) -> Resolution | None:
+def _record(what: str, key: str, value: float, elements: float, force: float, force_range: tuple[float, float],
+            work: float | None, work_range: tuple[float, float] | None, basis: str) -> ResolutionRecord:
+    return ResolutionRecord(length=what, key=key, value=value, elements=elements, minimum_elements=MIN_ELEMENTS_PER_RADIUS,
+                            force_error_estimate=force, force_error_range=list(force_range), work_error_estimate=work,
+                            work_error_range=None if work_range is None else list(work_range), basis=basis)
+
+
+def resolution(config: RunConfig) -> ResolutionRecord | None:
     """The resolution of the deciding length and its estimated error, or None where none decides."""
     found = deciding_length(config) if config.halfspace.work_of_adhesion > 0 else None
     if found is None:
@@ -206,13 +166,13 @@ def resolution(config: RunConfig) -> Resolution | None:
         error = _interpolated(elements, "force_error", SPHERE_TABLE)
         work = _interpolated(elements, "work_error", SPHERE_TABLE) if what == "JKR contact radius at pull-off" \
             else None
-        return Resolution(what, key, value, elements, error, (error, error), work,
-                          None if work is None else (work, work),
-                          "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
-                          "benchmarks/resolution_error.py --sphere)")
+        return _record(what, key, value, elements, error, (error, error), work,
+                       None if work is None else (work, work),
+                       "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
+                       "benchmarks/resolution_error.py --sphere)")
     force = _interpolated(elements, "force_error_mean")
     work = _interpolated(elements, "work_error_mean")
-    return Resolution(
+    return _record(
         what, key, value, elements, force,
         (_interpolated(elements, "force_error_min"), _interpolated(elements, "force_error_max")), work,
         (_interpolated(elements, "work_error_min"), _interpolated(elements, "work_error_max")),
@@ -249,10 +209,11 @@ def resolution_warnings(config: RunConfig) -> list[str]:
                f"F_A with its error bar (its coarser grid needs {MIN_ELEMENTS_PER_RADIUS:g} per radius too)")
     low, high = found.force_error_range
     spread = "" if low == high else f", between {_percent(low)} and {_percent(high)} by where the circle's staircase falls"
-    work = "" if found.work_error is None else f"; the work of separation about {_percent(found.work_error)}"
+    work = ("" if found.work_error_estimate is None
+            else f"; the work of separation about {_percent(found.work_error_estimate)}")
     return [f"{found.key}: the {found.length}, {found.value:.4g}, spans {found.elements:.3g} elements (h = "
             f"{config.grid.element_size:.4g}), under {MIN_ELEMENTS_PER_RADIUS:g}: F_A carries a discretisation error of "
-            f"about {_percent(found.force_error)}{spread}{work} ({found.basis}); {fix}"]
+            f"about {_percent(found.force_error_estimate)}{spread}{work} ({found.basis}); {fix}"]
 
 
 def _slip(value: float, unit: str, factor: float, meant: str) -> str:

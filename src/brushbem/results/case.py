@@ -266,7 +266,7 @@ class RunSummary(PullOffSummary):
     resolution : ResolutionRecord or None
         The elements across the length that decides F_A and the estimated
         discretisation error of F_A and the work
-        (`brushbem.config.advice.Resolution.record`); not a key where no
+        (`brushbem.config.advice.resolution`); not a key where no
         length decides (a height map, no adhesion) or without a configuration.
     design : DesignNumbers or None
         What a designer reports (`brushbem.runs.case.design_numbers`):

@@ -1,13 +1,17 @@
 """What a run reports beyond its pull-off: ``summary.json``'s ``resolution`` and ``design``.
 
-`brushbem.config.advice.resolution` estimates the resolution (`ResolutionRecord`);
+`brushbem.config.advice.resolution` estimates the resolution (`ResolutionRecord`, the one record of it
+from the estimate to the file and back);
 `brushbem.runs.case.design_numbers` gives what a designer reports (`DesignNumbers`,
 with its `Spring`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import ClassVar
 
 from brushbem.results.mapping import MappingRecord
 
@@ -47,6 +51,11 @@ class ResolutionRecord(MappingRecord):
     work_error_range: list | None
     basis: str
 
+    @property
+    def resolved(self) -> bool:
+        """Whether the length spans `minimum_elements` or more (no warning)."""
+        return self.elements >= self.minimum_elements
+
 
 @dataclass(frozen=True, kw_only=True)
 class Spring(MappingRecord):
@@ -54,7 +63,7 @@ class Spring(MappingRecord):
     normalises it and, with ``indenter.fibril.buckling``, Euler's buckling force."""
 
     _ABSENT_WHEN_NONE = frozenset({"buckling_force"})
-    _KEY_OF = {"origin": "from"}
+    _KEY_OF: ClassVar[Mapping[str, str]] = MappingProxyType({"origin": "from"})
 
     stiffness: float
     origin: str

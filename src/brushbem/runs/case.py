@@ -23,9 +23,9 @@ from brushbem.protocol import ContactProblem, LoadPath, PullOffRecord, record_pu
 from brushbem.results import (
     CaseResult,
     DesignNumbers,
-    Spring,
     ReferenceCurve,
     RunSummary,
+    Spring,
 )
 from brushbem.runs.assembly import (
     Assembly,
@@ -116,7 +116,7 @@ def run_case(
     found = advice.resolution(built.config)
     result = dataclasses.replace(result, summary=dataclasses.replace(
         result.summary, warnings=[*advice.advice(built.config), *result.summary.warnings],
-        resolution=None if found is None else found.record(),
+        resolution=found,
         design=design_numbers(built.problem, result.summary, built.config)))
     return PullOff(result, pulled.reference, built.config)
 

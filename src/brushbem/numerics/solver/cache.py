@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from brushbem import backend
-from brushbem.numerics.operator import ContactOperator, Window
+from brushbem.numerics.operator import ContactOperator
 
 __all__ = ["PillarCache", "SolverCache"]
 
