@@ -15,11 +15,12 @@ times (the exact path over the model).  ``--kept-baseline`` runs the model a
 second time with the kept inverse at every size (``settings.using(kept_pillars=None)``:
 no CG on the lattice, `brushbem.pillars.cg`) and prints the ratio of
 its CPU time to the default's and the relative differences of F_A and the
-work.  ``--before REF`` runs the model a second time at every size on the sources of the git revision REF
-(its ``src/``, exported to a temporary folder) and prints the ratio of that run's CPU times (loading,
-pull-off, all) to this tree's, and the relative differences of F_A and the work: before and after in one
-run.  ``--repeat R`` runs the model (and the revision's) R times, alternating, and reports the median CPU
-times.
+work.  ``--before REF`` runs the model a second time at every size on the
+sources of the git revision REF (its ``src/`` and ``benchmarks/``, exported
+to a temporary folder) and prints the ratio of that run's CPU times
+(loading, pull-off, all) to this tree's, and the relative differences of F_A
+and the work: before and after in one run.  ``--repeat R`` runs the model
+(and the revision's) R times, alternating, and reports the median CPU times.
 
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
@@ -46,7 +47,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) -> None:
     """One pull-off in this process: a JSON line every 500 states (its progress) and a last one with the results."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
+    # The brush of `benchmarks/pillars.py` beside the sources run (``--before``: the revision's own).
+    sys.path.insert(0, os.environ.get("LARGE_BRUSH_HELPERS", str(ROOT / "benchmarks")))
     from pillars import _problem
 
     from brushbem.pillars import solver as pillar_solver
@@ -98,6 +100,7 @@ def _measure(per_side: int, method: str, args, sources: Path | None = None) -> d
                str(args.sigma), str(args.seed)]
     environment = dict(os.environ)
     environment["PYTHONPATH"] = os.pathsep.join([str((sources or ROOT) / "src"), environment.get("PYTHONPATH", "")])
+    environment["LARGE_BRUSH_HELPERS"] = str((sources or ROOT) / "benchmarks")
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     start = time.perf_counter()
     try:
@@ -146,8 +149,9 @@ def _median(runs: list[dict]) -> dict:
 
 
 def _export(revision: str, folder: Path) -> Path:
-    """The ``src/`` of git ``revision`` of this repository, exported into ``folder``."""
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", revision, "src"], capture_output=True, check=True)
+    """The ``src/`` and ``benchmarks/`` of git ``revision`` of this repository, exported into ``folder``."""
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", revision, "src", "benchmarks"], capture_output=True,
+                             check=True)
     subprocess.run(["tar", "-x", "-C", str(folder)], input=archive.stdout, check=True)
     return folder
 
