@@ -100,7 +100,9 @@ is O(M) besides the kept inverse and G00, kept up to
 `brushbem.pillars.basis.DENSE_PILLARS` pillars and filled entry by
 entry as the solve reads it.  Measured on the chapter-5 family
 (``benchmarks/large_brush.py``, CPU seconds of one core): 1024 pillars
-3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``), 4096 pillars
+3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``; measured again
+with the tips' own bases, ``--sizes 32 --sigma 1 --repeat 3``: 5.5 s, median
+of three, against the exact path's 54 s in the same run, 1/9.9), 4096 pillars
 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
 states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
