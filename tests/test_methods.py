@@ -359,7 +359,7 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     tracker.working.ensure(tracker.contact)
     assert tracker.unit_response().converged
     tracker.unit_deflection()
-    before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.window
+    before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.working.window
     # The least tensile element: once out, its neighbour's tension stays below
     # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
     tension = np.where(tracker.contact & (tracker.pressure < 0), tracker.pressure, -np.inf)
@@ -367,7 +367,7 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
     count = int(tracker.contact.sum())
     tracker.solve(d, force_detach=leave)
-    assert int(tracker.contact.sum()) == count - 1 and tracker.window == window
+    assert int(tracker.contact.sum()) == count - 1 and tracker.working.window == window
     tracker.record_pressure_change(before, before_deflection, window)
     contact = tracker.contact[window.slices]
     guess, product = tracker._unit_guess(contact)
@@ -854,6 +854,6 @@ def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     assert tracker.pressure is point.pressure and tracker.contact is point.contact
     assert tracker.known_deflection() is None  # the kept one was of the other pressure
     assert np.array_equal(tracker.deflection(), deflection)
-    known = Known(point.pressure, tracker.window, deflection)
-    assert known.of(point.pressure, tracker.window) is deflection
-    assert known.of(point.pressure.copy(), tracker.window) is None and known.of(point.pressure, None) is None
+    known = Known(point.pressure, tracker.working.window, deflection)
+    assert known.of(point.pressure, tracker.working.window) is deflection
+    assert known.of(point.pressure.copy(), tracker.working.window) is None and known.of(point.pressure, None) is None

@@ -58,9 +58,11 @@ The package's modules:
   the force search of its loading) and the event-driven path.
 * `events` - the events inside a fixed step and the event path's step.
 * `contact_loading` - a brush's loading branch as contact problems.
-* `path_states` - the `State` records the paths make of an equilibrium.
+* `path_states` - the `State` records the paths make of a tracker's state
+  (its total force, contact area and attached pillars).
 * `tracking` - `Tracker`, the state of one pull-off: pressure and contact,
-  the solves, the cached deflections and the records; it composes
+  the solves and the cached deflections, and the window and connection steps
+  the paths take through it (module functions); it composes
 * `window` - `WorkingWindow`, the working window, its operator, the tip
   heights and the checks that nothing outside the window touches, and
 * `connections` - `ConnectionState`, the viscoelastic history and the

@@ -17,7 +17,7 @@ import numpy as np
 
 from brushbem import settings
 from brushbem.numerics.solver import Equilibrium
-from brushbem.protocol.path_states import _eq_state
+from brushbem.protocol.path_states import _eq_state, record_state, total_force
 from brushbem.protocol.problem import LoadPath
 from brushbem.protocol.tracking import Tracker
 
@@ -51,7 +51,8 @@ def _press_as_contact_problems(tracker: Tracker) -> bool:
     """
     if tracker.n_pillars < 2:
         return False
-    heights = np.asarray(tracker.problem.indenter.height)[np.asarray(tracker.problem.indenter.footprint)]
+    indenter = tracker.working.problem.indenter
+    heights = np.asarray(indenter.height)[np.asarray(indenter.footprint)]
     lowest = float(heights.min())
     return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
 
@@ -86,7 +87,7 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
     or None when a solve failed.
     """
     xp = tracker.xp
-    problem = tracker.problem
+    problem = tracker.working.problem
     lowest = problem.indenter.lowest_height
     samples: list[_Sample] = []
     cost = [0, 0]  # solves, iterations of the samples not yet yielded
@@ -99,7 +100,7 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
         eq = tracker.solve(d, contact_problem=True)
         cost[0] += eq.n_solves
         cost[1] += eq.cg_iterations
-        sample = _Sample(d, tracker.force(), tracker.pressure, tracker.contact, eq)
+        sample = _Sample(d, total_force(tracker), tracker.pressure, tracker.contact, eq)
         if not eq.converged:
             return sample
         samples.append(sample)
@@ -134,8 +135,8 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
             cost[1] -= iterations
         reason = "contact problem" if len(accepted) == len(samples) or not last else (
             "contact problem; element events from here (a larger displacement releases an element)")
-        yield tracker.state(sample.displacement, True, "equilibrium", tracker.force(), iterations, solves,
-                            True, reason)
+        yield record_state(tracker, sample.displacement, True, "equilibrium", total_force(tracker), iterations,
+                           solves, True, reason)
     tracker.forget_deflections()
     end = accepted[-1]
     if end is final or len(accepted) == len(samples):
@@ -159,7 +160,7 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     convex where pillars join.)
     """
     xp = tracker.xp
-    problem = tracker.problem
+    problem = tracker.working.problem
     target = path.preload_force
     model = _IndependentPillars(problem.indenter, problem.contact_modulus, tracker.h2)
     lo = hi = None  # samples below and above the target
@@ -219,13 +220,13 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
             pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
             tracker.set_state(pressure, hi.contact)
             eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
-            return _Sample(d, tracker.force(), pressure, hi.contact, eq)
+            return _Sample(d, total_force(tracker), pressure, hi.contact, eq)
         width = hi.displacement - lo.displacement
         if width <= 4 * np.finfo(float).eps * abs(hi.displacement):
             return hi
         d = lo.displacement - f_lo * width / (f_hi - f_lo)
-    yield tracker.state(d, True, "equilibrium", tracker.force(), 0, 0, False,
-                        "the search for the preload force did not converge in 200 contact problems")
+    yield record_state(tracker, d, True, "equilibrium", total_force(tracker), 0, 0, False,
+                       "the search for the preload force did not converge in 200 contact problems")
     return None
 
 
@@ -280,7 +281,7 @@ def _nested_prefix(tracker: Tracker, samples: list, lowest: float) -> list:
     for sample in samples[1:]:
         released = union & ~sample.contact
         if bool(xp.any(released)):
-            gap = -tracker.full_penetration(sample.displacement, sample.pressure)
+            gap = -tracker.working.full_penetration(sample.displacement, sample.pressure)
             depth = max(sample.displacement - lowest, 1e-300)
             if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
                 break

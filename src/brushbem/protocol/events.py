@@ -19,9 +19,17 @@ import numpy as np
 
 from brushbem import backend, settings
 from brushbem.numerics.solver import Equilibrium
-from brushbem.protocol.path_states import _eq_state, _separated
+from brushbem.protocol.path_states import _eq_state, _separated, record_state, total_force
 from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
-from brushbem.protocol.tracking import Tracker
+from brushbem.protocol.tracking import (
+    Tracker,
+    break_pillars,
+    commit_history,
+    cover_contact,
+    pillar_forces,
+    restore_pieces,
+    widen_to_reach,
+)
 
 
 def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
@@ -41,18 +49,18 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
             return eq
         crossing, detach, broken = event
         yield crossing
-        tracker.restore_pieces(before)
+        restore_pieces(tracker, before)
         tracker.set_state(crossing.pressure, crossing.contact)
         if broken is not None:
-            detach = detach | tracker.break_pillars(broken)
+            detach = detach | break_pillars(tracker, broken)
         at = tracker.step_solve(crossing.displacement, advance=False, detach=detach)
         if not at.converged:
             return at
         yield _eq_state(tracker, at, False, "event")
-        if not tracker.has_contact:
-            tracker.commit_history()
-            yield tracker.state(crossing.displacement, False, "separated", tracker.force(), 0, 0, True,
-                                "complete separation")
+        if not bool(tracker.xp.any(tracker.contact)):
+            commit_history(tracker)
+            yield record_state(tracker, crossing.displacement, False, "separated", total_force(tracker), 0, 0,
+                               True, "complete separation")
             return None
         before = tracker.point(crossing.displacement)
         eq = tracker.step_solve(d, advance=False)
@@ -106,11 +114,11 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
         fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
         tau_elements = min(max(float(xp.min(fraction)), 0.0), 1.0)
     tau_pillars, breaking = 1.0, None
-    limit = tracker.tension_limit
+    limit = tracker.connections.tension_limit
     if limit is not None:
-        f0 = tracker.pillar_forces(p0, c0)
-        f1 = tracker.pillar_forces(p1, c0)
-        intact = ~tracker.broken_pillars(before.pieces)
+        f0 = pillar_forces(tracker, p0, c0)
+        f1 = pillar_forces(tracker, p1, c0)
+        intact = ~tracker.connections.broken(before.pieces)
         candidates = intact & (f1 < -limit) & (f0 > f1)
         if candidates.any():
             pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)
@@ -128,8 +136,8 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
         breaking = None
         elements = over & (fraction <= tau * (1 + 1e-12) + 1e-15)
         reason = "a detachment inside the step (exact on the step's contact set)"
-    state = tracker.state(d, False, "event", tracker.force(pressure), 0, 0, True, reason,
-                          pressure=pressure, contact=c0)
+    state = record_state(tracker, d, False, "event", total_force(tracker, pressure), 0, 0, True, reason,
+                         pressure=pressure, contact=c0)
     return state, elements, breaking
 
 
@@ -144,16 +152,16 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     """
     xp = tracker.xp
     loading = direction > 0
-    if not tracker.has_contact:
+    if not bool(xp.any(tracker.contact)):
         return (yield from _without_contact(tracker, path, d, loading))
     # An element outside the window may already be within reach (the bound is
     # conservative): then the tracker works on the whole footprint from here on.
-    tracker.cover_contact(d, loading)
-    sl = tracker.window.slices
+    cover_contact(tracker, d, loading)
+    sl = tracker.working.window.slices
     result = tracker.unit_response()
     if not result.converged:
-        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
-                            f"unit response: {result.reason}")
+        yield record_state(tracker, d, loading, "equilibrium", total_force(tracker), result.iterations, 1, False,
+                           f"unit response: {result.reason}")
         return None
     a = result.solution
     contact = tracker.contact[sl]
@@ -165,8 +173,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     deflection, unit_deflection, candidates = ahead.deflection, ahead.unit_deflection, ahead.candidates
     t = min(c[0] for c in candidates)
     if not math.isfinite(t):
-        yield tracker.state(d, loading, "equilibrium", tracker.force(), result.iterations, 1, False,
-                            "no event ahead on this branch (the contact neither grows nor shrinks)")
+        yield record_state(tracker, d, loading, "equilibrium", total_force(tracker), result.iterations, 1, False,
+                           "no event ahead on this branch (the contact neither grows nor shrinks)")
         return None
     t = max(t, 0.0)
     new_d = d + s * t
@@ -175,27 +183,28 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
-    tie = event_tie(path, tracker.problem.grid.element_size)
+    h = tracker.working.problem.grid.element_size
+    tie = event_tie(path, h)
     outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
     if outside_hit and t + tie < min(t_det, t_att):
         # Move to the bound along the exact affine path (a valid equilibrium:
         # nothing detaches or attaches before it), then widen the window to
         # every footprint element the load path may still reach and go on.
         tracker.set_pressure(new_pressure)
-        reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), tracker.problem.grid.element_size)
-        tracker.widen_to_reach(new_d, reach)
-        yield tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1, True,
-                            "window enlarged")
+        reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), h)
+        widen_to_reach(tracker, new_d, reach)
+        yield record_state(tracker, new_d, loading, "equilibrium", total_force(tracker, new_pressure),
+                           result.iterations, 1, True, "window enlarged")
         return new_d, _target_reached(tracker, path, new_d)
     if target_hit and t + tie < min(t_det, t_att):
         tracker.set_pressure(new_pressure, new_deflection)
-        state = tracker.state(new_d, loading, "equilibrium", tracker.force(new_pressure), result.iterations, 1,
-                              True, "preload reached")
+        state = record_state(tracker, new_d, loading, "equilibrium", total_force(tracker, new_pressure),
+                             result.iterations, 1, True, "preload reached")
         yield state
         return new_d, True
     # A state on the threshold of the event (still an equilibrium), then the cascade.
-    yield tracker.state(new_d, loading, "event", tracker.force(new_pressure), result.iterations, 1, True,
-                        "event", pressure=new_pressure)
+    yield record_state(tracker, new_d, loading, "event", total_force(tracker, new_pressure), result.iterations, 1,
+                       True, "event", pressure=new_pressure)
     leave = xp.zeros_like(tracker.contact)
     join = xp.zeros_like(tracker.contact)
     if t_det <= t + tie:
@@ -203,14 +212,14 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     if t_att <= t + tie:
         join[sl] = ahead.within(closing, t_attach, t + tie)
     tracker.set_pressure(new_pressure, new_deflection)
-    window = tracker.window
+    window = tracker.working.window
     eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
     if not eq.converged:
         yield _eq_state(tracker, eq, loading)
         return None
     if eq.cg_iterations:
         tracker.record_pressure_change(new_pressure, new_deflection, window)
-    if not tracker.has_contact and not loading:
+    if not bool(xp.any(tracker.contact)) and not loading:
         yield _separated(tracker, new_d, eq)
         return new_d, True
     yield _eq_state(tracker, eq, loading)
@@ -220,18 +229,18 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
 def _target_reached(tracker, path, d) -> bool:
     if path.preload_displacement is not None:
         return d >= path.preload_displacement * (1 - 1e-12)
-    return tracker.force() >= path.preload_force * (1 - 1e-9)
+    return total_force(tracker) >= path.preload_force * (1 - 1e-9)
 
 
 def _without_contact(tracker: Tracker, path: LoadPath, d: float, loading: bool):
     """`_event_step` without contact: separation on the pull-off, the first touch on the loading."""
     if not loading:
-        yield tracker.state(d, False, "separated", 0.0, 0, 0, True, "complete separation")
+        yield record_state(tracker, d, False, "separated", 0.0, 0, 0, True, "complete separation")
         return d, True
     # First touch: the lowest footprint elements.
-    lowest = tracker.problem.indenter.lowest_height
+    lowest = tracker.working.problem.indenter.lowest_height
     distance = max(lowest - d, 0.0)
-    first = tracker.footprint & (tracker.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
+    first = tracker.working.footprint & (tracker.working.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
     new_d = d + distance
     eq = tracker.solve(new_d, force_attach=first)
     yield _eq_state(tracker, eq, True)
@@ -275,18 +284,18 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
     xp = tracker.xp
     loading = direction > 0
-    sl = tracker.window.slices
+    sl = tracker.working.window.slices
     contact = tracker.contact[sl]
     pressure = tracker.pressure[sl]
-    height = tracker.height[sl]
-    footprint = tracker.footprint[sl]
+    height = tracker.working.height[sl]
+    footprint = tracker.working.footprint[sl]
     a_all = a
     deflection = tracker.deflection()  # known from the last equilibrium's join check
     unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
     elements = None
     known_deflection, known_unit_deflection = deflection, unit_deflection
     if settings.switches().compact_event_search and backend.is_numpy_namespace(xp):
-        rows, cols = tracker.footprint_elements()
+        rows, cols = tracker.working.footprint_elements()
         elements = (rows, cols, contact.shape)
         contact, pressure, height, a = contact[rows, cols], pressure[rows, cols], height[rows, cols], a[rows, cols]
         deflection, unit_deflection = deflection[rows, cols], unit_deflection[rows, cols]
@@ -313,12 +322,12 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     if loading and path.preload_force is not None:
         force_rate = tracker.h2 * float(xp.sum(a_all))
         if force_rate > 0:
-            candidates.append(((path.preload_force - tracker.force()) / force_rate, "target", None))
-    if loading and not tracker.covers_footprint:
+            candidates.append(((path.preload_force - total_force(tracker)) / force_rate, "target", None))
+    if loading and not tracker.working.covers_footprint:
         # Footprint elements outside the window (other pillars, asperities)
         # are not in the affine prediction: stop where one of them could
         # first touch, enlarge the window there and predict again.
-        reach_at = tracker.outside_reach_displacement()
+        reach_at = tracker.working.outside_reach_displacement(tracker.pressure, tracker.contact)
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
     return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,

@@ -25,9 +25,9 @@ from brushbem.protocol.contact_loading import (
     _press_as_contact_problems,
 )
 from brushbem.protocol.events import _event_step, _events_in_step
-from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated
+from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated, total_force
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
-from brushbem.protocol.tracking import Tracker
+from brushbem.protocol.tracking import Tracker, commit_history
 
 __all__ = ["LOADING_SAMPLES", "indent", "pull_off"]
 
@@ -104,7 +104,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if not tracker.has_connection_state and _press_as_contact_problems(tracker):
+    if not tracker.connections.has_state and _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -126,13 +126,13 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
             yield state
             if not eq.converged:
                 return
-            tracker.commit_history()
+            commit_history(tracker)
         if n_steps > path.max_steps:
             yield _budget_exhausted(tracker, d, True, path)
             return
     else:
         target = path.preload_force
-        previous = (d, tracker.force())
+        previous = (d, total_force(tracker))
         while True:
             count += 1
             if count > path.max_steps:
@@ -141,7 +141,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
             d += step
             saved = tracker.point(previous[0])
             eq = tracker.solve(d)
-            force = tracker.force()
+            force = total_force(tracker)
             if not eq.converged:
                 yield _eq_state(tracker, eq, True)
                 return
@@ -168,8 +168,8 @@ def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
         if not eq.converged:
             yield _eq_state(tracker, eq, False)
             return
-        tracker.commit_history()
-        if not tracker.has_contact:
+        commit_history(tracker)
+        if not bool(tracker.xp.any(tracker.contact)):
             yield _separated(tracker, d, eq)
             return
         yield _eq_state(tracker, eq, False)
@@ -209,7 +209,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
         iterations += trial_eq.cg_iterations
         if not trial_eq.converged:
             return trial_eq, trial
-        f = tracker.force()
+        f = total_force(tracker)
         if f < target:
             lo, f_lo = trial, f
         else:

@@ -6,17 +6,22 @@ the working window and its operator (``working``, a
 (``connections``, a `brushbem.protocol.connections.ConnectionState`: the
 viscoelastic memory and the pillar law's pieces).  It holds the pressure and
 the contact set, the solves (`Tracker.solve`, `Tracker.step_solve`, the unit
-response of the event path), the deflections known without another
-transform, and the `State` records.  The load paths
-(`brushbem.protocol.paths`, `brushbem.protocol.events`,
-`brushbem.protocol.contact_loading`) use only its public members.
+response of the event path) and the deflections known without another
+transform.  The load paths (`brushbem.protocol.paths`,
+`brushbem.protocol.events`, `brushbem.protocol.contact_loading`) use its
+public members and those of its parts directly (``tracker.working.window``,
+``tracker.connections.tension_limit``); what they do with the window and the
+connections through the tracker's state are the module's functions
+(`cover_contact`, `widen_to_reach`, `pillar_forces`, `break_pillars`,
+`restore_pieces`, `commit_history`).  The `State` records are made in
+`brushbem.protocol.path_states`.
 
 Cached deflections: the deflection of the pressure and of the unit response
 are kept with the array and the window they were computed on, and are used
 only while both are the current ones.  They are computed with the window's
 operator, so when the connections change the pillars' springs (a piece of a
 nonlinear law moves) every one of them, the unit response and the cascade's
-pressure change are dropped (`Tracker._apply`, the one place where the
+pressure change are dropped (`Tracker.apply_change`, the one place where the
 operator's springs change).  Raised tips (history offsets, breaks) change the
 heights, not the operator: the cached deflections stay valid.  A pressure
 put in by the paths comes without a known deflection (`Tracker.set_state`,
@@ -31,7 +36,7 @@ import dataclasses
 import numpy as np
 
 from brushbem import backend
-from brushbem.numerics.operator import ContactOperator, Window
+from brushbem.numerics.operator import Window
 from brushbem.numerics.solver import (
     Equilibrium,
     ProductLedger,
@@ -44,11 +49,19 @@ from brushbem.numerics.solver import (
 )
 from brushbem.protocol.unit_guess import cascade_record, unit_guess
 from brushbem.protocol.connections import ConnectionState, SpringChange
-from brushbem.protocol.problem import ContactProblem, LoadPath, State
+from brushbem.protocol.problem import ContactProblem, LoadPath
 from brushbem.protocol.values import Known, PathPoint
 from brushbem.protocol.window import WorkingWindow
 
-__all__ = ["Tracker"]
+__all__ = [
+    "Tracker",
+    "break_pillars",
+    "commit_history",
+    "cover_contact",
+    "pillar_forces",
+    "restore_pieces",
+    "widen_to_reach",
+]
 
 
 class Tracker:
@@ -90,87 +103,7 @@ class Tracker:
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
         self._footprint_elements: tuple | None = None  # (window, footprint, rows, cols): `footprint_elements`
 
-    # -- what the window holds ------------------------------------------------
-    @property
-    def problem(self) -> ContactProblem:
-        """The problem the solves see: the pillars' springs of the connections' current state."""
-        return self.working.problem
-
-    @property
-    def window(self) -> Window | None:
-        """The current working window (None before the first solve)."""
-        return self.working.window
-
-    @property
-    def operator(self) -> ContactOperator | None:
-        """The contact operator on the current window."""
-        return self.working.operator
-
-    @property
-    def height(self):
-        """Tip heights on the full grid (inf off the footprint), the connections' offsets included."""
-        return self.working.height
-
-    @property
-    def footprint(self):
-        """The indenter's footprint on the full grid (bool)."""
-        return self.working.footprint
-
-    @property
-    def covers_footprint(self) -> bool:
-        """Whether the window holds the whole footprint."""
-        return self.working.covers_footprint
-
-    def footprint_elements(self):
-        """Row and column (host arrays) of every footprint element of the window, row-major (cached)."""
-        cached = self._footprint_elements
-        if cached is None or cached[0] != self.window or cached[1] is not self.footprint:
-            rows, cols = np.nonzero(np.asarray(backend.to_numpy(self.footprint[self.window.slices])))
-            cached = self._footprint_elements = (self.window, self.footprint, rows, cols)
-        return cached[2], cached[3]
-
-    @property
-    def has_contact(self) -> bool:
-        """Whether any element is in contact."""
-        return bool(self.xp.any(self.contact))
-
-    def cover_contact(self, displacement: float, loading: bool) -> None:
-        """A window that holds the contact; the whole footprint when pressing and one outside may reach.
-
-        The bound of `outside_reach_displacement` is conservative: when it
-        cannot exclude a touch outside the window at ``displacement`` on the
-        loading branch, the path works on the whole footprint from here on.
-        """
-        self.working.ensure(self.contact)
-        if loading and not self.covers_footprint and self.outside_reach_displacement() <= displacement:
-            self.working.ensure(self.contact | self.footprint)
-
-    def widen_to_reach(self, displacement: float, reach: float) -> None:
-        """A window enlarged to every footprint element whose tip is at most ``reach`` high.
-
-        The whole footprint when that leaves the window as it was, or when
-        the bound still cannot exclude a touch outside it at ``displacement``.
-        """
-        before = self.window
-        self.working.ensure(self.contact | (self.footprint & (self.height <= reach)))
-        if self.window == before or self.outside_reach_displacement() <= displacement:
-            self.working.ensure(self.contact | self.footprint)
-
-    def outside_reach_displacement(self) -> float:
-        """The smallest base displacement at which an element outside the window could touch (a bound)."""
-        return self.working.outside_reach_displacement(self.pressure, self.contact)
-
-    def full_penetration(self, displacement: float, pressure):
-        """Penetration of every element of the grid at ``displacement`` under ``pressure`` (full grid)."""
-        return self.working.full_penetration(displacement, pressure)
-
-    # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --
-    @property
-    def has_connection_state(self) -> bool:
-        """Whether the connections carry a state (viscoelastic history or a nonlinear pillar law)."""
-        return self.connections.has_state
-
-    def _apply(self, change: SpringChange | None) -> None:
+    def apply_change(self, change: SpringChange | None) -> None:
         """Apply a change of the connections: new springs (a new operator) and raised tips.
 
         New springs make every cached deflection stale: they are dropped here,
@@ -183,47 +116,9 @@ class Tracker:
             self.forget_deflections()
         self.working.raise_tips(change.offsets, change.lifted)
 
-    def pillar_forces(self, pressure=None, contact=None) -> np.ndarray:
-        """Force of every pillar in the current state, or of the given one (compressive positive)."""
-        contact = np.asarray(backend.to_numpy(self.contact if contact is None else contact))
-        pressure = np.asarray(backend.to_numpy(self.pressure if pressure is None else pressure))
-        pillar = self.working.pillar_host
-        return self.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=self.n_pillars)
-
-    def _held_by(self, pillars: np.ndarray):
-        """The contact elements of ``pillars`` (bool, one per pillar), a full-grid mask."""
-        return self.contact & self.xp.asarray(np.isin(self.working.pillar_host, np.flatnonzero(pillars)))
-
-    @property
-    def tension_limit(self) -> float | None:
-        """The pillar law's tension limit, or None."""
-        return self.connections.tension_limit
-
     def point(self, displacement: float | None = None) -> PathPoint:
         """The current state as a value to return to: pressure, contact and the pillar law's pieces (a copy)."""
         return PathPoint(displacement, self.pressure, self.contact, self.connections.saved())
-
-    def broken_pillars(self, pieces=None) -> np.ndarray:
-        """The broken pillars (bool per pillar) now, or in ``pieces`` (a `PathPoint`'s) when given."""
-        return self.connections.broken(pieces)
-
-    def restore_pieces(self, point: PathPoint) -> None:
-        """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
-        self._apply(self.connections.restore(point.pieces, self.problem))
-
-    def break_pillars(self, pillars: np.ndarray):
-        """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
-        self._apply(self.connections.break_pillars(pillars))
-        return self._held_by(pillars)
-
-    def advance_history(self) -> None:
-        """Before a time step: every pillar's tip raised by its connection's history offset b."""
-        self._apply(self.connections.advance())
-
-    def commit_history(self) -> None:
-        """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
-        if self.connections.memory is not None:
-            self.connections.commit(self.pillar_forces())
 
     def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
         """One step of a fixed-step path: the equilibrium at d with the connections' state.
@@ -235,7 +130,7 @@ class Tracker:
         elements that leave the contact first (an event located in the step).
         """
         if advance:
-            self.advance_history()
+            self.apply_change(self.connections.advance())
         if self.connections.pieces is None:
             return self.solve(displacement, force_detach=detach)
         from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
@@ -260,12 +155,12 @@ class Tracker:
             detach = None
             if not eq.converged:
                 return settled(eq)
-            moved, broken, change = self.connections.update(self.pillar_forces(), self.problem)
+            moved, broken, change = self.connections.update(pillar_forces(self), self.working.problem)
             if change is None:
                 return settled(eq)
             if broken is not None:
-                detach = self._held_by(broken)
-            self._apply(change)
+                detach = _held_by(self, broken)
+            self.apply_change(change)
         return settled(
             eq, converged=False,
             reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
@@ -286,7 +181,7 @@ class Tracker:
         if contact_problem or self.critical == 0.0 or not bool(xp.any(self.contact)):
             # A cold or non-adhesive start attaches every overlapping element
             # first; the contact then only shrinks, so a thin margin suffices.
-            needed = needed | (self.footprint & (self.height < displacement))
+            needed = needed | (self.working.footprint & (self.working.height < displacement))
             margin = 0.02
         if force_attach is not None:
             needed = needed | force_attach
@@ -295,12 +190,12 @@ class Tracker:
         trial = trial_pressure = None
         enlarged = False
         while True:
-            sl = self.window.slices
-            height = self.height[sl]
+            sl = self.working.window.slices
+            height = self.working.height[sl]
             if contact_problem or (self.critical == 0.0 and force_detach is None and force_attach is None
                                    and solves == 0):
                 eq = polonsky_keer(
-                    self.operator, height, displacement, self.pressure[sl],
+                    self.working.operator, height, displacement, self.pressure[sl],
                     self.path.tolerance, self.path.max_iterations,
                 )
             else:
@@ -309,7 +204,7 @@ class Tracker:
                     detach=None if force_detach is None else force_detach[sl],
                     attach=None if force_attach is None else force_attach[sl],
                 )
-                eq = equilibrium(self.operator, height, displacement, start, critical=self.critical,
+                eq = equilibrium(self.working.operator, height, displacement, start, critical=self.critical,
                                  settings=self.settings, length_scale=self.length_scale, ledger=self._ledgers[0],
                                  cache=self.working.cache)
             iterations += eq.cg_iterations
@@ -324,10 +219,11 @@ class Tracker:
             self.pressure[sl] = eq.pressure
             self.contact = xp.zeros_like(self.contact)
             self.contact[sl] = eq.contact
-            self._known_deflection = None if eq.deflection is None else Known(self.pressure, self.window, eq.deflection)
+            self._known_deflection = (None if eq.deflection is None
+                                      else Known(self.pressure, self.working.window, eq.deflection))
             if not eq.converged:
                 break
-            if self.covers_footprint or self.working.outside_safe(displacement, self.pressure, self.contact):
+            if self.working.covers_footprint or self.working.outside_safe(displacement, self.pressure, self.contact):
                 break
             if not enlarged and bool(xp.any(self.contact)):
                 # The contact has grown close to the window's edge, where the
@@ -373,29 +269,30 @@ class Tracker:
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
         known = self._known_deflection
-        return None if known is None else known.of(self.pressure, self.window)
+        return None if known is None else known.of(self.pressure, self.working.window)
 
     def deflection(self):
         """Tip deflection (half-space + springs) of the current pressure on the window."""
         deflection = self.known_deflection()
         if deflection is None:
-            deflection = tip_deflection(self.operator, self.pressure[self.window.slices], self.working.cache)
-            self._known_deflection = Known(self.pressure, self.window, deflection)
+            working = self.working
+            deflection = tip_deflection(working.operator, self.pressure[working.window.slices], working.cache)
+            self._known_deflection = Known(self.pressure, self.working.window, deflection)
         return deflection
 
     def set_pressure(self, pressure, deflection=None) -> None:
         """Replace the pressure (full grid), with its tip deflection on the window if known."""
         self.pressure = pressure
-        self._known_deflection = None if deflection is None else Known(pressure, self.window, deflection)
+        self._known_deflection = None if deflection is None else Known(pressure, self.working.window, deflection)
 
     # -- the unit response of the event path ---------------------------------------
     def unit_deflection(self):
         """Tip deflection of the unit response on the window (transformed once per response)."""
-        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.window)
+        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.working.window)
         if known is not None:
             return known
-        deflection = tip_deflection(self.operator, self.unit[self.window.slices], self.working.cache)
-        self._unit_deflection = Known(self.unit, self.window, deflection)
+        deflection = tip_deflection(self.working.operator, self.unit[self.working.window.slices], self.working.cache)
+        self._unit_deflection = Known(self.unit, self.working.window, deflection)
         return deflection
 
     def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
@@ -411,10 +308,10 @@ class Tracker:
         """
         self._pressure_change = None
         deflection = self.known_deflection()
-        if deflection is None or window != self.window:
+        if deflection is None or window != self.working.window:
             return
         sl = window.slices
-        record = cascade_record(self.operator, self.contact[sl], predicted[sl], self.pressure[sl], deflection,
+        record = cascade_record(self.working.operator, self.contact[sl], predicted[sl], self.pressure[sl], deflection,
                                 predicted_deflection)
         if record is not None:
             self._pressure_change = Known(self.contact, window, record)
@@ -422,9 +319,9 @@ class Tracker:
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
         xp = self.xp
-        sl = self.window.slices
+        sl = self.working.window.slices
         contact = self.contact[sl]
-        block, operator = self.working.cache.sub_operator(self.operator, contact)
+        block, operator = self.working.cache.sub_operator(self.working.operator, contact)
         block_contact = contact[block]
         ones = xp.astype(block_contact, xp.float64)
         initial, product = self._unit_guess(contact)
@@ -456,55 +353,68 @@ class Tracker:
         """
         if self.unit is None:
             return None, None
-        previous = self.unit[self.window.slices]
-        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.window)
+        previous = self.unit[self.working.window.slices]
+        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.working.window)
         if known is None:
             return self.xp.where(contact, previous, 0.0), None
-        change = None if self._pressure_change is None else self._pressure_change.of(self.contact, self.window)
-        return unit_guess(self.operator, contact, previous, known, change)
+        change = None if self._pressure_change is None else self._pressure_change.of(self.contact, self.working.window)
+        return unit_guess(self.working.operator, contact, previous, known, change)
 
-    # -- records ------------------------------------------------------------
-    def _on_window(self, array):
-        """``array`` (full grid) restricted to the window, where every pressure
-        and contact set of the path lies (the window always holds the contact)."""
-        return array if self.window is None else array[self.window.slices]
 
-    def force(self, pressure=None) -> float:
-        """The total force of the current pressure, or of ``pressure`` (full grid; compressive positive)."""
-        p = self.pressure if pressure is None else pressure
-        return self.h2 * float(self.xp.sum(self._on_window(p)))
+# -- the window: the contact covered, and widened to what may touch next --------------
+def cover_contact(tracker: Tracker, displacement: float, loading: bool) -> None:
+    """A window that holds the contact; the whole footprint when pressing and one outside may reach.
 
-    def attached_pillars(self, contact=None) -> int:
-        """How many pillars touch in the current contact set, or in ``contact`` (full grid)."""
-        c = self.contact if contact is None else contact
-        if self.n_pillars == 1:
-            return int(bool(self.xp.any(self._on_window(c))))
-        labels = self.pillar[c]
-        if labels.shape[0] == 0:
-            return 0
-        return int(self.xp.unique_values(labels).shape[0])
+    The bound of `WorkingWindow.outside_reach_displacement` is conservative:
+    when it cannot exclude a touch outside the window at ``displacement`` on
+    the loading branch, the path works on the whole footprint from here on.
+    """
+    working, contact = tracker.working, tracker.contact
+    working.ensure(contact)
+    if (loading and not working.covers_footprint
+            and working.outside_reach_displacement(tracker.pressure, contact) <= displacement):
+        working.ensure(contact | working.footprint)
 
-    def state(self, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
-              pressure=None, contact=None) -> State:
-        """The `State` at ``displacement`` of the given pressure and contact (default: the tracker's).
 
-        Why these parameters: one per field of `State` that the caller knows (the rest are computed here).
-        """
-        p = self.pressure if pressure is None else pressure
-        c = self.contact if contact is None else contact
-        self.length_scale = max(self.length_scale, abs(float(displacement)))
-        return State(
-            displacement=float(displacement),
-            force=self.force(p),
-            contact_area=self.h2 * int(self.xp.count_nonzero(self._on_window(c))),
-            attached_pillars=self.attached_pillars(c),
-            loading=loading,
-            kind=kind,
-            trial_force=float(trial_force),
-            cg_iterations=int(iterations),
-            n_solves=int(solves),
-            converged=bool(converged),
-            reason=reason,
-            pressure=p,
-            contact=c,
-        )
+def widen_to_reach(tracker: Tracker, displacement: float, reach: float) -> None:
+    """A window enlarged to every footprint element whose tip is at most ``reach`` high.
+
+    The whole footprint when that leaves the window as it was, or when
+    the bound still cannot exclude a touch outside it at ``displacement``.
+    """
+    working, contact = tracker.working, tracker.contact
+    before = working.window
+    working.ensure(contact | (working.footprint & (working.height <= reach)))
+    if working.window == before or working.outside_reach_displacement(tracker.pressure, contact) <= displacement:
+        working.ensure(contact | working.footprint)
+
+
+# -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --------
+def pillar_forces(tracker: Tracker, pressure=None, contact=None) -> np.ndarray:
+    """Force of every pillar in the tracker's state, or of the given one (compressive positive)."""
+    contact = np.asarray(backend.to_numpy(tracker.contact if contact is None else contact))
+    pressure = np.asarray(backend.to_numpy(tracker.pressure if pressure is None else pressure))
+    pillar = tracker.working.pillar_host
+    return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
+
+
+def _held_by(tracker: Tracker, pillars: np.ndarray):
+    """The contact elements of ``pillars`` (bool, one per pillar), a full-grid mask."""
+    return tracker.contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
+
+
+def restore_pieces(tracker: Tracker, point: PathPoint) -> None:
+    """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
+    tracker.apply_change(tracker.connections.restore(point.pieces, tracker.working.problem))
+
+
+def break_pillars(tracker: Tracker, pillars: np.ndarray):
+    """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
+    tracker.apply_change(tracker.connections.break_pillars(pillars))
+    return _held_by(tracker, pillars)
+
+
+def commit_history(tracker: Tracker) -> None:
+    """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
+    if tracker.connections.memory is not None:
+        tracker.connections.commit(pillar_forces(tracker))

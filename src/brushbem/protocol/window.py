@@ -71,6 +71,7 @@ class WorkingWindow:
         #: The pillar of every element (host array; negative off the footprint).
         self.pillar_host = np.asarray(indenter.pillar)
         self._outside_lowest = math.inf
+        self._footprint_elements: tuple | None = None  # (window, footprint, rows, cols): `footprint_elements`
 
     # -- the geometry ---------------------------------------------------------
     def raise_tips(self, offsets: np.ndarray, lifted: np.ndarray | None = None) -> None:
@@ -178,6 +179,14 @@ class WorkingWindow:
         fr0, fr1, fc0, fc1 = self.footprint_box
         w = self.window
         return w.r0 <= fr0 and w.r1 >= fr1 and w.c0 <= fc0 and w.c1 >= fc1
+
+    def footprint_elements(self):
+        """Row and column (host arrays) of every footprint element of the window, row-major (cached)."""
+        cached = self._footprint_elements
+        if cached is None or cached[0] != self.window or cached[1] is not self.footprint:
+            rows, cols = np.nonzero(np.asarray(backend.to_numpy(self.footprint[self.window.slices])))
+            cached = self._footprint_elements = (self.window, self.footprint, rows, cols)
+        return cached[2], cached[3]
 
     # -- nothing outside the window touches ---------------------------------------
     def outside_safe(self, displacement: float, pressure, contact, window: Window | None = None,
