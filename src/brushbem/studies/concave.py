@@ -442,18 +442,20 @@ STUDY = Study(
                      CONTRADICTED, "h~ = 0.04 is on the steep flank below the stiff optimum, which the closed form of equal "
                      "load sharing (theory.concave_reference_stress) puts at h~ = phi_R = 0.061 for this brush; ours "
                      "peaks at 0.062-0.064 (0.92) and no pillar count from 52 to 448 moves it below 0.9 phi_R "
-                     "(probe_concave_count.py): the thesis's 0.04 is 0.66 phi_R"),
+                     "(probe_concave_count.py, output not committed): the thesis's 0.04 is 0.66 phi_R"),
         ThesisNumber("F~_A at h~ = 0.8, k~ = 0.1 (almost vanishes)", "Fig. 7-3, text", 0.0, _curve_value(0.8, "circle"),
                      evidence="'almost vanishes': 3.5 % of the equal-load-sharing force N F_K"),
         ThesisNumber("max F~_A, phi = 0.15, k~ = 6e-4", "Fig. 7-5, text", 0.88, _max_of("amplification", 0.15, "max")),
         ThesisNumber("h~ at max F~_A, phi = 0.15", "Fig. 7-5, text", 0.16, _max_of("amplification", 0.15, "h_at_max"),
                      OPEN, "a soft brush's maximum is a plateau, within 2 % from h~ = 0.8 to 1.1 on the shipped 16 x 16 "
-                     "circle and from 0.25 to 2 on an 8 x 8 one (probe_concave_count.py); the thesis's 0.16 is 7 % "
+                     "circle and from 0.25 to 2 on an 8 x 8 one (probe_concave_count.py, output not committed); "
+                     "the thesis's 0.16 is 7 % "
                      "below our maximum on both: neither pillar count (the thesis states none) gives it"),
         ThesisNumber("max F~_A, phi = 0.06, k~ = 6e-4", "Fig. 7-5, text", 0.95, _max_of("amplification", 0.06, "max")),
         ThesisNumber("h~ at max F~_A, phi = 0.06", "Fig. 7-5, text", 0.5, _max_of("amplification", 0.06, "h_at_max"),
                      STATED_CHOICE, "the pillar count (the thesis states none): an 8 x 8 lattice (52 pillars in the circle) "
-                     "gives 0.953 at h~ = 0.5, the thesis's 0.95 at 0.5 (probe_concave_count.py); this row's 16 x 16 "
+                     "gives 0.953 at h~ = 0.5, the thesis's 0.95 at 0.5 (probe_concave_count.py, output not "
+                     "committed); this row's 16 x 16 "
                      "(192 pillars) peaks at 0.2 (within 2 % from 0.12 to 0.25)"),
         ThesisNumber("F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06", "Fig. 7-6 a, text", 0.94, _stiff_value(10.0, 0.04),
                      CONTRADICTED, "the stiff optimum is the closed form of equal load sharing, h~ = phi_R = 0.061 "

@@ -526,17 +526,19 @@ SENSITIVITY = [
                  1.0, _ratio(_coefficient(0.55, 0.01), _coefficient(10.0, 0.01))),
     ThesisNumber("plateau F~_A, k~ = 10, sigma~ = 0.07 ('approaches one')", "Fig. 5-3, text", 1.0,
                  _plateau(10.0, 0.07), STATED_CHOICE,
-                 "N = 512 (ours): at N = 1024 the seed-0 case falls 4.4 %, extrapolated 1.025 (notes)"),
+                 "N = 512 (ours): at N = 1024 the seed-0 case falls 4.4 %, extrapolated 1.025 (not committed: probe_plateau_mesh.py)"),
     ThesisNumber("plateau F~_A, k~ = 0.55 over k~ = 10, sigma~ = 0.07 (collapse for k~ >= 0.55)",
                  "Fig. 5-4, text", 1.0, _ratio(_plateau(0.55, 0.07), _plateau(10.0, 0.07))),
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 0.07", "Fig. 5-4 a, text", 1.0, _plateau(1.0, 0.07),
-                 STATED_CHOICE, "N = 512 (ours): the k~ = 10 plateau falls 4.4 % at N = 1024, extrapolated 1.025"),
+                 STATED_CHOICE, "N = 512 (ours): the k~ = 10 plateau falls 4.4 % at N = 1024, extrapolated 1.025 "
+                 "(not committed: probe_plateau_mesh.py)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ -> 0", "Fig. 5-4 d, text", 2.0, _plateau(0.001, 0.01),
-                 STATED_CHOICE, "N = 512 (ours): N = 1024 gives -3.7 %, extrapolated 2.108 (+5.4 %; notes)"),
+                 STATED_CHOICE, "N = 512 (ours): N = 1024 gives -3.7 %, extrapolated 2.108 (+5.4 %; not committed: "
+                 "probe_plateau_mesh.py)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ = 2.1", "Fig. 5-4 d, text", 1.5, _plateau(0.001, 2.1),
                  CONTRADICTED, "the same pillars without half-space coupling (independent-pillar limit, F~_P = 20, "
                  "40 draws) give 1.262 +- 0.006, and coupling only lowers F~_A (coupled/limit <= 1.04 on every "
-                 "committed point); N = 1024 lowers ours further (1.136)"),
+                 "committed point); N = 1024 lowers ours further (1.136, not committed: probe_plateau_mesh.py)"),
     ThesisNumber("F~_A at the roughest over the smoothest sigma~ of Fig. 5-2 (k~ = 10, F~_P = 6.5: 'the adhesive "
                  "force decreases with roughness', L883)", "Fig. 5-2, text (L883)", 1.0, _curve_ratio, claim="<"),
     ThesisNumber("plateau F~_A at sigma~ = 2.1 over sigma~ = 0.01-0.07: k~ = 0.001 over k~ = 1 ('very soft structure "
@@ -561,7 +563,7 @@ STUDY = Study(
     title="Ch. 5: rough brushes on springs, F~_A vs preload, adhesion coefficient (eq. 5.8), Table 1 (Fig. 5-2 to 5-7)",
     figures=("5-2", "5-3", "5-4", "5-5", "5-6", "5-7", "Table 1"),
     parts=("curves", "preload", "identification", "identification_preload", "count", "count_rough", "table1_events",
-           "table1"),
+           "table1", "preload16"),
     draw=draw,
     numbers=tuple(NUMBERS) + tuple(_outside(n) for n in SENSITIVITY),
     identification=identification,
