@@ -111,99 +111,10 @@ class PillarModel:
         self._groups: dict[int, np.ndarray] = {}
         self.lattice = None
         for p in range(M):
-            self._install_basis(p)
-        self._build_couplings(self.centre.copy(), lattice)
-
-    def _build_couplings(self, full_centres: np.ndarray, lattice: bool) -> None:
-        """The lattice (if any), the neighbours coupled exactly, and every coupling of the full footprints."""
-        M, m = self.M, self.m
-        #: The lattice of the pillars (`brushbem.pillars.lattice.Lattice`) when they sit on one
-        #: (``coupling = "local"``, more than one mode): the far field of the uniform modes by FFT.
-        self.lattice = (Lattice.detect(full_centres, self.near, self.scale)
-                        if lattice and self.coupling == "local" and m > 1 else None)
-        if self.lattice is not None:
-            # Neighbours coupled exactly: by the lattice points, as the FFT leaves them out.
-            self.neighbours = self.lattice.neighbours
-            self._moments = ((np.zeros(M), np.zeros((M, 2)), np.zeros((M, 2, 2))),
-                             (np.zeros((M, m)), np.zeros((M, m, 2)), np.zeros((M, m, 2, 2))))
-            self._shift_moments(np.arange(M))
-        else:
-            # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
-            self.neighbours = []
-            for p in range(M):
-                distance = np.hypot(*(full_centres - full_centres[p]).T)
-                close = np.flatnonzero(distance < self.near)
-                self.neighbours.append(close[close != p])
-        self.Gf = np.zeros((M, M, m, m)) if self.coupling == "full" else None
-        # On a lattice, when each pillar's raster last changed and each entry of the kept G00 was computed
-        # (`uniform_block`).
-        self._clock = 0
-        self._changed_at = np.zeros(M, dtype=np.int64)
-        # No entry is computed before it is read: a brush pressed in part couples only the pillars it attaches.
-        self._computed_at = np.full((M, M), -1, dtype=np.int32) if self.lattice is not None and M <= DENSE_PILLARS \
-            else None
-        if self.lattice is None:
-            # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
-            # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
-            self.Gs = np.zeros((m, M, M))
-            self.G0 = self.Gs[0]
-            self.Gh = self.Gs[1:]
-        else:
-            # No dense couplings: the near blocks G_pq[k, 0] per neighbour (every mode k, exact), the far ones by
-            # the lattice's FFT (fields) or pair by pair (`uniform_block`).
-            self.G0 = np.zeros((M, M)) if M <= DENSE_PILLARS else None
-        # Every mode's exact near blocks G_pq (m, m) per neighbour, both ways: on a lattice the near part of
-        # the fields; everywhere the higher modes' own field on their neighbours (`radiation`).
-        width = max(1, max(len(close) for close in self.neighbours))
-        self.near_index = np.zeros((M, width), dtype=np.int64)
-        self.near_valid = np.zeros((M, width), dtype=bool)
-        self.near_full = np.zeros((M, width, m, m))
-        self.near_blocks = self.near_full[..., 0]
-        # The same blocks laid out for the products of `fields` and `radiation` (one contiguous matrix per
-        # pillar): G_pq[k, 0] as (M, m, width) and G_pq[k, l > 0] as (M, m, width (m - 1)).
-        self._near_uniform = np.zeros((M, m, width))
-        self._near_higher = np.zeros((M, m, width, m - 1))
-        self.near_slot = np.zeros((M, width), dtype=np.int64)
-        slot_of = [{int(q): j for j, q in enumerate(close)} for close in self.neighbours]
-        for p, close in enumerate(self.neighbours):
-            self.near_index[p, :close.size] = close
-            self.near_valid[p, :close.size] = True
-            self.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
-        for p in range(M):
-            self._install_row(p, upper=p)
+            _install_basis(self, p)
+        _build_couplings(self, self.centre.copy(), lattice)
 
     # -- bases ---------------------------------------------------------------
-    def _install_basis(self, p: int) -> None:
-        mask = self.raster[p]
-        basis, origin = self.mask_basis(p, mask)
-        self.basis[p] = basis
-        self.origin[p] = origin
-        self.centre[p] = origin + basis.centroid
-        self.force[p] = basis.force
-        self.gram[p] = basis.gram
-        self.m0[p], self.m1[p], self.m2[p] = basis.m0, basis.m1, basis.m2
-        self.phi[p] = 0.0
-        self.phi[p, mask] = basis.phi
-        within = self.full[p]
-        foot = np.stack([self.rows[p][within], self.cols[p][within]], axis=1) - origin
-        key = (basis.serial, foot.tobytes())
-        cached = self._footprints.get(key)
-        if cached is None:
-            cached = np.concatenate([basis.polynomials(foot) @ basis.fit, self._own_field(basis, foot, mask)],
-                                    axis=1)
-            if len(self._footprints) > 20_000:
-                self._footprints.clear()
-                used = set(self.surface_group.tolist())
-                self._groups = {group: array for group, array in self._groups.items() if group in used}
-            self._footprints[key] = cached
-            self._groups[id(cached)] = cached
-        self.surface_map[p, within] = cached
-        self.surface_group[p] = id(cached)
-        self.fit_centre[:, p] = centre = cached[:, :self.m].mean(axis=0)
-        self.fit_spread[:, p] = np.max(np.abs(cached[:, :self.m] - centre), axis=0)
-        if self.lattice is not None:
-            self._shift_moments(np.array([p]))
-
     def surface_group_map(self, group: int) -> np.ndarray:
         """The `surface_map` rows (footprint slots, 2 m) that the pillars of ``surface_group`` ``group`` share."""
         return self._groups[group]
@@ -215,108 +126,7 @@ class PillarModel:
         on = mask[:size]
         return self.bases.get(foot, on), foot[on].min(axis=0)
 
-    def _own_field(self, basis: Basis, foot: np.ndarray, mask: np.ndarray) -> np.ndarray:
-        """The displacement of ``basis``'s modes on the footprint slots ``foot`` (offsets from the raster's
-        origin; ``mask`` those of the raster): K_FR Phi.  On a large footprint its raster's part is the
-        polynomial K_RR Phi = P (Phi^T P)^-1 diag(gram) (K Phi lies in P's span), the rest a product."""
-        if not self.large:
-            K = self.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
-                          np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
-            return K @ basis.phi
-        on = mask[:foot.shape[0]]
-        out = np.empty((foot.shape[0], basis.phi.shape[1]))
-        out[on] = basis.polynomials(foot[on]) @ (basis.fit * basis.gram[None, :])
-        off = foot[~on]
-        K = self.ktab[np.abs(off[:, None, 0] - basis.offsets[None, :, 0]),
-                      np.abs(off[:, None, 1] - basis.offsets[None, :, 1])]
-        out[~on] = K @ basis.phi
-        return out
-
     # -- couplings -------------------------------------------------------------
-    def _exact(self, bp: Basis, origin: np.ndarray, q: int, p: int, mask: np.ndarray) -> np.ndarray:
-        """Phi_p^T K_pq Phi_q, exact, for p's raster ``bp`` on its footprint slots ``mask`` at ``origin``;
-        cached by the shapes and their offset.  On a large footprint through q's field across p's whole
-        footprint (`_field_across`), kept while q's raster stands: p peeling costs a product of its raster."""
-        bq = self.basis[q]
-        if self.large:
-            return bp.phi.T @ self._field_across(p, q)[mask[:self.full[p].sum()]]
-        dr, dc = self.origin[q] - origin
-        key = (bp.serial, bq.serial, int(dr), int(dc))
-        block = self._pairs.get(key)
-        if block is None:
-            a, b = bp.offsets, bq.offsets + (dr, dc)
-            K = self.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
-            block = bp.phi.T @ K @ bq.phi
-            if len(self._pairs) > 200_000:
-                self._pairs.clear()
-            self._pairs[key] = block
-        return block
-
-    def _field_across(self, p: int, q: int) -> np.ndarray:
-        """K_Fq Phi_q: the field of q's modes on every slot of p's footprint F; cached by q's raster shape,
-        p's footprint shape and their offset."""
-        bq = self.basis[q]
-        size = int(np.count_nonzero(self.full[p]))
-        foot = np.stack([self.rows[p][:size], self.cols[p][:size]], axis=1)
-        corner = foot.min(axis=0)
-        dr, dc = self.origin[q] - corner
-        key = (bq.serial, int(dr), int(dc), (foot - corner).tobytes())
-        field = self._fields.get(key)
-        if field is None:
-            if self._fields_bytes > 2**29:
-                self._fields.clear()
-                self._fields_bytes = 0
-            a, b = foot - corner, bq.offsets + (dr, dc)
-            K = self.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
-            field = self._fields[key] = K @ bq.phi
-            self._fields_bytes += field.nbytes
-        return field
-
-    def _far(self, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
-        """Blocks G_pq (len(others), m, m) by the multipole expansion of 1/r to second order.
-
-        With t the moments of p's modes and q those of the others' (the element square's own second moment
-        h^2/12 added to the source), about their centroids R apart:
-        G = t0 q0 f + (t1 q0 - t0 q1) . grad f + (t2 q0 - 2 t1 q1 + t0 q2) : hess f / 2, f = 1/r.
-        With ``coupling = "local"`` only the uniform mode's row and column are filled.
-        """
-        ry, rx = centre[0] - self.centre[others, 0], centre[1] - self.centre[others, 1]
-        r2 = ry * ry + rx * rx
-        f = 1.0 / np.sqrt(r2)
-        f3 = f / r2
-        f5 = f3 / r2
-        gy, gx = -ry * f3, -rx * f3
-        hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
-        t0, t1, t2 = bp.m0, bp.m1, bp.m2  # (m,), (m, 2), (m, 2, 2)
-        q0, q1, q2 = self.m0[others], self.m1[others], self.m2[others]  # (J, m), (J, m, 2), (J, m, 2, 2)
-        q1y, q1x = q1[..., 0], q1[..., 1]
-        spread = q0 / 12.0
-        q2h = (q2[..., 0, 0] + spread) * hyy[:, None] + 2.0 * q2[..., 0, 1] * hxy[:, None] \
-            + (q2[..., 1, 1] + spread) * hxx[:, None]  # (J, n)
-        q1g = q1y * gy[:, None] + q1x * gx[:, None]  # (J, n)
-        H = np.stack([hyy, hxy, hxx], axis=1)  # (J, 3)
-        t2h = H @ np.stack([t2[:, 0, 0], 2.0 * t2[:, 0, 1], t2[:, 1, 1]])  # (J, m)
-        t1g = np.stack([gy, gx], axis=1) @ t1.T  # (J, m)
-        # t1^T hess: (J, m, 2) as its y and x components.
-        th_y = hyy[:, None] * t1[None, :, 0] + hxy[:, None] * t1[None, :, 1]
-        th_x = hxy[:, None] * t1[None, :, 0] + hxx[:, None] * t1[None, :, 1]
-        m = self.m
-        g = np.zeros((others.size, m, m))
-        if self.Gf is not None:
-            g = (t0[None, :, None] * q0[:, None, :] * f[:, None, None]
-                 + t1g[:, :, None] * q0[:, None, :] - t0[None, :, None] * q1g[:, None, :]
-                 + 0.5 * (t2h[:, :, None] * q0[:, None, :] + t0[None, :, None] * q2h[:, None, :])
-                 - (th_y[:, :, None] * q1y[:, None, :] + th_x[:, :, None] * q1x[:, None, :]))
-            return self.scale * g
-        # Column 0 (all of p's modes, the others' uniform mode) and row 0 (p's uniform mode, all of theirs).
-        g[:, :, 0] = (t0[None, :] * (q0[:, :1] * f[:, None]) + t1g * q0[:, :1] - t0[None, :] * q1g[:, :1]
-                      + 0.5 * (t2h * q0[:, :1] + t0[None, :] * q2h[:, :1])
-                      - (th_y * q1y[:, :1] + th_x * q1x[:, :1]))
-        g[:, 0, 1:] = (t0[0] * q0[:, 1:] * f[:, None] + t1g[:, :1] * q0[:, 1:] - t0[0] * q1g[:, 1:]
-                       + 0.5 * (t2h[:, :1] * q0[:, 1:] + t0[0] * q2h[:, 1:])
-                       - (th_y[:, :1] * q1y[:, 1:] + th_x[:, :1] * q1x[:, 1:]))
-        return self.scale * g
-
     def blocks(self, p: int, mask: np.ndarray | None = None, upper: int = -1) -> tuple[np.ndarray, np.ndarray, Basis]:
         """(others, blocks G_pq (len(others), m, m), basis of p) for pillar p on its raster or on ``mask``.
 
@@ -334,50 +144,10 @@ class PillarModel:
             near = np.isin(others, self.neighbours[p])
             far = ~near
             if far.any():
-                blocks[far] = self._far(bp, centre, others[far])
+                blocks[far] = _far(self, bp, centre, others[far])
             for k in np.flatnonzero(near):
-                blocks[k] = self._exact(bp, origin, int(others[k]), p, mask)
+                blocks[k] = _exact(self, bp, origin, int(others[k]), p, mask)
         return others, blocks, bp
-
-    def _install_lattice_row(self, p: int, upper: int) -> None:
-        """The exact near blocks of pillar p with its neighbours beyond ``upper`` (lattice storage), both ways."""
-        bp, origin = self.basis[p], self.origin[p]
-        for j, q in enumerate(self.neighbours[p]):
-            if q <= upper:
-                continue
-            self._set_near(p, j, int(q), self._exact(bp, origin, int(q), p, self.raster[p]))
-        if self.G0 is not None and upper < 0:
-            # The kept G00's entries of p are refreshed when they are next read (`uniform_block`), those
-            # read only: a pillar that peels in steps or comes off is not recomputed against every pillar.
-            self._clock += 1
-            self._changed_at[p] = self._clock
-
-    def _set_near(self, p: int, j: int, q: int, block: np.ndarray) -> None:
-        """G_pq = ``block`` for p's neighbour number j, q, and G_qp = block^T, in every layout."""
-        i = self.near_slot[p, j]
-        self.near_full[p, j] = block
-        self.near_full[q, i] = block.T
-        self._near_uniform[p, :, j] = block[:, 0]
-        self._near_uniform[q, :, i] = block[0, :]
-        self._near_higher[p, :, j] = block[:, 1:]
-        self._near_higher[q, :, i] = block.T[:, 1:]
-
-    def _shift_moments(self, pillars: np.ndarray) -> None:
-        """The lattice moments (`lattice_moments`) of ``pillars`` afresh from their bases."""
-        delta = self.centre[pillars] - self.lattice.points[pillars]  # (P, 2)
-        m0, m1, m2 = self.m0[pillars], self.m1[pillars], self.m2[pillars]
-        t1 = m1 + m0[..., None] * delta[:, None, :]
-        shift = m1[..., :, None] * delta[:, None, None, :]
-        t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[..., None, None] * (delta[:, :, None] * delta[:, None, :])[:, None]
-        (q0, q1, q2), (s0, s1, s2) = self._moments
-        s0[pillars], s1[pillars], s2[pillars] = m0, t1, t2
-        q0[pillars], q1[pillars] = m0[:, 0], t1[:, 0]
-        q2[pillars] = t2[:, 0] + (m0[:, 0] / 12.0)[:, None, None] * np.eye(2)
-        weights = Lattice.weights((q0[pillars], q1[pillars], q2[pillars]), (s0[pillars], s1[pillars], s2[pillars]))
-        if pillars.size == self.M:
-            self._weights = weights
-        else:
-            self._weights[0][:, pillars], self._weights[1][pillars] = weights
 
     def lattice_moments(self, pillars: np.ndarray | None = None) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
         """(sources, targets) of `Lattice.far_field`: the modes' moments about the lattice points (of ``pillars``).
@@ -403,53 +173,13 @@ class PillarModel:
                                         (cols[(computed < self._changed_at[cols][None, :]).any(axis=0)], rows)):
                     if changed.size:
                         self._clock += 1
-                        block = self._lattice_block(changed, others)
+                        block = _lattice_block(self, changed, others)
                         self.G0[np.ix_(changed, others)] = block
                         self.G0[np.ix_(others, changed)] = block.T
                         self._computed_at[np.ix_(changed, others)] = self._clock
                         self._computed_at[np.ix_(others, changed)] = self._clock
             return self.G0[np.ix_(rows, cols)]
-        return self._lattice_block(rows, cols)
-
-    def _lattice_block(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-        """G00[rows, cols] on a lattice: the far pairs' multipoles as the FFT sums them, the near ones exact."""
-        sources, _ = self.lattice_moments(cols)
-        _, targets = self.lattice_moments(rows)
-        out = np.empty((rows.size, cols.size))
-        # In slabs of rows: the pair arithmetic's temporaries stay near 2^20 numbers each.
-        slab = max(1, 2**20 // max(cols.size, 1))
-        for start in range(0, rows.size, slab):
-            part = slice(start, start + slab)
-            out[part] = self.lattice.pair_couplings(rows[part], cols, sources,
-                                                    tuple(a[part, 0] for a in targets))
-        position = np.full(self.M, -1)
-        position[cols] = np.arange(cols.size)
-        where = position[self.near_index[rows]]
-        hit = self.near_valid[rows] & (where >= 0)
-        out[np.nonzero(hit)[0], where[hit]] = self.near_blocks[rows][..., 0][hit]
-        same = position[rows]
-        out[np.flatnonzero(same >= 0), same[same >= 0]] = self.gram[rows[same >= 0], 0]
-        return out
-
-    def _install_row(self, p: int, upper: int = -1) -> None:
-        """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
-        if self.lattice is not None:
-            self._install_lattice_row(p, upper)
-            return
-        others, blocks, _ = self.blocks(p, upper=upper)
-        for j, q in enumerate(self.neighbours[p]):
-            if q > upper:
-                self._set_near(p, j, int(q), blocks[np.searchsorted(others, q)])
-        self.G0[p, others] = self.G0[others, p] = blocks[:, 0, 0]
-        self.G0[p, p] = self.gram[p, 0]
-        if self.m > 1:
-            self.Gh[:, p, others] = blocks[:, 1:, 0].T
-            self.Gh[:, others, p] = blocks[:, 0, 1:].T
-            self.Gh[:, p, p] = 0.0
-        if self.Gf is not None:
-            self.Gf[p, others] = blocks
-            self.Gf[others, p] = blocks.transpose(0, 2, 1)
-            self.Gf[p, p] = np.diag(self.gram[p])
+        return _lattice_block(self, rows, cols)
 
     def set_raster(self, p: int, mask: np.ndarray) -> None:
         """Pillar p holds the footprint slots ``mask`` (all of them once it is off): new basis and couplings."""
@@ -458,8 +188,8 @@ class PillarModel:
         if np.array_equal(mask, self.raster[p]):
             return
         self.raster[p] = mask
-        self._install_basis(p)
-        self._install_row(p)
+        _install_basis(self, p)
+        _install_row(self, p)
 
     # -- springs -------------------------------------------------------------
     def spring_row(self, p: int) -> np.ndarray:
@@ -537,3 +267,286 @@ class PillarModel:
         if self.m > 1:
             x[on, 1:] = -field[1:, on].T / self.gram[on, 1:]
         return x
+
+
+# -- the model's bases and couplings, built and kept up to date (module functions of a `PillarModel`) --------
+
+def _build_couplings(model: PillarModel, full_centres: np.ndarray, lattice: bool) -> None:
+    """The lattice (if any), the neighbours coupled exactly, and every coupling of the full footprints."""
+    M, m = model.M, model.m
+    #: The lattice of the pillars (`brushbem.pillars.lattice.Lattice`) when they sit on one
+    #: (``coupling = "local"``, more than one mode): the far field of the uniform modes by FFT.
+    model.lattice = (Lattice.detect(full_centres, model.near, model.scale)
+                    if lattice and model.coupling == "local" and m > 1 else None)
+    if model.lattice is not None:
+        # Neighbours coupled exactly: by the lattice points, as the FFT leaves them out.
+        model.neighbours = model.lattice.neighbours
+        model._moments = ((np.zeros(M), np.zeros((M, 2)), np.zeros((M, 2, 2))),
+                         (np.zeros((M, m)), np.zeros((M, m, 2)), np.zeros((M, m, 2, 2))))
+        _shift_moments(model, np.arange(M))
+    else:
+        # Neighbours coupled exactly: by the footprints' centres (a peeled raster stays inside its footprint).
+        model.neighbours = []
+        for p in range(M):
+            distance = np.hypot(*(full_centres - full_centres[p]).T)
+            close = np.flatnonzero(distance < model.near)
+            model.neighbours.append(close[close != p])
+    model.Gf = np.zeros((M, M, m, m)) if model.coupling == "full" else None
+    # On a lattice, when each pillar's raster last changed and each entry of the kept G00 was computed
+    # (`uniform_block`).
+    model._clock = 0
+    model._changed_at = np.zeros(M, dtype=np.int64)
+    # No entry is computed before it is read: a brush pressed in part couples only the pillars it attaches.
+    model._computed_at = np.full((M, M), -1, dtype=np.int32) if model.lattice is not None and M <= DENSE_PILLARS \
+        else None
+    if model.lattice is None:
+        # Couplings: Gs[0] = G00 (M, M) and Gs[k] = G_ij[k, 0] (M, M) for the higher modes k, in one array
+        # (one pass over memory gives every mode's field); the full blocks for coupling = "full".
+        model.Gs = np.zeros((m, M, M))
+        model.G0 = model.Gs[0]
+        model.Gh = model.Gs[1:]
+    else:
+        # No dense couplings: the near blocks G_pq[k, 0] per neighbour (every mode k, exact), the far ones by
+        # the lattice's FFT (fields) or pair by pair (`uniform_block`).
+        model.G0 = np.zeros((M, M)) if M <= DENSE_PILLARS else None
+    # Every mode's exact near blocks G_pq (m, m) per neighbour, both ways: on a lattice the near part of
+    # the fields; everywhere the higher modes' own field on their neighbours (`radiation`).
+    width = max(1, max(len(close) for close in model.neighbours))
+    model.near_index = np.zeros((M, width), dtype=np.int64)
+    model.near_valid = np.zeros((M, width), dtype=bool)
+    model.near_full = np.zeros((M, width, m, m))
+    model.near_blocks = model.near_full[..., 0]
+    # The same blocks laid out for the products of `fields` and `radiation` (one contiguous matrix per
+    # pillar): G_pq[k, 0] as (M, m, width) and G_pq[k, l > 0] as (M, m, width (m - 1)).
+    model._near_uniform = np.zeros((M, m, width))
+    model._near_higher = np.zeros((M, m, width, m - 1))
+    model.near_slot = np.zeros((M, width), dtype=np.int64)
+    slot_of = [{int(q): j for j, q in enumerate(close)} for close in model.neighbours]
+    for p, close in enumerate(model.neighbours):
+        model.near_index[p, :close.size] = close
+        model.near_valid[p, :close.size] = True
+        model.near_slot[p, :close.size] = [slot_of[int(q)][p] for q in close]
+    for p in range(M):
+        _install_row(model, p, upper=p)
+
+
+def _install_basis(model: PillarModel, p: int) -> None:
+    mask = model.raster[p]
+    basis, origin = model.mask_basis(p, mask)
+    model.basis[p] = basis
+    model.origin[p] = origin
+    model.centre[p] = origin + basis.centroid
+    model.force[p] = basis.force
+    model.gram[p] = basis.gram
+    model.m0[p], model.m1[p], model.m2[p] = basis.m0, basis.m1, basis.m2
+    model.phi[p] = 0.0
+    model.phi[p, mask] = basis.phi
+    within = model.full[p]
+    foot = np.stack([model.rows[p][within], model.cols[p][within]], axis=1) - origin
+    key = (basis.serial, foot.tobytes())
+    cached = model._footprints.get(key)
+    if cached is None:
+        cached = np.concatenate([basis.polynomials(foot) @ basis.fit, _own_field(model, basis, foot, mask)],
+                                axis=1)
+        if len(model._footprints) > 20_000:
+            model._footprints.clear()
+            used = set(model.surface_group.tolist())
+            model._groups = {group: array for group, array in model._groups.items() if group in used}
+        model._footprints[key] = cached
+        model._groups[id(cached)] = cached
+    model.surface_map[p, within] = cached
+    model.surface_group[p] = id(cached)
+    model.fit_centre[:, p] = centre = cached[:, :model.m].mean(axis=0)
+    model.fit_spread[:, p] = np.max(np.abs(cached[:, :model.m] - centre), axis=0)
+    if model.lattice is not None:
+        _shift_moments(model, np.array([p]))
+
+
+def _own_field(model: PillarModel, basis: Basis, foot: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The displacement of ``basis``'s modes on the footprint slots ``foot`` (offsets from the raster's
+    origin; ``mask`` those of the raster): K_FR Phi.  On a large footprint its raster's part is the
+    polynomial K_RR Phi = P (Phi^T P)^-1 diag(gram) (K Phi lies in P's span), the rest a product."""
+    if not model.large:
+        K = model.ktab[np.abs(foot[:, None, 0] - basis.offsets[None, :, 0]),
+                      np.abs(foot[:, None, 1] - basis.offsets[None, :, 1])]
+        return K @ basis.phi
+    on = mask[:foot.shape[0]]
+    out = np.empty((foot.shape[0], basis.phi.shape[1]))
+    out[on] = basis.polynomials(foot[on]) @ (basis.fit * basis.gram[None, :])
+    off = foot[~on]
+    K = model.ktab[np.abs(off[:, None, 0] - basis.offsets[None, :, 0]),
+                  np.abs(off[:, None, 1] - basis.offsets[None, :, 1])]
+    out[~on] = K @ basis.phi
+    return out
+
+
+def _exact(model: PillarModel, bp: Basis, origin: np.ndarray, q: int, p: int, mask: np.ndarray) -> np.ndarray:
+    """Phi_p^T K_pq Phi_q, exact, for p's raster ``bp`` on its footprint slots ``mask`` at ``origin``;
+    cached by the shapes and their offset.  On a large footprint through q's field across p's whole
+    footprint (`_field_across`), kept while q's raster stands: p peeling costs a product of its raster."""
+    bq = model.basis[q]
+    if model.large:
+        return bp.phi.T @ _field_across(model, p, q)[mask[:model.full[p].sum()]]
+    dr, dc = model.origin[q] - origin
+    key = (bp.serial, bq.serial, int(dr), int(dc))
+    block = model._pairs.get(key)
+    if block is None:
+        a, b = bp.offsets, bq.offsets + (dr, dc)
+        K = model.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
+        block = bp.phi.T @ K @ bq.phi
+        if len(model._pairs) > 200_000:
+            model._pairs.clear()
+        model._pairs[key] = block
+    return block
+
+
+def _field_across(model: PillarModel, p: int, q: int) -> np.ndarray:
+    """K_Fq Phi_q: the field of q's modes on every slot of p's footprint F; cached by q's raster shape,
+    p's footprint shape and their offset."""
+    bq = model.basis[q]
+    size = int(np.count_nonzero(model.full[p]))
+    foot = np.stack([model.rows[p][:size], model.cols[p][:size]], axis=1)
+    corner = foot.min(axis=0)
+    dr, dc = model.origin[q] - corner
+    key = (bq.serial, int(dr), int(dc), (foot - corner).tobytes())
+    field = model._fields.get(key)
+    if field is None:
+        if model._fields_bytes > 2**29:
+            model._fields.clear()
+            model._fields_bytes = 0
+        a, b = foot - corner, bq.offsets + (dr, dc)
+        K = model.ktab[np.abs(a[:, None, 0] - b[None, :, 0]), np.abs(a[:, None, 1] - b[None, :, 1])]
+        field = model._fields[key] = K @ bq.phi
+        model._fields_bytes += field.nbytes
+    return field
+
+
+def _far(model: PillarModel, bp: Basis, centre: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """Blocks G_pq (len(others), m, m) by the multipole expansion of 1/r to second order.
+
+    With t the moments of p's modes and q those of the others' (the element square's own second moment
+    h^2/12 added to the source), about their centroids R apart:
+    G = t0 q0 f + (t1 q0 - t0 q1) . grad f + (t2 q0 - 2 t1 q1 + t0 q2) : hess f / 2, f = 1/r.
+    With ``coupling = "local"`` only the uniform mode's row and column are filled.
+    """
+    ry, rx = centre[0] - model.centre[others, 0], centre[1] - model.centre[others, 1]
+    r2 = ry * ry + rx * rx
+    f = 1.0 / np.sqrt(r2)
+    f3 = f / r2
+    f5 = f3 / r2
+    gy, gx = -ry * f3, -rx * f3
+    hyy, hxy, hxx = 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3
+    t0, t1, t2 = bp.m0, bp.m1, bp.m2  # (m,), (m, 2), (m, 2, 2)
+    q0, q1, q2 = model.m0[others], model.m1[others], model.m2[others]  # (J, m), (J, m, 2), (J, m, 2, 2)
+    q1y, q1x = q1[..., 0], q1[..., 1]
+    spread = q0 / 12.0
+    q2h = (q2[..., 0, 0] + spread) * hyy[:, None] + 2.0 * q2[..., 0, 1] * hxy[:, None] \
+        + (q2[..., 1, 1] + spread) * hxx[:, None]  # (J, n)
+    q1g = q1y * gy[:, None] + q1x * gx[:, None]  # (J, n)
+    H = np.stack([hyy, hxy, hxx], axis=1)  # (J, 3)
+    t2h = H @ np.stack([t2[:, 0, 0], 2.0 * t2[:, 0, 1], t2[:, 1, 1]])  # (J, m)
+    t1g = np.stack([gy, gx], axis=1) @ t1.T  # (J, m)
+    # t1^T hess: (J, m, 2) as its y and x components.
+    th_y = hyy[:, None] * t1[None, :, 0] + hxy[:, None] * t1[None, :, 1]
+    th_x = hxy[:, None] * t1[None, :, 0] + hxx[:, None] * t1[None, :, 1]
+    m = model.m
+    g = np.zeros((others.size, m, m))
+    if model.Gf is not None:
+        g = (t0[None, :, None] * q0[:, None, :] * f[:, None, None]
+             + t1g[:, :, None] * q0[:, None, :] - t0[None, :, None] * q1g[:, None, :]
+             + 0.5 * (t2h[:, :, None] * q0[:, None, :] + t0[None, :, None] * q2h[:, None, :])
+             - (th_y[:, :, None] * q1y[:, None, :] + th_x[:, :, None] * q1x[:, None, :]))
+        return model.scale * g
+    # Column 0 (all of p's modes, the others' uniform mode) and row 0 (p's uniform mode, all of theirs).
+    g[:, :, 0] = (t0[None, :] * (q0[:, :1] * f[:, None]) + t1g * q0[:, :1] - t0[None, :] * q1g[:, :1]
+                  + 0.5 * (t2h * q0[:, :1] + t0[None, :] * q2h[:, :1])
+                  - (th_y * q1y[:, :1] + th_x * q1x[:, :1]))
+    g[:, 0, 1:] = (t0[0] * q0[:, 1:] * f[:, None] + t1g[:, :1] * q0[:, 1:] - t0[0] * q1g[:, 1:]
+                   + 0.5 * (t2h[:, :1] * q0[:, 1:] + t0[0] * q2h[:, 1:])
+                   - (th_y[:, :1] * q1y[:, 1:] + th_x[:, :1] * q1x[:, 1:]))
+    return model.scale * g
+
+
+def _install_lattice_row(model: PillarModel, p: int, upper: int) -> None:
+    """The exact near blocks of pillar p with its neighbours beyond ``upper`` (lattice storage), both ways."""
+    bp, origin = model.basis[p], model.origin[p]
+    for j, q in enumerate(model.neighbours[p]):
+        if q <= upper:
+            continue
+        _set_near(model, p, j, int(q), _exact(model, bp, origin, int(q), p, model.raster[p]))
+    if model.G0 is not None and upper < 0:
+        # The kept G00's entries of p are refreshed when they are next read (`uniform_block`), those
+        # read only: a pillar that peels in steps or comes off is not recomputed against every pillar.
+        model._clock += 1
+        model._changed_at[p] = model._clock
+
+
+def _set_near(model: PillarModel, p: int, j: int, q: int, block: np.ndarray) -> None:
+    """G_pq = ``block`` for p's neighbour number j, q, and G_qp = block^T, in every layout."""
+    i = model.near_slot[p, j]
+    model.near_full[p, j] = block
+    model.near_full[q, i] = block.T
+    model._near_uniform[p, :, j] = block[:, 0]
+    model._near_uniform[q, :, i] = block[0, :]
+    model._near_higher[p, :, j] = block[:, 1:]
+    model._near_higher[q, :, i] = block.T[:, 1:]
+
+
+def _shift_moments(model: PillarModel, pillars: np.ndarray) -> None:
+    """The lattice moments (`PillarModel.lattice_moments`) of ``pillars`` afresh from their bases."""
+    delta = model.centre[pillars] - model.lattice.points[pillars]  # (P, 2)
+    m0, m1, m2 = model.m0[pillars], model.m1[pillars], model.m2[pillars]
+    t1 = m1 + m0[..., None] * delta[:, None, :]
+    shift = m1[..., :, None] * delta[:, None, None, :]
+    t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[..., None, None] * (delta[:, :, None] * delta[:, None, :])[:, None]
+    (q0, q1, q2), (s0, s1, s2) = model._moments
+    s0[pillars], s1[pillars], s2[pillars] = m0, t1, t2
+    q0[pillars], q1[pillars] = m0[:, 0], t1[:, 0]
+    q2[pillars] = t2[:, 0] + (m0[:, 0] / 12.0)[:, None, None] * np.eye(2)
+    weights = Lattice.weights((q0[pillars], q1[pillars], q2[pillars]), (s0[pillars], s1[pillars], s2[pillars]))
+    if pillars.size == model.M:
+        model._weights = weights
+    else:
+        model._weights[0][:, pillars], model._weights[1][pillars] = weights
+
+
+def _lattice_block(model: PillarModel, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """G00[rows, cols] on a lattice: the far pairs' multipoles as the FFT sums them, the near ones exact."""
+    sources, _ = model.lattice_moments(cols)
+    _, targets = model.lattice_moments(rows)
+    out = np.empty((rows.size, cols.size))
+    # In slabs of rows: the pair arithmetic's temporaries stay near 2^20 numbers each.
+    slab = max(1, 2**20 // max(cols.size, 1))
+    for start in range(0, rows.size, slab):
+        part = slice(start, start + slab)
+        out[part] = model.lattice.pair_couplings(rows[part], cols, sources,
+                                                tuple(a[part, 0] for a in targets))
+    position = np.full(model.M, -1)
+    position[cols] = np.arange(cols.size)
+    where = position[model.near_index[rows]]
+    hit = model.near_valid[rows] & (where >= 0)
+    out[np.nonzero(hit)[0], where[hit]] = model.near_blocks[rows][..., 0][hit]
+    same = position[rows]
+    out[np.flatnonzero(same >= 0), same[same >= 0]] = model.gram[rows[same >= 0], 0]
+    return out
+
+
+def _install_row(model: PillarModel, p: int, upper: int = -1) -> None:
+    """Blocks G_pq for every q > ``upper`` (all when -1), written to both triangles."""
+    if model.lattice is not None:
+        _install_lattice_row(model, p, upper)
+        return
+    others, blocks, _ = model.blocks(p, upper=upper)
+    for j, q in enumerate(model.neighbours[p]):
+        if q > upper:
+            _set_near(model, p, j, int(q), blocks[np.searchsorted(others, q)])
+    model.G0[p, others] = model.G0[others, p] = blocks[:, 0, 0]
+    model.G0[p, p] = model.gram[p, 0]
+    if model.m > 1:
+        model.Gh[:, p, others] = blocks[:, 1:, 0].T
+        model.Gh[:, others, p] = blocks[:, 0, 1:].T
+        model.Gh[:, p, p] = 0.0
+    if model.Gf is not None:
+        model.Gf[p, others] = blocks
+        model.Gf[others, p] = blocks.transpose(0, 2, 1)
+        model.Gf[p, p] = np.diag(model.gram[p])

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from brushbem.pillars.loading import press_rough
-from brushbem.pillars.state import PillarState
+from brushbem.pillars.state import PillarState, peel_all
 from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
 
 __all__ = ["events"]
@@ -73,7 +73,7 @@ def events(run: PillarState, path: LoadPath) -> Iterator[State]:
         d = new_d
         detaching = t_detach <= t + np.maximum(tie, slack)
         leaving = np.flatnonzero(detaching.any(axis=1)) if t_det <= t + tie else np.array([], int)
-        run.peel_all([(int(attached[i]), detaching[i]) for i in leaving], x, d)
+        peel_all(run, [(int(attached[i]), detaching[i]) for i in leaving], x, d)
         if t_att <= t + tie:
             touching = t_attach <= t + tie
             masks = np.zeros(model.full.shape, dtype=bool)

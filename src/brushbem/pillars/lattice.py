@@ -18,7 +18,7 @@ lattice points):
     field_k = scale * sum_q x_q [t0 (q0 f - q1 . grad f + q2 : hess f / 2)
                                  + q0 (t1 . grad f + t2 : hess f / 2) - t1 . hess f . q1]
 
-the same terms as `PillarModel._far`.  Pairs closer than
+the same terms as `brushbem.pillars.basis._far`.  Pairs closer than
 ``near`` are left to the exact blocks (their kernel entries are zero here).
 """
 

@@ -68,21 +68,10 @@ class PillarState:
         if self.stop is not None and self.stop():
             raise Interrupted("stopped inside a step of the pillar model")
 
-    def _changed(self) -> None:
-        self._stamp += 1
-        self._memo.clear()
-
-    def _remember(self, key: tuple, compute):
-        key = (self._stamp, *key)
-        value = self._memo.get(key)
-        if value is None:
-            value = self._memo[key] = compute()
-        return value
-
     def solve(self) -> None:
         model = self.model
         self.solves += 1
-        self._changed()
+        _changed(self)
         if model.coupling == "full":
             self.alpha, self.beta = full_solve(model, self.attached)
             amplitudes = np.stack([self.alpha, self.beta], axis=-1)  # (M, m, 2)
@@ -112,11 +101,11 @@ class PillarState:
 
     def on(self) -> np.ndarray:
         """The attached pillars (indices, kept until the state changes)."""
-        return self._remember(("on",), lambda: np.flatnonzero(self.attached))
+        return _remember(self, ("on",), lambda: np.flatnonzero(self.attached))
 
     def pressures_at(self, d: float) -> np.ndarray:
         """`pressures` of the amplitudes at d (kept until the state changes)."""
-        return self._remember(("pressures", float(d)), lambda: self.pressures(self.amplitudes(d)))
+        return _remember(self, ("pressures", float(d)), lambda: self.pressures(self.amplitudes(d)))
 
     def pressures(self, x: np.ndarray) -> np.ndarray:
         """Element pressures on the footprint slots of the attached pillars (`on`): (n, width), 0 off
@@ -128,15 +117,10 @@ class PillarState:
         out = np.zeros((on.size, model.phi.shape[1]))
         if on.size == 0:
             return out
-        for members in self._remember(("groups",), self._surface_groups):
+        for members in _remember(self, ("groups",), lambda: _surface_groups(self)):
             pillars = on[members]
             out[members] = x[pillars] @ model.phi[pillars[0]].T
         return np.where(model.raster[on], out, 0.0)
-
-    def _surface_groups(self) -> list[np.ndarray]:
-        """The attached pillars (`on`) by `PillarModel.surface_group`: positions in `on` per group."""
-        _, inverse, counts = np.unique(self.model.surface_group[self.on()], return_inverse=True, return_counts=True)
-        return np.split(np.argsort(inverse, kind="stable"), np.cumsum(counts)[:-1])
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
@@ -149,45 +133,7 @@ class PillarState:
         stretch.  Slots off the footprint read -inf.
         """
         key = ("penetration", float(d), None if rows is None else rows.tobytes())
-        return self._remember(key, lambda: self._element_penetration(d, rows))
-
-    def _element_penetration(self, d: float, rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        model = self.model
-        rows = np.arange(model.M) if rows is None else np.flatnonzero(rows)
-        width = model.full.shape[1]
-        if rows.size == 0:
-            return rows, np.zeros((0, width)), np.zeros((0, width))
-        coefficients = np.concatenate([self.fields[:, rows].transpose(1, 0, 2),
-                                       np.stack([self.alpha[rows], self.beta[rows]], axis=-1)], axis=1)
-        # u = d ua - ub on the slots, (rows, width, 2): one product per group of pillars that share their
-        # footprint and raster (those of a lattice in full contact, or off), one per pillar for the rest.
-        u = np.zeros((rows.size, width, 2))
-        groups, inverse, counts = np.unique(model.surface_group[rows], return_inverse=True, return_counts=True)
-        shared = counts[inverse] > 1
-        for g in np.flatnonzero(counts > 1):
-            members = np.flatnonzero(inverse == g)
-            surface_map = model.surface_group_map(int(groups[g]))
-            product = surface_map @ coefficients[members].transpose(1, 0, 2).reshape(surface_map.shape[1], -1)
-            u[members, :surface_map.shape[0]] = product.reshape(surface_map.shape[0], members.size, 2).transpose(1, 0, 2)
-        alone = np.flatnonzero(~shared)
-        if alone.size:
-            u[alone] = np.matmul(model.surface_map[rows[alone]], coefficients[alone])
-        wa, wb = self._tip_levels(rows)
-        full = model.full[rows]
-        slope = np.where(full, wa[:, None] - u[..., 0], 0.0)
-        penetration = np.where(full, d * slope - (wb[:, None] - u[..., 1]), -np.inf)
-        return rows, penetration, slope
-
-    def _tip_levels(self, rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
-        """(wa, wb) of the pillars ``rows``: a tip stands at d wa - wb (its springs' stretch taken off)."""
-        model = self.model
-        wb = model.g[rows]
-        if model.levels:
-            wa = 1.0 - model.tip_deflection(self.alpha[:, 0], self.attached)[rows]
-            wb = wb - model.tip_deflection(self.beta[:, 0], self.attached)[rows]
-        else:
-            wa = np.ones(wb.size)
-        return wa, wb
+        return _remember(self, key, lambda: _element_penetration(self, d, rows))
 
     def touch_candidates(self, d: float, end: float, tolerance: float) -> np.ndarray:
         """The free pillars that may touch at a displacement between d and ``end`` (a mask): those whose
@@ -206,55 +152,13 @@ class PillarState:
         (Entries of attached pillars mean nothing.)
         """
         spread = self.model.fit_spread
-        fa, fb, level_a, level_b = self._remember(("touch",), self._touch_terms)
+        fa, fb, level_a, level_b = _remember(self, ("touch",), lambda: _touch_terms(self))
         return np.maximum(d * level_a - level_b + np.sum(spread * np.abs(d * fa - fb), axis=0),
                           end * level_a - level_b + np.sum(spread * np.abs(end * fa - fb), axis=0))
 
-    def _touch_terms(self) -> tuple[np.ndarray, ...]:
-        """`touch_bound`'s terms of the state: the fields fa, fb (m, M) and wa - c . fa, wb - c . fb (M,)."""
-        fa, fb = np.ascontiguousarray(self.fields[..., 0]), np.ascontiguousarray(self.fields[..., 1])
-        centre = self.model.fit_centre
-        wa, wb = self._tip_levels(slice(None))
-        return fa, fb, wa - np.sum(centre * fa, axis=0), wb - np.sum(centre * fb, axis=0)
-
     def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
         """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off)."""
-        self._apply([(int(p), masks[p]) for p in pillars])
-
-    def _apply(self, changes: list[tuple[int, np.ndarray]]) -> None:
-        """Each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
-
-        In the kept inverse the pillars that leave or change their raster go out in one block update and
-        those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`); one or two
-        attached pillars that only change their raster (a peel) are updated in place (`Solver.reshape`).
-        """
-        model = self.model
-        self._changed()
-        if model.coupling != "local":
-            for p, mask in changes:
-                self.attached[p] = bool(mask.any())
-                model.set_raster(p, mask if mask.any() else model.full[p])
-            return
-        leaving = [p for p, mask in changes if self.attached[p] and not (
-            mask.any() and np.array_equal(mask, model.raster[p]))]
-        reshaping = [(p, mask) for p, mask in changes if self.attached[p] and mask.any()
-                     and not np.array_equal(mask, model.raster[p])]
-        if len(reshaping) <= _RESHAPED and not self.solver.iterative:
-            others = {p for p, _ in reshaping}
-            self.solver.remove_many(np.array([p for p in leaving if p not in others], dtype=np.int64))
-            for p, mask in reshaping:
-                model.set_raster(p, mask)
-                self.solver.reshape(p)
-        else:
-            self.solver.remove_many(np.array(leaving, dtype=np.int64))
-        joining = []
-        for p, mask in changes:
-            if not mask.any():
-                model.set_raster(p, model.full[p])
-            elif not self.attached[p]:
-                model.set_raster(p, mask)
-                joining.append(p)
-        self.solver.add_many(np.array(joining, dtype=np.int64))
+        _apply(self, [(int(p), masks[p]) for p in pillars])
 
     def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
         model = self.model
@@ -278,77 +182,12 @@ class PillarState:
     # -- changes -------------------------------------------------------------
     def attach_many(self, pillars: np.ndarray) -> None:
         """Several pillars join at once (one factorisation instead of one update each)."""
-        self._changed()
+        _changed(self)
         for p in pillars:
             self.model.set_raster(int(p), self.model.full[p])
         self.attached[pillars] = True
         if self.model.coupling == "local":
             self.solver.refactor()
-
-    def local_amplitudes(self, p: int, mask: np.ndarray, frozen: np.ndarray, x: np.ndarray,
-                         d: float) -> tuple[np.ndarray, Basis]:
-        """Pillar p's amplitudes on the raster ``mask``, the pillars ``frozen`` held at the amplitudes ``x``.
-
-        With ``coupling = "local"`` the frozen pillars are those of the last solve at d (``x`` its
-        amplitudes), and their field across p's footprint is its fit from p's modes
-        (`PillarModel.fitted`), projected on the modes of ``mask``; ``"full"`` couples the new raster
-        with every frozen pillar's modes exactly.
-        """
-        model = self.model
-        compliance = 0.0
-        siblings = 0.0
-        for cluster, stiffness in model.levels:
-            c = cluster[p]
-            compliance += model.h2 / stiffness[c]
-            same = (cluster == c) & frozen
-            same[p] = False
-            siblings += model.h2 / stiffness[c] * float(np.sum(model.force[same] * x[same, 0]))
-        if model.coupling == "full":
-            others, blocks, basis = model.blocks(p, mask)
-            keep = frozen[others]
-            others, blocks = others[keep], blocks[keep]
-            s = basis.force
-            A = np.diag(basis.gram).copy()
-            A[0, 0] += compliance * s * s
-            rhs = -np.einsum("jab,jb->a", blocks, x[others])
-            rhs[0] += s * (d - model.g[p]) - s * siblings
-            return np.linalg.solve(A, rhs), basis
-        basis, _ = model.mask_basis(p, mask)
-        s = basis.force
-        field = model.fitted[p][mask] @ (d * self.fields[:, p, 0] - self.fields[:, p, 1])
-        projections = basis.phi.T @ field
-        a = np.zeros(model.m)
-        a[0] = (s * (d - model.g[p]) - s * siblings - projections[0]) / (basis.gram[0] + compliance * s * s)
-        if model.m > 1:
-            a[1:] = -projections[1:] / basis.gram[1:]
-        return a, basis
-
-    def peeled(self, p: int, leave: np.ndarray, frozen: np.ndarray, x: np.ndarray, d: float) -> np.ndarray:
-        """The raster that pillar p keeps after losing the slots ``leave`` and peeling on its own.
-
-        The pillars ``frozen`` stay at the amplitudes ``x`` (the element path's local cascade); the model
-        is not changed (the caller installs the result).  An empty mask: the pillar comes off.
-        """
-        model = self.model
-        mask = model.raster[p] & ~leave
-        if not model.peel:
-            return np.zeros_like(mask)
-        while mask.any():
-            self.check_stop()
-            a, basis = self.local_amplitudes(p, mask, frozen, x, d)
-            pressure = basis.phi @ a
-            tense = pressure < -model.critical * (1 + 1e-10) if model.critical > 0 else pressure < 0
-            if not tense.any():
-                break
-            slots = np.flatnonzero(mask)
-            mask = mask.copy()
-            mask[slots[tense]] = False
-        return mask
-
-    def peel_all(self, hits: list[tuple[int, np.ndarray]], x: np.ndarray, d: float) -> None:
-        """Every hit pillar peels on its own against the state before any of them moved; then all are installed."""
-        frozen = self.attached.copy()
-        self._apply([(p, self.peeled(p, leave, frozen, x, d)) for p, leave in hits])
 
     def cascade(self, d: float, loading: bool) -> None:
         """Rounds at d: solve, peel every pillar beyond the criterion, let touching pillars in; until stable."""
@@ -363,7 +202,7 @@ class PillarState:
             tense = model.raster[rows] & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
             hit = np.flatnonzero(tense.any(axis=1))
             if hit.size:
-                self.peel_all([(int(rows[i]), tense[i]) for i in hit], x, d)
+                peel_all(self, [(int(rows[i]), tense[i]) for i in hit], x, d)
                 continue
             candidates = self.touch_candidates(d, d, tolerance)
             if candidates.any():
@@ -377,3 +216,176 @@ class PillarState:
                     continue
             return
         raise RuntimeError(f"the cascade at d = {d:.6g} did not settle")
+
+
+# -- the steps' parts and the peeling (module functions of a `PillarState`) ---------------------------------
+
+def _changed(run: PillarState) -> None:
+    run._stamp += 1
+    run._memo.clear()
+
+
+def _remember(run: PillarState, key: tuple, compute):
+    key = (run._stamp, *key)
+    value = run._memo.get(key)
+    if value is None:
+        value = run._memo[key] = compute()
+    return value
+
+
+def _surface_groups(run: PillarState) -> list[np.ndarray]:
+    """The attached pillars (`on`) by `PillarModel.surface_group`: positions in `on` per group."""
+    _, inverse, counts = np.unique(run.model.surface_group[run.on()], return_inverse=True, return_counts=True)
+    return np.split(np.argsort(inverse, kind="stable"), np.cumsum(counts)[:-1])
+
+
+def _element_penetration(run: PillarState, d: float, rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    model = run.model
+    rows = np.arange(model.M) if rows is None else np.flatnonzero(rows)
+    width = model.full.shape[1]
+    if rows.size == 0:
+        return rows, np.zeros((0, width)), np.zeros((0, width))
+    coefficients = np.concatenate([run.fields[:, rows].transpose(1, 0, 2),
+                                   np.stack([run.alpha[rows], run.beta[rows]], axis=-1)], axis=1)
+    # u = d ua - ub on the slots, (rows, width, 2): one product per group of pillars that share their
+    # footprint and raster (those of a lattice in full contact, or off), one per pillar for the rest.
+    u = np.zeros((rows.size, width, 2))
+    groups, inverse, counts = np.unique(model.surface_group[rows], return_inverse=True, return_counts=True)
+    shared = counts[inverse] > 1
+    for g in np.flatnonzero(counts > 1):
+        members = np.flatnonzero(inverse == g)
+        surface_map = model.surface_group_map(int(groups[g]))
+        product = surface_map @ coefficients[members].transpose(1, 0, 2).reshape(surface_map.shape[1], -1)
+        u[members, :surface_map.shape[0]] = product.reshape(surface_map.shape[0], members.size, 2).transpose(1, 0, 2)
+    alone = np.flatnonzero(~shared)
+    if alone.size:
+        u[alone] = np.matmul(model.surface_map[rows[alone]], coefficients[alone])
+    wa, wb = _tip_levels(run, rows)
+    full = model.full[rows]
+    slope = np.where(full, wa[:, None] - u[..., 0], 0.0)
+    penetration = np.where(full, d * slope - (wb[:, None] - u[..., 1]), -np.inf)
+    return rows, penetration, slope
+
+
+def _tip_levels(run: PillarState, rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
+    """(wa, wb) of the pillars ``rows``: a tip stands at d wa - wb (its springs' stretch taken off)."""
+    model = run.model
+    wb = model.g[rows]
+    if model.levels:
+        wa = 1.0 - model.tip_deflection(run.alpha[:, 0], run.attached)[rows]
+        wb = wb - model.tip_deflection(run.beta[:, 0], run.attached)[rows]
+    else:
+        wa = np.ones(wb.size)
+    return wa, wb
+
+
+def _touch_terms(run: PillarState) -> tuple[np.ndarray, ...]:
+    """`touch_bound`'s terms of the state: the fields fa, fb (m, M) and wa - c . fa, wb - c . fb (M,)."""
+    fa, fb = np.ascontiguousarray(run.fields[..., 0]), np.ascontiguousarray(run.fields[..., 1])
+    centre = run.model.fit_centre
+    wa, wb = _tip_levels(run, slice(None))
+    return fa, fb, wa - np.sum(centre * fa, axis=0), wb - np.sum(centre * fb, axis=0)
+
+
+def _apply(run: PillarState, changes: list[tuple[int, np.ndarray]]) -> None:
+    """Each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
+
+    In the kept inverse the pillars that leave or change their raster go out in one block update and
+    those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`); one or two
+    attached pillars that only change their raster (a peel) are updated in place (`Solver.reshape`).
+    """
+    model = run.model
+    _changed(run)
+    if model.coupling != "local":
+        for p, mask in changes:
+            run.attached[p] = bool(mask.any())
+            model.set_raster(p, mask if mask.any() else model.full[p])
+        return
+    leaving = [p for p, mask in changes if run.attached[p] and not (
+        mask.any() and np.array_equal(mask, model.raster[p]))]
+    reshaping = [(p, mask) for p, mask in changes if run.attached[p] and mask.any()
+                 and not np.array_equal(mask, model.raster[p])]
+    if len(reshaping) <= _RESHAPED and not run.solver.iterative:
+        others = {p for p, _ in reshaping}
+        run.solver.remove_many(np.array([p for p in leaving if p not in others], dtype=np.int64))
+        for p, mask in reshaping:
+            model.set_raster(p, mask)
+            run.solver.reshape(p)
+    else:
+        run.solver.remove_many(np.array(leaving, dtype=np.int64))
+    joining = []
+    for p, mask in changes:
+        if not mask.any():
+            model.set_raster(p, model.full[p])
+        elif not run.attached[p]:
+            model.set_raster(p, mask)
+            joining.append(p)
+    run.solver.add_many(np.array(joining, dtype=np.int64))
+
+
+def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndarray, x: np.ndarray,
+                     d: float) -> tuple[np.ndarray, Basis]:
+    """Pillar p's amplitudes on the raster ``mask``, the pillars ``frozen`` held at the amplitudes ``x``.
+
+    With ``coupling = "local"`` the frozen pillars are those of the last solve at d (``x`` its
+    amplitudes), and their field across p's footprint is its fit from p's modes
+    (`PillarModel.fitted`), projected on the modes of ``mask``; ``"full"`` couples the new raster
+    with every frozen pillar's modes exactly.
+    """
+    model = run.model
+    compliance = 0.0
+    siblings = 0.0
+    for cluster, stiffness in model.levels:
+        c = cluster[p]
+        compliance += model.h2 / stiffness[c]
+        same = (cluster == c) & frozen
+        same[p] = False
+        siblings += model.h2 / stiffness[c] * float(np.sum(model.force[same] * x[same, 0]))
+    if model.coupling == "full":
+        others, blocks, basis = model.blocks(p, mask)
+        keep = frozen[others]
+        others, blocks = others[keep], blocks[keep]
+        s = basis.force
+        A = np.diag(basis.gram).copy()
+        A[0, 0] += compliance * s * s
+        rhs = -np.einsum("jab,jb->a", blocks, x[others])
+        rhs[0] += s * (d - model.g[p]) - s * siblings
+        return np.linalg.solve(A, rhs), basis
+    basis, _ = model.mask_basis(p, mask)
+    s = basis.force
+    field = model.fitted[p][mask] @ (d * run.fields[:, p, 0] - run.fields[:, p, 1])
+    projections = basis.phi.T @ field
+    a = np.zeros(model.m)
+    a[0] = (s * (d - model.g[p]) - s * siblings - projections[0]) / (basis.gram[0] + compliance * s * s)
+    if model.m > 1:
+        a[1:] = -projections[1:] / basis.gram[1:]
+    return a, basis
+
+
+def peeled(run: PillarState, p: int, leave: np.ndarray, frozen: np.ndarray, x: np.ndarray, d: float) -> np.ndarray:
+    """The raster that pillar p keeps after losing the slots ``leave`` and peeling on its own.
+
+    The pillars ``frozen`` stay at the amplitudes ``x`` (the element path's local cascade); the model
+    is not changed (the caller installs the result).  An empty mask: the pillar comes off.
+    """
+    model = run.model
+    mask = model.raster[p] & ~leave
+    if not model.peel:
+        return np.zeros_like(mask)
+    while mask.any():
+        run.check_stop()
+        a, basis = local_amplitudes(run, p, mask, frozen, x, d)
+        pressure = basis.phi @ a
+        tense = pressure < -model.critical * (1 + 1e-10) if model.critical > 0 else pressure < 0
+        if not tense.any():
+            break
+        slots = np.flatnonzero(mask)
+        mask = mask.copy()
+        mask[slots[tense]] = False
+    return mask
+
+
+def peel_all(run: PillarState, hits: list[tuple[int, np.ndarray]], x: np.ndarray, d: float) -> None:
+    """Every hit pillar peels on its own against the state before any of them moved; then all are installed."""
+    frozen = run.attached.copy()
+    _apply(run, [(p, peeled(run, p, leave, frozen, x, d)) for p, leave in hits])
