@@ -125,8 +125,14 @@ class TipRaster:
         ``elements`` (`reporting`) and carry ``values``: each global element's pressure is the sum of its
         fine elements' over ``factor``^2 (the same force), in contact where any of them is."""
         n = self.grid_elements
-        pressure = np.bincount(elements, weights=values, minlength=n * n) / self.factor**2
-        contact = np.bincount(elements, minlength=n * n) > 0
+        # Zeroed arrays written where a tip presses: a state's other elements stay untouched pages.
+        pressure, contact = np.zeros(n * n), np.zeros(n * n, dtype=bool)
+        contact[elements] = True
+        if self.factor == 1:  # the global grid's own footprints: one element each
+            pressure[elements] = values
+        else:
+            np.add.at(pressure, elements, values)
+            pressure[np.flatnonzero(contact)] /= self.factor**2
         return pressure.reshape(n, n), contact.reshape(n, n)
 
 
