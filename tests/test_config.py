@@ -444,6 +444,32 @@ def test_config_to_dict_is_json_with_inf_as_string_and_round_trips():
     assert parse_config(json.loads(text)) == config
 
 
+def test_config_to_dict_of_a_pillar_model_config_round_trips():
+    """The resolved form of a ``method = "pillars"`` file writes every key, those the pillar model does not use
+    at their defaults: it re-parses to an equal configuration (through JSON, as summary.json holds it), while
+    such a key set to a value of its own is still refused."""
+    import json
+
+    from brushbem.runs.assembly import parse_config as parse_with_structure
+
+    document = {
+        "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
+        "grid": {"size": 1.0, "elements": 64},
+        "indenter": {"shape": "brush", "layout": "square", "region": "square", "pillars_per_side": 4,
+                     "pillar_radius": 0.05, "stiffness_ratio": 0.05},
+        "protocol": {"method": "pillars", "preload_displacement": 2e-3},
+    }
+    config = parse_with_structure(document)
+    data = json.loads(json.dumps(config_to_dict(config), allow_nan=False))
+    assert data["solver"]["tolerance"] == config.solver.tolerance and "step" in data["protocol"]
+    again = parse_with_structure(data)
+    assert again == config
+    assert config_to_dict(again) == data
+    data["solver"]["tolerance"] = 1e-6
+    with pytest.raises(ConfigError, match=r"solver\.tolerance.*not used by protocol.method = 'pillars'"):
+        parse_with_structure(data)
+
+
 def test_models_validate_when_built_in_python():
     with pytest.raises(ValueError):
         GridConfig(size=1.0, elements=4)

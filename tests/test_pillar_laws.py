@@ -28,9 +28,10 @@ from scipy.optimize import brentq
 
 from brushbem.runs.assembly import load
 from brushbem.config import ConfigError
-from brushbem.physics.pillar_laws import PiecewiseLinear
+from brushbem.errors import ParameterError
+from brushbem.physics.pillar_laws import PiecewiseLinear, law_path_problems
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
-from brushbem.physics.structure import Grid, SpringLevel, brush, flat_punch
+from brushbem.physics.structure import Grid, SpringLevel, brush, elastic_connection_problems, flat_punch
 
 GRID = Grid(1.0, 64)
 RADIUS, STIFFNESS, DGAMMA = 0.2, 0.2, 1e-3
@@ -198,8 +199,23 @@ def test_laws_need_fixed_steps_and_a_stiffness():
     with pytest.raises(ValueError, match="method = 'fixed'"):
         record_pull_off(ContactProblem(GRID, _punch(PiecewiseLinear()), contact_modulus=1.0, work_of_adhesion=DGAMMA),
                         LoadPath(method="events", preload_displacement=0.01))
-    with pytest.raises(ValueError, match="finite pillar stiffness"):
+    with pytest.raises(ValueError, match="must be finite with Indenter.pillar_law"):
         _punch(PiecewiseLinear(), stiffness=math.inf)
+
+
+def test_the_rigid_pillar_rule_has_one_home():
+    """The indenter and the path rule (what the configuration names by key) refuse a rigid pillar under a law
+    with the one problem of `elastic_connection_problems`: the same owner, parameter and words."""
+    law = PiecewiseLinear()
+    [expected] = elastic_connection_problems(math.inf, viscoelastic=False, pillar_law=law)
+    assert (expected.owner, expected.parameter) == ("Indenter", "levels")
+    assert law_path_problems(law, method="fixed", preload_displacement=0.01, viscoelastic=False,
+                             stiffness=math.inf) == [expected]
+    with pytest.raises(ParameterError) as refused:
+        _punch(law, stiffness=math.inf)
+    assert (refused.value.owner, refused.value.parameter, refused.value.message) == (
+        expected.owner, expected.parameter, expected.message)
+    assert elastic_connection_problems(STIFFNESS, viscoelastic=True, pillar_law=law) == []
 
 
 def test_config_names_a_non_monotone_law(tmp_path):

@@ -36,7 +36,7 @@ from brushbem.errors import ParameterError
 from brushbem.protocol import ContactProblem, LoadPath, indent, record_pull_off
 from brushbem.protocol.recording import work_of_separation
 from brushbem.physics.structure import Grid, brush, flat_punch
-from brushbem.physics.viscoelastic import Viscoelastic
+from brushbem.physics.viscoelastic import Viscoelastic, time_stepping_problems
 
 GRID = Grid(1.0, 64)
 RADIUS = 0.2
@@ -270,8 +270,13 @@ def test_time_stepping_needs_speed_fixed_steps_and_a_displacement():
         Viscoelastic("kelvin_voigt", -1.0)
     with pytest.raises(ValueError, match="instantaneous_factor"):
         Viscoelastic("standard_linear_solid", 1.0, 0.5)
-    with pytest.raises(ValueError, match="finite pillar stiffness"):
+    with pytest.raises(ParameterError, match="must be finite with Indenter.viscoelastic") as refused:
         dataclasses.replace(flat_punch(GRID, RADIUS), viscoelastic=Viscoelastic("kelvin_voigt", 1.0))
+    # One rule (`elastic_connection_problems`) for the indenter and the path rule the configuration names by key.
+    [expected] = time_stepping_problems(True, method="fixed", speed=1.0, preload_displacement=PRELOAD,
+                                        stiffness=math.inf)
+    assert (refused.value.owner, refused.value.parameter, refused.value.message) == (
+        expected.owner, expected.parameter, expected.message)
 
 
 def test_config_names_every_bad_viscoelastic_key(tmp_path):

@@ -173,24 +173,30 @@ class RunConfig(BaseModel):
         return []
 
     def _pillar_model_problems(self) -> list[Problem]:
-        """Keys the pillar model (protocol.method = "pillars") does not use, given: refused, not ignored."""
+        """Keys the pillar model (protocol.method = "pillars") does not use, set to a value of their own: refused,
+        not ignored.
+
+        A key written at its default is what the resolved configuration (`config_to_dict`) holds of every
+        key, so it is accepted: the resolved form of a pillar-model file re-parses to an equal configuration.
+        """
         if self.protocol.method != "pillars":
             return []
-        unused = {
-            "solver.tolerance": ("tolerance" in self.solver.model_fields_set, self.solver.tolerance,
-                                 "its pillar-level solves have their own tolerances"),
-            "solver.max_iterations": ("max_iterations" in self.solver.model_fields_set, self.solver.max_iterations,
-                                      "its pillar-level solves have their own bounds"),
-            "solver.coupling": ("coupling" in self.solver.model_fields_set, self.solver.coupling,
-                                "it couples the pillars by their modes, not by the element operator"),
-            "solver.cascade": ("cascade" in self.solver.model_fields_set, self.solver.cascade,
-                               "its cascades peel pillar by pillar on the pillar-level system"),
-            "protocol.step": ("step" in self.protocol.model_fields_set, self.protocol.step,
-                              "it jumps from event to event (a step is method = 'fixed''s)"),
+        why = {
+            ("solver", "tolerance"): "its pillar-level solves have their own tolerances",
+            ("solver", "max_iterations"): "its pillar-level solves have their own bounds",
+            ("solver", "coupling"): "it couples the pillars by their modes, not by the element operator",
+            ("solver", "cascade"): "its cascades peel pillar by pillar on the pillar-level system",
+            ("protocol", "step"): "it jumps from event to event (a step is method = 'fixed''s)",
         }
-        return [Problem(key, _show(value), f"is not used by protocol.method = 'pillars' ({why}): remove it, "
-                                           "or choose another method")
-                for key, (given, value, why) in unused.items() if given]
+        problems = []
+        for (section, name), reason in why.items():
+            model = getattr(self, section)
+            value = getattr(model, name)
+            if name in model.model_fields_set and value != type(model).model_fields[name].default:
+                problems.append(Problem(f"{section}.{name}", _show(value),
+                                        f"is not used by protocol.method = 'pillars' ({reason}): remove it, "
+                                        "or choose another method"))
+        return problems
 
     def _stiffness_keys(self) -> dict[tuple[str, str], str]:
         """The key of the pillars' stiffness as given (``Indenter.levels`` of the domain rules)."""

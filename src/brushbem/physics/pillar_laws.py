@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushbem.errors import ParameterProblem
+from brushbem.physics.structure import elastic_connection_problems
 
 __all__ = ["MAX_PIECE_ROUNDS", "PieceState", "PiecewiseLinear", "law_path_problems"]
 
@@ -157,7 +158,8 @@ def law_path_problems(law: object, *, method: str, preload_displacement: float |
     on elastic connections of finite stiffness (its slopes are factors of it).
 
     ``law``: the `PiecewiseLinear` law (None: no rule applies); ``stiffness``: the pillars' stiffness where it
-    is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one).  Returns
+    is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one: the rigid-pillar
+    rule is `brushbem.physics.structure.elastic_connection_problems`).  Returns
     every problem; the load path raises the first, the configuration names them all by key.
     """
     if law is None:
@@ -175,7 +177,6 @@ def law_path_problems(law: object, *, method: str, preload_displacement: float |
     if viscoelastic:
         problems.append(ParameterProblem("Indenter", "pillar_law", law,
                                          "cannot be combined with Indenter.viscoelastic: remove one of them"))
-    if stiffness is not None and not math.isfinite(stiffness):
-        problems.append(ParameterProblem("Indenter", "levels", stiffness,
-                                         "must be finite with Indenter.pillar_law (its slopes are factors of it)"))
+    if stiffness is not None:
+        problems.extend(elastic_connection_problems(stiffness, viscoelastic=False, pillar_law=law))
     return problems

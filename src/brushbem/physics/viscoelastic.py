@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from brushbem.errors import ParameterProblem
-from brushbem.physics.structure import Indenter, SpringLevel
+from brushbem.physics.structure import Indenter, SpringLevel, elastic_connection_problems
 
 __all__ = ["MODELS", "Memory", "Viscoelastic", "time_stepping_problems"]
 
@@ -144,7 +144,8 @@ def time_stepping_problems(viscoelastic: bool, *, method: str, speed: float | No
     (a step is the time step times the speed) to a preload displacement, with a finite (relaxed) stiffness.
 
     ``viscoelastic``: whether the pillars are (`Indenter.viscoelastic`); ``stiffness``: the pillars' stiffness
-    where it is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one).
+    where it is known before the indenter is built (None: not checked; an `Indenter` refuses a rigid one: the
+    rigid-pillar rule is `brushbem.physics.structure.elastic_connection_problems`).
     Returns every problem; the load path raises the first, the configuration names them all by key.
     """
     if not viscoelastic:
@@ -165,7 +166,6 @@ def time_stepping_problems(viscoelastic: bool, *, method: str, speed: float | No
                                          "viscoelastic pillars (Indenter.viscoelastic) are pressed to "
                                          "LoadPath.preload_displacement instead (a force target would need steps of "
                                          "changing length)"))
-    if stiffness is not None and not math.isfinite(stiffness):
-        problems.append(ParameterProblem("Indenter", "levels", stiffness,
-                                         "must be finite with Indenter.viscoelastic (it is the relaxed stiffness)"))
+    if stiffness is not None:
+        problems.extend(elastic_connection_problems(stiffness, viscoelastic=True, pillar_law=None))
     return problems

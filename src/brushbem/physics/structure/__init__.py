@@ -49,6 +49,7 @@ from brushbem.physics.structure.records import (
     PunchGeometry,
     SphereGeometry,
     SpringLevel,
+    elastic_connection_problems,
 )
 from brushbem.physics.structure.tips import GRADING_RULES, TIP_SHAPES, Grading, Profile, Tilt, Tip, graded_stiffness
 
@@ -76,6 +77,7 @@ __all__ = [
     "brush",
     "clustered_filling_factors",
     "clustered_lattice",
+    "elastic_connection_problems",
     "flat_punch",
     "graded_stiffness",
     "height_map",

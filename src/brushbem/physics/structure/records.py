@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from brushbem.errors import ParameterError
+from brushbem.errors import ParameterProblem, raise_first
 from brushbem.results.mapping import MappingRecord
 
 __all__ = [
@@ -201,6 +201,29 @@ class BrushGeometry(Geometry):
     work_of_adhesion: float | None = None
 
 
+def elastic_connection_problems(stiffness: float, *, viscoelastic: bool, pillar_law: object) -> list[ParameterProblem]:
+    """The rigid-pillar rule, stated once: viscoelastic pillars and a nonlinear pillar law need elastic
+    connections of the pillars (level 1) of finite stiffness.
+
+    A viscoelastic connection's ``stiffness`` is its relaxed one, a law's slopes are factors of it: a rigid
+    connection (inf) has neither.  ``stiffness``: the pillars' own (the softest of level 1; inf: rigid or
+    no springs), as given where it is known before the indenter is built; ``viscoelastic``: whether the
+    pillars are (`Indenter.viscoelastic`); ``pillar_law``: the law or None.  `Indenter` raises the first
+    problem; the rules of the paths (`brushbem.physics.viscoelastic.time_stepping_problems`,
+    `brushbem.physics.pillar_laws.law_path_problems`) return them for the configuration to name by key.
+    """
+    if math.isfinite(stiffness):
+        return []
+    problems = []
+    if viscoelastic:
+        problems.append(ParameterProblem("Indenter", "levels", stiffness,
+                                         "must be finite with Indenter.viscoelastic (it is the relaxed stiffness)"))
+    if pillar_law is not None:
+        problems.append(ParameterProblem("Indenter", "levels", stiffness,
+                                         "must be finite with Indenter.pillar_law (its slopes are factors of it)"))
+    return problems
+
+
 @dataclass(frozen=True)
 class Indenter:
     """A rasterised indenter (see `brushbem.physics.structure`).
@@ -245,14 +268,9 @@ class Indenter:
                 raise ValueError("every spring level needs one cluster index per pillar")
             if not np.all(level.stiffnesses > 0):
                 raise ValueError(f"stiffness = {level.softest} must be > 0 (inf = rigid)")
-        if self.pillar_law is not None and (not self.levels or self.levels[0].rigid):
-            raise ParameterError("Indenter", "pillar_law", "a nonlinear pillar law (Indenter.pillar_law) needs a finite "
-                                 "pillar stiffness (Indenter.levels): its slopes are factors of it")
-        if self.viscoelastic is not None and (not self.levels or self.levels[0].rigid):
-            raise ParameterError(
-                "Indenter", "viscoelastic", "viscoelastic pillars (Indenter.viscoelastic) need a finite pillar "
-                "stiffness (Indenter.levels): it is their relaxed stiffness"
-            )
+        own = math.inf if not self.levels else self.levels[0].softest
+        raise_first(elastic_connection_problems(own, viscoelastic=self.viscoelastic is not None,
+                                                pillar_law=self.pillar_law))
 
     @property
     def footprint(self) -> np.ndarray:
