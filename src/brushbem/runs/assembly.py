@@ -18,6 +18,7 @@ here imports the solver: ``brushbem validate`` loads neither it nor SciPy
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -140,8 +141,9 @@ def build_brush(grid_config: GridConfig, indenter_config: IndenterConfig,
             pillar_radius=spec.pillar_radius,
             contact_modulus=modulus,
             work_of_adhesion=halfspace_config.work_of_adhesion,
-            stiffness=(spec.stiffness if spec.stiffness_ratio is None else
-                       stiffness_of_ratio(spec.stiffness_ratio, modulus, brush_side(grid_config, indenter_config))),
+            # k~ goes to the builder, which converts it once (k = k~ E* L, L its region's side = `brush_side`).
+            stiffness=spec.stiffness if spec.stiffness_ratio is None else math.inf,
+            stiffness_ratio=spec.stiffness_ratio,
             region=spec.region or "square",
             region_size=spec.region_size,
             pillars_per_side=spec.pillars_per_side,
