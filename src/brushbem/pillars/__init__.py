@@ -140,7 +140,12 @@ Tip resolution
     1e-5.  The grid's own tips there are +19 % (rough) and +2.2 % (level)
     from the exact path at 16 elements per radius: at the shipped 3-4
     elements per radius the tips decide the answer's error, and ``--refine``
-    refines them alone (`brushbem.runs.refine`).
+    refines them alone (`brushbem.runs.refine`).  What fine tips cost
+    (``benchmarks/pillars.py``: 1024 pillars at 16 elements per radius,
+    about 9 times the grid's tips at 4): more steps of peeling (3339 states
+    against 619) and a basis per peeled raster (half of the time), not
+    the tips' bases or near-field blocks (computed once per shape and
+    offset) nor the pillar-level system (the same M pillars and modes).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic

@@ -11,10 +11,13 @@ shape, by the Schur complement over the elements E that left:
 
     K_RR^-1 v = (A v~)_R - A_RE A_EE^-1 (A v~)_E,   v~ = v on R, 0 on E,
 
-O(n^2 + |E|^3) instead of |R|^3 (the raster's own factorisation while more
-than half of the footprint has left); and K F = P gives the K inner products
-of the Gram-Schmidt without K.  Smaller footprints factorise every raster
-directly.
+and K F = P gives the K inner products of the Gram-Schmidt without K.  The
+polynomials of R (about its own centroid) span those of F, P_R = Q_R T
+(Q the footprint's, T a small m x m change of basis), and A v~ = A_F Q T -
+A_FE Q_E T with A_F Q kept with the inverse: a peeled raster costs
+O(n |E| m + |E|^3), n = |F|, m modes, instead of the raster's own
+factorisation's |R|^3 (used while more than half of the footprint has
+left).  Smaller footprints factorise every raster directly.
 """
 
 from __future__ import annotations
@@ -91,7 +94,8 @@ class Bases:
         self.ktab = ktab
         self.powers = powers
         self._bases: dict[bytes, Basis] = {}
-        self._inverses: dict[bytes, np.ndarray] = {}
+        #: Per footprint shape: its inverse A = K_FF^-1, its polynomials Q and A Q (`_schur`).
+        self._inverses: dict[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self._bytes = 0
 
     def get(self, footprint: np.ndarray, mask: np.ndarray | None = None) -> Basis:
@@ -151,16 +155,21 @@ class Bases:
     def _schur(self, footprint: np.ndarray, mask: np.ndarray, offsets: np.ndarray) -> Basis:
         """The modes of ``footprint[mask]`` from the footprint's kept inverse (module docstring)."""
         key = footprint.tobytes()
-        A = self._inverses.get(key)
-        if A is None:
-            A = self._inverses[key] = _spd_inverse(self._kernel(footprint))
-            self._bytes += A.nbytes
+        kept = self._inverses.get(key)
+        if kept is None:
+            A = _spd_inverse(self._kernel(footprint))
+            Q = self._polynomials(footprint)[3]
+            kept = self._inverses[key] = (A, Q, A @ Q)
+            self._bytes += A.nbytes + 2 * Q.nbytes
+        A, Q, AQ = kept
         R, E = np.flatnonzero(mask), np.flatnonzero(~mask)
         centroid, xi, size, P = self._polynomials(offsets)
-        extended = np.zeros((footprint.shape[0], P.shape[1]))
-        extended[R] = P
-        Y = A @ extended
-        F = Y[R] - A[np.ix_(R, E)] @ scipy.linalg.cho_solve(scipy.linalg.cho_factor(A[np.ix_(E, E)]), Y[E])
+        # P = Q_R T exactly (the same polynomial space; R holds more than half of F, so Q_R has full rank).
+        T = np.linalg.lstsq(Q[R], P, rcond=None)[0]
+        rows = A[E]  # A_EF (A is symmetric): every product below is O(n |E| m).
+        Y = (AQ - rows.T @ Q[E]) @ T
+        Z = scipy.linalg.cho_solve(scipy.linalg.cho_factor(rows[:, E]), Y[E])
+        F = (Y - rows.T @ Z)[R]
         # Gram-Schmidt on the coefficients C of phi = F C: K F = P, so phi_j . K F_k = phi_j . P_k and
         # v . K v = (F c) . (P c).
         m = F.shape[1]
