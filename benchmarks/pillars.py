@@ -40,11 +40,12 @@ Where the tips' cost goes (cProfile of the 1024-pillar line at 16 elements per r
 tips, the same brush): 3339 states and 2010 solves against 619 and 554 (a fine tip peels in more steps,
 each a state and a solve of the brush); the peeling 51 % of the time, almost all of it the bases of the
 peeled rasters (9031 computed, 7290 of them through the footprint's kept inverse at 4.7 ms each); the
-states' global pressure 11 %; the near-field blocks 5 % (cached by shape and offset: on a lattice one
-footprint shape, computed once); the solves 6 %; the model's build (bases and blocks of the full tips)
-4 %.  The pillar-level system is the same size at every tip resolution (M pillars, 6 modes).  Outside
-the peeled bases the run costs 6.7 times the grid tips' (the states and solves alone).  A peeled raster's
-modes now cost O(n |E| m) in place of O(n^2 m) (`brushbem.pillars.modes`): 41.8 s against 51.6 s in the
+states' global pressure 11 % (since written only where the tips press, `TipRaster.to_grid`); the
+near-field blocks 5 % (cached by shape and offset: on a lattice one footprint shape, computed once); the
+solves 6 %; the model's build (bases and blocks of the full tips) 4 %.  The pillar-level system is the
+same size at every tip resolution (M pillars, 6 modes).  Outside the peeled bases the run costs 6.7 times
+the grid tips' (the states and solves alone).  A peeled raster's modes now cost O(n |E| m) in place of
+O(n^2 m) (`brushbem.pillars.modes`): 41.8 s against 51.6 s in the
 same run (medians of two, alternating; F_A to 2e-15).
 
     nice python benchmarks/pillars.py
