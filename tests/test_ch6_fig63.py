@@ -25,6 +25,8 @@ from brushbem.studies._ch6_fig63 import (
     N3_IDENTIFIED,
     PILLARS,
     PLATEAUS,
+    TIPS_PART,
+    discretisation,
     identification,
     plateau,
 )
@@ -116,6 +118,7 @@ def test_the_sweep_files_are_those_the_generator_writes():
         for name, points in make["sets"](level).items():
             expected = make["text"](level, points, f"Named set {name!r} of hierarchy.fig63_{level}.toml")
             assert (sweeps / f"hierarchy.fig63_{level}.{name}.sampled.toml").read_text(encoding="utf-8") == expected
+    assert (sweeps / "hierarchy.fig63_tips.toml").read_text(encoding="utf-8") == make["tips_text"]()
 
 
 def test_the_named_sets_carry_every_row_and_the_identification_set_its_rows():
@@ -155,3 +158,22 @@ def test_the_named_sets_carry_every_row_and_the_identification_set_its_rows():
     plateau_only = {n.quantity for n in FIG63_NUMBERS if math.isfinite(n.compute(alone))}
     assert plateau_only == {n.quantity for n in FIG63_NUMBERS
                             if n.verdict == USED_TO_IDENTIFY or n.quantity.startswith("separation displacement")}
+
+
+def test_the_discretisation_table_reads_the_tips_refinement_at_the_rows_grid_on_the_tips_seeds():
+    """The three-level plateau on the global grids of set mesh and, on the rows' grid, with the tips on rasters of
+    their own (part fig63_tips): the finest tips' value with half the tips' spread, the rows' grid's distance from
+    it; only the seeds the tips ran are read, and the other candidates' and points' rows never."""
+    point = {SIG: 0.04, FP: 14.3, PILLARS: 40, K: 1e-3, K3: 2e-2, "status": "finished"}
+    three = pd.DataFrame([{**point, ELEMENTS: n, FA: fa, "seed": seed}
+                          for n, fa, seed in ((1024, 1.70, 7), (2048, 1.80, 7), (2048, 1.90, 8), (4096, 1.74, 7),
+                                              (3072, 9.0, 7))]
+                         + [{**point, ELEMENTS: 2048, PILLARS: 60, FA: 9.0, "seed": 7},
+                            {**point, ELEMENTS: 2048, FP: 1.0, SIG: 1.6, FA: 9.0, "seed": 7}])
+    tips = pd.DataFrame([{**point, ELEMENTS: 2048, "protocol.pillar_tip_resolution": t, FA: fa, "seed": 7}
+                         for t, fa in ((9.0, 1.74), (13.5, 1.72), (18.0, 1.73))])
+    assert discretisation({"fig63_three": three}) != []  # the global grids alone: their table, no estimate
+    text = "\n".join(discretisation({"fig63_three": three, TIPS_PART: tips}))
+    assert "| global grid | 2048 | 4.5 | 1.8000 | 1 |" in text  # seed 8 (no tips) left out
+    assert "| tips' own raster | 2048 | 18 | 1.7300 | 1 |" in text and "9.0000" not in text
+    assert "1.7300 ± 0.0100" in text and "lies +4.0 % from it" in text

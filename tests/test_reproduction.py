@@ -229,6 +229,26 @@ def test_a_declaration_never_turns_a_failing_row_into_reproduced():
     assert judgement(0.0, -0.5, 0.01, CONTRADICTED).verdict == CONTRADICTED
 
 
+
+
+def test_a_trend_within_its_error_or_its_stated_resolution_of_the_threshold_is_a_tie():
+    """A difference is never decided by its sign alone: within two standard errors of 0 it is open on either
+    side (chapter 6's L1183 a: three levels less the larger of one and two, -1.4e-4), and within the resolution
+    the row states (the model's error on the compared numbers) it is open however precise its seeds."""
+    from brushbem.studies.verdicts import CONTRADICTED, OPEN, REPRODUCED, judgement
+
+    for ours in (-1.4e-4, 1.4e-4):
+        tie = judgement(0.0, ours, 2e-4, None, ">", realizations=3)
+        assert tie.verdict == OPEN and tie.reason.startswith("undecided"), ours
+    assert judgement(0.0, -1.4e-4, 1e-5, None, ">").verdict == CONTRADICTED  # precise, 14 errors below
+    # A stated resolution: a ratio within 0.8 % of 1 is a tie, on either side and with any error.
+    for ours, error in ((0.99992, 1e-6), (1.0079, 1e-6), (0.995, math.nan)):
+        judged = judgement(1.0, ours, error, None, ">", tie=0.008)
+        assert judged.verdict == OPEN and judged.reason.startswith("a tie: within 0.008"), ours
+    assert judgement(1.0, 0.986, 0.001, None, ">", tie=0.008).verdict == CONTRADICTED  # beyond it, decided
+    assert judgement(1.0, 1.02, 0.001, None, ">", tie=0.008).verdict == REPRODUCED
+    with pytest.raises(ValueError, match="tie must be finite and >= 0"):
+        judgement(1.0, 1.0, math.nan, None, ">", tie=-0.01)
 def test_rows_outside_the_counts_and_an_identification_are_shown_apart():
     from brushbem.studies.verdicts import OPEN, USED_TO_IDENTIFY
 
@@ -359,7 +379,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 COMPARISON_STAMP = {
     "concave": "36b8c1b290d9",
     "flat_brush": "527ddd41ed6f",
-    "hierarchy": "de2dfb42999a",
+    "hierarchy": "77bf2b6df95a",
     "nested_vs_convolution": "3fbc4344dc8b",
     "punch_spring": "19b169a4cb27",
     "rough_brush": "38919144b917",

@@ -23,6 +23,13 @@ Named sets (``brushbem study hierarchy --sampled-set SET --parts fig63_one,fig63
   scales them; Fig. 6-8 a, L1240) at the plateau point; three levels with k~3 = 2e-3 (0.1 k~3,
   Fig. 6-8 b, L1249) at sigma~ = 0.04 and 0.2, and k~3 = 2e-2 at sigma~ = 0.2.
 
+Part ``fig63_tips`` (three levels, its own sweep ``hierarchy.fig63_tips.toml``, no named set): the
+plateau point sigma~ = 0.04, F~_P = 14.3 at the identified N3 on the rows' grid N = 2048 with the tips
+on rasters of their own (``protocol.pillar_tip_resolution``, `brushbem.pillars.tips`) at 9, 13.5 and 18
+elements a radius (twice, three and four times the grid's 4.5): the discretisation of the tips at a
+fixed global grid.  It is a part of its own because the key has no value that means "the grid's own
+tips" in a sweep list (the other parts' cases leave it at its default).
+
 Each part's full sweep is the union of its sets (zip mode), so a set's case has the full sweep's
 seed and hash.  Every set lists the thesis's ten realisations (L1187); a sweep runs them one after
 the other and resumes, so a run stopped after some seeds leaves those seeds complete (the rows read
@@ -42,6 +49,9 @@ CANDIDATES = {4: (40, 2048), 9: (60, 3072), 16: (80, 4096)}
 #: The identified N3 (chapter 6's identification; `brushbem.studies._ch6_fig63.N3_IDENTIFIED`).
 N3 = 4
 LEVELS = ("one", "two", "three")
+#: The tips' own resolutions of part fig63_tips (elements a pillar radius; the grid's own is 4.5).
+TIPS = (9.0, 13.5, 18.0)
+TIP_KEY = "protocol.pillar_tip_resolution"
 KEYS = ("grid.elements", "indenter.pillars_per_side", "indenter.roughness.sigma", "protocol.preload_force",
         "indenter.stiffness_ratio", "indenter.levels.0.stiffness_ratio", "indenter.levels.1.stiffness_ratio")
 
@@ -105,7 +115,20 @@ def text(level: str, points: list[dict], what: str, realizations: int = 10) -> s
     return "\n".join(lines) + "\n"
 
 
+def tips() -> list[dict]:
+    """The points of part fig63_tips: the three-level plateau on N = 2048 with the tips at `TIPS`."""
+    return [{**point("three", N3, 0.04, 14.3), TIP_KEY: t} for t in TIPS]
+
+
+def tips_text() -> str:
+    """The sweep file of part fig63_tips (`text`'s, with the tips' resolution swept)."""
+    body = text("three", tips(), "Part fig63_tips: the three-level plateau with the tips on rasters of their own")
+    key = TIP_KEY
+    return body + f'"{key}" = [' + ", ".join(f"{p[key]:g}" for p in tips()) + "]\n"
+
+
 def main() -> None:
+    (SWEEPS / "hierarchy.fig63_tips.toml").write_text(tips_text(), encoding="utf-8")
     for level in LEVELS:
         named = sets(level)
         every: list[dict] = []

@@ -179,7 +179,8 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                 error, realizations = _standard_error(number, tables, counted)
                 if number.error is not None:  # the number's own estimator (a bootstrap of a fit)
                     error, _ = _compute(_Own(number.error), _of_realizations(tables, counted))
-            judged = judgement(float(number.thesis), ours, error, number.verdict, number.claim, realizations)
+            judged = judgement(float(number.thesis), ours, error, number.verdict, number.claim, realizations,
+                                number.tie)
             verdict = judged.verdict
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note, verdict,

@@ -54,6 +54,12 @@ class ThesisNumber:
         Non-empty: the row stays outside the verdict counts, and this says why
         (a sensitivity to a choice the chapter's identification did not
         make, or a duplicate of a counted row).
+    tie : float
+        For a trend (``claim``): the distance from ``thesis`` within which
+        ours cannot tell the two sides apart, the model's measured error on
+        the compared numbers (named in ``evidence``); such a row is open, a
+        tie, however many seeds (`brushbem.studies.verdicts.judgement`).  0:
+        none stated.
     """
 
     quantity: str
@@ -65,6 +71,7 @@ class ThesisNumber:
     claim: str | None = None
     error: Callable[[Mapping[str, pd.DataFrame]], float] | None = None
     outside: str = ""
+    tie: float = 0.0
 
 
 @dataclass(frozen=True)

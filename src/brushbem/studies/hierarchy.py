@@ -471,7 +471,7 @@ STUDY = Study(
     title="Ch. 6: one-, two- and three-level rough brushes, equivalent single-level stiffness eq. 6.28 (Fig. 6-4 to 6-8)",
     figures=("6-4", "6-5", "6-6", "6-7", "6-8"),
     parts=("one", "two", "three", "equivalent", "stiffness_one", "stiffness_three", "stiffness_k3",
-           "clustered_one", "clustered_two", "clustered_three", "fig63_one", "fig63_two", "fig63_three"),
+           "clustered_one", "clustered_two", "clustered_three", "fig63_one", "fig63_two", "fig63_three", "fig63_tips"),
     draw=draw,
     draw_tables=draw_tables,
     identification=identification,

@@ -12,7 +12,12 @@ The rule, which no declaration bends:
   ``|ours| < VANISHES_BELOW``) is judged both ways alike: reproduced when ours
   lies on the asserted side by more than `STANDARD_ERRORS` standard errors,
   contradicted when it lies on the other side by as much, open in between.  A
-  declaration does not change a qualitative verdict.
+  declaration does not change a qualitative verdict.  A difference within its
+  standard errors of the threshold is *open* whichever side its sign is on;
+  and one within the resolution the row states (``tie``: the model's own
+  error on the compared numbers, measured and named in the row) is *open*
+  ("a tie") however small its standard error: the seeds can make a tie
+  precise, never decided.
 * A row that meets the rule and is declared *reproduced with a stated choice*
   keeps that verdict: its number rests on a parameter the thesis leaves open,
   fixed once by its chapter's identification and named in the row.
@@ -89,24 +94,29 @@ class Judgement:
 
 
 def judgement(thesis: float, ours: float, standard_error: float, declared: str | None,
-              claim: str | None = None, realizations: int = 0) -> Judgement:
+              claim: str | None = None, realizations: int = 0, tie: float = 0.0) -> Judgement:
     """The verdict of one row, with the rule's reason (module docstring).
 
     ``declared`` is the study's verdict (one of `DECLARABLE`), or None.
     ``claim`` ``">"`` or ``"<"`` makes the row a trend the text asserts (ours above or below
     ``thesis``); a ``thesis`` of 0 is the claim ``|ours| < VANISHES_BELOW``.  ``realizations``:
-    the seeds behind the standard error (named in the reason of an imprecise row).
+    the seeds behind the standard error (named in the reason of an imprecise row).  ``tie``: for a
+    qualitative row, the distance from the threshold within which ours cannot tell the two sides
+    apart (the model's error on the compared numbers); 0: none stated.
 
     Raises
     ------
     ValueError
-        ``declared`` not one of `DECLARABLE` (*reproduced* included), or ``claim`` not ``">"``/``"<"``.
+        ``declared`` not one of `DECLARABLE` (*reproduced* included), ``claim`` not ``">"``/``"<"``,
+        or ``tie`` negative or not finite.
     """
     if declared is not None and declared not in DECLARABLE:
         raise ValueError(f"declared verdict must be one of {DECLARABLE} (a declaration never makes a row "
                          f"{REPRODUCED!r}: the rule alone does); got {declared!r}")
     if claim is not None and claim not in (">", "<"):
         raise ValueError(f"claim must be '>' or '<'; got {claim!r}")
+    if not (math.isfinite(tie) and tie >= 0):
+        raise ValueError(f"tie must be finite and >= 0 (a distance from the threshold); got {tie!r}")
     if declared == USED_TO_IDENTIFY:
         return Judgement(USED_TO_IDENTIFY)
     qualitative = claim is not None or thesis == 0
@@ -118,6 +128,8 @@ def judgement(thesis: float, ours: float, standard_error: float, declared: str |
             above = VANISHES_BELOW - abs(ours)
         else:
             above = ours - thesis if claim == ">" else thesis - ours
+        if abs(above) <= tie:
+            return Judgement(OPEN, f"a tie: within {tie:g} of the threshold, the resolution the row states", True)
         if above > margin:
             return Judgement(REPRODUCED, "", True)
         if -above > margin:
@@ -140,9 +152,9 @@ def judgement(thesis: float, ours: float, standard_error: float, declared: str |
 
 
 def judge(thesis: float, ours: float, standard_error: float, declared: str | None,
-          claim: str | None = None, realizations: int = 0) -> str:
+          claim: str | None = None, realizations: int = 0, tie: float = 0.0) -> str:
     """The verdict of one row (`judgement`'s, without its reason)."""
-    return judgement(thesis, ours, standard_error, declared, claim, realizations).verdict
+    return judgement(thesis, ours, standard_error, declared, claim, realizations, tie).verdict
 
 
 def count_by_chapter(rows: Iterable[tuple[str, str]]) -> dict[int, dict[str, int]]:
