@@ -98,7 +98,7 @@ def _detachment_times(run: PillarState, path: LoadPath, d: float,
     model = run.model
     p = run.pressures_at(d)
     rate = direction * run.pressures(run.alpha)
-    grows = model.raster[run.on()] & (rate < 0)
+    grows = np.take(model.raster, run.on(), axis=0) & (rate < 0)
     t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
     return np.maximum(t_detach, 0.0), detachment_slack(path, model.critical, grows, rate)
 

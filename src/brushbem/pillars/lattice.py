@@ -193,7 +193,7 @@ class Lattice:
         sums = scipy.fft.irfft(sums, n=px, axis=-1)[..., :nx].reshape(6, c, ny * nx)
         if not self._in_order:
             sums = sums[..., self._site]
-        field = np.matmul(targets, sums.transpose(2, 0, 1))  # (M, m, c)
+        field = np.matmul(targets, np.ascontiguousarray(sums.transpose(2, 0, 1)))  # (M, m, c)
         field *= self.scale
         return field
 

@@ -129,14 +129,23 @@ class Bases:
         centroid = offsets.mean(axis=0)
         xi = offsets - centroid
         size = max(math.sqrt(float(np.mean(np.sum(xi ** 2, axis=1)))), 1.0)
-        P = np.stack([(xi[:, 0] / size) ** a * (xi[:, 1] / size) ** b for a, b in self.powers], axis=1)
+        # x^a y^b of the scaled offsets; the powers 0, 1 and 2 as 1, x and x * x (what numpy's ** computes
+        # for them), without a power call each: a new raster's basis is made at every step of a peel.
+        y, x = xi[:, 0] / size, xi[:, 1] / size
+        P = np.empty((xi.shape[0], len(self.powers)))
+        for k, (a, b) in enumerate(self.powers):
+            P[:, k] = _power(y, a) * _power(x, b)
         return centroid, xi, size, P
 
     def _direct(self, offsets: np.ndarray) -> Basis:
         K = self._kernel(offsets)
-        factor = scipy.linalg.cho_factor(K)
+        # scipy.linalg.cho_factor and cho_solve's LAPACK calls (the same numbers) without their checks.
+        factor, info = scipy.linalg.lapack.dpotrf(K, lower=False, clean=False)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"a tip raster's influence matrix is not positive definite (LAPACK info "
+                                        f"{info})")
         centroid, xi, size, P = self._polynomials(offsets)
-        F = scipy.linalg.cho_solve(factor, P)
+        F, info = scipy.linalg.lapack.dpotrs(factor, P, lower=False)
         # K-orthogonal modes (Gram-Schmidt in the K inner product, phi_0 = K^-1 1 kept); a mode the raster
         # cannot carry (too few elements, all in a line) is dropped: zero column, unit gram.
         phi = np.zeros_like(F)
@@ -186,6 +195,18 @@ class Bases:
                 C[:, k] = c
                 gram[k] = norm
         return _basis(offsets, F @ C, gram, centroid, xi, size, P)
+
+
+def _power(values: np.ndarray, exponent: int) -> np.ndarray | float:
+    """values ** exponent, the exponents 0, 1 and 2 without a power call (1.0, values, values * values: the
+    same numbers as numpy's ** gives)."""
+    if exponent == 0:
+        return 1.0
+    if exponent == 1:
+        return values
+    if exponent == 2:
+        return values * values
+    return values ** exponent
 
 
 def _basis(offsets: np.ndarray, phi: np.ndarray, gram: np.ndarray, centroid: np.ndarray, xi: np.ndarray,

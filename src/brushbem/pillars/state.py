@@ -119,8 +119,9 @@ class PillarState:
             return out
         for members in _remember(self, ("groups",), lambda: _surface_groups(self)):
             pillars = on[members]
-            out[members] = x[pillars] @ model.phi[pillars[0]].T
-        return np.where(model.raster[on], out, 0.0)
+            out[members] = np.take(x, pillars, axis=0) @ model.phi[pillars[0]].T
+        # np.take: the rows gathered as fancy indexing gathers them, many times faster.
+        return np.where(np.take(model.raster, on, axis=0), out, 0.0)
 
     def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
@@ -164,11 +165,11 @@ class PillarState:
         model = self.model
         self.last = (float(d), loading)
         rows = self.on()
-        on = model.raster[rows]
+        on = np.take(model.raster, rows, axis=0)
         force = 0.0
         slots, values = np.zeros(0, dtype=np.int64), np.zeros(0)
         if kind != "separated" and rows.size:
-            slots = model.reports[rows][on]
+            slots = np.take(model.reports, rows, axis=0)[on]
             values = self.pressures_at(d)[on]
             force = float(model.h2 * values.sum())
         # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
@@ -199,7 +200,7 @@ class PillarState:
             x = self.amplitudes(d)
             p = self.pressures_at(d)
             rows = self.on()
-            tense = model.raster[rows] & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
+            tense = np.take(model.raster, rows, axis=0) & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
             hit = np.flatnonzero(tense.any(axis=1))
             if hit.size:
                 peel_all(self, [(int(rows[i]), tense[i]) for i in hit], x, d)
