@@ -226,3 +226,45 @@ def test_the_resolution_warning_counts_the_tips_raster():
     fine = parse_config({**_mapping(), "protocol": {**_mapping()["protocol"], "pillar_tip_resolution": 16.0}})
     assert resolution_warnings(fine) == []
     assert resolution(fine).elements == pytest.approx(5 * resolution(coarse).elements)
+
+
+def _tips_script():
+    """``docs/pillars/tips.py`` as a module (it imports ``validation`` from beside it)."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parents[1] / "docs" / "pillars"
+    sys.path.insert(0, str(folder))
+    try:
+        spec = importlib.util.spec_from_file_location("pillar_tips_table", folder / "tips.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(folder))
+    return module
+
+
+def test_the_tips_table_holds_the_models_targets():
+    """``docs/pillars/tips.csv``: with its tips at f times the grid's resolution the pillar model is within
+    1 % (F_A) and 3 % (work) of the exact path on the grid f N, every family and k~ it holds (the 8 x 8 ones at
+    f = 2 at least: 15 rows)."""
+    rows = [row for row in _tips_script().load() if row["events_converged"] == "True"]
+    assert sum(row["tip_factor"] == "2" and row["pillars_per_side"] == "8" for row in rows) == 15
+    for row in rows:
+        assert abs(float(row["adhesive_force_error"])) <= 0.01, row
+        assert abs(float(row["work_error"])) <= 0.03, row
+
+
+@pytest.mark.slow
+def test_the_tips_table_is_what_its_script_computes():
+    """One row of ``docs/pillars/tips.csv`` (the hierarchical 8 x 8 brush at k~ = 1e-2, tips at 7.2 elements
+    per radius, the exact path on N = 256) computed again: the same numbers to the table's six digits."""
+    script = _tips_script()
+    (written,) = [row for row in script.load()
+                  if (row["family"], row["pillars_per_side"], row["stiffness_ratio"], row["tip_factor"])
+                  == ("hierarchy", "8", "0.01", "2")]
+    row = script.run_case("hierarchy", 8, 1e-2, 2, {})
+    for name in ("events_adhesive_force", "events_work", "pillars_adhesive_force", "pillars_work",
+                 "grid_tips_adhesive_force_error"):
+        assert row[name] == pytest.approx(float(written[name]), rel=1e-5), name

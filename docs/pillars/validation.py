@@ -70,13 +70,18 @@ def cases() -> list[tuple]:
     return out
 
 
-def problem(family: str, per_side: int, stiffness: float, phi: float = PHI) -> tuple[ContactProblem, float]:
-    """The brush of a family and the rigid flat lattice's force F_c (the preload)."""
+def problem(family: str, per_side: int, stiffness: float, phi: float = PHI,
+            factor: int = 1) -> tuple[ContactProblem, float]:
+    """The brush of a family and the rigid flat lattice's force F_c (the preload).
+
+    ``factor``: the same brush (the same centres, lengths and preload, those of the grid N = 16 n) on the grid
+    ``factor`` times finer (`docs/pillars/tips.py`).
+    """
     elements = 16 * per_side
     grid = Grid(1.0, elements)
     radius = math.sqrt(phi / math.pi) / per_side
 
-    def build(kind: str, roughness: float = 0.0) -> ContactProblem:
+    def build(kind: str, roughness: float = 0.0, grid: Grid = grid) -> ContactProblem:
         common = dict(pillar_radius=radius, contact_modulus=1.0, work_of_adhesion=DGAMMA, stiffness=stiffness,
                       seed=SEED)
         if kind == "random":
@@ -93,7 +98,7 @@ def problem(family: str, per_side: int, stiffness: float, phi: float = PHI) -> t
 
     scales = brush_scales(build("flat"))
     sigma = scales["rigid_brush_displacement"] if family == "rough" else 0.0
-    return build(family, sigma), scales["rigid_brush_force"]
+    return build(family, sigma, Grid(1.0, elements * factor)), scales["rigid_brush_force"]
 
 
 def run_case(family: str, per_side: int, stiffness: float, phi: float = PHI) -> dict:

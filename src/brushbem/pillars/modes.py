@@ -42,10 +42,11 @@ MODES = {
 #: The powers of each choice of modes by its number of modes.
 _POWERS = {len(powers): powers for powers in MODES.values()}
 
-#: Footprints of at least this many elements (about 11 elements' radius) give their rasters' modes through
-#: the Schur complement of their kept inverse; below, a raster's own factorisation costs less than the
-#: footprint's product.  Ours (a cost switch: both give the modes to round-off).
-SCHUR_ELEMENTS = 400
+#: Footprints of at least this many elements (about 7 elements' radius) give their rasters' modes through
+#: the Schur complement of their kept inverse; below, a raster's own factorisation costs as little (one
+#: thread: 0.7 against 0.8 ms at 113 elements, 1.0 against 1.3 ms at 153, 1.0 against 2.2 ms at 202, 1.3
+#: against 23 ms at 806).  Ours (a cost switch: both give the modes to round-off).
+SCHUR_ELEMENTS = 150
 
 #: The kept footprint inverses and bases (bytes) beyond which they are dropped and computed afresh.
 _KEPT_BYTES = 2**30
