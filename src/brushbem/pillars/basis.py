@@ -517,6 +517,9 @@ def _set_near_row(model: PillarModel, p: int, slots: np.ndarray, others: np.ndar
 
 def _shift_moments(model: PillarModel, pillars: np.ndarray) -> None:
     """The lattice moments (`PillarModel.lattice_moments`) of ``pillars`` afresh from their bases."""
+    if pillars.size == 1 and model.M > 1:
+        _shift_one(model, int(pillars[0]))
+        return
     delta = model.centre[pillars] - model.lattice.points[pillars]  # (P, 2)
     m0, m1, m2 = model.m0[pillars], model.m1[pillars], model.m2[pillars]
     t1 = m1 + m0[..., None] * delta[:, None, :]
@@ -531,6 +534,23 @@ def _shift_moments(model: PillarModel, pillars: np.ndarray) -> None:
         model._weights = weights
     else:
         model._weights[0][:, pillars], model._weights[1][pillars] = weights
+
+
+def _shift_one(model: PillarModel, p: int) -> None:
+    """`_shift_moments` of one pillar (a raster changed): the same sums, without the arrays of a batch."""
+    delta = model.centre[p] - model.lattice.points[p]
+    m0, m1, m2 = model.m0[p], model.m1[p], model.m2[p]
+    t1 = m1 + m0[:, None] * delta[None, :]
+    shift = m1[:, :, None] * delta[None, None, :]
+    t2 = m2 + shift + shift.swapaxes(-1, -2) + m0[:, None, None] * (delta[:, None] * delta[None, :])[None]
+    (q0, q1, q2), (s0, s1, s2) = model._moments
+    s0[p], s1[p], s2[p] = m0, t1, t2
+    q0[p], q1[p] = m0[0], t1[0]
+    q2[p] = t2[0] + (m0[0] / 12.0) * np.eye(2)
+    model._weights[0][:, p] = (q0[p], q1[p, 0], q1[p, 1], q2[p, 0, 0], q2[p, 0, 1], q2[p, 1, 1])
+    targets = model._weights[1][p]  # (m, 6): `Lattice.weights`'s targets
+    targets[:, 0], targets[:, 1], targets[:, 2] = m0, t1[:, 0], t1[:, 1]
+    targets[:, 3], targets[:, 4], targets[:, 5] = 0.5 * t2[:, 0, 0], t2[:, 0, 1], 0.5 * t2[:, 1, 1]
 
 
 def _lattice_block(model: PillarModel, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:

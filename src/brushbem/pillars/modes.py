@@ -123,8 +123,10 @@ class Bases:
         return basis
 
     def _kernel(self, offsets: np.ndarray) -> np.ndarray:
-        d = np.abs(offsets[:, None, :] - offsets[None, :, :])
-        return self.ktab[d[..., 0], d[..., 1]]
+        rows, cols = offsets[:, 0], offsets[:, 1]
+        # ktab[|dy|, |dx|] as one flat gather.
+        flat = np.abs(rows[:, None] - rows[None, :]) * self.ktab.shape[1] + np.abs(cols[:, None] - cols[None, :])
+        return np.take(self.ktab, flat)
 
     def _polynomials(self, offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
         centroid = offsets.mean(axis=0)
@@ -151,15 +153,16 @@ class Bases:
         # cannot carry (too few elements, all in a line) is dropped: zero column, unit gram.
         phi = np.zeros_like(F)
         gram = np.ones(F.shape[1])
+        kept = []  # the modes kept so far (a kept mode's column is not zero: its norm is positive)
         for k in range(F.shape[1]):
             v = F[:, k].copy()
-            for j in range(k):
-                if phi[:, j].any():
-                    v -= (phi[:, j] @ P[:, k]) / gram[j] * phi[:, j]
+            for j in kept:
+                v -= (phi[:, j] @ P[:, k]) / gram[j] * phi[:, j]
             norm = float(v @ (K @ v))
             if k == 0 or norm > 1e-9 * float(F[:, k] @ P[:, k]):
                 phi[:, k] = v
                 gram[k] = norm
+                kept.append(k)
         return _basis(offsets, phi, gram, centroid, xi, size, P)
 
     def _schur(self, footprint: np.ndarray, mask: np.ndarray, offsets: np.ndarray) -> Basis:
