@@ -356,23 +356,23 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
     tracker.solve(d)
-    tracker.working.ensure(tracker.contact)
+    tracker.working.ensure(tracker.state.contact)
     assert tracker.unit_response().converged
     tracker.unit_deflection()
-    before, before_deflection, window = tracker.pressure, tracker.deflection(), tracker.working.window
+    before, before_deflection, window = tracker.state.pressure, tracker.deflection(), tracker.working.window
     # The least tensile element: once out, its neighbour's tension stays below
     # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
-    tension = np.where(tracker.contact & (tracker.pressure < 0), tracker.pressure, -np.inf)
-    leave = np.zeros_like(tracker.contact)
+    tension = np.where(tracker.state.contact & (tracker.state.pressure < 0), tracker.state.pressure, -np.inf)
+    leave = np.zeros_like(tracker.state.contact)
     leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
-    count = int(tracker.contact.sum())
+    count = int(tracker.state.contact.sum())
     tracker.solve(d, force_detach=leave)
-    assert int(tracker.contact.sum()) == count - 1 and tracker.working.window == window
+    assert int(tracker.state.contact.sum()) == count - 1 and tracker.working.window == window
     tracker.record_pressure_change(before, before_deflection, window)
-    contact = tracker.contact[window.slices]
+    contact = tracker.state.contact[window.slices]
     guess, product = tracker._unit_guess(contact)
-    exact = _direct_solve(problem, tracker.contact, 1.0 + problem.indenter.height)[window.slices]
-    restricted = tracker.unit[window.slices] * contact
+    exact = _direct_solve(problem, tracker.state.contact, 1.0 + problem.indenter.height)[window.slices]
+    restricted = tracker.state.unit[window.slices] * contact
     scale = float(np.max(np.abs(exact)))
     assert float(np.max(np.abs(guess - exact))) <= 1e-7 * scale
     assert float(np.max(np.abs(restricted - exact))) >= 1e-3 * scale
@@ -832,12 +832,13 @@ def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
 
 
 def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
-    """`Tracker.point` is a `PathPoint` (no tuple); `restore` puts back its pressure and contact, and a
-    deflection known of another pressure is not taken for it (`Known.of`: the same array on the same window)."""
+    """The tracker's state is one frozen `PathState`, replaced and never written into; `Tracker.point` is that
+    value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
+    is not taken for it (`Known.of`: the same array on the same window)."""
     import dataclasses
 
     from brushbem.protocol import Tracker
-    from brushbem.protocol.values import Known, PathPoint
+    from brushbem.protocol.values import Known, PathState
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
@@ -845,13 +846,19 @@ def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
     tracker.solve(d)
     point, deflection = tracker.point(d), tracker.deflection()
-    assert isinstance(point, PathPoint) and point.displacement == d and point.pieces is None
+    assert isinstance(point, PathState) and point.displacement == d and point.connections.pieces is None
+    assert point.pressure is tracker.state.pressure and point.contact is tracker.state.contact  # shared, not copied
     with pytest.raises(dataclasses.FrozenInstanceError):
         point.pressure = None
+    with pytest.raises(TypeError, match="no field"):
+        point.replace(window=None)
+    held = tracker.state
+    pressure_values = np.array(held.pressure)
     tracker.solve(1.5 * d)
-    assert tracker.known_deflection() is not None and tracker.pressure is not point.pressure
+    assert tracker.state is not held and np.array_equal(held.pressure, pressure_values)  # replaced, not written into
+    assert tracker.known_deflection() is not None and tracker.state.pressure is not point.pressure
     tracker.restore(point)
-    assert tracker.pressure is point.pressure and tracker.contact is point.contact
+    assert tracker.state.pressure is point.pressure and tracker.state.contact is point.contact
     assert tracker.known_deflection() is None  # the kept one was of the other pressure
     assert np.array_equal(tracker.deflection(), deflection)
     known = Known(point.pressure, tracker.working.window, deflection)

@@ -289,3 +289,32 @@ def test_no_work_without_adhesive_force_at_a_break():
     # triangle under the line up to it, positive as F_A is (F_A > 0 exactly when W > 0).
     assert result.adhesive_force == pytest.approx(1e-29, rel=1e-6)
     assert 0.0 < result.work_of_separation <= result.adhesive_force * abs(result.pull_off_displacement)
+
+
+def test_the_pieces_and_the_connections_are_values():
+    """A law's pieces and breaks (`PieceState`) and the connections' state (`ConnectionState`) are frozen values:
+    every change gives a new one and leaves the old as it was (a saved path state holds them as they were)."""
+    from brushbem.physics.pillar_laws import PieceState
+    from brushbem.protocol.connections import ConnectionState
+
+    law = PiecewiseLinear(forces=(-0.005, 0.002), factors=(0.5, 1.0, 0.05), tension_limit=0.01)
+    start = PieceState.start(law, np.full(3, STIFFNESS))
+    pieces, broken = start.pieces.copy(), start.broken.copy()
+    forces = np.array([-0.02, 0.0, 0.003])  # past the limit, on the middle piece, on the soft piece
+    moved_state, moved = start.update(forces)
+    assert moved.tolist() == [True, False, True] and moved_state.pieces.tolist() == [0, 1, 2]
+    broken_state, new = moved_state.breaking(forces)
+    assert new.tolist() == [True, False, False] and broken_state.broken.tolist() == [True, False, False]
+    assert np.array_equal(start.pieces, pieces) and np.array_equal(start.broken, broken)  # the old value kept
+    assert not moved_state.broken.any()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        start.pieces = pieces
+
+    problem = ContactProblem(GRID, _punch(law), contact_modulus=1.0, work_of_adhesion=DGAMMA)
+    connections, _ = ConnectionState.begin(problem, LoadPath(method="fixed", preload_displacement=0.01))
+    after, _, _, change = connections.update(forces[:1], problem)
+    assert change is not None and after is not connections and connections.pieces.pieces.tolist() == [1]
+    back, restored = after.restore(connections, problem)
+    assert back.pieces is connections.pieces and restored is not None
+    same, nothing = connections.restore(connections, problem)
+    assert same is connections and nothing is None

@@ -311,3 +311,24 @@ def test_config_names_every_bad_viscoelastic_key(tmp_path):
     built = load(path)
     assert built.problem.indenter.viscoelastic == Viscoelastic("kelvin_voigt", 1.0)
     assert built.path.speed == 0.01
+
+
+def test_the_memory_is_a_value():
+    """The connections' history (`Memory`) is a frozen value: a step's offsets and its commit give new ones and leave
+    the old as it was, with the implicit Euler update of the module docstring."""
+    import numpy as np
+
+    from brushbem.physics.viscoelastic import Memory
+
+    indenter = dataclasses.replace(flat_punch(GRID, RADIUS, STIFFNESS),
+                                   viscoelastic=Viscoelastic("standard_linear_solid", 1.0, 3.0))
+    start = Memory.start(indenter, 1e-4, 1e-3)  # dt = 0.1 tau
+    committed = start.advance().commit(np.array([2e-3]))
+    assert start.compression.tolist() == [0.0] and start.arm_force.tolist() == [0.0] and start.offset.tolist() == [0.0]
+    # From rest b = 0: s = F / k_eff, and F_1 = k_1' s.
+    assert committed.compression[0] == pytest.approx(2e-3 / committed.stiffness[0], rel=1e-15)
+    assert committed.arm_force[0] == pytest.approx(committed.arm[0] * committed.compression[0], rel=1e-15)
+    following = committed.advance()
+    assert committed.offset.tolist() == [0.0] and following.offset[0] != 0.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        start.offset = following.offset

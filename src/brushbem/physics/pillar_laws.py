@@ -30,6 +30,7 @@ broken pillars leave and the step is solved again, until none breaks.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
@@ -115,41 +116,55 @@ class PiecewiseLinear:
         return slope, self.compression(anchor, stiffness) - anchor / slope
 
 
+@dataclass(frozen=True)
 class PieceState:
-    """The pieces and the broken pillars along a path (the `Tracker` holds one).
+    """The pieces and the broken pillars along a path, as a value (a path's state holds one).
 
-    Parameters
+    Make the first with `PieceState.start`; `update`, `breaking` and `with_broken` give the next ones
+    (a value is never changed: a saved path state holds it as it was).
+
+    Attributes
     ----------
     law : PiecewiseLinear
-    stiffness : ndarray
+    base : ndarray
         k of every pillar (level 1).
+    pieces : ndarray of int
+        The piece of every pillar.
+    broken : ndarray of bool
+        The broken pillars.
     """
 
-    def __init__(self, law: PiecewiseLinear, stiffness: np.ndarray):
-        self.law = law
-        self.base = np.array(stiffness, dtype=np.float64)
-        self.pieces = law.piece(np.zeros_like(self.base))
-        self.broken = np.zeros(self.base.shape, dtype=bool)
+    law: PiecewiseLinear
+    base: np.ndarray
+    pieces: np.ndarray
+    broken: np.ndarray
+
+    @classmethod
+    def start(cls, law: PiecewiseLinear, stiffness: np.ndarray) -> PieceState:
+        """Every pillar of stiffness ``stiffness`` on the piece that holds F = 0, none broken."""
+        base = np.array(stiffness, dtype=np.float64)
+        return cls(law, base, law.piece(np.zeros_like(base)), np.zeros(base.shape, dtype=bool))
 
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
         """(stiffness, offset) of every pillar on its current piece."""
         return self.law.affine(self.pieces, self.base)
 
-    def update(self, forces: np.ndarray) -> np.ndarray:
-        """Move every intact pillar to the piece of its force; the pillars that moved (bool)."""
+    def update(self, forces: np.ndarray) -> tuple[PieceState, np.ndarray]:
+        """Every intact pillar on the piece of its force: the new state and the pillars that moved (bool)."""
         pieces = np.where(self.broken, self.pieces, self.law.piece(forces))
-        moved = pieces != self.pieces
-        self.pieces = pieces
-        return moved
+        return dataclasses.replace(self, pieces=pieces), pieces != self.pieces
 
-    def breaking(self, forces: np.ndarray) -> np.ndarray:
-        """Intact pillars whose tension exceeds the limit (bool); they are marked broken."""
+    def breaking(self, forces: np.ndarray) -> tuple[PieceState, np.ndarray]:
+        """The intact pillars whose tension exceeds the limit marked broken: the new state and those pillars (bool)."""
         limit = self.law.tension_limit
         if limit is None:
-            return np.zeros(self.base.shape, dtype=bool)
+            return self, np.zeros(self.base.shape, dtype=bool)
         new = ~self.broken & (forces < -limit)
-        self.broken |= new
-        return new
+        return self.with_broken(new), new
+
+    def with_broken(self, pillars: np.ndarray) -> PieceState:
+        """The state with ``pillars`` (bool, one per pillar) broken too."""
+        return dataclasses.replace(self, broken=self.broken | pillars)
 
 
 def law_path_problems(law: object, *, method: str, preload_displacement: float | None, viscoelastic: bool,

@@ -95,46 +95,64 @@ class Viscoelastic:
         return relaxed + arm, arm
 
 
+@dataclass(frozen=True)
 class Memory:
-    """The state of the connections along a time-stepped path: compression s and Maxwell-arm force F_1.
+    """The state of the connections along a time-stepped path, as a value: compression s and Maxwell-arm force F_1.
 
-    Parameters
+    Make the first with `Memory.start`; `advance` and `commit` give the next ones (a value is never
+    changed: a saved path state holds it as it was).
+
+    Attributes
     ----------
-    indenter : Indenter
-        With ``viscoelastic`` set and an elastic pillar level.
-    step, speed : float
-        The displacement step and the pulling speed: dt = step / speed.
+    rheology : Viscoelastic
+    dt : float
+        The time step, step / speed.
+    stiffness, arm, keep : ndarray, one per pillar
+        k_eff and k_1' of the step, and q = k_1' / k_1 (the share of the old arm force kept; 0 for
+        Kelvin-Voigt).
+    compression, arm_force, offset : ndarray, one per pillar
+        s and F_1 after the last committed step, and the history offset b of the current step.
+    stepped : Indenter
+        The indenter whose pillar springs have the step's stiffness k_eff.
     """
 
-    def __init__(self, indenter: Indenter, step: float, speed: float):
+    rheology: Viscoelastic
+    dt: float
+    stiffness: np.ndarray
+    arm: np.ndarray
+    keep: np.ndarray
+    compression: np.ndarray
+    arm_force: np.ndarray
+    offset: np.ndarray
+    stepped: Indenter
+
+    @classmethod
+    def start(cls, indenter: Indenter, step: float, speed: float) -> Memory:
+        """The connections at rest at the start of a path of displacement ``step`` at ``speed`` (dt = step / speed).
+
+        ``indenter`` has ``viscoelastic`` set and an elastic pillar level.
+        """
         rheology = indenter.viscoelastic
         level = indenter.levels[0]
-        self.rheology = rheology
-        self.dt = step / speed
+        dt = step / speed
         relaxed = np.array(level.stiffnesses, dtype=np.float64)
-        self.stiffness, arm = rheology.step_stiffness(relaxed, self.dt)
-        # q = k_1' / k_1: the share of the old arm force kept (0 for Kelvin-Voigt).
-        self.arm = arm
-        self.keep = (np.zeros_like(relaxed) if rheology.model == "kelvin_voigt"
-                     else np.full_like(relaxed, 1.0 / (1.0 + self.dt / rheology.relaxation_time)))
-        self.compression = np.zeros_like(relaxed)
-        self.arm_force = np.zeros_like(relaxed)
-        self.offset = np.zeros_like(relaxed)
-        #: The indenter whose pillar springs have the step's stiffness k_eff.
-        self.stepped = dataclasses.replace(
-            indenter, levels=(SpringLevel(self.stiffness, level.cluster), *indenter.levels[1:]),
-        )
+        stiffness, arm = rheology.step_stiffness(relaxed, dt)
+        keep = (np.zeros_like(relaxed) if rheology.model == "kelvin_voigt"
+                else np.full_like(relaxed, 1.0 / (1.0 + dt / rheology.relaxation_time)))
+        stepped = dataclasses.replace(indenter, levels=(SpringLevel(stiffness, level.cluster), *indenter.levels[1:]))
+        zero = np.zeros_like(relaxed)
+        return cls(rheology, dt, stiffness, arm, keep, zero, zero, zero, stepped)
 
-    def advance(self) -> np.ndarray:
-        """The history offsets b of the next step (one per pillar, units of length)."""
-        self.offset = (self.arm * self.compression - self.keep * self.arm_force) / self.stiffness
-        return self.offset
+    def advance(self) -> Memory:
+        """Before the next step: its history offsets b (``offset``, one per pillar, units of length)."""
+        offset = (self.arm * self.compression - self.keep * self.arm_force) / self.stiffness
+        return dataclasses.replace(self, offset=offset)
 
-    def commit(self, forces: np.ndarray) -> None:
-        """The step's equilibrium with the pillar forces ``forces`` (compressive positive) is accepted."""
+    def commit(self, forces: np.ndarray) -> Memory:
+        """The step's equilibrium with the pillar forces ``forces`` (compressive positive) accepted."""
         compression = forces / self.stiffness + self.offset
-        self.arm_force = self.arm * (compression - self.compression) + self.keep * self.arm_force
-        self.compression = compression
+        arm_force = self.arm * (compression - self.compression) + self.keep * self.arm_force
+        return dataclasses.replace(self, compression=compression, arm_force=arm_force)
 
 
 def time_stepping_problems(viscoelastic: bool, *, method: str, speed: float | None,

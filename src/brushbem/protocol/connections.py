@@ -7,15 +7,18 @@ pillar law (`brushbem.physics.pillar_laws.PieceState`) is followed by its pieces
 piece gives the pillars' springs and tip offsets, and a pillar whose tension
 reaches the law's limit breaks (its tip is lifted out of reach).
 
-`ConnectionState` never changes a problem in place: every change comes back
-as a `SpringChange` (the problem with the pillars' new springs, or None when
-they stay, and the tips' offsets) for the `brushbem.protocol.tracking.Tracker`
-to apply to its working window.
+`ConnectionState` is a value (the path's state holds it,
+`brushbem.protocol.values.PathState`): every change gives a new one, and
+never changes a problem in place: what it does to the solves comes back as a
+`SpringChange` (the problem with the pillars' new springs, or None when they
+stay, and the tips' offsets) for the `brushbem.protocol.tracking.Tracker` to
+apply to its working window.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -48,17 +51,24 @@ def with_pillar_stiffness(problem: ContactProblem, stiffness: np.ndarray) -> Con
     return dataclasses.replace(problem, indenter=dataclasses.replace(indenter, levels=levels))
 
 
+@dataclasses.dataclass(frozen=True)
 class ConnectionState:
-    """The viscoelastic memory (``memory``) and the pillar law's pieces (``pieces``), each None when absent.
+    """The connections' state as a value: the viscoelastic memory and the pillar law's pieces, each None when absent.
 
-    Make one with `begin`, which also gives the problem the solves start from.
+    Make the first with `begin`, which also gives the problem the solves start from.  Every change gives a
+    new value (and what it does to the solves, a `SpringChange`); a value is never changed, so a saved path
+    state holds the connections as they were.
+
+    Attributes
+    ----------
+    memory : brushbem.physics.viscoelastic.Memory or None
+        The viscoelastic connections' history along a time-stepped path.
+    pieces : brushbem.physics.pillar_laws.PieceState or None
+        The pieces of a nonlinear pillar law and the broken pillars.
     """
 
-    def __init__(self, memory=None, pieces=None):
-        #: The viscoelastic connections' history along a time-stepped path (`brushbem.physics.viscoelastic`), else None.
-        self.memory = memory
-        #: The pieces of a nonlinear pillar law and the broken pillars (`brushbem.physics.pillar_laws`), else None.
-        self.pieces = pieces
+    memory: Any = None
+    pieces: Any = None
 
     @classmethod
     def begin(cls, problem: ContactProblem, path: LoadPath) -> tuple[ConnectionState, ContactProblem]:
@@ -71,13 +81,13 @@ class ConnectionState:
         if problem.indenter.viscoelastic is not None:
             from brushbem.physics.viscoelastic import Memory
 
-            memory = Memory(problem.indenter, path.step, path.speed)
+            memory = Memory.start(problem.indenter, path.step, path.speed)
             # The solves see the pillar springs of the step's stiffness k_eff.
             problem = dataclasses.replace(problem, indenter=memory.stepped)
         if problem.indenter.pillar_law is not None:
             from brushbem.physics.pillar_laws import PieceState
 
-            pieces = PieceState(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
+            pieces = PieceState.start(problem.indenter.pillar_law, problem.indenter.levels[0].stiffnesses)
             # The springs of the piece that holds F = 0 (its offset is 0).
             level = problem.indenter.levels[0]
             levels = (SpringLevel(pieces.springs()[0], level.cluster), *problem.indenter.levels[1:])
@@ -90,15 +100,16 @@ class ConnectionState:
         return self.memory is not None or self.pieces is not None
 
     # -- viscoelastic history -------------------------------------------------
-    def advance(self) -> SpringChange | None:
-        """Before a time step: every pillar's tip raised by its connection's history offset b (None: no memory)."""
+    def advance(self) -> tuple[ConnectionState, SpringChange | None]:
+        """Before a time step: every pillar's tip raised by its connection's history offset b (no change: no memory)."""
         if self.memory is None:
-            return None
-        return SpringChange(None, self.memory.advance())
+            return self, None
+        memory = self.memory.advance()
+        return dataclasses.replace(self, memory=memory), SpringChange(None, memory.offset)
 
-    def commit(self, forces: np.ndarray) -> None:
+    def commit(self, forces: np.ndarray) -> ConnectionState:
         """After a time step's equilibrium: the connections' compression and arm forces from the pillar ``forces``."""
-        self.memory.commit(forces)
+        return dataclasses.replace(self, memory=self.memory.commit(forces))
 
     # -- pillar-law pieces --------------------------------------------------------
     @property
@@ -106,46 +117,45 @@ class ConnectionState:
         """The pillar law's tension limit, or None."""
         return None if self.pieces is None else self.pieces.law.tension_limit
 
-    def saved(self):
-        """The pillar law's pieces and breaks (a copy), or None: what `restore` returns to."""
-        return None if self.pieces is None else (self.pieces.pieces.copy(), self.pieces.broken.copy())
+    def broken(self) -> np.ndarray:
+        """The broken pillars (bool, one per pillar)."""
+        return self.pieces.broken
 
-    def broken(self, saved=None) -> np.ndarray:
-        """The broken pillars (bool, one per pillar) now, or in ``saved`` (from `saved`) when given."""
-        return self.pieces.broken if saved is None else saved[1]
+    def restore(self, saved: ConnectionState, problem: ContactProblem) -> tuple[ConnectionState, SpringChange | None]:
+        """Back to the pieces and breaks of ``saved`` (the memory stays); the change to ``problem``'s springs and
+        tips (None: none)."""
+        if saved.pieces is None or saved.pieces is self.pieces:
+            return self, None
+        old, new = self.pieces, saved.pieces
+        if np.array_equal(new.pieces, old.pieces) and np.array_equal(new.broken, old.broken):
+            return self, None
+        moved = not np.array_equal(new.pieces, old.pieces)
+        state = dataclasses.replace(self, pieces=new)
+        return state, state._change(problem, moved)
 
-    def restore(self, saved, problem: ContactProblem) -> SpringChange | None:
-        """Back to the pieces and breaks of `saved`; the change to ``problem``'s springs and tips (None: none)."""
-        if saved is None:
-            return None
-        pieces, broken = saved
-        if np.array_equal(pieces, self.pieces.pieces) and np.array_equal(broken, self.pieces.broken):
-            return None
-        moved = not np.array_equal(pieces, self.pieces.pieces)
-        self.pieces.pieces, self.pieces.broken = pieces.copy(), broken.copy()
-        return self._change(problem, moved)
-
-    def break_pillars(self, pillars: np.ndarray) -> SpringChange:
+    def break_pillars(self, pillars: np.ndarray) -> tuple[ConnectionState, SpringChange]:
         """Mark ``pillars`` (bool, one per pillar) broken: their tips lifted, the springs unchanged."""
-        self.pieces.broken |= pillars
-        _, offsets = self.pieces.springs()
-        return SpringChange(None, offsets, self.pieces.broken)
+        pieces = self.pieces.with_broken(pillars)
+        _, offsets = pieces.springs()
+        return dataclasses.replace(self, pieces=pieces), SpringChange(None, offsets, pieces.broken)
 
     def update(self, forces: np.ndarray, problem: ContactProblem):
-        """The pieces of the pillar ``forces``, and the breaks when no piece moved: ``(moved, broken, change)``.
+        """The pieces of the pillar ``forces``, and the breaks when no piece moved: ``(state, moved, broken, change)``.
 
-        ``moved``: the pillars whose piece changed.  ``broken``: the pillars
-        that break (marked broken), or None when a piece moved.  ``change``:
-        what that does to ``problem``'s springs and tips, or None when
-        nothing moved and nothing broke (the pieces have settled).
+        ``state``: the new connections' state.  ``moved``: the pillars whose
+        piece changed.  ``broken``: the pillars that break (marked broken),
+        or None when a piece moved.  ``change``: what that does to
+        ``problem``'s springs and tips, or None when nothing moved and
+        nothing broke (the pieces have settled).
         """
-        moved = self.pieces.update(forces)
+        pieces, moved = self.pieces.update(forces)
         broken = None
         if not moved.any():
-            broken = self.pieces.breaking(forces)
+            pieces, broken = pieces.breaking(forces)
             if not broken.any():
-                return moved, broken, None
-        return moved, broken, self._change(problem, bool(moved.any()))
+                return dataclasses.replace(self, pieces=pieces), moved, broken, None
+        state = dataclasses.replace(self, pieces=pieces)
+        return state, moved, broken, state._change(problem, bool(moved.any()))
 
     def _change(self, problem: ContactProblem, moved: bool) -> SpringChange:
         """The springs and tip offsets of the current pieces: a new problem when a piece ``moved``."""

@@ -94,13 +94,13 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
 
     def solve_at(d: float, start: _Sample | None) -> _Sample:
         if start is None:
-            tracker.set_state(xp.zeros_like(tracker.pressure), xp.zeros_like(tracker.contact))
+            tracker.set_state(xp.zeros_like(tracker.state.pressure), xp.zeros_like(tracker.state.contact))
         else:
             tracker.set_state(start.pressure, start.contact)
         eq = tracker.solve(d, contact_problem=True)
         cost[0] += eq.n_solves
         cost[1] += eq.cg_iterations
-        sample = _Sample(d, total_force(tracker), tracker.pressure, tracker.contact, eq)
+        sample = _Sample(d, total_force(tracker), tracker.state.pressure, tracker.state.contact, eq)
         if not eq.converged:
             return sample
         samples.append(sample)

@@ -57,7 +57,7 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
         if not at.converged:
             return at
         yield _eq_state(tracker, at, False, "event")
-        if not bool(tracker.xp.any(tracker.contact)):
+        if not bool(tracker.xp.any(tracker.state.contact)):
             commit_history(tracker)
             yield record_state(tracker, crossing.displacement, False, "separated", total_force(tracker), 0, 0,
                                True, "complete separation")
@@ -76,7 +76,7 @@ MAX_EVENTS_PER_STEP = 100_000
 def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
     """The state at which the first element of a fixed step's contact set reached the criterion.
 
-    ``before`` (a `PathPoint`) is the equilibrium the step started
+    ``before`` (a saved `PathState`) is the equilibrium the step started
     from and ``eq`` the step's equilibrium, whose first solve
     (``eq.trial_pressure``) is on the same contact set.  On a fixed set the
     pressure is affine in d, so the first element to reach -Sigma_c (the
@@ -114,11 +114,11 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
         fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
         tau_elements = min(max(float(xp.min(fraction)), 0.0), 1.0)
     tau_pillars, breaking = 1.0, None
-    limit = tracker.connections.tension_limit
+    limit = tracker.state.connections.tension_limit
     if limit is not None:
         f0 = pillar_forces(tracker, p0, c0)
         f1 = pillar_forces(tracker, p1, c0)
-        intact = ~tracker.connections.broken(before.pieces)
+        intact = ~before.connections.broken()
         candidates = intact & (f1 < -limit) & (f0 > f1)
         if candidates.any():
             pillar_fraction = np.where(candidates, (f0 + limit) / np.where(candidates, f0 - f1, 1.0), np.inf)
@@ -152,7 +152,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     """
     xp = tracker.xp
     loading = direction > 0
-    if not bool(xp.any(tracker.contact)):
+    if not bool(xp.any(tracker.state.contact)):
         return (yield from _without_contact(tracker, path, d, loading))
     # An element outside the window may already be within reach (the bound is
     # conservative): then the tracker works on the whole footprint from here on.
@@ -164,8 +164,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
                            f"unit response: {result.reason}")
         return None
     a = result.solution
-    contact = tracker.contact[sl]
-    pressure = tracker.pressure[sl]
+    contact = tracker.state.contact[sl]
+    pressure = tracker.state.pressure[sl]
     s = float(direction)
     ahead = _events_ahead(tracker, path, d, direction, a)
     grows, t_detach, t_det = ahead.grows, ahead.t_detach, ahead.t_detach_min
@@ -178,7 +178,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         return None
     t = max(t, 0.0)
     new_d = d + s * t
-    new_pressure = xp.zeros_like(tracker.pressure)
+    new_pressure = xp.zeros_like(tracker.state.pressure)
     new_pressure[sl] = xp.where(contact, pressure + (s * t) * a, 0.0)
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
@@ -205,8 +205,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     # A state on the threshold of the event (still an equilibrium), then the cascade.
     yield record_state(tracker, new_d, loading, "event", total_force(tracker, new_pressure), result.iterations, 1,
                        True, "event", pressure=new_pressure)
-    leave = xp.zeros_like(tracker.contact)
-    join = xp.zeros_like(tracker.contact)
+    leave = xp.zeros_like(tracker.state.contact)
+    join = xp.zeros_like(tracker.state.contact)
     if t_det <= t + tie:
         leave[sl] = ahead.within(grows, t_detach, t + xp.maximum(tie, ahead.detach_slack))
     if t_att <= t + tie:
@@ -219,7 +219,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         return None
     if eq.cg_iterations:
         tracker.record_pressure_change(new_pressure, new_deflection, window)
-    if not bool(xp.any(tracker.contact)) and not loading:
+    if not bool(xp.any(tracker.state.contact)) and not loading:
         yield _separated(tracker, new_d, eq)
         return new_d, True
     yield _eq_state(tracker, eq, loading)
@@ -285,8 +285,8 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     xp = tracker.xp
     loading = direction > 0
     sl = tracker.working.window.slices
-    contact = tracker.contact[sl]
-    pressure = tracker.pressure[sl]
+    contact = tracker.state.contact[sl]
+    pressure = tracker.state.pressure[sl]
     height = tracker.working.height[sl]
     footprint = tracker.working.footprint[sl]
     a_all = a
@@ -327,7 +327,7 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
         # Footprint elements outside the window (other pillars, asperities)
         # are not in the affine prediction: stop where one of them could
         # first touch, enlarge the window there and predict again.
-        reach_at = tracker.working.outside_reach_displacement(tracker.pressure, tracker.contact)
+        reach_at = tracker.working.outside_reach_displacement(tracker.state.pressure, tracker.state.contact)
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
     return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,

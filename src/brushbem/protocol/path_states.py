@@ -19,13 +19,13 @@ def _on_window(tracker, array):
 
 def total_force(tracker, pressure=None) -> float:
     """The total force of the tracker's pressure, or of ``pressure`` (full grid; compressive positive)."""
-    p = tracker.pressure if pressure is None else pressure
+    p = tracker.state.pressure if pressure is None else pressure
     return tracker.h2 * float(tracker.xp.sum(_on_window(tracker, p)))
 
 
 def attached_pillars(tracker, contact=None) -> int:
     """How many pillars touch in the tracker's contact set, or in ``contact`` (full grid)."""
-    c = tracker.contact if contact is None else contact
+    c = tracker.state.contact if contact is None else contact
     if tracker.n_pillars == 1:
         return int(bool(tracker.xp.any(_on_window(tracker, c))))
     labels = tracker.pillar[c]
@@ -41,8 +41,8 @@ def record_state(tracker, displacement, loading, kind, trial_force, iterations, 
     Why these parameters: one per field of `State` that the caller knows (the rest are computed here).
     Raises the tracker's ``length_scale`` (the largest |d| reached) to ``displacement``.
     """
-    p = tracker.pressure if pressure is None else pressure
-    c = tracker.contact if contact is None else contact
+    p = tracker.state.pressure if pressure is None else pressure
+    c = tracker.state.contact if contact is None else contact
     tracker.length_scale = max(tracker.length_scale, abs(float(displacement)))
     return State(
         displacement=float(displacement),

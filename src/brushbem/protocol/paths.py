@@ -104,7 +104,7 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
     d = 0.0
     count = 0
     done = False
-    if not tracker.connections.has_state and _press_as_contact_problems(tracker):
+    if not tracker.state.connections.has_state and _press_as_contact_problems(tracker):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
@@ -169,7 +169,7 @@ def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
             yield _eq_state(tracker, eq, False)
             return
         commit_history(tracker)
-        if not bool(tracker.xp.any(tracker.contact)):
+        if not bool(tracker.xp.any(tracker.state.contact)):
             yield _separated(tracker, d, eq)
             return
         yield _eq_state(tracker, eq, False)
@@ -180,7 +180,7 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
     """The smallest displacement at which the loading force reaches ``target``.
 
     ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
-    target bracket it; every trial solves from ``saved`` (a `PathPoint`), the contact state at
+    target bracket it; every trial solves from ``saved`` (a saved `PathState`), the contact state at
     ``below``, so the history of the contact set is kept.  False position,
     with a bisection whenever a step fails to halve the bracket, ends when the
     force at the upper end is within 1e-6 of the target, or when the bracket

@@ -3,14 +3,17 @@
 The `Tracker` composes the parts of that state that have their own modules:
 the working window and its operator (``working``, a
 `brushbem.protocol.window.WorkingWindow`) and the connections' state
-(``connections``, a `brushbem.protocol.connections.ConnectionState`: the
-viscoelastic memory and the pillar law's pieces).  It holds the pressure and
-the contact set, the solves (`Tracker.solve`, `Tracker.step_solve`, the unit
-response of the event path) and the deflections known without another
-transform.  The load paths (`brushbem.protocol.paths`,
+(a `brushbem.protocol.connections.ConnectionState`: the viscoelastic memory
+and the pillar law's pieces).  It holds the path's state as one frozen value,
+``state`` (a `brushbem.protocol.values.PathState`: the pressure and the
+contact set, the connections' state, the deflections known of them without
+another transform, the last unit response), which it replaces and never writes into,
+sharing every array that did not change; a saved state (`Tracker.point`) is
+that value and `Tracker.restore` returns to it.  It runs the solves
+(`Tracker.solve`, `Tracker.step_solve`, the unit response of the event path).  The load paths (`brushbem.protocol.paths`,
 `brushbem.protocol.events`, `brushbem.protocol.contact_loading`) use its
 public members and those of its parts directly (``tracker.working.window``,
-``tracker.connections.tension_limit``); what they do with the window and the
+``tracker.state.connections.tension_limit``); what they do with the window and the
 connections through the tracker's state are the module's functions
 (`cover_contact`, `widen_to_reach`, `pillar_forces`, `break_pillars`,
 `restore_pieces`, `commit_history`).  The `State` records are made in
@@ -50,7 +53,7 @@ from brushbem.numerics.solver import (
 from brushbem.protocol.unit_guess import cascade_record, unit_guess
 from brushbem.protocol.connections import ConnectionState, SpringChange
 from brushbem.protocol.problem import ContactProblem, LoadPath
-from brushbem.protocol.values import Known, PathPoint
+from brushbem.protocol.values import Known, PathState
 from brushbem.protocol.window import WorkingWindow
 
 __all__ = [
@@ -74,7 +77,7 @@ class Tracker:
 
     def __init__(self, problem: ContactProblem, path: LoadPath):
         self.path = path
-        self.connections, problem = ConnectionState.begin(problem, path)
+        connections, problem = ConnectionState.begin(problem, path)
         self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
         self.xp = xp
@@ -86,22 +89,14 @@ class Tracker:
         self.pillar = xp.asarray(indenter.pillar)
         self.n_pillars = indenter.n_pillars
         self.critical = problem.critical_stress
-        self.pressure = xp.zeros((n, n), dtype=xp.float64)
-        self.contact = xp.zeros((n, n), dtype=xp.bool)
-        self.unit = None  # a = A_S^-1 1, full grid (warm start for the next one, kept across windows)
-        # Deflections known without another transform (`Known`: of an array on a
-        # window): of self.pressure, and of self.unit (module docstring: when they
-        # are dropped).
-        self._known_deflection: Known | None = None
-        self._unit_deflection: Known | None = None
-        # Of the contact array on the window: (dp, K dp), how the last cascade changed
-        # the pressure beyond the affine prediction, for the next unit response.
-        self._pressure_change: Known | None = None
+        #: The path's state as one value (`PathState`): pressure, contact and what is known of them (the
+        #: deflections: module docstring, when they are dropped).  Replaced, never written into.
+        self.state = PathState(pressure=xp.zeros((n, n), dtype=xp.float64), contact=xp.zeros((n, n), dtype=xp.bool),
+                               connections=connections)
         # The error that single-precision products left in the kept deflections of the equilibria and
         # of the unit responses (`brushbem.numerics.solver.cg.ProductLedger`).
         self._ledgers = (ProductLedger(), ProductLedger())
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
-        self._footprint_elements: tuple | None = None  # (window, footprint, rows, cols): `footprint_elements`
 
     def apply_change(self, change: SpringChange | None) -> None:
         """Apply a change of the connections: new springs (a new operator) and raised tips.
@@ -116,9 +111,9 @@ class Tracker:
             self.forget_deflections()
         self.working.raise_tips(change.offsets, change.lifted)
 
-    def point(self, displacement: float | None = None) -> PathPoint:
-        """The current state as a value to return to: pressure, contact and the pillar law's pieces (a copy)."""
-        return PathPoint(displacement, self.pressure, self.contact, self.connections.saved())
+    def point(self, displacement: float | None = None) -> PathState:
+        """The current state as a value to return to (`restore`, `restore_pieces`), with its ``displacement``."""
+        return self.state.replace(displacement=displacement)
 
     def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
         """One step of a fixed-step path: the equilibrium at d with the connections' state.
@@ -130,8 +125,10 @@ class Tracker:
         elements that leave the contact first (an event located in the step).
         """
         if advance:
-            self.apply_change(self.connections.advance())
-        if self.connections.pieces is None:
+            connections, change = self.state.connections.advance()
+            self.state = self.state.replace(connections=connections)
+            self.apply_change(change)
+        if self.state.connections.pieces is None:
             return self.solve(displacement, force_detach=detach)
         from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
 
@@ -155,7 +152,9 @@ class Tracker:
             detach = None
             if not eq.converged:
                 return settled(eq)
-            moved, broken, change = self.connections.update(pillar_forces(self), self.working.problem)
+            connections, moved, broken, change = self.state.connections.update(pillar_forces(self),
+                                                                                self.working.problem)
+            self.state = self.state.replace(connections=connections)
             if change is None:
                 return settled(eq)
             if broken is not None:
@@ -176,9 +175,9 @@ class Tracker:
         (Polonsky-Keer from the current pressure), whatever the adhesion.
         """
         xp = self.xp
-        needed = self.contact
+        needed = self.state.contact
         margin = None
-        if contact_problem or self.critical == 0.0 or not bool(xp.any(self.contact)):
+        if contact_problem or self.critical == 0.0 or not bool(xp.any(needed)):
             # A cold or non-adhesive start attaches every overlapping element
             # first; the contact then only shrinks, so a thin margin suffices.
             needed = needed | (self.working.footprint & (self.working.height < displacement))
@@ -195,12 +194,12 @@ class Tracker:
             if contact_problem or (self.critical == 0.0 and force_detach is None and force_attach is None
                                    and solves == 0):
                 eq = polonsky_keer(
-                    self.working.operator, height, displacement, self.pressure[sl],
+                    self.working.operator, height, displacement, self.state.pressure[sl],
                     self.path.tolerance, self.path.max_iterations,
                 )
             else:
                 start = Start(
-                    contact=self.contact[sl], pressure=self.pressure[sl], deflection=self.known_deflection(),
+                    contact=self.state.contact[sl], pressure=self.state.pressure[sl], deflection=self.known_deflection(),
                     detach=None if force_detach is None else force_detach[sl],
                     attach=None if force_attach is None else force_attach[sl],
                 )
@@ -212,20 +211,20 @@ class Tracker:
             if trial is None:
                 trial = eq.trial_force_sum
                 if eq.trial_pressure is not None:
-                    trial_pressure = xp.zeros_like(self.pressure)
+                    trial_pressure = xp.zeros_like(self.state.pressure)
                     trial_pressure[sl] = eq.trial_pressure
             force_detach = force_attach = None
-            self.pressure = xp.zeros_like(self.pressure)
-            self.pressure[sl] = eq.pressure
-            self.contact = xp.zeros_like(self.contact)
-            self.contact[sl] = eq.contact
-            self._known_deflection = (None if eq.deflection is None
-                                      else Known(self.pressure, self.working.window, eq.deflection))
+            pressure = xp.zeros_like(self.state.pressure)
+            pressure[sl] = eq.pressure
+            contact = xp.zeros_like(self.state.contact)
+            contact[sl] = eq.contact
+            self.state = self.state.replace(pressure=pressure, contact=contact, deflection=(
+                None if eq.deflection is None else Known(pressure, self.working.window, eq.deflection)))
             if not eq.converged:
                 break
-            if self.working.covers_footprint or self.working.outside_safe(displacement, self.pressure, self.contact):
+            if self.working.covers_footprint or self.working.outside_safe(displacement, pressure, contact):
                 break
-            if not enlarged and bool(xp.any(self.contact)):
+            if not enlarged and bool(xp.any(contact)):
                 # The contact has grown close to the window's edge, where the
                 # bound cannot exclude penetration.  A window rebuilt around
                 # the contact with the usual margin usually restores the
@@ -233,18 +232,18 @@ class Tracker:
                 # start at the solution: one residual and one penetration on
                 # the window), far cheaper than the full-grid penetration.
                 enlarged = True
-                candidate = self.working.outside_safe_around(displacement, self.pressure, self.contact)
+                candidate = self.working.outside_safe_around(displacement, pressure, contact)
                 if candidate is not None:
                     self.working.install(candidate)
                     continue
             # Penetration outside the window: the contact grew beyond it.
-            outside = self.working.outside_penetration(displacement, self.pressure, self.contact)
+            outside = self.working.outside_penetration(displacement, pressure, contact)
             if not bool(xp.any(outside)):
                 break
-            self.working.ensure(self.contact | outside)
+            self.working.ensure(contact | outside)
             force_attach = outside
         return Equilibrium(
-            displacement=displacement, pressure=self.pressure, contact=self.contact, converged=eq.converged,
+            displacement=displacement, pressure=self.state.pressure, contact=self.state.contact, converged=eq.converged,
             reason=eq.reason, cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
             detached=eq.detached, attached=eq.attached, deflection=eq.deflection,
             trial_pressure=trial_pressure,
@@ -253,46 +252,49 @@ class Tracker:
     # -- the state and its deflection (module docstring: when cached deflections are dropped) --
     def set_state(self, pressure, contact) -> None:
         """A new pressure and contact set (full grid); no deflection of the pressure known."""
-        self.contact = contact
-        self.set_pressure(pressure)
+        self.state = self.state.replace(pressure=pressure, contact=contact, deflection=None)
 
-    def restore(self, point: PathPoint) -> None:
-        """Back to the pressure and contact of ``point``; a deflection still cached of that pressure is kept."""
-        self.pressure, self.contact = point.pressure, point.contact
+    def restore(self, point: PathState) -> None:
+        """Back to the pressure and contact of ``point`` (a saved state, `point`; its pieces: `restore_pieces`).
+
+        What is known (the deflections, the unit response) stays the current state's: each is used only
+        while it is of the restored arrays on the current window (`Known.of`).
+        """
+        self.state = self.state.replace(pressure=point.pressure, contact=point.contact)
 
     def forget_deflections(self) -> None:
         """Drop every cached deflection and the unit response (the next ones are computed afresh)."""
-        self._known_deflection = self._unit_deflection = self._pressure_change = None
-        self.unit = None
+        self.state = self.state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
         self._ledgers = (ProductLedger(), ProductLedger())
 
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
-        known = self._known_deflection
-        return None if known is None else known.of(self.pressure, self.working.window)
+        known = self.state.deflection
+        return None if known is None else known.of(self.state.pressure, self.working.window)
 
     def deflection(self):
         """Tip deflection (half-space + springs) of the current pressure on the window."""
         deflection = self.known_deflection()
         if deflection is None:
-            working = self.working
-            deflection = tip_deflection(working.operator, self.pressure[working.window.slices], working.cache)
-            self._known_deflection = Known(self.pressure, self.working.window, deflection)
+            working, pressure = self.working, self.state.pressure
+            deflection = tip_deflection(working.operator, pressure[working.window.slices], working.cache)
+            self.state = self.state.replace(deflection=Known(pressure, working.window, deflection))
         return deflection
 
     def set_pressure(self, pressure, deflection=None) -> None:
         """Replace the pressure (full grid), with its tip deflection on the window if known."""
-        self.pressure = pressure
-        self._known_deflection = None if deflection is None else Known(pressure, self.working.window, deflection)
+        self.state = self.state.replace(pressure=pressure, deflection=(
+            None if deflection is None else Known(pressure, self.working.window, deflection)))
 
     # -- the unit response of the event path ---------------------------------------
     def unit_deflection(self):
         """Tip deflection of the unit response on the window (transformed once per response)."""
-        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.working.window)
+        state, window = self.state, self.working.window
+        known = None if state.unit_deflection is None else state.unit_deflection.of(state.unit, window)
         if known is not None:
             return known
-        deflection = tip_deflection(self.working.operator, self.unit[self.working.window.slices], self.working.cache)
-        self._unit_deflection = Known(self.unit, self.working.window, deflection)
+        deflection = tip_deflection(self.working.operator, state.unit[window.slices], self.working.cache)
+        self.state = state.replace(unit_deflection=Known(state.unit, window, deflection))
         return deflection
 
     def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
@@ -306,21 +308,22 @@ class Tracker:
         response's starting guess (``unit_response``, `brushbem.protocol.unit_guess`).
         What is kept of it: `brushbem.protocol.unit_guess.cascade_record`.
         """
-        self._pressure_change = None
+        self.state = self.state.replace(pressure_change=None)
         deflection = self.known_deflection()
         if deflection is None or window != self.working.window:
             return
         sl = window.slices
-        record = cascade_record(self.working.operator, self.contact[sl], predicted[sl], self.pressure[sl], deflection,
-                                predicted_deflection)
+        state = self.state
+        record = cascade_record(self.working.operator, state.contact[sl], predicted[sl], state.pressure[sl],
+                                deflection, predicted_deflection)
         if record is not None:
-            self._pressure_change = Known(self.contact, window, record)
+            self.state = state.replace(pressure_change=Known(state.contact, window, record))
 
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
         xp = self.xp
         sl = self.working.window.slices
-        contact = self.contact[sl]
+        contact = self.state.contact[sl]
         block, operator = self.working.cache.sub_operator(self.working.operator, contact)
         block_contact = contact[block]
         ones = xp.astype(block_contact, xp.float64)
@@ -335,11 +338,11 @@ class Tracker:
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution
         result = dataclasses.replace(result, solution=solution)
+        unit = None
         if result.converged:
-            self.unit = xp.zeros_like(self.pressure)
-            self.unit[sl] = solution
-        else:
-            self.unit = None
+            unit = xp.zeros_like(self.state.pressure)
+            unit[sl] = solution
+        self.state = self.state.replace(unit=unit)
         return result
 
     def _unit_guess(self, contact):
@@ -351,13 +354,14 @@ class Tracker:
         of that and the cascade's pressure change dp (``record_pressure_change``),
         exact for a single element leaving (`brushbem.protocol.unit_guess`).
         """
-        if self.unit is None:
+        state, window = self.state, self.working.window
+        if state.unit is None:
             return None, None
-        previous = self.unit[self.working.window.slices]
-        known = None if self._unit_deflection is None else self._unit_deflection.of(self.unit, self.working.window)
+        previous = state.unit[window.slices]
+        known = None if state.unit_deflection is None else state.unit_deflection.of(state.unit, window)
         if known is None:
             return self.xp.where(contact, previous, 0.0), None
-        change = None if self._pressure_change is None else self._pressure_change.of(self.contact, self.working.window)
+        change = None if state.pressure_change is None else state.pressure_change.of(state.contact, window)
         return unit_guess(self.working.operator, contact, previous, known, change)
 
 
@@ -369,10 +373,10 @@ def cover_contact(tracker: Tracker, displacement: float, loading: bool) -> None:
     when it cannot exclude a touch outside the window at ``displacement`` on
     the loading branch, the path works on the whole footprint from here on.
     """
-    working, contact = tracker.working, tracker.contact
+    working, contact = tracker.working, tracker.state.contact
     working.ensure(contact)
     if (loading and not working.covers_footprint
-            and working.outside_reach_displacement(tracker.pressure, contact) <= displacement):
+            and working.outside_reach_displacement(tracker.state.pressure, contact) <= displacement):
         working.ensure(contact | working.footprint)
 
 
@@ -382,39 +386,44 @@ def widen_to_reach(tracker: Tracker, displacement: float, reach: float) -> None:
     The whole footprint when that leaves the window as it was, or when
     the bound still cannot exclude a touch outside it at ``displacement``.
     """
-    working, contact = tracker.working, tracker.contact
+    working, contact = tracker.working, tracker.state.contact
     before = working.window
     working.ensure(contact | (working.footprint & (working.height <= reach)))
-    if working.window == before or working.outside_reach_displacement(tracker.pressure, contact) <= displacement:
+    if working.window == before or working.outside_reach_displacement(tracker.state.pressure, contact) <= displacement:
         working.ensure(contact | working.footprint)
 
 
 # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --------
 def pillar_forces(tracker: Tracker, pressure=None, contact=None) -> np.ndarray:
     """Force of every pillar in the tracker's state, or of the given one (compressive positive)."""
-    contact = np.asarray(backend.to_numpy(tracker.contact if contact is None else contact))
-    pressure = np.asarray(backend.to_numpy(tracker.pressure if pressure is None else pressure))
+    contact = np.asarray(backend.to_numpy(tracker.state.contact if contact is None else contact))
+    pressure = np.asarray(backend.to_numpy(tracker.state.pressure if pressure is None else pressure))
     pillar = tracker.working.pillar_host
     return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
 
 
 def _held_by(tracker: Tracker, pillars: np.ndarray):
     """The contact elements of ``pillars`` (bool, one per pillar), a full-grid mask."""
-    return tracker.contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
+    return tracker.state.contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
 
 
-def restore_pieces(tracker: Tracker, point: PathPoint) -> None:
+def restore_pieces(tracker: Tracker, point: PathState) -> None:
     """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
-    tracker.apply_change(tracker.connections.restore(point.pieces, tracker.working.problem))
+    connections, change = tracker.state.connections.restore(point.connections, tracker.working.problem)
+    tracker.state = tracker.state.replace(connections=connections)
+    tracker.apply_change(change)
 
 
 def break_pillars(tracker: Tracker, pillars: np.ndarray):
     """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
-    tracker.apply_change(tracker.connections.break_pillars(pillars))
+    connections, change = tracker.state.connections.break_pillars(pillars)
+    tracker.state = tracker.state.replace(connections=connections)
+    tracker.apply_change(change)
     return _held_by(tracker, pillars)
 
 
 def commit_history(tracker: Tracker) -> None:
     """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
-    if tracker.connections.memory is not None:
-        tracker.connections.commit(pillar_forces(tracker))
+    connections = tracker.state.connections
+    if connections.memory is not None:
+        tracker.state = tracker.state.replace(connections=connections.commit(pillar_forces(tracker)))
