@@ -102,7 +102,12 @@ entry as the solve reads it.  Measured on the chapter-5 family
 (``benchmarks/large_brush.py``, CPU seconds of one core): 1024 pillars
 3.2-3.5 s (the exact path 79-87 s, ``benchmarks/pillars.py``; measured again
 with the tips' own bases, ``--sizes 32 --sigma 1 --repeat 3``: 5.5 s, median
-of three, against the exact path's 54 s in the same run, 1/9.9), 4096 pillars
+of three, against the exact path's 54 s in the same run, 1/9.9; the states'
+arrays written where the tips press and fewer fixed costs per event,
+``--before e340948``: 2.88 s against the exact path's 42.7 s, 1/14.8, and
+on a more loaded machine 3.77 s against 47.4 s, 1/12.6, where the revision
+before took 5.43 s: the loading 1.43 s against the exact path's 4.36 s, the
+pull-off 2.34 s against 43.1 s), 4096 pillars
 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
 states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
@@ -114,12 +119,16 @@ the preload, the kept inverse held on the partial set: `Switches.kept_partial`)
 and pull-off 47 s (2959 states, 2108 solves) in 0.53 GB, against 21.5 s and
 61 s for the same pull-off before the per-state costs fell (``--before``,
 same run, the same F_A to 7e-15); by CG on the partial sets its loading had
-not reached the preload in 600 s.  Where that pull-off's time goes (cProfile,
-800 states from the 800th): the solves 50 % (each the far field's FFT over the
-whole lattice, about 8 ms, and the kept inverse's product), the peels 24 %
-(the kept inverse's updates, the peeled rasters' amplitudes), the states 12 %
-(the N x N pressure and contact arrays every `State` carries), the rest the
-event search.
+not reached the preload in 600 s.  Measured again (``--sizes 100 --sigma 0.5
+--exact-max 0 --before e340948 --repeat 2``, a loaded machine): 59.2 s
+(64.4 and 54.0; loading 15.5 s, pull-off 43.7 s) against 72.6 s for the
+revision before, in 0.53 GB, F_A and the work the same to the last digit.
+Where its time goes (py-spy, the whole run): the solves 54 % (the far
+field's FFT over the whole lattice 23 %, about 5.4 ms a solve for its 24
+transforms, and the kept inverse's product), the peels 14 %, the states
+10 % (the N x N pressure and contact arrays every `State` carries, their pages
+written afresh at every state), the rest the event search; the kept
+inverse's updates (9 %) fall in the peels and the loading's rounds.
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its
