@@ -176,4 +176,8 @@ def test_the_discretisation_table_reads_the_tips_refinement_at_the_rows_grid_on_
     text = "\n".join(discretisation({"fig63_three": three, TIPS_PART: tips}))
     assert "| global grid | 2048 | 4.5 | 1.8000 | 1 |" in text  # seed 8 (no tips) left out
     assert "| tips' own raster | 2048 | 18 | 1.7300 | 1 |" in text and "9.0000" not in text
-    assert "1.7300 ± 0.0100" in text and "lies +4.0 % from it" in text
+    # The band of 1.74, 1.72, 1.73: 1.73 +- 0.01; 1.80 / 1.73 - 1 = +4.0 %.
+    assert "1.7300 ± 0.0100" in text and "1.8000) lies +4.0 % from it" in text
+    # A seed without every resolution (stopped inside it) is left out: its 9 elements a radius alone is not read.
+    partial = pd.concat([tips, tips.iloc[:1].assign(seed=8, **{FA: 9.0})])
+    assert "9.0000" not in "\n".join(discretisation({"fig63_three": three, TIPS_PART: partial}))

@@ -167,7 +167,10 @@ def _discretisation_points(results: Mapping[str, pd.DataFrame]) -> list[tuple[st
         return frame[np.isclose(frame[SIG], 0.04, rtol=0.1) & np.isclose(frame[FP], 14.3, rtol=0.1)]
 
     tips = plateau_at(_select(tips)) if has(tips, PILLARS, ELEMENTS, TIP) else tips.iloc[0:0]
-    seeds = set(tips[seed]) if len(tips) else set()
+    # The seeds that have every tips' resolution (a sweep stopped inside a seed leaves it out).
+    counts = tips.groupby(seed)[TIP].nunique() if len(tips) else pd.Series(dtype=int)
+    seeds = set(counts[counts == counts.max()].index) if len(counts) else set()
+    tips = tips[tips[seed].isin(seeds)] if seeds else tips
     points = []
     for n in (grid // 2, grid, 2 * grid):
         frame = plateau_at(_select(level, elements=n))
@@ -195,18 +198,43 @@ def discretisation(results: Mapping[str, pd.DataFrame]) -> list[str]:
              "there holds the footprints of N = 4096).", "",
              "| refined | N | tips, elements a radius | F~_A | seeds |", "| --- | --- | --- | --- | --- |"]
     lines += [f"| {how} | {n} | {tip:.3g} | {fa:.4f} | {seeds} |" for how, n, tip, fa, seeds in points]
-    tips = [(tip, fa) for how, _, tip, fa, _ in points if how != "global grid"]
+    tips = sorted((tip, fa) for how, _, tip, fa, _ in points if how != "global grid")
     rows_grid = [fa for how, n, _, fa, _ in points if how == "global grid" and n == N3_CANDIDATES[N3_IDENTIFIED][1]]
     if len(tips) >= 2 and rows_grid:
         values = [fa for _, fa in tips]
-        finest = max(tips)[1]
-        spread = (max(values) - min(values)) / 2
-        lines += ["", f"The plateau with its tips resolved: {finest:.4f} ± {spread:.4f} (the finest tips, "
-                  f"{max(tips)[0]:.3g} elements a radius; the error: half the spread over the tips at "
-                  f"{', '.join(f'{t:.3g}' for t, _ in sorted(tips))}).  The rows' grid (4.5 elements a radius) lies "
-                  f"{100 * (rows_grid[0] / finest - 1):+.1f} % from it: the discretisation error of every row of "
-                  "these parts."]
+        # The tips' refinement need not be monotone (a rasterised circle's pull-off moves with its staircase,
+        # data/resolution_error.csv), so no extrapolation: the band of the refined tips, its middle and half width.
+        middle, half = (max(values) + min(values)) / 2, (max(values) - min(values)) / 2
+        lines += ["", f"The plateau with its tips resolved: {middle:.4f} ± {half:.4f}, the band of the tips at "
+                  f"{', '.join(f'{t:.3g}' for t, _ in tips)} elements a radius (its middle and half width: the "
+                  "refinement need not be monotone, so it is not extrapolated).  The rows' grid (4.5 elements a "
+                  f"radius, {rows_grid[0]:.4f}) lies {100 * (rows_grid[0] / middle - 1):+.1f} % from it: the "
+                  "discretisation error of every row of these parts."]
+    refined = _refinement(results)
+    if refined:
+        lines += ["", "The global grid refined from 4.5 to 9 elements a radius (N = 2048 to 4096, set mesh, the seeds "
+                  "with both) for each level: " + ", ".join(
+                      f"{level} {fa2:.4f} to {fa4:.4f} ({100 * (fa4 / fa2 - 1):+.1f} %, {n} seed{'s' * (n > 1)})"
+                      for level, (fa2, fa4, n) in refined.items()) + "."]
     return lines
+
+
+def _refinement(results: Mapping[str, pd.DataFrame]) -> dict[str, tuple[float, float, int]]:
+    """Level -> (plateau at the rows' grid, at twice its elements, seeds) on the seeds that have both."""
+    _, grid = N3_CANDIDATES[N3_IDENTIFIED]
+    found = {}
+    for level, part in FIG63_LEVELS.items():
+        frame = finished(results, part)
+        seed = "seed" if "seed" in frame.columns else "realization"
+        if not has(frame, PILLARS, ELEMENTS, SIG, FP, FA, seed):
+            continue
+        at = {n: _select(frame, elements=n) for n in (grid, 2 * grid)}
+        at = {n: f[np.isclose(f[SIG], 0.04, rtol=0.1) & np.isclose(f[FP], 14.3, rtol=0.1)] for n, f in at.items()}
+        seeds = set(at[grid][seed]) & set(at[2 * grid][seed])
+        if seeds:
+            found[level] = (float(at[grid][at[grid][seed].isin(seeds)][FA].mean()),
+                            float(at[2 * grid][at[2 * grid][seed].isin(seeds)][FA].mean()), len(seeds))
+    return found
 
 
 def identification(results: Mapping[str, pd.DataFrame]) -> str:
