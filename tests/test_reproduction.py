@@ -245,8 +245,11 @@ def test_a_trend_within_its_error_or_its_stated_resolution_of_the_threshold_is_a
     for ours, error in ((0.99992, 1e-6), (1.0079, 1e-6), (0.995, math.nan)):
         judged = judgement(1.0, ours, error, None, ">", tie=0.008)
         assert judged.verdict == OPEN and judged.reason.startswith("a tie: within 0.008"), ours
-    assert judgement(1.0, 0.986, 0.001, None, ">", tie=0.008).verdict == CONTRADICTED  # beyond it, decided
+    assert judgement(1.0, 0.986, 0.001, None, ">", tie=0.008).verdict == CONTRADICTED  # beyond both, decided
     assert judgement(1.0, 1.02, 0.001, None, ">", tie=0.008).verdict == REPRODUCED
+    # Beyond the resolution but not beyond it and two standard errors together: undecided.
+    between = judgement(1.0, 0.984, 0.003, None, ">", tie=0.015)
+    assert between.verdict == OPEN and "and the resolution 0.015" in between.reason
     with pytest.raises(ValueError, match="tie must be finite and >= 0"):
         judgement(1.0, 1.0, math.nan, None, ">", tie=-0.01)
 def test_rows_outside_the_counts_and_an_identification_are_shown_apart():
@@ -379,7 +382,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 COMPARISON_STAMP = {
     "concave": "36b8c1b290d9",
     "flat_brush": "527ddd41ed6f",
-    "hierarchy": "d0945c918e5c",
+    "hierarchy": "48a6b03db690",
     "nested_vs_convolution": "3fbc4344dc8b",
     "punch_spring": "19b169a4cb27",
     "rough_brush": "38919144b917",

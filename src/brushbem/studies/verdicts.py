@@ -17,7 +17,9 @@ The rule, which no declaration bends:
   and one within the resolution the row states (``tie``: the model's own
   error on the compared numbers, measured and named in the row) is *open*
   ("a tie") however small its standard error: the seeds can make a tie
-  precise, never decided.
+  precise, never decided; beyond it, the row is decided only where its
+  distance from the threshold exceeds the resolution and two standard errors
+  together.
 * A row that meets the rule and is declared *reproduced with a stated choice*
   keeps that verdict: its number rests on a parameter the thesis leaves open,
   fixed once by its chapter's identification and named in the row.
@@ -130,11 +132,13 @@ def judgement(thesis: float, ours: float, standard_error: float, declared: str |
             above = ours - thesis if claim == ">" else thesis - ours
         if abs(above) <= tie:
             return Judgement(OPEN, f"a tie: within {tie:g} of the threshold, the resolution the row states", True)
+        margin += tie  # decided only beyond the stated resolution and the standard errors together
         if above > margin:
             return Judgement(REPRODUCED, "", True)
         if -above > margin:
             return Judgement(CONTRADICTED, "", True)
-        return Judgement(OPEN, f"undecided: within {STANDARD_ERRORS:g} standard errors of the threshold", True)
+        within = f"{STANDARD_ERRORS:g} standard errors" + (f" and the resolution {tie:g}" if tie else "")
+        return Judgement(OPEN, f"undecided: within {within} of the threshold", True)
     if math.isfinite(ours):
         gap = abs(ours - thesis)
         met = REPRODUCED if declared != STATED_CHOICE else STATED_CHOICE
