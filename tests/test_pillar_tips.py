@@ -10,6 +10,7 @@ is a rough 4 x 4 lattice at phi = 0.16 (3.6 elements' radius at N = 64).
 
 from __future__ import annotations
 
+import csv
 import math
 
 import numpy as np
@@ -248,12 +249,13 @@ def _tips_script():
 def test_the_tips_table_holds_the_models_targets():
     """``docs/pillars/tips.csv``: with its tips at f times the grid's resolution the pillar model is within
     1 % (F_A) and 3 % (work) of the exact path on the grid f N, every family and k~ it holds (the 8 x 8 ones at
-    f = 2 at least: 15 rows)."""
+    f = 2 at least: 15 rows), but for the one case the docs name: the concave brush at k~ = 10 with tips at
+    14.4 elements per radius, +2.3 % on F_A (`brushbem.pillars`, "Tip resolution")."""
     rows = [row for row in _tips_script().load() if row["events_converged"] == "True"]
     assert sum(row["tip_factor"] == "2" and row["pillars_per_side"] == "8" for row in rows) == 15
-    for row in rows:
-        assert abs(float(row["adhesive_force_error"])) <= 0.01, row
-        assert abs(float(row["work_error"])) <= 0.03, row
+    outside = {(row["family"], row["pillars_per_side"], row["stiffness_ratio"], row["tip_factor"]) for row in rows
+               if abs(float(row["adhesive_force_error"])) > 0.01 or abs(float(row["work_error"])) > 0.03}
+    assert outside == {("concave", "8", "10", "4")}
 
 
 @pytest.mark.slow
@@ -268,3 +270,16 @@ def test_the_tips_table_is_what_its_script_computes():
     for name in ("events_adhesive_force", "events_work", "pillars_adhesive_force", "pillars_work",
                  "grid_tips_adhesive_force_error"):
         assert row[name] == pytest.approx(float(written[name]), rel=1e-5), name
+
+
+def test_the_extrapolated_tips_table_is_that_of_the_tips_table():
+    """``docs/pillars/tips_extrapolated.csv`` is `extrapolate` of ``tips.csv`` and ``validation.jsonl`` (to its six
+    digits): the errors against the extrapolated exact path that the docs quote are those of the tables."""
+    script = _tips_script()
+    with script.EXTRAPOLATED.open(newline="") as stream:
+        written = list(csv.DictReader(stream))
+    computed = script.extrapolate(script.load())
+    assert [row["family"] for row in written] == [row["family"] for row in computed] and written
+    for row, again in zip(written, computed, strict=True):
+        for name in ("extrapolated_adhesive_force", "observed_order", "grid_tips_error", "tips_14_error"):
+            assert float(row[name]) == pytest.approx(again[name], rel=1e-5, abs=1e-9, nan_ok=True), name

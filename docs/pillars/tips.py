@@ -17,14 +17,28 @@ every finer grid.  Rows are written to ``tips.csv`` as each case completes
 (atomically; a rerun skips the rows already there), in the order of
 `cases`: the cheap grids first.
 
+``tips_extrapolated.csv`` (`extrapolate`, written at the end of every run
+and by ``--extrapolate`` alone) holds, per 8 x 8 case with both f = 2 and
+f = 4, the exact path's F_A on N = 128 (from ``validation.jsonl``), 256 and
+512 (3.6, 7.2 and 14.4 elements per radius), its observed order, the
+first-order Richardson extrapolation 2 F(512) - F(256) (the order of a lone
+punch's F_A, ``data/resolution_error.csv``; the difference from the
+extrapolation at the observed order is its error estimate; none where F_A is
+not monotone over the three grids or its steps do not shrink, outside the
+asymptotic range), and the pillar
+model's F_A with the grid's tips (the default) and with tips at 7.2 and 14.4
+elements per radius, relative to that extrapolated value.
+
     nice python docs/pillars/tips.py                 # every case, resuming
     nice python docs/pillars/tips.py --limit 600     # stop starting cases after 600 s
+    python docs/pillars/tips.py --extrapolate        # only rewrite tips_extrapolated.csv
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import os
 import sys
@@ -38,6 +52,11 @@ sys.path.insert(0, str(HERE))
 from validation import FAMILIES, STIFFNESSES, problem  # noqa: E402
 
 TABLE = HERE / "tips.csv"
+EXTRAPOLATED = HERE / "tips_extrapolated.csv"
+EXTRAPOLATED_FIELDS = ("family", "pillars_per_side", "stiffness_ratio", "events_adhesive_force_128",
+                       "events_adhesive_force_256", "events_adhesive_force_512", "observed_order",
+                       "extrapolated_adhesive_force", "extrapolation_error", "grid_tips_error", "tips_7_error",
+                       "tips_14_error")
 FIELDS = ("family", "pillars_per_side", "pillars", "elements", "stiffness_ratio", "tip_factor",
           "tip_elements_per_radius", "exact_elements", "events_adhesive_force", "events_work",
           "events_cpu_seconds", "events_converged", "pillars_adhesive_force", "pillars_work",
@@ -105,24 +124,64 @@ def load() -> list[dict]:
         return list(csv.DictReader(stream))
 
 
-def write(rows: list[dict]) -> None:
-    order = {case: i for i, case in enumerate(cases())}
-    rows = sorted(rows, key=lambda row: order.get(_key(row), len(order)))
-    temporary = TABLE.with_suffix(".csv.tmp")
+def write(rows: list[dict], table: Path = TABLE, fields: tuple[str, ...] = FIELDS) -> None:
+    if table == TABLE:
+        order = {case: i for i, case in enumerate(cases())}
+        rows = sorted(rows, key=lambda row: order.get(_key(row), len(order)))
+    temporary = table.with_suffix(".csv.tmp")
     with temporary.open("w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=FIELDS, lineterminator="\n")
+        writer = csv.DictWriter(stream, fieldnames=fields, lineterminator="\n")
         writer.writeheader()
         for row in rows:
             writer.writerow({name: (f"{row[name]:.6g}" if isinstance(row[name], float) else row[name])
-                             for name in FIELDS})
-    os.replace(temporary, TABLE)
+                             for name in fields})
+    os.replace(temporary, table)
+
+
+def extrapolate(rows: list[dict]) -> list[dict]:
+    """The rows of ``tips_extrapolated.csv`` (module docstring) from ``tips.csv``'s ``rows``."""
+    coarse = {}
+    for line in (HERE / "validation.jsonl").read_text().splitlines():
+        if line.strip():
+            row = json.loads(line)
+            if row.get("phi", 0.16) == 0.16 and row["pillars_per_side"] == 8:
+                coarse[(row["family"], 8, float(row["stiffness_ratio"]))] = row
+    table = {_key(row): row for row in rows}
+    out = []
+    for family, per_side, stiffness, factor in cases():
+        two, four = table.get((family, per_side, stiffness, 2)), table.get((family, per_side, stiffness, 4))
+        first = coarse.get((family, per_side, stiffness))
+        if factor != 4 or two is None or four is None or first is None:
+            continue
+        f1, f2, f4 = first["events_adhesive_force"], float(two["events_adhesive_force"]), \
+            float(four["events_adhesive_force"])
+        ratio = (f1 - f2) / (f2 - f4) if f2 != f4 else math.nan
+        order = math.log2(ratio) if ratio > 0 else math.nan
+        # Outside the asymptotic range (F_A not monotone in h, or its steps not shrinking: ratio <= 1) there is
+        # no extrapolated value.
+        extrapolated = 2 * f4 - f2 if ratio > 1 else math.nan
+        at_order = f4 + (f4 - f2) / (ratio - 1) if ratio > 1 else math.nan
+        out.append({
+            "family": family, "pillars_per_side": per_side, "stiffness_ratio": stiffness,
+            "events_adhesive_force_128": f1, "events_adhesive_force_256": f2, "events_adhesive_force_512": f4,
+            "observed_order": order, "extrapolated_adhesive_force": extrapolated,
+            "extrapolation_error": abs(at_order / extrapolated - 1) if math.isfinite(at_order) else math.nan,
+            "grid_tips_error": (1 + float(two["grid_tips_adhesive_force_error"])) * f2 / extrapolated - 1,
+            "tips_7_error": float(two["pillars_adhesive_force"]) / extrapolated - 1,
+            "tips_14_error": float(four["pillars_adhesive_force"]) / extrapolated - 1,
+        })
+    return out
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--limit", type=float, default=math.inf, help="start no case after this many seconds")
+    parser.add_argument("--extrapolate", action="store_true", help="only rewrite tips_extrapolated.csv")
     args = parser.parse_args()
     rows = load()
+    if args.extrapolate:
+        write(extrapolate(rows), EXTRAPOLATED, EXTRAPOLATED_FIELDS)
+        return
     done = {_key(row) for row in rows}
     grid_tips: dict = {}
     start = time.monotonic()
@@ -136,6 +195,7 @@ def main() -> None:
         rows.append(row)
         write(rows)
         print(", ".join(f"{name}={row[name]}" for name in FIELDS), flush=True)
+    write(extrapolate(rows), EXTRAPOLATED, EXTRAPOLATED_FIELDS)
 
 
 if __name__ == "__main__":

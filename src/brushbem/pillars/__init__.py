@@ -159,9 +159,28 @@ Tip resolution
     ``docs/pillars/tips.py``: flat, rough, random, hierarchical and concave
     8 x 8 brushes at k~ = 10, 1e-2 and 1e-5) with tips at 7.2 elements per
     radius on N = 128 are -0.57 .. +0.40 % (F_A) and -1.0 .. +1.2 % (work)
-    from the exact path on N = 256, in 0.22 of its time; the grid's own tips
-    (3.6 per radius, the default) +0.0 .. +4.1 % (F_A) and -0.1 .. +7.5 %
-    (work) from it.
+    from the exact path on N = 256, in 0.22 of its time; with tips at 14.4
+    (N = 512; k~ = 10 every family, 1e-5 four of them) -0.46 .. +0.06 %
+    and -0.66 .. +1.0 %, in 0.04 of its time, but for the concave brush at
+    k~ = 10: +2.3 % (F_A) and +1.7 % (work), outside the targets (at 7.2
+    per radius +0.33 %).  The grid's own tips (3.6 per radius, the
+    default) are +0.0 .. +4.1 % (F_A) and up to +7.5 % (work) from the
+    exact path on N = 256, +2.2 .. +19 % and +4.4 .. +22 % from the one on
+    N = 512.  The exact path is not converged there either.  Where its F_A
+    is in the asymptotic range over N = 128, 256 and 512
+    (``docs/pillars/tips_extrapolated.csv``: flat and hierarchical at
+    k~ = 10, observed order 0.98-1.02; flat, hierarchical and concave at
+    1e-5, 0.69-0.72), against its first-order extrapolation the default is
+    +7.6 .. +7.8 %, tips at 7.2 per radius +3.6 .. +4.2 % and at 14.4
+    +1.8 .. +2.2 % (the extrapolation's own error 0.05 .. 1.3 %); the
+    rough, random and concave brushes at k~ = 10 are outside it (F_A not
+    monotone, or its steps growing: -12 % from N = 256 to 512 on the rough
+    one).
+    A brush's F_A converges no faster than a lone punch's: a tip resolution
+    within 1 % of the converged F_A is beyond 16 elements per radius,
+    which cost 7.4 times the grid's tips at 10^4 pillars (before the
+    peeled rasters' cheaper modes, 0.81 of the time at 1024 pillars);
+    ``--refine`` extrapolates the tips instead.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
