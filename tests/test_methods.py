@@ -832,8 +832,8 @@ def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
 
 
 def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
-    """The tracker's state is one frozen `PathState`, replaced and never written into; `Tracker.point` is that
-    value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
+    """The tracker's state is one frozen `PathState`, replaced and never written into; a step (`solve_from`) takes
+    one and gives the next; `Tracker.point` is that value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
     is not taken for it (`Known.of`: the same array on the same window)."""
     import dataclasses
 
@@ -864,3 +864,10 @@ def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     known = Known(point.pressure, tracker.working.window, deflection)
     assert known.of(point.pressure, tracker.working.window) is deflection
     assert known.of(point.pressure.copy(), tracker.working.window) is None and known.of(point.pressure, None) is None
+    # A step takes a state and gives the next one (`solve_from`), leaving the one it took as it was.
+    from brushbem.protocol.tracking import solve_from
+
+    given = tracker.state
+    after, eq = solve_from(tracker, given, 1.5 * d)
+    assert tracker.state is given and after is not given and after.pressure is eq.pressure
+    assert given.pressure is point.pressure and eq.converged and float(eq.pressure.sum()) > float(given.pressure.sum())

@@ -2,19 +2,26 @@
 
 The `Tracker` composes the parts of that state that have their own modules:
 the working window and its operator (``working``, a
-`brushbem.protocol.window.WorkingWindow`) and the connections' state
-(a `brushbem.protocol.connections.ConnectionState`: the viscoelastic memory
-and the pillar law's pieces).  It holds the path's state as one frozen value,
+`brushbem.protocol.window.WorkingWindow`) and the connections' state (a
+`brushbem.protocol.connections.ConnectionState`: the viscoelastic memory and
+the pillar law's pieces).  It holds the path's state as one frozen value,
 ``state`` (a `brushbem.protocol.values.PathState`: the pressure and the
 contact set, the connections' state, the deflections known of them without
-another transform, the last unit response), which it replaces and never writes into,
-sharing every array that did not change; a saved state (`Tracker.point`) is
-that value and `Tracker.restore` returns to it.  It runs the solves
-(`Tracker.solve`, `Tracker.step_solve`, the unit response of the event path).  The load paths (`brushbem.protocol.paths`,
-`brushbem.protocol.events`, `brushbem.protocol.contact_loading`) use its
-public members and those of its parts directly (``tracker.working.window``,
-``tracker.state.connections.tension_limit``); what they do with the window and the
-connections through the tracker's state are the module's functions
+another transform, the last unit response), which it replaces and never
+writes into, sharing every array that did not change; a saved state
+(`Tracker.point`) is that value and `Tracker.restore` returns to it.
+
+The steps take a state and give the next one: `solve_from` (the equilibrium
+at d), `step_from` (a fixed step: the connections' history, a law's pieces
+and breaks) and `with_change` (a change of the connections).  What they keep
+besides is the solver's: the working window, its operator and caches, and
+the ledgers of single-precision products.  `Tracker.solve` and
+`Tracker.step_solve` take the tracker's state through them.  The load paths
+(`brushbem.protocol.paths`, `brushbem.protocol.events`,
+`brushbem.protocol.contact_loading`) use the tracker's public members and
+those of its parts directly (``tracker.working.window``,
+``tracker.state.connections.tension_limit``); what they do with the window
+and the connections through the tracker's state are the module's functions
 (`cover_contact`, `widen_to_reach`, `pillar_forces`, `break_pillars`,
 `restore_pieces`, `commit_history`).  The `State` records are made in
 `brushbem.protocol.path_states`.
@@ -24,7 +31,7 @@ are kept with the array and the window they were computed on, and are used
 only while both are the current ones.  They are computed with the window's
 operator, so when the connections change the pillars' springs (a piece of a
 nonlinear law moves) every one of them, the unit response and the cascade's
-pressure change are dropped (`Tracker.apply_change`, the one place where the
+pressure change are dropped (`with_change`, the one place where the
 operator's springs change).  Raised tips (history offsets, breaks) change the
 heights, not the operator: the cached deflections stay valid.  A pressure
 put in by the paths comes without a known deflection (`Tracker.set_state`,
@@ -63,7 +70,10 @@ __all__ = [
     "cover_contact",
     "pillar_forces",
     "restore_pieces",
+    "solve_from",
+    "step_from",
     "widen_to_reach",
+    "with_change",
 ]
 
 
@@ -99,155 +109,24 @@ class Tracker:
         self.length_scale = 0.0  # the largest |d| reached: the path's length scale
 
     def apply_change(self, change: SpringChange | None) -> None:
-        """Apply a change of the connections: new springs (a new operator) and raised tips.
-
-        New springs make every cached deflection stale: they are dropped here,
-        the one place where the operator's springs change.
-        """
-        if change is None:
-            return
-        if change.problem is not None:
-            self.working.use_problem(change.problem)
-            self.forget_deflections()
-        self.working.raise_tips(change.offsets, change.lifted)
+        """Apply a change of the connections: new springs (a new operator) and raised tips (`with_change`)."""
+        self.state = with_change(self, self.state, change)
 
     def point(self, displacement: float | None = None) -> PathState:
         """The current state as a value to return to (`restore`, `restore_pieces`), with its ``displacement``."""
         return self.state.replace(displacement=displacement)
 
     def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
-        """One step of a fixed-step path: the equilibrium at d with the connections' state.
-
-        Viscoelastic connections: their history offsets first (``advance``;
-        False inside a step, where the step's springs and offsets hold).  A
-        nonlinear pillar law: the piece iteration of `brushbem.physics.pillar_laws`,
-        then the breaks, each break solved again at the same d.  ``detach``:
-        elements that leave the contact first (an event located in the step).
-        """
-        if advance:
-            connections, change = self.state.connections.advance()
-            self.state = self.state.replace(connections=connections)
-            self.apply_change(change)
-        if self.state.connections.pieces is None:
-            return self.solve(displacement, force_detach=detach)
-        from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
-
-        iterations = solves = detached = 0
-        first = None
-        moved = np.zeros(self.n_pillars, dtype=bool)
-
-        def settled(eq: Equilibrium, **changes) -> Equilibrium:
-            # The first round's trial solve is on the step's starting set and pieces: the one
-            # on which the pressure is affine in d (`events._first_crossing`).
-            return dataclasses.replace(eq, cg_iterations=iterations, n_solves=solves, detached=detached,
-                                       trial_force_sum=first.trial_force_sum, trial_pressure=first.trial_pressure,
-                                       **changes)
-
-        for _ in range(MAX_PIECE_ROUNDS):
-            eq = self.solve(displacement, force_detach=detach)
-            first = eq if first is None else first
-            iterations += eq.cg_iterations
-            solves += eq.n_solves
-            detached += eq.detached
-            detach = None
-            if not eq.converged:
-                return settled(eq)
-            connections, moved, broken, change = self.state.connections.update(pillar_forces(self),
-                                                                                self.working.problem)
-            self.state = self.state.replace(connections=connections)
-            if change is None:
-                return settled(eq)
-            if broken is not None:
-                detach = _held_by(self, broken)
-            self.apply_change(change)
-        return settled(
-            eq, converged=False,
-            reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
-                   f"(pillars still changing: {np.flatnonzero(moved)[:10].tolist()})",
-        )
+        """One step of a fixed-step path from the current state (`step_from`); the state becomes its end."""
+        self.state, eq = step_from(self, self.state, displacement, advance=advance, detach=detach)
+        return eq
 
     # -- solves -------------------------------------------------------------
     def solve(self, displacement: float, force_detach=None, force_attach=None,
               contact_problem: bool = False) -> Equilibrium:
-        """Equilibrium at d from the current state; enlarges the window as needed.
-
-        ``contact_problem``: the non-adhesive contact problem at d instead
-        (Polonsky-Keer from the current pressure), whatever the adhesion.
-        """
-        xp = self.xp
-        needed = self.state.contact
-        margin = None
-        if contact_problem or self.critical == 0.0 or not bool(xp.any(needed)):
-            # A cold or non-adhesive start attaches every overlapping element
-            # first; the contact then only shrinks, so a thin margin suffices.
-            needed = needed | (self.working.footprint & (self.working.height < displacement))
-            margin = 0.02
-        if force_attach is not None:
-            needed = needed | force_attach
-        self.working.ensure(needed, margin)
-        iterations = solves = 0
-        trial = trial_pressure = None
-        enlarged = False
-        while True:
-            sl = self.working.window.slices
-            height = self.working.height[sl]
-            if contact_problem or (self.critical == 0.0 and force_detach is None and force_attach is None
-                                   and solves == 0):
-                eq = polonsky_keer(
-                    self.working.operator, height, displacement, self.state.pressure[sl],
-                    self.path.tolerance, self.path.max_iterations,
-                )
-            else:
-                start = Start(
-                    contact=self.state.contact[sl], pressure=self.state.pressure[sl], deflection=self.known_deflection(),
-                    detach=None if force_detach is None else force_detach[sl],
-                    attach=None if force_attach is None else force_attach[sl],
-                )
-                eq = equilibrium(self.working.operator, height, displacement, start, critical=self.critical,
-                                 settings=self.settings, length_scale=self.length_scale, ledger=self._ledgers[0],
-                                 cache=self.working.cache)
-            iterations += eq.cg_iterations
-            solves += eq.n_solves
-            if trial is None:
-                trial = eq.trial_force_sum
-                if eq.trial_pressure is not None:
-                    trial_pressure = xp.zeros_like(self.state.pressure)
-                    trial_pressure[sl] = eq.trial_pressure
-            force_detach = force_attach = None
-            pressure = xp.zeros_like(self.state.pressure)
-            pressure[sl] = eq.pressure
-            contact = xp.zeros_like(self.state.contact)
-            contact[sl] = eq.contact
-            self.state = self.state.replace(pressure=pressure, contact=contact, deflection=(
-                None if eq.deflection is None else Known(pressure, self.working.window, eq.deflection)))
-            if not eq.converged:
-                break
-            if self.working.covers_footprint or self.working.outside_safe(displacement, pressure, contact):
-                break
-            if not enlarged and bool(xp.any(contact)):
-                # The contact has grown close to the window's edge, where the
-                # bound cannot exclude penetration.  A window rebuilt around
-                # the contact with the usual margin usually restores the
-                # bound; the equilibrium is then re-checked on it (a warm
-                # start at the solution: one residual and one penetration on
-                # the window), far cheaper than the full-grid penetration.
-                enlarged = True
-                candidate = self.working.outside_safe_around(displacement, pressure, contact)
-                if candidate is not None:
-                    self.working.install(candidate)
-                    continue
-            # Penetration outside the window: the contact grew beyond it.
-            outside = self.working.outside_penetration(displacement, pressure, contact)
-            if not bool(xp.any(outside)):
-                break
-            self.working.ensure(contact | outside)
-            force_attach = outside
-        return Equilibrium(
-            displacement=displacement, pressure=self.state.pressure, contact=self.state.contact, converged=eq.converged,
-            reason=eq.reason, cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
-            detached=eq.detached, attached=eq.attached, deflection=eq.deflection,
-            trial_pressure=trial_pressure,
-        )
+        """Equilibrium at d from the current state (`solve_from`); the state becomes the equilibrium's."""
+        self.state, eq = solve_from(self, self.state, displacement, force_detach, force_attach, contact_problem)
+        return eq
 
     # -- the state and its deflection (module docstring: when cached deflections are dropped) --
     def set_state(self, pressure, contact) -> None:
@@ -263,14 +142,13 @@ class Tracker:
         self.state = self.state.replace(pressure=point.pressure, contact=point.contact)
 
     def forget_deflections(self) -> None:
-        """Drop every cached deflection and the unit response (the next ones are computed afresh)."""
+        """Drop every cached deflection and the unit response (the next ones are computed afresh; `with_change`)."""
         self.state = self.state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
         self._ledgers = (ProductLedger(), ProductLedger())
 
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
-        known = self.state.deflection
-        return None if known is None else known.of(self.state.pressure, self.working.window)
+        return _known(self.state.deflection, self.state.pressure, self.working.window)
 
     def deflection(self):
         """Tip deflection (half-space + springs) of the current pressure on the window."""
@@ -365,6 +243,165 @@ class Tracker:
         return unit_guess(self.working.operator, contact, previous, known, change)
 
 
+# -- the steps: a state in, the next state out ---------------------------------------
+def with_change(tracker: Tracker, state: PathState, change: SpringChange | None) -> PathState:
+    """``state`` after a change of the connections: new springs (a new operator) and raised tips.
+
+    New springs make every deflection known of ``state`` stale: the new state
+    has none (the one place where the operator's springs change).  The
+    tracker's window takes the new operator and heights.
+    """
+    if change is None:
+        return state
+    if change.problem is not None:
+        tracker.working.use_problem(change.problem)
+        state = state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
+        tracker._ledgers = (ProductLedger(), ProductLedger())
+    tracker.working.raise_tips(change.offsets, change.lifted)
+    return state
+
+
+def step_from(tracker: Tracker, state: PathState, displacement: float, *, advance: bool = True,
+              detach=None) -> tuple[PathState, Equilibrium]:
+    """One step of a fixed-step path from ``state``: the state at its end and its equilibrium at d.
+
+    Viscoelastic connections: their history offsets first (``advance``;
+    False inside a step, where the step's springs and offsets hold).  A
+    nonlinear pillar law: the piece iteration of `brushbem.physics.pillar_laws`,
+    then the breaks, each break solved again at the same d.  ``detach``:
+    elements that leave the contact first (an event located in the step).
+    """
+    if advance:
+        connections, change = state.connections.advance()
+        state = with_change(tracker, state.replace(connections=connections), change)
+    if state.connections.pieces is None:
+        return solve_from(tracker, state, displacement, force_detach=detach)
+    from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
+
+    iterations = solves = detached = 0
+    first = None
+    moved = np.zeros(tracker.n_pillars, dtype=bool)
+
+    def settled(eq: Equilibrium, **changes) -> Equilibrium:
+        # The first round's trial solve is on the step's starting set and pieces: the one
+        # on which the pressure is affine in d (`events._first_crossing`).
+        return dataclasses.replace(eq, cg_iterations=iterations, n_solves=solves, detached=detached,
+                                   trial_force_sum=first.trial_force_sum, trial_pressure=first.trial_pressure,
+                                   **changes)
+
+    for _ in range(MAX_PIECE_ROUNDS):
+        state, eq = solve_from(tracker, state, displacement, force_detach=detach)
+        first = eq if first is None else first
+        iterations += eq.cg_iterations
+        solves += eq.n_solves
+        detached += eq.detached
+        detach = None
+        if not eq.converged:
+            return state, settled(eq)
+        connections, moved, broken, change = state.connections.update(
+            pillar_forces(tracker, state.pressure, state.contact), tracker.working.problem)
+        state = state.replace(connections=connections)
+        if change is None:
+            return state, settled(eq)
+        if broken is not None:
+            detach = _held_by(tracker, broken, state.contact)
+        state = with_change(tracker, state, change)
+    return state, settled(
+        eq, converged=False,
+        reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
+               f"(pillars still changing: {np.flatnonzero(moved)[:10].tolist()})",
+    )
+
+
+def solve_from(tracker: Tracker, state: PathState, displacement: float, force_detach=None, force_attach=None,
+               contact_problem: bool = False) -> tuple[PathState, Equilibrium]:
+    """The equilibrium at d from ``state``, and the state it gives; the tracker's window enlarged as needed.
+
+    ``contact_problem``: the non-adhesive contact problem at d instead
+    (Polonsky-Keer from the state's pressure), whatever the adhesion.
+    """
+    xp, working = tracker.xp, tracker.working
+    needed = state.contact
+    margin = None
+    if contact_problem or tracker.critical == 0.0 or not bool(xp.any(needed)):
+        # A cold or non-adhesive start attaches every overlapping element
+        # first; the contact then only shrinks, so a thin margin suffices.
+        needed = needed | (working.footprint & (working.height < displacement))
+        margin = 0.02
+    if force_attach is not None:
+        needed = needed | force_attach
+    working.ensure(needed, margin)
+    iterations = solves = 0
+    trial = trial_pressure = None
+    enlarged = False
+    while True:
+        sl = working.window.slices
+        height = working.height[sl]
+        if contact_problem or (tracker.critical == 0.0 and force_detach is None and force_attach is None
+                               and solves == 0):
+            eq = polonsky_keer(
+                working.operator, height, displacement, state.pressure[sl],
+                tracker.path.tolerance, tracker.path.max_iterations,
+            )
+        else:
+            start = Start(
+                contact=state.contact[sl], pressure=state.pressure[sl],
+                deflection=_known(state.deflection, state.pressure, working.window),
+                detach=None if force_detach is None else force_detach[sl],
+                attach=None if force_attach is None else force_attach[sl],
+            )
+            eq = equilibrium(working.operator, height, displacement, start, critical=tracker.critical,
+                             settings=tracker.settings, length_scale=tracker.length_scale, ledger=tracker._ledgers[0],
+                             cache=working.cache)
+        iterations += eq.cg_iterations
+        solves += eq.n_solves
+        if trial is None:
+            trial = eq.trial_force_sum
+            if eq.trial_pressure is not None:
+                trial_pressure = xp.zeros_like(state.pressure)
+                trial_pressure[sl] = eq.trial_pressure
+        force_detach = force_attach = None
+        pressure = xp.zeros_like(state.pressure)
+        pressure[sl] = eq.pressure
+        contact = xp.zeros_like(state.contact)
+        contact[sl] = eq.contact
+        state = state.replace(pressure=pressure, contact=contact, deflection=(
+            None if eq.deflection is None else Known(pressure, working.window, eq.deflection)))
+        if not eq.converged:
+            break
+        if working.covers_footprint or working.outside_safe(displacement, pressure, contact):
+            break
+        if not enlarged and bool(xp.any(contact)):
+            # The contact has grown close to the window's edge, where the
+            # bound cannot exclude penetration.  A window rebuilt around
+            # the contact with the usual margin usually restores the
+            # bound; the equilibrium is then re-checked on it (a warm
+            # start at the solution: one residual and one penetration on
+            # the window), far cheaper than the full-grid penetration.
+            enlarged = True
+            candidate = working.outside_safe_around(displacement, pressure, contact)
+            if candidate is not None:
+                working.install(candidate)
+                continue
+        # Penetration outside the window: the contact grew beyond it.
+        outside = working.outside_penetration(displacement, pressure, contact)
+        if not bool(xp.any(outside)):
+            break
+        working.ensure(contact | outside)
+        force_attach = outside
+    return state, Equilibrium(
+        displacement=displacement, pressure=state.pressure, contact=state.contact, converged=eq.converged,
+        reason=eq.reason, cg_iterations=iterations, n_solves=solves, trial_force_sum=trial,
+        detached=eq.detached, attached=eq.attached, deflection=eq.deflection,
+        trial_pressure=trial_pressure,
+    )
+
+
+def _known(known: Known | None, array, window: Window | None):
+    """``known``'s value if it is of ``array`` on ``window`` (`Known.of`), else None."""
+    return None if known is None else known.of(array, window)
+
+
 # -- the window: the contact covered, and widened to what may touch next --------------
 def cover_contact(tracker: Tracker, displacement: float, loading: bool) -> None:
     """A window that holds the contact; the whole footprint when pressing and one outside may reach.
@@ -402,9 +439,11 @@ def pillar_forces(tracker: Tracker, pressure=None, contact=None) -> np.ndarray:
     return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
 
 
-def _held_by(tracker: Tracker, pillars: np.ndarray):
-    """The contact elements of ``pillars`` (bool, one per pillar), a full-grid mask."""
-    return tracker.state.contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
+def _held_by(tracker: Tracker, pillars: np.ndarray, contact=None):
+    """The contact elements of ``pillars`` (bool, one per pillar) in ``contact`` (default: the tracker's), a full-grid
+    mask."""
+    contact = tracker.state.contact if contact is None else contact
+    return contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
 
 
 def restore_pieces(tracker: Tracker, point: PathState) -> None:
