@@ -128,7 +128,15 @@ field's FFT over the whole lattice 23 %, about 5.4 ms a solve for its 24
 transforms, and the kept inverse's product), the peels 14 %, the states
 10 % (the N x N pressure and contact arrays every `State` carries, their pages
 written afresh at every state), the rest the event search; the kept
-inverse's updates (9 %) fall in the peels and the loading's rounds.
+inverse's updates (9 %) fall in the peels and the loading's rounds.  The
+rough brush of 10^5 pillars (``--sizes 316 --sigma 0.5 --exact-max 0 --limit
+2700``, N = 5056) did not finish in 45 min of wall time on a loaded machine
+(16 CPU-min, 2.2 GB): its loading was in the preload search's sixth contact
+problem (the force 0.2 % above F_c), 20 rounds into it at about 20 s a round.
+Beyond `Switches.kept_partial` attached pillars the solves are CG on the
+lattice, and the higher modes' near field fed back while pressing costs a CG
+solve every round of `radiate`: 88 % of that loading's time (py-spy), each CG
+product 24 FFTs of 640 x 640 (the products in the spectrum between them 24 %).
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its
