@@ -168,19 +168,21 @@ Tip resolution
     8 x 8 brushes at k~ = 10, 1e-2 and 1e-5) with tips at 7.2 elements per
     radius on N = 128 are -0.57 .. +0.40 % (F_A) and -1.0 .. +1.2 % (work)
     from the exact path on N = 256, in 0.22 of its time; with tips at 14.4
-    (N = 512; k~ = 10 every family, 1e-5 four of them) -0.46 .. +0.06 %
-    and -0.66 .. +1.0 %, in 0.04 of its time, but for the concave brush at
-    k~ = 10: +2.3 % (F_A) and +1.7 % (work), outside the targets (at 7.2
-    per radius +0.33 %).  The grid's own tips (3.6 per radius, the
+    (N = 512; k~ = 10 and 1e-5, every family but the rough one at 1e-5)
+    -0.46 .. +0.06 % and -0.66 .. +1.0 %, in 0.03 of its time, but for two
+    outside the targets: the concave brush at k~ = 10, +2.3 % (F_A) and
+    +1.7 % (work) (at 7.2 per radius +0.33 %), and the random one at 1e-5,
+    -1.2 % (F_A).  The grid's own tips (3.6 per radius, the
     default) are +0.0 .. +4.1 % (F_A) and up to +7.5 % (work) from the
     exact path on N = 256, +2.2 .. +19 % and +4.4 .. +22 % from the one on
     N = 512.  The exact path is not converged there either.  Where its F_A
     is in the asymptotic range over N = 128, 256 and 512
     (``docs/pillars/tips_extrapolated.csv``: flat and hierarchical at
-    k~ = 10, observed order 0.98-1.02; flat, hierarchical and concave at
-    1e-5, 0.69-0.72), against its first-order extrapolation the default is
-    +7.6 .. +7.8 %, tips at 7.2 per radius +3.6 .. +4.2 % and at 14.4
-    +1.8 .. +2.2 % (the extrapolation's own error 0.05 .. 1.3 %); the
+    k~ = 10, observed order 0.98-1.02; flat, hierarchical, concave and
+    random at 1e-5, 0.69-1.49), against its first-order extrapolation the
+    default is +2.8 .. +7.8 % (the random brush the least), tips at 7.2 per
+    radius +1.1 .. +4.2 % and at 14.4 -0.6 .. +2.2 % (the extrapolation's
+    own error 0.05 .. 1.3 %); the
     rough, random and concave brushes at k~ = 10 are outside it (F_A not
     monotone, or its steps growing: -12 % from N = 256 to 512 on the rough
     one).
