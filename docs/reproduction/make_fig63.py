@@ -127,8 +127,17 @@ def tips_text() -> str:
     return body + f'"{key}" = [' + ", ".join(f"{p[key]:g}" for p in tips()) + "]\n"
 
 
+def tips_quick_text() -> str:
+    """The quick sweep of part fig63_tips: one plateau point, 20 x 20 sub-pillars (N3 = 1), N = 512, the
+    tips at twice the grid's resolution (a check of the machinery, not a number)."""
+    quick = [{**tips()[0], "grid.elements": 512, "indenter.pillars_per_side": 20}]
+    body = text("three", quick, "Quick check of the machinery: 20 x 20 sub-pillars (N3 = 1), N = 512, tips at 9", 1)
+    return body + f'"{TIP_KEY}" = [' + ", ".join(f"{p[TIP_KEY]:g}" for p in quick) + "]\n"
+
+
 def main() -> None:
     (SWEEPS / "hierarchy.fig63_tips.toml").write_text(tips_text(), encoding="utf-8")
+    (SWEEPS / "hierarchy.fig63_tips.quick.toml").write_text(tips_quick_text(), encoding="utf-8")
     for level in LEVELS:
         named = sets(level)
         every: list[dict] = []

@@ -252,7 +252,8 @@ def identification(results: Mapping[str, pd.DataFrame]) -> str:
         values, seeds = {}, set()
         for level in PLATEAUS:
             frame = _select(finished(results, FIG63_LEVELS[level]), n3=n3)
-            at = frame[np.isclose(frame[SIG], 0.04, rtol=0.1)] if has(frame, SIG, FA) else frame.iloc[0:0]
+            at = (frame[np.isclose(frame[SIG], 0.04, rtol=0.1) & np.isclose(frame[FP], 14.3, rtol=0.1)]
+                  if has(frame, SIG, FP, FA) else frame.iloc[0:0])
             per_seed = at.groupby("realization")[FA].mean() if len(at) else pd.Series(dtype=float)
             error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else math.nan
             values[level] = (float(per_seed.mean()) if len(per_seed) else math.nan, error)
