@@ -356,10 +356,10 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
     tracker.solve(d)
-    tracker.working.ensure(tracker.state.contact)
+    tracker.state = tracker.state.replace(working=tracker.state.working.covering(tracker.state.contact))
     assert tracker.unit_response().converged
     tracker.unit_deflection()
-    before, before_deflection, window = tracker.state.pressure, tracker.deflection(), tracker.working.window
+    before, before_deflection, window = tracker.state.pressure, tracker.deflection(), tracker.state.working.window
     # The least tensile element: once out, its neighbour's tension stays below
     # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
     tension = np.where(tracker.state.contact & (tracker.state.pressure < 0), tracker.state.pressure, -np.inf)
@@ -367,7 +367,7 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
     count = int(tracker.state.contact.sum())
     tracker.solve(d, force_detach=leave)
-    assert int(tracker.state.contact.sum()) == count - 1 and tracker.working.window == window
+    assert int(tracker.state.contact.sum()) == count - 1 and tracker.state.working.window == window
     tracker.record_pressure_change(before, before_deflection, window)
     contact = tracker.state.contact[window.slices]
     guess, product = tracker._unit_guess(contact)
@@ -833,7 +833,7 @@ def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
 
 def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     """The tracker's state is one frozen `PathState`, replaced and never written into; a step (`solve_from`) takes
-    one and gives the next; `Tracker.point` is that value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
+    one and gives the next, with its working window; `Tracker.point` is that value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
     is not taken for it (`Known.of`: the same array on the same window)."""
     import dataclasses
 
@@ -861,9 +861,9 @@ def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     assert tracker.state.pressure is point.pressure and tracker.state.contact is point.contact
     assert tracker.known_deflection() is None  # the kept one was of the other pressure
     assert np.array_equal(tracker.deflection(), deflection)
-    known = Known(point.pressure, tracker.working.window, deflection)
-    assert known.of(point.pressure, tracker.working.window) is deflection
-    assert known.of(point.pressure.copy(), tracker.working.window) is None and known.of(point.pressure, None) is None
+    known = Known(point.pressure, tracker.state.working.window, deflection)
+    assert known.of(point.pressure, tracker.state.working.window) is deflection
+    assert known.of(point.pressure.copy(), tracker.state.working.window) is None and known.of(point.pressure, None) is None
     # A step takes a state and gives the next one (`solve_from`), leaving the one it took as it was.
     from brushbem.protocol.tracking import solve_from
 
@@ -871,3 +871,12 @@ def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
     after, eq = solve_from(tracker, given, 1.5 * d)
     assert tracker.state is given and after is not given and after.pressure is eq.pressure
     assert given.pressure is point.pressure and eq.converged and float(eq.pressure.sum()) > float(given.pressure.sum())
+    # The working window is part of the value: a saved state carries the one it was saved on, and a step that
+    # needs a larger window returns the state on it, leaving the window of the state it took as it was.
+    assert point.working is held.working and point.working.window.contains(point.contact)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        point.working.window = None
+    window = given.working.window
+    wide, eq = solve_from(tracker, given, 4 * d)
+    assert eq.converged and given.working.window == window and wide.working.window != window
+    assert wide.working.window.contains(wide.contact) and wide.contact.sum() > given.contact.sum()

@@ -60,11 +60,12 @@ The package's modules:
 * `contact_loading` - a brush's loading branch as contact problems.
 * `path_states` - the `State` records the paths make of a tracker's state
   (its total force, contact area and attached pillars).
+* `values` - `PathState`, the path's state as one frozen value, and `Known`.
 * `tracking` - `Tracker`, the state of one pull-off: pressure and contact,
-  the solves and the cached deflections, and the window and connection steps
-  the paths take through it (module functions); it composes
-* `window` - `WorkingWindow`, the working window, its operator, the tip
-  heights and the checks that nothing outside the window touches, and
+  the solves and the cached deflections, and the steps that take a state and
+  give the next (module functions); the state carries
+* `window` - `WorkingWindow`, the working window as a value: its operator,
+  the tip heights and the checks that nothing outside the window touches, and
 * `connections` - `ConnectionState`, the viscoelastic history and the
   nonlinear pillar law's pieces and breaks (the springs and tip offsets
   they give the solves).

@@ -51,7 +51,7 @@ def _press_as_contact_problems(tracker: Tracker) -> bool:
     """
     if tracker.n_pillars < 2:
         return False
-    indenter = tracker.working.problem.indenter
+    indenter = tracker.state.working.problem.indenter
     heights = np.asarray(indenter.height)[np.asarray(indenter.footprint)]
     lowest = float(heights.min())
     return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
@@ -87,7 +87,7 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
     or None when a solve failed.
     """
     xp = tracker.xp
-    problem = tracker.working.problem
+    problem = tracker.state.working.problem
     lowest = problem.indenter.lowest_height
     samples: list[_Sample] = []
     cost = [0, 0]  # solves, iterations of the samples not yet yielded
@@ -160,7 +160,7 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     convex where pillars join.)
     """
     xp = tracker.xp
-    problem = tracker.working.problem
+    problem = tracker.state.working.problem
     target = path.preload_force
     model = _IndependentPillars(problem.indenter, problem.contact_modulus, tracker.h2)
     lo = hi = None  # samples below and above the target
@@ -281,7 +281,7 @@ def _nested_prefix(tracker: Tracker, samples: list, lowest: float) -> list:
     for sample in samples[1:]:
         released = union & ~sample.contact
         if bool(xp.any(released)):
-            gap = -tracker.working.full_penetration(sample.displacement, sample.pressure)
+            gap = -tracker.state.working.full_penetration(sample.displacement, sample.pressure)
             depth = max(sample.displacement - lowest, 1e-300)
             if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
                 break

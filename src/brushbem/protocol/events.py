@@ -156,8 +156,8 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         return (yield from _without_contact(tracker, path, d, loading))
     # An element outside the window may already be within reach (the bound is
     # conservative): then the tracker works on the whole footprint from here on.
-    cover_contact(tracker, d, loading)
-    sl = tracker.working.window.slices
+    tracker.state = cover_contact(tracker.state, d, loading)
+    sl = tracker.state.working.window.slices
     result = tracker.unit_response()
     if not result.converged:
         yield record_state(tracker, d, loading, "equilibrium", total_force(tracker), result.iterations, 1, False,
@@ -183,7 +183,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
-    h = tracker.working.problem.grid.element_size
+    h = tracker.state.working.problem.grid.element_size
     tie = event_tie(path, h)
     outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
     if outside_hit and t + tie < min(t_det, t_att):
@@ -192,7 +192,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
         # every footprint element the load path may still reach and go on.
         tracker.set_pressure(new_pressure)
         reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), h)
-        widen_to_reach(tracker, new_d, reach)
+        tracker.state = widen_to_reach(tracker.state, new_d, reach)
         yield record_state(tracker, new_d, loading, "equilibrium", total_force(tracker, new_pressure),
                            result.iterations, 1, True, "window enlarged")
         return new_d, _target_reached(tracker, path, new_d)
@@ -212,7 +212,7 @@ def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
     if t_att <= t + tie:
         join[sl] = ahead.within(closing, t_attach, t + tie)
     tracker.set_pressure(new_pressure, new_deflection)
-    window = tracker.working.window
+    window = tracker.state.working.window
     eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
     if not eq.converged:
         yield _eq_state(tracker, eq, loading)
@@ -238,9 +238,10 @@ def _without_contact(tracker: Tracker, path: LoadPath, d: float, loading: bool):
         yield record_state(tracker, d, False, "separated", 0.0, 0, 0, True, "complete separation")
         return d, True
     # First touch: the lowest footprint elements.
-    lowest = tracker.working.problem.indenter.lowest_height
+    lowest = tracker.state.working.problem.indenter.lowest_height
     distance = max(lowest - d, 0.0)
-    first = tracker.working.footprint & (tracker.working.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
+    working = tracker.state.working
+    first = working.footprint & (working.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
     new_d = d + distance
     eq = tracker.solve(new_d, force_attach=first)
     yield _eq_state(tracker, eq, True)
@@ -284,18 +285,18 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
     xp = tracker.xp
     loading = direction > 0
-    sl = tracker.working.window.slices
+    sl = tracker.state.working.window.slices
     contact = tracker.state.contact[sl]
     pressure = tracker.state.pressure[sl]
-    height = tracker.working.height[sl]
-    footprint = tracker.working.footprint[sl]
+    height = tracker.state.working.height[sl]
+    footprint = tracker.state.working.footprint[sl]
     a_all = a
     deflection = tracker.deflection()  # known from the last equilibrium's join check
     unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
     elements = None
     known_deflection, known_unit_deflection = deflection, unit_deflection
     if settings.switches().compact_event_search and backend.is_numpy_namespace(xp):
-        rows, cols = tracker.working.footprint_elements()
+        rows, cols = tracker.state.working.footprint_elements
         elements = (rows, cols, contact.shape)
         contact, pressure, height, a = contact[rows, cols], pressure[rows, cols], height[rows, cols], a[rows, cols]
         deflection, unit_deflection = deflection[rows, cols], unit_deflection[rows, cols]
@@ -323,11 +324,11 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
         force_rate = tracker.h2 * float(xp.sum(a_all))
         if force_rate > 0:
             candidates.append(((path.preload_force - total_force(tracker)) / force_rate, "target", None))
-    if loading and not tracker.working.covers_footprint:
+    if loading and not tracker.state.working.covers_footprint:
         # Footprint elements outside the window (other pillars, asperities)
         # are not in the affine prediction: stop where one of them could
         # first touch, enlarge the window there and predict again.
-        reach_at = tracker.working.outside_reach_displacement(tracker.state.pressure, tracker.state.contact)
+        reach_at = tracker.state.working.outside_reach_displacement(tracker.state.pressure, tracker.state.contact)
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
     return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,

@@ -13,7 +13,7 @@ from brushbem.protocol.problem import State
 
 def _on_window(tracker, array):
     """``array`` (full grid) restricted to the tracker's window (the whole of it before the first solve)."""
-    window = tracker.working.window
+    window = tracker.state.working.window
     return array if window is None else array[window.slices]
 
 

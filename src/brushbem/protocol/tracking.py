@@ -1,29 +1,32 @@
 """The state of one pull-off (`Tracker`): pressure and contact on the full grid, the solves and the records.
 
-The `Tracker` composes the parts of that state that have their own modules:
-the working window and its operator (``working``, a
-`brushbem.protocol.window.WorkingWindow`) and the connections' state (a
+The `Tracker` holds the path's state as one frozen value, ``state`` (a
+`brushbem.protocol.values.PathState`: the pressure and the contact set, the
+working window with its operator and tip heights (a
+`brushbem.protocol.window.WorkingWindow`), the connections' state (a
 `brushbem.protocol.connections.ConnectionState`: the viscoelastic memory and
-the pillar law's pieces).  It holds the path's state as one frozen value,
-``state`` (a `brushbem.protocol.values.PathState`: the pressure and the
-contact set, the connections' state, the deflections known of them without
-another transform, the last unit response), which it replaces and never
-writes into, sharing every array that did not change; a saved state
-(`Tracker.point`) is that value and `Tracker.restore` returns to it.
+the pillar law's pieces), the deflections known of them without another
+transform, the last unit response), which it replaces and never writes into,
+sharing every array that did not change; a saved state (`Tracker.point`) is
+that value, its window included, and `Tracker.restore` returns to its
+pressure and contact (on the current window: a window is a choice of where
+to compute, and the path keeps the one it has).
 
 The steps take a state and give the next one: `solve_from` (the equilibrium
-at d), `step_from` (a fixed step: the connections' history, a law's pieces
-and breaks) and `with_change` (a change of the connections).  What they keep
-besides is the solver's: the working window, its operator and caches, and
-the ledgers of single-precision products.  `Tracker.solve` and
-`Tracker.step_solve` take the tracker's state through them.  The load paths
-(`brushbem.protocol.paths`, `brushbem.protocol.events`,
-`brushbem.protocol.contact_loading`) use the tracker's public members and
-those of its parts directly (``tracker.working.window``,
-``tracker.state.connections.tension_limit``); what they do with the window
-and the connections through the tracker's state are the module's functions
-(`cover_contact`, `widen_to_reach`, `pillar_forces`, `break_pillars`,
-`restore_pieces`, `commit_history`).  The `State` records are made in
+at d, on a window enlarged as the contact needs), `step_from` (a fixed step:
+the connections' history, a law's pieces and breaks), `with_change` (a
+change of the connections: new springs give the window a new operator,
+raised tips new heights), `cover_contact` and `widen_to_reach` (the window
+the event path predicts on).  What they keep besides is the solver's: the
+`SolverCache` each window refers to and the ledgers of single-precision
+products.  `Tracker.solve` and `Tracker.step_solve` take the tracker's state
+through them.  The load paths (`brushbem.protocol.paths`,
+`brushbem.protocol.events`, `brushbem.protocol.contact_loading`) use the
+tracker's public members and its state's directly
+(``tracker.state.working.window``, ``tracker.state.connections.tension_limit``);
+what they do with the connections through the tracker's state are the
+module's functions (`pillar_forces`, `break_pillars`, `restore_pieces`,
+`commit_history`).  The `State` records are made in
 `brushbem.protocol.path_states`.
 
 Cached deflections: the deflection of the pressure and of the unit response
@@ -78,7 +81,7 @@ __all__ = [
 
 
 class Tracker:
-    """The state of one pull-off: pressure and contact, the window (``working``) and the connections.
+    """The state of one pull-off: pressure and contact, the window and the connections (``state``).
 
     ``pressure`` and ``contact`` (full grid) are the current equilibrium's;
     the paths read them and replace them through `set_state`,
@@ -91,7 +94,6 @@ class Tracker:
         self.settings = Settings(tolerance=path.tolerance, max_iterations=path.max_iterations, cascade=path.cascade)
         xp = problem.xp
         self.xp = xp
-        self.working = WorkingWindow(problem, path)
         grid = problem.grid
         n = grid.elements
         self.h2 = grid.element_size**2
@@ -102,7 +104,7 @@ class Tracker:
         #: The path's state as one value (`PathState`): pressure, contact and what is known of them (the
         #: deflections: module docstring, when they are dropped).  Replaced, never written into.
         self.state = PathState(pressure=xp.zeros((n, n), dtype=xp.float64), contact=xp.zeros((n, n), dtype=xp.bool),
-                               connections=connections)
+                               working=WorkingWindow.begin(problem, path), connections=connections)
         # The error that single-precision products left in the kept deflections of the equilibria and
         # of the unit responses (`brushbem.numerics.solver.cg.ProductLedger`).
         self._ledgers = (ProductLedger(), ProductLedger())
@@ -148,13 +150,13 @@ class Tracker:
 
     def known_deflection(self):
         """Tip deflection of the current pressure on the window if known, else None."""
-        return _known(self.state.deflection, self.state.pressure, self.working.window)
+        return _known(self.state.deflection, self.state.pressure, self.state.working.window)
 
     def deflection(self):
         """Tip deflection (half-space + springs) of the current pressure on the window."""
         deflection = self.known_deflection()
         if deflection is None:
-            working, pressure = self.working, self.state.pressure
+            working, pressure = self.state.working, self.state.pressure
             deflection = tip_deflection(working.operator, pressure[working.window.slices], working.cache)
             self.state = self.state.replace(deflection=Known(pressure, working.window, deflection))
         return deflection
@@ -162,16 +164,18 @@ class Tracker:
     def set_pressure(self, pressure, deflection=None) -> None:
         """Replace the pressure (full grid), with its tip deflection on the window if known."""
         self.state = self.state.replace(pressure=pressure, deflection=(
-            None if deflection is None else Known(pressure, self.working.window, deflection)))
+            None if deflection is None else Known(pressure, self.state.working.window, deflection)))
 
     # -- the unit response of the event path ---------------------------------------
     def unit_deflection(self):
         """Tip deflection of the unit response on the window (transformed once per response)."""
-        state, window = self.state, self.working.window
+        state = self.state
+        working = state.working
+        window = working.window
         known = None if state.unit_deflection is None else state.unit_deflection.of(state.unit, window)
         if known is not None:
             return known
-        deflection = tip_deflection(self.working.operator, state.unit[window.slices], self.working.cache)
+        deflection = tip_deflection(working.operator, state.unit[window.slices], working.cache)
         self.state = state.replace(unit_deflection=Known(state.unit, window, deflection))
         return deflection
 
@@ -188,11 +192,11 @@ class Tracker:
         """
         self.state = self.state.replace(pressure_change=None)
         deflection = self.known_deflection()
-        if deflection is None or window != self.working.window:
+        if deflection is None or window != self.state.working.window:
             return
         sl = window.slices
         state = self.state
-        record = cascade_record(self.working.operator, state.contact[sl], predicted[sl], state.pressure[sl],
+        record = cascade_record(state.working.operator, state.contact[sl], predicted[sl], state.pressure[sl],
                                 deflection, predicted_deflection)
         if record is not None:
             self.state = state.replace(pressure_change=Known(state.contact, window, record))
@@ -200,9 +204,10 @@ class Tracker:
     def unit_response(self):
         """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
         xp = self.xp
-        sl = self.working.window.slices
+        working = self.state.working
+        sl = working.window.slices
         contact = self.state.contact[sl]
-        block, operator = self.working.cache.sub_operator(self.working.operator, contact)
+        block, operator = working.cache.sub_operator(working.operator, contact)
         block_contact = contact[block]
         ones = xp.astype(block_contact, xp.float64)
         initial, product = self._unit_guess(contact)
@@ -211,7 +216,7 @@ class Tracker:
             initial=None if initial is None else initial[block],
             initial_product=None if product is None else product[block],
             tolerance=self.path.tolerance, max_iterations=self.path.max_iterations, ledger=self._ledgers[1],
-            cache=self.working.cache,
+            cache=working.cache,
         )
         solution = xp.zeros(contact.shape, dtype=ones.dtype)
         solution[block] = result.solution
@@ -232,7 +237,8 @@ class Tracker:
         of that and the cascade's pressure change dp (``record_pressure_change``),
         exact for a single element leaving (`brushbem.protocol.unit_guess`).
         """
-        state, window = self.state, self.working.window
+        state = self.state
+        window = state.working.window
         if state.unit is None:
             return None, None
         previous = state.unit[window.slices]
@@ -240,7 +246,7 @@ class Tracker:
         if known is None:
             return self.xp.where(contact, previous, 0.0), None
         change = None if state.pressure_change is None else state.pressure_change.of(state.contact, window)
-        return unit_guess(self.working.operator, contact, previous, known, change)
+        return unit_guess(state.working.operator, contact, previous, known, change)
 
 
 # -- the steps: a state in, the next state out ---------------------------------------
@@ -248,17 +254,18 @@ def with_change(tracker: Tracker, state: PathState, change: SpringChange | None)
     """``state`` after a change of the connections: new springs (a new operator) and raised tips.
 
     New springs make every deflection known of ``state`` stale: the new state
-    has none (the one place where the operator's springs change).  The
-    tracker's window takes the new operator and heights.
+    has none (the one place where the operator's springs change), and its
+    window (`WorkingWindow.with_problem`) the new operator; raised tips give
+    the window new heights (`WorkingWindow.with_tips`).
     """
     if change is None:
         return state
+    working = state.working
     if change.problem is not None:
-        tracker.working.use_problem(change.problem)
+        working = working.with_problem(change.problem)
         state = state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
         tracker._ledgers = (ProductLedger(), ProductLedger())
-    tracker.working.raise_tips(change.offsets, change.lifted)
-    return state
+    return state.replace(working=working.with_tips(change.offsets, change.lifted))
 
 
 def step_from(tracker: Tracker, state: PathState, displacement: float, *, advance: bool = True,
@@ -299,7 +306,7 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
         if not eq.converged:
             return state, settled(eq)
         connections, moved, broken, change = state.connections.update(
-            pillar_forces(tracker, state.pressure, state.contact), tracker.working.problem)
+            pillar_forces(tracker, state.pressure, state.contact), state.working.problem)
         state = state.replace(connections=connections)
         if change is None:
             return state, settled(eq)
@@ -315,12 +322,12 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
 
 def solve_from(tracker: Tracker, state: PathState, displacement: float, force_detach=None, force_attach=None,
                contact_problem: bool = False) -> tuple[PathState, Equilibrium]:
-    """The equilibrium at d from ``state``, and the state it gives; the tracker's window enlarged as needed.
+    """The equilibrium at d from ``state``, and the state it gives, on a window enlarged as needed.
 
     ``contact_problem``: the non-adhesive contact problem at d instead
     (Polonsky-Keer from the state's pressure), whatever the adhesion.
     """
-    xp, working = tracker.xp, tracker.working
+    xp, working = tracker.xp, state.working
     needed = state.contact
     margin = None
     if contact_problem or tracker.critical == 0.0 or not bool(xp.any(needed)):
@@ -330,7 +337,7 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
         margin = 0.02
     if force_attach is not None:
         needed = needed | force_attach
-    working.ensure(needed, margin)
+    working = working.covering(needed, margin)
     iterations = solves = 0
     trial = trial_pressure = None
     enlarged = False
@@ -365,7 +372,7 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
         pressure[sl] = eq.pressure
         contact = xp.zeros_like(state.contact)
         contact[sl] = eq.contact
-        state = state.replace(pressure=pressure, contact=contact, deflection=(
+        state = state.replace(pressure=pressure, contact=contact, working=working, deflection=(
             None if eq.deflection is None else Known(pressure, working.window, eq.deflection)))
         if not eq.converged:
             break
@@ -381,13 +388,13 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
             enlarged = True
             candidate = working.outside_safe_around(displacement, pressure, contact)
             if candidate is not None:
-                working.install(candidate)
+                working = working.on(candidate)
                 continue
         # Penetration outside the window: the contact grew beyond it.
         outside = working.outside_penetration(displacement, pressure, contact)
         if not bool(xp.any(outside)):
             break
-        working.ensure(contact | outside)
+        working = working.covering(contact | outside)
         force_attach = outside
     return state, Equilibrium(
         displacement=displacement, pressure=state.pressure, contact=state.contact, converged=eq.converged,
@@ -403,31 +410,32 @@ def _known(known: Known | None, array, window: Window | None):
 
 
 # -- the window: the contact covered, and widened to what may touch next --------------
-def cover_contact(tracker: Tracker, displacement: float, loading: bool) -> None:
-    """A window that holds the contact; the whole footprint when pressing and one outside may reach.
+def cover_contact(state: PathState, displacement: float, loading: bool) -> PathState:
+    """``state`` on a window that holds the contact; the whole footprint when pressing and one outside may reach.
 
     The bound of `WorkingWindow.outside_reach_displacement` is conservative:
     when it cannot exclude a touch outside the window at ``displacement`` on
     the loading branch, the path works on the whole footprint from here on.
     """
-    working, contact = tracker.working, tracker.state.contact
-    working.ensure(contact)
+    contact = state.contact
+    working = state.working.covering(contact)
     if (loading and not working.covers_footprint
-            and working.outside_reach_displacement(tracker.state.pressure, contact) <= displacement):
-        working.ensure(contact | working.footprint)
+            and working.outside_reach_displacement(state.pressure, contact) <= displacement):
+        working = working.covering(contact | working.footprint)
+    return state.replace(working=working)
 
 
-def widen_to_reach(tracker: Tracker, displacement: float, reach: float) -> None:
-    """A window enlarged to every footprint element whose tip is at most ``reach`` high.
+def widen_to_reach(state: PathState, displacement: float, reach: float) -> PathState:
+    """``state`` on a window enlarged to every footprint element whose tip is at most ``reach`` high.
 
     The whole footprint when that leaves the window as it was, or when
     the bound still cannot exclude a touch outside it at ``displacement``.
     """
-    working, contact = tracker.working, tracker.state.contact
-    before = working.window
-    working.ensure(contact | (working.footprint & (working.height <= reach)))
-    if working.window == before or working.outside_reach_displacement(tracker.state.pressure, contact) <= displacement:
-        working.ensure(contact | working.footprint)
+    contact, before = state.contact, state.working
+    working = before.covering(contact | (before.footprint & (before.height <= reach)))
+    if working.window == before.window or working.outside_reach_displacement(state.pressure, contact) <= displacement:
+        working = working.covering(contact | working.footprint)
+    return state.replace(working=working)
 
 
 # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --------
@@ -435,7 +443,7 @@ def pillar_forces(tracker: Tracker, pressure=None, contact=None) -> np.ndarray:
     """Force of every pillar in the tracker's state, or of the given one (compressive positive)."""
     contact = np.asarray(backend.to_numpy(tracker.state.contact if contact is None else contact))
     pressure = np.asarray(backend.to_numpy(tracker.state.pressure if pressure is None else pressure))
-    pillar = tracker.working.pillar_host
+    pillar = tracker.state.working.pillar_host
     return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
 
 
@@ -443,12 +451,12 @@ def _held_by(tracker: Tracker, pillars: np.ndarray, contact=None):
     """The contact elements of ``pillars`` (bool, one per pillar) in ``contact`` (default: the tracker's), a full-grid
     mask."""
     contact = tracker.state.contact if contact is None else contact
-    return contact & tracker.xp.asarray(np.isin(tracker.working.pillar_host, np.flatnonzero(pillars)))
+    return contact & tracker.xp.asarray(np.isin(tracker.state.working.pillar_host, np.flatnonzero(pillars)))
 
 
 def restore_pieces(tracker: Tracker, point: PathState) -> None:
     """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
-    connections, change = tracker.state.connections.restore(point.connections, tracker.working.problem)
+    connections, change = tracker.state.connections.restore(point.connections, tracker.state.working.problem)
     tracker.state = tracker.state.replace(connections=connections)
     tracker.apply_change(change)
 

@@ -1,9 +1,11 @@
 """The path's state and its known deflections as frozen values (no positional tuples).
 
 `PathState` is the state of a pull-off as one value: the pressure and the
-contact set (full grid), the values known of them without another transform
-(the tip deflection of the pressure, the last unit response and its
-deflection, the last cascade's pressure change), the connections' state
+contact set (full grid), the working window the solves run on
+(`brushbem.protocol.window.WorkingWindow`, itself a value: the window, its
+operator and the tip heights), the values known of them without another
+transform (the tip deflection of the pressure, the last unit response and
+its deflection, the last cascade's pressure change), the connections' state
 (`brushbem.protocol.connections.ConnectionState`, itself a value: the
 viscoelastic memory, the pillar law's pieces and breaks) and, in a saved
 state, its displacement.  The tracker
@@ -40,6 +42,9 @@ class PathState:
     ----------
     pressure, contact : arrays, full grid
         The equilibrium's pressure (compressive positive) and contact set.
+    working : WorkingWindow
+        The window the solves run on, its operator, the problem whose springs it sees and the tip heights
+        (`brushbem.protocol.window.WorkingWindow`).  A saved state carries the one it was saved on.
     deflection : Known or None
         The tip deflection (half-space + springs) of ``pressure`` on the window it was computed on.
     unit : array, full grid, or None
@@ -58,6 +63,7 @@ class PathState:
 
     pressure: Any
     contact: Any
+    working: Any
     deflection: Known | None = None
     unit: Any = None
     unit_deflection: Known | None = None
