@@ -58,6 +58,10 @@ class Switches:
     radiate_while_pressing : bool
         Whether the higher modes' near field is fed back while a brush of unequal tips is pressed
         (`brushbem.pillars.loading.press_rough`).
+    press_local_release : bool
+        Whether a pillar that releases slots in a round of the pillar-level press goes on releasing on its
+        own in that round (`brushbem.pillars.loading`): the chapter-5 brush's loading in 59 solves
+        instead of 80, the same contact and F_A.
     reuse_set_solver : bool
         Whether a solve on the set of the operator's last pillar-block solve reuses its system and
         preconditioner.
@@ -95,6 +99,7 @@ class Switches:
     pillar_cg_iterations: int = 2000
     radiate_uniform: bool = True
     radiate_while_pressing: bool = True
+    press_local_release: bool = True
     reuse_set_solver: bool = True
     single_products: bool = True
     keep_solution_deflection: bool = True

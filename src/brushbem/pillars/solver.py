@@ -80,6 +80,8 @@ class Solver:
         self.iterative = False
         self._cg: LatticeCG | None = None
         self._last = np.zeros((model.M, 2))  # the last solution (CG's warm start)
+        #: The last `radiate`'s correction of the uniform amplitudes (its first CG's warm start), or None.
+        self.correction: np.ndarray | None = None
 
     @property
     def cg(self) -> LatticeCG:
@@ -398,8 +400,10 @@ def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.nd
     for rounds in range(1, _RADIATION_ROUNDS + 1):
         r = model.radiation(xh)
         if settings.switches().radiate_uniform:
-            # The last round's correction is the warm start (the rounds converge: r changes less each time).
-            negative, shift = solver.inverse_product(r[0], start=None if correction is None else -correction)
+            # The last round's correction is the warm start (the rounds converge: r changes less each time);
+            # the first round's is the last call's (a press's next round changes a few pillars).
+            last = solver.correction if correction is None else correction
+            negative, shift = solver.inverse_product(r[0], start=None if last is None else -last)
             correction, shift = -negative, -shift
             shift[0] -= model.gram[:, :1] * correction
             total_sol, total_fields = sol + correction, fields + shift + r
@@ -410,4 +414,5 @@ def radiate(model: PillarModel, solver: Solver, attached: np.ndarray, sol: np.nd
         xh = updated
         if change <= _RADIATION_TOLERANCE * (float(np.max(np.abs(xh))) + 1e-300):
             break
+    solver.correction = correction
     return total_sol, total_fields, rounds
