@@ -634,3 +634,38 @@ def test_the_operator_holds_no_solver_state():
     assert cache.pillars.coarse is not None and cache.set_solvers  # the solve wrote the caller's cache
     for name in ("set_solver", "remember_solution", "known_tip_deflection", "cache", "sub_operator"):
         assert not hasattr(operator, name), name
+
+
+def _state_writes(source: str) -> list[str]:
+    """``Class.function:line`` (or ``function:line``) of every assignment to an attribute ``state``."""
+    found = []
+
+    def visit(node, where):
+        for child in ast.iter_child_nodes(node):
+            name = where
+            if isinstance(child, (ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+                name = f"{where}.{child.name}" if where else child.name
+            if isinstance(child, (ast.Assign, ast.AugAssign, ast.AnnAssign)):
+                targets = child.targets if isinstance(child, ast.Assign) else [child.target]
+                for target in targets:
+                    for part in ast.walk(target):
+                        if isinstance(part, ast.Attribute) and part.attr == "state" and isinstance(part.ctx, ast.Store):
+                            found.append(f"{where}:{child.lineno}")
+            visit(child, name)
+
+    visit(ast.parse(source), "")
+    return found
+
+
+def test_the_element_paths_hand_their_state_from_step_to_step():
+    """No step or driver of the element paths writes a state back into a holder: each takes the path's state and
+    returns the next (`brushbem.protocol.tracking`); the `Tracker` holds only the state a path starts from."""
+    writes = {name: hits for name, path in _modules().items() if name.startswith("brushbem.protocol")
+              and (hits := _state_writes(path.read_text(encoding="utf-8")))}
+    assert list(writes) == ["brushbem.protocol.tracking"], writes
+    assert [hit.partition(":")[0] for hit in writes["brushbem.protocol.tracking"]] == ["Tracker.__init__"]
+
+
+def test_the_state_write_check_finds_a_write():
+    source = "class T:\n    def f(self):\n        self.state = 1\n\ndef g(t):\n    t.state, x = 1, 2\n    y = t.state\n"
+    assert _state_writes(source) == ["T.f:3", "g:6"]

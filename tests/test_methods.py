@@ -350,29 +350,33 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     while a|S' alone is off by 6.5e-2.
     """
     from brushbem.protocol import Tracker
+    from brushbem.protocol.tracking import deflection_of, solve_from
+    from brushbem.protocol.unit_response import _unit_guess, unit_deflection, unit_response, with_pressure_change
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
     tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
-    tracker.solve(d)
-    tracker.state = tracker.state.replace(working=tracker.state.working.covering(tracker.state.contact))
-    assert tracker.unit_response().converged
-    tracker.unit_deflection()
-    before, before_deflection, window = tracker.state.pressure, tracker.deflection(), tracker.state.working.window
+    state, _ = solve_from(tracker, tracker.state, d)
+    state = state.replace(working=state.working.covering(state.contact))
+    state, result = unit_response(tracker, state)
+    assert result.converged
+    state, _ = unit_deflection(state)
+    state, before_deflection = deflection_of(state)
+    before, window = state.pressure, state.working.window
     # The least tensile element: once out, its neighbour's tension stays below
     # Sigma_c (no cascade) and the surface it held up falls away (no re-join).
-    tension = np.where(tracker.state.contact & (tracker.state.pressure < 0), tracker.state.pressure, -np.inf)
-    leave = np.zeros_like(tracker.state.contact)
+    tension = np.where(state.contact & (state.pressure < 0), state.pressure, -np.inf)
+    leave = np.zeros_like(state.contact)
     leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
-    count = int(tracker.state.contact.sum())
-    tracker.solve(d, force_detach=leave)
-    assert int(tracker.state.contact.sum()) == count - 1 and tracker.state.working.window == window
-    tracker.record_pressure_change(before, before_deflection, window)
-    contact = tracker.state.contact[window.slices]
-    guess, product = tracker._unit_guess(contact)
-    exact = _direct_solve(problem, tracker.state.contact, 1.0 + problem.indenter.height)[window.slices]
-    restricted = tracker.state.unit[window.slices] * contact
+    count = int(state.contact.sum())
+    state, _ = solve_from(tracker, state, d, force_detach=leave)
+    assert int(state.contact.sum()) == count - 1 and state.working.window == window
+    state = with_pressure_change(state, before, before_deflection, window)
+    contact = state.contact[window.slices]
+    guess, product = _unit_guess(state, contact)
+    exact = _direct_solve(problem, state.contact, 1.0 + problem.indenter.height)[window.slices]
+    restricted = state.unit[window.slices] * contact
     scale = float(np.max(np.abs(exact)))
     assert float(np.max(np.abs(guess - exact))) <= 1e-7 * scale
     assert float(np.max(np.abs(restricted - exact))) >= 1e-3 * scale
@@ -831,52 +835,51 @@ def test_the_event_window_is_neither_the_cg_tolerance_nor_the_depth(method):
         LoadPath(preload_displacement=0.002, event_window=0.1)
 
 
-def test_a_saved_state_is_a_frozen_value_the_tracker_returns_to():
-    """The tracker's state is one frozen `PathState`, replaced and never written into; a step (`solve_from`) takes
-    one and gives the next, with its working window; `Tracker.point` is that value (no tuple); `restore` puts back its pressure and contact, and a deflection known of another pressure
-    is not taken for it (`Known.of`: the same array on the same window)."""
+def test_a_saved_state_is_a_frozen_value_the_path_returns_to():
+    """The path's state is one frozen `PathState`, replaced and never written into; a step (`solve_from`) takes
+    one and gives the next, with its working window; a saved state is that value (no tuple); `restored` puts back
+    its pressure and contact, and a deflection known of another pressure is not taken for it (`Known.of`: the
+    same array on the same window)."""
     import dataclasses
 
     from brushbem.protocol import Tracker
+    from brushbem.protocol.tracking import deflection_of, restored, solve_from
     from brushbem.protocol.values import Known, PathState
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
     tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
-    tracker.solve(d)
-    point, deflection = tracker.point(d), tracker.deflection()
+    first = tracker.state
+    held, _ = solve_from(tracker, first, d)
+    assert tracker.state is first and first.contact.sum() == 0  # the step left the state it took as it was
+    held, deflection = deflection_of(held)
+    point = held.replace(displacement=d)
     assert isinstance(point, PathState) and point.displacement == d and point.connections.pieces is None
-    assert point.pressure is tracker.state.pressure and point.contact is tracker.state.contact  # shared, not copied
+    assert point.pressure is held.pressure and point.contact is held.contact  # shared, not copied
     with pytest.raises(dataclasses.FrozenInstanceError):
         point.pressure = None
     with pytest.raises(TypeError, match="no field"):
         point.replace(window=None)
-    held = tracker.state
     pressure_values = np.array(held.pressure)
-    tracker.solve(1.5 * d)
-    assert tracker.state is not held and np.array_equal(held.pressure, pressure_values)  # replaced, not written into
-    assert tracker.known_deflection() is not None and tracker.state.pressure is not point.pressure
-    tracker.restore(point)
-    assert tracker.state.pressure is point.pressure and tracker.state.contact is point.contact
-    assert tracker.known_deflection() is None  # the kept one was of the other pressure
-    assert np.array_equal(tracker.deflection(), deflection)
-    known = Known(point.pressure, tracker.state.working.window, deflection)
-    assert known.of(point.pressure, tracker.state.working.window) is deflection
-    assert known.of(point.pressure.copy(), tracker.state.working.window) is None and known.of(point.pressure, None) is None
-    # A step takes a state and gives the next one (`solve_from`), leaving the one it took as it was.
-    from brushbem.protocol.tracking import solve_from
-
-    given = tracker.state
-    after, eq = solve_from(tracker, given, 1.5 * d)
-    assert tracker.state is given and after is not given and after.pressure is eq.pressure
-    assert given.pressure is point.pressure and eq.converged and float(eq.pressure.sum()) > float(given.pressure.sum())
+    state, eq = solve_from(tracker, held, 1.5 * d)
+    assert state is not held and np.array_equal(held.pressure, pressure_values)  # replaced, not written into
+    assert state.pressure is eq.pressure and eq.converged and float(eq.pressure.sum()) > float(held.pressure.sum())
+    assert state.known_deflection() is not None and state.pressure is not point.pressure
+    back = restored(state, point)
+    assert back.pressure is point.pressure and back.contact is point.contact and back.working is state.working
+    assert back.known_deflection() is None  # the kept one was of the other pressure
+    assert np.array_equal(deflection_of(back)[1], deflection)
+    window = back.working.window
+    known = Known(point.pressure, window, deflection)
+    assert known.of(point.pressure, window) is deflection
+    assert known.of(point.pressure.copy(), window) is None and known.of(point.pressure, None) is None
     # The working window is part of the value: a saved state carries the one it was saved on, and a step that
     # needs a larger window returns the state on it, leaving the window of the state it took as it was.
     assert point.working is held.working and point.working.window.contains(point.contact)
     with pytest.raises(dataclasses.FrozenInstanceError):
         point.working.window = None
-    window = given.working.window
-    wide, eq = solve_from(tracker, given, 4 * d)
-    assert eq.converged and given.working.window == window and wide.working.window != window
-    assert wide.working.window.contains(wide.contact) and wide.contact.sum() > given.contact.sum()
+    window = back.working.window
+    wide, eq = solve_from(tracker, back, 4 * d)
+    assert eq.converged and back.working.window == window and wide.working.window != window
+    assert wide.working.window.contains(wide.contact) and wide.contact.sum() > back.contact.sum()

@@ -58,12 +58,13 @@ The package's modules:
   the force search of its loading) and the event-driven path.
 * `events` - the events inside a fixed step and the event path's step.
 * `contact_loading` - a brush's loading branch as contact problems.
-* `path_states` - the `State` records the paths make of a tracker's state
+* `path_states` - the `State` records the paths make of the path's state
   (its total force, contact area and attached pillars).
 * `values` - `PathState`, the path's state as one frozen value, and `Known`.
-* `tracking` - `Tracker`, the state of one pull-off: pressure and contact,
-  the solves and the cached deflections, and the steps that take a state and
-  give the next (module functions); the state carries
+* `tracking` - the steps that take the path's state and give the next
+  (`solve_from`, `step_from`, ...) and `Tracker`, what they share besides
+  (the problem's constants, the product ledgers); `unit_response` - the
+  event path's unit response as such steps; the state carries
 * `window` - `WorkingWindow`, the working window as a value: its operator,
   the tip heights and the checks that nothing outside the window touches, and
 * `connections` - `ConnectionState`, the viscoelastic history and the

@@ -11,8 +11,8 @@ reaches the law's limit breaks (its tip is lifted out of reach).
 `brushbem.protocol.values.PathState`): every change gives a new one, and
 never changes a problem in place: what it does to the solves comes back as a
 `SpringChange` (the problem with the pillars' new springs, or None when they
-stay, and the tips' offsets) for the `brushbem.protocol.tracking.Tracker` to
-apply to its working window.
+stay, and the tips' offsets) for `brushbem.protocol.tracking.with_change` to
+apply to the state's working window.
 """
 
 from __future__ import annotations

@@ -4,7 +4,9 @@ A brush whose tips are not all level is pressed by a few Polonsky-Keer
 solves at sampled displacements (or along the search for a preload force)
 instead of one global solve per element that joins; the samples are checked
 to be nested (`_nested_prefix`), and where they are not the path goes on by
-element events (`brushbem.protocol.paths`).
+element events (`brushbem.protocol.paths`).  Every sample is a step from the
+path's state (`brushbem.protocol.tracking.solve_from`) and keeps the state it
+gave.
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from brushbem import settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, record_state, total_force
 from brushbem.protocol.problem import LoadPath
-from brushbem.protocol.tracking import Tracker
+from brushbem.protocol.tracking import Tracker, solve_from, without_deflections
+from brushbem.protocol.values import PathState
 
 #: Displacements at which `_contact_loading` samples the loading branch besides
 #: those of the search for a preload force (evenly spaced from first touch).
@@ -31,18 +34,19 @@ LOADING_SAMPLES = 4
 _RELEASE_GAP = 1e-6
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Sample:
-    """One contact-problem solution on the loading branch (full-grid arrays)."""
+    """One contact-problem solution on the loading branch (full-grid arrays) and the path's state after it."""
 
     displacement: float
     force: float
     pressure: object
     contact: object
     eq: Equilibrium
+    state: PathState
 
 
-def _press_as_contact_problems(tracker: Tracker) -> bool:
+def _press_as_contact_problems(tracker: Tracker, state: PathState) -> bool:
     """Whether the loading branch goes by `_contact_loading`: a brush whose tips are not all level.
 
     A brush of level tips (no roughness, profile or length offsets) touches
@@ -51,13 +55,13 @@ def _press_as_contact_problems(tracker: Tracker) -> bool:
     """
     if tracker.n_pillars < 2:
         return False
-    indenter = tracker.state.working.problem.indenter
+    indenter = state.working.problem.indenter
     heights = np.asarray(indenter.height)[np.asarray(indenter.footprint)]
     lowest = float(heights.min())
     return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
 
 
-def _contact_loading(tracker: Tracker, path: LoadPath):
+def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
     """The loading branch of a brush as non-adhesive contact problems.
 
     While the base presses, an element joins S where the tip touches, at
@@ -83,24 +87,27 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
     from the last sample before it by element events (the states up to it
     are the event path's).
 
-    Yields the loading states in increasing d; returns (d, preload reached)
-    or None when a solve failed.
+    Yields the loading states in increasing d; returns (the state at the
+    end, its d, whether the preload is reached) or None when a solve failed.
     """
     xp = tracker.xp
-    problem = tracker.state.working.problem
+    problem = state.working.problem
     lowest = problem.indenter.lowest_height
     samples: list[_Sample] = []
     cost = [0, 0]  # solves, iterations of the samples not yet yielded
 
-    def solve_at(d: float, start: _Sample | None) -> _Sample:
+    def solve_at(d: float, start: _Sample | None, latest: PathState) -> _Sample:
+        """The contact problem at ``d`` from ``start``'s pressure and contact (none: from no contact), on the
+        window of ``latest`` (the state of the last sample solved)."""
         if start is None:
-            tracker.set_state(xp.zeros_like(tracker.state.pressure), xp.zeros_like(tracker.state.contact))
+            latest = latest.replace(pressure=xp.zeros_like(latest.pressure), contact=xp.zeros_like(latest.contact),
+                                    deflection=None)
         else:
-            tracker.set_state(start.pressure, start.contact)
-        eq = tracker.solve(d, contact_problem=True)
+            latest = latest.replace(pressure=start.pressure, contact=start.contact, deflection=None)
+        after, eq = solve_from(tracker, latest, d, contact_problem=True)
         cost[0] += eq.n_solves
         cost[1] += eq.cg_iterations
-        sample = _Sample(d, total_force(tracker), tracker.state.pressure, tracker.state.contact, eq)
+        sample = _Sample(d, total_force(tracker, after), after.pressure, after.contact, eq, after)
         if not eq.converged:
             return sample
         samples.append(sample)
@@ -112,22 +119,23 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
         previous = None
         for j in range(1, LOADING_SAMPLES + 1):
             d = target if j == LOADING_SAMPLES else lowest + (target - lowest) * j / LOADING_SAMPLES
-            previous = solve_at(d, previous)
+            previous = solve_at(d, previous, state if previous is None else previous.state)
             if not previous.eq.converged:
-                yield _eq_state(tracker, previous.eq, True)
+                yield _eq_state(tracker, previous.state, previous.eq, True)
                 return None
-        final = previous
+        final, state = previous, previous.state
     else:
-        final = yield from _contact_preload_force(tracker, path, solve_at, lowest)
-        if final is None:
+        outcome = yield from _contact_preload_force(tracker, state, path, solve_at, lowest)
+        if outcome is None:
             return None
+        final, state = outcome
 
     # The path ends at the preload: samples beyond it (the search's upper ends) are not on it.
     samples = [sample for sample in samples if sample.displacement < final.displacement] + [final]
     samples.sort(key=lambda sample: sample.displacement)
-    accepted = _nested_prefix(tracker, samples, lowest)
+    accepted = _nested_prefix(state, samples, lowest)
     for k, sample in enumerate(accepted):
-        tracker.set_state(sample.pressure, sample.contact)
+        state = state.replace(pressure=sample.pressure, contact=sample.contact, deflection=None)
         last = k == len(accepted) - 1
         solves, iterations = (cost[0], cost[1]) if last else (sample.eq.n_solves, sample.eq.cg_iterations)
         if not last:
@@ -135,17 +143,18 @@ def _contact_loading(tracker: Tracker, path: LoadPath):
             cost[1] -= iterations
         reason = "contact problem" if len(accepted) == len(samples) or not last else (
             "contact problem; element events from here (a larger displacement releases an element)")
-        yield record_state(tracker, sample.displacement, True, "equilibrium", total_force(tracker), iterations,
-                           solves, True, reason)
-    tracker.forget_deflections()
+        yield record_state(tracker, state, sample.displacement, True, "equilibrium", total_force(tracker, state),
+                           iterations, solves, True, reason)
+    state = without_deflections(tracker, state)
     end = accepted[-1]
     if end is final or len(accepted) == len(samples):
-        return end.displacement, True
-    return end.displacement, False
+        return state, end.displacement, True
+    return state, end.displacement, False
 
 
-def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: float):
-    """The contact problem at which the loading force reaches ``path.preload_force`` (a `_Sample`).
+def _contact_preload_force(tracker: Tracker, state: PathState, path: LoadPath, solve_at, lowest: float):
+    """The contact problem at which the loading force reaches ``path.preload_force`` (a `_Sample`), and the state of
+    the last sample solved (the interpolated one's, where the search ends between two), or None.
 
     F(d) of the non-adhesive problem is continuous, increasing and piecewise
     linear (affine while the contact set stays).  Below the target the next
@@ -160,7 +169,7 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     convex where pillars join.)
     """
     xp = tracker.xp
-    problem = tracker.state.working.problem
+    problem = state.working.problem
     target = path.preload_force
     model = _IndependentPillars(problem.indenter, problem.contact_modulus, tracker.h2)
     lo = hi = None  # samples below and above the target
@@ -171,14 +180,15 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
     d = model.displacement(target) if settings.switches().preload_model else lowest + target * model.punch_compliance
     start = None
     for _ in range(200):
-        sample = solve_at(d, start)
+        sample = solve_at(d, start, state)
+        state = sample.state
         if not sample.eq.converged:
-            yield _eq_state(tracker, sample.eq, True)
+            yield _eq_state(tracker, state, sample.eq, True)
             return None
         start = sample
         residual = sample.force - target
         if abs(residual) <= 1e-9 * target:
-            return sample
+            return sample, state
         if residual > 0:
             hi, f_hi = sample, residual
             if side > 0:
@@ -218,14 +228,14 @@ def _contact_preload_force(tracker: Tracker, path: LoadPath, solve_at, lowest: f
             theta = (target - lo.force) / (hi.force - lo.force)
             d = lo.displacement + theta * (hi.displacement - lo.displacement)
             pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
-            tracker.set_state(pressure, hi.contact)
+            state = state.replace(pressure=pressure, contact=hi.contact, deflection=None)
             eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
-            return _Sample(d, total_force(tracker), pressure, hi.contact, eq)
+            return _Sample(d, total_force(tracker, state), pressure, hi.contact, eq, state), state
         width = hi.displacement - lo.displacement
         if width <= 4 * np.finfo(float).eps * abs(hi.displacement):
-            return hi
+            return hi, state
         d = lo.displacement - f_lo * width / (f_hi - f_lo)
-    yield record_state(tracker, d, True, "equilibrium", total_force(tracker), 0, 0, False,
+    yield record_state(tracker, state, d, True, "equilibrium", total_force(tracker, state), 0, 0, False,
                        "the search for the preload force did not converge in 200 contact problems")
     return None
 
@@ -273,15 +283,15 @@ class _IndependentPillars:
         return float((force + self.offsets[j]) / self.slopes[j]) + self.series * force
 
 
-def _nested_prefix(tracker: Tracker, samples: list, lowest: float) -> list:
+def _nested_prefix(state: PathState, samples: list, lowest: float) -> list:
     """The samples (increasing d) up to the first whose contact set does not hold an earlier one's."""
-    xp = tracker.xp
+    xp = state.working.problem.xp
     accepted = samples[:1]
     union = samples[0].contact
     for sample in samples[1:]:
         released = union & ~sample.contact
         if bool(xp.any(released)):
-            gap = -tracker.state.working.full_penetration(sample.displacement, sample.pressure)
+            gap = -state.working.full_penetration(sample.displacement, sample.pressure)
             depth = max(sample.displacement - lowest, 1e-300)
             if bool(xp.any(released & (gap > _RELEASE_GAP * depth))):
                 break

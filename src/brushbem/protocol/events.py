@@ -7,7 +7,10 @@ reach its tension limit, is found exactly, and the step goes on from the
 cascade there.  On the event-driven path (`_event_step`, `_events_ahead`):
 the state is affine in d along the unit response, and the path jumps to the
 next detachment, attachment, target or window bound and follows the cascade
-there.  The drivers that call these are in `brushbem.protocol.paths`.
+there.  The drivers that call these are in `brushbem.protocol.paths`.  Each
+takes the path's state (`brushbem.protocol.values.PathState`) and returns the
+next with its outcome, through the steps of `brushbem.protocol.tracking` and
+`brushbem.protocol.unit_response`.
 """
 
 from __future__ import annotations
@@ -26,46 +29,55 @@ from brushbem.protocol.tracking import (
     break_pillars,
     commit_history,
     cover_contact,
+    deflection_of,
     pillar_forces,
     restore_pieces,
+    solve_from,
+    step_from,
     widen_to_reach,
+    with_pressure,
 )
+from brushbem.protocol.unit_response import unit_deflection as unit_deflection_of
+from brushbem.protocol.unit_response import unit_response, with_pressure_change
 
 
-def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
-    """Every event inside a fixed step, in order; the step's final equilibrium at ``d``, or None if separated.
+def _events_in_step(tracker: Tracker, state, before, eq: Equilibrium, d: float):
+    """Every event inside a fixed step, in order; the state at ``d`` and its equilibrium (None if separated).
 
-    The first event is on the step's starting set (`_next_event`); from the
-    cascade at its displacement (the step's springs and history held), the
-    next is on the set that remains, until none is left before d.  A punch or
-    pillar that comes off later in the step keeps its largest force, and a
-    pillar law's break lies where the tension reaches the limit.
+    ``state`` and ``eq`` are the step's end, ``before`` (a saved `PathState`)
+    its start.  The first event is on the step's starting set
+    (`_next_event`); from the cascade at its displacement (the step's springs
+    and history held), the next is on the set that remains, until none is
+    left before d.  A punch or pillar that comes off later in the step keeps
+    its largest force, and a pillar law's break lies where the tension
+    reaches the limit.
     """
     for _ in range(MAX_EVENTS_PER_STEP):
         if not eq.converged:
-            return eq
-        event = _next_event(tracker, before, eq)
+            return state, eq
+        event = _next_event(tracker, state, before, eq)
         if event is None:
-            return eq
+            return state, eq
         crossing, detach, broken = event
         yield crossing
-        restore_pieces(tracker, before)
-        tracker.set_state(crossing.pressure, crossing.contact)
+        state = restore_pieces(tracker, state, before)
+        state = state.replace(pressure=crossing.pressure, contact=crossing.contact, deflection=None)
         if broken is not None:
-            detach = detach | break_pillars(tracker, broken)
-        at = tracker.step_solve(crossing.displacement, advance=False, detach=detach)
+            state, held = break_pillars(tracker, state, broken)
+            detach = detach | held
+        state, at = step_from(tracker, state, crossing.displacement, advance=False, detach=detach)
         if not at.converged:
-            return at
-        yield _eq_state(tracker, at, False, "event")
-        if not bool(tracker.xp.any(tracker.state.contact)):
-            commit_history(tracker)
-            yield record_state(tracker, crossing.displacement, False, "separated", total_force(tracker), 0, 0,
-                               True, "complete separation")
-            return None
-        before = tracker.point(crossing.displacement)
-        eq = tracker.step_solve(d, advance=False)
-    return dataclasses.replace(eq, converged=False,
-                               reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
+            return state, at
+        yield _eq_state(tracker, state, at, False, "event")
+        if not bool(tracker.xp.any(state.contact)):
+            state = commit_history(tracker, state)
+            yield record_state(tracker, state, crossing.displacement, False, "separated",
+                               total_force(tracker, state), 0, 0, True, "complete separation")
+            return state, None
+        before = state.replace(displacement=crossing.displacement)
+        state, eq = step_from(tracker, state, d, advance=False)
+    return state, dataclasses.replace(eq, converged=False,
+                                      reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
 
 
 #: Events located inside one fixed step before the step is declared not converged (each detaches at
@@ -73,11 +85,11 @@ def _events_in_step(tracker: Tracker, before, eq: Equilibrium, d: float):
 MAX_EVENTS_PER_STEP = 100_000
 
 
-def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
+def _first_crossing(tracker: Tracker, state, before, eq: Equilibrium) -> State | None:
     """The state at which the first element of a fixed step's contact set reached the criterion.
 
     ``before`` (a saved `PathState`) is the equilibrium the step started
-    from and ``eq`` the step's equilibrium, whose first solve
+    from and ``eq`` the step's equilibrium (of ``state``), whose first solve
     (``eq.trial_pressure``) is on the same contact set.  On a fixed set the
     pressure is affine in d, so the first element to reach -Sigma_c (the
     first event of the event path inside the step) and the force there are
@@ -85,11 +97,11 @@ def _first_crossing(tracker: Tracker, before, eq: Equilibrium) -> State | None:
     step's end would miss by up to the step times the slope.  None when no
     element left in the step.
     """
-    event = _next_event(tracker, before, eq)
+    event = _next_event(tracker, state, before, eq)
     return None if event is None else event[0]
 
 
-def _next_event(tracker: Tracker, before, eq: Equilibrium):
+def _next_event(tracker: Tracker, state, before, eq: Equilibrium):
     """``(state, elements, pillars)`` of the first event between ``before`` and ``eq``, or None.
 
     The event is the first element of the starting contact set to reach the
@@ -114,7 +126,7 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
         fraction = xp.where(over, (p0 + critical) / drop, xp.inf)
         tau_elements = min(max(float(xp.min(fraction)), 0.0), 1.0)
     tau_pillars, breaking = 1.0, None
-    limit = tracker.state.connections.tension_limit
+    limit = state.connections.tension_limit
     if limit is not None:
         f0 = pillar_forces(tracker, p0, c0)
         f1 = pillar_forces(tracker, p1, c0)
@@ -136,123 +148,121 @@ def _next_event(tracker: Tracker, before, eq: Equilibrium):
         breaking = None
         elements = over & (fraction <= tau * (1 + 1e-12) + 1e-15)
         reason = "a detachment inside the step (exact on the step's contact set)"
-    state = record_state(tracker, d, False, "event", total_force(tracker, pressure), 0, 0, True, reason,
-                         pressure=pressure, contact=c0)
-    return state, elements, breaking
+    crossing = record_state(tracker, state, d, False, "event", total_force(tracker, state, pressure), 0, 0, True,
+                            reason, pressure=pressure, contact=c0)
+    return crossing, elements, breaking
 
 
-def _event_step(tracker: Tracker, path: LoadPath, d: float, direction: int):
-    """Advance to the next event in ``direction`` (+1 press, -1 pull); yield its states.
+def _event_step(tracker: Tracker, state, path: LoadPath, d: float, direction: int):
+    """Advance from ``state`` to the next event in ``direction`` (+1 press, -1 pull); yield its states.
 
-    Returns (d, branch_finished), or None when the path must stop.
+    Returns (the state there, d, branch_finished), or None when the path must stop.
 
     Why one function: after the prediction (`_events_ahead`) the three endings of a step (a window bound, a
-    target, an event and its cascade) all move the tracker from the same predicted state; split, each would
-    take the prediction and the tracker and hand back the next d.
+    target, an event and its cascade) all go on from the same predicted state; split, each would
+    take the prediction and the state and hand back the next d.
     """
     xp = tracker.xp
     loading = direction > 0
-    if not bool(xp.any(tracker.state.contact)):
-        return (yield from _without_contact(tracker, path, d, loading))
+    if not bool(xp.any(state.contact)):
+        return (yield from _without_contact(tracker, state, path, d, loading))
     # An element outside the window may already be within reach (the bound is
-    # conservative): then the tracker works on the whole footprint from here on.
-    tracker.state = cover_contact(tracker.state, d, loading)
-    sl = tracker.state.working.window.slices
-    result = tracker.unit_response()
+    # conservative): then the path works on the whole footprint from here on.
+    state = cover_contact(state, d, loading)
+    sl = state.working.window.slices
+    state, result = unit_response(tracker, state)
     if not result.converged:
-        yield record_state(tracker, d, loading, "equilibrium", total_force(tracker), result.iterations, 1, False,
-                           f"unit response: {result.reason}")
+        yield record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), result.iterations,
+                           1, False, f"unit response: {result.reason}")
         return None
     a = result.solution
-    contact = tracker.state.contact[sl]
-    pressure = tracker.state.pressure[sl]
+    contact = state.contact[sl]
+    pressure = state.pressure[sl]
     s = float(direction)
-    ahead = _events_ahead(tracker, path, d, direction, a)
+    state, ahead = _events_ahead(tracker, state, path, d, direction, a)
     grows, t_detach, t_det = ahead.grows, ahead.t_detach, ahead.t_detach_min
     closing, t_attach, t_att = ahead.closing, ahead.t_attach, ahead.t_attach_min
     deflection, unit_deflection, candidates = ahead.deflection, ahead.unit_deflection, ahead.candidates
     t = min(c[0] for c in candidates)
     if not math.isfinite(t):
-        yield record_state(tracker, d, loading, "equilibrium", total_force(tracker), result.iterations, 1, False,
-                           "no event ahead on this branch (the contact neither grows nor shrinks)")
+        yield record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), result.iterations,
+                           1, False, "no event ahead on this branch (the contact neither grows nor shrinks)")
         return None
     t = max(t, 0.0)
     new_d = d + s * t
-    new_pressure = xp.zeros_like(tracker.state.pressure)
+    new_pressure = xp.zeros_like(state.pressure)
     new_pressure[sl] = xp.where(contact, pressure + (s * t) * a, 0.0)
     # Both vanish outside S, so the deflection is affine too (no transform).
     new_deflection = deflection + (s * t) * unit_deflection
     target_hit = any(c[1] == "target" and c[0] <= t for c in candidates)
-    h = tracker.state.working.problem.grid.element_size
+    h = state.working.problem.grid.element_size
     tie = event_tie(path, h)
     outside_hit = any(c[1] == "outside" and c[0] <= t for c in candidates)
     if outside_hit and t + tie < min(t_det, t_att):
         # Move to the bound along the exact affine path (a valid equilibrium:
         # nothing detaches or attaches before it), then widen the window to
         # every footprint element the load path may still reach and go on.
-        tracker.set_pressure(new_pressure)
         reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), h)
-        tracker.state = widen_to_reach(tracker.state, new_d, reach)
-        yield record_state(tracker, new_d, loading, "equilibrium", total_force(tracker, new_pressure),
+        state = widen_to_reach(with_pressure(state, new_pressure), new_d, reach)
+        yield record_state(tracker, state, new_d, loading, "equilibrium", total_force(tracker, state, new_pressure),
                            result.iterations, 1, True, "window enlarged")
-        return new_d, _target_reached(tracker, path, new_d)
+        return state, new_d, _target_reached(tracker, state, path, new_d)
     if target_hit and t + tie < min(t_det, t_att):
-        tracker.set_pressure(new_pressure, new_deflection)
-        state = record_state(tracker, new_d, loading, "equilibrium", total_force(tracker, new_pressure),
-                             result.iterations, 1, True, "preload reached")
-        yield state
-        return new_d, True
+        state = with_pressure(state, new_pressure, new_deflection)
+        yield record_state(tracker, state, new_d, loading, "equilibrium", total_force(tracker, state, new_pressure),
+                           result.iterations, 1, True, "preload reached")
+        return state, new_d, True
     # A state on the threshold of the event (still an equilibrium), then the cascade.
-    yield record_state(tracker, new_d, loading, "event", total_force(tracker, new_pressure), result.iterations, 1,
-                       True, "event", pressure=new_pressure)
-    leave = xp.zeros_like(tracker.state.contact)
-    join = xp.zeros_like(tracker.state.contact)
+    yield record_state(tracker, state, new_d, loading, "event", total_force(tracker, state, new_pressure),
+                       result.iterations, 1, True, "event", pressure=new_pressure)
+    leave = xp.zeros_like(state.contact)
+    join = xp.zeros_like(state.contact)
     if t_det <= t + tie:
         leave[sl] = ahead.within(grows, t_detach, t + xp.maximum(tie, ahead.detach_slack))
     if t_att <= t + tie:
         join[sl] = ahead.within(closing, t_attach, t + tie)
-    tracker.set_pressure(new_pressure, new_deflection)
-    window = tracker.state.working.window
-    eq = tracker.solve(new_d, force_detach=leave, force_attach=join)
+    state = with_pressure(state, new_pressure, new_deflection)
+    window = state.working.window
+    state, eq = solve_from(tracker, state, new_d, force_detach=leave, force_attach=join)
     if not eq.converged:
-        yield _eq_state(tracker, eq, loading)
+        yield _eq_state(tracker, state, eq, loading)
         return None
     if eq.cg_iterations:
-        tracker.record_pressure_change(new_pressure, new_deflection, window)
-    if not bool(xp.any(tracker.state.contact)) and not loading:
-        yield _separated(tracker, new_d, eq)
-        return new_d, True
-    yield _eq_state(tracker, eq, loading)
-    return new_d, loading and _target_reached(tracker, path, new_d)
+        state = with_pressure_change(state, new_pressure, new_deflection, window)
+    if not bool(xp.any(state.contact)) and not loading:
+        yield _separated(tracker, state, new_d, eq)
+        return state, new_d, True
+    yield _eq_state(tracker, state, eq, loading)
+    return state, new_d, loading and _target_reached(tracker, state, path, new_d)
 
 
-def _target_reached(tracker, path, d) -> bool:
+def _target_reached(tracker, state, path, d) -> bool:
     if path.preload_displacement is not None:
         return d >= path.preload_displacement * (1 - 1e-12)
-    return total_force(tracker) >= path.preload_force * (1 - 1e-9)
+    return total_force(tracker, state) >= path.preload_force * (1 - 1e-9)
 
 
-def _without_contact(tracker: Tracker, path: LoadPath, d: float, loading: bool):
+def _without_contact(tracker: Tracker, state, path: LoadPath, d: float, loading: bool):
     """`_event_step` without contact: separation on the pull-off, the first touch on the loading."""
     if not loading:
-        yield record_state(tracker, d, False, "separated", 0.0, 0, 0, True, "complete separation")
-        return d, True
+        yield record_state(tracker, state, d, False, "separated", 0.0, 0, 0, True, "complete separation")
+        return state, d, True
     # First touch: the lowest footprint elements.
-    lowest = tracker.state.working.problem.indenter.lowest_height
+    working = state.working
+    lowest = working.problem.indenter.lowest_height
     distance = max(lowest - d, 0.0)
-    working = tracker.state.working
     first = working.footprint & (working.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
     new_d = d + distance
-    eq = tracker.solve(new_d, force_attach=first)
-    yield _eq_state(tracker, eq, True)
+    state, eq = solve_from(tracker, state, new_d, force_attach=first)
+    yield _eq_state(tracker, state, eq, True)
     if not eq.converged:
         return None
-    return new_d, _target_reached(tracker, path, new_d)
+    return state, new_d, _target_reached(tracker, state, path, new_d)
 
 
 @dataclasses.dataclass(frozen=True)
 class _Ahead:
-    """The events ahead of an affine state p + t s a, on the tracker's window (`_events_ahead`)."""
+    """The events ahead of an affine state p + t s a, on the state's window (`_events_ahead`)."""
 
     grows: object  # elements of S whose tension grows
     t_detach: object  # t at which each reaches -Sigma_c (inf elsewhere)
@@ -281,22 +291,27 @@ class _Ahead:
 
 
 
-def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a) -> _Ahead:
-    """Where, along d + t s with the unit response ``a``, each kind of event comes first."""
+def _events_ahead(tracker: Tracker, state, path: LoadPath, d: float, direction: int, a):
+    """Where, along d + t s with the unit response ``a``, each kind of event comes first (an `_Ahead`).
+
+    Returns the state that knows the deflections of its pressure and of ``a`` (`_Ahead.deflection`,
+    `_Ahead.unit_deflection`) and the `_Ahead`.
+    """
     xp = tracker.xp
     loading = direction > 0
-    sl = tracker.state.working.window.slices
-    contact = tracker.state.contact[sl]
-    pressure = tracker.state.pressure[sl]
-    height = tracker.state.working.height[sl]
-    footprint = tracker.state.working.footprint[sl]
+    working = state.working
+    sl = working.window.slices
+    contact = state.contact[sl]
+    pressure = state.pressure[sl]
+    height = working.height[sl]
+    footprint = working.footprint[sl]
     a_all = a
-    deflection = tracker.deflection()  # known from the last equilibrium's join check
-    unit_deflection = tracker.unit_deflection()  # the one transform of a on the window
+    state, deflection = deflection_of(state)  # known from the last equilibrium's join check
+    state, unit_deflection = unit_deflection_of(state)  # the one transform of a on the window
     elements = None
     known_deflection, known_unit_deflection = deflection, unit_deflection
     if settings.switches().compact_event_search and backend.is_numpy_namespace(xp):
-        rows, cols = tracker.state.working.footprint_elements
+        rows, cols = working.footprint_elements
         elements = (rows, cols, contact.shape)
         contact, pressure, height, a = contact[rows, cols], pressure[rows, cols], height[rows, cols], a[rows, cols]
         deflection, unit_deflection = deflection[rows, cols], unit_deflection[rows, cols]
@@ -323,13 +338,13 @@ def _events_ahead(tracker: Tracker, path: LoadPath, d: float, direction: int, a)
     if loading and path.preload_force is not None:
         force_rate = tracker.h2 * float(xp.sum(a_all))
         if force_rate > 0:
-            candidates.append(((path.preload_force - total_force(tracker)) / force_rate, "target", None))
-    if loading and not tracker.state.working.covers_footprint:
+            candidates.append(((path.preload_force - total_force(tracker, state)) / force_rate, "target", None))
+    if loading and not working.covers_footprint:
         # Footprint elements outside the window (other pillars, asperities)
         # are not in the affine prediction: stop where one of them could
         # first touch, enlarge the window there and predict again.
-        reach_at = tracker.state.working.outside_reach_displacement(tracker.state.pressure, tracker.state.contact)
+        reach_at = working.outside_reach_displacement(state.pressure, state.contact)
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
-    return _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,
-                  candidates, elements, detachment_slack(path, tracker.critical, grows, rate, xp))
+    return state, _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,
+                         candidates, elements, detachment_slack(path, tracker.critical, grows, rate, xp))

@@ -1,8 +1,11 @@
-"""The `State` records that the load paths make of a tracker's state (`record_state`, `total_force`).
+"""The `State` records that the load paths make of the path's state (`record_state`, `total_force`).
 
 Of its equilibrium, of a separation or of an exhausted step budget.  Every
-pressure and contact set of a path lies in the tracker's working window (it
-always holds the contact): the sums are taken there.
+pressure and contact set of a path lies in the working window of its state
+(it always holds the contact): the sums are taken there.  ``tracker`` is the
+path's `brushbem.protocol.tracking.Tracker` (the element area, the pillar of
+every element; a record raises its length scale), ``state`` its
+`brushbem.protocol.values.PathState`.
 """
 
 from __future__ import annotations
@@ -11,44 +14,44 @@ from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.problem import State
 
 
-def _on_window(tracker, array):
-    """``array`` (full grid) restricted to the tracker's window (the whole of it before the first solve)."""
-    window = tracker.state.working.window
+def _on_window(state, array):
+    """``array`` (full grid) restricted to the state's window (the whole of it before the first solve)."""
+    window = state.working.window
     return array if window is None else array[window.slices]
 
 
-def total_force(tracker, pressure=None) -> float:
-    """The total force of the tracker's pressure, or of ``pressure`` (full grid; compressive positive)."""
-    p = tracker.state.pressure if pressure is None else pressure
-    return tracker.h2 * float(tracker.xp.sum(_on_window(tracker, p)))
+def total_force(tracker, state, pressure=None) -> float:
+    """The total force of the state's pressure, or of ``pressure`` (full grid; compressive positive)."""
+    p = state.pressure if pressure is None else pressure
+    return tracker.h2 * float(tracker.xp.sum(_on_window(state, p)))
 
 
-def attached_pillars(tracker, contact=None) -> int:
-    """How many pillars touch in the tracker's contact set, or in ``contact`` (full grid)."""
-    c = tracker.state.contact if contact is None else contact
+def attached_pillars(tracker, state, contact=None) -> int:
+    """How many pillars touch in the state's contact set, or in ``contact`` (full grid)."""
+    c = state.contact if contact is None else contact
     if tracker.n_pillars == 1:
-        return int(bool(tracker.xp.any(_on_window(tracker, c))))
+        return int(bool(tracker.xp.any(_on_window(state, c))))
     labels = tracker.pillar[c]
     if labels.shape[0] == 0:
         return 0
     return int(tracker.xp.unique_values(labels).shape[0])
 
 
-def record_state(tracker, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
+def record_state(tracker, state, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
                  pressure=None, contact=None) -> State:
-    """The `State` at ``displacement`` of the given pressure and contact (default: the tracker's).
+    """The `State` at ``displacement`` of the given pressure and contact (default: the state's).
 
     Why these parameters: one per field of `State` that the caller knows (the rest are computed here).
     Raises the tracker's ``length_scale`` (the largest |d| reached) to ``displacement``.
     """
-    p = tracker.state.pressure if pressure is None else pressure
-    c = tracker.state.contact if contact is None else contact
+    p = state.pressure if pressure is None else pressure
+    c = state.contact if contact is None else contact
     tracker.length_scale = max(tracker.length_scale, abs(float(displacement)))
     return State(
         displacement=float(displacement),
-        force=total_force(tracker, p),
-        contact_area=tracker.h2 * int(tracker.xp.count_nonzero(_on_window(tracker, c))),
-        attached_pillars=attached_pillars(tracker, c),
+        force=total_force(tracker, state, p),
+        contact_area=tracker.h2 * int(tracker.xp.count_nonzero(_on_window(state, c))),
+        attached_pillars=attached_pillars(tracker, state, c),
         loading=loading,
         kind=kind,
         trial_force=float(trial_force),
@@ -61,20 +64,20 @@ def record_state(tracker, displacement, loading, kind, trial_force, iterations, 
     )
 
 
-def _eq_state(tracker, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
-    """The state of the tracker's equilibrium ``eq`` (its work, convergence and reason)."""
+def _eq_state(tracker, state, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
+    """The record of ``state``, the state of the equilibrium ``eq`` (its work, convergence and reason)."""
     trial = tracker.h2 * eq.trial_force_sum
-    return record_state(tracker, eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged,
+    return record_state(tracker, state, eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged,
                         eq.reason)
 
 
-def _separated(tracker, d: float, eq: Equilibrium) -> State:
+def _separated(tracker, state, d: float, eq: Equilibrium) -> State:
     """Complete separation at ``d``, reached by the converged equilibrium ``eq`` (no contact left)."""
-    return record_state(tracker, d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
+    return record_state(tracker, state, d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
                         eq.n_solves, True, "complete separation")
 
 
-def _budget_exhausted(tracker, d, loading, path) -> State:
-    """A state at ``d`` that ends the branch: ``path.max_steps`` reached (not converged)."""
-    return record_state(tracker, d, loading, "equilibrium", total_force(tracker), 0, 0, False,
+def _budget_exhausted(tracker, state, d, loading, path) -> State:
+    """A record at ``d`` that ends the branch: ``path.max_steps`` reached (not converged)."""
+    return record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), 0, 0, False,
                         f"LoadPath.max_steps = {path.max_steps} reached before the end of the branch")

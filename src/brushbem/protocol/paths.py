@@ -5,7 +5,9 @@ See `brushbem.protocol` for the methods.  The drivers are here (`_fixed`,
 events inside a fixed step and the event path's step are in
 `brushbem.protocol.events`, a brush's loading as contact problems in
 `brushbem.protocol.contact_loading`, and the pillar-level model in
-`brushbem.pillars`.
+`brushbem.pillars`.  Each driver hands the path's state
+(`brushbem.protocol.values.PathState`) from step to step
+(`brushbem.protocol.tracking`): a step takes one and gives the next.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from brushbem.protocol.contact_loading import (
 from brushbem.protocol.events import _event_step, _events_in_step
 from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated, total_force
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
-from brushbem.protocol.tracking import Tracker, commit_history
+from brushbem.protocol.tracking import Tracker, commit_history, restored, solve_from, step_from
 
 __all__ = ["LOADING_SAMPLES", "indent", "pull_off"]
 
@@ -43,8 +45,8 @@ def indent(problem: ContactProblem, displacement: float, tolerance: float = 1e-8
     path = LoadPath(method="fixed", preload_displacement=max(displacement, 1e-300), tolerance=tolerance,
                     max_iterations=max_iterations)
     tracker = Tracker(problem, path)
-    eq = tracker.solve(displacement)
-    return _eq_state(tracker, eq, True)
+    state, eq = solve_from(tracker, tracker.state, displacement)
+    return _eq_state(tracker, state, eq, True)
 
 
 def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[State]:
@@ -71,7 +73,7 @@ def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[Sta
         path = _time_stepped(path)
     tracker = Tracker(problem, path)
     check_preload(problem.indenter, path)
-    states = _fixed(tracker, path) if path.method == "fixed" else _events(tracker, path)
+    states = (_fixed if path.method == "fixed" else _events)(tracker, tracker.state, path)
     preload = None
     for state in states:
         if state.loading:
@@ -99,20 +101,20 @@ def _time_stepped(path: LoadPath) -> LoadPath:
     return dataclasses.replace(path, step=path.preload_displacement / steps)
 
 
-def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
+def _fixed(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
     step = path.step
     d = 0.0
     count = 0
     done = False
-    if not tracker.state.connections.has_state and _press_as_contact_problems(tracker):
+    if not state.connections.has_state and _press_as_contact_problems(tracker, state):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
         # exact path never lets it touch).
-        outcome = yield from _contact_loading(tracker, path)
+        outcome = yield from _contact_loading(tracker, state, path)
         if outcome is None:
             return
-        d, done = outcome
+        state, d, done = outcome
     # Loading (from where the contact problems stopped).
     if done:
         pass
@@ -121,77 +123,76 @@ def _fixed(tracker: Tracker, path: LoadPath) -> Iterator[State]:
         start = d
         for k in range(1, min(n_steps, path.max_steps) + 1):
             d = min(start + k * step, path.preload_displacement)
-            eq = tracker.step_solve(d)
-            state = _eq_state(tracker, eq, True)
-            yield state
+            state, eq = step_from(tracker, state, d)
+            yield _eq_state(tracker, state, eq, True)
             if not eq.converged:
                 return
-            commit_history(tracker)
+            state = commit_history(tracker, state)
         if n_steps > path.max_steps:
-            yield _budget_exhausted(tracker, d, True, path)
+            yield _budget_exhausted(tracker, state, d, True, path)
             return
     else:
         target = path.preload_force
-        previous = (d, total_force(tracker))
+        previous = (d, total_force(tracker, state))
         while True:
             count += 1
             if count > path.max_steps:
-                yield _budget_exhausted(tracker, d, True, path)
+                yield _budget_exhausted(tracker, state, d, True, path)
                 return
             d += step
-            saved = tracker.point(previous[0])
-            eq = tracker.solve(d)
-            force = total_force(tracker)
+            saved = state.replace(displacement=previous[0])
+            state, eq = solve_from(tracker, state, d)
+            force = total_force(tracker, state)
             if not eq.converged:
-                yield _eq_state(tracker, eq, True)
+                yield _eq_state(tracker, state, eq, True)
                 return
             if force >= target:
-                eq, d = _reach_force(tracker, saved, previous, (d, force, eq), target)
-                yield _eq_state(tracker, eq, True)
+                state, eq, d = _reach_force(tracker, state, saved, previous, (d, force, eq), target)
+                yield _eq_state(tracker, state, eq, True)
                 break
-            yield _eq_state(tracker, eq, True)
+            yield _eq_state(tracker, state, eq, True)
             previous = (d, force)
-    yield from _unload(tracker, path, d)
+    yield from _unload(tracker, state, path, d)
 
 
-def _unload(tracker: Tracker, path: LoadPath, d_max: float) -> Iterator[State]:
+def _unload(tracker: Tracker, state, path: LoadPath, d_max: float) -> Iterator[State]:
     """Fixed steps down from ``d_max``, every event inside a step located (`_events_in_step`)."""
     step = path.step
     d = d_max
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
-        before = tracker.point(d + step)
-        eq = tracker.step_solve(d)
-        eq = yield from _events_in_step(tracker, before, eq, d)
+        before = state.replace(displacement=d + step)
+        state, eq = step_from(tracker, state, d)
+        state, eq = yield from _events_in_step(tracker, state, before, eq, d)
         if eq is None:  # separated at an event inside the step
             return
         if not eq.converged:
-            yield _eq_state(tracker, eq, False)
+            yield _eq_state(tracker, state, eq, False)
             return
-        commit_history(tracker)
-        if not bool(tracker.xp.any(tracker.state.contact)):
-            yield _separated(tracker, d, eq)
+        state = commit_history(tracker, state)
+        if not bool(tracker.xp.any(state.contact)):
+            yield _separated(tracker, state, d, eq)
             return
-        yield _eq_state(tracker, eq, False)
-    yield _budget_exhausted(tracker, d, False, path)
+        yield _eq_state(tracker, state, eq, False)
+    yield _budget_exhausted(tracker, state, d, False, path)
 
 
-def _reach_force(tracker: Tracker, saved, below, above, target: float):
+def _reach_force(tracker: Tracker, state, saved, below, above, target: float):
     """The smallest displacement at which the loading force reaches ``target``.
 
-    ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
+    ``state`` is ``above``'s.  ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
     target bracket it; every trial solves from ``saved`` (a saved `PathState`), the contact state at
     ``below``, so the history of the contact set is kept.  False position,
     with a bisection whenever a step fails to halve the bracket, ends when the
     force at the upper end is within 1e-6 of the target, or when the bracket
     has shrunk to rounding: then the force jumps past the target there (an
     adhesive snap-in) and the state just past the jump is the preload.
-    Returns (equilibrium at the upper end, with the work of every solve here
-    and of ``above``'s, its displacement); the tracker holds that state.
+    Returns (the state at the upper end, its equilibrium with the work of every solve here
+    and of ``above``'s, its displacement).
     """
     lo, f_lo = below
     hi, f_hi, eq = above
-    at_hi = tracker.point(hi)  # the tracker holds ``above``'s state on entry
+    at_hi = state.replace(displacement=hi)
     bisect = False
     solves, iterations = eq.n_solves, eq.cg_iterations
     for _ in range(200):
@@ -203,50 +204,48 @@ def _reach_force(tracker: Tracker, saved, below, above, target: float):
         else:
             trial = lo + (target - f_lo) * width / (f_hi - f_lo)
             trial = min(max(trial, lo + 1e-3 * width), hi - 1e-3 * width)
-        tracker.restore(saved)
-        trial_eq = tracker.solve(trial)
+        state, trial_eq = solve_from(tracker, restored(state, saved), trial)
         solves += trial_eq.n_solves
         iterations += trial_eq.cg_iterations
         if not trial_eq.converged:
-            return trial_eq, trial
-        f = total_force(tracker)
+            return state, trial_eq, trial
+        f = total_force(tracker, state)
         if f < target:
             lo, f_lo = trial, f
         else:
             hi, f_hi, eq = trial, f, trial_eq
-            at_hi = tracker.point(trial)
+            at_hi = state.replace(displacement=trial)
         bisect = hi - lo > 0.5 * width
-    tracker.restore(at_hi)
-    return dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi
+    return restored(state, at_hi), dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi
 
 
-def _events(tracker: Tracker, path: LoadPath) -> Iterator[State]:
+def _events(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
     d = 0.0
     done = False
-    if path.method == "events" and _press_as_contact_problems(tracker):
+    if path.method == "events" and _press_as_contact_problems(tracker, state):
         # A brush's loading branch as contact problems (`_contact_loading`);
         # from where that cannot be shown to hold, element events.
-        outcome = yield from _contact_loading(tracker, path)
+        outcome = yield from _contact_loading(tracker, state, path)
         if outcome is None:
             return
-        d, done = outcome
+        state, d, done = outcome
     # Loading: from first touch (or where the contact problems stopped) to the preload.
     for _ in range(path.max_steps):
         if done:
             break
-        outcome = yield from _event_step(tracker, path, d, +1)
+        outcome = yield from _event_step(tracker, state, path, d, +1)
         if outcome is None:
             return
-        d, done = outcome
+        state, d, done = outcome
     else:
-        yield _budget_exhausted(tracker, d, True, path)
+        yield _budget_exhausted(tracker, state, d, True, path)
         return
     # Unloading: until the contact set is empty.
     for _ in range(path.max_steps):
-        outcome = yield from _event_step(tracker, path, d, -1)
+        outcome = yield from _event_step(tracker, state, path, d, -1)
         if outcome is None:
             return
-        d, done = outcome
+        state, d, done = outcome
         if done:
             return
-    yield _budget_exhausted(tracker, d, False, path)
+    yield _budget_exhausted(tracker, state, d, False, path)

@@ -1,45 +1,48 @@
-"""The state of one pull-off (`Tracker`): pressure and contact on the full grid, the solves and the records.
+"""The steps of one pull-off: each takes the path's state and gives the next (`solve_from`, `step_from`, ...).
 
-The `Tracker` holds the path's state as one frozen value, ``state`` (a
-`brushbem.protocol.values.PathState`: the pressure and the contact set, the
-working window with its operator and tip heights (a
-`brushbem.protocol.window.WorkingWindow`), the connections' state (a
-`brushbem.protocol.connections.ConnectionState`: the viscoelastic memory and
-the pillar law's pieces), the deflections known of them without another
-transform, the last unit response), which it replaces and never writes into,
-sharing every array that did not change; a saved state (`Tracker.point`) is
-that value, its window included, and `Tracker.restore` returns to its
-pressure and contact (on the current window: a window is a choice of where
-to compute, and the path keeps the one it has).
+The path's state is one frozen value (`brushbem.protocol.values.PathState`:
+the pressure and the contact set, the working window with its operator and
+tip heights, a `brushbem.protocol.window.WorkingWindow`, the connections'
+state, a `brushbem.protocol.connections.ConnectionState`, the deflections
+known of them without another transform and the last unit response).  The
+steps here take a state and return the next, leaving the one they took as it
+was and sharing every array that did not change: `solve_from` (the
+equilibrium at d, on a window enlarged as the contact needs), `step_from` (a
+fixed step: the connections' history, a law's pieces and breaks),
+`with_change` (a change of the connections: new springs give the window a new
+operator, raised tips new heights), `cover_contact` and `widen_to_reach` (the
+window the event path predicts on), `with_pressure`, `restored` and
+`without_deflections` (a pressure put in by the paths, a return to a saved
+state, the known deflections dropped), `deflection_of` (the tip deflection
+of the pressure, computed once), and for the connections `pillar_forces`,
+`break_pillars`, `restore_pieces` and `commit_history`.  The event path's
+unit response is stepped the same way (`brushbem.protocol.unit_response`).
 
-The steps take a state and give the next one: `solve_from` (the equilibrium
-at d, on a window enlarged as the contact needs), `step_from` (a fixed step:
-the connections' history, a law's pieces and breaks), `with_change` (a
-change of the connections: new springs give the window a new operator,
-raised tips new heights), `cover_contact` and `widen_to_reach` (the window
-the event path predicts on).  What they keep besides is the solver's: the
-`SolverCache` each window refers to and the ledgers of single-precision
-products.  `Tracker.solve` and `Tracker.step_solve` take the tracker's state
-through them.  The load paths (`brushbem.protocol.paths`,
-`brushbem.protocol.events`, `brushbem.protocol.contact_loading`) use the
-tracker's public members and its state's directly
-(``tracker.state.working.window``, ``tracker.state.connections.tension_limit``);
-what they do with the connections through the tracker's state are the
-module's functions (`pillar_forces`, `break_pillars`, `restore_pieces`,
-`commit_history`).  The `State` records are made in
-`brushbem.protocol.path_states`.
+A saved state is a state kept (with its ``displacement``); going back to it
+(`restored`) takes its pressure and contact on the current window with what
+is known now: a window is a choice of where to compute, and the path keeps
+the one it has.  The load paths (`brushbem.protocol.paths`,
+`brushbem.protocol.events`, `brushbem.protocol.contact_loading`) hand their
+state from step to step and make the `State` records of it
+(`brushbem.protocol.path_states`).
+
+What the steps share besides the state is a `Tracker`, made once per path:
+the problem's constants, the solver's settings, the ledgers of
+single-precision products (the solver's, kept beside the state: a solve adds
+to them) and the path's length scale (the largest |d| a record reached);
+``Tracker.state`` is the state the path starts from, never written back.
 
 Cached deflections: the deflection of the pressure and of the unit response
 are kept with the array and the window they were computed on, and are used
-only while both are the current ones.  They are computed with the window's
-operator, so when the connections change the pillars' springs (a piece of a
-nonlinear law moves) every one of them, the unit response and the cascade's
-pressure change are dropped (`with_change`, the one place where the
-operator's springs change).  Raised tips (history offsets, breaks) change the
-heights, not the operator: the cached deflections stay valid.  A pressure
-put in by the paths comes without a known deflection (`Tracker.set_state`,
-`Tracker.set_pressure`) unless they give it; `Tracker.forget_deflections`
-drops all of them.
+only while both are the current ones (`Known.of`).  They are computed with
+the window's operator, so when the connections change the pillars' springs
+(a piece of a nonlinear law moves) every one of them, the unit response and
+the cascade's pressure change are dropped (`with_change`, the one place
+where the operator's springs change).  Raised tips (history offsets, breaks)
+change the heights, not the operator: the cached deflections stay valid.  A
+pressure put in by the paths comes without a known deflection
+(`with_pressure`) unless they give it; `without_deflections` drops all of
+them.
 """
 
 from __future__ import annotations
@@ -57,10 +60,8 @@ from brushbem.numerics.solver import (
     Start,
     equilibrium,
     polonsky_keer,
-    solve_on_set,
     tip_deflection,
 )
-from brushbem.protocol.unit_guess import cascade_record, unit_guess
 from brushbem.protocol.connections import ConnectionState, SpringChange
 from brushbem.protocol.problem import ContactProblem, LoadPath
 from brushbem.protocol.values import Known, PathState
@@ -71,21 +72,28 @@ __all__ = [
     "break_pillars",
     "commit_history",
     "cover_contact",
+    "deflection_of",
     "pillar_forces",
     "restore_pieces",
+    "restored",
     "solve_from",
     "step_from",
     "widen_to_reach",
     "with_change",
+    "with_pressure",
+    "without_deflections",
 ]
 
 
 class Tracker:
-    """The state of one pull-off: pressure and contact, the window and the connections (``state``).
+    """What the steps of one pull-off share besides its state (module docstring), and the state it starts from.
 
-    ``pressure`` and ``contact`` (full grid) are the current equilibrium's;
-    the paths read them and replace them through `set_state`,
-    `set_pressure` and `restore`.
+    ``state`` is the first `PathState` (no contact, the indenter's own
+    tips); the load paths hand the state on from step to step and never
+    write it back.  ``ledgers`` are the errors that single-precision
+    products left in the kept deflections of the equilibria and of the unit
+    responses (`brushbem.numerics.solver.cg.ProductLedger`), new with new
+    springs; ``length_scale`` the largest |d| reached.
     """
 
     def __init__(self, problem: ContactProblem, path: LoadPath):
@@ -99,154 +107,45 @@ class Tracker:
         self.h2 = grid.element_size**2
         indenter = problem.indenter
         self.pillar = xp.asarray(indenter.pillar)
+        self.pillar_host = np.asarray(indenter.pillar)
         self.n_pillars = indenter.n_pillars
         self.critical = problem.critical_stress
-        #: The path's state as one value (`PathState`): pressure, contact and what is known of them (the
-        #: deflections: module docstring, when they are dropped).  Replaced, never written into.
         self.state = PathState(pressure=xp.zeros((n, n), dtype=xp.float64), contact=xp.zeros((n, n), dtype=xp.bool),
                                working=WorkingWindow.begin(problem, path), connections=connections)
-        # The error that single-precision products left in the kept deflections of the equilibria and
-        # of the unit responses (`brushbem.numerics.solver.cg.ProductLedger`).
-        self._ledgers = (ProductLedger(), ProductLedger())
-        self.length_scale = 0.0  # the largest |d| reached: the path's length scale
+        self.ledgers = (ProductLedger(), ProductLedger())
+        self.length_scale = 0.0
 
-    def apply_change(self, change: SpringChange | None) -> None:
-        """Apply a change of the connections: new springs (a new operator) and raised tips (`with_change`)."""
-        self.state = with_change(self, self.state, change)
 
-    def point(self, displacement: float | None = None) -> PathState:
-        """The current state as a value to return to (`restore`, `restore_pieces`), with its ``displacement``."""
-        return self.state.replace(displacement=displacement)
+# -- a pressure put in, a saved state returned to, what is known of the pressure -------------
+def with_pressure(state: PathState, pressure, deflection=None) -> PathState:
+    """``state`` with ``pressure`` (full grid), with its tip deflection on the state's window if known."""
+    return state.replace(pressure=pressure, deflection=(
+        None if deflection is None else Known(pressure, state.working.window, deflection)))
 
-    def step_solve(self, displacement: float, *, advance: bool = True, detach=None) -> Equilibrium:
-        """One step of a fixed-step path from the current state (`step_from`); the state becomes its end."""
-        self.state, eq = step_from(self, self.state, displacement, advance=advance, detach=detach)
-        return eq
 
-    # -- solves -------------------------------------------------------------
-    def solve(self, displacement: float, force_detach=None, force_attach=None,
-              contact_problem: bool = False) -> Equilibrium:
-        """Equilibrium at d from the current state (`solve_from`); the state becomes the equilibrium's."""
-        self.state, eq = solve_from(self, self.state, displacement, force_detach, force_attach, contact_problem)
-        return eq
+def restored(state: PathState, point: PathState) -> PathState:
+    """``state`` back at the pressure and contact of ``point`` (a saved state; its pieces: `restore_pieces`).
 
-    # -- the state and its deflection (module docstring: when cached deflections are dropped) --
-    def set_state(self, pressure, contact) -> None:
-        """A new pressure and contact set (full grid); no deflection of the pressure known."""
-        self.state = self.state.replace(pressure=pressure, contact=contact, deflection=None)
+    The window and what is known (the deflections, the unit response) stay ``state``'s: each is used only
+    while it is of the restored arrays on the current window (`Known.of`).
+    """
+    return state.replace(pressure=point.pressure, contact=point.contact)
 
-    def restore(self, point: PathState) -> None:
-        """Back to the pressure and contact of ``point`` (a saved state, `point`; its pieces: `restore_pieces`).
 
-        What is known (the deflections, the unit response) stays the current state's: each is used only
-        while it is of the restored arrays on the current window (`Known.of`).
-        """
-        self.state = self.state.replace(pressure=point.pressure, contact=point.contact)
+def without_deflections(tracker: Tracker, state: PathState) -> PathState:
+    """``state`` without its known deflections and unit response (the next ones are computed afresh)."""
+    tracker.ledgers = (ProductLedger(), ProductLedger())
+    return state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
 
-    def forget_deflections(self) -> None:
-        """Drop every cached deflection and the unit response (the next ones are computed afresh; `with_change`)."""
-        self.state = self.state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
-        self._ledgers = (ProductLedger(), ProductLedger())
 
-    def known_deflection(self):
-        """Tip deflection of the current pressure on the window if known, else None."""
-        return _known(self.state.deflection, self.state.pressure, self.state.working.window)
-
-    def deflection(self):
-        """Tip deflection (half-space + springs) of the current pressure on the window."""
-        deflection = self.known_deflection()
-        if deflection is None:
-            working, pressure = self.state.working, self.state.pressure
-            deflection = tip_deflection(working.operator, pressure[working.window.slices], working.cache)
-            self.state = self.state.replace(deflection=Known(pressure, working.window, deflection))
-        return deflection
-
-    def set_pressure(self, pressure, deflection=None) -> None:
-        """Replace the pressure (full grid), with its tip deflection on the window if known."""
-        self.state = self.state.replace(pressure=pressure, deflection=(
-            None if deflection is None else Known(pressure, self.state.working.window, deflection)))
-
-    # -- the unit response of the event path ---------------------------------------
-    def unit_deflection(self):
-        """Tip deflection of the unit response on the window (transformed once per response)."""
-        state = self.state
-        working = state.working
-        window = working.window
-        known = None if state.unit_deflection is None else state.unit_deflection.of(state.unit, window)
-        if known is not None:
-            return known
-        deflection = tip_deflection(working.operator, state.unit[window.slices], working.cache)
-        self.state = state.replace(unit_deflection=Known(state.unit, window, deflection))
-        return deflection
-
-    def record_pressure_change(self, predicted, predicted_deflection, window: Window) -> None:
-        """Remember dp = p - predicted on the contact and what its product needs, after a cascade at fixed d.
-
-        ``predicted`` is the affine prediction the cascade started from (full
-        grid) and ``predicted_deflection`` its tip deflection on ``window``.
-        For a single element k leaving S the new unit response is exactly
-        a|S' + (a_k / p_k) dp (both corrections are A_S'^-1 A_S'k times a
-        scalar), so dp is the natural second direction of the next unit
-        response's starting guess (``unit_response``, `brushbem.protocol.unit_guess`).
-        What is kept of it: `brushbem.protocol.unit_guess.cascade_record`.
-        """
-        self.state = self.state.replace(pressure_change=None)
-        deflection = self.known_deflection()
-        if deflection is None or window != self.state.working.window:
-            return
-        sl = window.slices
-        state = self.state
-        record = cascade_record(state.working.operator, state.contact[sl], predicted[sl], state.pressure[sl],
-                                deflection, predicted_deflection)
-        if record is not None:
-            self.state = state.replace(pressure_change=Known(state.contact, window, record))
-
-    def unit_response(self):
-        """a = A_S^-1 1 on the window (dp/dd for the fixed contact set)."""
-        xp = self.xp
-        working = self.state.working
-        sl = working.window.slices
-        contact = self.state.contact[sl]
-        block, operator = working.cache.sub_operator(working.operator, contact)
-        block_contact = contact[block]
-        ones = xp.astype(block_contact, xp.float64)
-        initial, product = self._unit_guess(contact)
-        result = solve_on_set(
-            operator, block_contact, ones,
-            initial=None if initial is None else initial[block],
-            initial_product=None if product is None else product[block],
-            tolerance=self.path.tolerance, max_iterations=self.path.max_iterations, ledger=self._ledgers[1],
-            cache=working.cache,
-        )
-        solution = xp.zeros(contact.shape, dtype=ones.dtype)
-        solution[block] = result.solution
-        result = dataclasses.replace(result, solution=solution)
-        unit = None
-        if result.converged:
-            unit = xp.zeros_like(self.state.pressure)
-            unit[sl] = solution
-        self.state = self.state.replace(unit=unit)
-        return result
-
-    def _unit_guess(self, contact):
-        """Starting guess for A_S^-1 1 on the window and its deflection (None where unknown).
-
-        The previous response restricted to S, its deflection kept in step by
-        dropping the elements that left (no transform for a few of them).
-        After a cascade the guess is the Galerkin (energy-optimal) combination
-        of that and the cascade's pressure change dp (``record_pressure_change``),
-        exact for a single element leaving (`brushbem.protocol.unit_guess`).
-        """
-        state = self.state
-        window = state.working.window
-        if state.unit is None:
-            return None, None
-        previous = state.unit[window.slices]
-        known = None if state.unit_deflection is None else state.unit_deflection.of(state.unit, window)
-        if known is None:
-            return self.xp.where(contact, previous, 0.0), None
-        change = None if state.pressure_change is None else state.pressure_change.of(state.contact, window)
-        return unit_guess(state.working.operator, contact, previous, known, change)
+def deflection_of(state: PathState) -> tuple[PathState, object]:
+    """The tip deflection (half-space + springs) of the state's pressure on its window, and the state that knows it."""
+    deflection = state.known_deflection()
+    if deflection is None:
+        working, pressure = state.working, state.pressure
+        deflection = tip_deflection(working.operator, pressure[working.window.slices], working.cache)
+        state = state.replace(deflection=Known(pressure, working.window, deflection))
+    return state, deflection
 
 
 # -- the steps: a state in, the next state out ---------------------------------------
@@ -263,8 +162,7 @@ def with_change(tracker: Tracker, state: PathState, change: SpringChange | None)
     working = state.working
     if change.problem is not None:
         working = working.with_problem(change.problem)
-        state = state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
-        tracker._ledgers = (ProductLedger(), ProductLedger())
+        state = without_deflections(tracker, state)
     return state.replace(working=working.with_tips(change.offsets, change.lifted))
 
 
@@ -358,7 +256,7 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
                 attach=None if force_attach is None else force_attach[sl],
             )
             eq = equilibrium(working.operator, height, displacement, start, critical=tracker.critical,
-                             settings=tracker.settings, length_scale=tracker.length_scale, ledger=tracker._ledgers[0],
+                             settings=tracker.settings, length_scale=tracker.length_scale, ledger=tracker.ledgers[0],
                              cache=working.cache)
         iterations += eq.cg_iterations
         solves += eq.n_solves
@@ -439,38 +337,35 @@ def widen_to_reach(state: PathState, displacement: float, reach: float) -> PathS
 
 
 # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --------
-def pillar_forces(tracker: Tracker, pressure=None, contact=None) -> np.ndarray:
-    """Force of every pillar in the tracker's state, or of the given one (compressive positive)."""
-    contact = np.asarray(backend.to_numpy(tracker.state.contact if contact is None else contact))
-    pressure = np.asarray(backend.to_numpy(tracker.state.pressure if pressure is None else pressure))
-    pillar = tracker.state.working.pillar_host
+def pillar_forces(tracker: Tracker, pressure, contact) -> np.ndarray:
+    """Force of every pillar under ``pressure`` on ``contact`` (full grid; compressive positive)."""
+    contact = np.asarray(backend.to_numpy(contact))
+    pressure = np.asarray(backend.to_numpy(pressure))
+    pillar = tracker.pillar_host
     return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
 
 
-def _held_by(tracker: Tracker, pillars: np.ndarray, contact=None):
-    """The contact elements of ``pillars`` (bool, one per pillar) in ``contact`` (default: the tracker's), a full-grid
-    mask."""
-    contact = tracker.state.contact if contact is None else contact
-    return contact & tracker.xp.asarray(np.isin(tracker.state.working.pillar_host, np.flatnonzero(pillars)))
+def _held_by(tracker: Tracker, pillars: np.ndarray, contact):
+    """The elements of ``contact`` on ``pillars`` (bool, one per pillar), a full-grid mask."""
+    return contact & tracker.xp.asarray(np.isin(tracker.pillar_host, np.flatnonzero(pillars)))
 
 
-def restore_pieces(tracker: Tracker, point: PathState) -> None:
-    """Back to the pieces and breaks of ``point``: the springs and the tips with them."""
-    connections, change = tracker.state.connections.restore(point.connections, tracker.state.working.problem)
-    tracker.state = tracker.state.replace(connections=connections)
-    tracker.apply_change(change)
+def restore_pieces(tracker: Tracker, state: PathState, point: PathState) -> PathState:
+    """``state`` back at the pieces and breaks of ``point``: the springs and the tips with them."""
+    connections, change = state.connections.restore(point.connections, state.working.problem)
+    return with_change(tracker, state.replace(connections=connections), change)
 
 
-def break_pillars(tracker: Tracker, pillars: np.ndarray):
-    """Mark ``pillars`` (bool, one per pillar) broken and lift them; the elements they held (a mask)."""
-    connections, change = tracker.state.connections.break_pillars(pillars)
-    tracker.state = tracker.state.replace(connections=connections)
-    tracker.apply_change(change)
-    return _held_by(tracker, pillars)
+def break_pillars(tracker: Tracker, state: PathState, pillars: np.ndarray):
+    """``state`` with ``pillars`` (bool, one per pillar) broken and lifted, and the elements they held (a mask)."""
+    connections, change = state.connections.break_pillars(pillars)
+    return with_change(tracker, state.replace(connections=connections), change), _held_by(tracker, pillars,
+                                                                                          state.contact)
 
 
-def commit_history(tracker: Tracker) -> None:
+def commit_history(tracker: Tracker, state: PathState) -> PathState:
     """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
-    connections = tracker.state.connections
-    if connections.memory is not None:
-        tracker.state = tracker.state.replace(connections=connections.commit(pillar_forces(tracker)))
+    connections = state.connections
+    if connections.memory is None:
+        return state
+    return state.replace(connections=connections.commit(pillar_forces(tracker, state.pressure, state.contact)))

@@ -4,7 +4,7 @@ After a cascade at fixed d, the next unit response a' = A_S'^-1 1 starts from
 the Galerkin (energy-optimal) combination of the previous response restricted
 to the new set, a|S', and the cascade's pressure change dp (exact for a
 single element leaving S).  The 2 x 2 system needs the products A a|S' and
-A dp.  Of those, the tracker knows A a (the previous response's deflection)
+A dp.  Of those, the path's state knows A a (the previous response's deflection)
 and A Delta for Delta = p - p_pred (the cascade's deflection minus the
 prediction's); the rest are products with the pressures a_E and p_E that the
 elements E that left carried.  With ``settings.Switches.symmetric_products`` the inner
@@ -50,7 +50,7 @@ def unit_guess(operator: ContactOperator, contact, previous, unit_product, chang
     a (window, on the old set), ``unit_product`` its tip deflection A a or
     None, and ``change`` the cascade's record or None: (dp, A dp) or, with
     the symmetric products, (dp, None, (p_pred, A Delta, Delta)) on the
-    window (`brushbem.protocol.tracking.Tracker.record_pressure_change`).
+    window (`brushbem.protocol.unit_response.with_pressure_change`).
     """
     xp = operator.xp
     guess = xp.where(contact, previous, 0.0)

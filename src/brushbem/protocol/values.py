@@ -8,10 +8,10 @@ transform (the tip deflection of the pressure, the last unit response and
 its deflection, the last cascade's pressure change), the connections' state
 (`brushbem.protocol.connections.ConnectionState`, itself a value: the
 viscoelastic memory, the pillar law's pieces and breaks) and, in a saved
-state, its displacement.  The tracker
-(`brushbem.protocol.tracking.Tracker`) holds the current one as ``state``
-and replaces it, never writes into it; a saved state (`Tracker.point`) is
-that value, which the paths go back to: the force search of a fixed loading
+state, its displacement.  The load paths hand it from step to step
+(`brushbem.protocol.tracking`: each step takes a state and returns the
+next, never writes into it); a saved state is that value with its
+``displacement``, which the paths go back to (`brushbem.protocol.tracking.restored`): the force search of a fixed loading
 (`brushbem.protocol.paths._reach_force`) and the events inside a fixed step
 (`brushbem.protocol.events`).  A new state shares every array that did not
 change with the one before (no copies).
@@ -58,7 +58,7 @@ class PathState:
         The connections' state (`brushbem.protocol.connections.ConnectionState`): the viscoelastic
         memory and the pillar law's pieces and breaks.
     displacement : float or None
-        The base displacement of a saved state (None in the tracker's current one).
+        The base displacement of a saved state (None in a state being stepped).
     """
 
     pressure: Any
@@ -70,6 +70,10 @@ class PathState:
     pressure_change: Known | None = None
     connections: Any = None
     displacement: float | None = None
+
+    def known_deflection(self):
+        """The tip deflection of ``pressure`` on the state's window if known (`Known.of`), else None."""
+        return None if self.deflection is None else self.deflection.of(self.pressure, self.working.window)
 
     def replace(self, **changes) -> PathState:
         """The state with ``changes`` (its other fields, and their arrays, shared).

@@ -49,7 +49,7 @@ def solve_on_set(operator: ContactOperator, mask, rhs, initial=None, initial_pro
     solution returns it without a transform; ``initial_product`` must
     then be `ContactOperator.tip_deflection` of ``initial`` restricted to S
     on the whole window, not only its values on S (as both callers, the
-    equilibrium and the tracker's unit response, have it).  With a
+    equilibrium and the event path's unit response, have it).  With a
     ``ledger`` (the chain of kept deflections this solve continues), the
     late iterations there take their products in single precision
     (``Switches.single_products``, `ProductLedger`); a solve that leaves the chain's
