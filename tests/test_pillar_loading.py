@@ -108,3 +108,29 @@ def test_local_release_finds_the_same_contact_in_fewer_rounds(switches):
     assert np.array_equal(found[True][1], found[False][1])
     assert found[True][1].sum() > 1000  # many pillars in partial contact
     assert sum(found[True][0]) < sum(found[False][0])
+
+
+def test_a_press_at_the_same_displacement_keeps_the_spent_slots_spent():
+    """A slot whose joins the last press spent (the flip limit) starts the next press at nearly its d spent: a
+    press again at the same d is one round to the same set (rough 8 x 8, N = 128, k~ = 1e-2, sigma~ = 1, one
+    slot spent), where with every slot's flips afresh it ran the cycle again (3 rounds; on a 16 x 16 brush
+    an end one slot off the first)."""
+    from test_pillars_method import _brush
+
+    from brushbem import pillars
+    from brushbem.protocol import LoadPath
+
+    problem, force = _brush(128, 8, 1e-2, 1.0)
+    model = pillars.PillarModel(problem)
+    run = pillars.PillarState(model, LoadPath(method="pillars", preload_force=force))
+    lowest = float(model.g.min())
+    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12))
+    run.press_radiates = True
+    d = lowest + 0.3 * float(np.ptp(model.g)) + 0.01
+    loading.press(run, d)
+    first, spent = run.attached[:, None] & model.raster, run.spent.copy()
+    assert spent.any()
+    assert loading.press(run, d) == 1
+    assert np.array_equal(run.attached[:, None] & model.raster, first)
+    run.spent = None  # every slot's flips afresh: the cycle again
+    assert loading.press(run, d) > 1

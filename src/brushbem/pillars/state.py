@@ -55,6 +55,9 @@ class PillarState:
         #: The d of the last contact problem settled with the near field fed back (`loading.press`), None
         #: once the state has changed otherwise.
         self.pressed: float | None = None
+        #: The footprint slots whose joins that press had spent (`loading.press`): a press at nearly its d
+        #: starts with them spent, None with ``pressed``.
+        self.spent: np.ndarray | None = None
         #: Bumped by every change of the state (a solve, a pillar that joins, leaves or peels): the key of
         #: `_memo`, which keeps the element pressures and penetrations of the current state (the event search
         #: asks for those the cascade has just computed at the same d).
