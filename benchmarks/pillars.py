@@ -21,7 +21,8 @@ per radius: 16 per pitch, ``--tip-grid`` times that) with every tip on its own r
 per radius (the grid subdivided f times; Q <= 3.6 x ``--tip-grid``: the grid's own): per Q the pillar model's
 CPU time, F_A and work, and the exact path's beside it on the grid f N, the same brush (the same absolute
 tip heights), where f N <= ``--exact-elements``, with their differences.  The first line is the pillar model
-with the grid's own tips (today's default).
+with the grid's own tips (today's default).  ``--calibrate``: every resolution also with the tips' criterion
+calibrated to Kendall's force (``protocol.pillar_tip_calibration``), its time and F_A beside.
 
 Measured (CPU seconds of one core on a shared machine, sigma~ = 1, k~ = 0.01 unless named; 4.0 elements per
 radius on the grid, ``--tip-grid 1.109``):
@@ -90,10 +91,13 @@ def _problem(per_side: int, ratio: float, sigma: float, seed: int, tip_grid: flo
     return build(sigma * scales["rigid_brush_displacement"], elements * factor), scales["rigid_brush_force"]
 
 
-def _run(problem: ContactProblem, method: str, preload: float, tips: float | None = None) -> tuple[float, dict]:
+def _run(problem: ContactProblem, method: str, preload: float, tips: float | None = None,
+         calibrate: bool = False) -> tuple[float, dict]:
     """The CPU time of a pull-off (``time.process_time``: other processes on a shared machine do not count) and
-    its summary."""
+    its summary; ``calibrate``: the tips' criterion calibrated to Kendall's force."""
     extra = {} if tips is None else {"pillar_tip_resolution": tips}
+    if calibrate:
+        extra["pillar_tip_calibration"] = True
     start = time.process_time()
     record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**7, **extra))
     return time.process_time() - start, record.summary
@@ -121,6 +125,8 @@ def main() -> None:
     parser.add_argument("--tip-grid", type=float, default=1.0,
                         help="the grid of --tips: this times 16 elements per pitch (3.6 per radius)")
     parser.add_argument("--exact-elements", type=int, default=600, help="largest grid of the exact path in --tips")
+    parser.add_argument("--calibrate", action="store_true",
+                        help="--tips: every resolution also with the tips' criterion calibrated to Kendall's force")
     args = parser.parse_args()
     if args.tips:
         _tip_resolutions(args)
@@ -175,6 +181,11 @@ def _tip_resolutions(args: argparse.Namespace) -> None:
                 "pillar_tip_resolution": tip, "tip_elements_per_radius": round(factor * grid_tips, 3),
                 "pillars_cpu_seconds": round(seconds, 2), "pillars_adhesive_force": model["adhesive_force"],
                 "pillars_work": model["work_of_separation"], "converged": model["converged"]}
+        if args.calibrate:
+            seconds, calibrated = _run(problem, "pillars", preload, tip, calibrate=True)
+            line.update({"calibrated_cpu_seconds": round(seconds, 2),
+                         "calibrated_adhesive_force": calibrated["adhesive_force"],
+                         "calibrated_work": calibrated["work_of_separation"]})
         if factor * problem.grid.elements <= args.exact_elements and tip is not None:
             fine, _ = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, args.tip_grid, factor)
             t_exact, exact = _run(fine, "events", preload)
@@ -182,6 +193,8 @@ def _tip_resolutions(args: argparse.Namespace) -> None:
                          "events_adhesive_force": exact["adhesive_force"], "events_work": exact["work_of_separation"],
                          "adhesive_force_rel_diff": model["adhesive_force"] / exact["adhesive_force"] - 1,
                          "work_rel_diff": model["work_of_separation"] / exact["work_of_separation"] - 1})
+            if args.calibrate:
+                line["calibrated_adhesive_force_rel_diff"] = calibrated["adhesive_force"] / exact["adhesive_force"] - 1
         print(json.dumps(line), flush=True)
 
 

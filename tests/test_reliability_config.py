@@ -126,7 +126,8 @@ BASES: dict[str, dict[str, Any]] = {
         "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.07,
                      "stiffness_ratio": 0.5, "seed": 1},
         "protocol": {"method": "pillars", "preload_displacement": 0.01, "pillar_near": 6.0,
-                     "pillar_modes": "tilt", "pillar_solve": "kept", "pillar_tip_resolution": 4.0},
+                     "pillar_modes": "tilt", "pillar_solve": "kept", "pillar_tip_resolution": 4.0,
+                     "pillar_tip_calibration": True},
     },
     "random_brush": {
         "halfspace": HALFSPACE, "grid": GRID,

@@ -411,4 +411,4 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
 #: Protocol keys that arrived after sweeps were first recorded: omitted while at their schema default,
 #: so the case hashes of the recorded sweeps stay what they were.
 _LATER_PROTOCOL_KEYS = ("speed", "event_window", "pillar_modes", "pillar_near", "pillar_solve",
-                        "pillar_tip_resolution")
+                        "pillar_tip_resolution", "pillar_tip_calibration")

@@ -76,6 +76,7 @@ PARAMETER_KEYS: dict[tuple[str, str], str] = {
     ("LoadPath", "pillar_near"): "protocol.pillar_near",
     ("LoadPath", "pillar_solve"): "protocol.pillar_solve",
     ("LoadPath", "pillar_tip_resolution"): "protocol.pillar_tip_resolution",
+    ("LoadPath", "pillar_tip_calibration"): "protocol.pillar_tip_calibration",
     ("LoadPath", "tolerance"): "solver.tolerance",
     ("LoadPath", "max_iterations"): "solver.max_iterations",
     ("LoadPath", "cascade"): "solver.cascade",

@@ -68,6 +68,11 @@ class ProtocolConfig(_Section):
         ``method = "pillars"`` only: every tip on a raster of its own with at
         least this many elements per pillar radius (>= 2; the grid subdivided
         by the smallest integer that gives it); None: the grid's own.
+    pillar_tip_calibration : bool
+        ``method = "pillars"`` only: every tip's critical stress scaled so that
+        the tip alone on its raster comes off at Kendall's force (removes a
+        lone tip's discretisation error, not a brush's; measured in
+        ``docs/pillars/calibration.csv``); false: the raster's own.
     """
 
     model_config = _MODEL_CONFIG
@@ -85,6 +90,7 @@ class ProtocolConfig(_Section):
     pillar_near: float | None = Field(None, gt=0, allow_inf_nan=False)
     pillar_solve: Literal["auto", "kept", "cg"] = "auto"
     pillar_tip_resolution: float | None = Field(None, ge=2, allow_inf_nan=False)
+    pillar_tip_calibration: bool = False
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):

@@ -16,6 +16,8 @@ import math
 import numpy as np
 
 from brushbem.physics.halfspace import influence_coefficients
+from brushbem.physics.theory.punch import kendall_force
+from brushbem.pillars.calibration import calibrated_criteria
 from brushbem.pillars.lattice import Lattice
 from brushbem.pillars.modes import MODES, SCHUR_ELEMENTS, Bases, Basis
 from brushbem.pillars.tips import TipRaster
@@ -35,7 +37,8 @@ class PillarModel:
     """Bases, couplings and springs of a brush in the pillar model (`brushbem.pillars`)."""
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
-                 peel: bool = True, near: float | None = None, lattice: bool = True, tips: int = 1):
+                 peel: bool = True, near: float | None = None, lattice: bool = True, tips: int = 1,
+                 calibrate: bool = False):
         if modes not in MODES:
             raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
         if coupling not in ("local", "full"):
@@ -46,7 +49,6 @@ class PillarModel:
         self.n = raster.elements
         h = raster.element_size
         self.h2 = h ** 2
-        self.critical = raster.critical_stress
         self.powers = MODES[modes]
         self.m = len(self.powers)
         self.coupling = coupling if self.m > 1 else "full"
@@ -76,6 +78,14 @@ class PillarModel:
         self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
         self.scale = h / (math.pi * problem.contact_modulus)
         self.bases = Bases(self.ktab, self.powers)
+        #: Every pillar's critical stress (M,): the tips' raster's Sigma_c, or calibrated to Kendall's force
+        #: per footprint shape (``calibrate``, `brushbem.pillars.calibration`).
+        self.critical = np.full(M, raster.critical_stress)
+        if calibrate:
+            footprints = [np.stack([self.rows[p][:sizes[p]], self.cols[p][:sizes[p]]], axis=1) for p in range(M)]
+            kendall = kendall_force(float(indenter.description.pillar_radius), contact_modulus=problem.contact_modulus,
+                                    work_of_adhesion=problem.work_of_adhesion)
+            self.critical = calibrated_criteria(self.bases, footprints, raster.critical_stress, self.h2, kendall)
         #: Footprints of `SCHUR_ELEMENTS` or more (fine tips): the others' modes' fields across them, kept
         #: (`_exact`), and every pillar's footprint (row-major offsets from its first row and column).
         self.large = int(sizes.max()) >= SCHUR_ELEMENTS

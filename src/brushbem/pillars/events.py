@@ -98,9 +98,11 @@ def _detachment_times(run: PillarState, path: LoadPath, d: float,
     model = run.model
     p = run.pressures_at(d)
     rate = direction * run.pressures(run.alpha)
-    grows = np.take(model.raster, run.on(), axis=0) & (rate < 0)
-    t_detach = np.where(grows, (p + model.critical) / np.where(grows, -rate, 1.0), np.inf)
-    return np.maximum(t_detach, 0.0), detachment_slack(path, model.critical, grows, rate)
+    rows = run.on()
+    grows = np.take(model.raster, rows, axis=0) & (rate < 0)
+    critical = model.critical[rows, None]
+    t_detach = np.where(grows, (p + critical) / np.where(grows, -rate, 1.0), np.inf)
+    return np.maximum(t_detach, 0.0), detachment_slack(path, critical, grows, rate)
 
 
 def _preload_distance(run: PillarState, path: LoadPath, d: float) -> float:

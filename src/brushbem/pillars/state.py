@@ -203,7 +203,7 @@ class PillarState:
             x = self.amplitudes(d)
             p = self.pressures_at(d)
             rows = self.on()
-            tense = np.take(model.raster, rows, axis=0) & (p < -model.critical * (1 + 1e-10) if model.critical > 0 else p < 0)
+            tense = np.take(model.raster, rows, axis=0) & (p < -model.critical[rows, None] * (1 + 1e-10))
             hit = np.flatnonzero(tense.any(axis=1))
             if hit.size:
                 peel_all(self, [(int(rows[i]), tense[i]) for i in hit], x, d)
@@ -380,7 +380,7 @@ def peeled(run: PillarState, p: int, leave: np.ndarray, frozen: np.ndarray, x: n
         run.check_stop()
         a, basis = local_amplitudes(run, p, mask, frozen, x, d)
         pressure = basis.phi @ a
-        tense = pressure < -model.critical * (1 + 1e-10) if model.critical > 0 else pressure < 0
+        tense = pressure < -model.critical[p] * (1 + 1e-10)
         if not tense.any():
             break
         slots = np.flatnonzero(mask)

@@ -141,6 +141,10 @@ class LoadPath:
         least this many elements per pillar radius, the global grid
         subdivided by the smallest integer that gives it
         (`brushbem.pillars.tips`); None: the global grid's.
+    pillar_tip_calibration : bool
+        Method "pillars" only: every tip's critical stress scaled so that the
+        tip alone on its raster comes off at Kendall's force
+        (`brushbem.pillars.calibration`); False: the raster's own Sigma_c.
     """
 
     method: str = "events"
@@ -158,6 +162,7 @@ class LoadPath:
     pillar_near: float | None = None
     pillar_solve: str = "auto"
     pillar_tip_resolution: float | None = None
+    pillar_tip_calibration: bool = False
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -198,7 +203,7 @@ class LoadPath:
                                  f"be one of {', '.join(map(repr, PILLAR_SOLVES))}")
         if self.method != "pillars":
             for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto"),
-                                  ("pillar_tip_resolution", None)):
+                                  ("pillar_tip_resolution", None), ("pillar_tip_calibration", False)):
                 if getattr(self, name) != default:
                     raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
                                          f"method = 'pillars' only (method = {self.method!r}); remove it")

@@ -447,6 +447,7 @@ def build_path(config: RunConfig) -> LoadPath:
             pillar_near=p.pillar_near,
             pillar_solve=p.pillar_solve,
             pillar_tip_resolution=p.pillar_tip_resolution,
+            pillar_tip_calibration=p.pillar_tip_calibration,
             tolerance=config.solver.tolerance,
             max_iterations=config.solver.max_iterations,
             cascade=config.solver.cascade,
