@@ -16,8 +16,7 @@ import math
 import numpy as np
 
 from brushbem.physics.halfspace import influence_coefficients
-from brushbem.physics.theory.punch import kendall_force
-from brushbem.pillars.calibration import calibrated_criteria
+from brushbem.pillars.calibration import tip_criteria
 from brushbem.pillars.lattice import Lattice
 from brushbem.pillars.modes import MODES, SCHUR_ELEMENTS, Bases, Basis
 from brushbem.pillars.tips import TipRaster
@@ -80,12 +79,7 @@ class PillarModel:
         self.bases = Bases(self.ktab, self.powers)
         #: Every pillar's critical stress (M,): the tips' raster's Sigma_c, or calibrated to Kendall's force
         #: per footprint shape (``calibrate``, `brushbem.pillars.calibration`).
-        self.critical = np.full(M, raster.critical_stress)
-        if calibrate:
-            footprints = [np.stack([self.rows[p][:sizes[p]], self.cols[p][:sizes[p]]], axis=1) for p in range(M)]
-            kendall = kendall_force(float(indenter.description.pillar_radius), contact_modulus=problem.contact_modulus,
-                                    work_of_adhesion=problem.work_of_adhesion)
-            self.critical = calibrated_criteria(self.bases, footprints, raster.critical_stress, self.h2, kendall)
+        self.critical = tip_criteria(self, problem, raster.critical_stress, calibrate)
         #: Footprints of `SCHUR_ELEMENTS` or more (fine tips): the others' modes' fields across them, kept
         #: (`_exact`), and every pillar's footprint (row-major offsets from its first row and column).
         self.large = int(sizes.max()) >= SCHUR_ELEMENTS

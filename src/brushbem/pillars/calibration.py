@@ -23,9 +23,10 @@ import math
 
 import numpy as np
 
+from brushbem.physics.theory.punch import kendall_force
 from brushbem.pillars.modes import Bases
 
-__all__ = ["calibrated_criteria", "lone_pull_off"]
+__all__ = ["calibrated_criteria", "lone_pull_off", "tip_criteria"]
 
 
 def lone_pull_off(bases: Bases, footprint: np.ndarray, critical: float, h2: float) -> tuple[float, int]:
@@ -74,3 +75,15 @@ def calibrated_criteria(bases: Bases, footprints: list[np.ndarray], critical: fl
             factors[key] = kendall / force
         out[p] = critical * factors[key]
     return out
+
+
+def tip_criteria(model, problem, critical: float, calibrate: bool) -> np.ndarray:
+    """Every pillar's critical stress (M,) in the `brushbem.pillars.basis.PillarModel` ``model`` (its bases,
+    footprints and h^2): ``critical`` (the tips' raster's Sigma_c), or calibrated (`calibrated_criteria`)."""
+    if not calibrate:
+        return np.full(model.M, critical)
+    sizes = np.count_nonzero(model.full, axis=1)
+    footprints = [np.stack([model.rows[p][:sizes[p]], model.cols[p][:sizes[p]]], axis=1) for p in range(model.M)]
+    kendall = float(kendall_force(float(problem.indenter.description.pillar_radius),
+                                  contact_modulus=problem.contact_modulus, work_of_adhesion=problem.work_of_adhesion))
+    return calibrated_criteria(model.bases, footprints, critical, model.h2, kendall)
