@@ -32,8 +32,11 @@ Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 --before c48c002 --repeat 3``, a machine loaded 5-6 on two cores) loading
 0.84 s against 1.10 s before the loading's rounds were cut (local release,
 replayed cycles), pull-off 1.93 s, the whole 2.78 s against the exact path's
-42.1 s (1/15.2), F_A and the work the same to 2e-15.  The numbers of every
-size are in the docstring of `brushbem.pillars`.
+42.1 s (1/15.2), F_A and the work the same to 2e-15.  The 100 x 100 rough
+brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
+load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
+same to 1e-14.  The numbers of every size are in the docstring of
+`brushbem.pillars`.
 """
 
 from __future__ import annotations
@@ -70,6 +73,10 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
             settings.using(kept_pillars=None).__enter__()  # for the rest of this child process
         except (ImportError, AttributeError):  # a commit whose limit was a module attribute
             pillar_solver.KEPT_PILLARS = None
+    if os.environ.get("LARGE_BRUSH_KEPT_PARTIAL"):  # --kept-partial: for the rest of this child process
+        from brushbem import settings
+
+        settings.using(kept_partial=int(os.environ["LARGE_BRUSH_KEPT_PARTIAL"])).__enter__()
     start = time.process_time()
     problem, preload = _problem(per_side, ratio, sigma, seed)
     built = time.process_time() - start
@@ -108,6 +115,8 @@ def _measure(per_side: int, method: str, args, sources: Path | None = None) -> d
     environment = dict(os.environ)
     environment["PYTHONPATH"] = os.pathsep.join([str((sources or ROOT) / "src"), environment.get("PYTHONPATH", "")])
     environment["LARGE_BRUSH_HELPERS"] = str((sources or ROOT) / "benchmarks")
+    if args.kept_partial is not None:
+        environment["LARGE_BRUSH_KEPT_PARTIAL"] = str(args.kept_partial)
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     start = time.perf_counter()
     try:
@@ -188,6 +197,9 @@ def main() -> None:
     parser.add_argument("--kept-baseline", action="store_true",
                         help="also run the model with the kept inverse at every size (no CG on the lattice)")
     parser.add_argument("--before", metavar="REF", help="also run the model on the sources of git revision REF")
+    parser.add_argument("--kept-partial", type=int, default=None,
+                        help="Switches.kept_partial of the model's runs (the kept inverse on a partial set up to this "
+                             "many attached pillars)")
     parser.add_argument("--repeat", type=int, default=1,
                         help="runs of the model (and of --before's) per size; their median CPU times")
     args = parser.parse_args()

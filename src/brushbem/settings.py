@@ -48,7 +48,9 @@ class Switches:
         pillar model keeps its inverse up to this many of them (n^2 numbers: 134 MB at 4096): the circulant
         preconditioner of `LatticeCG` fits a full lattice, and on such a set it took 22-32 iterations a
         solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the preload; its
-        loading 60 CPU s by CG, 10 s kept).
+        loading 60 CPU s by CG, 10 s kept).  At 16384 the 316 x 316 brush (sigma~ = 0.5, 4270 attached at
+        the preload) loads in 179 CPU s, peak 6.4 GB, where 4096 (CG beyond) had not loaded in 16 CPU
+        minutes; not the default, as the dense blocks of a large join grow as n^2 (6.4 GB at n = 10312).
     pillar_cg_iterations : int
         Iterations of the pillar model's CG before its solve is declared not converged.
     radiate_uniform : bool

@@ -132,6 +132,10 @@ not reached the preload in 600 s.  Measured again (``--sizes 100 --sigma 0.5
 --exact-max 0 --before e340948 --repeat 2``, a loaded machine): 59.2 s
 (64.4 and 54.0; loading 15.5 s, pull-off 43.7 s) against 72.6 s for the
 revision before, in 0.53 GB, F_A and the work the same to the last digit.
+With the loading's rounds cut (local release, replayed cycles, spent slots
+kept spent near the last press's d; ``--before c48c002 --repeat 2``, load
+4-7 on two cores): 58.9 s (59.9, 57.8; loading 12.5 s, pull-off 46.3 s)
+against 63.8 s (loading 18.4 s), F_A the same to 1e-14, the work to 1e-15.
 Where its time goes (py-spy, the whole run): the solves 54 % (the far
 field's FFT over the whole lattice 23 %, about 5.4 ms a solve for its 24
 transforms, and the kept inverse's product), the peels 14 %, the states
@@ -146,6 +150,19 @@ Beyond `Switches.kept_partial` attached pillars the solves are CG on the
 lattice, and the higher modes' near field fed back while pressing costs a CG
 solve every round of `radiate`: 88 % of that loading's time (py-spy), each CG
 product 24 FFTs of 640 x 640 (the products in the spectrum between them 24 %).
+With the inverse kept on partial sets up to 16384 attached pillars
+(``--kept-partial 16384``, `Switches.kept_partial`; the default stays 4096)
+and the loading's rounds cut, the same loading took 179 CPU-s (load 3-4 on
+two cores): ten presses, the preload search's seven reaching F_c at 4270
+pillars attached, the fourth 93 s of it (9618 pillars joining at once, one
+Schur complement of that size), peak memory 6.4 GB (the model 2.2 GB, the
+rest that join's dense blocks: about five n^2 numbers at n = 10312); its
+pull-off was not run.  The default keeps 4096 because those transients grow
+as n^2 (about 10.7 GB at 16384, beyond the 8 GB this size is meant to run
+in) and the memory estimate (`brushbem.config.resources`) counts none.  By
+CG a partial set's solves took 19 iterations, the near field's 23 a solve and
+3.7 solves a round (64 x 64, sigma~ = 0.5, every solve by CG: loading 28.8 s,
+against 10 s kept before these changes).
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its
