@@ -37,6 +37,22 @@ radius on the grid, ``--tip-grid 1.109``):
     64       16.0           4.7     8.930e-4     k~ = 10: -0.02 % F_A, +0.12 % work (exact path 461 s)
     64       16.0          12.7     8.417e-3     k~ = 10, level: -0.39 %, -0.80 % (exact path 113 s)
 
+Measured again with ``--calibrate`` (the tips' criterion calibrated to Kendall's force; ``--tips 8 16
+--tip-brush 32 --tip-grid 1.109 --exact-elements 0 --calibrate``, and ``--tips 4 --tip-brush 100``):
+
+    pillars  tips/radius   CPU s    F_A          calibrated: CPU s, F_A
+    1024     4.0 (grid)     3.15    1.4958e-3    2.74    1.4030e-3
+    1024     8.0            8.97    1.4813e-3    9.79    1.4057e-3
+    1024     16.0          43.3     1.3038e-3   45.6     1.3551e-3
+    10^4     4.0 (grid)    41.3     1.0363e-5   45.0     9.4463e-6
+
+On this rough brush neither sequence is converged at 16 elements per radius (-12 % from 8 to 16 without the
+calibration, -3.6 % with it).  32 elements per radius is not measured: a peel's rounds and every raster's
+basis grow with the tip (16 per radius costs 14 times the grid's tips at 1024 pillars).  The 10^4-pillar
+rough brush of ``benchmarks/large_brush.py --sizes 100 --sigma 0.5 --exact-max 0 --before cc45de7``
+(the default, before and after the calibration and the pillar-level loading's changes, one run): 51.2 s
+(loading 10.7 s, pull-off 40.5 s) against 57.0 s (17.2 s, 39.8 s), F_A and the work the same to 1e-14.
+
 Where the tips' cost goes (cProfile of the 1024-pillar line at 16 elements per radius against the grid's
 tips, the same brush): 3339 states and 2010 solves against 619 and 554 (a fine tip peels in more steps,
 each a state and a solve of the brush); the peeling 51 % of the time, almost all of it the bases of the
@@ -175,12 +191,15 @@ def _tip_resolutions(args: argparse.Namespace) -> None:
     grid_tips = problem.indenter.description.pillar_radius / problem.grid.element_size
     for tip in [None, *args.tips]:
         factor = tip_factor(problem, tip)
+        if tip is not None and factor == 1:
+            continue  # the grid's own tips: the first line
         seconds, model = _run(problem, "pillars", preload, tip)
         line = {"pillars": problem.indenter.n_pillars, "elements": problem.grid.elements,
                 "sigma_by_dc": args.sigma, "stiffness_ratio": args.stiffness_ratio,
                 "pillar_tip_resolution": tip, "tip_elements_per_radius": round(factor * grid_tips, 3),
                 "pillars_cpu_seconds": round(seconds, 2), "pillars_adhesive_force": model["adhesive_force"],
-                "pillars_work": model["work_of_separation"], "converged": model["converged"]}
+                "pillars_work": model["work_of_separation"], "pillars_states": model["n_states"],
+                "converged": model["converged"]}
         if args.calibrate:
             seconds, calibrated = _run(problem, "pillars", preload, tip, calibrate=True)
             line.update({"calibrated_cpu_seconds": round(seconds, 2),

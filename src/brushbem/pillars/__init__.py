@@ -189,6 +189,19 @@ Tip resolution
     against 619) and a basis per peeled raster (half of the time), not
     the tips' bases or near-field blocks (computed once per shape and
     offset) nor the pillar-level system (the same M pillars and modes).
+    The flat 8 x 8 brush at k~ = 10 (cProfile of ``benchmarks/pillars.py
+    --tips 7.2 14.4 --tip-brush 8 --sigma 0 --stiffness-ratio 10
+    --exact-elements 0``): 14, 12 and 30 states at 3.6, 7.2 and 14.4
+    elements per radius in 0.2, 0.8 and 5.3 CPU-s; at 14.4 the peels are
+    84 % of it, 156 of them in 3088 rounds (a tip's detachment front moves
+    about an element a round) with 2875 new raster bases.  Those rounds are
+    already taken at one d, without states or brush solves: once a flat
+    tip's edge leaves, the rest follows at falling force (Kendall's
+    instability), which the peel follows round by round because a tip that
+    stops partly peeled decides F_A.  The states between them are events
+    with a load increase (a finer raster's corner and edge elements leave
+    in more, smaller stable steps), and F_A is the largest force over them:
+    taking them together changes the answer.
     The validation families (``docs/pillars/tips.csv``, written by
     ``docs/pillars/tips.py``: flat, rough, random, hierarchical and concave
     8 x 8 brushes at k~ = 10, 1e-2 and 1e-5) with tips at 7.2 elements per
@@ -198,7 +211,15 @@ Tip resolution
     -0.46 .. +0.06 % and -0.66 .. +1.0 %, in 0.03 of its time, but for two
     outside the targets: the concave brush at k~ = 10, +2.3 % (F_A) and
     +1.7 % (work) (at 7.2 per radius +0.33 %), and the random one at 1e-5,
-    -1.2 % (F_A).  The grid's own tips (3.6 per radius, the
+    -1.2 % (F_A).  The concave brush's F_A at k~ = 10 is the net of
+    compressed corner pillars and pulled ones (``docs/pillars/pillar_forces.py
+    concave 10 4``, 70 CPU-s): at the preload the model's pillar forces
+    are the exact path's to 8.8e-7 (0.1 % of the largest); at pull-off the
+    pillars' |F_i| sum to 4.3 F_A, and the model's differ by at most 2.3e-6
+    each and by -2.7e-5 in sum: 0.53 % of sum |F_i|, 2.3 % of F_A (the
+    pull-off displacement 0.5 % apart).  The random
+    brush at 1e-5 is not explained (its exact path on N = 512 costs 470 s).
+    The grid's own tips (3.6 per radius, the
     default) are +0.0 .. +4.1 % (F_A) and up to +7.5 % (work) from the
     exact path on N = 256, +2.2 .. +19 % and +4.4 .. +22 % from the one on
     N = 512.  The exact path is not converged there either.  Where its F_A
@@ -248,7 +269,10 @@ Calibrated tips (``LoadPath.pillar_tip_calibration``, off by default)
     resolution itself does there (the exact path moves -12 % from N = 256 to
     512): against the exact path on N = 512 calibrated -1.6 % and -4.1 %
     (default +14 % and +19 %).  Its cost: one lone pull-off per footprint
-    shape (a lattice: one), the same run time otherwise.
+    shape (a lattice: one), the same run time otherwise (``benchmarks/pillars.py
+    --tips 4 --tip-brush 100 --tip-grid 1.109 --exact-elements 0 --calibrate``:
+    10^4 rough pillars, 4.0 elements per radius, 45.0 s against 41.3 s;
+    F_A 9.446e-6 against 1.0363e-5, the tips at 16 per radius 9.502e-6).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
