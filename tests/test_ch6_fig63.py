@@ -16,16 +16,20 @@ import pytest
 
 from brushbem.studies import get_study
 from brushbem.studies._ch5_7 import FA, FP, SIG, K
+from brushbem.studies._ch6_fig63 import TIP
 from brushbem.studies._ch6_fig63 import (
     ELEMENTS,
     FIG63_NUMBERS,
     IDENTIFICATION,
+    IDENTIFY_GRID,
+    IDENTIFY_TIPS,
     K3,
     N3_CANDIDATES,
     N3_IDENTIFIED,
     PILLARS,
     PLATEAUS,
     TIPS_PART,
+    TIPS_PARTS,
     discretisation,
     identification,
     plateau,
@@ -81,16 +85,41 @@ def test_a_row_reads_only_the_identified_candidate_at_its_grid_and_stiffness():
     assert math.isnan(plateau("three", 1.6, 1.0)(tables))  # no such point: never read off another
 
 
-def test_the_identification_table_scores_each_candidate_on_the_three_plateaus():
+def test_the_identification_table_scores_each_candidate_at_both_resolutions_and_the_resolved_tips_decide():
     values = {}
     for n3, (side, grid) in N3_CANDIDATES.items():
         for level, thesis in PLATEAUS.items():
-            # candidate 4 is 10 % off on every plateau, 9 exact, 16 20 % off
+            # on the rows' grid candidate 4 is 10 % off on every plateau, 9 exact, 16 20 % off
             values[(level, n3, grid, 1e-3, 2e-2, 0.04, 14.3)] = thesis * {4: 1.1, 9: 1.0, 16: 0.8}[n3]
-    text = identification(_tables(values))
-    lines = {line.split(" |")[0].lstrip("| ").split(" ")[0]: line for line in text.splitlines() if line.startswith("| ")}
-    assert "| 10.0 % | 2 |" in lines["4"] and "| 0.0 % | 2 |" in lines["9"] and "| 20.0 % | 2 |" in lines["16"]
-    assert "1.760 ± 0.010" in lines["4"]  # one level: 1.6 x 1.1, seeds at -+ 0.01
+    tables = _tables(values)
+    # with the tips resolved (set identify_tips): 4 is 2 % off, 9 6 %, 16 not run; and a case of another tips'
+    # resolution and one of another global grid, which the scores never read
+    point = {"status": "finished", K: 1e-3, K3: 2e-2, SIG: 0.04 * 1.02, FP: 14.3 * 0.98}
+    for level, thesis in PLATEAUS.items():
+        rows = [{**point, "realization": r, PILLARS: N3_CANDIDATES[n3][0], ELEMENTS: IDENTIFY_GRID,
+                 TIP: IDENTIFY_TIPS, FA: thesis * factor + shift}
+                for n3, factor in ((4, 1.02), (9, 1.06)) for r, shift in ((0, -0.01), (1, 0.01))]
+        rows += [{**point, "realization": r, PILLARS: 40, ELEMENTS: IDENTIFY_GRID, TIP: 13.5, FA: thesis * 1.025}
+                 for r in (0, 1)]
+        rows += [{**point, "realization": r, PILLARS: 40, ELEMENTS: 1024, TIP: IDENTIFY_TIPS, FA: thesis * 1.015}
+                 for r in (0, 1)]
+        tables[TIPS_PARTS[level]] = pd.DataFrame(rows)
+    text = identification(tables)
+    rows = [line for line in text.splitlines() if line[:3].strip("| ").isdigit()]
+    coarse = {line[2:].split(" ")[0]: line for line in rows if "the grid's" in line}
+    fine = {line[2:].split(" ")[0]: line for line in rows if "own raster" in line}
+    # seeds at -+ 0.01: each plateau's standard error 0.01; the score's 0.01 / 3 x sqrt(sum 1 / thesis^2) = 0.3 %
+    assert "| 10.0 ± 0.3 % | 2, 2, 2 |" in coarse["4"] and "| 0.0 % | 2, 2, 2 |" in coarse["9"]
+    assert "| 20.0 ± 0.3 % | 2, 2, 2 |" in coarse["16"] and "1.760 ± 0.010" in coarse["4"]
+    assert "| 2.0 ± 0.3 % | 2, 2, 2 |" in fine["4"] and "| 6.0 ± 0.3 % | 2, 2, 2 |" in fine["9"]
+    assert "| not run | not run | not run | — | — | 0, 0, 0 |" in fine["16"]
+    assert "decide: there N3 = 4 scores lowest, 4.0 points below N3 = 9's score (± 0.5, the seeds)." in text
+    # the tips at 13.5 (+0.5 % over 9: a band of ±0.24 %) and the global grid N = 1024 (-0.49 %) bound a score's
+    # move by 0.49 % x 1.06: 0.52 points, a margin of 4.0 exceeds twice that and two standard errors
+    assert "within ±0.24 %" in text and "within 0.49 %" in text and "by at most 0.52 points" in text
+    assert "the identification holds at this resolution" in text
+    # on the rows' grid the tips put +7.6 % (2.09 against 1.943): 8.3 points on a score, more than half of 10.0
+    assert "N3 = 9 scores lowest, 10.0 points below N3 = 4" in text and "so that resolution does not decide" in text
 
 
 def test_the_committed_tables_identify_the_declared_n3():
@@ -104,9 +133,12 @@ def test_the_committed_tables_identify_the_declared_n3():
     scores = {}
     for line in identification(tables).splitlines():
         cells = [c.strip() for c in line.strip("|").split("|")]
-        if cells and cells[0].split(" ")[0].isdigit() and cells[7].endswith("%"):
-            scores[int(cells[0].split(" ")[0])] = float(cells[7].rstrip(" %"))
-    assert scores and min(scores, key=scores.get) == N3_IDENTIFIED, scores
+        # the deciding resolution: the tips on rasters of their own
+        if cells and cells[0].split(" ")[0].isdigit() and "own raster" in cells[3] and cells[8].endswith("%"):
+            floor = cells[8].startswith("≥")  # a candidate not run at every level: its score's floor
+            scores[int(cells[0].split(" ")[0])] = (float(cells[8].lstrip("≥ ").split(" ")[0]), floor)
+    assert scores and not scores[N3_IDENTIFIED][1], scores  # the identified N3 ran at every level
+    assert min(scores, key=lambda n3: scores[n3][0]) == N3_IDENTIFIED, scores
 
 
 def test_the_sweep_files_are_those_the_generator_writes():
@@ -118,7 +150,14 @@ def test_the_sweep_files_are_those_the_generator_writes():
         for name, points in make["sets"](level).items():
             expected = make["text"](level, points, f"Named set {name!r} of hierarchy.fig63_{level}.toml")
             assert (sweeps / f"hierarchy.fig63_{level}.{name}.sampled.toml").read_text(encoding="utf-8") == expected
-    assert (sweeps / "hierarchy.fig63_tips.toml").read_text(encoding="utf-8") == make["tips_text"]()
+    for level, part in make["TIPS_PARTS"].items():
+        named = make["tip_sets"](level)
+        for name, points in named.items():
+            expected = make["tips_text"](level, points, f"Named set {name!r} of hierarchy.{part}.toml")
+            assert (sweeps / f"hierarchy.{part}.{name}.sampled.toml").read_text(encoding="utf-8") == expected
+        every = [p for i, p in enumerate(sum(named.values(), [])) if p not in sum(named.values(), [])[:i]]
+        assert (sweeps / f"hierarchy.{part}.toml").read_text(encoding="utf-8") == make["tips_text"](
+            level, every, "Every point of the named sets of the tips' part")
 
 
 def test_the_named_sets_carry_every_row_and_the_identification_set_its_rows():
@@ -181,3 +220,29 @@ def test_the_discretisation_table_reads_the_tips_refinement_at_the_rows_grid_on_
     # A seed without every resolution (stopped inside it) is left out: its 9 elements a radius alone is not read.
     partial = pd.concat([tips, tips.iloc[:1].assign(seed=8, **{FA: 9.0})])
     assert "9.0000" not in "\n".join(discretisation({"fig63_three": three, TIPS_PART: partial}))
+
+
+def test_the_tie_table_compares_the_model_and_the_exact_path_on_the_same_seeds_and_grid():
+    """Each level on the seeds both methods ran at that N, each ratio of levels on the seeds both levels have;
+    the exact parts' rows (`part_plateau`) read their grid N = 1024 only, never the set mesh's N = 1536."""
+    from brushbem.studies._ch5_7 import PRELOAD, SIGMA
+    from brushbem.studies._ch6_fig63 import CLUSTERED_GRID, part_plateau, tie_table
+
+    point = {SIG: 0.04, FP: 14.3, SIGMA: 1.2e-4, PRELOAD: 0.047, K: 1e-3, K3: 2e-2, "status": "finished"}
+    model = {"two": [(1024, 0, 1.70), (1024, 1, 1.72), (1536, 0, 1.75)], "three": [(1024, 0, 1.734), (1536, 0, 1.80)]}
+    exact = {"two": [(1024, 0, 1.7356), (1024, 1, 1.7254), (1536, 0, 1.76)],
+             "three": [(1024, 0, 1.7354), (1024, 2, 9.0), (1536, 0, 1.78)]}
+    tables = {f"fig63_{level}": pd.DataFrame([{**point, PILLARS: 40, ELEMENTS: n, "realization": r, FA: fa}
+                                              for n, r, fa in rows]) for level, rows in model.items()}
+    tables |= {f"clustered_{level}": pd.DataFrame([{**point, ELEMENTS: n, "realization": r, FA: fa}
+                                                   for n, r, fa in rows]) for level, rows in exact.items()}
+    text = "\n".join(tie_table(tables))
+    # two levels at N = 1024 on seeds 0 and 1: 1.71 against 1.7305; three on seed 0 only (seed 2 has no model case)
+    assert "| 1024 | 2.25 | two | 1.7100 | 1.7305 | -1.18 % | 2 |" in text
+    assert "| 1024 | 2.25 | three | 1.7340 | 1.7354 | -0.08 % | 1 |" in text
+    # three over two on seed 0 alone: (1.734 / 1.70) / (1.7354 / 1.7356) - 1 = +2.01 %
+    assert "| 1024 | 2.25 | three over two | 1.0200 | 0.9999 | +2.01 % | 1 |" in text
+    assert "| 1536 | 3.375 | two | 1.7500 | 1.7600 | -0.57 % | 1 |" in text
+    assert CLUSTERED_GRID == 1024
+    # the exact row's mean over its seeds at N = 1024 (1.7356, 1.7254), never N = 1536's 1.76
+    assert part_plateau("clustered_two", 0.04)(tables) == pytest.approx((1.7356 + 1.7254) / 2)

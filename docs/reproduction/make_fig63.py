@@ -14,21 +14,33 @@ Named sets (``brushbem study hierarchy --sampled-set SET --parts fig63_one,fig63
   16, level-3 clusters (40 x 40, 60 x 60 and 80 x 80 sub-pillars; N1 N2 = 400 for each, so eq. 6.28
   gives 4.21e-5 for each), at N = 2048, 3072 and 4096 elements (4.5 elements a radius): chapter 6's
   identification (the 80 x 80 brush, several CPU-minutes a case, in a set of its own).
-* ``mesh``: the same plateau at the identified N3 on 1024 and 4096 elements (2.25 and 9 elements a
-  radius; 2048 is in ``identify``): the mesh refinement of the plateau.
+* ``mesh``: the same plateau at the identified N3 on 1024, 1536 and 4096 elements (2.25, 3.375 and 9
+  elements a radius; 2048 is in ``identify``): the mesh refinement of the plateau; at 1024 and 1536
+  also the pillar-level model's error against the exact path on the same brush (parts ``clustered_*``,
+  their cases and set ``mesh``).
 * ``rows``: the points of the held-out rows at the identified N3 and N = 2048: sigma~ = 0.04, 0.8
   and 1.6 at the small preload F~_P = 1 (Fig. 6-4 a, c, e; ours: the thesis states none), and
   sigma~ = 2.5 at F~_P = 20 (Fig. 6-6 b, "close to each other" for sigma~ > 2).
+* ``rows16``: the point sigma~ = 1.6, F~_P = 1 of ``rows`` alone (Fig. 6-4 e, L1183, L1185, L1199), to add
+  seeds there without the other points of ``rows`` (the same cases: ``rows`` recomputes them).
 * ``stiffness`` (one and three levels): k~1 = 5e-4 and 5e-2 (k~2 = 9 k~1, k~3 = 20 k~1 as eq. 6.26
   scales them; Fig. 6-8 a, L1240) at the plateau point; three levels with k~3 = 2e-3 (0.1 k~3,
   Fig. 6-8 b, L1249) at sigma~ = 0.04 and 0.2, and k~3 = 2e-2 at sigma~ = 0.2.
 
-Part ``fig63_tips`` (three levels, its own sweep ``hierarchy.fig63_tips.toml``, no named set): the
-plateau point sigma~ = 0.04, F~_P = 14.3 at the identified N3 on the rows' grid N = 2048 with the tips
-on rasters of their own (``protocol.pillar_tip_resolution``, `brushbem.pillars.tips`) at 9, 13.5 and 18
-elements a radius (twice, three and four times the grid's 4.5): the discretisation of the tips at a
-fixed global grid.  It is a part of its own because the key has no value that means "the grid's own
-tips" in a sweep list (the other parts' cases leave it at its default).
+Parts ``fig63_tips_one``, ``fig63_tips_two`` and ``fig63_tips`` (one, two and three levels): the tips on
+rasters of their own (``protocol.pillar_tip_resolution``, `brushbem.pillars.tips`).  They are parts of
+their own because the key has no value that means "the grid's own tips" in a sweep list (the other
+parts' cases leave it at its default).  Named sets (``--sampled-set SET --parts fig63_tips_one,
+fig63_tips_two,fig63_tips``):
+
+* ``tips``: the plateau point sigma~ = 0.04, F~_P = 14.3 at the identified N3 on the rows' grid
+  N = 2048 with the tips at 9, 13.5 and 18 elements a radius (twice, three and four times the grid's
+  4.5): the discretisation of the tips at a fixed global grid; for three levels also the tips at 9 on
+  N = 1024 (2.25 elements a radius on the global grid, as N3 = 16's N = 2048): the global grid at
+  fixed tips.
+* ``identify_tips`` (every level): chapter 6's identification with resolved tips: the plateau point
+  for N3 = 4, 9 and 16 on N = 2048 (4.5, 3 and 2.25 elements a radius on the global grid) with the
+  tips at 9 elements a radius (factors 2, 3, 4: the footprints of N = 4096, 6144, 8192).
 
 Each part's full sweep is the union of its sets (zip mode), so a set's case has the full sweep's
 seed and hash.  Every set lists the thesis's ten realisations (L1187); a sweep runs them one after
@@ -51,6 +63,10 @@ N3 = 4
 LEVELS = ("one", "two", "three")
 #: The tips' own resolutions of part fig63_tips (elements a pillar radius; the grid's own is 4.5).
 TIPS = (9.0, 13.5, 18.0)
+#: The tips' resolution of set identify_tips (elements a pillar radius) and its global grid (every N3).
+IDENTIFY_TIPS, IDENTIFY_GRID = 9.0, 2048
+#: The parts with the tips on rasters of their own, per level.
+TIPS_PARTS = {"one": "fig63_tips_one", "two": "fig63_tips_two", "three": "fig63_tips"}
 TIP_KEY = "protocol.pillar_tip_resolution"
 KEYS = ("grid.elements", "indenter.pillars_per_side", "indenter.roughness.sigma", "protocol.preload_force",
         "indenter.stiffness_ratio", "indenter.levels.0.stiffness_ratio", "indenter.levels.1.stiffness_ratio")
@@ -74,8 +90,9 @@ def point(level: str, n3: int, sigma: float, preload: float, k1: float = K1, k2:
 def sets(level: str) -> dict[str, list[dict]]:
     out = {"identify": [point(level, n3, 0.04, 14.3) for n3 in (4, 9)],
            "identify16": [point(level, 16, 0.04, 14.3)],
-           "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 4096)],
-           "rows": [point(level, N3, s, 1.0) for s in (0.04, 0.8, 1.6)] + [point(level, N3, 2.5, 20.0)]}
+           "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 1536, 4096)],
+           "rows": [point(level, N3, s, 1.0) for s in (0.04, 0.8, 1.6)] + [point(level, N3, 2.5, 20.0)],
+           "rows16": [point(level, N3, 1.6, 1.0)]}
     if level != "two":
         out["stiffness"] = [point(level, N3, 0.04, 14.3, k1=k) for k in (5e-4, 5e-2)]
     if level == "three":
@@ -115,30 +132,46 @@ def text(level: str, points: list[dict], what: str, realizations: int = 10) -> s
     return "\n".join(lines) + "\n"
 
 
-def tips() -> list[dict]:
-    """The points of part fig63_tips: the three-level plateau on N = 2048 with the tips at `TIPS`."""
-    return [{**point("three", N3, 0.04, 14.3), TIP_KEY: t} for t in TIPS]
+def tip_sets(level: str) -> dict[str, list[dict]]:
+    """The named sets of the tips' part of ``level`` (`TIPS_PARTS`)."""
+    out = {"tips": [{**point(level, N3, 0.04, 14.3), TIP_KEY: t} for t in TIPS]}
+    if level == "three":
+        out["tips"] += [{**point(level, N3, 0.04, 14.3, elements=1024), TIP_KEY: TIPS[0]}]
+    out["identify_tips"] = [{**point(level, n3, 0.04, 14.3, elements=IDENTIFY_GRID), TIP_KEY: IDENTIFY_TIPS}
+                            for n3 in CANDIDATES]
+    return out
 
 
-def tips_text() -> str:
-    """The sweep file of part fig63_tips (`text`'s, with the tips' resolution swept)."""
-    body = text("three", tips(), "Part fig63_tips: the three-level plateau with the tips on rasters of their own")
-    key = TIP_KEY
-    return body + f'"{key}" = [' + ", ".join(f"{p[key]:g}" for p in tips()) + "]\n"
+def tips_text(level: str, points: list[dict], what: str, realizations: int = 10) -> str:
+    """A sweep file of a tips' part (`text`'s, with the tips' resolution swept)."""
+    body = text(level, points, what, realizations)
+    return body + f'"{TIP_KEY}" = [' + ", ".join(f"{p[TIP_KEY]:g}" for p in points) + "]\n"
 
 
-def tips_quick_text() -> str:
-    """The quick sweep of part fig63_tips: one plateau point, 20 x 20 sub-pillars (N3 = 1), N = 512, the
-    tips at twice the grid's resolution (a check of the machinery, not a number)."""
-    quick = [{**tips()[0], "grid.elements": 512, "indenter.pillars_per_side": 20}]
-    body = text("three", quick, "Quick check of the machinery: 20 x 20 sub-pillars (N3 = 1), N = 512, tips at 9", 1)
-    return body + f'"{TIP_KEY}" = [' + ", ".join(f"{p[TIP_KEY]:g}" for p in quick) + "]\n"
+def write_tips(level: str) -> None:
+    """The full sweep (the union of the sets), the named sets and the quick sweep of ``level``'s tips part.
+
+    The quick sweep: one plateau point, 20 x 20 sub-pillars (N3 = 1), N = 512 (2.25 elements a radius), the tips
+    at twice the grid's resolution (4.5: a check of the machinery, not a number)."""
+    part = f"hierarchy.{TIPS_PARTS[level]}"
+    named = tip_sets(level)
+    every: list[dict] = []
+    for points in named.values():
+        every += [p for p in points if p not in every]
+    (SWEEPS / f"{part}.toml").write_text(tips_text(level, every, "Every point of the named sets of the tips' part"),
+                                         encoding="utf-8")
+    for name, points in named.items():
+        (SWEEPS / f"{part}.{name}.sampled.toml").write_text(
+            tips_text(level, points, f"Named set {name!r} of {part}.toml"), encoding="utf-8")
+    quick = [{**point(level, N3, 0.04, 14.3), "grid.elements": 512, "indenter.pillars_per_side": 20, TIP_KEY: 4.5}]
+    (SWEEPS / f"{part}.quick.toml").write_text(tips_text(
+        level, quick, "Quick check of the machinery: 20 x 20 sub-pillars (N3 = 1), N = 512, tips at 4.5", 1),
+        encoding="utf-8")
 
 
 def main() -> None:
-    (SWEEPS / "hierarchy.fig63_tips.toml").write_text(tips_text(), encoding="utf-8")
-    (SWEEPS / "hierarchy.fig63_tips.quick.toml").write_text(tips_quick_text(), encoding="utf-8")
     for level in LEVELS:
+        write_tips(level)
         named = sets(level)
         every: list[dict] = []
         for points in named.values():

@@ -6,7 +6,10 @@ phi2 = phi3 = 0.45, L1163; clusters of 5 x 5 sub-pillars and 4 x 4 of those, N1 
 
 Chapter 6's one identification: N3, the number of level-3 clusters (the thesis states N1, N2, N3 nowhere;
 eq. 6.28 fixes N1 N2 only), among 4, 9 and 16 (40 x 40, 60 x 60, 80 x 80 sub-pillars), scored on the three
-plateau numbers at sigma~ = 0.04 (L1197), the rows *used to identify*.  Every other row of these parts reads
+plateau numbers at sigma~ = 0.04 (L1197), the rows *used to identify*, at two resolutions: the rows' 4.5
+elements a radius and the tips on rasters of their own at 9 (parts ``fig63_tips_one``, ``fig63_tips_two``,
+``fig63_tips``, set ``identify_tips``), which decides (`identification`: there the tips' discretisation error
+bounds a score's move below the margin).  Every other row of these parts reads
 the identified N3 at N = `ELEMENTS[N3_IDENTIFIED]` and declares no choice of its own: the small preload
 F~_P = 1 of Fig. 6-4 a, c, e is the chapter's one (ours: the thesis states none), fixed before computing.
 """
@@ -23,8 +26,9 @@ from brushbem.studies._ch5_7 import FA, FP, PRELOAD, SIG, SIGMA, K, finished, ha
 from brushbem.studies.base import ThesisNumber
 from brushbem.studies.verdicts import STATED_CHOICE, USED_TO_IDENTIFY
 
-__all__ = ["FIG63_LEVELS", "FIG63_NUMBERS", "IDENTIFICATION", "LEVEL_TIE", "N3_CANDIDATES", "N3_IDENTIFIED", "TIPS_PART",
-           "discretisation", "identification", "part_difference",
+__all__ = ["FIG63_LEVELS", "FIG63_NUMBERS", "IDENTIFICATION", "IDENTIFY_GRID", "IDENTIFY_TIPS", "LEVEL_TIE",
+           "N3_CANDIDATES", "N3_IDENTIFIED", "TIPS_PART", "TIPS_PARTS",
+           "discretisation", "identification", "part_difference", "tie_table",
            "part_plateau", "part_ratio", "plateau", "plateau_difference", "plateau_ratio"]
 
 FIG63_LEVELS = {"one": "fig63_one", "two": "fig63_two", "three": "fig63_three"}
@@ -51,8 +55,9 @@ TIED = ("a ratio within 1.5 % of 1 is a tie: the pillar-level model against the 
         "two, three levels, +1.44 % on three over two")
 IDENTIFICATION = (f"chapter 6's identification: N3 = {N3_IDENTIFIED} level-3 clusters ({N3_CANDIDATES[N3_IDENTIFIED][0]} x "
                   f"{N3_CANDIDATES[N3_IDENTIFIED][0]} sub-pillars; N1 = 25, N2 = 16, "
-                  "ours: the thesis states none) from the three plateaus at sigma~ = 0.04 among N3 = 4, 9, 16 "
-                  "(table after the rows); clustered layout of Fig. 6-3, pillar-level model, 4.5 elements a radius "
+                  "ours: the thesis states none) from the three plateaus at sigma~ = 0.04 among N3 = 4, 9, 16, "
+                  "decided with the tips at 9 elements a radius (table after the rows); clustered layout of Fig. 6-3, "
+                  "pillar-level model, 4.5 elements a radius "
                   "(its discretisation error: the table of the tips' refinement after the rows)")
 
 
@@ -99,9 +104,13 @@ def plateau_difference(top: Callable, bottom: Callable) -> Callable:
 
 # The readers of the chapter's other parts (one sweep table per part: uniform lattice, exact clustered).
 
+#: The grid of the exact clustered parts' rows (clustered_*; their set mesh adds N = 1536, read only by `tie_table`).
+CLUSTERED_GRID = 1024
+
+
 def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
     """F~_A (mean over realisations) of ``part`` at sigma~ (and F~_P): the plateau (largest mean over
-    the preloads) when ``preload`` is None.
+    the preloads) when ``preload`` is None.  A part whose table sweeps the grid is read at `CLUSTERED_GRID`.
 
     The sweeps' sigma~ and F~_P are normalised by the rasterised brush's d_c and F_c, a few per cent
     from the nominal values the thesis quotes: a point within 10 % counts, and where the tables have
@@ -109,6 +118,8 @@ def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, co
     """
     def compute(results):
         frame = finished(results, part)
+        if ELEMENTS in frame.columns:
+            frame = frame[frame[ELEMENTS] == CLUSTERED_GRID]
         if not has(frame, FA, SIG, PRELOAD):
             return math.nan
         nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
@@ -240,33 +251,252 @@ def _refinement(results: Mapping[str, pd.DataFrame]) -> dict[str, tuple[float, f
     return found
 
 
+#: The tips' parts per level (part fig63_tips: three levels) and set identify_tips's tips and global grid: the
+#: plateau point for every candidate N3 on N = 2048 with the tips at 9 elements a radius (factors 2, 3, 4).
+TIPS_PARTS = {"one": "fig63_tips_one", "two": "fig63_tips_two", "three": TIPS_PART}
+IDENTIFY_TIPS, IDENTIFY_GRID = 9.0, 2048
+
+
+def _candidate(results: Mapping[str, pd.DataFrame], n3: int, resolved: bool) -> dict[str, tuple[float, float, int]]:
+    """Level -> (mean plateau F~_A over the seeds, its standard error, seeds) of candidate ``n3`` at sigma~ = 0.04,
+    F~_P = 14.3: on its grid of 4.5 elements a radius (parts fig63_*), or with the tips at `IDENTIFY_TIPS` on
+    N = `IDENTIFY_GRID` (``resolved``, the tips' parts, set identify_tips)."""
+    values = {}
+    for level in PLATEAUS:
+        if resolved:
+            frame = finished(results, TIPS_PARTS[level])
+            frame = (_select(frame, n3=n3, elements=IDENTIFY_GRID) if has(frame, TIP) else frame.iloc[0:0])
+            frame = frame[np.isclose(frame[TIP], IDENTIFY_TIPS)] if len(frame) else frame
+        else:
+            frame = _select(finished(results, FIG63_LEVELS[level]), n3=n3)
+            if TIP in frame.columns:
+                frame = frame[frame[TIP].isna()]
+        at = (frame[np.isclose(frame[SIG], 0.04, rtol=0.1) & np.isclose(frame[FP], 14.3, rtol=0.1)]
+              if has(frame, SIG, FP, FA) else frame.iloc[0:0])
+        per_seed = at.groupby("realization")[FA].mean() if len(at) else pd.Series(dtype=float)
+        error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else math.nan
+        values[level] = (float(per_seed.mean()) if len(per_seed) else math.nan, error, len(per_seed))
+    return values
+
+
+def _score(values: Mapping[str, tuple[float, float, int]]) -> tuple[float, float, bool]:
+    """The root mean square of F~_A / thesis - 1 over the three plateaus, its standard error over the seeds
+    (propagated from each plateau's; nan where a plateau has one seed) and whether every plateau ran.  Where
+    some did not, the root mean square with the missing ones at 0: a floor under the score whatever they give."""
+    relative = {lv: values[lv][0] / PLATEAUS[lv] - 1 for lv in PLATEAUS if math.isfinite(values[lv][0])}
+    if not relative:
+        return math.nan, math.nan, False
+    score = math.sqrt(sum(r ** 2 for r in relative.values()) / 3)
+    if not score > 0:
+        return score, math.nan, len(relative) == 3
+    # d score / d F_l = r_l / (3 score thesis_l)
+    error = math.sqrt(sum((r / (3 * score * PLATEAUS[lv]) * values[lv][1]) ** 2 for lv, r in relative.items()))
+    return score, error, len(relative) == 3
+
+
+#: A candidate's score: (value, its standard error, every plateau ran; else the value is a floor).
+Score = tuple[float, float, bool]
+
+
+def _identification_rows(results: Mapping[str, pd.DataFrame],
+                         resolved: bool) -> tuple[list[str], dict[int, Score], float]:
+    """The candidates' table rows at one resolution, their scores (`_score`; those with a plateau) and the
+    largest plateau over its thesis value (nan where none ran)."""
+    lines, scores, largest = [], {}, math.nan
+    for n3, (side, grid) in N3_CANDIDATES.items():
+        values = _candidate(results, n3, resolved)
+        score, error, complete = _score(values)
+        if math.isfinite(score):
+            scores[n3] = (score, error, complete)
+            largest = np.nanmax([largest, *(v[0] / PLATEAUS[lv] for lv, v in values.items())])
+        shown = [f"{m:.3f} ± {e:.3f}" if math.isfinite(e) else (f"{m:.3f}" if math.isfinite(m) else "not run")
+                 for m, e, _ in values.values()]
+        ratio = values["three"][0] / values["one"][0]
+        grid_text = f"{IDENTIFY_GRID}" if resolved else f"{grid}"
+        tips = f"{IDENTIFY_TIPS:g} (own raster)" if resolved else "4.5 (the grid's)"
+        scored = ("—" if not math.isfinite(score) else ("" if complete else "≥ ") + f"{100 * score:.1f}"
+                  + (f" ± {100 * error:.1f}" if math.isfinite(error) else "") + " %")
+        label = f"{n3} (identified)" if resolved and n3 == N3_IDENTIFIED else f"{n3}"
+        lines.append(f"| {label} | {side} x {side} | {grid_text} | {tips} | {' | '.join(shown)} | "
+                     f"{f'{ratio:.3f}' if math.isfinite(ratio) else '—'} | {scored} | "
+                     f"{', '.join(str(v[2]) for v in values.values())} |")
+    return lines, scores, float(largest)
+
+
+def _global_grid_at_fixed_tips(results: Mapping[str, pd.DataFrame]) -> dict[int, tuple[float, int]]:
+    """Global N -> (three-level plateau of the identified N3 with the tips at `IDENTIFY_TIPS`, seeds), on the
+    seeds that have N = 1024 and 2048 (set tips); N = 4096 is the grid's own 9 elements a radius (set mesh)."""
+    tips = finished(results, TIPS_PART)
+    level = finished(results, FIG63_LEVELS["three"])
+    if not has(tips, PILLARS, ELEMENTS, TIP, SIG, FP, FA, "realization"):
+        return {}
+    side, grid = N3_CANDIDATES[N3_IDENTIFIED]
+    point = (tips[PILLARS] == side) & np.isclose(tips[TIP], IDENTIFY_TIPS) & np.isclose(tips[SIG], 0.04, rtol=0.1) \
+        & np.isclose(tips[FP], 14.3, rtol=0.1)
+    at = {n: tips[point & (tips[ELEMENTS] == n)] for n in (grid // 2, grid)}
+    seeds = set(at[grid // 2]["realization"]) & set(at[grid]["realization"])
+    if not seeds:
+        return {}
+    found = {n: (float(f[f["realization"].isin(seeds)][FA].mean()), len(seeds)) for n, f in at.items()}
+    fine = _select(level, elements=2 * grid)
+    if has(fine, SIG, FP, FA, "realization"):
+        fine = fine[np.isclose(fine[SIG], 0.04, rtol=0.1) & np.isclose(fine[FP], 14.3, rtol=0.1)
+                    & fine["realization"].isin(seeds)]
+        if len(fine):
+            found[2 * grid] = (float(fine[FA].mean()), fine["realization"].nunique())
+    return found
+
+
+def _tie_points(results: Mapping[str, pd.DataFrame]) -> dict[int, dict[str, dict[int, tuple[float, float]]]]:
+    """Global N -> level -> seed -> (the pillar-level model's plateau, the exact path's) at sigma~ = 0.04,
+    F~_P = 14.3, N3 = 4, for the seeds both ran at that N (parts fig63_* set mesh against clustered_*)."""
+    found: dict[int, dict[str, dict[int, tuple[float, float]]]] = {}
+    for level, part in FIG63_LEVELS.items():
+        model, exact = finished(results, part), finished(results, f"clustered_{level}")
+        if not (has(model, PILLARS, ELEMENTS, SIG, FP, FA, "realization") and has(exact, SIG, FP, FA, "realization")):
+            continue
+        if ELEMENTS not in exact.columns:
+            exact = exact.assign(**{ELEMENTS: CLUSTERED_GRID})
+        for n in sorted(set(exact[ELEMENTS])):
+            m = _select(model, elements=n)
+            m = m[np.isclose(m[SIG], 0.04, rtol=0.1) & np.isclose(m[FP], 14.3, rtol=0.1)]
+            e = exact[(exact[ELEMENTS] == n) & np.isclose(exact[SIG], 0.04, rtol=0.1)
+                      & np.isclose(exact[FP], 14.3, rtol=0.1)]
+            m, e = m.groupby("realization")[FA].mean(), e.groupby("realization")[FA].mean()
+            pairs = {int(r): (float(m[r]), float(e[r])) for r in set(m.index) & set(e.index)}
+            if pairs:
+                found.setdefault(int(n), {})[level] = pairs
+    return found
+
+
+def tie_table(results: Mapping[str, pd.DataFrame]) -> list[str]:
+    """The Markdown of `LEVEL_TIE`'s measurement: the pillar-level model against the exact path on the same clustered
+    brush at each grid both ran, per level and for the ratios of levels (each on the seeds it has; empty where none)."""
+    found = _tie_points(results)
+    if not found:
+        return []
+    lines = ["", "The resolution of the level comparisons (`LEVEL_TIE`, 1.5 %): the pillar-level model against the exact "
+             "path on the same clustered brush (N3 = 4, sigma~ = 0.04, F~_P = 14.3; parts fig63_* set mesh against "
+             "clustered_*, which add N = 1536 in their set mesh: `brushbem study hierarchy --sampled-set mesh --parts "
+             "fig63_two,fig63_three,clustered_two,clustered_three --out out/fig63-mesh`); a level on the seeds both "
+             "methods ran, a ratio on the seeds both levels have.", "",
+             "| N | elements a radius | level | model | exact path | model / exact - 1 | seeds |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for n, levels in sorted(found.items()):
+        per_radius = f"{4.5 * n / N3_CANDIDATES[N3_IDENTIFIED][1]:.4g}"
+        for level, pairs in levels.items():
+            m, e = (float(np.mean([v[i] for v in pairs.values()])) for i in (0, 1))
+            lines.append(f"| {n} | {per_radius} | {level} | {m:.4f} | {e:.4f} | {100 * (m / e - 1):+.2f} % | "
+                         f"{len(pairs)} |")
+        for top, bottom in (("three", "two"), ("three", "one"), ("two", "one")):
+            seeds = sorted(set(levels.get(top, {})) & set(levels.get(bottom, {})))
+            if seeds:
+                m = float(np.mean([levels[top][r][0] / levels[bottom][r][0] for r in seeds]))
+                e = float(np.mean([levels[top][r][1] / levels[bottom][r][1] for r in seeds]))
+                lines.append(f"| {n} | {per_radius} | {top} over {bottom} | {m:.4f} | {e:.4f} | "
+                             f"{100 * (m / e - 1):+.2f} % | {len(seeds)} |")
+    return lines
+
+
 def identification(results: Mapping[str, pd.DataFrame]) -> str:
-    """The Markdown of chapter 6's identification: each N3's plateaus and its score on the rows used to identify."""
+    """The Markdown of chapter 6's identification: each N3's plateaus and score on the rows used to identify, on
+    the rows' grid and with the tips resolved; the resolved tips decide (`N3_IDENTIFIED`)."""
     lines = ["Chapter 6's identification (the rows *used to identify*): N3, the number of level-3 clusters, on the "
              "clustered layout of Fig. 6-3 (N1 = 25, N2 = 16: eq. 6.28 gives 4.21e-5 for every N3), pillar-level "
-             "model, 4.5 elements a pillar radius; score = root mean square of F~_A / thesis - 1 over the three "
-             "plateaus at sigma~ = 0.04, F~_P = 14.3 (1.6, 1.65, 1.9; L1197), smaller wins.", "",
-             "| N3 | sub-pillars | N | one level | two levels | three levels | three over one | score | seeds |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for n3, (side, grid) in N3_CANDIDATES.items():
-        values, seeds = {}, set()
-        for level in PLATEAUS:
-            frame = _select(finished(results, FIG63_LEVELS[level]), n3=n3)
-            at = (frame[np.isclose(frame[SIG], 0.04, rtol=0.1) & np.isclose(frame[FP], 14.3, rtol=0.1)]
-                  if has(frame, SIG, FP, FA) else frame.iloc[0:0])
-            per_seed = at.groupby("realization")[FA].mean() if len(at) else pd.Series(dtype=float)
-            error = per_seed.std() / math.sqrt(len(per_seed)) if len(per_seed) > 1 else math.nan
-            values[level] = (float(per_seed.mean()) if len(per_seed) else math.nan, error)
-            seeds.add(len(per_seed))
-        score = math.sqrt(sum((values[lv][0] / PLATEAUS[lv] - 1) ** 2 for lv in PLATEAUS) / 3)
-        shown = [f"{m:.3f} ± {e:.3f}" if math.isfinite(e) else (f"{m:.3f}" if math.isfinite(m) else "not run")
-                 for m, e in values.values()]
-        ratio = values["three"][0] / values["one"][0]
-        lines.append(f"| {n3}{' (identified)' if n3 == N3_IDENTIFIED else ''} | {side} x {side} | {grid} | "
-                     f"{' | '.join(shown)} | {f'{ratio:.3f}' if math.isfinite(ratio) else '—'} | "
-                     f"{f'{100 * score:.1f} %' if math.isfinite(score) else '—'} | "
-                     f"{', '.join(str(s) for s in sorted(seeds))} |")
-    return "\n".join(lines + discretisation(results))
+             "model; score = root mean square of F~_A / thesis - 1 over the three plateaus at sigma~ = 0.04, "
+             "F~_P = 14.3 (1.6, 1.65, 1.9; L1197), smaller wins (± its standard error over the seeds where every "
+             "plateau has two).  Each candidate at two resolutions: the rows' 4.5 elements a pillar radius (tips "
+             "on the global grid; parts fig63_*, sets identify and identify16) and the tips on rasters of their "
+             f"own at {IDENTIFY_TIPS:g} elements a radius on N = {IDENTIFY_GRID} (parts fig63_tips_one, "
+             "fig63_tips_two, fig63_tips, set identify_tips: `brushbem study hierarchy --sampled-set identify_tips "
+             "--parts fig63_tips_one,fig63_tips_two,fig63_tips --out out/fig63-identify_tips`).", "",
+             "| N3 | sub-pillars | N | tips, elements a radius | one level | two levels | three levels | three over "
+             "one | score | seeds (one, two, three) |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    coarse, coarse_scores, coarse_largest = _identification_rows(results, resolved=False)
+    fine, fine_scores, fine_largest = _identification_rows(results, resolved=True)
+    lines += [row for pair in zip(coarse, fine) for row in pair]
+    lines += _deciding(results, coarse_scores, fine_scores, {False: coarse_largest, True: fine_largest})
+    return "\n".join(lines + discretisation(results) + tie_table(results))
+
+
+def _margin(scores: Mapping[int, Score]) -> tuple[int | None, int | None, float, float]:
+    """The candidate with the smallest complete score, the next candidate (complete score or floor), the
+    margin between them and the standard error of that margin (nan where it has none)."""
+    complete = {n3: sc for n3, sc in scores.items() if sc[2]}
+    if not complete:
+        return None, None, math.nan, math.nan
+    best = min(complete, key=lambda n3: complete[n3][0])
+    others = {n3: sc for n3, sc in scores.items() if n3 != best}
+    if not others:
+        return best, None, math.nan, math.nan
+    runner = min(others, key=lambda n3: others[n3][0])
+    error = math.hypot(scores[best][1], others[runner][1])
+    return best, runner, others[runner][0] - scores[best][0], error
+
+
+def _decided(margin: float, bound: float, error: float) -> bool:
+    """A margin decides where it exceeds the discretisation's bound on both scores (2 ``bound``: they may move
+    apart) and two standard errors of the margin (where it has one)."""
+    return margin > 2 * bound + (2 * error if math.isfinite(error) else 0.0)
+
+
+def _deciding(results, coarse: Mapping[int, Score], fine: Mapping[int, Score], largest: Mapping[bool, float]) -> list[str]:
+    """Which resolution decides and why: each resolution's winner and margin against the bound its discretisation
+    error puts on a score.  Relative shifts of at most e on the plateaus move a score (a root mean square of
+    F~_A / thesis - 1, or its floor) by at most e times the largest F~_A / thesis."""
+    best, runner, margin, margin_error = _margin(fine)
+    if best is None:
+        return []
+    points = _discretisation_points(results)
+    tips = [fa for how, _, _, fa, _ in points if how != "global grid"]
+    _, grid = N3_CANDIDATES[N3_IDENTIFIED]
+    band = (max(tips) - min(tips)) / (max(tips) + min(tips)) if len(tips) >= 2 else math.nan
+    rows_grid = [fa for how, n, _, fa, _ in points if how == "global grid" and n == grid]
+    coarse_error = rows_grid[0] / ((max(tips) + min(tips)) / 2) - 1 if len(tips) >= 2 and rows_grid else math.nan
+    grids = _global_grid_at_fixed_tips(results)
+    spread = max(abs(fa / grids[grid][0] - 1) for fa, _ in grids.values()) if grid in grids else math.nan
+    found = [e for e in (band, spread) if math.isfinite(e)]
+    error = max(found) if found else math.nan
+    floor = runner is not None and not fine[runner][2]
+    other = f"N3 = {runner}'s {'floor' if floor else 'score'}"
+    seeds = f" (± {100 * margin_error:.1f}, the seeds)" if math.isfinite(margin_error) else ""
+    text = f"The tips at {IDENTIFY_TIPS:g} elements a radius decide: "
+    if runner is None:
+        text += f"there only N3 = {best} has a score."
+    elif margin > 0:
+        text += f"there N3 = {best} scores lowest, {100 * margin:.1f} points below {other}{seeds}."
+    else:
+        text += (f"there N3 = {best} has the lowest complete score, but {other} lies {100 * -margin:.1f} points "
+                 f"below it{seeds}: undecided until N3 = {runner} runs every level.")
+    if math.isfinite(band):
+        text += (f"  Refining the tips from 9 to 18 elements a radius moves the three-level plateau within "
+                 f"±{100 * band:.2f} % (part fig63_tips, the table below)")
+    if grids:
+        text += ("; the global grid at fixed tips (9 elements a radius) within "
+                 f"{100 * spread:.2f} % (" + ", ".join(f"N = {n}: {fa:.4f}" for n, (fa, _) in sorted(grids.items()))
+                 + f", {min(s for _, s in grids.values())} seed(s); N = 1024 has N3 = 16's 2.25 elements a radius on "
+                 "the global grid, N = 4096 the grid's own tips at 9)")
+    if math.isfinite(band) or grids:
+        text += "."
+    if math.isfinite(error) and runner is not None and margin > 0:
+        bound = error * largest[True]
+        text += (f"  Shifts of at most {100 * error:.2f} % on the plateaus move a score by at most "
+                 f"{100 * bound:.2f} points (times {largest[True]:.3f}, the largest F~_A / thesis); the margin "
+                 + ("exceeds twice that (both scores may move, apart) and two of its standard errors: the "
+                    "identification holds at this resolution." if _decided(margin, bound, margin_error) else
+                    "does not exceed twice that and two of its standard errors: the identification is undecided."))
+    coarse_best, coarse_runner, coarse_margin, coarse_margin_error = _margin(coarse)
+    if coarse_best is not None and coarse_runner is not None and math.isfinite(coarse_error):
+        bound = abs(coarse_error) * largest[False]
+        text += (f"  On the rows' grid (4.5 elements a radius, tips on the global grid) N3 = {coarse_best} scores "
+                 f"lowest, {100 * coarse_margin:.1f} points below N3 = {coarse_runner}; there the tips alone put "
+                 f"{100 * coarse_error:+.1f} % on the three-level plateau (the table below), {100 * bound:.1f} points "
+                 "on a score: "
+                 + ("the margin exceeds twice that, so that resolution decides too." if
+                    _decided(coarse_margin, bound, coarse_margin_error) else
+                    "the margin does not exceed twice that, so that resolution does not decide."))
+    return ["", text]
 
 
 def _held_out(text: str = "") -> str:
