@@ -32,7 +32,9 @@ Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 --before c48c002 --repeat 3``, a machine loaded 5-6 on two cores) loading
 0.84 s against 1.10 s before the loading's rounds were cut (local release,
 replayed cycles), pull-off 1.93 s, the whole 2.78 s against the exact path's
-42.1 s (1/15.2), F_A and the work the same to 2e-15.  The 100 x 100 rough
+42.1 s (1/15.2), F_A and the work the same to 2e-15; again with ``--repeat 5``
+(load 3-4) loading 1.00 s against 1.20 s, the whole 3.17 s against 51.7 s
+(1/16.3).  The 100 x 100 rough
 brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
 load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
 same to 1e-14.  The numbers of every size are in the docstring of

@@ -116,7 +116,10 @@ and replayed cycles, ``--before c48c002``: loading 0.84 s against 1.10 s
 before, the whole 2.78 s against the exact path's 42.1 s, 1/15.2, on a
 machine loaded 5-6 on its two cores, the same F_A and work to 2e-15; on an
 idle one the revision before took 2.41 s against 46.5 s, 1/19.3, its loading
-0.95 s and pull-off 1.46 s), 4096 pillars
+0.95 s and pull-off 1.46 s; with the spent slots kept spent too,
+``--repeat 5``, load 3-4: loading 1.00 s against 1.20 s, pull-off 2.18 s
+against 1.96 s (the same solves and updates in both: the load's noise),
+the whole 3.17 s against the exact path's 51.7 s, 1/16.3), 4096 pillars
 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
 states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
@@ -157,7 +160,10 @@ two cores): ten presses, the preload search's seven reaching F_c at 4270
 pillars attached, the fourth 93 s of it (9618 pillars joining at once, one
 Schur complement of that size), peak memory 6.4 GB (the model 2.2 GB, the
 rest that join's dense blocks: about five n^2 numbers at n = 10312); its
-pull-off was not run.  The default keeps 4096 because those transients grow
+pull-off was not run.  With the default and the rounds cut it took the same
+rounds (26 and 20 in the fourth and fifth presses) at 203 s and 185 s
+against 93 s and 13 s kept, and was ten rounds into the sixth press at
+655 CPU-s when stopped (15 min of wall time), in 2.2 GB.  The default keeps 4096 because those transients grow
 as n^2 (about 10.7 GB at 16384, beyond the 8 GB this size is meant to run
 in) and the memory estimate (`brushbem.config.resources`) counts none.  By
 CG a partial set's solves took 19 iterations, the near field's 23 a solve and
