@@ -14,10 +14,10 @@ Named sets (``brushbem study hierarchy --sampled-set SET --parts fig63_one,fig63
   16, level-3 clusters (40 x 40, 60 x 60 and 80 x 80 sub-pillars; N1 N2 = 400 for each, so eq. 6.28
   gives 4.21e-5 for each), at N = 2048, 3072 and 4096 elements (4.5 elements a radius): chapter 6's
   identification (the 80 x 80 brush, several CPU-minutes a case, in a set of its own).
-* ``mesh``: the same plateau at the identified N3 on 1024, 1536 and 4096 elements (2.25, 3.375 and 9
-  elements a radius; 2048 is in ``identify``): the mesh refinement of the plateau; at 1024 and 1536
-  also the pillar-level model's error against the exact path on the same brush (parts ``clustered_*``,
-  their cases and set ``mesh``).
+* ``mesh``: the same plateau at the identified N3 on 1024 and 4096 elements (2.25 and 9 elements a
+  radius; 2048 is in ``identify``): the mesh refinement of the plateau; ``mesh1536`` the same on 1536
+  (3.375 elements a radius).  At 1024 and 1536 also the pillar-level model's error against the exact path
+  on the same brush (parts ``clustered_*``, their cases and their set ``mesh``, N = 1536).
 * ``rows``: the points of the held-out rows at the identified N3 and N = 2048: sigma~ = 0.04, 0.8
   and 1.6 at the small preload F~_P = 1 (Fig. 6-4 a, c, e; ours: the thesis states none), and
   sigma~ = 2.5 at F~_P = 20 (Fig. 6-6 b, "close to each other" for sigma~ > 2).
@@ -35,9 +35,9 @@ fig63_tips_two,fig63_tips``):
 
 * ``tips``: the plateau point sigma~ = 0.04, F~_P = 14.3 at the identified N3 on the rows' grid
   N = 2048 with the tips at 9, 13.5 and 18 elements a radius (twice, three and four times the grid's
-  4.5): the discretisation of the tips at a fixed global grid; for three levels also the tips at 9 on
-  N = 1024 (2.25 elements a radius on the global grid, as N3 = 16's N = 2048): the global grid at
-  fixed tips.
+  4.5): the discretisation of the tips at a fixed global grid.
+* ``tips1024`` (three levels): the tips at 9 on N = 1024 (2.25 elements a radius on the global grid, as
+  N3 = 16's N = 2048): the global grid at fixed tips.
 * ``identify_tips`` (every level): chapter 6's identification with resolved tips: the plateau point
   for N3 = 4, 9 and 16 on N = 2048 (4.5, 3 and 2.25 elements a radius on the global grid) with the
   tips at 9 elements a radius (factors 2, 3, 4: the footprints of N = 4096, 6144, 8192).
@@ -90,7 +90,8 @@ def point(level: str, n3: int, sigma: float, preload: float, k1: float = K1, k2:
 def sets(level: str) -> dict[str, list[dict]]:
     out = {"identify": [point(level, n3, 0.04, 14.3) for n3 in (4, 9)],
            "identify16": [point(level, 16, 0.04, 14.3)],
-           "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 1536, 4096)],
+           "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 4096)],
+           "mesh1536": [point(level, N3, 0.04, 14.3, elements=1536)],
            "rows": [point(level, N3, s, 1.0) for s in (0.04, 0.8, 1.6)] + [point(level, N3, 2.5, 20.0)],
            "rows16": [point(level, N3, 1.6, 1.0)]}
     if level != "two":
@@ -135,8 +136,8 @@ def text(level: str, points: list[dict], what: str, realizations: int = 10) -> s
 def tip_sets(level: str) -> dict[str, list[dict]]:
     """The named sets of the tips' part of ``level`` (`TIPS_PARTS`)."""
     out = {"tips": [{**point(level, N3, 0.04, 14.3), TIP_KEY: t} for t in TIPS]}
-    if level == "three":
-        out["tips"] += [{**point(level, N3, 0.04, 14.3, elements=1024), TIP_KEY: TIPS[0]}]
+    if level == "three":  # (a set of its own: the set tips keeps the ids of the part's first sweep)
+        out["tips1024"] = [{**point(level, N3, 0.04, 14.3, elements=1024), TIP_KEY: TIPS[0]}]
     out["identify_tips"] = [{**point(level, n3, 0.04, 14.3, elements=IDENTIFY_GRID), TIP_KEY: IDENTIFY_TIPS}
                             for n3 in CANDIDATES]
     return out

@@ -108,6 +108,19 @@ def plateau_difference(top: Callable, bottom: Callable) -> Callable:
 CLUSTERED_GRID = 1024
 
 
+def _with_grid(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with its global N in `ELEMENTS`: a case recorded before its part swept the grid has none there,
+    and ran the sweep's base grid, `CLUSTERED_GRID` (the clustered parts' only grid until set mesh)."""
+    if ELEMENTS not in frame.columns:
+        return frame.assign(**{ELEMENTS: CLUSTERED_GRID})
+    return frame.assign(**{ELEMENTS: frame[ELEMENTS].fillna(CLUSTERED_GRID)})
+
+
+def _on_base_grid(frame: pd.DataFrame) -> pd.DataFrame:
+    """The cases of ``frame`` on `CLUSTERED_GRID` (all of a part that does not sweep the grid)."""
+    return frame[_with_grid(frame)[ELEMENTS] == CLUSTERED_GRID] if ELEMENTS in frame.columns else frame
+
+
 def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
     """F~_A (mean over realisations) of ``part`` at sigma~ (and F~_P): the plateau (largest mean over
     the preloads) when ``preload`` is None.  A part whose table sweeps the grid is read at `CLUSTERED_GRID`.
@@ -117,9 +130,7 @@ def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, co
     none the number is not computable (nan), never read off another point.
     """
     def compute(results):
-        frame = finished(results, part)
-        if ELEMENTS in frame.columns:
-            frame = frame[frame[ELEMENTS] == CLUSTERED_GRID]
+        frame = _on_base_grid(finished(results, part))
         if not has(frame, FA, SIG, PRELOAD):
             return math.nan
         nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
@@ -355,8 +366,7 @@ def _tie_points(results: Mapping[str, pd.DataFrame]) -> dict[int, dict[str, dict
         model, exact = finished(results, part), finished(results, f"clustered_{level}")
         if not (has(model, PILLARS, ELEMENTS, SIG, FP, FA, "realization") and has(exact, SIG, FP, FA, "realization")):
             continue
-        if ELEMENTS not in exact.columns:
-            exact = exact.assign(**{ELEMENTS: CLUSTERED_GRID})
+        exact = _with_grid(exact)
         for n in sorted(set(exact[ELEMENTS])):
             m = _select(model, elements=n)
             m = m[np.isclose(m[SIG], 0.04, rtol=0.1) & np.isclose(m[FP], 14.3, rtol=0.1)]
@@ -377,8 +387,10 @@ def tie_table(results: Mapping[str, pd.DataFrame]) -> list[str]:
         return []
     lines = ["", "The resolution of the level comparisons (`LEVEL_TIE`, 1.5 %): the pillar-level model against the exact "
              "path on the same clustered brush (N3 = 4, sigma~ = 0.04, F~_P = 14.3; parts fig63_* set mesh against "
-             "clustered_*, which add N = 1536 in their set mesh: `brushbem study hierarchy --sampled-set mesh --parts "
-             "fig63_two,fig63_three,clustered_two,clustered_three --out out/fig63-mesh`); a level on the seeds both "
+             "clustered_*; N = 1536: sets mesh1536 of fig63_* and mesh of clustered_*, `brushbem study hierarchy "
+             "--sampled-set mesh1536 --parts fig63_two,fig63_three --out out/fig63-mesh1536` and `brushbem study "
+             "hierarchy --sampled-set mesh --parts clustered_two,clustered_three --out out/clustered-mesh`); a level "
+             "on the seeds both "
              "methods ran, a ratio on the seeds both levels have.", "",
              "| N | elements a radius | level | model | exact path | model / exact - 1 | seeds |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
