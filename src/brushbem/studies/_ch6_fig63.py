@@ -111,14 +111,8 @@ CLUSTERED_GRID = 1024
 def _with_grid(frame: pd.DataFrame) -> pd.DataFrame:
     """``frame`` with its global N in `ELEMENTS`: a case recorded before its part swept the grid has none there,
     and ran the sweep's base grid, `CLUSTERED_GRID` (the clustered parts' only grid until set mesh)."""
-    if ELEMENTS not in frame.columns:
-        return frame.assign(**{ELEMENTS: CLUSTERED_GRID})
-    return frame.assign(**{ELEMENTS: frame[ELEMENTS].fillna(CLUSTERED_GRID)})
-
-
-def _on_base_grid(frame: pd.DataFrame) -> pd.DataFrame:
-    """The cases of ``frame`` on `CLUSTERED_GRID` (all of a part that does not sweep the grid)."""
-    return frame[_with_grid(frame)[ELEMENTS] == CLUSTERED_GRID] if ELEMENTS in frame.columns else frame
+    return frame.assign(**{ELEMENTS: frame[ELEMENTS].fillna(CLUSTERED_GRID) if ELEMENTS in frame.columns
+                            else CLUSTERED_GRID})
 
 
 def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, column: str = FA):
@@ -130,7 +124,8 @@ def part_plateau(part: str, sigma_tilde: float, preload: float | None = None, co
     none the number is not computable (nan), never read off another point.
     """
     def compute(results):
-        frame = _on_base_grid(finished(results, part))
+        frame = finished(results, part)  # on `CLUSTERED_GRID` (all of a part that does not sweep the grid)
+        frame = frame[_with_grid(frame)[ELEMENTS] == CLUSTERED_GRID]
         if not has(frame, FA, SIG, PRELOAD):
             return math.nan
         nearest = frame.iloc[np.argmin(np.abs(frame[SIG] - sigma_tilde))]
@@ -305,8 +300,7 @@ def _score(values: Mapping[str, tuple[float, float, int]]) -> tuple[float, float
     return score, error, len(relative) == 3
 
 
-#: A candidate's score: (value, its standard error, every plateau ran; else the value is a floor).
-Score = tuple[float, float, bool]
+Score = tuple[float, float, bool]  #: a candidate's score: value, standard error, every plateau ran (else a floor)
 
 
 def _identification_rows(results: Mapping[str, pd.DataFrame],
@@ -436,11 +430,9 @@ def _margin(scores: Mapping[int, Score]) -> tuple[int | None, int | None, float,
     """The candidate with the smallest complete score, the next candidate (complete score or floor), the
     margin between them and the standard error of that margin (nan where it has none)."""
     complete = {n3: sc for n3, sc in scores.items() if sc[2]}
-    if not complete:
-        return None, None, math.nan, math.nan
-    best = min(complete, key=lambda n3: complete[n3][0])
+    best = min(complete, key=lambda n3: complete[n3][0]) if complete else None
     others = {n3: sc for n3, sc in scores.items() if n3 != best}
-    if not others:
+    if best is None or not others:
         return best, None, math.nan, math.nan
     runner = min(others, key=lambda n3: others[n3][0])
     error = math.hypot(scores[best][1], others[runner][1])
@@ -474,9 +466,9 @@ def _deciding(results, coarse: Mapping[int, Score], fine: Mapping[int, Score], l
     other = f"N3 = {runner}'s {'floor' if floor else 'score'}"
     seeds = f" (± {100 * margin_error:.1f}, the seeds)" if math.isfinite(margin_error) else ""
     text = f"The tips at {IDENTIFY_TIPS:g} elements a radius decide: "
-    if runner is None:
-        text += f"there only N3 = {best} has a score."
-    elif margin > 0:
+    if runner is None:  # (a lone candidate: nothing to decide)
+        return ["", text + f"there only N3 = {best} has a score."]
+    if margin > 0:
         text += f"there N3 = {best} scores lowest, {100 * margin:.1f} points below {other}{seeds}."
     else:
         text += (f"there N3 = {best} has the lowest complete score, but {other} lies {100 * -margin:.1f} points "
@@ -489,8 +481,7 @@ def _deciding(results, coarse: Mapping[int, Score], fine: Mapping[int, Score], l
                  f"{100 * spread:.2f} % (" + ", ".join(f"N = {n}: {fa:.4f}" for n, (fa, _) in sorted(grids.items()))
                  + f", {min(s for _, s in grids.values())} seed(s); N = 1024 has N3 = 16's 2.25 elements a radius on "
                  "the global grid, N = 4096 the grid's own tips at 9)")
-    if math.isfinite(band) or grids:
-        text += "."
+    text += "." if math.isfinite(band) or grids else ""
     if math.isfinite(error) and runner is not None and margin > 0:
         bound = error * largest[True]
         text += (f"  Shifts of at most {100 * error:.2f} % on the plateaus move a score by at most "
