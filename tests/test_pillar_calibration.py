@@ -122,20 +122,10 @@ def test_the_calibration_from_the_configuration_leaves_case_ids_alone():
 
 
 def _calibration_script():
-    """``docs/pillars/calibration.py`` as a module (it imports ``validation`` from beside it)."""
-    import importlib.util
-    import sys
-    from pathlib import Path
+    """``docs/pillars/calibration.py`` as a module."""
+    from test_pillar_tips import _pillars_script
 
-    folder = Path(__file__).resolve().parents[1] / "docs" / "pillars"
-    sys.path.insert(0, str(folder))
-    try:
-        spec = importlib.util.spec_from_file_location("pillar_calibration_table", folder / "calibration.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(folder))
-    return module
+    return _pillars_script("calibration.py", "pillar_calibration_table")
 
 
 def _errors(rows: list[dict], per_radius: str, calibrated: str, name: str = "force_error_extrapolated") -> list[float]:

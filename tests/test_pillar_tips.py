@@ -229,8 +229,8 @@ def test_the_resolution_warning_counts_the_tips_raster():
     assert resolution(fine).elements == pytest.approx(5 * resolution(coarse).elements)
 
 
-def _tips_script():
-    """``docs/pillars/tips.py`` as a module (it imports ``validation`` from beside it)."""
+def _pillars_script(file: str, name: str):
+    """``docs/pillars/<file>`` as a module named ``name`` (the scripts import ``validation`` from beside them)."""
     import importlib.util
     import sys
     from pathlib import Path
@@ -238,12 +238,17 @@ def _tips_script():
     folder = Path(__file__).resolve().parents[1] / "docs" / "pillars"
     sys.path.insert(0, str(folder))
     try:
-        spec = importlib.util.spec_from_file_location("pillar_tips_table", folder / "tips.py")
+        spec = importlib.util.spec_from_file_location(name, folder / file)
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
     finally:
         sys.path.remove(str(folder))
     return module
+
+
+def _tips_script():
+    """``docs/pillars/tips.py`` as a module."""
+    return _pillars_script("tips.py", "pillar_tips_table")
 
 
 def test_the_tips_table_holds_the_models_targets():
