@@ -62,6 +62,7 @@ class PillarModel:
         within = np.arange(width)[None, :] < sizes[:, None]
         self.slots[within] = flat
         self.rows, self.cols = np.divmod(np.where(within, self.slots, 0), self.n)
+        self.sizes, self.foot = sizes, np.stack([self.rows, self.cols], axis=-1)  # (M,), (M, width, 2): rows, cols
         self.full = within
         #: The global element each footprint slot reports to in the states (`TipRaster.reporting`).
         self.reports = np.where(within, raster.reporting(np.where(within, self.slots, flat[0])), -1)
@@ -125,9 +126,8 @@ class PillarModel:
 
     def mask_basis(self, p: int, mask: np.ndarray) -> tuple[Basis, np.ndarray]:
         """(basis, origin) of pillar p on the footprint slots ``mask`` (`brushbem.pillars.modes.Bases`)."""
-        size = int(np.count_nonzero(self.full[p]))
-        foot = np.stack([self.rows[p][:size], self.cols[p][:size]], axis=1)
-        on = mask[:size]
+        size = self.sizes[p]
+        foot, on = self.foot[p, :size], mask[:size]
         return self.bases.get(foot, on), foot[on].min(axis=0)
 
     # -- couplings -------------------------------------------------------------
@@ -289,6 +289,7 @@ def _swap_leading(a: np.ndarray) -> np.ndarray:
 def _build_couplings(model: PillarModel, full_centres: np.ndarray, lattice: bool) -> None:
     """The lattice (if any), the neighbours coupled exactly, and every coupling of the full footprints."""
     M, m = model.M, model.m
+    model.alone = [np.unique(cluster).size == cluster.size for cluster, _ in model.levels]  # one pillar a cluster
     #: The lattice of the pillars (`brushbem.pillars.lattice.Lattice`) when they sit on one
     #: (``coupling = "local"``, more than one mode): the far field of the uniform modes by FFT.
     model.lattice = (Lattice.detect(full_centres, model.near, model.scale)
@@ -357,7 +358,7 @@ def _install_basis(model: PillarModel, p: int) -> None:
     model.phi[p] = 0.0
     model.phi[p, mask] = basis.phi
     within = model.full[p]
-    foot = np.stack([model.rows[p][within], model.cols[p][within]], axis=1) - origin
+    foot = model.foot[p, :model.sizes[p]] - origin
     key = (basis.serial, foot.tobytes())
     cached = model._footprints.get(key)
     if cached is None:
@@ -419,8 +420,7 @@ def _field_across(model: PillarModel, p: int, q: int) -> np.ndarray:
     """K_Fq Phi_q: the field of q's modes on every slot of p's footprint F; cached by q's raster shape,
     p's footprint shape and their offset."""
     bq = model.basis[q]
-    size = int(np.count_nonzero(model.full[p]))
-    foot = np.stack([model.rows[p][:size], model.cols[p][:size]], axis=1)
+    foot = model.foot[p, :model.sizes[p]]
     corner = foot.min(axis=0)
     dr, dc = model.origin[q] - corner
     key = (bq.serial, int(dr), int(dc), (foot - corner).tobytes())

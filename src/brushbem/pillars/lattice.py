@@ -156,7 +156,9 @@ class Lattice:
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
         # along x, and only the rows of the lattice come back along x.
         py, px = self.padded
-        values = sources[:, None, :] * x0.T[None]
+        # x0 transposed into a contiguous array first: the broadcast product over its strided columns took 40 us
+        # of the far field's 450 at 32 x 32 pillars, and 5 us so (the same numbers).
+        values = sources[:, None, :] * np.ascontiguousarray(x0.T)[None]
         if self._in_order:
             grid = values.reshape(6, c, ny, nx)
         else:

@@ -339,9 +339,11 @@ def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndar
     model = run.model
     compliance = 0.0
     siblings = 0.0
-    for cluster, stiffness in model.levels:
+    for (cluster, stiffness), alone in zip(model.levels, model.alone):
         c = cluster[p]
         compliance += model.h2 / stiffness[c]
+        if alone:  # no siblings (the pillars' own springs): skip the O(M) pass, which would add 0.0
+            continue
         same = (cluster == c) & frozen
         same[p] = False
         siblings += model.h2 / stiffness[c] * float(np.sum(model.force[same] * x[same, 0]))
