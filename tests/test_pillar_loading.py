@@ -84,27 +84,35 @@ def test_the_replay_saves_solves_on_cycles():
     assert sum(saved) > 0 and sum(1 for s in saved if s > 0) >= 5, saved
 
 
+def _touched(problem, force):
+    """The cache and state of a pull-off of ``problem`` with its lowest tips attached, pressing with the near field
+    fed back; and the lowest tip's height."""
+    from brushbem import pillars
+    from brushbem.pillars import state as pillar_state
+    from brushbem.protocol import LoadPath
+
+    model = pillars.PillarModel(problem)
+    cache, state = pillar_state.begin(model, LoadPath(method="pillars", preload_force=force))
+    lowest = float(model.g.min())
+    state = pillar_state.attached_together(cache, state, np.flatnonzero(model.g <= lowest + 1e-12))
+    return cache, state.replace(press_radiates=True), lowest
+
+
 def test_local_release_finds_the_same_contact_in_fewer_rounds(switches):
     """A pillar that releases slots goes on releasing on its own in the same round (``press_local_release``):
     on a rough 6 x 6 brush (N = 96, k~ = 1e-2, sigma~ = 1) pressed in two steps the contact is the same slot
     for slot as without, in fewer rounds (measured 8 + 3 without, 5 + 3 with)."""
     from test_pillars_method import _brush
 
-    from brushbem import pillars
-    from brushbem.protocol import LoadPath
-
     problem, force = _brush(96, 6, 1e-2, 1.0)
     found = {}
     for local in (False, True):
         switches(press_local_release=local)
-        model = pillars.PillarModel(problem)
-        run = pillars.PillarState(model, LoadPath(method="pillars", preload_force=force))
-        lowest = float(model.g.min())
-        run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12))
-        run.press_radiates = True
-        d = lowest + 0.6 * float(np.ptp(model.g)) + 0.02
-        rounds = [loading.press(run, lowest + 0.5 * (d - lowest)), loading.press(run, d)]
-        found[local] = rounds, run.attached[:, None] & model.raster
+        cache, state, lowest = _touched(problem, force)
+        d = lowest + 0.6 * float(np.ptp(cache.model.g)) + 0.02
+        state, first = loading.press(cache, state, lowest + 0.5 * (d - lowest))
+        state, second = loading.press(cache, state, d)
+        found[local] = [first, second], state.attached[:, None] & state.raster
     assert np.array_equal(found[True][1], found[False][1])
     assert found[True][1].sum() > 1000  # many pillars in partial contact
     assert sum(found[True][0]) < sum(found[False][0])
@@ -117,20 +125,14 @@ def test_a_press_at_the_same_displacement_keeps_the_spent_slots_spent():
     an end one slot off the first)."""
     from test_pillars_method import _brush
 
-    from brushbem import pillars
-    from brushbem.protocol import LoadPath
-
     problem, force = _brush(128, 8, 1e-2, 1.0)
-    model = pillars.PillarModel(problem)
-    run = pillars.PillarState(model, LoadPath(method="pillars", preload_force=force))
-    lowest = float(model.g.min())
-    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12))
-    run.press_radiates = True
-    d = lowest + 0.3 * float(np.ptp(model.g)) + 0.01
-    loading.press(run, d)
-    first, spent = run.attached[:, None] & model.raster, run.spent.copy()
-    assert spent.any()
-    assert loading.press(run, d) == 1
-    assert np.array_equal(run.attached[:, None] & model.raster, first)
-    run.spent = None  # every slot's flips afresh: the cycle again
-    assert loading.press(run, d) > 1
+    cache, state, lowest = _touched(problem, force)
+    d = lowest + 0.3 * float(np.ptp(cache.model.g)) + 0.01
+    pressed, _ = loading.press(cache, state, d)
+    first = pressed.attached[:, None] & pressed.raster
+    assert pressed.spent.any()
+    again, rounds = loading.press(cache, pressed, d)
+    assert rounds == 1
+    assert np.array_equal(again.attached[:, None] & again.raster, first)
+    _, rounds = loading.press(cache, pressed.replace(spent=None), d)  # every slot's flips afresh: the cycle again
+    assert rounds > 1

@@ -299,8 +299,11 @@ The package's modules:
 
 * `path` - `pull_off`, the public path (``brushbem.protocol.pull_off`` with
   ``method = "pillars"`` calls it).
-* `state` - `PillarState`, the state of one pull-off: the amplitudes on the
-  attached set, the solves, the peeling and the cascades.
+* `state` - `PillarState`, the state of one pull-off as a frozen value (the
+  attached set, the rasters, the amplitudes, the loading's flags), its
+  `RasterCache` (the model's raster arrays and the kept inverse, owned by the
+  path), and the steps from state to state: the solves, the peeling and the
+  cascades.
 * `events` - the events, from the first touch to separation.
 * `loading` - the loading of tips of unequal lengths (contact problems at
   pillar level).
@@ -327,6 +330,7 @@ from __future__ import annotations
 from brushbem.pillars.basis import MODES, NEAR_RADII, Basis, PillarModel
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.path import pull_off
-from brushbem.pillars.state import PillarState
+from brushbem.pillars.state import PillarState, RasterCache
 
-__all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "PillarState", "check_applicable", "pull_off"]
+__all__ = ["MODES", "NEAR_RADII", "Basis", "PillarModel", "PillarState", "RasterCache", "check_applicable",
+           "pull_off"]

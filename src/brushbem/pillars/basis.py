@@ -107,7 +107,7 @@ class PillarModel:
         self.surface_map = np.zeros((M, width, 2 * m))
         self.fitted = self.surface_map[..., :m]
         #: Of every pillar's fit across its footprint (`fitted`, per mode): the mean over the footprint's
-        #: slots and the largest distance of a slot from it, (m, M) each: the bound of `_Path.touch_candidates`.
+        #: slots and the largest distance of a slot from it, (m, M) each: the bound of `state.touch_candidates`.
         self.fit_centre = np.zeros((m, M))
         self.fit_spread = np.zeros((m, M))
         self._footprints: dict[tuple, np.ndarray] = {}

@@ -11,123 +11,126 @@ from collections.abc import Iterator
 import numpy as np
 
 from brushbem.pillars.loading import press_rough
-from brushbem.pillars.state import PillarState, peel_all
+from brushbem.pillars.state import (PillarState, RasterCache, amplitudes, attached_together, cascade,
+                                    element_penetration, force, force_rate, installed, on, peel_all, pressures,
+                                    pressures_at, record, solved, touch_candidates)
 from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
 
 __all__ = ["events"]
 
 
-def events(run: PillarState, path: LoadPath) -> Iterator[State]:
-    """The states of the pull-off of ``run`` from its first touch to separation.
+def events(cache: RasterCache, state: PillarState, path: LoadPath) -> Iterator[tuple[PillarState, State]]:
+    """The states of the pull-off from ``state`` (nothing attached), from its first touch to separation: each as
+    the path's value and its record.
 
     Everything is affine in d on a fixed state, so the next event - an
     element of an attached tip reaching the criterion, a free tip touching,
     the preload - is found in closed form, the state at it is yielded, and
-    the cascade at that d (`PillarState.cascade`) gives the next equilibrium.
+    the cascade at that d (`brushbem.pillars.state.cascade`) gives the next equilibrium.
     Tips of unequal lengths are first pressed as the exact path presses
     them (`brushbem.pillars.loading.press_rough`).
     """
-    model = run.model
+    model = cache.model
     lowest = float(model.g.min())
     d = lowest
-    run.attach_many(np.flatnonzero(model.g <= lowest + 1e-12 * max(abs(lowest), 1.0)))
-    run.solve()
+    state = solved(cache, attached_together(cache, state, np.flatnonzero(
+        model.g <= lowest + 1e-12 * max(abs(lowest), 1.0))))
     loading = True
-    yield run.state(d, True, "equilibrium", "first touch")
+    yield state, record(cache, state, d, True, "equilibrium", "first touch")
     if path.preload_displacement is not None and d >= path.preload_displacement:
         loading = False
     if float(np.ptp(model.g)) > 1e-12 * max(abs(lowest), 1.0):
-        d = yield from press_rough(run, path, lowest)
+        state, d = yield from press_rough(cache, state, path, lowest)
         loading = False
     steps = 0
     while True:
         steps += 1
         if steps > path.max_steps:
-            yield run.state(d, loading, "equilibrium", f"LoadPath.max_steps = {path.max_steps} reached before the "
-                            "end of the branch", converged=False)
+            yield state, record(cache, state, d, loading, "equilibrium", f"LoadPath.max_steps = {path.max_steps} "
+                                "reached before the end of the branch", converged=False)
             return
         direction = 1.0 if loading else -1.0
-        attached = run.on()
-        t_detach, slack = _detachment_times(run, path, d, direction)
+        attached = on(state)
+        t_detach, slack = _detachment_times(cache, state, path, d, direction)
         t_det = float(t_detach.min(initial=math.inf))
-        t_target = _preload_distance(run, path, d) if loading else math.inf
-        rows, t_touch = _touch_times(run, path, d, direction, min(t_det, t_target))
+        t_target = _preload_distance(cache, state, path, d) if loading else math.inf
+        rows, t_touch = _touch_times(cache, state, path, d, direction, min(t_det, t_target))
         t_attach = t_touch.min(axis=1) if rows.size else np.zeros(0)
         t_att = float(t_attach.min(initial=math.inf))
         t = min(t_det, t_att, t_target)
         if not math.isfinite(t):
-            yield run.state(d, loading, "equilibrium", "no event ahead on this branch (no pillar touches or "
-                            "detaches)", converged=False)
+            yield state, record(cache, state, d, loading, "equilibrium", "no event ahead on this branch (no pillar "
+                                "touches or detaches)", converged=False)
             return
         t = max(t, 0.0)
         tie = event_tie(path, math.sqrt(model.h2))
         new_d = d + direction * t
         if loading and t_target <= t + tie and t_target + tie < min(t_det, t_att):
             d = new_d
-            yield run.state(d, True, "equilibrium", "preload reached")
+            yield state, record(cache, state, d, True, "equilibrium", "preload reached")
             loading = False
             steps = 0
             continue
-        x = run.amplitudes(new_d)
-        yield run.state(new_d, loading, "event", "event")
+        x = amplitudes(state, new_d)
+        yield state, record(cache, state, new_d, loading, "event", "event")
         d = new_d
         detaching = t_detach <= t + np.maximum(tie, slack)
         leaving = np.flatnonzero(detaching.any(axis=1)) if t_det <= t + tie else np.array([], int)
-        peel_all(run, [(int(attached[i]), detaching[i]) for i in leaving], x, d)
+        state = peel_all(cache, state, [(int(attached[i]), detaching[i]) for i in leaving], x, d)
         if t_att <= t + tie:
             touching = t_attach <= t + tie
             masks = np.zeros(model.full.shape, dtype=bool)
             masks[rows] = t_touch <= t + tie
-            run.install(masks, rows[touching])
-        run.cascade(d, loading)
-        if not run.attached.any() and not loading:
-            yield run.state(d, False, "separated", "complete separation")
+            state = installed(cache, state, masks, rows[touching])
+        state = cascade(cache, state, d, loading)
+        if not state.attached.any() and not loading:
+            yield state, record(cache, state, d, False, "separated", "complete separation")
             return
-        yield run.state(d, loading, "equilibrium", "cascade")
-        if loading and (run.force(d) >= path.preload_force * (1 - 1e-9) if path.preload_force is not None
+        yield state, record(cache, state, d, loading, "equilibrium", "cascade")
+        if loading and (force(cache, state, d) >= path.preload_force * (1 - 1e-9) if path.preload_force is not None
                         else d >= path.preload_displacement * (1 - 1e-12)):
             loading = False
             steps = 0
 
 
-def _detachment_times(run: PillarState, path: LoadPath, d: float,
+def _detachment_times(cache: RasterCache, state: PillarState, path: LoadPath, d: float,
                       direction: float) -> tuple[np.ndarray, np.ndarray]:
-    """How far the base moves before each slot of each attached pillar (`PillarState.on`) reaches the criterion:
+    """How far the base moves before each slot of each attached pillar (`brushbem.pillars.state.on`) reaches the
+    criterion:
     (n, width), inf where its tension does not grow; and how much further each stays within the event
     window (`brushbem.protocol.problem.detachment_slack`)."""
-    model = run.model
-    p = run.pressures_at(d)
-    rate = direction * run.pressures(run.alpha)
-    rows = run.on()
-    grows = np.take(model.raster, rows, axis=0) & (rate < 0)
+    model = cache.model
+    p = pressures_at(cache, state, d)
+    rate = direction * pressures(cache, state, state.alpha)
+    rows = on(state)
+    grows = np.take(state.raster, rows, axis=0) & (rate < 0)
     critical = model.critical[rows, None]
     t_detach = np.where(grows, (p + critical) / np.where(grows, -rate, 1.0), np.inf)
     return np.maximum(t_detach, 0.0), detachment_slack(path, critical, grows, rate)
 
 
-def _preload_distance(run: PillarState, path: LoadPath, d: float) -> float:
+def _preload_distance(cache: RasterCache, state: PillarState, path: LoadPath, d: float) -> float:
     """How far the base presses on before the preload (a displacement, or a force on the fixed state)."""
-    model = run.model
     if path.preload_displacement is not None:
         return path.preload_displacement - d
-    rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-    return (path.preload_force - run.force(d)) / rate if rate > 0 else math.inf
+    rate = force_rate(cache, state)
+    return (path.preload_force - force(cache, state, d)) / rate if rate > 0 else math.inf
 
 
-def _touch_times(run: PillarState, path: LoadPath, d: float, direction: float,
+def _touch_times(cache: RasterCache, state: PillarState, path: LoadPath, d: float, direction: float,
                  window: float) -> tuple[np.ndarray, np.ndarray]:
     """(rows, t_touch (rows, width)): how far the base moves before each footprint slot of the free pillars
     ``rows`` touches; only those that may touch within ``window`` or with the event there (within its
-    tie; by `PillarState.touch_candidates`) are looked at, all of them when ``window`` is infinite."""
-    model = run.model
+    tie; by `brushbem.pillars.state.touch_candidates`) are looked at, all of them when ``window`` is infinite."""
+    model = cache.model
     tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
     if math.isfinite(window):
         window = max(window, 0.0)
         window += event_tie(path, math.sqrt(model.h2)) + tolerance
-        candidates = run.touch_candidates(d, d + direction * window, tolerance)
+        candidates = touch_candidates(cache, state, d, d + direction * window, tolerance)
     else:
-        candidates = ~run.attached
-    rows, penetration, slope = run.element_penetration(d, candidates)
+        candidates = ~state.attached
+    rows, penetration, slope = element_penetration(cache, state, d, candidates)
     closing = np.isfinite(penetration) & (direction * slope > 0)
     t_touch = np.where(closing, -penetration / np.where(closing, direction * slope, 1.0), np.inf)
     return rows, np.maximum(t_touch, 0.0)

@@ -33,7 +33,8 @@ from collections.abc import Generator
 import numpy as np
 
 from brushbem import settings
-from brushbem.pillars.state import PillarState, local_amplitudes
+from brushbem.pillars.state import (PillarState, RasterCache, amplitudes, element_penetration, force, force_rate,
+                                    installed, local_amplitudes, on, pressures_at, record, solved, touch_candidates)
 from brushbem.protocol.contact_loading import LOADING_SAMPLES
 from brushbem.protocol.problem import LoadPath, State
 
@@ -48,8 +49,8 @@ _FLIPS = 6
 #: (relative to the indentation d - lowest tip).
 _NEAR_PRESS = 0.02
 
-def press(run: PillarState, d: float) -> int:
-    """The non-adhesive contact problem at d: the rounds it took (solves of the pillar-level system).
+def press(cache: RasterCache, state: PillarState, d: float) -> tuple[PillarState, int]:
+    """The non-adhesive contact problem at d: its state and the rounds it took (solves of the pillar-level system).
 
     Rounds of an active set at element level: an element in tension
     leaves, a footprint slot that the tip penetrates joins, until neither
@@ -62,46 +63,57 @@ def press(run: PillarState, d: float) -> int:
     that press spent start spent, so that pressing again at its d is one
     round to its state.
     """
-    model = run.model
+    model = cache.model
     tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
     # The active set settles without the higher modes' near field first (cheap rounds), then with it
     # (`press_radiates`: a few rounds more, from near the answer).  From the settled state of a press at
     # nearly the same d (the preload search's last Newton steps) it starts with the field: the set without it
     # lies farther from there (25-34 rounds a press instead of a few, 64 x 64 chapter-5 brush, sigma~ = 0.5).
-    near = run.pressed is not None and abs(d - run.pressed) <= _NEAR_PRESS * max(abs(d - float(model.g.min())), 1e-300)
-    phases = ([True] if near else [False, True]) if run.press_radiates and model.m > 1 else [False]
+    near = state.pressed is not None and abs(d - state.pressed) <= _NEAR_PRESS * max(abs(d - float(model.g.min())),
+                                                                                     1e-300)
+    phases = ([True] if near else [False, True]) if state.press_radiates and model.m > 1 else [False]
     flips = np.zeros(model.full.shape, dtype=np.int64)
-    if near and run.spent is not None:
-        flips[run.spent] = _FLIPS
-    run.pressed = run.spent = None
+    if near and state.spent is not None:
+        flips[state.spent] = _FLIPS
+    state = state.replace(pressed=None, spent=None)
     rounds = 0
-    for radiate in phases:
-        run.radiate = radiate
-        rounds += _settle(lambda: _answer(run, d, tolerance), lambda new, on: run.install(
-            new, np.flatnonzero((new != on).any(axis=1))), flips, run.check_stop, d)
-    if run.radiate:
-        run.pressed, run.spent = d, flips >= _FLIPS
-    return rounds
+
+    def answer():
+        nonlocal state
+        state = solved(cache, state)
+        return _answer(cache, state, d, tolerance)
+
+    def install(new, held):
+        nonlocal state
+        state = installed(cache, state, new, np.flatnonzero((new != held).any(axis=1)))
+
+    for radiating in phases:
+        state = state.replace(radiate=radiating)
+        rounds += _settle(answer, install, flips, cache.check_stop, d)
+    if state.radiate:
+        state = state.replace(pressed=d, spent=flips >= _FLIPS)
+    return state, rounds
 
 
-def _answer(run: PillarState, d: float, tolerance: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The current active set solved at d: (its slots, slots in tension, slots off it that the tip penetrates)."""
-    model = run.model
-    run.solve()
-    pressure = run.pressures_at(d)
-    on = run.attached[:, None] & model.raster
-    release = np.zeros_like(on)
+def _answer(cache: RasterCache, state: PillarState, d: float,
+            tolerance: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The solved ``state`` at d: (its slots, slots in tension, slots off it that the tip penetrates)."""
+    pressure = pressures_at(cache, state, d)
+    held = state.attached[:, None] & state.raster
+    release = np.zeros_like(held)
     floor = -1e-10 * max(float(np.max(np.abs(pressure), initial=0.0)), 1e-300)
-    release[run.on()] = on[run.on()] & (pressure < floor)
+    release[on(state)] = held[on(state)] & (pressure < floor)
     if settings.switches().press_local_release:
-        _release_locally(run, d, on, release, floor)
-    rows, penetration, _ = run.element_penetration(d, run.touch_candidates(d, d, tolerance) | run.attached)
-    wanted = np.zeros_like(on)
-    wanted[rows] = ~on[rows] & (penetration > tolerance)
-    return on, release, wanted
+        _release_locally(cache, state, d, held, release, floor)
+    rows, penetration, _ = element_penetration(cache, state, d, touch_candidates(cache, state, d, d, tolerance)
+                                               | state.attached)
+    wanted = np.zeros_like(held)
+    wanted[rows] = ~held[rows] & (penetration > tolerance)
+    return held, release, wanted
 
 
-def _release_locally(run: PillarState, d: float, on: np.ndarray, release: np.ndarray, floor: float) -> None:
+def _release_locally(cache: RasterCache, state: PillarState, d: float, held: np.ndarray, release: np.ndarray,
+                     floor: float) -> None:
     """Each pillar that releases slots this round goes on releasing on its own: ``release`` extended in place.
 
     With the other pillars held at this round's amplitudes (`local_amplitudes`, as a peel holds them) the
@@ -111,18 +123,18 @@ def _release_locally(run: PillarState, d: float, on: np.ndarray, release: np.nda
     this; the same contact at every sample and the same F_A and work, ``tests/test_pillar_loading.py``).
     The settled set is the press's own test, so what this changes is only the way there.
     """
-    x = run.amplitudes(d)
-    frozen = run.attached.copy()
+    x = amplitudes(state, d)
+    frozen = state.attached
     for p in np.flatnonzero(release.any(axis=1)):
-        mask = on[p] & ~release[p]
+        mask = held[p] & ~release[p]
         while mask.any():
-            a, basis = local_amplitudes(run, p, mask, frozen, x, d)
+            a, basis = local_amplitudes(cache, state, p, mask, frozen, x, d)
             tense = basis.phi @ a < floor
             if not tense.any():
                 break
             mask = mask.copy()
             mask[np.flatnonzero(mask)[tense]] = False
-        release[p] = on[p] & ~mask
+        release[p] = held[p] & ~mask
 
 
 def _settle(answer, install, flips: np.ndarray, check_stop, d: float) -> int:
@@ -178,8 +190,10 @@ class _Rounds:
         return new
 
 
-def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[State, None, float]:
-    """The loading branch of a brush whose tips are not level, as the exact path presses it.
+def press_rough(cache: RasterCache, state: PillarState, path: LoadPath,
+                lowest: float) -> Generator[tuple[PillarState, State], None, tuple[PillarState, float]]:
+    """The loading branch of a brush whose tips are not level, as the exact path presses it: its states (each
+    as the path's value and its record), and the state and d at the preload.
 
     The exact path's loading branch of such a brush is the non-adhesive
     contact problem at every d (`brushbem.protocol.contact_loading`): tips
@@ -187,15 +201,15 @@ def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[St
     pillar level (`press`) at the preload displacement, or at the
     displacement of the preload force, found from below (the indentation at
     most doubling) and then by Newton steps on the affine F(d) of a fixed
-    contact set inside a bracket (exact once the set does not change); then at ``LOADING_SAMPLES - 1`` evenly spaced displacements
-    below it for the loading curve.
+    contact set inside a bracket (exact once the set does not change); then at ``LOADING_SAMPLES - 1`` evenly
+    spaced displacements below it for the loading curve, from which the path returns to the preload's state.
     """
-    model = run.model
-    run.press_radiates = settings.switches().radiate_while_pressing
+    model = cache.model
+    state = state.replace(press_radiates=settings.switches().radiate_while_pressing)
     samples: list[float] = []
     if path.preload_displacement is not None:
         target = float(path.preload_displacement)
-        press(run, target)
+        state, _ = press(cache, state, target)
     else:
         goal = float(path.preload_force)
         low, high = lowest, math.inf
@@ -204,16 +218,16 @@ def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[St
         # the indentation; above it, F being convex in d, Newton steps approach the goal from above.
         d = lowest + float(np.ptp(model.g)) / 16.0
         for _ in range(200):
-            press(run, d)
-            force = run.force(d)
-            if abs(force - goal) <= 1e-10 * goal:
+            state, _ = press(cache, state, d)
+            total = force(cache, state, d)
+            if abs(total - goal) <= 1e-10 * goal:
                 break
-            if force < goal:
+            if total < goal:
                 low = max(low, d)
             else:
                 high = min(high, d)
-            rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-            step = d + (goal - force) / rate if rate > 0 else math.inf
+            rate = force_rate(cache, state)
+            step = d + (goal - total) / rate if rate > 0 else math.inf
             if not math.isfinite(high):
                 step = min(step, lowest + 2.0 * (d - lowest))
             elif not low < step < high:
@@ -224,22 +238,17 @@ def press_rough(run: PillarState, path: LoadPath, lowest: float) -> Generator[St
         else:
             raise RuntimeError(f"the preload force {goal:g} was not found on the loading branch")
         target = d
-    kept = (run.attached.copy(), model.raster.copy())
+    kept = state
     for k in range(1, LOADING_SAMPLES):
         samples.append(lowest + (target - lowest) * k / LOADING_SAMPLES)
     for d in samples:
-        press(run, d)
-        yield run.state(d, True, "equilibrium", "contact problem (pillar level)")
-    attached, raster = kept
-    masks = np.where(attached[:, None], raster, False)
-    run.install(masks, np.flatnonzero((masks != (run.attached[:, None] & model.raster)).any(axis=1)
-                                      | (attached != run.attached)))
-    # The pull-off feeds back no higher modes: on the contact set found, the preload force's displacement
-    # without them (F is affine in d on a fixed set).
-    run.press_radiates = run.radiate = False
-    run.solve()
+        state, _ = press(cache, state, d)
+        yield state, record(cache, state, d, True, "equilibrium", "contact problem (pillar level)")
+    # Back to the preload's contact set (a saved state: the next step brings the cache to its rasters).  The
+    # pull-off feeds back no higher modes: on the contact set found, the preload force's displacement without
+    # them (F is affine in d on a fixed set).
+    state = solved(cache, kept.replace(press_radiates=False, radiate=False))
     if path.preload_displacement is None:
-        rate = model.h2 * float(np.sum(np.where(run.attached, model.force * run.alpha[:, 0], 0.0)))
-        target += (float(path.preload_force) - run.force(target)) / rate
-    yield run.state(target, True, "equilibrium", "contact problem (pillar level): preload reached")
-    return target
+        target += (float(path.preload_force) - force(cache, state, target)) / force_rate(cache, state)
+    yield state, record(cache, state, target, True, "equilibrium", "contact problem (pillar level): preload reached")
+    return state, target

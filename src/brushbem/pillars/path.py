@@ -5,6 +5,7 @@ The model is described in `brushbem.pillars`.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Iterator
 
@@ -16,7 +17,7 @@ from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.domain import PillarDomainWarning, domain_warning
 from brushbem.pillars.events import events
-from brushbem.pillars.state import Interrupted, PillarState
+from brushbem.pillars.state import Interrupted, begin
 from brushbem.pillars.tips import tip_factor
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 
@@ -52,12 +53,16 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str | None = Non
         if path.pillar_solve == "cg" and model.lattice is None:
             raise ParameterError("LoadPath", "pillar_solve", "LoadPath.pillar_solve = 'cg' solves on a lattice's "
                                  "FFT; this brush's pillars are not on a lattice: use 'auto' or 'kept'")
-        run = PillarState(model, path, stop)
+        cache, state = begin(model, path, stop)
+        last = None
         try:
-            yield from events(run, path)
+            for _, last in events(cache, state, path):
+                yield last
         except Interrupted:
             return  # the caller asked to stop: the last state yielded stands
         except NotConverged as error:
+            if last is None:
+                raise
             # The last state stands; the path stops there, saying why (as the element paths do).
-            d, loading = run.last
-            yield run.state(d, loading, "equilibrium", str(error), converged=False)
+            yield dataclasses.replace(last, kind="equilibrium", reason=str(error), converged=False,
+                                      n_solves=cache.solves - cache.reported)

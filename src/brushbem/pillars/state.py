@@ -1,14 +1,34 @@
-"""The state of a pull-off in the pillar model: `PillarState`.
+"""The state of a pull-off in the pillar model as a frozen value (`PillarState`), its cache, and its steps.
 
-It holds the amplitudes of every pillar's modes on the current attached set
-and rasters (affine in d: ``d alpha - beta``), the pillar-level solver, and
-the steps that change them: a solve (with the higher modes' near field fed
-back while tips touch in part, `brushbem.pillars.solver.radiate`), pillars
-that join, leave or peel, and the cascade of peeling and touching at one d.
+`PillarState` holds what the path is at: the attached pillars, every
+pillar's raster (the footprint slots it holds), the amplitudes of every
+pillar's modes on them (affine in d: ``d alpha - beta``) and the others'
+field on them from the last solve, and the loading's flags.  It is never
+written into: each step takes a state and returns the next (`solved`,
+`installed`, `attached_together`, `peel_all`, `cascade`, and the presses of
+`brushbem.pillars.loading`), and a saved state is that value, which the path
+can hand to a step again.  A state after a change of its set or rasters and
+before its solve carries no amplitudes (None).
+
+`RasterCache` is what the steps reuse, owned by the path: the model's
+arrays derived from the rasters (`PillarModel.set_raster`: the bases,
+moments, couplings and surface maps of each pillar's raster; rows of 20
+arrays, 14.4 MB on the chapter-5 brush, so not copied per step) and the
+kept inverse of the pillar-level system on the attached set
+(`brushbem.pillars.solver.Solver`).  They are keyed by (pillar, raster):
+`PillarModel.raster` and ``Solver.attached`` say which rasters and set the
+arrays are of, and a step given a state of other rasters (a saved one)
+brings them to its rasters first, pillar by pillar (`_follow`).  The cache
+also keeps the path's ledger: the solves, and those already reported.
+
 The model is described in `brushbem.pillars`.
 """
 
 from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -16,7 +36,8 @@ from brushbem.pillars.basis import Basis, PillarModel
 from brushbem.pillars.solver import Solver, full_solve, radiate
 from brushbem.protocol.problem import LoadPath, State
 
-__all__ = ["PillarState"]
+__all__ = ["PillarState", "RasterCache", "attached_together", "begin", "cascade", "installed", "peel_all",
+           "record", "solved"]
 
 
 #: At most this many attached pillars that change their raster at once are updated in the kept inverse one by
@@ -28,229 +49,318 @@ class Interrupted(Exception):
     """``stop()`` turned True inside a long step of the pillar model (a cascade, a peel, a press)."""
 
 
+@dataclass(frozen=True)
 class PillarState:
-    """The state of a pull-off in the pillar model (amplitudes, attached pillars, their rasters) and its steps:
-    the solves, the peeling and the cascades.
+    """The state of a pull-off in the pillar model (module docstring), as one frozen value.
 
-    ``stop`` (a callable, or None) is asked in every round of those steps; when it returns True they raise
+    Attributes
+    ----------
+    attached : ndarray of bool, shape (M,)
+        The attached pillars.
+    raster : ndarray of bool, shape (M, width)
+        The footprint slots every pillar holds (its whole footprint while it is off).
+    alpha, beta : ndarray, shape (M, m), or None
+        The amplitudes of every pillar's modes at d, ``d alpha - beta`` (0 off the attached set), of the
+        last solve; None after a change of the set or rasters before its solve.
+    fields : ndarray, shape (m, M, 2), or None
+        The others' field on every pillar's modes, ``d fields[..., 0] - fields[..., 1]``, of that solve.
+    radiate : bool
+        Whether the solves feed the higher modes' near field back (`brushbem.pillars.solver.radiate`):
+        while a brush whose tips are not level is pressed, where tips touch in part.
+    press_radiates : bool
+        Whether a press (`brushbem.pillars.loading.press`) feeds it back once its set has settled without.
+    pressed : float or None
+        The d of the last contact problem settled with the near field fed back; None once the state has
+        changed otherwise.
+    spent : ndarray of bool, shape (M, width), or None
+        The footprint slots whose joins that press spent (a press at nearly its d starts with them spent).
+
+    The arrays are read-only; a new state shares those that did not change.  ``memo`` keeps what is
+    derived of the state (element pressures at a d, penetrations), computed once per state.
+    """
+
+    attached: Any
+    raster: Any
+    alpha: Any = None
+    beta: Any = None
+    fields: Any = None
+    radiate: bool = False
+    press_radiates: bool = False
+    pressed: float | None = None
+    spent: Any = None
+    memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        for array in (self.attached, self.raster, self.alpha, self.beta, self.fields, self.spent):
+            if array is not None:
+                array.flags.writeable = False
+
+    def replace(self, **changes) -> PillarState:
+        """The state with ``changes`` (the other fields, and their arrays, shared; what is derived afresh)."""
+        return dataclasses.replace(self, **changes)
+
+
+class RasterCache:
+    """What the steps of one pull-off reuse (module docstring); the path owns it.
+
+    ``stop`` (a callable, or None) is asked in every round of the long steps; when it returns True they raise
     `Interrupted`, so that a stop request is honoured within a round, not after the whole cascade.
     """
 
     def __init__(self, model: PillarModel, path: LoadPath, stop=None):
         self.model = model
-        self.path = path
-        self.stop = stop
         self.solver = Solver(model, path.pillar_solve)
-        self.attached = self.solver.attached  # shared
-        self.alpha = np.zeros((model.M, model.m))
-        self.beta = np.zeros((model.M, model.m))
+        self.stop = stop
+        #: The ``raster`` and ``attached`` arrays of the state whose rasters and set the arrays are of.
+        self.key: tuple = (None, None)
         self.solves = 0
-        self._reported = 0  # solves already reported with a state
-        #: Whether the higher modes' near field is fed back (`_radiate`): while a brush whose tips are not
-        #: level is pressed, where tips touch in part.
-        self.radiate = False
-        #: Whether `press` feeds the higher modes' near field back once its active set has settled without.
-        self.press_radiates = False
+        self.reported = 0  # solves already reported with a state
         self.radiation_rounds = 0
-        #: The d of the last contact problem settled with the near field fed back (`loading.press`), None
-        #: once the state has changed otherwise.
-        self.pressed: float | None = None
-        #: The footprint slots whose joins that press had spent (`loading.press`): a press at nearly its d
-        #: starts with them spent, None with ``pressed``.
-        self.spent: np.ndarray | None = None
-        #: Bumped by every change of the state (a solve, a pillar that joins, leaves or peels): the key of
-        #: `_memo`, which keeps the element pressures and penetrations of the current state (the event search
-        #: asks for those the cascade has just computed at the same d).
-        self._stamp = 0
-        self._memo: dict[tuple, object] = {}
-        self.last = (0.0, True)  # (d, loading) of the last state yielded
 
-    # -- state ---------------------------------------------------------------
     def check_stop(self) -> None:
         """Raise `Interrupted` when ``stop()`` asks to stop (one flag read: asked in every round)."""
         if self.stop is not None and self.stop():
             raise Interrupted("stopped inside a step of the pillar model")
 
-    def solve(self) -> None:
-        model = self.model
-        self.solves += 1
-        _changed(self)
-        if model.coupling == "full":
-            self.alpha, self.beta = full_solve(model, self.attached)
-            amplitudes = np.stack([self.alpha, self.beta], axis=-1)  # (M, m, 2)
-            # The others' field on every mode: all blocks but the pillar's own (diag(gram)).
-            self.fields = (np.einsum("ijkl,jlc->kic", model.Gf, amplitudes)
-                           - (model.gram[:, :, None] * amplitudes).transpose(1, 0, 2))
-            self.surface = self.fields[0]
-            return
-        sol, fields = self.solver.solve()
-        # The others' field on every mode: G0's diagonal is the pillar's own uniform mode.
-        fields[0] -= model.gram[:, :1] * sol
-        if model.m > 1 and self.radiate:
-            sol, fields, rounds = radiate(model, self.solver, self.attached, sol, fields)
-            self.radiation_rounds += rounds
-        self.fields = fields
-        self.surface = fields[0]
-        self.alpha = model.amplitudes(sol[:, 0], self.fields[..., 0], self.attached)
-        self.beta = model.amplitudes(sol[:, 1], self.fields[..., 1], self.attached)
 
-    def amplitudes(self, d: float) -> np.ndarray:
-        return d * self.alpha - self.beta
+def begin(model: PillarModel, path: LoadPath, stop=None) -> tuple[RasterCache, PillarState]:
+    """The cache of a pull-off and its first state: no pillar attached, every raster whole."""
+    cache = RasterCache(model, path, stop)
+    state = PillarState(attached=cache.solver.attached.copy(), raster=model.raster.copy(),
+                        alpha=np.zeros((model.M, model.m)), beta=np.zeros((model.M, model.m)))
+    cache.key = (state.raster, state.attached)
+    return cache, state
 
-    def force(self, d: float) -> float:
-        model = self.model
-        return float(model.h2 * np.sum(np.where(self.attached, model.force * (d * self.alpha[:, 0] - self.beta[:, 0]),
-                                                0.0)))
 
-    def on(self) -> np.ndarray:
-        """The attached pillars (indices, kept until the state changes)."""
-        return _remember(self, ("on",), lambda: np.flatnonzero(self.attached))
+# -- reading a state -------------------------------------------------------------------------------------------
 
-    def pressures_at(self, d: float) -> np.ndarray:
-        """`pressures` of the amplitudes at d (kept until the state changes)."""
-        return _remember(self, ("pressures", float(d)), lambda: self.pressures(self.amplitudes(d)))
+def amplitudes(state: PillarState, d: float) -> np.ndarray:
+    return d * state.alpha - state.beta
 
-    def pressures(self, x: np.ndarray) -> np.ndarray:
-        """Element pressures on the footprint slots of the attached pillars (`on`): (n, width), 0 off
-        their rasters."""
-        model = self.model
-        on = self.on()
-        # One product per group of pillars that share their footprint and raster (and so their modes'
-        # pressures, `PillarModel.surface_group`): every pillar of a level lattice in full contact is one.
-        out = np.zeros((on.size, model.phi.shape[1]))
-        if on.size == 0:
-            return out
-        for members in _remember(self, ("groups",), lambda: _surface_groups(self)):
-            pillars = on[members]
-            out[members] = np.take(x, pillars, axis=0) @ model.phi[pillars[0]].T
-        # np.take: the rows gathered as fancy indexing gathers them, many times faster.
-        return np.where(np.take(model.raster, on, axis=0), out, 0.0)
 
-    def element_penetration(self, d: float, rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray,
-                                                                                       np.ndarray]:
-        """The footprint slots' penetration at d (tip below the surface > 0) and its slope, of the pillars
-        ``rows`` (a mask; default all): (their indices, penetration (R, width), slope (R, width)).
+def force(cache: RasterCache, state: PillarState, d: float) -> float:
+    model = cache.model
+    return float(model.h2 * np.sum(np.where(state.attached, model.force * (d * state.alpha[:, 0] - state.beta[:, 0]),
+                                            0.0)))
 
-        The surface under a tip is the others' field fitted by the tip's
-        polynomials from its projections on the modes, plus the tip's own
-        modes' displacement; the tip is level, at d - g less its springs'
-        stretch.  Slots off the footprint read -inf.
-        """
-        key = ("penetration", float(d), None if rows is None else rows.tobytes())
-        return _remember(self, key, lambda: _element_penetration(self, d, rows))
 
-    def touch_candidates(self, d: float, end: float, tolerance: float) -> np.ndarray:
-        """The free pillars that may touch at a displacement between d and ``end`` (a mask): those whose
-        `touch_bound` is above -``tolerance``."""
-        return ~self.attached & (self.touch_bound(d, end) > -tolerance)
+def force_rate(cache: RasterCache, state: PillarState) -> float:
+    """dF/dd on the state's set (F is affine in d there)."""
+    model = cache.model
+    return model.h2 * float(np.sum(np.where(state.attached, model.force * state.alpha[:, 0], 0.0)))
 
-    def touch_bound(self, d: float, end: float) -> np.ndarray:
-        """Every free pillar's largest slot penetration between d and ``end``, bounded from above: (M,).
 
-        A free pillar's own amplitudes are zero, so the surface under it is
-        the fit of the others' field, u_s = fitted_s . f(d') with f(d') =
-        d' f_a - f_b affine.  Over the slots, u_s lies within c . f(d') +- r .
-        |f(d')| (c, r: `PillarModel.fit_centre`, `fit_spread`), so no slot
-        penetrates more than  d' (wa - c . f_a) - (wb - c . f_b) + r . |f(d')|,
-        a convex function of d' whose largest value on [d, end] is at an end.
-        (Entries of attached pillars mean nothing.)
-        """
-        spread = self.model.fit_spread
-        fa, fb, level_a, level_b = _remember(self, ("touch",), lambda: _touch_terms(self))
-        return np.maximum(d * level_a - level_b + np.sum(spread * np.abs(d * fa - fb), axis=0),
-                          end * level_a - level_b + np.sum(spread * np.abs(end * fa - fb), axis=0))
+def on(state: PillarState) -> np.ndarray:
+    """The attached pillars (indices)."""
+    return _remember(state, ("on",), lambda: np.flatnonzero(state.attached))
 
-    def install(self, masks: np.ndarray, pillars: np.ndarray) -> None:
-        """The ``pillars`` hold the footprint slots ``masks[p]`` (none: off)."""
-        _apply(self, [(int(p), masks[p]) for p in pillars])
 
-    def state(self, d: float, loading: bool, kind: str, reason: str, converged: bool = True) -> State:
-        model = self.model
-        self.last = (float(d), loading)
-        rows = self.on()
-        on = np.take(model.raster, rows, axis=0)
-        force = 0.0
-        slots, values = np.zeros(0, dtype=np.int64), np.zeros(0)
-        if kind != "separated" and rows.size:
-            slots = np.take(model.reports, rows, axis=0)[on]
-            values = self.pressures_at(d)[on]
-            force = float(model.h2 * values.sum())
-        # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
-        pressure, contact = model.tips.to_grid(slots, values)
-        solves, self._reported = self.solves - self._reported, self.solves
-        return State(displacement=float(d), force=force, contact_area=model.h2 * int(np.count_nonzero(on)),
-                     attached_pillars=int(np.count_nonzero(self.attached)), loading=loading, kind=kind,
-                     trial_force=force, cg_iterations=0, n_solves=solves, converged=converged, reason=reason,
-                     pressure=pressure, contact=contact)
+def pressures_at(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
+    """`pressures` of the amplitudes at d."""
+    return _remember(state, ("pressures", float(d)), lambda: pressures(cache, state, amplitudes(state, d)))
 
-    # -- changes -------------------------------------------------------------
-    def attach_many(self, pillars: np.ndarray) -> None:
-        """Several pillars join at once (one factorisation instead of one update each)."""
-        _changed(self)
-        for p in pillars:
-            self.model.set_raster(int(p), self.model.full[p])
-        self.attached[pillars] = True
-        if self.model.coupling == "local":
-            self.solver.refactor()
 
-    def cascade(self, d: float, loading: bool) -> None:
-        """Rounds at d: solve, peel every pillar beyond the criterion, let touching pillars in; until stable."""
-        model = self.model
-        tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
-        for _ in range(10 * model.M + 100):
-            self.check_stop()
-            self.solve()
-            x = self.amplitudes(d)
-            p = self.pressures_at(d)
-            rows = self.on()
-            tense = np.take(model.raster, rows, axis=0) & (p < -model.critical[rows, None] * (1 + 1e-10))
-            hit = np.flatnonzero(tense.any(axis=1))
-            if hit.size:
-                peel_all(self, [(int(rows[i]), tense[i]) for i in hit], x, d)
+def pressures(cache: RasterCache, state: PillarState, x: np.ndarray) -> np.ndarray:
+    """Element pressures on the footprint slots of the attached pillars (`on`): (n, width), 0 off
+    their rasters."""
+    _follow(cache, state)
+    model = cache.model
+    rows = on(state)
+    # One product per group of pillars that share their footprint and raster (and so their modes'
+    # pressures, `PillarModel.surface_group`): every pillar of a level lattice in full contact is one.
+    out = np.zeros((rows.size, model.phi.shape[1]))
+    if rows.size == 0:
+        return out
+    for members in _remember(state, ("groups",), lambda: _surface_groups(cache, state)):
+        pillars = rows[members]
+        out[members] = np.take(x, pillars, axis=0) @ model.phi[pillars[0]].T
+    # np.take: the rows gathered as fancy indexing gathers them, many times faster.
+    return np.where(np.take(state.raster, rows, axis=0), out, 0.0)
+
+
+def element_penetration(cache: RasterCache, state: PillarState, d: float,
+                        rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The footprint slots' penetration at d (tip below the surface > 0) and its slope, of the pillars
+    ``rows`` (a mask; default all): (their indices, penetration (R, width), slope (R, width)).
+
+    The surface under a tip is the others' field fitted by the tip's
+    polynomials from its projections on the modes, plus the tip's own
+    modes' displacement; the tip is level, at d - g less its springs'
+    stretch.  Slots off the footprint read -inf.
+    """
+    key = ("penetration", float(d), None if rows is None else rows.tobytes())
+    return _remember(state, key, lambda: _element_penetration(cache, state, d, rows))
+
+
+def touch_candidates(cache: RasterCache, state: PillarState, d: float, end: float, tolerance: float) -> np.ndarray:
+    """The free pillars that may touch at a displacement between d and ``end`` (a mask): those whose
+    `touch_bound` is above -``tolerance``."""
+    return ~state.attached & (touch_bound(cache, state, d, end) > -tolerance)
+
+
+def touch_bound(cache: RasterCache, state: PillarState, d: float, end: float) -> np.ndarray:
+    """Every free pillar's largest slot penetration between d and ``end``, bounded from above: (M,).
+
+    A free pillar's own amplitudes are zero, so the surface under it is
+    the fit of the others' field, u_s = fitted_s . f(d') with f(d') =
+    d' f_a - f_b affine.  Over the slots, u_s lies within c . f(d') +- r .
+    |f(d')| (c, r: `PillarModel.fit_centre`, `fit_spread`), so no slot
+    penetrates more than  d' (wa - c . f_a) - (wb - c . f_b) + r . |f(d')|,
+    a convex function of d' whose largest value on [d, end] is at an end.
+    (Entries of attached pillars mean nothing.)
+    """
+    _follow(cache, state)
+    spread = cache.model.fit_spread
+    fa, fb, level_a, level_b = _remember(state, ("touch",), lambda: _touch_terms(cache, state))
+    return np.maximum(d * level_a - level_b + np.sum(spread * np.abs(d * fa - fb), axis=0),
+                      end * level_a - level_b + np.sum(spread * np.abs(end * fa - fb), axis=0))
+
+
+def record(cache: RasterCache, state: PillarState, d: float, loading: bool, kind: str, reason: str,
+           converged: bool = True) -> State:
+    """The recorded equilibrium of ``state`` at d (the solves since the last record counted in it)."""
+    model = cache.model
+    rows = on(state)
+    held = np.take(state.raster, rows, axis=0)
+    total = 0.0
+    slots, values = np.zeros(0, dtype=np.int64), np.zeros(0)
+    if kind != "separated" and rows.size:
+        slots = np.take(model.reports, rows, axis=0)[held]
+        values = pressures_at(cache, state, d)[held]
+        total = float(model.h2 * values.sum())
+    # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
+    pressure, contact = model.tips.to_grid(slots, values)
+    solves, cache.reported = cache.solves - cache.reported, cache.solves
+    return State(displacement=float(d), force=total, contact_area=model.h2 * int(np.count_nonzero(held)),
+                 attached_pillars=int(np.count_nonzero(state.attached)), loading=loading, kind=kind,
+                 trial_force=total, cg_iterations=0, n_solves=solves, converged=converged, reason=reason,
+                 pressure=pressure, contact=contact)
+
+
+# -- steps: a state in, the next out ---------------------------------------------------------------------------
+
+def solved(cache: RasterCache, state: PillarState) -> PillarState:
+    """The state with the amplitudes of its set and rasters (the pillar-level solve)."""
+    _follow(cache, state)
+    model = cache.model
+    cache.solves += 1
+    if model.coupling == "full":
+        alpha, beta = full_solve(model, state.attached)
+        both = np.stack([alpha, beta], axis=-1)  # (M, m, 2)
+        # The others' field on every mode: all blocks but the pillar's own (diag(gram)).
+        fields = (np.einsum("ijkl,jlc->kic", model.Gf, both) - (model.gram[:, :, None] * both).transpose(1, 0, 2))
+        return state.replace(alpha=alpha, beta=beta, fields=fields)
+    sol, fields = cache.solver.solve()
+    # The others' field on every mode: G0's diagonal is the pillar's own uniform mode.
+    fields[0] -= model.gram[:, :1] * sol
+    if model.m > 1 and state.radiate:
+        sol, fields, rounds = radiate(model, cache.solver, state.attached, sol, fields)
+        cache.radiation_rounds += rounds
+    return state.replace(alpha=model.amplitudes(sol[:, 0], fields[..., 0], state.attached),
+                         beta=model.amplitudes(sol[:, 1], fields[..., 1], state.attached), fields=fields)
+
+
+def installed(cache: RasterCache, state: PillarState, masks: np.ndarray, pillars: np.ndarray) -> PillarState:
+    """The state in which the ``pillars`` hold the footprint slots ``masks[p]`` (none: off), not solved."""
+    _follow(cache, state)
+    return _apply(cache, state, [(int(p), masks[p]) for p in pillars])
+
+
+def attached_together(cache: RasterCache, state: PillarState, pillars: np.ndarray) -> PillarState:
+    """Several pillars join whole at once (one factorisation instead of one update each), not solved."""
+    _follow(cache, state)
+    model = cache.model
+    for p in pillars:
+        model.set_raster(int(p), model.full[p])
+    cache.solver.attached[pillars] = True
+    if model.coupling == "local":
+        cache.solver.refactor()
+    return _changed(cache, state)
+
+
+def cascade(cache: RasterCache, state: PillarState, d: float, loading: bool) -> PillarState:
+    """Rounds at d: solve, peel every pillar beyond the criterion, let touching pillars in; until stable."""
+    model = cache.model
+    tolerance = 1e-10 * max(abs(d), float(np.max(np.abs(model.g))), 1e-300)
+    for _ in range(10 * model.M + 100):
+        cache.check_stop()
+        state = solved(cache, state)
+        x = amplitudes(state, d)
+        p = pressures_at(cache, state, d)
+        rows = on(state)
+        tense = np.take(state.raster, rows, axis=0) & (p < -model.critical[rows, None] * (1 + 1e-10))
+        hit = np.flatnonzero(tense.any(axis=1))
+        if hit.size:
+            state = peel_all(cache, state, [(int(rows[i]), tense[i]) for i in hit], x, d)
+            continue
+        candidates = touch_candidates(cache, state, d, d, tolerance)
+        if candidates.any():
+            rows, penetration, _ = element_penetration(cache, state, d, candidates)
+            touching = penetration > tolerance
+            joining = touching.any(axis=1)
+            if joining.any():
+                masks = np.zeros(model.full.shape, dtype=bool)
+                masks[rows] = touching
+                state = installed(cache, state, masks, rows[joining])
                 continue
-            candidates = self.touch_candidates(d, d, tolerance)
-            if candidates.any():
-                rows, penetration, _ = self.element_penetration(d, candidates)
-                touching = penetration > tolerance
-                joining = touching.any(axis=1)
-                if joining.any():
-                    masks = np.zeros(model.full.shape, dtype=bool)
-                    masks[rows] = touching
-                    self.install(masks, rows[joining])
-                    continue
-            return
-        raise RuntimeError(f"the cascade at d = {d:.6g} did not settle")
+        return state
+    raise RuntimeError(f"the cascade at d = {d:.6g} did not settle")
 
 
-# -- the steps' parts and the peeling (module functions of a `PillarState`) ---------------------------------
+def peel_all(cache: RasterCache, state: PillarState, hits: list[tuple[int, np.ndarray]], x: np.ndarray,
+             d: float) -> PillarState:
+    """Every hit pillar peels on its own against ``state`` (none of them moved); then all are installed."""
+    _follow(cache, state)
+    frozen = state.attached
+    return _apply(cache, state, [(p, peeled(cache, state, p, leave, frozen, x, d)) for p, leave in hits])
 
-def _changed(run: PillarState) -> None:
-    run._stamp += 1
-    run._memo.clear()
+
+# -- the steps' parts and the peeling ---------------------------------------------------------------------------
+
+def _follow(cache: RasterCache, state: PillarState) -> None:
+    """Bring the cache to the state's rasters and set (those of another state: a saved one), pillar by pillar."""
+    raster, attached = cache.key
+    if raster is state.raster and attached is state.attached:
+        return
+    model, solver = cache.model, cache.solver
+    wanted = np.where(state.attached[:, None], state.raster, False)
+    held = solver.attached[:, None] & model.raster
+    changed = np.flatnonzero((wanted != held).any(axis=1) | (state.attached != solver.attached))
+    _apply(cache, state, [(int(p), wanted[p]) for p in changed])
+    cache.key = (state.raster, state.attached)
 
 
-def _remember(run: PillarState, key: tuple, compute):
-    key = (run._stamp, *key)
-    value = run._memo.get(key)
+def _changed(cache: RasterCache, state: PillarState) -> PillarState:
+    """The state of the cache's set and rasters (a change of them: no amplitudes until solved)."""
+    new = state.replace(attached=cache.solver.attached.copy(), raster=cache.model.raster.copy(), alpha=None,
+                        beta=None, fields=None)
+    cache.key = (new.raster, new.attached)
+    return new
+
+
+def _remember(state: PillarState, key: tuple, compute):
+    value = state.memo.get(key)
     if value is None:
-        value = run._memo[key] = compute()
+        value = state.memo[key] = compute()
     return value
 
 
-def _surface_groups(run: PillarState) -> list[np.ndarray]:
+def _surface_groups(cache: RasterCache, state: PillarState) -> list[np.ndarray]:
     """The attached pillars (`on`) by `PillarModel.surface_group`: positions in `on` per group."""
-    _, inverse, counts = np.unique(run.model.surface_group[run.on()], return_inverse=True, return_counts=True)
+    _, inverse, counts = np.unique(cache.model.surface_group[on(state)], return_inverse=True, return_counts=True)
     return np.split(np.argsort(inverse, kind="stable"), np.cumsum(counts)[:-1])
 
 
-def _element_penetration(run: PillarState, d: float, rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    model = run.model
+def _element_penetration(cache: RasterCache, state: PillarState, d: float,
+                         rows: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    _follow(cache, state)
+    model = cache.model
     rows = np.arange(model.M) if rows is None else np.flatnonzero(rows)
     width = model.full.shape[1]
     if rows.size == 0:
         return rows, np.zeros((0, width)), np.zeros((0, width))
-    coefficients = np.concatenate([run.fields[:, rows].transpose(1, 0, 2),
-                                   np.stack([run.alpha[rows], run.beta[rows]], axis=-1)], axis=1)
+    coefficients = np.concatenate([state.fields[:, rows].transpose(1, 0, 2),
+                                   np.stack([state.alpha[rows], state.beta[rows]], axis=-1)], axis=1)
     # u = d ua - ub on the slots, (rows, width, 2): one product per group of pillars that share their
     # footprint and raster (those of a lattice in full contact, or off), one per pillar for the rest.
     u = np.zeros((rows.size, width, 2))
@@ -264,71 +374,72 @@ def _element_penetration(run: PillarState, d: float, rows: np.ndarray | None) ->
     alone = np.flatnonzero(~shared)
     if alone.size:
         u[alone] = np.matmul(model.surface_map[rows[alone]], coefficients[alone])
-    wa, wb = _tip_levels(run, rows)
+    wa, wb = _tip_levels(cache, state, rows)
     full = model.full[rows]
     slope = np.where(full, wa[:, None] - u[..., 0], 0.0)
     penetration = np.where(full, d * slope - (wb[:, None] - u[..., 1]), -np.inf)
     return rows, penetration, slope
 
 
-def _tip_levels(run: PillarState, rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
+def _tip_levels(cache: RasterCache, state: PillarState, rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
     """(wa, wb) of the pillars ``rows``: a tip stands at d wa - wb (its springs' stretch taken off)."""
-    model = run.model
+    model = cache.model
     wb = model.g[rows]
     if model.levels:
-        wa = 1.0 - model.tip_deflection(run.alpha[:, 0], run.attached)[rows]
-        wb = wb - model.tip_deflection(run.beta[:, 0], run.attached)[rows]
+        wa = 1.0 - model.tip_deflection(state.alpha[:, 0], state.attached)[rows]
+        wb = wb - model.tip_deflection(state.beta[:, 0], state.attached)[rows]
     else:
         wa = np.ones(wb.size)
     return wa, wb
 
 
-def _touch_terms(run: PillarState) -> tuple[np.ndarray, ...]:
+def _touch_terms(cache: RasterCache, state: PillarState) -> tuple[np.ndarray, ...]:
     """`touch_bound`'s terms of the state: the fields fa, fb (m, M) and wa - c . fa, wb - c . fb (M,)."""
-    fa, fb = np.ascontiguousarray(run.fields[..., 0]), np.ascontiguousarray(run.fields[..., 1])
-    centre = run.model.fit_centre
-    wa, wb = _tip_levels(run, slice(None))
+    fa, fb = np.ascontiguousarray(state.fields[..., 0]), np.ascontiguousarray(state.fields[..., 1])
+    centre = cache.model.fit_centre
+    wa, wb = _tip_levels(cache, state, slice(None))
     return fa, fb, wa - np.sum(centre * fa, axis=0), wb - np.sum(centre * fb, axis=0)
 
 
-def _apply(run: PillarState, changes: list[tuple[int, np.ndarray]]) -> None:
-    """Each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
+def _apply(cache: RasterCache, state: PillarState, changes: list[tuple[int, np.ndarray]]) -> PillarState:
+    """The state in which each pillar p of ``changes`` holds the footprint slots of its mask (none: off).
 
     In the kept inverse the pillars that leave or change their raster go out in one block update and
     those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`); one or two
     attached pillars that only change their raster (a peel) are updated in place (`Solver.reshape`).
     """
-    model = run.model
-    _changed(run)
+    model, solver = cache.model, cache.solver
+    attached = solver.attached
     if model.coupling != "local":
         for p, mask in changes:
-            run.attached[p] = bool(mask.any())
+            attached[p] = bool(mask.any())
             model.set_raster(p, mask if mask.any() else model.full[p])
-        return
-    leaving = [p for p, mask in changes if run.attached[p] and not (
+        return _changed(cache, state)
+    leaving = [p for p, mask in changes if attached[p] and not (
         mask.any() and np.array_equal(mask, model.raster[p]))]
-    reshaping = [(p, mask) for p, mask in changes if run.attached[p] and mask.any()
+    reshaping = [(p, mask) for p, mask in changes if attached[p] and mask.any()
                  and not np.array_equal(mask, model.raster[p])]
-    if len(reshaping) <= _RESHAPED and not run.solver.iterative:
+    if len(reshaping) <= _RESHAPED and not solver.iterative:
         others = {p for p, _ in reshaping}
-        run.solver.remove_many(np.array([p for p in leaving if p not in others], dtype=np.int64))
+        solver.remove_many(np.array([p for p in leaving if p not in others], dtype=np.int64))
         for p, mask in reshaping:
             model.set_raster(p, mask)
-            run.solver.reshape(p)
+            solver.reshape(p)
     else:
-        run.solver.remove_many(np.array(leaving, dtype=np.int64))
+        solver.remove_many(np.array(leaving, dtype=np.int64))
     joining = []
     for p, mask in changes:
         if not mask.any():
             model.set_raster(p, model.full[p])
-        elif not run.attached[p]:
+        elif not attached[p]:
             model.set_raster(p, mask)
             joining.append(p)
-    run.solver.add_many(np.array(joining, dtype=np.int64))
+    solver.add_many(np.array(joining, dtype=np.int64))
+    return _changed(cache, state)
 
 
-def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndarray, x: np.ndarray,
-                     d: float) -> tuple[np.ndarray, Basis]:
+def local_amplitudes(cache: RasterCache, state: PillarState, p: int, mask: np.ndarray, frozen: np.ndarray,
+                     x: np.ndarray, d: float) -> tuple[np.ndarray, Basis]:
     """Pillar p's amplitudes on the raster ``mask``, the pillars ``frozen`` held at the amplitudes ``x``.
 
     With ``coupling = "local"`` the frozen pillars are those of the last solve at d (``x`` its
@@ -336,7 +447,7 @@ def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndar
     (`PillarModel.fitted`), projected on the modes of ``mask``; ``"full"`` couples the new raster
     with every frozen pillar's modes exactly.
     """
-    model = run.model
+    model = cache.model
     compliance = 0.0
     siblings = 0.0
     for (cluster, stiffness), alone in zip(model.levels, model.alone):
@@ -359,7 +470,7 @@ def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndar
         return np.linalg.solve(A, rhs), basis
     basis, _ = model.mask_basis(p, mask)
     s = basis.force
-    field = model.fitted[p][mask] @ (d * run.fields[:, p, 0] - run.fields[:, p, 1])
+    field = model.fitted[p][mask] @ (d * state.fields[:, p, 0] - state.fields[:, p, 1])
     projections = basis.phi.T @ field
     a = np.zeros(model.m)
     a[0] = (s * (d - model.g[p]) - s * siblings - projections[0]) / (basis.gram[0] + compliance * s * s)
@@ -368,19 +479,20 @@ def local_amplitudes(run: PillarState, p: int, mask: np.ndarray, frozen: np.ndar
     return a, basis
 
 
-def peeled(run: PillarState, p: int, leave: np.ndarray, frozen: np.ndarray, x: np.ndarray, d: float) -> np.ndarray:
+def peeled(cache: RasterCache, state: PillarState, p: int, leave: np.ndarray, frozen: np.ndarray, x: np.ndarray,
+           d: float) -> np.ndarray:
     """The raster that pillar p keeps after losing the slots ``leave`` and peeling on its own.
 
-    The pillars ``frozen`` stay at the amplitudes ``x`` (the element path's local cascade); the model
-    is not changed (the caller installs the result).  An empty mask: the pillar comes off.
+    The pillars ``frozen`` stay at the amplitudes ``x`` (the element path's local cascade); the state is
+    not changed (the caller installs the result).  An empty mask: the pillar comes off.
     """
-    model = run.model
-    mask = model.raster[p] & ~leave
+    model = cache.model
+    mask = state.raster[p] & ~leave
     if not model.peel:
         return np.zeros_like(mask)
     while mask.any():
-        run.check_stop()
-        a, basis = local_amplitudes(run, p, mask, frozen, x, d)
+        cache.check_stop()
+        a, basis = local_amplitudes(cache, state, p, mask, frozen, x, d)
         pressure = basis.phi @ a
         tense = pressure < -model.critical[p] * (1 + 1e-10)
         if not tense.any():
@@ -389,9 +501,3 @@ def peeled(run: PillarState, p: int, leave: np.ndarray, frozen: np.ndarray, x: n
         mask = mask.copy()
         mask[slots[tense]] = False
     return mask
-
-
-def peel_all(run: PillarState, hits: list[tuple[int, np.ndarray]], x: np.ndarray, d: float) -> None:
-    """Every hit pillar peels on its own against the state before any of them moved; then all are installed."""
-    frozen = run.attached.copy()
-    _apply(run, [(p, peeled(run, p, leave, frozen, x, d)) for p, leave in hits])
