@@ -579,3 +579,28 @@ def test_a_saved_pillar_state_is_a_frozen_value_the_path_returns_to():
     fresh = saved.replace()  # the same value without what was derived of it
     assert not fresh.memo and np.array_equal(pillar_state.pressures_at(cache, fresh, shallow),
                                              pillar_state.pressures_at(cache, saved, shallow))
+
+
+def test_a_solve_that_fails_ends_the_pillar_path_at_its_last_state(monkeypatch):
+    """A pillar-level solve that does not converge inside a cascade ends the path with the last state yielded,
+    marked unconverged with the reason (its pressure and contact, not those of the set the cascade had changed)."""
+    from brushbem.pillars.cg import NotConverged
+
+    problem, force = _brush(64, 4, 1e-2)
+    path = LoadPath(method="pillars", preload_force=force)
+    reference = list(pillars.pull_off(problem, path))
+    solve, calls = pillar_state.solved, []
+
+    def failing(cache, state):
+        calls.append(True)
+        if len(calls) == 3:
+            raise NotConverged("the pillar-level CG reached 1e-3 (made to fail)")
+        return solve(cache, state)
+
+    monkeypatch.setattr(pillar_state, "solved", failing)
+    states = list(pillars.pull_off(problem, path))
+    *before, last = states
+    assert len(before) >= 2 and len(before) < len(reference)
+    assert not last.converged and "made to fail" in last.reason
+    assert last.displacement == before[-1].displacement and last.pressure is before[-1].pressure
+    assert [s.force for s in before] == [s.force for s in reference[:len(before)]]

@@ -17,7 +17,7 @@ from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
 from brushbem.pillars.domain import PillarDomainWarning, domain_warning
 from brushbem.pillars.events import events
-from brushbem.pillars.state import Interrupted, begin
+from brushbem.pillars.state import Interrupted, begin, record
 from brushbem.pillars.tips import tip_factor
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
 
@@ -53,16 +53,18 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str | None = Non
         if path.pillar_solve == "cg" and model.lattice is None:
             raise ParameterError("LoadPath", "pillar_solve", "LoadPath.pillar_solve = 'cg' solves on a lattice's "
                                  "FFT; this brush's pillars are not on a lattice: use 'auto' or 'kept'")
-        cache, state = begin(model, path, stop)
+        cache, start = begin(model, path, stop)
         last = None
         try:
-            for _, last in events(cache, state, path):
+            for _, last in events(cache, start, path):
                 yield last
         except Interrupted:
             return  # the caller asked to stop: the last state yielded stands
         except NotConverged as error:
+            # The last state stands (before the first, the start: nothing attached); the path stops there, saying
+            # why (as the element paths do).
             if last is None:
-                raise
-            # The last state stands; the path stops there, saying why (as the element paths do).
-            yield dataclasses.replace(last, kind="equilibrium", reason=str(error), converged=False,
-                                      n_solves=cache.solves - cache.reported)
+                yield record(cache, start, 0.0, True, "equilibrium", str(error), converged=False)
+            else:
+                yield dataclasses.replace(last, kind="equilibrium", reason=str(error), converged=False,
+                                          n_solves=cache.solves - cache.reported)
