@@ -512,7 +512,7 @@ def test_a_pull_off_goes_down_to_the_transforms_without_climbing_back(method):
     """From `brushbem.run` to every FFT, no module is entered twice on the way down (a callback would).
 
     The stack at each transform is the path a newcomer follows from the API
-    to the numerics: api > case > load path > tracking > equilibria > set
+    to the numerics: api > case > load path > steps > equilibria > set
     solve > CG > block deflection > operator > backend, each once.
     """
     import brushbem
@@ -659,11 +659,11 @@ def _state_writes(source: str) -> list[str]:
 
 def test_the_element_paths_hand_their_state_from_step_to_step():
     """No step or driver of the element paths writes a state back into a holder: each takes the path's state and
-    returns the next (`brushbem.protocol.tracking`); the `Tracker` holds only the state a path starts from."""
+    returns the next (`brushbem.protocol.steps`); the `PathContext` holds only the state a path starts from."""
     writes = {name: hits for name, path in _modules().items() if name.startswith("brushbem.protocol")
               and (hits := _state_writes(path.read_text(encoding="utf-8")))}
-    assert list(writes) == ["brushbem.protocol.tracking"], writes
-    assert [hit.partition(":")[0] for hit in writes["brushbem.protocol.tracking"]] == ["Tracker.__init__"]
+    assert list(writes) == ["brushbem.protocol.steps"], writes
+    assert [hit.partition(":")[0] for hit in writes["brushbem.protocol.steps"]] == ["PathContext.__init__"]
 
 
 def test_the_state_write_check_finds_a_write():

@@ -140,7 +140,7 @@ def test_an_unverified_loading_goes_on_by_element_events(monkeypatch):
     """
     problem, _, force = _problem(stiffness=0.01, sigma=1.0, per_side=6)
     reference = _plain_record(0.01, 1.0, "element_events", 6)
-    monkeypatch.setattr(protocol.contact_loading, "_nested_prefix", lambda tracker, samples, lowest: samples[:1])
+    monkeypatch.setattr(protocol.contact_loading, "_nested_prefix", lambda context, samples, lowest: samples[:1])
     partial = _record(problem, "events", force)
     assert partial.summary["adhesive_force"] == pytest.approx(reference.summary["adhesive_force"], rel=1e-6)
     assert partial.summary["work_of_separation"] == pytest.approx(reference.summary["work_of_separation"], rel=1e-6)

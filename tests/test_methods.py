@@ -349,17 +349,17 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     solver tolerance (1e-11 here; measured 1.5e-10 of max |a|, bound 1e-7),
     while a|S' alone is off by 6.5e-2.
     """
-    from brushbem.protocol import Tracker
-    from brushbem.protocol.tracking import deflection_of, solve_from
+    from brushbem.protocol import PathContext
+    from brushbem.protocol.steps import deflection_of, solve_from
     from brushbem.protocol.unit_response import _unit_guess, unit_deflection, unit_response, with_pressure_change
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
-    tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
+    context = PathContext(problem, LoadPath(method="events", preload_displacement=1e-3, tolerance=1e-11))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
-    state, _ = solve_from(tracker, tracker.state, d)
+    state, _ = solve_from(context, context.state, d)
     state = state.replace(working=state.working.covering(state.contact))
-    state, result = unit_response(tracker, state)
+    state, result = unit_response(context, state)
     assert result.converged
     state, _ = unit_deflection(state)
     state, before_deflection = deflection_of(state)
@@ -370,7 +370,7 @@ def test_unit_response_guess_is_exact_after_one_element_leaves():
     leave = np.zeros_like(state.contact)
     leave[np.unravel_index(np.argmax(tension), tension.shape)] = True
     count = int(state.contact.sum())
-    state, _ = solve_from(tracker, state, d, force_detach=leave)
+    state, _ = solve_from(context, state, d, force_detach=leave)
     assert int(state.contact.sum()) == count - 1 and state.working.window == window
     state = with_pressure_change(state, before, before_deflection, window)
     contact = state.contact[window.slices]
@@ -842,17 +842,17 @@ def test_a_saved_state_is_a_frozen_value_the_path_returns_to():
     same array on the same window)."""
     import dataclasses
 
-    from brushbem.protocol import Tracker
-    from brushbem.protocol.tracking import deflection_of, restored, solve_from
+    from brushbem.protocol import PathContext
+    from brushbem.protocol.steps import deflection_of, restored, solve_from
     from brushbem.protocol.values import Known, PathState
 
     grid = _sphere_grid(40)
     problem = ContactProblem(grid, sphere(grid, SPHERE_RADIUS), E_STAR, DGAMMA)
-    tracker = Tracker(problem, LoadPath(method="events", preload_displacement=1e-3))
+    context = PathContext(problem, LoadPath(method="events", preload_displacement=1e-3))
     d = 0.5 * A_JKR**2 / SPHERE_RADIUS
-    first = tracker.state
-    held, _ = solve_from(tracker, first, d)
-    assert tracker.state is first and first.contact.sum() == 0  # the step left the state it took as it was
+    first = context.state
+    held, _ = solve_from(context, first, d)
+    assert context.state is first and first.contact.sum() == 0  # the step left the state it took as it was
     held, deflection = deflection_of(held)
     point = held.replace(displacement=d)
     assert isinstance(point, PathState) and point.displacement == d and point.connections.pieces is None
@@ -862,7 +862,7 @@ def test_a_saved_state_is_a_frozen_value_the_path_returns_to():
     with pytest.raises(TypeError, match="no field"):
         point.replace(window=None)
     pressure_values = np.array(held.pressure)
-    state, eq = solve_from(tracker, held, 1.5 * d)
+    state, eq = solve_from(context, held, 1.5 * d)
     assert state is not held and np.array_equal(held.pressure, pressure_values)  # replaced, not written into
     assert state.pressure is eq.pressure and eq.converged and float(eq.pressure.sum()) > float(held.pressure.sum())
     assert state.known_deflection() is not None and state.pressure is not point.pressure
@@ -880,6 +880,6 @@ def test_a_saved_state_is_a_frozen_value_the_path_returns_to():
     with pytest.raises(dataclasses.FrozenInstanceError):
         point.working.window = None
     window = back.working.window
-    wide, eq = solve_from(tracker, back, 4 * d)
+    wide, eq = solve_from(context, back, 4 * d)
     assert eq.converged and back.working.window == window and wide.working.window != window
     assert wide.working.window.contains(wide.contact) and wide.contact.sum() > back.contact.sum()

@@ -61,8 +61,8 @@ The package's modules:
 * `path_states` - the `State` records the paths make of the path's state
   (its total force, contact area and attached pillars).
 * `values` - `PathState`, the path's state as one frozen value, and `Known`.
-* `tracking` - the steps that take the path's state and give the next
-  (`solve_from`, `step_from`, ...) and `Tracker`, what they share besides
+* `steps` - the steps that take the path's state and give the next
+  (`solve_from`, `step_from`, ...) and `PathContext`, what they share besides
   (the problem's constants, the product ledgers); `unit_response` - the
   event path's unit response as such steps; the state carries
 * `window` - `WorkingWindow`, the working window as a value: its operator,
@@ -78,7 +78,7 @@ from __future__ import annotations
 from brushbem.protocol.paths import LOADING_SAMPLES, indent, pull_off
 from brushbem.protocol.problem import ContactProblem, LoadPath, NotConvergedError, State
 from brushbem.protocol.recording import PullOffRecord, record_pull_off, work_of_separation
-from brushbem.protocol.tracking import Tracker
+from brushbem.protocol.steps import PathContext
 
 __all__ = [
     "LOADING_SAMPLES",
@@ -87,7 +87,7 @@ __all__ = [
     "NotConvergedError",
     "PullOffRecord",
     "State",
-    "Tracker",
+    "PathContext",
     "indent",
     "pull_off",
     "record_pull_off",

@@ -11,7 +11,7 @@ reaches the law's limit breaks (its tip is lifted out of reach).
 `brushbem.protocol.values.PathState`): every change gives a new one, and
 never changes a problem in place: what it does to the solves comes back as a
 `SpringChange` (the problem with the pillars' new springs, or None when they
-stay, and the tips' offsets) for `brushbem.protocol.tracking.with_change` to
+stay, and the tips' offsets) for `brushbem.protocol.steps.with_change` to
 apply to the state's working window.
 """
 

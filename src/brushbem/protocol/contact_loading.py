@@ -5,7 +5,7 @@ solves at sampled displacements (or along the search for a preload force)
 instead of one global solve per element that joins; the samples are checked
 to be nested (`_nested_prefix`), and where they are not the path goes on by
 element events (`brushbem.protocol.paths`).  Every sample is a step from the
-path's state (`brushbem.protocol.tracking.solve_from`) and keeps the state it
+path's state (`brushbem.protocol.steps.solve_from`) and keeps the state it
 gave.
 """
 
@@ -21,7 +21,7 @@ from brushbem import settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, record_state, total_force
 from brushbem.protocol.problem import LoadPath
-from brushbem.protocol.tracking import Tracker, solve_from, without_deflections
+from brushbem.protocol.steps import PathContext, solve_from, without_deflections
 from brushbem.protocol.values import PathState
 
 #: Displacements at which `_contact_loading` samples the loading branch besides
@@ -46,14 +46,14 @@ class _Sample:
     state: PathState
 
 
-def _press_as_contact_problems(tracker: Tracker, state: PathState) -> bool:
+def _press_as_contact_problems(context: PathContext, state: PathState) -> bool:
     """Whether the loading branch goes by `_contact_loading`: a brush whose tips are not all level.
 
     A brush of level tips (no roughness, profile or length offsets) touches
     with every footprint element at once, and its element-event loading is
     a single event: the contact problems would only cost more.
     """
-    if tracker.n_pillars < 2:
+    if context.n_pillars < 2:
         return False
     indenter = state.working.problem.indenter
     heights = np.asarray(indenter.height)[np.asarray(indenter.footprint)]
@@ -61,7 +61,7 @@ def _press_as_contact_problems(tracker: Tracker, state: PathState) -> bool:
     return float(heights.max()) - lowest > 1e-12 * max(abs(lowest), 1.0)
 
 
-def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
+def _contact_loading(context: PathContext, state: PathState, path: LoadPath):
     """The loading branch of a brush as non-adhesive contact problems.
 
     While the base presses, an element joins S where the tip touches, at
@@ -90,7 +90,7 @@ def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
     Yields the loading states in increasing d; returns (the state at the
     end, its d, whether the preload is reached) or None when a solve failed.
     """
-    xp = tracker.xp
+    xp = context.xp
     problem = state.working.problem
     lowest = problem.indenter.lowest_height
     samples: list[_Sample] = []
@@ -104,10 +104,10 @@ def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
                                     deflection=None)
         else:
             latest = latest.replace(pressure=start.pressure, contact=start.contact, deflection=None)
-        after, eq = solve_from(tracker, latest, d, contact_problem=True)
+        after, eq = solve_from(context, latest, d, contact_problem=True)
         cost[0] += eq.n_solves
         cost[1] += eq.cg_iterations
-        sample = _Sample(d, total_force(tracker, after), after.pressure, after.contact, eq, after)
+        sample = _Sample(d, total_force(context, after), after.pressure, after.contact, eq, after)
         if not eq.converged:
             return sample
         samples.append(sample)
@@ -121,11 +121,11 @@ def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
             d = target if j == LOADING_SAMPLES else lowest + (target - lowest) * j / LOADING_SAMPLES
             previous = solve_at(d, previous, state if previous is None else previous.state)
             if not previous.eq.converged:
-                yield _eq_state(tracker, previous.state, previous.eq, True)
+                yield _eq_state(context, previous.state, previous.eq, True)
                 return None
         final, state = previous, previous.state
     else:
-        outcome = yield from _contact_preload_force(tracker, state, path, solve_at, lowest)
+        outcome = yield from _contact_preload_force(context, state, path, solve_at, lowest)
         if outcome is None:
             return None
         final, state = outcome
@@ -143,16 +143,16 @@ def _contact_loading(tracker: Tracker, state: PathState, path: LoadPath):
             cost[1] -= iterations
         reason = "contact problem" if len(accepted) == len(samples) or not last else (
             "contact problem; element events from here (a larger displacement releases an element)")
-        yield record_state(tracker, state, sample.displacement, True, "equilibrium", total_force(tracker, state),
+        yield record_state(context, state, sample.displacement, True, "equilibrium", total_force(context, state),
                            iterations, solves, True, reason)
-    state = without_deflections(tracker, state)
+    state = without_deflections(context, state)
     end = accepted[-1]
     if end is final or len(accepted) == len(samples):
         return state, end.displacement, True
     return state, end.displacement, False
 
 
-def _contact_preload_force(tracker: Tracker, state: PathState, path: LoadPath, solve_at, lowest: float):
+def _contact_preload_force(context: PathContext, state: PathState, path: LoadPath, solve_at, lowest: float):
     """The contact problem at which the loading force reaches ``path.preload_force`` (a `_Sample`), and the state of
     the last sample solved (the interpolated one's, where the search ends between two), or None.
 
@@ -168,10 +168,10 @@ def _contact_preload_force(tracker: Tracker, state: PathState, path: LoadPath, s
     the first touch overshot the chapter-5 brush's preload seven-fold: F is
     convex where pillars join.)
     """
-    xp = tracker.xp
+    xp = context.xp
     problem = state.working.problem
     target = path.preload_force
-    model = _IndependentPillars(problem.indenter, problem.contact_modulus, tracker.h2)
+    model = _IndependentPillars(problem.indenter, problem.contact_modulus, context.h2)
     lo = hi = None  # samples below and above the target
     interaction: list[tuple[float, float]] = []  # (F, d - the independent pillars' d at F) below the target
     lo_points = [(lowest, 0.0)]  # (d, F) below the target, for the secant without the preload model
@@ -183,7 +183,7 @@ def _contact_preload_force(tracker: Tracker, state: PathState, path: LoadPath, s
         sample = solve_at(d, start, state)
         state = sample.state
         if not sample.eq.converged:
-            yield _eq_state(tracker, state, sample.eq, True)
+            yield _eq_state(context, state, sample.eq, True)
             return None
         start = sample
         residual = sample.force - target
@@ -230,12 +230,12 @@ def _contact_preload_force(tracker: Tracker, state: PathState, path: LoadPath, s
             pressure = lo.pressure + theta * (hi.pressure - lo.pressure)
             state = state.replace(pressure=pressure, contact=hi.contact, deflection=None)
             eq = dataclasses.replace(hi.eq, n_solves=0, cg_iterations=0)
-            return _Sample(d, total_force(tracker, state), pressure, hi.contact, eq, state), state
+            return _Sample(d, total_force(context, state), pressure, hi.contact, eq, state), state
         width = hi.displacement - lo.displacement
         if width <= 4 * np.finfo(float).eps * abs(hi.displacement):
             return hi, state
         d = lo.displacement - f_lo * width / (f_hi - f_lo)
-    yield record_state(tracker, state, d, True, "equilibrium", total_force(tracker, state), 0, 0, False,
+    yield record_state(context, state, d, True, "equilibrium", total_force(context, state), 0, 0, False,
                        "the search for the preload force did not converge in 200 contact problems")
     return None
 

@@ -9,7 +9,7 @@ the state is affine in d along the unit response, and the path jumps to the
 next detachment, attachment, target or window bound and follows the cascade
 there.  The drivers that call these are in `brushbem.protocol.paths`.  Each
 takes the path's state (`brushbem.protocol.values.PathState`) and returns the
-next with its outcome, through the steps of `brushbem.protocol.tracking` and
+next with its outcome, through the steps of `brushbem.protocol.steps` and
 `brushbem.protocol.unit_response`.
 """
 
@@ -24,8 +24,8 @@ from brushbem import backend, settings
 from brushbem.numerics.solver import Equilibrium
 from brushbem.protocol.path_states import _eq_state, _separated, record_state, total_force
 from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
-from brushbem.protocol.tracking import (
-    Tracker,
+from brushbem.protocol.steps import (
+    PathContext,
     break_pillars,
     commit_history,
     cover_contact,
@@ -41,7 +41,7 @@ from brushbem.protocol.unit_response import unit_deflection as unit_deflection_o
 from brushbem.protocol.unit_response import unit_response, with_pressure_change
 
 
-def _events_in_step(tracker: Tracker, state, before, eq: Equilibrium, d: float):
+def _events_in_step(context: PathContext, state, before, eq: Equilibrium, d: float):
     """Every event inside a fixed step, in order; the state at ``d`` and its equilibrium (None if separated).
 
     ``state`` and ``eq`` are the step's end, ``before`` (a saved `PathState`)
@@ -55,27 +55,27 @@ def _events_in_step(tracker: Tracker, state, before, eq: Equilibrium, d: float):
     for _ in range(MAX_EVENTS_PER_STEP):
         if not eq.converged:
             return state, eq
-        event = _next_event(tracker, state, before, eq)
+        event = _next_event(context, state, before, eq)
         if event is None:
             return state, eq
         crossing, detach, broken = event
         yield crossing
-        state = restore_pieces(tracker, state, before)
+        state = restore_pieces(context, state, before)
         state = state.replace(pressure=crossing.pressure, contact=crossing.contact, deflection=None)
         if broken is not None:
-            state, held = break_pillars(tracker, state, broken)
+            state, held = break_pillars(context, state, broken)
             detach = detach | held
-        state, at = step_from(tracker, state, crossing.displacement, advance=False, detach=detach)
+        state, at = step_from(context, state, crossing.displacement, advance=False, detach=detach)
         if not at.converged:
             return state, at
-        yield _eq_state(tracker, state, at, False, "event")
-        if not bool(tracker.xp.any(state.contact)):
-            state = commit_history(tracker, state)
-            yield record_state(tracker, state, crossing.displacement, False, "separated",
-                               total_force(tracker, state), 0, 0, True, "complete separation")
+        yield _eq_state(context, state, at, False, "event")
+        if not bool(context.xp.any(state.contact)):
+            state = commit_history(context, state)
+            yield record_state(context, state, crossing.displacement, False, "separated",
+                               total_force(context, state), 0, 0, True, "complete separation")
             return state, None
         before = state.replace(displacement=crossing.displacement)
-        state, eq = step_from(tracker, state, d, advance=False)
+        state, eq = step_from(context, state, d, advance=False)
     return state, dataclasses.replace(eq, converged=False,
                                       reason=f"more than {MAX_EVENTS_PER_STEP} events inside the step to d = {d:.6g}")
 
@@ -85,7 +85,7 @@ def _events_in_step(tracker: Tracker, state, before, eq: Equilibrium, d: float):
 MAX_EVENTS_PER_STEP = 100_000
 
 
-def _first_crossing(tracker: Tracker, state, before, eq: Equilibrium) -> State | None:
+def _first_crossing(context: PathContext, state, before, eq: Equilibrium) -> State | None:
     """The state at which the first element of a fixed step's contact set reached the criterion.
 
     ``before`` (a saved `PathState`) is the equilibrium the step started
@@ -97,11 +97,11 @@ def _first_crossing(tracker: Tracker, state, before, eq: Equilibrium) -> State |
     step's end would miss by up to the step times the slope.  None when no
     element left in the step.
     """
-    event = _next_event(tracker, state, before, eq)
+    event = _next_event(context, state, before, eq)
     return None if event is None else event[0]
 
 
-def _next_event(tracker: Tracker, state, before, eq: Equilibrium):
+def _next_event(context: PathContext, state, before, eq: Equilibrium):
     """``(state, elements, pillars)`` of the first event between ``before`` and ``eq``, or None.
 
     The event is the first element of the starting contact set to reach the
@@ -111,12 +111,12 @@ def _next_event(tracker: Tracker, state, before, eq: Equilibrium):
     ``elements`` are the contact elements at the criterion there, ``pillars``
     (bool per pillar, or None) the pillars at the limit.
     """
-    xp = tracker.xp
+    xp = context.xp
     if eq.trial_pressure is None:
         return None
     d0, p0, c0 = before.displacement, before.pressure, before.contact
     p1 = eq.trial_pressure
-    critical = tracker.critical
+    critical = context.critical
     # Elements of the old set whose trial pressure is beyond the criterion.
     over = c0 & (p1 < -critical) if critical > 0 else c0 & (p1 < 0)
     tau_elements = 1.0
@@ -128,8 +128,8 @@ def _next_event(tracker: Tracker, state, before, eq: Equilibrium):
     tau_pillars, breaking = 1.0, None
     limit = state.connections.tension_limit
     if limit is not None:
-        f0 = pillar_forces(tracker, p0, c0)
-        f1 = pillar_forces(tracker, p1, c0)
+        f0 = pillar_forces(context, p0, c0)
+        f1 = pillar_forces(context, p1, c0)
         intact = ~before.connections.broken()
         candidates = intact & (f1 < -limit) & (f0 > f1)
         if candidates.any():
@@ -148,12 +148,12 @@ def _next_event(tracker: Tracker, state, before, eq: Equilibrium):
         breaking = None
         elements = over & (fraction <= tau * (1 + 1e-12) + 1e-15)
         reason = "a detachment inside the step (exact on the step's contact set)"
-    crossing = record_state(tracker, state, d, False, "event", total_force(tracker, state, pressure), 0, 0, True,
+    crossing = record_state(context, state, d, False, "event", total_force(context, state, pressure), 0, 0, True,
                             reason, pressure=pressure, contact=c0)
     return crossing, elements, breaking
 
 
-def _event_step(tracker: Tracker, state, path: LoadPath, d: float, direction: int):
+def _event_step(context: PathContext, state, path: LoadPath, d: float, direction: int):
     """Advance from ``state`` to the next event in ``direction`` (+1 press, -1 pull); yield its states.
 
     Returns (the state there, d, branch_finished), or None when the path must stop.
@@ -162,30 +162,30 @@ def _event_step(tracker: Tracker, state, path: LoadPath, d: float, direction: in
     target, an event and its cascade) all go on from the same predicted state; split, each would
     take the prediction and the state and hand back the next d.
     """
-    xp = tracker.xp
+    xp = context.xp
     loading = direction > 0
     if not bool(xp.any(state.contact)):
-        return (yield from _without_contact(tracker, state, path, d, loading))
+        return (yield from _without_contact(context, state, path, d, loading))
     # An element outside the window may already be within reach (the bound is
     # conservative): then the path works on the whole footprint from here on.
     state = cover_contact(state, d, loading)
     sl = state.working.window.slices
-    state, result = unit_response(tracker, state)
+    state, result = unit_response(context, state)
     if not result.converged:
-        yield record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), result.iterations,
+        yield record_state(context, state, d, loading, "equilibrium", total_force(context, state), result.iterations,
                            1, False, f"unit response: {result.reason}")
         return None
     a = result.solution
     contact = state.contact[sl]
     pressure = state.pressure[sl]
     s = float(direction)
-    state, ahead = _events_ahead(tracker, state, path, d, direction, a)
+    state, ahead = _events_ahead(context, state, path, d, direction, a)
     grows, t_detach, t_det = ahead.grows, ahead.t_detach, ahead.t_detach_min
     closing, t_attach, t_att = ahead.closing, ahead.t_attach, ahead.t_attach_min
     deflection, unit_deflection, candidates = ahead.deflection, ahead.unit_deflection, ahead.candidates
     t = min(c[0] for c in candidates)
     if not math.isfinite(t):
-        yield record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), result.iterations,
+        yield record_state(context, state, d, loading, "equilibrium", total_force(context, state), result.iterations,
                            1, False, "no event ahead on this branch (the contact neither grows nor shrinks)")
         return None
     t = max(t, 0.0)
@@ -204,16 +204,16 @@ def _event_step(tracker: Tracker, state, path: LoadPath, d: float, direction: in
         # every footprint element the load path may still reach and go on.
         reach = path.preload_displacement if path.preload_displacement is not None else new_d + max(abs(new_d), h)
         state = widen_to_reach(with_pressure(state, new_pressure), new_d, reach)
-        yield record_state(tracker, state, new_d, loading, "equilibrium", total_force(tracker, state, new_pressure),
+        yield record_state(context, state, new_d, loading, "equilibrium", total_force(context, state, new_pressure),
                            result.iterations, 1, True, "window enlarged")
-        return state, new_d, _target_reached(tracker, state, path, new_d)
+        return state, new_d, _target_reached(context, state, path, new_d)
     if target_hit and t + tie < min(t_det, t_att):
         state = with_pressure(state, new_pressure, new_deflection)
-        yield record_state(tracker, state, new_d, loading, "equilibrium", total_force(tracker, state, new_pressure),
+        yield record_state(context, state, new_d, loading, "equilibrium", total_force(context, state, new_pressure),
                            result.iterations, 1, True, "preload reached")
         return state, new_d, True
     # A state on the threshold of the event (still an equilibrium), then the cascade.
-    yield record_state(tracker, state, new_d, loading, "event", total_force(tracker, state, new_pressure),
+    yield record_state(context, state, new_d, loading, "event", total_force(context, state, new_pressure),
                        result.iterations, 1, True, "event", pressure=new_pressure)
     leave = xp.zeros_like(state.contact)
     join = xp.zeros_like(state.contact)
@@ -223,29 +223,29 @@ def _event_step(tracker: Tracker, state, path: LoadPath, d: float, direction: in
         join[sl] = ahead.within(closing, t_attach, t + tie)
     state = with_pressure(state, new_pressure, new_deflection)
     window = state.working.window
-    state, eq = solve_from(tracker, state, new_d, force_detach=leave, force_attach=join)
+    state, eq = solve_from(context, state, new_d, force_detach=leave, force_attach=join)
     if not eq.converged:
-        yield _eq_state(tracker, state, eq, loading)
+        yield _eq_state(context, state, eq, loading)
         return None
     if eq.cg_iterations:
         state = with_pressure_change(state, new_pressure, new_deflection, window)
     if not bool(xp.any(state.contact)) and not loading:
-        yield _separated(tracker, state, new_d, eq)
+        yield _separated(context, state, new_d, eq)
         return state, new_d, True
-    yield _eq_state(tracker, state, eq, loading)
-    return state, new_d, loading and _target_reached(tracker, state, path, new_d)
+    yield _eq_state(context, state, eq, loading)
+    return state, new_d, loading and _target_reached(context, state, path, new_d)
 
 
-def _target_reached(tracker, state, path, d) -> bool:
+def _target_reached(context, state, path, d) -> bool:
     if path.preload_displacement is not None:
         return d >= path.preload_displacement * (1 - 1e-12)
-    return total_force(tracker, state) >= path.preload_force * (1 - 1e-9)
+    return total_force(context, state) >= path.preload_force * (1 - 1e-9)
 
 
-def _without_contact(tracker: Tracker, state, path: LoadPath, d: float, loading: bool):
+def _without_contact(context: PathContext, state, path: LoadPath, d: float, loading: bool):
     """`_event_step` without contact: separation on the pull-off, the first touch on the loading."""
     if not loading:
-        yield record_state(tracker, state, d, False, "separated", 0.0, 0, 0, True, "complete separation")
+        yield record_state(context, state, d, False, "separated", 0.0, 0, 0, True, "complete separation")
         return state, d, True
     # First touch: the lowest footprint elements.
     working = state.working
@@ -253,11 +253,11 @@ def _without_contact(tracker: Tracker, state, path: LoadPath, d: float, loading:
     distance = max(lowest - d, 0.0)
     first = working.footprint & (working.height <= lowest + 1e-12 * max(abs(lowest), 1.0) + 0.0)
     new_d = d + distance
-    state, eq = solve_from(tracker, state, new_d, force_attach=first)
-    yield _eq_state(tracker, state, eq, True)
+    state, eq = solve_from(context, state, new_d, force_attach=first)
+    yield _eq_state(context, state, eq, True)
     if not eq.converged:
         return None
-    return state, new_d, _target_reached(tracker, state, path, new_d)
+    return state, new_d, _target_reached(context, state, path, new_d)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -291,13 +291,13 @@ class _Ahead:
 
 
 
-def _events_ahead(tracker: Tracker, state, path: LoadPath, d: float, direction: int, a):
+def _events_ahead(context: PathContext, state, path: LoadPath, d: float, direction: int, a):
     """Where, along d + t s with the unit response ``a``, each kind of event comes first (an `_Ahead`).
 
     Returns the state that knows the deflections of its pressure and of ``a`` (`_Ahead.deflection`,
     `_Ahead.unit_deflection`) and the `_Ahead`.
     """
-    xp = tracker.xp
+    xp = context.xp
     loading = direction > 0
     working = state.working
     sl = working.window.slices
@@ -323,7 +323,7 @@ def _events_ahead(tracker: Tracker, state, path: LoadPath, d: float, direction: 
     # Detachment: p_i + t s a_i = -Sigma_c for t >= 0 (elements whose tension grows).
     rate = s * a
     grows = contact & (rate < 0)
-    t_detach = xp.where(grows, (pressure + tracker.critical) / xp.where(grows, -rate, 1.0), xp.inf)
+    t_detach = xp.where(grows, (pressure + context.critical) / xp.where(grows, -rate, 1.0), xp.inf)
     t_detach = xp.where(t_detach < 0, 0.0, t_detach)
     # Attachment: penetration pen_j + t s slope_j = 0 from below.
     reach = d - height - deflection
@@ -336,9 +336,9 @@ def _events_ahead(tracker: Tracker, state, path: LoadPath, d: float, direction: 
     candidates.append((t_det, "detach", None))
     candidates.append((t_att, "attach", None))
     if loading and path.preload_force is not None:
-        force_rate = tracker.h2 * float(xp.sum(a_all))
+        force_rate = context.h2 * float(xp.sum(a_all))
         if force_rate > 0:
-            candidates.append(((path.preload_force - total_force(tracker, state)) / force_rate, "target", None))
+            candidates.append(((path.preload_force - total_force(context, state)) / force_rate, "target", None))
     if loading and not working.covers_footprint:
         # Footprint elements outside the window (other pillars, asperities)
         # are not in the affine prediction: stop where one of them could
@@ -347,4 +347,4 @@ def _events_ahead(tracker: Tracker, state, path: LoadPath, d: float, direction: 
         if reach_at < math.inf:
             candidates.append((max(reach_at - d, 0.0), "outside", None))
     return state, _Ahead(grows, t_detach, t_det, closing, t_attach, t_att, known_deflection, known_unit_deflection,
-                         candidates, elements, detachment_slack(path, tracker.critical, grows, rate, xp))
+                         candidates, elements, detachment_slack(path, context.critical, grows, rate, xp))

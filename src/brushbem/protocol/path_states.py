@@ -2,8 +2,8 @@
 
 Of its equilibrium, of a separation or of an exhausted step budget.  Every
 pressure and contact set of a path lies in the working window of its state
-(it always holds the contact): the sums are taken there.  ``tracker`` is the
-path's `brushbem.protocol.tracking.Tracker` (the element area, the pillar of
+(it always holds the contact): the sums are taken there.  ``context`` is the
+path's `brushbem.protocol.steps.PathContext` (the element area, the pillar of
 every element; a record raises its length scale), ``state`` its
 `brushbem.protocol.values.PathState`.
 """
@@ -20,38 +20,38 @@ def _on_window(state, array):
     return array if window is None else array[window.slices]
 
 
-def total_force(tracker, state, pressure=None) -> float:
+def total_force(context, state, pressure=None) -> float:
     """The total force of the state's pressure, or of ``pressure`` (full grid; compressive positive)."""
     p = state.pressure if pressure is None else pressure
-    return tracker.h2 * float(tracker.xp.sum(_on_window(state, p)))
+    return context.h2 * float(context.xp.sum(_on_window(state, p)))
 
 
-def attached_pillars(tracker, state, contact=None) -> int:
+def attached_pillars(context, state, contact=None) -> int:
     """How many pillars touch in the state's contact set, or in ``contact`` (full grid)."""
     c = state.contact if contact is None else contact
-    if tracker.n_pillars == 1:
-        return int(bool(tracker.xp.any(_on_window(state, c))))
-    labels = tracker.pillar[c]
+    if context.n_pillars == 1:
+        return int(bool(context.xp.any(_on_window(state, c))))
+    labels = context.pillar[c]
     if labels.shape[0] == 0:
         return 0
-    return int(tracker.xp.unique_values(labels).shape[0])
+    return int(context.xp.unique_values(labels).shape[0])
 
 
-def record_state(tracker, state, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
+def record_state(context, state, displacement, loading, kind, trial_force, iterations, solves, converged, reason,
                  pressure=None, contact=None) -> State:
     """The `State` at ``displacement`` of the given pressure and contact (default: the state's).
 
     Why these parameters: one per field of `State` that the caller knows (the rest are computed here).
-    Raises the tracker's ``length_scale`` (the largest |d| reached) to ``displacement``.
+    Raises the context's ``length_scale`` (the largest |d| reached) to ``displacement``.
     """
     p = state.pressure if pressure is None else pressure
     c = state.contact if contact is None else contact
-    tracker.length_scale = max(tracker.length_scale, abs(float(displacement)))
+    context.length_scale = max(context.length_scale, abs(float(displacement)))
     return State(
         displacement=float(displacement),
-        force=total_force(tracker, state, p),
-        contact_area=tracker.h2 * int(tracker.xp.count_nonzero(_on_window(state, c))),
-        attached_pillars=attached_pillars(tracker, state, c),
+        force=total_force(context, state, p),
+        contact_area=context.h2 * int(context.xp.count_nonzero(_on_window(state, c))),
+        attached_pillars=attached_pillars(context, state, c),
         loading=loading,
         kind=kind,
         trial_force=float(trial_force),
@@ -64,20 +64,20 @@ def record_state(tracker, state, displacement, loading, kind, trial_force, itera
     )
 
 
-def _eq_state(tracker, state, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
+def _eq_state(context, state, eq: Equilibrium, loading: bool, kind="equilibrium") -> State:
     """The record of ``state``, the state of the equilibrium ``eq`` (its work, convergence and reason)."""
-    trial = tracker.h2 * eq.trial_force_sum
-    return record_state(tracker, state, eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged,
+    trial = context.h2 * eq.trial_force_sum
+    return record_state(context, state, eq.displacement, loading, kind, trial, eq.cg_iterations, eq.n_solves, eq.converged,
                         eq.reason)
 
 
-def _separated(tracker, state, d: float, eq: Equilibrium) -> State:
+def _separated(context, state, d: float, eq: Equilibrium) -> State:
     """Complete separation at ``d``, reached by the converged equilibrium ``eq`` (no contact left)."""
-    return record_state(tracker, state, d, False, "separated", tracker.h2 * eq.trial_force_sum, eq.cg_iterations,
+    return record_state(context, state, d, False, "separated", context.h2 * eq.trial_force_sum, eq.cg_iterations,
                         eq.n_solves, True, "complete separation")
 
 
-def _budget_exhausted(tracker, state, d, loading, path) -> State:
+def _budget_exhausted(context, state, d, loading, path) -> State:
     """A record at ``d`` that ends the branch: ``path.max_steps`` reached (not converged)."""
-    return record_state(tracker, state, d, loading, "equilibrium", total_force(tracker, state), 0, 0, False,
+    return record_state(context, state, d, loading, "equilibrium", total_force(context, state), 0, 0, False,
                         f"LoadPath.max_steps = {path.max_steps} reached before the end of the branch")

@@ -7,7 +7,7 @@ events inside a fixed step and the event path's step are in
 `brushbem.protocol.contact_loading`, and the pillar-level model in
 `brushbem.pillars`.  Each driver hands the path's state
 (`brushbem.protocol.values.PathState`) from step to step
-(`brushbem.protocol.tracking`): a step takes one and gives the next.
+(`brushbem.protocol.steps`): a step takes one and gives the next.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from brushbem.protocol.contact_loading import (
 from brushbem.protocol.events import _event_step, _events_in_step
 from brushbem.protocol.path_states import _budget_exhausted, _eq_state, _separated, total_force
 from brushbem.protocol.problem import ContactProblem, LoadPath, State, check_preload
-from brushbem.protocol.tracking import Tracker, commit_history, restored, solve_from, step_from
+from brushbem.protocol.steps import PathContext, commit_history, restored, solve_from, step_from
 
 __all__ = ["LOADING_SAMPLES", "indent", "pull_off"]
 
@@ -44,9 +44,9 @@ def indent(problem: ContactProblem, displacement: float, tolerance: float = 1e-8
     """
     path = LoadPath(method="fixed", preload_displacement=max(displacement, 1e-300), tolerance=tolerance,
                     max_iterations=max_iterations)
-    tracker = Tracker(problem, path)
-    state, eq = solve_from(tracker, tracker.state, displacement)
-    return _eq_state(tracker, state, eq, True)
+    context = PathContext(problem, path)
+    state, eq = solve_from(context, context.state, displacement)
+    return _eq_state(context, state, eq, True)
 
 
 def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[State]:
@@ -71,9 +71,9 @@ def pull_off(problem: ContactProblem, path: LoadPath, stop=None) -> Iterator[Sta
                                   viscoelastic=indenter.viscoelastic is not None, **preload))
     if indenter.viscoelastic is not None:
         path = _time_stepped(path)
-    tracker = Tracker(problem, path)
+    context = PathContext(problem, path)
     check_preload(problem.indenter, path)
-    states = (_fixed if path.method == "fixed" else _events)(tracker, tracker.state, path)
+    states = (_fixed if path.method == "fixed" else _events)(context, context.state, path)
     preload = None
     for state in states:
         if state.loading:
@@ -101,17 +101,17 @@ def _time_stepped(path: LoadPath) -> LoadPath:
     return dataclasses.replace(path, step=path.preload_displacement / steps)
 
 
-def _fixed(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
+def _fixed(context: PathContext, state, path: LoadPath) -> Iterator[State]:
     step = path.step
     d = 0.0
     count = 0
     done = False
-    if not state.connections.has_state and _press_as_contact_problems(tracker, state):
+    if not state.connections.has_state and _press_as_contact_problems(context, state):
         # A brush is pressed as contact problems (`_contact_loading`): the
         # exact loading branch, which adhesive steps approach only slowly (an
         # element that joins overlapping may be held in tension where the
         # exact path never lets it touch).
-        outcome = yield from _contact_loading(tracker, state, path)
+        outcome = yield from _contact_loading(context, state, path)
         if outcome is None:
             return
         state, d, done = outcome
@@ -123,61 +123,61 @@ def _fixed(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
         start = d
         for k in range(1, min(n_steps, path.max_steps) + 1):
             d = min(start + k * step, path.preload_displacement)
-            state, eq = step_from(tracker, state, d)
-            yield _eq_state(tracker, state, eq, True)
+            state, eq = step_from(context, state, d)
+            yield _eq_state(context, state, eq, True)
             if not eq.converged:
                 return
-            state = commit_history(tracker, state)
+            state = commit_history(context, state)
         if n_steps > path.max_steps:
-            yield _budget_exhausted(tracker, state, d, True, path)
+            yield _budget_exhausted(context, state, d, True, path)
             return
     else:
         target = path.preload_force
-        previous = (d, total_force(tracker, state))
+        previous = (d, total_force(context, state))
         while True:
             count += 1
             if count > path.max_steps:
-                yield _budget_exhausted(tracker, state, d, True, path)
+                yield _budget_exhausted(context, state, d, True, path)
                 return
             d += step
             saved = state.replace(displacement=previous[0])
-            state, eq = solve_from(tracker, state, d)
-            force = total_force(tracker, state)
+            state, eq = solve_from(context, state, d)
+            force = total_force(context, state)
             if not eq.converged:
-                yield _eq_state(tracker, state, eq, True)
+                yield _eq_state(context, state, eq, True)
                 return
             if force >= target:
-                state, eq, d = _reach_force(tracker, state, saved, previous, (d, force, eq), target)
-                yield _eq_state(tracker, state, eq, True)
+                state, eq, d = _reach_force(context, state, saved, previous, (d, force, eq), target)
+                yield _eq_state(context, state, eq, True)
                 break
-            yield _eq_state(tracker, state, eq, True)
+            yield _eq_state(context, state, eq, True)
             previous = (d, force)
-    yield from _unload(tracker, state, path, d)
+    yield from _unload(context, state, path, d)
 
 
-def _unload(tracker: Tracker, state, path: LoadPath, d_max: float) -> Iterator[State]:
+def _unload(context: PathContext, state, path: LoadPath, d_max: float) -> Iterator[State]:
     """Fixed steps down from ``d_max``, every event inside a step located (`_events_in_step`)."""
     step = path.step
     d = d_max
     for k in range(1, path.max_steps + 1):
         d = d_max - k * step
         before = state.replace(displacement=d + step)
-        state, eq = step_from(tracker, state, d)
-        state, eq = yield from _events_in_step(tracker, state, before, eq, d)
+        state, eq = step_from(context, state, d)
+        state, eq = yield from _events_in_step(context, state, before, eq, d)
         if eq is None:  # separated at an event inside the step
             return
         if not eq.converged:
-            yield _eq_state(tracker, state, eq, False)
+            yield _eq_state(context, state, eq, False)
             return
-        state = commit_history(tracker, state)
-        if not bool(tracker.xp.any(state.contact)):
-            yield _separated(tracker, state, d, eq)
+        state = commit_history(context, state)
+        if not bool(context.xp.any(state.contact)):
+            yield _separated(context, state, d, eq)
             return
-        yield _eq_state(tracker, state, eq, False)
-    yield _budget_exhausted(tracker, state, d, False, path)
+        yield _eq_state(context, state, eq, False)
+    yield _budget_exhausted(context, state, d, False, path)
 
 
-def _reach_force(tracker: Tracker, state, saved, below, above, target: float):
+def _reach_force(context: PathContext, state, saved, below, above, target: float):
     """The smallest displacement at which the loading force reaches ``target``.
 
     ``state`` is ``above``'s.  ``below = (d, F)`` with F < target and ``above = (d, F, eq)`` with F >=
@@ -204,12 +204,12 @@ def _reach_force(tracker: Tracker, state, saved, below, above, target: float):
         else:
             trial = lo + (target - f_lo) * width / (f_hi - f_lo)
             trial = min(max(trial, lo + 1e-3 * width), hi - 1e-3 * width)
-        state, trial_eq = solve_from(tracker, restored(state, saved), trial)
+        state, trial_eq = solve_from(context, restored(state, saved), trial)
         solves += trial_eq.n_solves
         iterations += trial_eq.cg_iterations
         if not trial_eq.converged:
             return state, trial_eq, trial
-        f = total_force(tracker, state)
+        f = total_force(context, state)
         if f < target:
             lo, f_lo = trial, f
         else:
@@ -219,13 +219,13 @@ def _reach_force(tracker: Tracker, state, saved, below, above, target: float):
     return restored(state, at_hi), dataclasses.replace(eq, n_solves=solves, cg_iterations=iterations), hi
 
 
-def _events(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
+def _events(context: PathContext, state, path: LoadPath) -> Iterator[State]:
     d = 0.0
     done = False
-    if path.method == "events" and _press_as_contact_problems(tracker, state):
+    if path.method == "events" and _press_as_contact_problems(context, state):
         # A brush's loading branch as contact problems (`_contact_loading`);
         # from where that cannot be shown to hold, element events.
-        outcome = yield from _contact_loading(tracker, state, path)
+        outcome = yield from _contact_loading(context, state, path)
         if outcome is None:
             return
         state, d, done = outcome
@@ -233,19 +233,19 @@ def _events(tracker: Tracker, state, path: LoadPath) -> Iterator[State]:
     for _ in range(path.max_steps):
         if done:
             break
-        outcome = yield from _event_step(tracker, state, path, d, +1)
+        outcome = yield from _event_step(context, state, path, d, +1)
         if outcome is None:
             return
         state, d, done = outcome
     else:
-        yield _budget_exhausted(tracker, state, d, True, path)
+        yield _budget_exhausted(context, state, d, True, path)
         return
     # Unloading: until the contact set is empty.
     for _ in range(path.max_steps):
-        outcome = yield from _event_step(tracker, state, path, d, -1)
+        outcome = yield from _event_step(context, state, path, d, -1)
         if outcome is None:
             return
         state, d, done = outcome
         if done:
             return
-    yield _budget_exhausted(tracker, state, d, False, path)
+    yield _budget_exhausted(context, state, d, False, path)

@@ -24,12 +24,12 @@ from brushbem.protocol.values import Known, PathState
 __all__ = ["unit_deflection", "unit_response", "with_pressure_change"]
 
 
-def unit_response(tracker, state: PathState):
+def unit_response(context, state: PathState):
     """a = A_S^-1 1 on the state's window (dp/dd for its contact set), and the state that holds it.
 
-    ``tracker`` (`brushbem.protocol.tracking.Tracker`): the path's tolerance and the unit responses' ledger.
+    ``context`` (`brushbem.protocol.steps.PathContext`): the path's tolerance and the unit responses' ledger.
     """
-    xp = tracker.xp
+    xp = context.xp
     working = state.working
     sl = working.window.slices
     contact = state.contact[sl]
@@ -41,7 +41,7 @@ def unit_response(tracker, state: PathState):
         operator, block_contact, ones,
         initial=None if initial is None else initial[block],
         initial_product=None if product is None else product[block],
-        tolerance=tracker.path.tolerance, max_iterations=tracker.path.max_iterations, ledger=tracker.ledgers[1],
+        tolerance=context.path.tolerance, max_iterations=context.path.max_iterations, ledger=context.ledgers[1],
         cache=working.cache,
     )
     solution = xp.zeros(contact.shape, dtype=ones.dtype)

@@ -9,9 +9,9 @@ its deflection, the last cascade's pressure change), the connections' state
 (`brushbem.protocol.connections.ConnectionState`, itself a value: the
 viscoelastic memory, the pillar law's pieces and breaks) and, in a saved
 state, its displacement.  The load paths hand it from step to step
-(`brushbem.protocol.tracking`: each step takes a state and returns the
+(`brushbem.protocol.steps`: each step takes a state and returns the
 next, never writes into it); a saved state is that value with its
-``displacement``, which the paths go back to (`brushbem.protocol.tracking.restored`): the force search of a fixed loading
+``displacement``, which the paths go back to (`brushbem.protocol.steps.restored`): the force search of a fixed loading
 (`brushbem.protocol.paths._reach_force`) and the events inside a fixed step
 (`brushbem.protocol.events`).  A new state shares every array that did not
 change with the one before (no copies).

@@ -11,7 +11,7 @@ that nothing outside the window can touch: the cheap bound
 and the full-grid penetration (`WorkingWindow.outside_penetration`).  Every
 change gives a new value (`covering`, `on`, `with_tips`, `with_problem`)
 that shares what did not change; the steps of
-`brushbem.protocol.tracking` take a state with its window and return the
+`brushbem.protocol.steps` take a state with its window and return the
 next.  The pressure and the contact set are the state's; the methods here
 take them as arguments.
 
@@ -120,7 +120,7 @@ class WorkingWindow:
         """Solve ``problem`` (the same grid and geometry, new pillar springs): a new operator on the window.
 
         Every deflection computed with the old operator is stale; the caller
-        (`brushbem.protocol.tracking.with_change`) drops those its state keeps.
+        (`brushbem.protocol.steps.with_change`) drops those its state keeps.
         """
         fresh = dataclasses.replace(self, problem=problem, operator=None, cache=SolverCache())
         return fresh if self.window is None else fresh.on(self.window)

@@ -2,7 +2,7 @@
 
 The operator (`brushbem.numerics.operator.ContactOperator`) computes and keeps
 nothing between calls; a caller that solves again and again on the same
-indenter (the load paths' tracker) holds one `SolverCache` and passes it to
+indenter (the load paths' context) holds one `SolverCache` and passes it to
 every solve (`brushbem.numerics.solver.equilibrium`, `solve_on_set`,
 `tip_deflection`).  It holds:
 

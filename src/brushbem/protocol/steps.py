@@ -26,11 +26,11 @@ the one it has.  The load paths (`brushbem.protocol.paths`,
 state from step to step and make the `State` records of it
 (`brushbem.protocol.path_states`).
 
-What the steps share besides the state is a `Tracker`, made once per path:
+What the steps share besides the state is a `PathContext`, made once per path:
 the problem's constants, the solver's settings, the ledgers of
 single-precision products (the solver's, kept beside the state: a solve adds
 to them) and the path's length scale (the largest |d| a record reached);
-``Tracker.state`` is the state the path starts from, never written back.
+``PathContext.state`` is the state the path starts from, never written back.
 
 Cached deflections: the deflection of the pressure and of the unit response
 are kept with the array and the window they were computed on, and are used
@@ -68,7 +68,7 @@ from brushbem.protocol.values import Known, PathState
 from brushbem.protocol.window import WorkingWindow
 
 __all__ = [
-    "Tracker",
+    "PathContext",
     "break_pillars",
     "commit_history",
     "cover_contact",
@@ -85,7 +85,7 @@ __all__ = [
 ]
 
 
-class Tracker:
+class PathContext:
     """What the steps of one pull-off share besides its state (module docstring), and the state it starts from.
 
     ``state`` is the first `PathState` (no contact, the indenter's own
@@ -132,9 +132,9 @@ def restored(state: PathState, point: PathState) -> PathState:
     return state.replace(pressure=point.pressure, contact=point.contact)
 
 
-def without_deflections(tracker: Tracker, state: PathState) -> PathState:
+def without_deflections(context: PathContext, state: PathState) -> PathState:
     """``state`` without its known deflections and unit response (the next ones are computed afresh)."""
-    tracker.ledgers = (ProductLedger(), ProductLedger())
+    context.ledgers = (ProductLedger(), ProductLedger())
     return state.replace(deflection=None, unit=None, unit_deflection=None, pressure_change=None)
 
 
@@ -149,7 +149,7 @@ def deflection_of(state: PathState) -> tuple[PathState, object]:
 
 
 # -- the steps: a state in, the next state out ---------------------------------------
-def with_change(tracker: Tracker, state: PathState, change: SpringChange | None) -> PathState:
+def with_change(context: PathContext, state: PathState, change: SpringChange | None) -> PathState:
     """``state`` after a change of the connections: new springs (a new operator) and raised tips.
 
     New springs make every deflection known of ``state`` stale: the new state
@@ -162,11 +162,11 @@ def with_change(tracker: Tracker, state: PathState, change: SpringChange | None)
     working = state.working
     if change.problem is not None:
         working = working.with_problem(change.problem)
-        state = without_deflections(tracker, state)
+        state = without_deflections(context, state)
     return state.replace(working=working.with_tips(change.offsets, change.lifted))
 
 
-def step_from(tracker: Tracker, state: PathState, displacement: float, *, advance: bool = True,
+def step_from(context: PathContext, state: PathState, displacement: float, *, advance: bool = True,
               detach=None) -> tuple[PathState, Equilibrium]:
     """One step of a fixed-step path from ``state``: the state at its end and its equilibrium at d.
 
@@ -178,14 +178,14 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
     """
     if advance:
         connections, change = state.connections.advance()
-        state = with_change(tracker, state.replace(connections=connections), change)
+        state = with_change(context, state.replace(connections=connections), change)
     if state.connections.pieces is None:
-        return solve_from(tracker, state, displacement, force_detach=detach)
+        return solve_from(context, state, displacement, force_detach=detach)
     from brushbem.physics.pillar_laws import MAX_PIECE_ROUNDS
 
     iterations = solves = detached = 0
     first = None
-    moved = np.zeros(tracker.n_pillars, dtype=bool)
+    moved = np.zeros(context.n_pillars, dtype=bool)
 
     def settled(eq: Equilibrium, **changes) -> Equilibrium:
         # The first round's trial solve is on the step's starting set and pieces: the one
@@ -195,7 +195,7 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
                                    **changes)
 
     for _ in range(MAX_PIECE_ROUNDS):
-        state, eq = solve_from(tracker, state, displacement, force_detach=detach)
+        state, eq = solve_from(context, state, displacement, force_detach=detach)
         first = eq if first is None else first
         iterations += eq.cg_iterations
         solves += eq.n_solves
@@ -204,13 +204,13 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
         if not eq.converged:
             return state, settled(eq)
         connections, moved, broken, change = state.connections.update(
-            pillar_forces(tracker, state.pressure, state.contact), state.working.problem)
+            pillar_forces(context, state.pressure, state.contact), state.working.problem)
         state = state.replace(connections=connections)
         if change is None:
             return state, settled(eq)
         if broken is not None:
-            detach = _held_by(tracker, broken, state.contact)
-        state = with_change(tracker, state, change)
+            detach = _held_by(context, broken, state.contact)
+        state = with_change(context, state, change)
     return state, settled(
         eq, converged=False,
         reason=f"the pillar law's pieces did not settle in {MAX_PIECE_ROUNDS} rounds at d = {displacement:.6g} "
@@ -218,17 +218,17 @@ def step_from(tracker: Tracker, state: PathState, displacement: float, *, advanc
     )
 
 
-def solve_from(tracker: Tracker, state: PathState, displacement: float, force_detach=None, force_attach=None,
+def solve_from(context: PathContext, state: PathState, displacement: float, force_detach=None, force_attach=None,
                contact_problem: bool = False) -> tuple[PathState, Equilibrium]:
     """The equilibrium at d from ``state``, and the state it gives, on a window enlarged as needed.
 
     ``contact_problem``: the non-adhesive contact problem at d instead
     (Polonsky-Keer from the state's pressure), whatever the adhesion.
     """
-    xp, working = tracker.xp, state.working
+    xp, working = context.xp, state.working
     needed = state.contact
     margin = None
-    if contact_problem or tracker.critical == 0.0 or not bool(xp.any(needed)):
+    if contact_problem or context.critical == 0.0 or not bool(xp.any(needed)):
         # A cold or non-adhesive start attaches every overlapping element
         # first; the contact then only shrinks, so a thin margin suffices.
         needed = needed | (working.footprint & (working.height < displacement))
@@ -242,11 +242,11 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
     while True:
         sl = working.window.slices
         height = working.height[sl]
-        if contact_problem or (tracker.critical == 0.0 and force_detach is None and force_attach is None
+        if contact_problem or (context.critical == 0.0 and force_detach is None and force_attach is None
                                and solves == 0):
             eq = polonsky_keer(
                 working.operator, height, displacement, state.pressure[sl],
-                tracker.path.tolerance, tracker.path.max_iterations,
+                context.path.tolerance, context.path.max_iterations,
             )
         else:
             start = Start(
@@ -255,8 +255,8 @@ def solve_from(tracker: Tracker, state: PathState, displacement: float, force_de
                 detach=None if force_detach is None else force_detach[sl],
                 attach=None if force_attach is None else force_attach[sl],
             )
-            eq = equilibrium(working.operator, height, displacement, start, critical=tracker.critical,
-                             settings=tracker.settings, length_scale=tracker.length_scale, ledger=tracker.ledgers[0],
+            eq = equilibrium(working.operator, height, displacement, start, critical=context.critical,
+                             settings=context.settings, length_scale=context.length_scale, ledger=context.ledgers[0],
                              cache=working.cache)
         iterations += eq.cg_iterations
         solves += eq.n_solves
@@ -337,35 +337,35 @@ def widen_to_reach(state: PathState, displacement: float, reach: float) -> PathS
 
 
 # -- connections with a state: viscoelastic (in time) or nonlinear (pieces) --------
-def pillar_forces(tracker: Tracker, pressure, contact) -> np.ndarray:
+def pillar_forces(context: PathContext, pressure, contact) -> np.ndarray:
     """Force of every pillar under ``pressure`` on ``contact`` (full grid; compressive positive)."""
     contact = np.asarray(backend.to_numpy(contact))
     pressure = np.asarray(backend.to_numpy(pressure))
-    pillar = tracker.pillar_host
-    return tracker.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=tracker.n_pillars)
+    pillar = context.pillar_host
+    return context.h2 * np.bincount(pillar[contact], weights=pressure[contact], minlength=context.n_pillars)
 
 
-def _held_by(tracker: Tracker, pillars: np.ndarray, contact):
+def _held_by(context: PathContext, pillars: np.ndarray, contact):
     """The elements of ``contact`` on ``pillars`` (bool, one per pillar), a full-grid mask."""
-    return contact & tracker.xp.asarray(np.isin(tracker.pillar_host, np.flatnonzero(pillars)))
+    return contact & context.xp.asarray(np.isin(context.pillar_host, np.flatnonzero(pillars)))
 
 
-def restore_pieces(tracker: Tracker, state: PathState, point: PathState) -> PathState:
+def restore_pieces(context: PathContext, state: PathState, point: PathState) -> PathState:
     """``state`` back at the pieces and breaks of ``point``: the springs and the tips with them."""
     connections, change = state.connections.restore(point.connections, state.working.problem)
-    return with_change(tracker, state.replace(connections=connections), change)
+    return with_change(context, state.replace(connections=connections), change)
 
 
-def break_pillars(tracker: Tracker, state: PathState, pillars: np.ndarray):
+def break_pillars(context: PathContext, state: PathState, pillars: np.ndarray):
     """``state`` with ``pillars`` (bool, one per pillar) broken and lifted, and the elements they held (a mask)."""
     connections, change = state.connections.break_pillars(pillars)
-    return with_change(tracker, state.replace(connections=connections), change), _held_by(tracker, pillars,
+    return with_change(context, state.replace(connections=connections), change), _held_by(context, pillars,
                                                                                           state.contact)
 
 
-def commit_history(tracker: Tracker, state: PathState) -> PathState:
+def commit_history(context: PathContext, state: PathState) -> PathState:
     """After a time step's equilibrium: the connections' compression and arm forces from the pillar forces."""
     connections = state.connections
     if connections.memory is None:
         return state
-    return state.replace(connections=connections.commit(pillar_forces(tracker, state.pressure, state.contact)))
+    return state.replace(connections=connections.commit(pillar_forces(context, state.pressure, state.contact)))
