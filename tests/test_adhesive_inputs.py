@@ -288,6 +288,8 @@ def test_brush_reports_strength_per_pillar_and_writes_the_curve(tmp_path):
     assert design["apparent_area"] == 80.0**2 and design["pillars"] == 16
     assert design["adhesion_strength"] == pytest.approx(pulled.adhesive_force / 6400, rel=1e-15, abs=0)
     assert design["adhesive_force_per_pillar"] == pytest.approx(pulled.adhesive_force / 16, rel=1e-15, abs=0)
+    # A brush's spring k~ is its normalisation's (k / (E* L), L the brush's side), the same number.
+    assert design.spring.stiffness_ratio == pulled.summary.normalized.stiffness_ratio is not None
     assert design["units"]["adhesion_strength"] == "MPa" and design["units"]["adhesive_force_per_pillar"] == "uN"
     assert any("spans 4 elements" in warning for warning in pulled.summary["warnings"])
     pulled.save(tmp_path, figure=False)

@@ -126,7 +126,7 @@ def reference_for(assembly: Assembly, summary: Mapping[str, Any]) -> ReferenceCu
     return theory_for(assembly.problem, summary, assembly.path)[1]
 
 
-def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: RunConfig) -> DesignNumbers:
+def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConfig) -> DesignNumbers:
     """What a designer reports, with the unit of each number (``summary.json``'s ``design``).
 
     * ``adhesion_strength``: F_A / A0, A0 the apparent area (a brush's placement region, a punch's
@@ -142,7 +142,7 @@ def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: 
 
     units = Units.from_config(config)
     spec = config.indenter
-    force = float(summary.get("adhesive_force") or 0.0)
+    force = float(summary.adhesive_force or 0.0)
     out: dict[str, Any] = {}
     info = problem.indenter.description
     if isinstance(info, BrushGeometry):
@@ -162,9 +162,9 @@ def design_numbers(problem: ContactProblem, summary: Mapping[str, Any], config: 
             origin = "indenter.stiffness_ratio: k = k~ E* L"
         else:
             origin = "indenter.stiffness"
-        normalized = summary.get("normalized") or {}
-        theory_record = summary.get("theory") or {}
-        ratio = normalized.get("stiffness_ratio", theory_record.get("normalized_stiffness"))
+        # k~ from where the run normalises it: a brush's normalisation, else the closed form's (punch, sphere).
+        ratio = (summary.normalized.stiffness_ratio if summary.normalized is not None
+                 else getattr(summary.theory, "normalized_stiffness", None))
         buckling = (float(spec.pillar_law.forces[0])
                     if spec.fibril is not None and spec.pillar_law is not None and spec.fibril.buckling is not None
                     else None)
