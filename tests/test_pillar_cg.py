@@ -19,6 +19,7 @@ from brushbem import pillars
 from brushbem.pillars import cg as pillar_cg
 from brushbem.pillars import solver as pillar_solver
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.protocol.paths import pull_off
 from brushbem.runs.case import brush_scales
 from brushbem.config.resources import memory_estimate
 
@@ -70,6 +71,36 @@ def test_circulant_preconditioner_is_near_exact_on_the_full_lattice():
     attached = np.ones(model.M, dtype=bool)
     solver.solve(attached, model.force[:, None])
     assert 1 <= solver.iterations <= 10
+
+
+def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch):
+    """The loading of a rough 24 x 24 brush (sigma~ = 1) by CG throughout: its partial contact sets (at most
+    half of the lattice) preconditioned by their near field take 833 iterations in all, at most 11 a solve,
+    against the circulant's 1301 and 24 (measured); held to two thirds and 14 (the circulant's 24 is
+    farther off as the brush grows: 42 at 64 x 64), with the same contact and force at the preload."""
+    problem, force = _problem(24, 1e-2, 1.0)
+    path = LoadPath(method="pillars", preload_force=force, max_steps=10**6, pillar_solve="cg")
+    runs, default, solve = {}, pillar_cg.NEAR_SHARE, pillar_cg.LatticeCG.solve
+    for share in (default, 0.0):  # 0: the circulant on every set
+        monkeypatch.setattr(pillar_cg, "NEAR_SHARE", share)
+        counts = []
+
+        def counted(self, *args, _counts=counts, **kwargs):
+            start = self.iterations
+            out = solve(self, *args, **kwargs)
+            _counts.append(self.iterations - start)
+            return out
+
+        monkeypatch.setattr(pillar_cg.LatticeCG, "solve", counted)
+        for state in pull_off(problem, path):
+            if not state.loading:
+                break
+        runs[share] = (counts, state)
+    (near, loaded), (circulant, reference) = runs[default], runs[0.0]
+    assert len(near) == len(circulant)  # the same rounds
+    assert sum(near) <= 2 * sum(circulant) / 3 and max(near) <= 14
+    assert loaded.attached_pillars == reference.attached_pillars
+    assert loaded.force == pytest.approx(reference.force, rel=1e-9)
 
 
 def test_a_solve_that_does_not_converge_says_so(monkeypatch, switches):
