@@ -17,7 +17,8 @@ import sys
 
 import pytest
 
-#: (module, function) of each step of k~ from the file to summary.json's ``normalized.stiffness_ratio``.
+#: (module, function) of each step of k~ from the file to summary.json's ``normalized.stiffness_ratio`` and
+#: ``design.spring.stiffness_ratio``.
 STIFFNESS_RATIO_TRACE: tuple[tuple[str, str], ...] = (
     ("brushbem.config.loading", "read_toml"),  # the TOML file as tables
     ("brushbem.config.sections_indenter", "IndenterConfig._brush_problems"),  # exactly one of k~ and k
@@ -25,10 +26,12 @@ STIFFNESS_RATIO_TRACE: tuple[tuple[str, str], ...] = (
     ("brushbem.physics.structure.builders", "_pillar_stiffness"),  # k of the brush's side L
     ("brushbem.physics.scales", "stiffness_of_ratio"),  # k = k~ E* L, the one conversion
     ("brushbem.physics.structure.records", "SpringLevel.__post_init__"),  # k of the pillars' level
-    ("brushbem.physics.comparison", "_brush_theory"),  # the closed forms and normalisations of a brush
+    ("brushbem.physics.comparison", "spring_numbers"),  # the spring's k and k~ for the design record
     ("brushbem.physics.scales", "normalized_stiffness"),  # k~ = k / (E* L)
+    ("brushbem.physics.comparison", "_brush_theory"),  # the closed forms and normalisations of a brush
     ("brushbem.results.normalization", "BrushNormalization.__init__"),  # the typed record
     ("brushbem.results.case", "RunSummary.__init__"),  # the run's summary
+    ("brushbem.results.design", "Spring.__init__"),  # design.spring's k and k~
     ("brushbem.io.writing", "write_case"),  # summary.json, written atomically
     ("brushbem.io.encoding", "_json"),  # its text
 )
@@ -120,4 +123,5 @@ def test_the_stiffness_ratio_takes_the_traced_steps_in_order(tmp_path):
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     # k = k~ E* L and back: two roundings of a product and a quotient.
     assert summary["normalized"]["stiffness_ratio"] == pytest.approx(0.05, rel=1e-15)
+    assert summary["design"]["spring"]["stiffness_ratio"] == summary["normalized"]["stiffness_ratio"]
     assert summary["provenance"]["config"]["indenter"]["stiffness_ratio"] == 0.05

@@ -28,7 +28,8 @@ from brushbem.results import (
     SphereTheory,
 )
 
-__all__ = ["Case", "Preload", "brush_normalizations", "brush_scales", "spring_stiffness", "theory_for"]
+__all__ = ["Case", "Preload", "brush_normalizations", "brush_scales", "spring_numbers", "spring_stiffness",
+           "theory_for"]
 
 
 class Case(Protocol):
@@ -64,20 +65,63 @@ def theory_for(problem: Case, summary: Mapping[str, Any],
     `SphereTheory`, `BrushTheory`, or an empty mapping where no closed form
     applies) and a reference curve for the figure (or None).
     """
-    shape = problem.indenter.description.shape
-    if shape == "brush" and problem.work_of_adhesion > 0:
+    kind = _closed_form(problem)
+    if kind == "brush":
         return _brush_theory(problem, summary)[0], None
-    if problem.work_of_adhesion <= 0 or shape not in ("flat_punch", "sphere"):
+    if kind is None:
         return {}, None
-    if shape == "flat_punch":
+    if kind == "flat_punch":
         return _punch_theory(problem, summary)
     return _sphere_theory(problem, summary, path)
+
+
+def _closed_form(problem: Case) -> str | None:
+    """Which closed forms compare with the case: ``"brush"``, ``"flat_punch"``, ``"sphere"``, or None (no
+    adhesion, another indenter)."""
+    shape = problem.indenter.description.shape
+    return shape if problem.work_of_adhesion > 0 and shape in ("brush", "flat_punch", "sphere") else None
 
 
 def spring_stiffness(problem: Case) -> float:
     """The stiffness of the (pillars') spring as one number (a graded level's mean; inf: rigid)."""
     levels = problem.indenter.elastic_levels
     return _level_stiffness(levels[0]) if levels else math.inf
+
+
+def spring_numbers(problem: Case) -> tuple[float, float | None]:
+    """The (pillars') spring as a designer reads it: its stiffness k (`spring_stiffness`) and its k~ as the run
+    normalises it, by the rule of the case's closed forms: a brush's k / (E* L) (``normalized.stiffness_ratio``),
+    a punch's k / (2 E* a) and a sphere's (``theory.normalized_stiffness``); None where none applies."""
+    stiffness = spring_stiffness(problem)
+    kind = _closed_form(problem)
+    if kind == "brush":
+        return stiffness, _stiffness_ratios(problem)[0]
+    if kind is None or not math.isfinite(stiffness):
+        return stiffness, None
+    return stiffness, _normalized_spring(problem, kind, stiffness)
+
+
+def _stiffness_ratios(problem: Case) -> list[float]:
+    """A brush's k~ = k / (E* L) of every level (a graded level by its mean stiffness; rigid: [inf])."""
+    stiffnesses = [_level_stiffness(level) for level in problem.indenter.levels] or [math.inf]
+    # L of eq. 4.13: the brush's side (region_size), not the domain around it (brush_scales' stiffness_scale).
+    size = float(problem.indenter.description.region_size)
+    return [normalized_stiffness(k, problem.contact_modulus, size) for k in stiffnesses]
+
+
+def _normalized_spring(problem: Case, kind: str, stiffness: float) -> float:
+    """A punch's k / (2 E* a) at the footprint's radius, or a sphere's normalised stiffness (finite k)."""
+    if kind == "flat_punch":
+        return theory.normalized_punch_stiffness(stiffness, _punch_radius(problem),
+                                                 contact_modulus=problem.contact_modulus)
+    return theory.sphere_normalized_stiffness(stiffness, problem.indenter.description.radius,
+                                              contact_modulus=problem.contact_modulus,
+                                              work_of_adhesion=problem.work_of_adhesion)
+
+
+def _punch_radius(problem: Case) -> float:
+    """A flat punch's radius: of its rasterised footprint's area, sqrt(A / pi)."""
+    return math.sqrt(problem.indenter.description.rasterised_area / math.pi)
 
 
 def _level_stiffness(level) -> float:
@@ -123,7 +167,7 @@ def _ratios(summary: Mapping[str, Any], **closed_forms: float | None) -> dict[st
 def _punch_theory(problem: Case, summary: Mapping[str, Any]) -> tuple[PunchTheory, ReferenceCurve]:
     """Kendall's punch (eq. 2.4) on its spring (eq. 2.18-2.19), with the reference curve (eq. 2.1)."""
     modulus, dgamma, stiffness = problem.contact_modulus, problem.work_of_adhesion, spring_stiffness(problem)
-    radius = math.sqrt(problem.indenter.description.rasterised_area / math.pi)
+    radius = _punch_radius(problem)
     force = theory.kendall_force(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     tip = theory.kendall_displacement(radius, contact_modulus=modulus, work_of_adhesion=dgamma)
     base = tip - (force / stiffness if math.isfinite(stiffness) else 0.0)
@@ -131,8 +175,7 @@ def _punch_theory(problem: Case, summary: Mapping[str, Any]) -> tuple[PunchTheor
                                                   work_of_adhesion=dgamma)
     record = PunchTheory(
         equivalent_radius=radius, adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
-        normalized_stiffness=(theory.normalized_punch_stiffness(stiffness, radius, contact_modulus=modulus)
-                              if math.isfinite(stiffness) else None),
+        normalized_stiffness=_normalized_spring(problem, "flat_punch", stiffness) if math.isfinite(stiffness) else None,
         ratios=_ratios(summary, **({"adhesive_force": force, "pull_off_displacement": base,
                                     "work_of_separation": work} | _not_applicable(problem, stiffness))),
         not_applicable=_not_applicable_reasons(problem, stiffness),
@@ -190,9 +233,7 @@ def _sphere_theory(problem: Case, summary: Mapping[str, Any],
         preload["adhesive_force_from"] = "JKR's pull-off force 3/2 pi dgamma R (eq. 2.24)"
     record = SphereTheory(
         **preload,
-        normalized_stiffness=(theory.sphere_normalized_stiffness(stiffness, radius, contact_modulus=modulus,
-                                                                 work_of_adhesion=dgamma)
-                              if math.isfinite(stiffness) else None),
+        normalized_stiffness=_normalized_spring(problem, "sphere", stiffness) if math.isfinite(stiffness) else None,
         adhesive_force=force, pull_off_displacement=base, work_of_separation=work,
         ratios=_ratios(summary, **({"adhesive_force": force, "pull_off_displacement": base,
                                     "work_of_separation": work} | _not_applicable(problem, stiffness))),
@@ -258,10 +299,7 @@ def _brush_theory(problem: Case, summary: Mapping[str, Any]) -> tuple[BrushTheor
     info = indenter.description
     scales = brush_scales(problem)
     n = info.n_pillars
-    # A graded level is normalised by its mean stiffness.
-    stiffnesses = [_level_stiffness(level) for level in indenter.levels] or [math.inf]
-    # L of eq. 4.13: the brush's side (region_size), not the domain around it (brush_scales' stiffness_scale).
-    ratios = [normalized_stiffness(k, problem.contact_modulus, float(info.region_size)) for k in stiffnesses]
+    ratios = _stiffness_ratios(problem)
     force = summary.get("adhesive_force") or 0.0
     d_c = scales["rigid_brush_displacement"]
 

@@ -15,7 +15,7 @@ from brushbem.config import RunConfig, advice, config_to_dict
 from brushbem.physics.comparison import (
     brush_normalizations,
     brush_scales,
-    spring_stiffness,
+    spring_numbers,
     theory_for,
 )
 from brushbem.physics.structure import BrushGeometry
@@ -105,6 +105,9 @@ def run_case(
     holds the path so far, ``interrupted`` and not converged.
     """
     built = config if isinstance(config, Assembly) else assemble(config)
+    # The spring's k and k~ as the run normalises them, taken here, before the run's records, and handed to
+    # its design record: k~ goes from the physics to the records and the file, never back (docs/site/internals.md).
+    spring = spring_numbers(built.problem)
     with configuration_errors():  # a parameter the run refuses, named by its configuration key
         pulled = run_problem(built.problem, built.path, progress=progress, stop=stop,
                              config=config_to_dict(built.config))
@@ -117,7 +120,7 @@ def run_case(
     result = dataclasses.replace(result, summary=dataclasses.replace(
         result.summary, warnings=[*advice.advice(built.config), *result.summary.warnings],
         resolution=found,
-        design=design_numbers(built.problem, result.summary, built.config)))
+        design=design_numbers(built.problem, result.summary, built.config, spring)))
     return PullOff(result, pulled.reference, built.config)
 
 
@@ -126,7 +129,8 @@ def reference_for(assembly: Assembly, summary: Mapping[str, Any]) -> ReferenceCu
     return theory_for(assembly.problem, summary, assembly.path)[1]
 
 
-def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConfig) -> DesignNumbers:
+def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConfig,
+                   spring: tuple[float, float | None]) -> DesignNumbers:
     """What a designer reports, with the unit of each number (``summary.json``'s ``design``).
 
     * ``adhesion_strength``: F_A / A0, A0 the apparent area (a brush's placement region, a punch's
@@ -135,7 +139,8 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
     * ``spring``: the stiffness k of the (pillars') spring, where it came from (``indenter.fibril``:
       k = pi r^2 E_f / l; ``indenter.stiffness``; ``indenter.stiffness_ratio``: k~ E* L), its k~ as the
       run normalises it (``normalized.stiffness_ratio`` of a brush, ``theory.normalized_stiffness`` of a
-      punch or sphere) and, with ``fibril.buckling``, Euler's buckling force.
+      punch or sphere) and, with ``fibril.buckling``, Euler's buckling force.  ``spring`` is (k, k~) of
+      `brushbem.physics.comparison.spring_numbers`.
     * ``units``: the unit of each dimensional number (`brushbem.results.units.Units`; "1" without ``[units]``).
     """
     from brushbem.results.units import Units
@@ -153,7 +158,7 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
     elif spec.shape == "flat_punch" and spec.radius is not None:
         out["apparent_area"] = math.pi * spec.radius**2
         out["adhesion_strength"] = force / out["apparent_area"]
-    stiffness = spring_stiffness(problem)
+    stiffness, ratio = spring
     if math.isfinite(stiffness):
         if spec.fibril is not None:
             origin = (f"indenter.fibril: k = pi r^2 E_f / l (E_f = {spec.fibril.youngs_modulus:g}, l = "
@@ -162,9 +167,6 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
             origin = "indenter.stiffness_ratio: k = k~ E* L"
         else:
             origin = "indenter.stiffness"
-        # k~ from where the run normalises it: a brush's normalisation, else the closed form's (punch, sphere).
-        ratio = (summary.normalized.stiffness_ratio if summary.normalized is not None
-                 else getattr(summary.theory, "normalized_stiffness", None))
         buckling = (float(spec.pillar_law.forces[0])
                     if spec.fibril is not None and spec.pillar_law is not None and spec.fibril.buckling is not None
                     else None)
