@@ -73,16 +73,16 @@ def test_circulant_preconditioner_is_near_exact_on_the_full_lattice():
     assert 1 <= solver.iterations <= 10
 
 
-def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch):
+def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch, switches):
     """The loading of a rough 24 x 24 brush (sigma~ = 1) by CG throughout: its partial contact sets (at most
     half of the lattice) preconditioned by their near field take 833 iterations in all, at most 11 a solve,
     against the circulant's 1301 and 24 (measured); held to two thirds and 14 (the circulant's 24 is
     farther off as the brush grows: 42 at 64 x 64), with the same contact and force at the preload."""
     problem, force = _problem(24, 1e-2, 1.0)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6, pillar_solve="cg")
-    runs, default, solve = {}, pillar_cg.NEAR_SHARE, pillar_cg.LatticeCG.solve
-    for share in (default, 0.0):  # 0: the circulant on every set
-        monkeypatch.setattr(pillar_cg, "NEAR_SHARE", share)
+    runs, solve = {}, pillar_cg.LatticeCG.solve
+    for near in (True, False):
+        switches(near_preconditioner=near)
         counts = []
 
         def counted(self, *args, _counts=counts, **kwargs):
@@ -95,8 +95,8 @@ def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch
         for state in pull_off(problem, path):
             if not state.loading:
                 break
-        runs[share] = (counts, state)
-    (near, loaded), (circulant, reference) = runs[default], runs[0.0]
+        runs[near] = (counts, state)
+    (near, loaded), (circulant, reference) = runs[True], runs[False]
     assert len(near) == len(circulant)  # the same rounds
     assert sum(near) <= 2 * sum(circulant) / 3 and max(near) <= 14
     assert loaded.attached_pillars == reference.attached_pillars
@@ -164,6 +164,46 @@ def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypa
     element_bytes = memory_estimate(parse_config(config))
     assert 5.8e9 < pillar_bytes < 8e9
     assert element_bytes > 2 * pillar_bytes
+
+
+def test_memory_estimate_counts_the_kept_inverse_of_a_partial_contact(monkeypatch, switches):
+    """A rough brush may keep its inverse up to ``kept_partial`` attached pillars (half of the lattice at
+    most): the estimate counts it (9 n^2 numbers at its peak, `pillar_kept_bytes`), and above the memory at
+    hand the refusal names the switch."""
+    from brushbem.config import ConfigError
+    from brushbem.config.resources import pillar_kept_bytes
+
+    config = {"grid": {"size": 1.0, "elements": 5056},
+              "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
+              "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 316,
+                           "pillar_radius": 0.000618484, "stiffness_ratio": 0.01},
+              "protocol": {"method": "pillars", "preload_force": 0.0075}}
+    monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "off")
+    level = memory_estimate(parse_config(config))
+    config["indenter"]["roughness"] = {"sigma": 1e-4}
+    rough = memory_estimate(parse_config(config))
+    assert rough - level == pytest.approx(1.1 * (pillar_kept_bytes(4096) - pillar_kept_bytes(1024)), rel=1e-6)
+    switches(kept_partial=16384)
+    assert memory_estimate(parse_config(config)) > 8 * 2**30
+    monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "8G")
+    with pytest.raises(ConfigError, match=r"of it the pillar model's kept inverse of up to 16384 attached pillars: "
+                                          r"lower Switches.kept_pillars or kept_partial"):
+        parse_config(config)
+
+
+def test_a_kept_inverse_beyond_the_memory_at_hand_warns_and_solves_by_cg(monkeypatch):
+    """Under a memory limit too small for a kept inverse of the brush's pillars the solver says so and keeps
+    it only up to what fits (21 pillars in 64 KiB), solving by CG beyond: the same pull-off (F_A and the
+    work to 1e-9: every solve reaches 1e-11)."""
+    problem, force = _problem(8, 1e-2, 1.0)
+    path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
+    monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "off")
+    kept = record_pull_off(problem, path).summary
+    monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "64k")
+    with pytest.warns(RuntimeWarning, match=r"kept_partial = 4096: .* keeps it up to 21 pillars and solves by CG"):
+        capped = record_pull_off(problem, path).summary
+    assert capped["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
+    assert capped["work_of_separation"] == pytest.approx(kept["work_of_separation"], rel=1e-9)
 
 
 def test_the_solve_is_chosen_by_the_load_path():

@@ -25,9 +25,11 @@ __all__ = [
     "MEMORY_LIMIT_VARIABLE",
     "available_memory",
     "format_bytes",
+    "kept_pillar_count",
     "memory_estimate",
     "memory_problem",
     "parse_bytes",
+    "pillar_kept_bytes",
     "result_size_estimate",
 ]
 
@@ -55,6 +57,13 @@ _MARGIN = 1.1
 # keeps dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
 _PILLARS_BYTES_PER_ELEMENT = 230.0
 _PILLAR_MODES = 6
+
+# The pillar model's kept inverse of n attached pillars (`brushbem.pillars.solver.Solver`) at its peak, in
+# numbers of n^2: the inverse with room to grow (its array doubles: up to 4 n^2) and the temporaries of a
+# refactorisation or of a large join (the block of G00 and the springs' block, the factor and the inverse with
+# its two triangles: about 5 n^2).  Measured: a peak of 6.4 GB at n = 10312 (316 x 316 rough brush,
+# kept_partial = 16384), 4.2 GB (4.9 n^2) beyond the model's 2.2 GB; counted as 9 (the doubled array).
+_KEPT_NUMBERS = 9.0
 
 # Bytes per element of result.nc, per recorded snapshot (pressure as float64,
 # contact as one byte), and the number of snapshots a pull-off records
@@ -90,16 +99,32 @@ def memory_estimate(config: RunConfig) -> int:
 
 
 def _pillar_matrices(config: RunConfig) -> float:
-    """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (at most
-    ``Switches.kept_pillars`` attached, twice with its work array), every mode's couplings and the inverse off it."""
+    """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (`pillar_kept_bytes` of at most
+    ``Switches.kept_pillars`` attached, or on a brush of unequal tips, whose contact may be partial, of
+    ``Switches.kept_partial`` up to half of the lattice), every mode's couplings and the inverse off it."""
     indenter = config.indenter
     if indenter.layout == "random":
         pillars = indenter.pillar_count or 0
         return 8.0 * (_PILLAR_MODES + 2) * pillars**2
-    per_side = indenter.pillars_per_side or 0
-    limit = settings.switches().kept_pillars
-    kept = per_side**2 if limit is None else min(per_side**2, limit)
-    return 8.0 * 2 * kept**2
+    return pillar_kept_bytes(kept_pillar_count(config))
+
+
+def kept_pillar_count(config: RunConfig) -> int:
+    """The most attached pillars of a lattice brush whose inverse the pillar model keeps (module comments)."""
+    indenter = config.indenter
+    pillars = (indenter.pillars_per_side or 0) ** 2
+    switches = settings.switches()
+    if switches.kept_pillars is None:
+        return pillars
+    kept = min(pillars, switches.kept_pillars)
+    unequal = (indenter.roughness is not None and indenter.roughness.sigma > 0) or indenter.profile is not None \
+        or indenter.lengths_file is not None
+    return max(kept, min(pillars // 2, switches.kept_partial)) if unequal else kept
+
+
+def pillar_kept_bytes(attached: int) -> float:
+    """Peak bytes of the pillar model's kept inverse of ``attached`` pillars (``_KEPT_NUMBERS`` n^2 numbers)."""
+    return 8.0 * _KEPT_NUMBERS * attached**2
 
 
 def result_size_estimate(config: RunConfig) -> int:
@@ -185,9 +210,15 @@ def memory_problem(config: RunConfig) -> str | None:
     need = memory_estimate(config)
     if need <= limit:
         return None
+    kept = ""
+    if config.protocol.method == "pillars" and config.indenter.shape == "brush" and config.indenter.layout != "random":
+        count = kept_pillar_count(config)
+        kept = (f" ({format_bytes(_MARGIN * pillar_kept_bytes(count))} of it the pillar model's kept inverse of "
+                f"up to {count} attached pillars: lower Switches.kept_pillars or kept_partial, beyond which it "
+                "solves by CG)")
     return (
         f"a run on {config.grid.elements} x {config.grid.elements} elements needs about {format_bytes(need)} "
-        f"of memory, more than the {format_bytes(limit)} of {source}: lower grid.elements, or set "
+        f"of memory{kept}, more than the {format_bytes(limit)} of {source}: lower grid.elements, or set "
         f"{MEMORY_LIMIT_VARIABLE} (bytes, e.g. 64G, or off) where more memory is at hand"
     )
 

@@ -121,7 +121,7 @@ class LatticeCG:
         on a larger set (the circulant's) or where A_S is not positive definite."""
         model = self.model
         S = np.flatnonzero(attached)
-        if S.size > NEAR_SHARE * model.M:
+        if S.size > NEAR_SHARE * model.M or not settings.switches().near_preconditioner:
             return None
         serials = np.fromiter((model.basis[p].serial for p in S), dtype=np.int64, count=S.size)
         key = (S.tobytes(), serials.tobytes(), model.origin[S].tobytes())

@@ -12,10 +12,14 @@ every mode at once (``coupling = "full"``).  The model is described in
 
 from __future__ import annotations
 
+import math
+import warnings
+
 import numpy as np
 import scipy.linalg
 
 from brushbem import settings
+from brushbem.config.resources import available_memory, format_bytes, pillar_kept_bytes
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import LatticeCG
 
@@ -80,6 +84,7 @@ class Solver:
         self.iterative = False
         self._cg: LatticeCG | None = None
         self._last = np.zeros((model.M, 2))  # the last solution (CG's warm start)
+        self._cap: float | None = None  # `_memory_cap`
         #: The last `radiate`'s correction of the uniform amplitudes (its first CG's warm start), or None.
         self.correction: np.ndarray | None = None
 
@@ -92,16 +97,17 @@ class Solver:
 
     def _kept_limit(self, attached: int) -> float:
         """The most attached pillars for which the inverse is kept: ``Switches.kept_pillars``, or
-        ``Switches.kept_partial`` while they are at most half of the lattice; no limit off a lattice, with
-        ``kept_pillars = None`` or ``choice = "kept"``; none kept with ``"cg"``."""
+        ``Switches.kept_partial`` while they are at most half of the lattice, and on a lattice no more than
+        fit in memory (`_memory_cap`); no limit off a lattice, with ``kept_pillars = None`` or ``choice =
+        "kept"``; none kept with ``"cg"``."""
         switches = settings.switches()
         if switches.kept_pillars is None or self.model.lattice is None or self.choice == "kept":
             return np.inf
         if self.choice == "cg":
             return 0
         if 2 * attached <= self.model.M:
-            return max(switches.kept_pillars, switches.kept_partial)
-        return switches.kept_pillars
+            return min(max(switches.kept_pillars, switches.kept_partial), _memory_cap(self, switches))
+        return min(switches.kept_pillars, _memory_cap(self, switches))
 
     def _drop_inverse_beyond_kept(self, attached: int) -> bool:
         """Drop the kept inverse (and go ``iterative``) when ``attached`` pillars are beyond `_kept_limit`;
@@ -355,6 +361,23 @@ class Solver:
         on = self.order[:self.n]
         out[on] = self.B @ v[on]
         return out, self.model.fields(out)
+
+
+def _memory_cap(solver: Solver, switches: settings.Switches) -> float:
+    """The most attached pillars of ``solver`` whose kept inverse (`brushbem.config.resources.pillar_kept_bytes`)
+    takes at most half of the memory a run may use (`available_memory`, read once; inf where unknown or off),
+    with a warning the first time the switches ask for more on this lattice (a lattice only: `_kept_limit`)."""
+    if solver._cap is None:
+        limit, source = available_memory()
+        solver._cap = np.inf if limit is None else math.floor(math.sqrt(0.5 * limit / pillar_kept_bytes(1)))
+        asked = min(solver.model.M, max(switches.kept_pillars, min(switches.kept_partial, solver.model.M // 2)))
+        if asked > solver._cap:
+            warnings.warn(f"Switches.kept_pillars = {switches.kept_pillars}, kept_partial = "
+                          f"{switches.kept_partial}: a kept inverse of {asked} attached pillars needs about "
+                          f"{format_bytes(pillar_kept_bytes(asked))} at its peak, more than half of the "
+                          f"{format_bytes(limit)} of {source}; the pillar model keeps it up to {solver._cap} "
+                          "pillars and solves by CG beyond", RuntimeWarning, stacklevel=2)
+    return solver._cap
 
 
 def full_solve(model: PillarModel, attached: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
