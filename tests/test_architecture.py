@@ -669,3 +669,45 @@ def test_the_element_paths_hand_their_state_from_step_to_step():
 def test_the_state_write_check_finds_a_write():
     source = "class T:\n    def f(self):\n        self.state = 1\n\ndef g(t):\n    t.state, x = 1, 2\n    y = t.state\n"
     assert _state_writes(source) == ["T.f:3", "g:6"]
+
+
+#: The calls that change the pillar model's cache (`brushbem.pillars.state.RasterCache`): a raster's arrays and
+#: the kept inverse's set.
+_PILLAR_CACHE_CHANGES = frozenset({"set_raster", "add_many", "remove_many", "reshape", "refactor"})
+
+
+def _pillar_cache_changes(source: str) -> list[str]:
+    """``function:line`` of every call of a `_PILLAR_CACHE_CHANGES` method on a ``model`` or a ``solver`` (a name
+    or an attribute of that name: ``solver.add_many``, ``cache.model.set_raster``)."""
+    found = []
+
+    def visit(node, where):
+        for child in ast.iter_child_nodes(node):
+            name = f"{where}.{child.name}" if isinstance(child, (ast.ClassDef, ast.FunctionDef)) else where
+            if isinstance(child, ast.Call) and isinstance(child.func, ast.Attribute):
+                receiver = child.func.value
+                holder = receiver.id if isinstance(receiver, ast.Name) else getattr(receiver, "attr", None)
+                if child.func.attr in _PILLAR_CACHE_CHANGES and holder in ("model", "solver"):
+                    found.append(f"{where.lstrip('.')}:{child.lineno}")
+            visit(child, name)
+
+    visit(ast.parse(source), "")
+    return found
+
+
+def test_the_pillar_path_changes_its_cache_only_where_a_state_becomes_the_next():
+    """The pillar model's path state is a frozen value (`brushbem.pillars.state.PillarState`); the model's raster
+    arrays and the kept inverse, the cache, change only in the steps that give the next state (`_apply`, which
+    also brings the cache to a saved state, and `attached_together`): no other module of the pillar model
+    changes them behind a state's back."""
+    changes = {name: [hit.partition(":")[0] for hit in hits] for name, path in _modules().items()
+               if name.startswith("brushbem.pillars")
+               and (hits := _pillar_cache_changes(path.read_text(encoding="utf-8")))}
+    assert set(changes) == {"brushbem.pillars.state"}, changes
+    assert set(changes["brushbem.pillars.state"]) == {"_apply", "attached_together"}, changes
+
+
+def test_the_pillar_cache_check_finds_a_change():
+    source = ("class S:\n    def f(self):\n        self.refactor()\n        self.model.set_raster(0, m)\n\n"
+              "def g(cache, solver):\n    cache.solver.add_many(p)\n    solver.refactor()\n    x.reshape(2, 2)\n")
+    assert _pillar_cache_changes(source) == ["S.f:4", "g:7", "g:8"]

@@ -407,6 +407,7 @@ def _apply(cache: RasterCache, state: PillarState, changes: list[tuple[int, np.n
     In the kept inverse the pillars that leave or change their raster go out in one block update and
     those on a raster come (back) in in another (`Solver.remove_many`, `Solver.add_many`); one or two
     attached pillars that only change their raster (a peel) are updated in place (`Solver.reshape`).
+    No changes: the same state (the solver still asked, as its choice of a kept inverse or CG may move).
     """
     model, solver = cache.model, cache.solver
     attached = solver.attached
@@ -414,7 +415,7 @@ def _apply(cache: RasterCache, state: PillarState, changes: list[tuple[int, np.n
         for p, mask in changes:
             attached[p] = bool(mask.any())
             model.set_raster(p, mask if mask.any() else model.full[p])
-        return _changed(cache, state)
+        return _changed(cache, state) if changes else state
     leaving = [p for p, mask in changes if attached[p] and not (
         mask.any() and np.array_equal(mask, model.raster[p]))]
     reshaping = [(p, mask) for p, mask in changes if attached[p] and mask.any()
@@ -435,7 +436,7 @@ def _apply(cache: RasterCache, state: PillarState, changes: list[tuple[int, np.n
             model.set_raster(p, mask)
             joining.append(p)
     solver.add_many(np.array(joining, dtype=np.int64))
-    return _changed(cache, state)
+    return _changed(cache, state) if changes else state
 
 
 def local_amplitudes(cache: RasterCache, state: PillarState, p: int, mask: np.ndarray, frozen: np.ndarray,
