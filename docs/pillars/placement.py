@@ -1,0 +1,116 @@
+"""How much of a brush's F_A at a tip resolution is where its circles fall on the raster: the lattice shifted by a fraction of an element.
+
+A brush translated by less than an element is the same problem on a
+different raster of its circles: on a half-space that is not periodic only
+the staircase of the footprints changes.  Per 8 x 8 flat brush of
+``docs/pillars/validation.py`` (k~ = 10 and 1e-5), per tip resolution
+(3.6, 7.2 and 14.4 elements per radius: the tips' raster the grid N = 128
+subdivided 1, 2 and 4 times; at k~ = 10 also 28.9, four placements) and
+per shift of ``SHIFTS`` (fractions of the tips' element, y and x; (0, 0)
+is the family's own raster): the pillar model's F_A with its tips
+calibrated to Kendall's force (``LoadPath.pillar_tip_calibration``: the
+lone tip's raster error removed) and the lone tip's raster error e_R of
+that placement.  The spread over the shifts at one resolution is the part
+of the brush's error that no extrapolation in h removes; the family's own
+raster is one draw of it.  The preload is the unshifted brush's F_c.
+
+Rows go to ``placement.csv`` as each completes (atomically; a rerun skips
+the rows already there).  The summary is in `brushbem.pillars` ("The
+reference").
+
+    nice python docs/pillars/placement.py
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from unittest import mock
+
+import numpy as np
+
+from brushbem.physics.structure import builders
+from brushbem.protocol import LoadPath, record_pull_off
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import reference  # noqa: E402
+from calibration import lone_tip_error  # noqa: E402
+from validation import problem  # noqa: E402
+
+TABLE = HERE / "placement.csv"
+FIELDS = ("family", "pillars_per_side", "stiffness_ratio", "tip_factor", "tip_elements_per_radius", "shift_y",
+          "shift_x", "lone_tip_error", "calibrated_adhesive_force", "cpu_seconds")
+#: Shifts of the lattice (y, x) in the tips' elements: (0, 0) and five off the grid's symmetry lines.
+SHIFTS = ((0.0, 0.0), (0.13, 0.37), (0.29, 0.71), (0.41, 0.09), (0.67, 0.53), (0.83, 0.21))
+CASES = (("flat", 8, 10.0), ("flat", 8, 1e-5))
+FACTORS = (1, 2, 4)
+#: 28.9 elements per radius (the tips' factor 8, 150-220 CPU-s a pull-off): k~ = 10, the first four placements.
+FINEST = (("flat", 8, 10.0), 8, SHIFTS[:4])
+
+
+def plan() -> list[tuple[tuple, int, tuple[float, float]]]:
+    """(case, factor, shift) of every row, in order: every case at ``FACTORS``, then ``FINEST``."""
+    out = [(case, factor, shift) for case in CASES for factor in FACTORS for shift in SHIFTS]
+    return out + [(FINEST[0], FINEST[1], shift) for shift in FINEST[2]]
+
+
+def shifted(family: str, per_side: int, stiffness: float, factor: int, shift: tuple[float, float]):
+    """The family's brush (`validation.problem`) with its lattice moved by ``shift`` tips' elements (y, x)."""
+    coarse, _ = problem(family, per_side, stiffness)
+    step = coarse.grid.element_size / factor
+    original = builders.square_lattice
+
+    def moved(pillars_per_side: int, spacing: float) -> tuple[np.ndarray, np.ndarray]:
+        centres, index = original(pillars_per_side, spacing)
+        return centres + step * np.asarray(shift), index
+
+    with mock.patch.object(builders, "square_lattice", moved):
+        case, _ = problem(family, per_side, stiffness)
+    return case
+
+
+def row(family: str, per_side: int, stiffness: float, factor: int, shift: tuple[float, float]) -> dict:
+    _, preload = problem(family, per_side, stiffness)
+    case = shifted(family, per_side, stiffness, factor, shift)
+    per_radius = factor * float(case.indenter.description.pillar_radius) / case.grid.element_size
+    start = time.process_time()
+    summary = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
+                                             pillar_tip_resolution=per_radius if factor > 1 else None,
+                                             pillar_tip_calibration=True)).summary
+    seconds = time.process_time() - start
+    if not summary["converged"]:
+        raise RuntimeError(summary["reason"])
+    return {"family": family, "pillars_per_side": per_side, "stiffness_ratio": stiffness, "tip_factor": factor,
+            "tip_elements_per_radius": round(per_radius, 3), "shift_y": shift[0], "shift_x": shift[1],
+            "lone_tip_error": lone_tip_error(case, factor), "calibrated_adhesive_force": summary["adhesive_force"],
+            "cpu_seconds": round(seconds, 2)}
+
+
+def _key(line: dict) -> tuple:
+    return (line["family"], int(line["pillars_per_side"]), float(line["stiffness_ratio"]), int(line["tip_factor"]),
+            float(line["shift_y"]), float(line["shift_x"]))
+
+
+def load() -> list[dict]:
+    return reference.load(TABLE)
+
+
+def write(rows: list[dict]) -> None:
+    reference.write(rows, TABLE, FIELDS)
+
+
+def main() -> None:
+    rows = load()
+    done = {_key(line) for line in rows}
+    for case, factor, shift in plan():
+        if (*case, factor, *shift) in done:
+            continue
+        rows.append(row(*case, factor, shift))
+        write(rows)
+        print(", ".join(f"{name}={rows[-1][name]}" for name in FIELDS), flush=True)
+
+
+if __name__ == "__main__":
+    main()
