@@ -33,7 +33,7 @@ NEAR_RADII = 8.0
 
 
 class PillarModel:
-    """Bases, couplings and springs of a brush in the pillar model (`brushbem.pillars`)."""
+    """Bases, couplings, springs of the pillar model; its raster arrays: the path's cache (`state.RasterCache`)."""
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
                  peel: bool = True, near: float | None = None, lattice: bool = True, tips: int = 1,
