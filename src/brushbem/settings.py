@@ -48,9 +48,11 @@ class Switches:
         pillar model keeps its inverse up to this many of them (n^2 numbers: 134 MB at 4096): the circulant
         preconditioner of `LatticeCG` fits a full lattice, and on such a set it took 22-32 iterations a
         solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the preload; its
-        loading 60 CPU s by CG, 10 s kept).  At 16384 the 316 x 316 brush (sigma~ = 0.5, 4270 attached at
-        the preload) loads in 179 CPU s, peak 6.4 GB, where 4096 (CG beyond) had not loaded in 16 CPU
-        minutes; not the default, as the dense blocks of a large join grow as n^2 (6.4 GB at n = 10312).
+        loading 60 CPU s by CG, 10 s kept; 9.1 s with the near-field preconditioner, `near_preconditioner`).
+        At 16384 the 316 x 316 brush (sigma~ = 0.5, 4270 attached at the preload) loads in 179 CPU s, peak
+        6.4 GB; at 4096 (CG beyond, near-field preconditioner) in 376 CPU s, peak 2.7 GB.  Not more by
+        default, as the dense blocks of a large join grow as n^2 (6.4 GB at n = 10312), counted by the
+        memory estimate (`brushbem.config.resources.pillar_kept_bytes`) and capped by the memory at hand.
     pillar_cg_iterations : int
         Iterations of the pillar model's CG before its solve is declared not converged.
     near_preconditioner : bool

@@ -163,12 +163,19 @@ rest that join's dense blocks: about five n^2 numbers at n = 10312); its
 pull-off was not run.  With the default and the rounds cut it took the same
 rounds (26 and 20 in the fourth and fifth presses) at 203 s and 185 s
 against 93 s and 13 s kept, and was ten rounds into the sixth press at
-655 CPU-s when stopped (15 min of wall time), in 2.2 GB.  The default keeps 4096 because those transients grow
-as n^2 (about 10.7 GB at 16384, beyond the 8 GB this size is meant to run
-in) and the memory estimate (`brushbem.config.resources`) counts none.  By
-CG a partial set's solves took 19 iterations, the near field's 23 a solve and
-3.7 solves a round (64 x 64, sigma~ = 0.5, every solve by CG: loading 28.8 s,
-against 10 s kept before these changes).
+655 CPU-s when stopped (15 min of wall time), in 2.2 GB.  With the near
+field as CG's preconditioner on partial sets (`brushbem.pillars.cg`) the
+default loads it: 376 CPU-s (load 4-5 on two cores), the same ten presses
+to F_c at 4270 pillars attached, the fourth to sixth 89, 77 and 166 s, 159
+CG solves of 13.8 iterations on average, peak 2.7 GB.  The default keeps 4096
+because those transients grow as n^2 (about 10.7 GB at 16384, beyond the 8
+GB this size is meant to run in); the memory estimate counts them
+(`brushbem.config.resources.pillar_kept_bytes`: 9 n^2 numbers), a run
+beyond the memory at hand is refused naming the switches, and the solver
+keeps its inverse only up to half of that memory, by CG beyond.  By CG with
+the circulant a partial set's solves took 21 iterations on average, 42 at
+most (64 x 64, sigma~ = 0.5, every solve by CG: loading 16.6 s), with the
+near field 10 and 18 (9.1 s).
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its
