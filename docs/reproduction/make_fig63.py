@@ -23,6 +23,9 @@ Named sets (``brushbem study hierarchy --sampled-set SET --parts fig63_one,fig63
   sigma~ = 2.5 at F~_P = 20 (Fig. 6-6 b, "close to each other" for sigma~ > 2).
 * ``rows16``: the point sigma~ = 1.6, F~_P = 1 of ``rows`` alone (Fig. 6-4 e, L1183, L1185, L1199), to add
   seeds there without the other points of ``rows`` (the same cases: ``rows`` recomputes them).
+* ``rows25``: the point sigma~ = 2.5, F~_P = 20 of ``rows`` alone (Fig. 6-6 b, 6-7 b; L1197, L1201, L1234),
+  and ``plateau``: the plateau point sigma~ = 0.04, F~_P = 14.3 of ``identify`` at the identified N3 alone
+  (Fig. 6-5; L1185, L1195, L1197): to add seeds there (the same cases as those sets').
 * ``stiffness`` (one and three levels): k~1 = 5e-4 and 5e-2 (k~2 = 9 k~1, k~3 = 20 k~1 as eq. 6.26
   scales them; Fig. 6-8 a, L1240) at the plateau point; three levels with k~3 = 2e-3 (0.1 k~3,
   Fig. 6-8 b, L1249) at sigma~ = 0.04 and 0.2, and k~3 = 2e-2 at sigma~ = 0.2.
@@ -93,7 +96,9 @@ def sets(level: str) -> dict[str, list[dict]]:
            "mesh": [point(level, N3, 0.04, 14.3, elements=e) for e in (1024, 4096)],
            "mesh1536": [point(level, N3, 0.04, 14.3, elements=1536)],
            "rows": [point(level, N3, s, 1.0) for s in (0.04, 0.8, 1.6)] + [point(level, N3, 2.5, 20.0)],
-           "rows16": [point(level, N3, 1.6, 1.0)]}
+           "rows16": [point(level, N3, 1.6, 1.0)],
+           "rows25": [point(level, N3, 2.5, 20.0)],
+           "plateau": [point(level, N3, 0.04, 14.3)]}
     if level != "two":
         out["stiffness"] = [point(level, N3, 0.04, 14.3, k1=k) for k in (5e-4, 5e-2)]
     if level == "three":
