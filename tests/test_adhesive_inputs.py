@@ -278,6 +278,21 @@ def test_punch_on_its_fibril_separates_with_the_work_of_eq_2_19(tmp_path):
     assert pulled.summary["resolution"]["elements"] == pytest.approx(32.0, rel=1e-14, abs=0)
 
 
+def test_a_rigid_indenter_has_no_spring_to_report():
+    """`spring_numbers` gives (k, k~) of a spring and None for a rigid indenter, whose design has no ``spring``:
+    the run hands the pair on without reading it."""
+    from brushbem.physics.comparison import spring_numbers
+    from brushbem.runs.assembly import parse
+
+    punch = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4}, "grid": {"size": 1.0, "elements": 32},
+             "indenter": {"shape": "flat_punch", "radius": 0.25, "stiffness": "inf"},
+             "protocol": {"method": "events", "preload_displacement": 1e-3}}
+    assert spring_numbers(parse(punch).problem) is None
+    punch["indenter"]["stiffness"] = 0.1
+    stiffness, ratio = spring_numbers(parse(punch).problem)
+    assert stiffness == 0.1 and ratio is not None and math.isfinite(ratio)
+
+
 def test_brush_reports_strength_per_pillar_and_writes_the_curve(tmp_path):
     import csv
 

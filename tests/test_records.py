@@ -109,10 +109,12 @@ def test_load_gives_back_the_typed_pull_off_that_run_returned_and_saved(kind, tm
     ran = brushbem.run(config)
     ran.save(tmp_path, figure=False)
     loaded = brushbem.load(tmp_path)
+    assert type(loaded) is type(ran) is brushbem.PullOff
     summary = loaded.summary
     assert isinstance(summary, RunSummary) and isinstance(summary.provenance, Provenance)
     assert isinstance(summary.theory, BrushTheory if kind == "brush" else PunchTheory)
     assert isinstance(summary.normalized, BrushNormalization) if kind == "brush" else summary.normalized is None
+    assert not isinstance(summary.normalized, dict) and not isinstance(summary.theory, dict)
     assert isinstance(summary.resolution, ResolutionRecord) and isinstance(summary.design, DesignNumbers)
     assert isinstance(summary.design.spring, Spring) and summary.design["spring"]["from"] == summary.design.spring.origin
     assert summary.resolution.length == ("pillar radius" if kind == "brush" else "punch radius")
@@ -126,6 +128,12 @@ def test_load_gives_back_the_typed_pull_off_that_run_returned_and_saved(kind, tm
     for name in ("displacement", "force", "contact_area", "loading"):
         np.testing.assert_array_equal(getattr(loaded.curve, name), getattr(ran.curve, name))
     assert loaded.config == ran.config
+    assert loaded.snapshots.keys() == ran.snapshots.keys() and loaded.result.element_size == ran.result.element_size
+    for name, snapshot in ran.snapshots.items():
+        np.testing.assert_array_equal(loaded.snapshots[name].pressure, snapshot.pressure)
+    assert loaded.result.pillars.keys() == ran.result.pillars.keys()
+    for name, values in ran.result.pillars.items():
+        np.testing.assert_array_equal(loaded.result.pillars[name], values)
     assert (ran.reference is None) == (kind == "brush")  # a punch's figure draws its closed form
     if ran.reference is not None:
         np.testing.assert_array_equal(loaded.reference.force, ran.reference.force)

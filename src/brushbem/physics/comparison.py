@@ -88,15 +88,18 @@ def spring_stiffness(problem: Case) -> float:
     return _level_stiffness(levels[0]) if levels else math.inf
 
 
-def spring_numbers(problem: Case) -> tuple[float, float | None]:
+def spring_numbers(problem: Case) -> tuple[float, float | None] | None:
     """The (pillars') spring as a designer reads it: its stiffness k (`spring_stiffness`) and its k~ as the run
     normalises it, by the rule of the case's closed forms: a brush's k / (E* L) (``normalized.stiffness_ratio``),
-    a punch's k / (2 E* a) and a sphere's (``theory.normalized_stiffness``); None where none applies."""
+    a punch's k / (2 E* a) and a sphere's (``theory.normalized_stiffness``), k~ None where none applies; None for
+    a rigid indenter (no spring to report)."""
     stiffness = spring_stiffness(problem)
+    if not math.isfinite(stiffness):
+        return None
     kind = _closed_form(problem)
     if kind == "brush":
         return stiffness, _stiffness_ratios(problem)[0]
-    if kind is None or not math.isfinite(stiffness):
+    if kind is None:
         return stiffness, None
     return stiffness, _normalized_spring(problem, kind, stiffness)
 

@@ -130,7 +130,7 @@ def reference_for(assembly: Assembly, summary: Mapping[str, Any]) -> ReferenceCu
 
 
 def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConfig,
-                   spring: tuple[float, float | None]) -> DesignNumbers:
+                   spring: tuple[float, float | None] | None) -> DesignNumbers:
     """What a designer reports, with the unit of each number (``summary.json``'s ``design``).
 
     * ``adhesion_strength``: F_A / A0, A0 the apparent area (a brush's placement region, a punch's
@@ -140,7 +140,7 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
       k = pi r^2 E_f / l; ``indenter.stiffness``; ``indenter.stiffness_ratio``: k~ E* L), its k~ as the
       run normalises it (``normalized.stiffness_ratio`` of a brush, ``theory.normalized_stiffness`` of a
       punch or sphere) and, with ``fibril.buckling``, Euler's buckling force.  ``spring`` is (k, k~) of
-      `brushbem.physics.comparison.spring_numbers`.
+      `brushbem.physics.comparison.spring_numbers`, handed on as it is (None: rigid, no ``spring``).
     * ``units``: the unit of each dimensional number (`brushbem.results.units.Units`; "1" without ``[units]``).
     """
     from brushbem.results.units import Units
@@ -158,8 +158,7 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
     elif spec.shape == "flat_punch" and spec.radius is not None:
         out["apparent_area"] = math.pi * spec.radius**2
         out["adhesion_strength"] = force / out["apparent_area"]
-    stiffness, ratio = spring
-    if math.isfinite(stiffness):
+    if spring is not None:
         if spec.fibril is not None:
             origin = (f"indenter.fibril: k = pi r^2 E_f / l (E_f = {spec.fibril.youngs_modulus:g}, l = "
                       f"{spec.fibril.length:g}, r = {spec.fibril.radius or advice.fibril_radius(config):g})")
@@ -170,7 +169,7 @@ def design_numbers(problem: ContactProblem, summary: RunSummary, config: RunConf
         buckling = (float(spec.pillar_law.forces[0])
                     if spec.fibril is not None and spec.pillar_law is not None and spec.fibril.buckling is not None
                     else None)
-        out["spring"] = Spring(stiffness=stiffness, origin=origin, stiffness_ratio=ratio, buckling_force=buckling)
+        out["spring"] = Spring(stiffness=spring[0], origin=origin, stiffness_ratio=spring[1], buckling_force=buckling)
     out["units"] = {"adhesion_strength": units.of("stress"), "apparent_area": units.of("length^2"),
                     "adhesive_force_per_pillar": units.of("force"), "stiffness": units.of("force / length"),
                     "buckling_force": units.of("force")}
