@@ -34,7 +34,12 @@ Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 replayed cycles), pull-off 1.93 s, the whole 2.78 s against the exact path's
 42.1 s (1/15.2), F_A and the work the same to 2e-15; again with ``--repeat 5``
 (load 3-4) loading 1.00 s against 1.20 s, the whole 3.17 s against 51.7 s
-(1/16.3).  The 100 x 100 rough
+(1/16.3); with the far field's and the peels' fixed costs cut (``--before
+fe2b011 --repeat 5``, load 2-4) 1.84 s against 1.93 s before and the exact
+path's 50.3 s (1/27.4), F_A and the work the same to the last bit.  The
+316 x 316 rough brush (sigma~ = 0.5) loads with the default kept_partial
+(CG with the near-field preconditioner beyond it) in 359-376 CPU s, peak
+2.8 GB; its pull-off runs at about 1.1 s a state.  The 100 x 100 rough
 brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
 load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
 same to 1e-14.  The numbers of every size are in the docstring of

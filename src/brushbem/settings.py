@@ -50,7 +50,7 @@ class Switches:
         solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the preload; its
         loading 60 CPU s by CG, 10 s kept; 9.1 s with the near-field preconditioner, `near_preconditioner`).
         At 16384 the 316 x 316 brush (sigma~ = 0.5, 4270 attached at the preload) loads in 179 CPU s, peak
-        6.4 GB; at 4096 (CG beyond, near-field preconditioner) in 376 CPU s, peak 2.7 GB.  Not more by
+        6.4 GB; at 4096 (CG beyond, near-field preconditioner) in 359-376 CPU s, peak 2.8 GB.  Not more by
         default, as the dense blocks of a large join grow as n^2 (6.4 GB at n = 10312), counted by the
         memory estimate (`brushbem.config.resources.pillar_kept_bytes`) and capped by the memory at hand.
     pillar_cg_iterations : int

@@ -119,7 +119,11 @@ idle one the revision before took 2.41 s against 46.5 s, 1/19.3, its loading
 0.95 s and pull-off 1.46 s; with the spent slots kept spent too,
 ``--repeat 5``, load 3-4: loading 1.00 s against 1.20 s, pull-off 2.18 s
 against 1.96 s (the same solves and updates in both: the load's noise),
-the whole 3.17 s against the exact path's 51.7 s, 1/16.3), 4096 pillars
+the whole 3.17 s against the exact path's 51.7 s, 1/16.3; with the far
+field's and the peels' fixed costs cut, ``--before fe2b011 --repeat 5``,
+load 2-4: 1.84 s, loading 0.55 s and pull-off 1.29 s, against 1.93 s
+before and the exact path's 50.3 s, 1/27.4, the same F_A and work to the
+last bit; on an idle machine 1.70 s against 39.5 s, 1/23.3), 4096 pillars
 16 s, 10^4 pillars 45-51 s in 0.66 GB (806 pillars attached at the preload),
 10^5 pillars (316 x 316, N = 5056) 35-39 min in 3.5 GB (2353 attached, 10523
 states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
@@ -165,9 +169,14 @@ rounds (26 and 20 in the fourth and fifth presses) at 203 s and 185 s
 against 93 s and 13 s kept, and was ten rounds into the sixth press at
 655 CPU-s when stopped (15 min of wall time), in 2.2 GB.  With the near
 field as CG's preconditioner on partial sets (`brushbem.pillars.cg`) the
-default loads it: 376 CPU-s (load 4-5 on two cores), the same ten presses
-to F_c at 4270 pillars attached, the fourth to sixth 89, 77 and 166 s, 159
-CG solves of 13.8 iterations on average, peak 2.7 GB.  The default keeps 4096
+default loads it: 359-376 CPU-s in two runs (load 4-5 on two cores), the
+same ten presses to F_c at 4270 pillars attached, the fourth to sixth 88,
+74-77 and 166 s, 159 CG solves of 13.8 iterations on average, peak 2.8 GB.
+Its pull-off, stopped at 780 CPU-s: 300 states in 320 CPU-s (1.07 s a
+state, a CG solve every second state at 13.3 iterations: the set stays
+above ``kept_partial``, 4270 to 4223 attached, the force still compressive
+at 0.81 F_c); at that rate a pull-off of tens of thousands of states (2959
+at 10^4 pillars) takes hours, so it was not run to the end.  The default keeps 4096
 because those transients grow as n^2 (about 10.7 GB at 16384, beyond the 8
 GB this size is meant to run in); the memory estimate counts them
 (`brushbem.config.resources.pillar_kept_bytes`: 9 n^2 numbers), a run
