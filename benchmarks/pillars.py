@@ -46,9 +46,15 @@ Measured again with ``--calibrate`` (the tips' criterion calibrated to Kendall's
     1024     16.0          43.3     1.3038e-3   45.6     1.3551e-3
     10^4     4.0 (grid)    41.3     1.0363e-5   45.0     9.4463e-6
 
+The 10^4-pillar brush at sigma~ = 0.5 on the chapter-5 grid (3.6 elements per radius; ``--tips 7.2 --tip-brush
+100 --sigma 0.5 --exact-elements 0``, one run, 131 CPU-s in all): the grid's tips 58.0 s (F_A 2.9422e-4), tips at
+7.2 per radius 74.4 s (2.8745e-4, -2.3 %), 1.28 times the grid tips' time.
+
 On this rough brush neither sequence is converged at 16 elements per radius (-12 % from 8 to 16 without the
-calibration, -3.6 % with it).  32 elements per radius is not measured: a peel's rounds and every raster's
-basis grow with the tip (16 per radius costs 14 times the grid's tips at 1024 pillars).  The 10^4-pillar
+calibration, -3.6 % with it).  At 32 elements per radius (``--tips 32 --tip-brush 32 --tip-grid 1.109
+--exact-elements 0``, uncalibrated) 552.8 CPU-s (3301 states, 3.2 GB resident) against the grid tips' 2.12 s in
+the same run, F_A 1.3827e-3: +6.0 % from 16, so this brush is not converged there either (its F_A is a small net
+of pulled and compressed pillars).  A peel's rounds and every raster's basis grow with the tip.  The 10^4-pillar
 rough brush of ``benchmarks/large_brush.py --sizes 100 --sigma 0.5 --exact-max 0 --before cc45de7``
 (the default, before and after the calibration and the pillar-level loading's changes, one run): 51.2 s
 (loading 10.7 s, pull-off 40.5 s) against 57.0 s (17.2 s, 39.8 s), F_A and the work the same to 1e-14.

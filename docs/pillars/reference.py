@@ -1,4 +1,4 @@
-"""Is the exact path's extrapolated F_A a reference to 1 %?  Four tip resolutions of a small brush, the lone tip's raster error apart.
+"""Is the exact path's extrapolated F_A a reference to 1 %?  Four tip resolutions of a small brush.
 
 ``tips_extrapolated.csv`` extrapolates the exact path's F_A of the 8 x 8
 brushes at first order from N = 128, 256 and 512 (3.6, 7.2 and 14.4

@@ -266,50 +266,55 @@ Tip resolution
     which cost 7.4 times the grid's tips at 10^4 pillars (before the
     peeled rasters' cheaper modes, 0.81 of the time at 1024 pillars);
     ``--refine`` extrapolates the tips instead.
-    The pillar model at 28.9 elements per radius (``benchmarks/pillars.py
-    --tips 28.9 --tip-brush 8 --sigma 0 --stiffness-ratio 10 --exact-elements
-    0``, 220 CPU-s; and ``--stiffness-ratio 1e-5``) puts the flat 8 x 8
-    brush at 0.0083952 (k~ = 10) and 0.0122299 (1e-5): the exact path's
-    first-order extrapolation (0.0082899, 0.0120796) lies 1.1 % and 0.4 %
-    below the finest model, so the extrapolation's stated error (0.05 %) is
-    too small; against the finest model the default is +6.4 % and +6.4 %.
-    Most of that gap is the finest model's own lone-tip error (+0.92 % at
-    28.9 per radius): calibrated, it lies 0.35 % and 0.32 % above the
-    extrapolation.
+    The pillar model with tips asked at 28.9 elements per radius
+    (``benchmarks/pillars.py --tips 28.9 --tip-brush 8 --sigma 0
+    --stiffness-ratio 10 --exact-elements 0``; 28.9 exceeds 8 x 3.611, so
+    the tips ran at the factor 9, 32.5 per radius) puts the flat 8 x 8 brush
+    at 0.0083952 (k~ = 10) and 0.0122299 (1e-5), 1.1 % and 0.4 % above the
+    exact path's first-order extrapolation (0.0082899, 0.0120796).  What that
+    gap means is settled below ("The reference").
 
-The reference: the extrapolated exact path is not a reference to 1 %
+The reference: the extrapolated exact path holds to about 0.5 %
     The exact path at N = 1024 on the 8 x 8 brushes would cost about
     1000-3000 CPU-s a case (29-35 times N = 512); it was not run.  Two
-    cheaper runs show that the first-order extrapolation of
-    ``tips_extrapolated.csv`` carries an error about the size of the 1 %
-    target.
+    cheaper runs decide instead.
     * The 4 x 4 flat brush with the same footprints, by the exact path at
       3.6, 7.2, 14.4 and 28.9 elements per radius (``docs/pillars/reference.py``
       -> ``reference.csv``, 236 CPU-s).  F_A rises from 14.4 to 28.9: +0.22 %
       at k~ = 10 and +1.06 % at 1e-5.  The lone tip's raster error rises
-      there too (+0.25 % to +0.92 %), so the sequence is outside its
-      asymptotic range.  A level brush's F_A is proportional to Sigma_c
-      (``tests/test_pillar_reference.py``), so F / (1 + e_R) is the exact path
-      with calibrated tips.  That sequence falls with shrinking steps at
-      k~ = 10 (observed orders 0.65 and 0.86, limit 0.00786 within 0.1 %).  At
-      1e-5 it still rises 0.38 % from 14.4 to 28.9: the brush keeps a raster
-      error of its own.
-    * The 8 x 8 flat lattice moved by fractions of an element, six placements
-      (``docs/pillars/placement.py`` -> ``placement.csv``, 104 CPU-s).  It uses
-      the pillar model with calibrated tips, which follows the exact path on
-      moved rasters to 0.3 % (four placements checked).  F_A spreads by 3.4,
-      2.7 and 0.9 % (k~ = 10) and 3.0, 1.6 and 0.8 % (1e-5) at 3.6, 7.2 and
-      14.4 elements per radius.  The families' own raster (centres on grid
+      there too (+0.25 % to +0.92 %): one brush's sequence over h carries
+      the staircase of its circles, and a first-order extrapolation of it is
+      only as good as that staircase happens to be smooth.  A level brush's
+      F_A is proportional to Sigma_c (``tests/test_pillar_reference.py``), so
+      F / (1 + e_R) is the exact path with calibrated tips; it falls with
+      shrinking steps at k~ = 10, but still rises 0.38 % from 14.4 to 28.9 at
+      1e-5: the brush keeps a raster error of its own.
+    * The 8 x 8 flat lattice moved by fractions of an element
+      (``docs/pillars/placement.py`` -> ``placement.csv``: six placements at
+      3.6, 7.2 and 14.4 elements per radius, four at 28.9; 1080 CPU-s).  It
+      uses the pillar model with calibrated tips, which follows the exact
+      path on moved rasters to 0.3 % (four placements, ``--exact``).  F_A spreads
+      over the placements by 3.4, 2.7, 0.9 and 0.5 % (k~ = 10) and 3.0, 1.6,
+      0.8 and 0.6 % (1e-5).  The families' own raster (centres on grid
       vertices) lies 1.9 % below the mean at 7.2 (k~ = 10).  The placement
-      means fall by 1.2 and 1.3 % (k~ = 10) and by 0.4 and 0.8 % (1e-5) per
-      doubling: the steps do not shrink by 14.4.  The extrapolated reference
-      lies 1.5 % (k~ = 10) and 1.5 % (1e-5) below the means at 14.4.
-    So where the converged F_A lies is known to about +-1.5 % from rasters up
-    to 28.9 elements per radius, and a 1 % claim at the default's 3.6 cannot
-    be decided against it.  Deciding it needs placement means at 28.9 and
-    57.8 elements per radius: about 22 CPU-min a stiffness at 28.9 with the
-    pillar model.  Against the extrapolated reference the default is
-    +7.8 % (flat, k~ = 10); against the placement mean at 14.4 it is +6.1 %.
+      means fall by 1.2, 1.2 and 0.7 % (k~ = 10) and 0.4, 0.8 and 0.5 % (1e-5)
+      per doubling: not asymptotic below 14.4, shrinking from 14.4 to 28.9
+      (observed order 0.87 and 0.86).  Their first-order extrapolation from
+      14.4 and 28.9, 0.0083015 (k~ = 10) and 0.0121437 (1e-5), lies 0.14 %
+      and 0.53 % above the exact path's (at the observed order 0.00 % and
+      0.42 %).
+    So the extrapolated exact path of ``tips_extrapolated.csv`` is a
+    reference to about 0.5 % on the flat brushes (the stated 0.05 % at
+    k~ = 10 is too small; the stated 1.3 % at 1e-5 holds), from one shrinking
+    step of the placement means and the model's 0.3 % on moved rasters.
+    Against the placement means' limit, the calibrated brush on a generic
+    raster (the placements' mean) is +3.9 / +2.7 / +1.4 / +0.7 % (k~ = 10)
+    and +2.2 / +1.8 / +0.9 / +0.5 % (1e-5) at 3.6 / 7.2 / 14.4 / 28.9
+    elements per radius; the default (uncalibrated, the families' own
+    raster) +7.6 % and +7.1 %.  The brush's error after the lone tip's is
+    removed falls about 1 % per doubling from 3.6 to 14.4, with no order a
+    two-resolution extrapolation could use: a tip resolution within 1 % on
+    any raster is about 14-29 elements per radius.
 
 Calibrated tips (``LoadPath.pillar_tip_calibration``, off by default)
     Every tip's critical stress is scaled by F_K / F_R, F_R the pull-off
