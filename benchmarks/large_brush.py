@@ -37,9 +37,10 @@ replayed cycles), pull-off 1.93 s, the whole 2.78 s against the exact path's
 (1/16.3); with the far field's and the peels' fixed costs cut (``--before
 fe2b011 --repeat 5``, load 2-4) 1.84 s against 1.93 s before and the exact
 path's 50.3 s (1/27.4), F_A and the work the same to the last bit.  The
-316 x 316 rough brush (sigma~ = 0.5) loads with the default kept_partial
-(CG with the near-field preconditioner beyond it) in 359-376 CPU s, peak
-2.8 GB; its pull-off runs at about 1.1 s a state.  The 100 x 100 rough
+316 x 316 rough brush (sigma~ = 0.5) loads in 346-376 CPU s, peak 2.8-3.1
+GiB; its pull-off keeps the inverse on its 4270 attached pillars (within
+Switches.kept_partial_bytes) at about 0.15 s a state, 1.1 s by CG
+(``--kept-partial 4096``).  The 100 x 100 rough
 brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
 load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
 same to 1e-14.  The numbers of every size are in the docstring of
@@ -61,6 +62,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
+#: The switches entered for the rest of a child process, held: a `settings.using` block entered and dropped
+#: is closed when it is collected, and its switches are reset at once.
+_HELD: list = []
+
 
 def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) -> None:
     """One pull-off in this process: a JSON line every 500 states (its progress) and a last one with the results."""
@@ -77,13 +82,15 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
         try:
             from brushbem import settings
 
-            settings.using(kept_pillars=None).__enter__()  # for the rest of this child process
+            _HELD.append(settings.using(kept_pillars=None))  # for the rest of this child process
+            _HELD[-1].__enter__()
         except (ImportError, AttributeError):  # a commit whose limit was a module attribute
             pillar_solver.KEPT_PILLARS = None
     if os.environ.get("LARGE_BRUSH_KEPT_PARTIAL"):  # --kept-partial: for the rest of this child process
         from brushbem import settings
 
-        settings.using(kept_partial=int(os.environ["LARGE_BRUSH_KEPT_PARTIAL"])).__enter__()
+        _HELD.append(settings.using(kept_partial=int(os.environ["LARGE_BRUSH_KEPT_PARTIAL"])))
+        _HELD[-1].__enter__()
     start = time.process_time()
     problem, preload = _problem(per_side, ratio, sigma, seed)
     built = time.process_time() - start
@@ -206,7 +213,7 @@ def main() -> None:
     parser.add_argument("--before", metavar="REF", help="also run the model on the sources of git revision REF")
     parser.add_argument("--kept-partial", type=int, default=None,
                         help="Switches.kept_partial of the model's runs (the kept inverse on a partial set up to this "
-                             "many attached pillars)")
+                             "many attached pillars, in place of the memory budget Switches.kept_partial_bytes)")
     parser.add_argument("--repeat", type=int, default=1,
                         help="runs of the model (and of --before's) per size; their median CPU times")
     args = parser.parse_args()

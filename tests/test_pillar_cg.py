@@ -21,7 +21,7 @@ from brushbem.pillars import solver as pillar_solver
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
 from brushbem.protocol.paths import pull_off
 from brushbem.runs.case import brush_scales
-from brushbem.config.resources import memory_estimate
+from brushbem.config.resources import kept_partial_count, memory_estimate, pillar_kept_bytes
 
 DGAMMA = 1e-4
 
@@ -113,15 +113,16 @@ def test_a_solve_that_does_not_converge_says_so(monkeypatch, switches):
 
 @pytest.mark.parametrize(("stiffness", "sigma"), [(1e-2, 0.0), (1e-2, 1.0)])
 def test_pull_off_without_the_kept_inverse_is_the_same(monkeypatch, stiffness, sigma, switches):
-    """With the kept inverse dropped beyond 16 attached pillars (taken up again under 8; ``kept_partial`` as
-    low, so that the rough loading's higher-mode feedback runs warm-started CG solves), an 8 x 8 pull-off
+    """With the kept inverse dropped beyond 16 attached pillars (taken up again under 8; the partial sets'
+    memory budget ``kept_partial_bytes`` as low, 16 pillars' `pillar_kept_bytes`, so that the rough loading's
+    higher-mode feedback runs warm-started CG solves), an 8 x 8 pull-off
     - level, or rough so that pillars join and leave across the limit - is the kept inverse's: F_A and the
     work to 1e-9 (both solves reach 1e-11 on every system), the pillars attached at pull-off and the
     solves exactly."""
     problem, force = _problem(8, stiffness, sigma)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
     kept = record_pull_off(problem, path).summary
-    switches(kept_pillars=16, kept_partial=16)  # partial sets too (the rough loading's feedback)
+    switches(kept_pillars=16, kept_partial_bytes=int(pillar_kept_bytes(16)))  # partial sets too (the rough loading)
     iterative = record_pull_off(problem, path).summary
     assert iterative["converged"], iterative["reason"]
     assert iterative["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
@@ -167,11 +168,10 @@ def test_memory_estimate_of_the_pillar_model_at_ten_to_the_five_pillars(monkeypa
 
 
 def test_memory_estimate_counts_the_kept_inverse_of_a_partial_contact(monkeypatch, switches):
-    """A rough brush may keep its inverse up to ``kept_partial`` attached pillars (half of the lattice at
-    most): the estimate counts it (9 n^2 numbers at its peak, `pillar_kept_bytes`), and above the memory at
-    hand the refusal names the switch."""
+    """A rough brush may keep its inverse on a partial set while it fits in ``kept_partial_bytes`` (half of the
+    lattice at most): the estimate counts it (9 n^2 numbers at its peak, `pillar_kept_bytes`), and above the
+    memory at hand the refusal names the switches; an explicit ``kept_partial`` is counted instead."""
     from brushbem.config import ConfigError
-    from brushbem.config.resources import pillar_kept_bytes
 
     config = {"grid": {"size": 1.0, "elements": 5056},
               "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
@@ -182,13 +182,39 @@ def test_memory_estimate_counts_the_kept_inverse_of_a_partial_contact(monkeypatc
     level = memory_estimate(parse_config(config))
     config["indenter"]["roughness"] = {"sigma": 1e-4}
     rough = memory_estimate(parse_config(config))
-    assert rough - level == pytest.approx(1.1 * (pillar_kept_bytes(4096) - pillar_kept_bytes(1024)), rel=1e-6)
+    assert rough - level == pytest.approx(1.1 * (pillar_kept_bytes(5461) - pillar_kept_bytes(1024)), rel=1e-6)
     switches(kept_partial=16384)
     assert memory_estimate(parse_config(config)) > 8 * 2**30
     monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "8G")
     with pytest.raises(ConfigError, match=r"of it the pillar model's kept inverse of up to 16384 attached pillars: "
-                                          r"lower Switches.kept_pillars or kept_partial"):
+                                          r"lower Switches.kept_pillars or kept_partial_bytes"):
         parse_config(config)
+
+
+def test_the_partial_limit_is_the_most_pillars_whose_kept_inverse_fits_its_budget(switches):
+    """`kept_partial_count`: the most n with `pillar_kept_bytes` (n) within ``kept_partial_bytes`` (5461 in the
+    default 2 GiB: the 316 x 316 rough brush's 4270 attached at its preload fit), one byte less gives one pillar
+    less; ``kept_partial`` overrides the budget; a budget that is no amount of bytes is refused, naming it.  The
+    solver applies it to partial sets only (at most half of the lattice), ``kept_pillars`` above."""
+    from brushbem import settings
+
+    assert kept_partial_count(settings.switches()) == 5461
+    assert pillar_kept_bytes(5461) <= 2 * 2**30 < pillar_kept_bytes(5462)
+    assert pillar_kept_bytes(4270) <= 2 * 2**30
+    assert kept_partial_count(settings.Switches(kept_partial_bytes=int(pillar_kept_bytes(20)))) == 20
+    assert kept_partial_count(settings.Switches(kept_partial_bytes=int(pillar_kept_bytes(20)) - 1)) == 19
+    assert kept_partial_count(settings.Switches(kept_partial=7, kept_partial_bytes=int(pillar_kept_bytes(20)))) == 7
+    for bad in (0, -1, float("nan")):
+        with pytest.raises(ValueError, match=r"Switches.kept_partial_bytes must be a positive, finite number"):
+            kept_partial_count(settings.Switches(kept_partial_bytes=bad))
+    with pytest.raises(ValueError, match=r"Switches.kept_partial must be None or at least 0 .*got -2"):
+        kept_partial_count(settings.Switches(kept_partial=-2))
+    problem, _ = _problem(8, 1e-2, 1.0)
+    solver = pillar_solver.Solver(pillars.PillarModel(problem))
+    switches(kept_pillars=4, kept_partial_bytes=int(pillar_kept_bytes(20)))
+    assert (solver._kept_limit(32), solver._kept_limit(33)) == (20, 4)  # M = 64: half of it is partial
+    switches(kept_partial=10)
+    assert solver._kept_limit(32) == 10
 
 
 def test_a_kept_inverse_beyond_the_memory_at_hand_warns_and_solves_by_cg(monkeypatch):
@@ -200,7 +226,8 @@ def test_a_kept_inverse_beyond_the_memory_at_hand_warns_and_solves_by_cg(monkeyp
     monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "off")
     kept = record_pull_off(problem, path).summary
     monkeypatch.setenv("BRUSHBEM_MEMORY_LIMIT", "64k")
-    with pytest.warns(RuntimeWarning, match=r"kept_partial = 4096: .* keeps it up to 21 pillars and solves by CG"):
+    with pytest.warns(RuntimeWarning, match=r"kept_partial_bytes = 2 GiB \(5461 pillars\): .* keeps it up to 21 "
+                                            r"pillars and solves by CG"):
         capped = record_pull_off(problem, path).summary
     assert capped["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
     assert capped["work_of_separation"] == pytest.approx(kept["work_of_separation"], rel=1e-9)

@@ -43,16 +43,22 @@ class Switches:
         limit of 512 against 2.7-3.1 kept (equal: the limit keeps the inverse there); 64 x 64 12.6 against
         39.4 kept, 100 x 100 42 against 356 (``benchmarks/large_brush.py --sizes 64 100 --sigma 0
         --exact-max 0 --kept-baseline``).
-    kept_partial : int
-        While the attached pillars are at most half of the lattice (a rough brush's partial contact), the
-        pillar model keeps its inverse up to this many of them (n^2 numbers: 134 MB at 4096): the circulant
-        preconditioner of `LatticeCG` fits a full lattice, and on such a set it took 22-32 iterations a
-        solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the preload; its
-        loading 60 CPU s by CG, 10 s kept; 9.1 s with the near-field preconditioner, `near_preconditioner`).
-        At 16384 the 316 x 316 brush (sigma~ = 0.5, 4270 attached at the preload) loads in 179 CPU s, peak
-        6.4 GB; at 4096 (CG beyond, near-field preconditioner) in 359-376 CPU s, peak 2.8 GB.  Not more by
-        default, as the dense blocks of a large join grow as n^2 (6.4 GB at n = 10312), counted by the
-        memory estimate (`brushbem.config.resources.pillar_kept_bytes`) and capped by the memory at hand.
+    kept_partial : int or None
+        An explicit limit in place of ``kept_partial_bytes``: while the attached pillars are at most half of
+        the lattice (a rough brush's partial contact), the pillar model keeps its inverse up to this many of
+        them.  None (the default): up to as many as ``kept_partial_bytes`` allows.
+    kept_partial_bytes : int
+        The memory budget of the kept inverse on a partial set (attached pillars at most half of the
+        lattice): it is kept while its estimated peak (`brushbem.config.resources.pillar_kept_bytes`, 9 n^2
+        numbers) fits in these bytes, and at run time in half of the memory at hand too (the solver's cap,
+        with a warning).  2 GiB: up to 5461 attached pillars (`brushbem.config.resources.kept_partial_count`).
+        The circulant preconditioner of `LatticeCG` fits a full lattice, and on such a set it took 22-32
+        iterations a solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the
+        preload; its loading 60 CPU s by CG, 10 s kept; 9.1 s with the near-field preconditioner,
+        `near_preconditioner`).  The 316 x 316 brush (sigma~ = 0.5, 4270 attached at the preload) loaded in
+        179 CPU s kept up to 16384 (peak 6.4 GB: the dense blocks of a join of 9618 pillars), in 359-376
+        CPU s kept up to 4096 (CG beyond, peak 2.8 GB), whose pull-off by CG took 1.07 CPU s a state; the
+        budget keeps its 4270 (1.3 GB estimated), so that its pull-off runs on the kept inverse.
     pillar_cg_iterations : int
         Iterations of the pillar model's CG before its solve is declared not converged.
     near_preconditioner : bool
@@ -103,7 +109,8 @@ class Switches:
     """
 
     kept_pillars: int | None = 1024
-    kept_partial: int = 4096
+    kept_partial: int | None = None
+    kept_partial_bytes: int = 2 * 2**30
     pillar_cg_iterations: int = 2000
     near_preconditioner: bool = True
     radiate_uniform: bool = True

@@ -62,7 +62,8 @@ _PILLAR_MODES = 6
 # numbers of n^2: the inverse with room to grow (its array doubles: up to 4 n^2) and the temporaries of a
 # refactorisation or of a large join (the block of G00 and the springs' block, the factor and the inverse with
 # its two triangles: about 5 n^2).  Measured: a peak of 6.4 GB at n = 10312 (316 x 316 rough brush,
-# kept_partial = 16384), 4.2 GB (4.9 n^2) beyond the model's 2.2 GB; counted as 9 (the doubled array).
+# kept_partial = 16384), 4.2 GB (4.9 n^2) beyond the model's 2.2 GB; counted as 9 (the doubled array).  On a
+# partial set the inverse is kept while this fits in Switches.kept_partial_bytes (`kept_partial_count`).
 _KEPT_NUMBERS = 9.0
 
 # Bytes per element of result.nc, per recorded snapshot (pressure as float64,
@@ -101,7 +102,7 @@ def memory_estimate(config: RunConfig) -> int:
 def _pillar_matrices(config: RunConfig) -> float:
     """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (`pillar_kept_bytes` of at most
     ``Switches.kept_pillars`` attached, or on a brush of unequal tips, whose contact may be partial, of
-    ``Switches.kept_partial`` up to half of the lattice), every mode's couplings and the inverse off it."""
+    `kept_partial_count` up to half of the lattice), every mode's couplings and the inverse off it."""
     indenter = config.indenter
     if indenter.layout == "random":
         pillars = indenter.pillar_count or 0
@@ -119,7 +120,28 @@ def kept_pillar_count(config: RunConfig) -> int:
     kept = min(pillars, switches.kept_pillars)
     unequal = (indenter.roughness is not None and indenter.roughness.sigma > 0) or indenter.profile is not None \
         or indenter.lengths_file is not None
-    return max(kept, min(pillars // 2, switches.kept_partial)) if unequal else kept
+    return max(kept, min(pillars // 2, kept_partial_count(switches))) if unequal else kept
+
+
+def kept_partial_count(switches: settings.Switches) -> int:
+    """The most attached pillars of a partial contact set (at most half of the lattice) whose inverse the pillar
+    model keeps: ``switches.kept_partial`` where set, else the most whose `pillar_kept_bytes` fit in
+    ``switches.kept_partial_bytes`` (5461 in the default 2 GiB).
+
+    Raises
+    ------
+    ValueError
+        If ``kept_partial`` is negative, or ``kept_partial_bytes`` is not a positive number of bytes.
+    """
+    if switches.kept_partial is not None:
+        if switches.kept_partial < 0:
+            raise ValueError(f"Switches.kept_partial must be None or at least 0 attached pillars "
+                             f"(got {switches.kept_partial})")
+        return int(switches.kept_partial)
+    budget = switches.kept_partial_bytes
+    if not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):
+        raise ValueError(f"Switches.kept_partial_bytes must be a positive, finite number of bytes (got {budget!r})")
+    return math.isqrt(int(budget // pillar_kept_bytes(1)))
 
 
 def pillar_kept_bytes(attached: int) -> float:
@@ -214,8 +236,8 @@ def memory_problem(config: RunConfig) -> str | None:
     if config.protocol.method == "pillars" and config.indenter.shape == "brush" and config.indenter.layout != "random":
         count = kept_pillar_count(config)
         kept = (f" ({format_bytes(_MARGIN * pillar_kept_bytes(count))} of it the pillar model's kept inverse of "
-                f"up to {count} attached pillars: lower Switches.kept_pillars or kept_partial, beyond which it "
-                "solves by CG)")
+                f"up to {count} attached pillars: lower Switches.kept_pillars or kept_partial_bytes (or set "
+                "kept_partial), beyond which it solves by CG)")
     return (
         f"a run on {config.grid.elements} x {config.grid.elements} elements needs about {format_bytes(need)} "
         f"of memory{kept}, more than the {format_bytes(limit)} of {source}: lower grid.elements, or set "

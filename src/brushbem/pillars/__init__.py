@@ -131,7 +131,7 @@ states).  A level brush attaches every pillar (``--sigma 0 --kept-baseline``):
 42 s in at most 1 GB against 356 s in 4.1 GB (the same F_A to 5e-11 and work
 to 4e-10).  A rough brush attaches a part (``--sizes 100 --sigma 0.5``): 10^4
 pillars, k~ = 1e-2, pressed to F_c, loading 18.5 s (1424 pillars attached at
-the preload, the kept inverse held on the partial set: `Switches.kept_partial`)
+the preload, the kept inverse held on the partial set: `Switches.kept_partial_bytes`)
 and pull-off 47 s (2959 states, 2108 solves) in 0.53 GB, against 21.5 s and
 61 s for the same pull-off before the per-state costs fell (``--before``,
 same run, the same F_A to 7e-15); by CG on the partial sets its loading had
@@ -174,14 +174,21 @@ same ten presses to F_c at 4270 pillars attached, the fourth to sixth 88,
 74-77 and 166 s, 159 CG solves of 13.8 iterations on average, peak 2.8 GB.
 Its pull-off, stopped at 780 CPU-s: 300 states in 320 CPU-s (1.07 s a
 state, a CG solve every second state at 13.3 iterations: the set stays
-above ``kept_partial``, 4270 to 4223 attached, the force still compressive
+above ``kept_partial`` (then 4096), 4270 to 4223 attached, the force still compressive
 at 0.81 F_c); at that rate a pull-off of tens of thousands of states (2959
-at 10^4 pillars) takes hours, so it was not run to the end.  The default keeps 4096
-because those transients grow as n^2 (about 10.7 GB at 16384, beyond the 8
-GB this size is meant to run in); the memory estimate counts them
-(`brushbem.config.resources.pillar_kept_bytes`: 9 n^2 numbers), a run
-beyond the memory at hand is refused naming the switches, and the solver
-keeps its inverse only up to half of that memory, by CG beyond.  By CG with
+at 10^4 pillars) takes hours, so it was not run to the end.  The kept
+inverse's transients grow as n^2 (about 10.7 GB at 16384, beyond the 8 GB
+this size is meant to run in), so on a partial set it is kept while their
+estimate (`brushbem.config.resources.pillar_kept_bytes`: 9 n^2 numbers)
+fits in `Switches.kept_partial_bytes` (2 GiB: 5461 pillars; a fixed count,
+`Switches.kept_partial`, overrides it), and at run time in half of the
+memory at hand, by CG beyond; the memory estimate counts it, and a run
+beyond the memory at hand is refused naming the switches.  The brush's
+4270 fit: its pull-off keeps the inverse, the first 300 states at 0.153
+CPU-s a state against 1.06 by CG with ``kept_partial = 4096`` over the
+first 100 in the same conditions (one thread, ``ulimit -v 8000000``, load
+3-4; the force the same to 6e-11), loading 346-354 CPU-s in both, peak
+3.1 GiB against 2.8 GiB.  By CG with
 the circulant a partial set's solves took 21 iterations on average, 42 at
 most (64 x 64, sigma~ = 0.5, every solve by CG: loading 16.6 s), with the
 near field 10 and 18 (9.1 s).

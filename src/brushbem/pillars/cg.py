@@ -45,7 +45,7 @@ from brushbem import settings
 __all__ = ["LatticeCG", "NotConverged", "TOLERANCE"]
 
 #: The near-field preconditioner (`LatticeCG.near_factor`) serves attached sets of at most this share of the
-#: lattice (those for which the solver keeps its inverse up to ``Switches.kept_partial``); the circulant
+#: lattice (those for which the solver keeps its inverse within ``Switches.kept_partial_bytes``); the circulant
 #: larger ones, which it fits.
 NEAR_SHARE = 0.5
 

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.linalg
 
 from brushbem import settings
-from brushbem.config.resources import available_memory, format_bytes, pillar_kept_bytes
+from brushbem.config.resources import available_memory, format_bytes, kept_partial_count, pillar_kept_bytes
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import LatticeCG
 
@@ -96,8 +96,9 @@ class Solver:
         return self._cg
 
     def _kept_limit(self, attached: int) -> float:
-        """The most attached pillars for which the inverse is kept: ``Switches.kept_pillars``, or
-        ``Switches.kept_partial`` while they are at most half of the lattice, and on a lattice no more than
+        """The most attached pillars for which the inverse is kept: ``Switches.kept_pillars``, or while they
+        are at most half of the lattice as many as ``Switches.kept_partial_bytes`` holds (or
+        ``Switches.kept_partial``: `kept_partial_count`), and on a lattice no more than
         fit in memory (`_memory_cap`); no limit off a lattice, with ``kept_pillars = None`` or ``choice =
         "kept"``; none kept with ``"cg"``."""
         switches = settings.switches()
@@ -106,7 +107,7 @@ class Solver:
         if self.choice == "cg":
             return 0
         if 2 * attached <= self.model.M:
-            return min(max(switches.kept_pillars, switches.kept_partial), _memory_cap(self, switches))
+            return min(max(switches.kept_pillars, kept_partial_count(switches)), _memory_cap(self, switches))
         return min(switches.kept_pillars, _memory_cap(self, switches))
 
     def _drop_inverse_beyond_kept(self, attached: int) -> bool:
@@ -370,10 +371,13 @@ def _memory_cap(solver: Solver, switches: settings.Switches) -> float:
     if solver._cap is None:
         limit, source = available_memory()
         solver._cap = np.inf if limit is None else math.floor(math.sqrt(0.5 * limit / pillar_kept_bytes(1)))
-        asked = min(solver.model.M, max(switches.kept_pillars, min(switches.kept_partial, solver.model.M // 2)))
+        partial = kept_partial_count(switches)
+        asked = min(solver.model.M, max(switches.kept_pillars, min(partial, solver.model.M // 2)))
         if asked > solver._cap:
-            warnings.warn(f"Switches.kept_pillars = {switches.kept_pillars}, kept_partial = "
-                          f"{switches.kept_partial}: a kept inverse of {asked} attached pillars needs about "
+            budget = (f"kept_partial = {switches.kept_partial}" if switches.kept_partial is not None else
+                      f"kept_partial_bytes = {format_bytes(switches.kept_partial_bytes)} ({partial} pillars)")
+            warnings.warn(f"Switches.kept_pillars = {switches.kept_pillars}, {budget}: a kept inverse of {asked} "
+                          f"attached pillars needs about "
                           f"{format_bytes(pillar_kept_bytes(asked))} at its peak, more than half of the "
                           f"{format_bytes(limit)} of {source}; the pillar model keeps it up to {solver._cap} "
                           "pillars and solves by CG beyond", RuntimeWarning, stacklevel=2)
