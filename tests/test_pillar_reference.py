@@ -111,7 +111,7 @@ def test_the_placement_table_holds_what_the_docs_say():
         means = []
         for factor, spread, count in zip(("1", "2", "4", "8"), spreads, (6, 6, 6, 4)):
             forces = [float(row["calibrated_adhesive_force"]) for row in rows
-                      if (row["stiffness_ratio"], row["tip_factor"]) == (stiffness, factor)]
+                      if (row["family"], row["stiffness_ratio"], row["tip_factor"]) == ("flat", stiffness, factor)]
             assert len(forces) == count
             means.append(float(np.mean(forces)))
             assert (max(forces) - min(forces)) / means[-1] == pytest.approx(spread, abs=5e-5)
@@ -131,8 +131,36 @@ def test_the_model_follows_the_exact_path_on_moved_rasters():
 def test_the_placement_table_is_what_its_script_computes():
     """One moved placement at the grid's tips (k~ = 10) computed again, to the table's seven digits."""
     script = _placement_script()
-    (written,) = [row for row in script.load() if (row["stiffness_ratio"], row["tip_factor"], row["shift_y"])
-                  == ("10", "1", "0.29")]
+    (written,) = [row for row in script.load() if (row["family"], row["stiffness_ratio"], row["tip_factor"],
+                                                   row["shift_y"]) == ("flat", "10", "1", "0.29")]
     again = script.row("flat", 8, 10.0, 1, (0.29, 0.71))
     for name in ("lone_tip_error", "calibrated_adhesive_force"):
         assert again[name] == pytest.approx(float(written[name]), rel=1e-6), name
+
+
+def test_the_rough_brushs_placements_give_no_reference_at_stiff_springs():
+    """``placement.csv``, the rough 8 x 8 brush at k~ = 10 (`brushbem.pillars`, "The reference"): twelve
+    placements at 3.6 / 7.2 / 14.4 / 28.9 per radius spread by 37 / 29 / 21 / 16 %; their means fall by 2.4, 3.2
+    and 8.3 % per doubling, steps growing, so neither they nor the exact path (``tips_extrapolated.csv``: no
+    value) extrapolate.  The family's own raster stays within 1 % at every resolution, the exact path on N = 512
+    1.1 % above it, and the mean at 28.9 5.2 % above that exact path (to the quoted digits)."""
+    script = _placement_script()
+    rows = [row for row in script.load() if (row["family"], row["stiffness_ratio"]) == ("rough", "10")]
+    (exact,) = [row for row in script.reference.load(script.HERE / "tips_extrapolated.csv")
+                if (row["family"], row["stiffness_ratio"]) == ("rough", "10")]
+    assert math.isnan(float(exact["extrapolated_adhesive_force"]))
+    means, own = [], []
+    for factor, spread in zip(("1", "2", "4", "8"), (0.3655, 0.2875, 0.2118, 0.1567)):
+        level = [row for row in rows if row["tip_factor"] == factor]
+        forces = np.array([float(row["calibrated_adhesive_force"]) for row in level])
+        assert len(forces) == 12
+        means.append(forces.mean())
+        own += [float(row["calibrated_adhesive_force"]) for row in level if float(row["shift_y"]) == 0.0]
+        assert np.ptp(forces) / means[-1] == pytest.approx(spread, abs=5e-5)
+    falls = [1 - means[i + 1] / means[i] for i in range(3)]
+    assert falls == pytest.approx((0.0244, 0.0324, 0.0827), abs=5e-5)
+    assert 0 < falls[0] < falls[1] < falls[2]
+    assert np.ptp(own) / np.mean(own) < 0.01
+    at_512 = float(exact["events_adhesive_force_512"])
+    assert at_512 / own[2] - 1 == pytest.approx(0.0110, abs=5e-5)
+    assert means[3] / at_512 - 1 == pytest.approx(0.0522, abs=5e-5)
