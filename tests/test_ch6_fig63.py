@@ -148,7 +148,8 @@ def test_the_sweep_files_are_those_the_generator_writes():
     assert make["N3"] == N3_IDENTIFIED
     for level in make["LEVELS"]:
         for name, points in make["sets"](level).items():
-            expected = make["text"](level, points, f"Named set {name!r} of hierarchy.fig63_{level}.toml")
+            expected = make["text"](level, points, f"Named set {name!r} of hierarchy.fig63_{level}.toml",
+                                     make["REALIZATIONS"].get(level, 10))
             assert (sweeps / f"hierarchy.fig63_{level}.{name}.sampled.toml").read_text(encoding="utf-8") == expected
     for level, part in make["TIPS_PARTS"].items():
         named = make["tip_sets"](level)

@@ -382,7 +382,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 COMPARISON_STAMP = {
     "concave": "36b8c1b290d9",
     "flat_brush": "527ddd41ed6f",
-    "hierarchy": "ad41a151551d",
+    "hierarchy": "e70618bc2b79",
     "nested_vs_convolution": "3fbc4344dc8b",
     "punch_spring": "19b169a4cb27",
     "rough_brush": "38919144b917",

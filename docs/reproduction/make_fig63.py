@@ -46,8 +46,10 @@ fig63_tips_two,fig63_tips``):
   tips at 9 elements a radius (factors 2, 3, 4: the footprints of N = 4096, 6144, 8192).
 
 Each part's full sweep is the union of its sets (zip mode), so a set's case has the full sweep's
-seed and hash.  Every set lists the thesis's ten realisations (L1187); a sweep runs them one after
-the other and resumes, so a run stopped after some seeds leaves those seeds complete (the rows read
+seed and hash.  Every set lists the thesis's ten realisations (L1187), those of one and three levels
+fifteen (`REALIZATIONS`: L1199 needs them, set ``rows16`` ran them; the first ten keep their seeds and
+ids); a sweep runs
+them one after the other and resumes, so a run stopped after some seeds leaves those seeds complete (the rows read
 the seeds that have every point they need).  ``python docs/reproduction/make_fig63.py`` rewrites the files.
 """
 
@@ -71,6 +73,10 @@ IDENTIFY_TIPS, IDENTIFY_GRID = 9.0, 2048
 #: The parts with the tips on rasters of their own, per level.
 TIPS_PARTS = {"one": "fig63_tips_one", "two": "fig63_tips_two", "three": "fig63_tips"}
 TIP_KEY = "protocol.pillar_tip_resolution"
+#: Parts whose sweeps list more than the thesis's ten realisations (L1187; L1199 needs fifteen of one and three
+#: levels, run in set rows16): level -> realisations.  More realisations keep the seeds, and the case ids, of the
+#: first ten (`brushbem.sweep`); a set's seeds not run are missing and no row reads them.
+REALIZATIONS = {"one": 15, "three": 15}
 KEYS = ("grid.elements", "indenter.pillars_per_side", "indenter.roughness.sigma", "protocol.preload_force",
         "indenter.stiffness_ratio", "indenter.levels.0.stiffness_ratio", "indenter.levels.1.stiffness_ratio")
 
@@ -183,10 +189,12 @@ def main() -> None:
         for points in named.values():
             every += [p for p in points if p not in every]
         part = f"hierarchy.fig63_{level}"
-        (SWEEPS / f"{part}.toml").write_text(text(level, every, "Every point of the named sets"), encoding="utf-8")
+        (SWEEPS / f"{part}.toml").write_text(text(level, every, "Every point of the named sets",
+                                                  REALIZATIONS.get(level, 10)), encoding="utf-8")
         for name, points in named.items():
             (SWEEPS / f"{part}.{name}.sampled.toml").write_text(
-                text(level, points, f"Named set {name!r} of {part}.toml"), encoding="utf-8")
+                text(level, points, f"Named set {name!r} of {part}.toml", REALIZATIONS.get(level, 10)),
+                encoding="utf-8")
         quick = [{**p, "grid.elements": 512, "indenter.pillars_per_side": 20} for p in named["rows"][:2]]
         (SWEEPS / f"{part}.quick.toml").write_text(
             text(level, quick, "Quick check of the machinery: 20 x 20 sub-pillars (N3 = 1), N = 512", 2),

@@ -202,7 +202,6 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     # Every finished case's parameter point, by the shipped sweep's case hashes.
     point_of: dict[str, dict[str, tuple]] = {}
     paths: dict[str, Path] = {}
-    finished_realizations = 1
     for part, frame in tables.items():
         if not {"status", "case_id"} <= set(frame.columns):
             continue
@@ -216,8 +215,6 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
             raise ReproduceError(f"the table of part {part!r} lacks the swept column(s) {', '.join(missing)}")
         point_of[part] = {case_id: tuple((key, _plain(value)) for key, value in zip(keys, values))
                           for case_id, *values in done[["case_id", *keys]].itertuples(index=False)}
-        if "realization" in done.columns:
-            finished_realizations = max(finished_realizations, int(done["realization"].nunique()))
 
     def restricted(keep: set[tuple[str, tuple]]) -> dict[str, pd.DataFrame]:
         return {part: frame[frame["case_id"].map(lambda i, part=part: (part, point_of.get(part, {}).get(i)) in keep)]
@@ -243,7 +240,9 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
     if not points:
         raise ReproduceError(f"{number.quantity!r} depends on no single case of the tables (a closed form): "
                              "there is nothing to recompute")
-    realizations = realizations or finished_realizations
+    # (the seeds finished by the parts the row reads: another part's extra seeds do not change its plan)
+    realizations = realizations or max((int(frame["realization"].nunique()) for frame in selected_rows.values()
+                                        if "realization" in frame.columns), default=1)
     chosen_by_part = {}
     for part, frame in selected_rows.items():
         if "realization" in frame.columns:
