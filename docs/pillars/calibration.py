@@ -130,14 +130,15 @@ def rows() -> list[dict]:
     return out
 
 
-def write(table_rows: list[dict], table: Path = TABLE) -> None:
+def write(table_rows: list[dict], table: Path = TABLE, fields: tuple[str, ...] = FIELDS, digits: int = 6) -> None:
+    """``table_rows`` to ``table`` atomically, floats to ``digits`` significant digits (the docs/pillars tables)."""
     temporary = table.with_suffix(".csv.tmp")
     with temporary.open("w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=FIELDS, lineterminator="\n")
+        writer = csv.DictWriter(stream, fieldnames=fields, lineterminator="\n")
         writer.writeheader()
         for row in table_rows:
-            writer.writerow({name: (f"{row[name]:.6g}" if isinstance(row[name], float) else row[name])
-                             for name in FIELDS})
+            writer.writerow({name: (f"{row[name]:.{digits}g}" if isinstance(row[name], float) else row[name])
+                             for name in fields})
     os.replace(temporary, table)
 
 

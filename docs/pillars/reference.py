@@ -33,7 +33,6 @@ reference").
 from __future__ import annotations
 
 import csv
-import os
 import sys
 import time
 from pathlib import Path
@@ -42,6 +41,7 @@ from brushbem.protocol import LoadPath, record_pull_off
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+import calibration  # noqa: E402
 from calibration import lone_tip_error  # noqa: E402
 from validation import problem  # noqa: E402
 
@@ -94,14 +94,7 @@ def load(table: Path = TABLE) -> list[dict]:
 
 def write(rows: list[dict], table: Path = TABLE, fields: tuple[str, ...] = FIELDS) -> None:
     """``rows`` to ``table`` atomically (seven digits)."""
-    temporary = table.with_suffix(".csv.tmp")
-    with temporary.open("w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=fields, lineterminator="\n")
-        writer.writeheader()
-        for line in rows:
-            writer.writerow({name: (f"{line[name]:.7g}" if isinstance(line[name], float) else line[name])
-                             for name in fields})
-    os.replace(temporary, table)
+    calibration.write(rows, table, fields, digits=7)
 
 
 def main() -> None:
