@@ -115,6 +115,9 @@ def test_states_report_on_the_global_grid():
         assert np.all(labels[state.contact] >= 0)
         assert h2 * float(state.pressure.sum()) == pytest.approx(state.force, rel=1e-12, abs=1e-15)
         assert state.attached_pillars == np.unique(labels[state.contact]).size
+        # Its elements: each global element once (several fine ones report to it), its pressure the grid's.
+        assert np.array_equal(state.pressed.elements, np.flatnonzero(state.contact))
+        assert np.array_equal(state.pressed.pressure, state.pressure.ravel()[state.pressed.elements])
         checked += 1
     assert checked >= 5
     model = PillarModel(problem, tips=3)

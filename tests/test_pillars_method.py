@@ -29,6 +29,7 @@ from brushbem.pillars import loading as pillar_loading
 from brushbem.pillars import solver as pillar_solver
 from brushbem.pillars import state as pillar_state
 from brushbem.protocol import ContactProblem, LoadPath, record_pull_off
+from brushbem.protocol.recording import _Recorder
 from brushbem.physics.structure import Grid, Level, Tilt, Tip, brush, flat_punch
 
 DGAMMA = 1e-4
@@ -232,6 +233,27 @@ def test_states_are_the_records_of_the_other_methods():
         assert state.contact_area == pytest.approx(h2 * np.count_nonzero(state.contact))
         assert state.attached_pillars == np.unique(labels[state.contact]).size
         assert not np.any(state.pressure[~state.contact])
+
+
+def test_states_hold_their_contact_by_element_and_build_the_grids_when_read():
+    """A state records its contact elements (`PressedElements`) and builds its full-grid arrays only when they
+    are read; the per-pillar forces of the record (`record_pull_off`) are those of the grids to the last bit."""
+    problem, force = _brush(64, 4, 1e-2)
+    recorder = _Recorder(problem)
+    checked = 0
+    for state in brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)):
+        assert state.pressed is not None
+        assert state.__dict__["_pressure"] is None and state.__dict__["_contact"] is None  # not built yet
+        elements = state.pressed.elements
+        assert np.array_equal(np.sort(elements), np.flatnonzero(state.contact))
+        assert np.array_equal(state.pressure.ravel()[elements], state.pressed.pressure)
+        gridded = dataclasses.replace(state, pressed=None)  # the grids just built, given
+        for ours, theirs in zip(recorder.pillar_forces(state), recorder.pillar_forces(gridded)):
+            assert np.array_equal(ours, theirs)
+        checked += state.kind != "separated"
+    assert checked >= 5
+    row = dataclasses.replace(state, pressure=None, contact=None, pressed=None)  # what a record keeps
+    assert row.pressure is None and row.contact is None
 
 
 def test_api_and_configuration():

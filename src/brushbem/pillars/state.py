@@ -228,13 +228,13 @@ def record(cache: RasterCache, state: PillarState, d: float, loading: bool, kind
         slots = np.take(model.reports, rows, axis=0)[held]
         values = pressures_at(cache, state, d)[held]
         total = float(model.h2 * values.sum())
-    # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`).
-    pressure, contact = model.tips.to_grid(slots, values)
+    # On the global grid (the tips' raster may be finer: `brushbem.pillars.tips`), its grids built when read.
+    pressed = model.tips.pressed(slots, values)
     solves, cache.reported = cache.solves - cache.reported, cache.solves
     return State(displacement=float(d), force=total, contact_area=model.h2 * int(np.count_nonzero(held)),
                  attached_pillars=int(np.count_nonzero(state.attached)), loading=loading, kind=kind,
                  trial_force=total, cg_iterations=0, n_solves=solves, converged=converged, reason=reason,
-                 pressure=pressure, contact=contact)
+                 pressed=pressed)
 
 
 # -- steps: a state in, the next out ---------------------------------------------------------------------------

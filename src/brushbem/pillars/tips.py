@@ -37,7 +37,7 @@ from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid
 from brushbem.physics.structure.raster import footprint_blocks
-from brushbem.protocol.problem import ContactProblem
+from brushbem.protocol.problem import ContactProblem, PressedElements
 
 __all__ = ["TipRaster", "tip_factor"]
 
@@ -77,7 +77,7 @@ class TipRaster:
     owner: np.ndarray
     heights: np.ndarray
     per_radius: float
-    #: The global element that each of ``flat`` reports to (`to_grid`), sorted by ``flat``: (fine, coarse).
+    #: The global element that each of ``flat`` reports to (`pressed`), sorted by ``flat``: (fine, coarse).
     coarse: tuple[np.ndarray, np.ndarray] | None = None
 
     @classmethod
@@ -108,7 +108,7 @@ class TipRaster:
                    per_radius, _coarse_elements(labels.reshape(grid.elements, grid.elements), flat, owner, factor))
 
     def reporting(self, slots: np.ndarray) -> np.ndarray:
-        """The global element (flat) that each of the fine elements ``slots`` reports to (`to_grid`).
+        """The global element (flat) that each of the fine elements ``slots`` reports to (`pressed`).
 
         A fine element reports to the global element it lies in, or, where that
         one is not its pillar's (a fine element inside the circle whose global
@@ -120,20 +120,17 @@ class TipRaster:
         fine, to = self.coarse
         return to[np.searchsorted(fine, slots)]
 
-    def to_grid(self, elements: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(pressure, contact) on the global grid (n x n) of fine elements that report to the global
-        ``elements`` (`reporting`) and carry ``values``: each global element's pressure is the sum of its
-        fine elements' over ``factor``^2 (the same force), in contact where any of them is."""
-        n = self.grid_elements
-        # Zeroed arrays written where a tip presses: a state's other elements stay untouched pages.
-        pressure, contact = np.zeros(n * n), np.zeros(n * n, dtype=bool)
-        contact[elements] = True
-        if self.factor == 1:  # the global grid's own footprints: one element each
-            pressure[elements] = values
-        else:
-            np.add.at(pressure, elements, values)
-            pressure[np.flatnonzero(contact)] /= self.factor**2
-        return pressure.reshape(n, n), contact.reshape(n, n)
+    def pressed(self, elements: np.ndarray, values: np.ndarray) -> PressedElements:
+        """The contact on the global grid (n x n) of the fine elements that report to the global ``elements``
+        (`reporting`, each pillar's ascending) and carry ``values``: each global element's pressure is the sum of
+        its fine elements' over ``factor``^2 (the same force), in contact where any of them is."""
+        if self.factor == 1:  # the global grid's own footprints: one element each, every pillar's ascending
+            return PressedElements(self.grid_elements, elements, values)
+        coarse, where = np.unique(elements, return_inverse=True)
+        pressure = np.zeros(coarse.size)
+        np.add.at(pressure, where, values)  # in the order of ``values``, as a full grid would sum them
+        pressure /= self.factor**2
+        return PressedElements(self.grid_elements, coarse, pressure)
 
 
 def _rasterise(grid: Grid, centres: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:

@@ -14,8 +14,8 @@ from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import Grid, Indenter
 
-__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "State", "check_preload", "detachment_slack",
-           "event_tie"]
+__all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "PressedElements", "State", "check_preload",
+           "detachment_slack", "event_tie"]
 
 
 class NotConvergedError(RuntimeError):
@@ -210,6 +210,55 @@ class LoadPath:
 
 
 @dataclass(frozen=True)
+class PressedElements:
+    """A state's contact as its elements: the flat indices (row-major) of the contact elements of its N x N grid,
+    each once, and their pressures.
+
+    The elements of every pillar come in ascending order (a sum over a pillar's elements adds them in the
+    order of the full grid's, to the last bit); ``grids`` gives the (pressure, contact) arrays.  A path that
+    knows its contact element by element (the pillar model) records it so: its states' grids are built
+    only when read (`State`), not for every state.
+    """
+
+    side: int
+    elements: np.ndarray
+    pressure: np.ndarray
+
+    def grids(self) -> tuple[np.ndarray, np.ndarray]:
+        """(pressure, contact) on the N x N grid: the pressures where the elements are, 0 and False elsewhere."""
+        n = self.side
+        # Zeroed arrays written at the contact elements only: the others stay untouched pages.
+        pressure, contact = np.zeros(n * n), np.zeros(n * n, dtype=bool)
+        pressure[self.elements] = self.pressure
+        contact[self.elements] = True
+        return pressure.reshape(n, n), contact.reshape(n, n)
+
+
+class _Grid:
+    """A `State` field holding an N x N array, or None where the state's ``pressed`` (`PressedElements`) holds
+    its contact: then the array is built from it when first read, and kept.
+
+    A descriptor as the field's default (a "descriptor-typed field" of `dataclasses`): the constructor, and
+    `dataclasses.replace`, write through `__set__`; an omitted field is None.
+    """
+
+    def __set_name__(self, owner, name):
+        self.slot = "_" + name
+
+    def __get__(self, state, owner=None):
+        if state is None:
+            return None  # the field's default
+        value = state.__dict__[self.slot]
+        if value is None and state.pressed is not None:
+            state.__dict__["_pressure"], state.__dict__["_contact"] = state.pressed.grids()
+            value = state.__dict__[self.slot]
+        return value
+
+    def __set__(self, state, value):
+        state.__dict__[self.slot] = value
+
+
+@dataclass(frozen=True)
 class State:
     """One recorded equilibrium of the load path.
 
@@ -236,6 +285,11 @@ class State:
     reason : str
     pressure : ndarray, shape (N, N)
     contact : ndarray of bool, shape (N, N)
+    pressed : PressedElements or None
+        The contact element by element, where the path records it so (the
+        pillar model): ``pressure`` and ``contact`` are then given as None
+        and built from it when first read (its full-grid arrays are not
+        made for every state of a pull-off).  None: the grids are given.
     """
 
     displacement: float
@@ -249,8 +303,9 @@ class State:
     n_solves: int
     converged: bool
     reason: str
-    pressure: object
-    contact: object
+    pressure: object = _Grid()
+    contact: object = _Grid()
+    pressed: PressedElements | None = None
 
 
 def check_preload(indenter: Indenter, path: LoadPath) -> None:

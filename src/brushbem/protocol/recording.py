@@ -97,7 +97,7 @@ class _Recorder:
         self.attached_at_preload = 0
         # The states without their arrays: keeping every State would keep two
         # full-grid arrays per state alive (1.4 GB for the N = 256 JKR benchmark,
-        # and a page fault for every fresh page of every new array).
+        # and a page fault for every fresh page of every new array), or its elements.
         self.rows: list[State] = []
         self.path_points: list[tuple[float, float, bool]] = []  # (d, F, loading), cascades included
         self.snapshots: dict[str, Snapshot] = {}
@@ -114,8 +114,11 @@ class _Recorder:
         self.interrupted = False
 
     def pillar_forces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        contact = np.flatnonzero(np.asarray(self.to_numpy(state.contact)).ravel())
-        pressure = np.asarray(self.to_numpy(state.pressure)).ravel()[contact]
+        if state.pressed is not None:  # its elements, each pillar's in the grid's order: the same sums
+            contact, pressure = state.pressed.elements, state.pressed.pressure
+        else:
+            contact = np.flatnonzero(np.asarray(self.to_numpy(state.contact)).ravel())
+            pressure = np.asarray(self.to_numpy(state.pressure)).ravel()[contact]
         force = self.h2 * np.bincount(self.labels[contact], weights=pressure, minlength=self.n_pillars)
         attached = np.bincount(self.labels[contact], minlength=self.n_pillars) > 0
         return force, attached
@@ -134,12 +137,12 @@ class _Recorder:
             self.separated = True
             self.path_points.append((state.displacement, state.trial_force, False))
             self.path_points.append((state.displacement, 0.0, False))
-            self.rows.append(dataclasses.replace(state, pressure=None, contact=None))
+            self.rows.append(dataclasses.replace(state, pressure=None, contact=None, pressed=None))
             return False
         if state.trial_force != state.force:
             self.path_points.append((state.displacement, state.trial_force, state.loading))
         self.path_points.append((state.displacement, state.force, state.loading))
-        self.rows.append(dataclasses.replace(state, pressure=None, contact=None))
+        self.rows.append(dataclasses.replace(state, pressure=None, contact=None, pressed=None))
         if state.loading:
             self.last_loading_state = state
             self.attached_at_preload = state.attached_pillars
@@ -186,7 +189,8 @@ class _Recorder:
         pressure = previous.pressure + t * (state.pressure - previous.pressure)
         zero = dataclasses.replace(
             state, displacement=previous.displacement + t * (state.displacement - previous.displacement),
-            force=float(self.h2 * np.sum(np.asarray(self.to_numpy(pressure)))), pressure=pressure, kind="event",
+            force=float(self.h2 * np.sum(np.asarray(self.to_numpy(pressure)))), pressure=pressure,
+            contact=state.contact, pressed=None, kind="event",
             reason="zero-force crossing, interpolated on a fixed contact set")
         self._take("zero_force", zero)
 
