@@ -92,8 +92,8 @@ def test_the_calibration_scales_each_footprint_by_its_own_factor():
         foot = np.stack([model.rows[p][:size], model.cols[p][:size]], axis=1)
         key = (foot - foot.min(axis=0)).tobytes()
         force = lone_pull_off(plain.bases, foot - foot.min(axis=0), problem.critical_stress, model.h2)[0]
-        assert model.critical[p] == pytest.approx(problem.critical_stress * kendall / force, rel=1e-12)
-        shapes.setdefault(key, set()).add(float(model.critical[p]))
+        assert model.critical[p, 0] == pytest.approx(problem.critical_stress * kendall / force, rel=1e-12)
+        shapes.setdefault(key, set()).add(float(model.critical[p, 0]))
     assert all(len(values) == 1 for values in shapes.values())
     assert len({next(iter(values)) for values in shapes.values()}) > 1
     np.testing.assert_array_equal(plain.critical, problem.critical_stress)
@@ -180,3 +180,33 @@ def test_the_calibration_table_is_what_its_script_computes():
         assert summary["adhesive_force"] == pytest.approx(float(written["adhesive_force"]), rel=1e-5)
         assert summary["work_of_separation"] == pytest.approx(float(written["work"]), rel=1e-5)
         assert script.lone_tip_error(case, 1) == pytest.approx(float(written["lone_tip_error"]), rel=1e-5)
+
+
+def test_per_element_criteria_take_every_element_of_a_lone_tip_at_kendalls_force():
+    """The per-element variant (`tip_criteria(per_element=True)`): every element's critical stress in
+    proportion to its pressure under the lone tip's uniform pull, so the lone tip on its raster comes off
+    in one event with every element at its criterion, at F_K (to 1e-9: one linear solve); through the path
+    as well (to 1e-6, the stiff spring)."""
+    from unittest import mock
+
+    import brushbem.pillars.basis
+    from brushbem.pillars.calibration import tip_criteria
+
+    problem = _lone()
+    model = PillarModel(problem)
+    criteria = tip_criteria(model, problem, problem.critical_stress, True, per_element=True)
+    size = int(np.count_nonzero(model.full[0]))
+    phi = model.bases.get(_footprint(model) - _footprint(model).min(axis=0)).phi[:, 0]
+    ratio = criteria[0, :size] / phi
+    np.testing.assert_allclose(ratio, ratio[0], rtol=1e-12)
+    assert np.ptp(criteria[0, :size]) > 0.5 * criteria[0, :size].max()  # edge and centre differ: not a constant
+    force, events = lone_pull_off(model.bases, _footprint(model), criteria[0, :size], model.h2)
+    assert force == pytest.approx(_kendall(problem), rel=1e-9)
+    assert events == 1
+
+    def per_element(model, problem, critical, calibrate):
+        return tip_criteria(model, problem, critical, calibrate, per_element=True)
+
+    with mock.patch.object(brushbem.pillars.basis, "tip_criteria", per_element):
+        assert _adhesive_force(problem, "pillars", pillar_tip_calibration=True) == pytest.approx(_kendall(problem),
+                                                                                                 rel=1e-6)

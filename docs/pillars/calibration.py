@@ -81,7 +81,7 @@ def lone_tip_error(case, factor: int) -> float:
     model = PillarModel(case, tips=factor)
     size = int(np.count_nonzero(model.full[0]))
     foot = np.stack([model.rows[0][:size], model.cols[0][:size]], axis=1)
-    force = lone_pull_off(model.bases, foot, float(model.critical[0]), model.h2)[0]
+    force = lone_pull_off(model.bases, foot, float(model.critical[0, 0]), model.h2)[0]
     radius = float(case.indenter.description.pillar_radius)
     return force / float(kendall_force(radius, contact_modulus=case.contact_modulus,
                                        work_of_adhesion=case.work_of_adhesion)) - 1

@@ -78,8 +78,8 @@ class PillarModel:
         self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
         self.scale = h / (math.pi * problem.contact_modulus)
         self.bases = Bases(self.ktab, self.powers)
-        #: Every pillar's critical stress (M,): the tips' raster's Sigma_c, or calibrated to Kendall's force
-        #: per footprint shape (``calibrate``, `brushbem.pillars.calibration`).
+        #: Every pillar's critical stress, (M, 1) over its slots (or (M, width), `calibration.tip_criteria`): the
+        #: tips' raster's Sigma_c, or calibrated to Kendall's force per footprint shape (``calibrate``).
         self.critical = tip_criteria(self, problem, raster.critical_stress, calibrate)
         #: Footprints of `SCHUR_ELEMENTS` or more (fine tips): the others' modes' fields across them, kept
         #: (`_exact`), and every pillar's footprint (row-major offsets from its first row and column).

@@ -104,7 +104,7 @@ def _detachment_times(cache: RasterCache, state: PillarState, path: LoadPath, d:
     rate = direction * pressures(cache, state, state.alpha)
     rows = on(state)
     grows = np.take(state.raster, rows, axis=0) & (rate < 0)
-    critical = model.critical[rows, None]
+    critical = model.critical[rows]
     t_detach = np.where(grows, (p + critical) / np.where(grows, -rate, 1.0), np.inf)
     return np.maximum(t_detach, 0.0), detachment_slack(path, critical, grows, rate)
 

@@ -288,7 +288,7 @@ def cascade(cache: RasterCache, state: PillarState, d: float, loading: bool) -> 
         x = amplitudes(state, d)
         p = pressures_at(cache, state, d)
         rows = on(state)
-        tense = np.take(state.raster, rows, axis=0) & (p < -model.critical[rows, None] * (1 + 1e-10))
+        tense = np.take(state.raster, rows, axis=0) & (p < -model.critical[rows] * (1 + 1e-10))
         hit = np.flatnonzero(tense.any(axis=1))
         if hit.size:
             state = peel_all(cache, state, [(int(rows[i]), tense[i]) for i in hit], x, d)
@@ -495,7 +495,7 @@ def peeled(cache: RasterCache, state: PillarState, p: int, leave: np.ndarray, fr
         cache.check_stop()
         a, basis = local_amplitudes(cache, state, p, mask, frozen, x, d)
         pressure = basis.phi @ a
-        tense = pressure < -model.critical[p] * (1 + 1e-10)
+        tense = pressure < -np.broadcast_to(model.critical[p], mask.shape)[mask] * (1 + 1e-10)
         if not tense.any():
             break
         slots = np.flatnonzero(mask)
