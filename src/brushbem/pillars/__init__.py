@@ -399,9 +399,13 @@ Criteria at coarse tips (``docs/pillars/criteria.py`` -> ``criteria.csv``)
     0.5 % calibrated on all five cases (37 elements at 3.4 and 45 at 3.6 per
     radius, centred on an element) and the same 45-element raster at 3.8 per
     radius is +2.7 .. +3.4 %: two errors cancelling, not a converged tip.
-    So centring the tips removes the placement spread but not the error, and
-    no criterion measured brings 3-4 elements per radius within 1 % on every
-    raster; calibrated tips reach it at about 29 per radius (``placement.csv``).
+    On the six cases with a reference, each on its own raster: at 3.6 per
+    radius +2.8 .. +7.8 % plain (the default), +2.5 .. +3.5 % calibrated,
+    -2.4 .. -1.5 % per element; at 7.2 +1.1 .. +4.3 %, +0.4 .. +1.5 % and
+    -4.6 .. -0.5 %.  So centring the tips removes the placement spread but
+    not the error, and no criterion measured brings 3-4 elements per radius
+    within 1 % on every raster; calibrated tips reach it at about 29 per
+    radius (``placement.csv``).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
