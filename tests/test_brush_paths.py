@@ -3,8 +3,8 @@
 ``method = "events"`` presses a brush as non-adhesive contact problems
 (``protocol._contact_loading``) and retracts it event by event;
 ``"element_events"`` takes every element event on both branches and is the
-reference.  The brushes are the quick grids of the thesis's chapter 5-7
-workloads (8 x 8 pillars of 3.6 elements' radius at N = 128, phi = 0.16),
+reference.  The brushes are our quick grids of the chapter 5-7 workloads
+(ours: the thesis states no grid there; 8 x 8 pillars of 3.6 elements' radius at N = 128, phi = 0.16),
 which test the machinery, not the thesis's numbers.
 """
 

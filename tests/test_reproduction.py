@@ -382,7 +382,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 COMPARISON_STAMP = {
     "concave": "36b8c1b290d9",
     "flat_brush": "527ddd41ed6f",
-    "hierarchy": "e70618bc2b79",
+    "hierarchy": "814c243e6887",
     "nested_vs_convolution": "3fbc4344dc8b",
     "punch_spring": "19b169a4cb27",
     "rough_brush": "38919144b917",
@@ -955,6 +955,9 @@ def test_a_row_that_cannot_be_recomputed_says_why(row_tables):
         plan_row(row_tables, "nope", "x")
     with pytest.raises(ReproduceError, match="a closed form"):
         plan_row(row_tables, "hierarchy", "k~2 = k~1/phi1")
+    # Chapter 3's study has no sweep: the error names the one run that recomputes its rows.
+    with pytest.raises(ReproduceError, match=r"has no sweep: .*`brushbem study nested_vs_convolution --out DIR`"):
+        plan_row(DOCS / "reproduction", "nested_vs_convolution", "share of the convolution's solves that converge")
 
 
 @pytest.mark.slow  # one N = 256 punch pull-off
@@ -1125,14 +1128,24 @@ def test_no_committed_row_is_labelled_reproduced_outside_the_rule():
 @pytest.mark.docs
 def test_every_chapter_has_its_counted_rows_and_identification_rows_name_it():
     """Chapters 2 to 7 all appear in the count table (chapter 3 from `nested_vs_convolution`'s methods
-    table); no row used to identify a parameter carries *reproduced with a stated choice*, and each names
-    its chapter's identification."""
+    table); no row used to identify a parameter carries *reproduced with a stated choice*, and each, like
+    each row reproduced with a stated choice, names its chapter's one identification (the same in every row)."""
+    from brushbem.studies.verdicts import CHAPTERS
+
     document = (DOCS / "thesis-comparison.md").read_text(encoding="utf-8")
     chapters = {int(m.group(1)) for m in re.finditer(r"^\| (\d) \| \d+ \|", document, re.MULTILINE)}
     assert chapters == {2, 3, 4, 5, 6, 7}
+    named: dict[int, set[str]] = {}
     for row in _committed_rows():
-        if row["verdict"].startswith("**used to identify**"):
-            assert "identification" in row["verdict"], row["quantity"]
+        if row["outside"]:
+            continue
+        match = re.search(r"chapter (\d)'s identification: ([^;]*)", row["verdict"])
+        if row["verdict"].startswith(("**used to identify**", "**reproduced with a stated choice**")):
+            assert match and int(match.group(1)) == CHAPTERS[row["study"]], row["quantity"]
+        if match:
+            named.setdefault(int(match.group(1)), set()).add(match.group(2))
+    # one identification a chapter: every counted row that names it names the same one
+    assert set(named) == {5, 6, 7} and all(len(texts) == 1 for texts in named.values()), named
     counted = [row for row in _committed_rows() if row["study"] == "nested_vs_convolution" and not row["outside"]]
     assert len(counted) == len(get_study("nested_vs_convolution").numbers) >= 6
 
@@ -1161,3 +1174,26 @@ def test_a_study_without_a_sweep_exports_its_own_table(tmp_path):
     export_tables(run, tmp_path / "tables")
     rows, _ = compare(tmp_path / "tables")
     assert rows[2].ours == 0.06 and rows[2].verdict != REPRODUCED
+
+
+#: A claim that the thesis states a grid or a step ("the thesis's grid", "thesis step", ...).
+_THESIS_GRID_OR_STEP = re.compile(r"thesis(?:'s)?\s+(?:own\s+|fixed\s+)?(?:grid|step)s?\b", re.IGNORECASE)
+#: What makes such a claim true: chapter 4's grid (512 x 512, L736, the only one the thesis states), or a negation.
+_CHAPTER_4_OR_DENIED = re.compile(
+    r"L736|chapter 4|claimed only for|no file claims|no longer attributed|states none|states no ", re.IGNORECASE)
+
+
+def test_no_file_claims_a_thesis_grid_or_step_outside_chapter_4():
+    """The thesis states a grid for chapter 4 only (512 x 512, L736) and no step anywhere (L648: 'incremental
+    displacement'): a line of the package, its docs, tests, benchmarks, examples or changelog that names a
+    thesis grid or step names chapter 4's (L736) or denies it."""
+    files = [ROOT / "CHANGELOG.md", ROOT / "README.md"]
+    for folder in ("src", "docs", "tests", "benchmarks", "examples"):
+        files += [p for p in (ROOT / folder).rglob("*") if p.suffix in (".py", ".md", ".toml", ".txt")]
+    claims = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}" for path in files if path != Path(__file__).resolve()
+              for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+              if _THESIS_GRID_OR_STEP.search(line) and not _CHAPTER_4_OR_DENIED.search(line)]
+    assert not claims, "\n".join(claims)
+    # the check finds a claim where there is one
+    assert _THESIS_GRID_OR_STEP.search("the rough brush at the thesis's grid, N = 512")
+    assert not _CHAPTER_4_OR_DENIED.search("the rough brush at the thesis's grid, N = 512")

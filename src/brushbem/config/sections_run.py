@@ -23,7 +23,8 @@ class ProtocolConfig(_Section):
         its samples (``brushbem.protocol``); ``"element_events"`` takes
         every element event on the loading branch too (the reference, and
         today's path of single bodies); ``"fixed"`` retracts by constant
-        steps (the thesis's method), locating every detachment (and a
+        steps (the thesis's method, L648; the step is ours: the thesis
+        states none), locating every detachment (and a
         pillar law's break) inside each step; ``"pillars"`` is the
         pillar-level model of a brush of flat tips (a few modes per tip,
         events exact in the reduced model; ``brushbem.pillars``).

@@ -7,7 +7,8 @@
 
 Three methods:
 
-* ``"fixed"`` - the thesis's displacement steps: press to the preload (by
+* ``"fixed"`` - displacement steps, the thesis's method (L648; its step is
+  ours: the thesis states none): press to the preload (by
   displacement, or by force with a final secant refinement), then retract by
   ``step`` until the contact set is empty.  Each step is an equilibrium with
   the detachment/attachment loop, warm-started from the previous one.  The

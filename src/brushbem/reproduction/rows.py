@@ -237,6 +237,9 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
         "sweep_files", [])] or [paths[part]]) for part, part_points in points.items()}
     selected = restricted(keep)
     selected_rows = {part: frame[frame["status"] == "finished"] for part, frame in selected.items() if part in points}
+    if not points and not study.parts:  # its one run computes the table every row reads
+        raise ReproduceError(f"study {study.name!r} has no sweep: its one run recomputes every row "
+                             f"(`brushbem study {study.name} --out DIR`, then `brushbem export-tables DIR --to {tables_root}`)")
     if not points:
         raise ReproduceError(f"{number.quantity!r} depends on no single case of the tables (a closed form): "
                              "there is nothing to recompute")

@@ -103,7 +103,6 @@ def plateau_difference(top: Callable, bottom: Callable) -> Callable:
 
 
 # The readers of the chapter's other parts (one sweep table per part: uniform lattice, exact clustered).
-
 #: The grid of the exact clustered parts' rows (clustered_*; their set mesh adds N = 1536, read only by `tie_table`).
 CLUSTERED_GRID = 1024
 
@@ -555,6 +554,10 @@ FIG63_NUMBERS = (
                  f"... the adhesive force increases rapidly with preload'), {_WHERE}", "Fig. 6-5, text (L1195)", 1.0,
                  plateau_ratio(plateau("three", 0.04, SMALL_PRELOAD), plateau("three", 1.6, SMALL_PRELOAD)),
                  evidence=_by("rows"), claim=">"),
+    ThesisNumber(f"three-level F~_A at sigma~ = 0.04, F~_P = 14.3 over F~_P = 1 ('a plateau region where the maximum "
+                 f"adhesive force is obtained and independent of the preload'; below F~_P = 1 not sampled), {_WHERE}",
+                 "Fig. 6-5, text (L1187)", 1.0, plateau_ratio(plateau("three", 0.04, 14.3), plateau(
+                     "three", 0.04, SMALL_PRELOAD)), evidence=_by("identify", "rows")),
     ThesisNumber(f"three-level F~_A at the large preload, sigma~ = 0.04 (F~_P = 14.3) less sigma~ = 2.5 (F~_P = 20) "
                  f"('the maximum adhesive force at the plateau is higher' for small roughness), {_WHERE}",
                  "Fig. 6-5, text (L1195)", 0.0,
