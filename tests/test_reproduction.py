@@ -812,6 +812,35 @@ def test_the_table1_sweep_carries_every_column_and_the_fit_comes_back():
         assert values[f"sigma~_c = alpha/beta at k~ = {k:g}, 16 x 16 pillars"] == pytest.approx(critical, rel=1e-9)
 
 
+@pytest.mark.docs
+def test_the_committed_table1_has_ten_seeds_in_every_column_at_the_identified_count():
+    """Table 1 as committed: each of the thesis's nine columns (and k~ = 10) at every roughness of its sweep on ten
+    finished seeds or more, run by the sweep files of the identified 16 x 16 pillars at N = 256 (chapter 5's one
+    identification), with c read at the one declared preload F~_P = 0.1; the document puts thesis and ours side
+    by side in one row per column."""
+    import tomllib
+
+    from brushbem.studies.base import SWEEPS_DIR
+    from brushbem.studies.rough_brush import IDENTIFICATION, TABLE_1
+
+    tables = DOCS / "reproduction" / "rough_brush"
+    provenance = json.loads((tables / "provenance.json").read_text(encoding="utf-8"))
+    for name in provenance["parts"]["table1"]["sweep_files"]:
+        base = tomllib.loads((SWEEPS_DIR / name).read_text(encoding="utf-8"))["base"]
+        assert (base["indenter"]["pillars_per_side"], base["grid"]["elements"]) == (16, 256), name
+    assert "16 x 16 pillars (N = 256" in IDENTIFICATION
+    frame = pd.read_csv(tables / "table1.csv")
+    frame = frame[frame["status"] == "finished"]
+    assert frame["normalized.preload_by_rigid_brush"].to_numpy() == pytest.approx(0.1, rel=0.05)
+    seeds = frame.groupby(["indenter.stiffness_ratio", "indenter.roughness.sigma"])["realization"].nunique()
+    assert set(seeds.index.get_level_values(0)) == {*TABLE_1, 10.0}
+    assert seeds.groupby(level=0).size().min() == 13 and seeds.min() >= 10, seeds[seeds < 10]
+    rows = {row["quantity"] for row in _committed_rows() if not row["outside"]}
+    for k in TABLE_1:
+        assert {f"alpha of eq. 5.8 at k~ = {k:g}, 16 x 16 pillars",
+                f"sigma~_c = alpha/beta at k~ = {k:g}, 16 x 16 pillars"} <= rows, k
+
+
 def test_a_run_in_progress_says_so_and_counts_its_begun_realisations():
     """A table with missing cases is labelled in progress, with the cases and realisations done so far."""
     provenance = {"quick": False, "parts": {"preload": {
