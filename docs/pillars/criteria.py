@@ -13,7 +13,7 @@ criteria on the same rasters:
   (`brushbem.pillars.calibration.calibrated_criteria`): the element where
   the stress intensity is largest goes first, as in the continuum.
 
-Three parts:
+Four parts:
 
 * ``placement``: the flat brush (k~ = 10 and 1e-5) moved by the fractions of
   the tips' element of ``placement.SHIFTS`` at 3.6, 7.2 and 14.4 elements per
@@ -29,12 +29,15 @@ Three parts:
   global grid only placing the pillars) is this: on a lattice whose pitch is
   a whole number of elements every pillar's raster is the same one, and the
   near field between two is the global grid's.
+* ``finest``: the flat brush on its own raster at 28.9 elements per radius
+  (the tips' factor 8), per element: where its limit lies (the calibrated
+  rows are ``placement.csv``'s).
 * ``families``: every family with a reference (``FAMILIES``), on its own
   raster, the tips at 3.6 and 7.2 elements per radius, the three criteria:
   the default (``plain`` at 3.6) and what each criterion makes of it.
 
 Rows go to ``criteria.csv`` as each part completes (atomically; a rerun skips
-the parts already there).  About 40 CPU-s.
+the parts already there).  About 40 CPU-s, and the finest part 10 more.
 
     nice python docs/pillars/criteria.py
 """
@@ -145,6 +148,17 @@ def canonical_rows(limits: dict) -> list[dict]:
     return out
 
 
+def finest_rows(limits: dict) -> list[dict]:
+    out = []
+    for stiffness in (10.0, 1e-5):
+        case, preload = validation.problem("flat", 8, stiffness)
+        force, seconds = pull_off(case, preload, "per_element", placement.FINEST[0])
+        out.append(_row("finest", "flat", stiffness, "per_element", placement.FINEST[0], 16, case, "lattice",
+                        (0.0, 0.0), force, limits, seconds))
+        print(_line(out[-1]), flush=True)
+    return out
+
+
 def family_rows(limits: dict) -> list[dict]:
     out = []
     for family, stiffness in FAMILIES:
@@ -180,7 +194,8 @@ def main() -> None:
     rows = reference.load(TABLE)
     done = {line["part"] for line in rows}
     limits = references()
-    for part, make in (("placement", placement_rows), ("canonical", canonical_rows), ("families", family_rows)):
+    for part, make in (("placement", placement_rows), ("canonical", canonical_rows), ("families", family_rows),
+                       ("finest", finest_rows)):
         if part not in done:
             rows += make(limits)
             reference.write(rows, TABLE, FIELDS)

@@ -383,9 +383,11 @@ Criteria at coarse tips (``docs/pillars/criteria.py`` -> ``criteria.csv``)
     placement spread at 3.6 per radius (1.9 / 2.2 % against 3.6 / 3.1 %
     calibrated; mean -0.9 / -0.3 %), but its error falls with the tips'
     resolution, to -1.6 / -1.1 % at 7.2 and -2.1 / -1.6 % at 14.4 (every
-    placement below the reference): it takes a tip off where the continuum
-    starts its peel, and the peel that follows carries load, so its limit is
-    not the reference's.  Every tip on one raster centred on its pillar (an
+    placement below the reference) and -2.4 / -1.9 % at 28.9 on the own
+    raster, where the calibrated one is +0.6 / +0.7 %: it takes a tip off
+    where the continuum starts its peel, and the peel that follows carries
+    load, so its limit is not the reference's (it costs 4.8 CPU-s at 28.9
+    per radius against 107 calibrated: the peel is what fine tips cost).  Every tip on one raster centred on its pillar (an
     element's centre or corner: a tip's own raster with the global grid only
     placing the pillars; on a lattice of a whole number of elements every
     pillar has that raster), on grids of 2.9-4.1 elements per radius
