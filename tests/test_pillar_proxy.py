@@ -38,6 +38,21 @@ def test_a_four_by_four_brush_corrects_every_family_within_one_percent():
         assert corrected == pytest.approx(float(r["corrected_adhesive_force"]), rel=1e-6)
 
 
+def test_the_correction_is_the_rasters():
+    """The 4 x 4 proxies' ratio is the same for every lattice family at both stiffnesses (to 1.5e-4: one raster,
+    one pitch) and another for the random layout (0.968 against 0.935), whose ratio the lattice's would miss by
+    more than 3 %: a proxy has to hold the brush's own rasters."""
+    rows = [r for r in _rows() if r["proxy_pillars_per_side"] == "4"]
+    ratio = {(r["family"], r["stiffness_ratio"]): float(r["proxy_fine_adhesive_force"])
+             / float(r["proxy_coarse_adhesive_force"]) for r in rows}
+    lattice = [value for (family, _), value in ratio.items() if family != "random"]
+    assert max(lattice) - min(lattice) < 1.5e-4
+    random = next(r for r in rows if r["family"] == "random")
+    generic = float(random["brush_adhesive_force"]) * ratio[("flat", "1e-05")] \
+        / (float(random["brush_adhesive_force"]) / (1 + float(random["brush_error"]))) - 1
+    assert ratio[("random", "1e-05")] - ratio[("flat", "1e-05")] > 0.03 and generic < -0.03
+
+
 def test_the_coarse_runs_of_one_row_recompute():
     """The flat brush at k~ = 10: the 8 x 8 brush's and the 4 x 4 proxy's F_A at the grid's tips, to 1e-6."""
     from test_pillar_tips import _pillars_script

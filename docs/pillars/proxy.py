@@ -18,7 +18,7 @@ and its error.  The random family's proxy is another random layout of n^2
 pillars (seeded as the family), not a part of the 8 x 8 one.
 
 Rows go to ``proxy.csv`` as each completes (atomically; a rerun skips the
-rows already there).  About 15 CPU-minutes (a 4 x 4 proxy at 28.9 elements per
+rows already there).  About 6 CPU-minutes (a 4 x 4 proxy at 28.9 elements per
 radius 24-36 CPU-s).
 
     nice python docs/pillars/proxy.py

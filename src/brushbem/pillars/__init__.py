@@ -418,8 +418,13 @@ A small brush's correction (``docs/pillars/proxy.py`` -> ``proxy.csv``)
     (+2.8 .. +7.8 %) times a 4 x 4 proxy's ratio is within 1 % on the six
     cases with a reference (-0.5 .. +0.8 %), times a 3 x 3 one's too (four
     cases, +0.6 .. +0.9 %), times a 2 x 2 one's not (up to +3.0 %, the random
-    layout).  The 4 x 4 proxy's fine run costs 23-65 CPU-s; measured, not the
-    path's default.
+    layout).  The ratio is the tips' rasters': 0.9348 for every lattice
+    family at both stiffnesses (to 1.5e-4), 0.968 for the random layout,
+    whose pillars each sit on a raster of their own; the flat lattice's ratio
+    on the random brush gives -3.9 %, so a proxy must hold the brush's
+    rasters.  The 4 x 4 proxy's fine run costs 23-65 CPU-s whatever the
+    brush (`benchmarks/pillars.py --proxy 4`: 1.50 times the 10^4-pillar
+    brush's time, 200 times an 8 x 8 one's); measured, not the path's default.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
