@@ -40,7 +40,10 @@ path's 50.3 s (1/27.4), F_A and the work the same to the last bit.  The
 316 x 316 rough brush (sigma~ = 0.5) loads in 346-376 CPU s, peak 2.8-3.1
 GiB; its pull-off keeps the inverse on its 4270 attached pillars (within
 Switches.kept_partial_bytes) at about 0.15 s a state, 1.1 s by CG
-(``--kept-partial 4096``).  The 100 x 100 rough
+(``--kept-partial 4096``); with the states held by element (`State.pressed`)
+its whole pull-off ran (``--sizes 316 --sigma 0.5 --exact-max 0 --limit
+3600``'s child, load 2-3): 15575 states, loading 345 and pull-off 1572 CPU s
+(0.101 s a state), 1917 CPU s in all, peak 2.9 GB.  The 100 x 100 rough
 brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
 load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
 same to 1e-14.  The numbers of every size are in the docstring of

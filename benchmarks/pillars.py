@@ -68,7 +68,7 @@ Where the tips' cost goes (cProfile of the 1024-pillar line at 16 elements per r
 tips, the same brush): 3339 states and 2010 solves against 619 and 554 (a fine tip peels in more steps,
 each a state and a solve of the brush); the peeling 51 % of the time, almost all of it the bases of the
 peeled rasters (9031 computed, 7290 of them through the footprint's kept inverse at 4.7 ms each); the
-states' global pressure 11 % (since written only where the tips press, `TipRaster.to_grid`); the
+states' global pressure 11 % (then written only where the tips press; now kept by element, `TipRaster.pressed`); the
 near-field blocks 5 % (cached by shape and offset: on a lattice one footprint shape, computed once); the
 solves 6 %; the model's build (bases and blocks of the full tips) 4 %.  The pillar-level system is the
 same size at every tip resolution (M pillars, 6 modes).  Outside the peeled bases the run costs 6.7 times

@@ -147,7 +147,8 @@ Where its time goes (py-spy, the whole run): the solves 54 % (the far
 field's FFT over the whole lattice 23 %, about 5.4 ms a solve for its 24
 transforms, and the kept inverse's product), the peels 14 %, the states
 10 % (the N x N pressure and contact arrays every `State` carries, their pages
-written afresh at every state), the rest the event search; the kept
+written afresh at every state; now held by element and built when read,
+`State.pressed`: pull-off 29.4 s against 36.6 s, ``--before``), the rest the event search; the kept
 inverse's updates (9 %) fall in the peels and the loading's rounds.  The
 rough brush of 10^5 pillars (``--sizes 316 --sigma 0.5 --exact-max 0 --limit
 2700``, N = 5056) did not finish in 45 min of wall time on a loaded machine
@@ -188,7 +189,20 @@ beyond the memory at hand is refused naming the switches.  The brush's
 CPU-s a state against 1.06 by CG with ``kept_partial = 4096`` over the
 first 100 in the same conditions (one thread, ``ulimit -v 8000000``, load
 3-4; the force the same to 6e-11), loading 346-354 CPU-s in both, peak
-3.1 GiB against 2.8 GiB.  By CG with
+3.1 GiB against 2.8 GiB.  With the states held by element (`State.pressed`:
+their N x N arrays built only when read, two zeroed 5056 x 5056 arrays a
+state before) its whole pull-off ran: 15575 states in all (3.6 a pillar attached at
+the preload; 2.1 at 10^4 pillars, 1.4 at 1024: the pull-off's states grow
+as n^1.3 from n = 32 to 100 pillars a side and n^1.4 from 100 to 316), loading 345
+CPU-s, pull-off 1572 CPU-s (0.101 a state: the far field's FFT over the
+640 x 640 padded lattice, about 0.1 s a call and 0.8 calls a state, is most
+of it), 1917 CPU-s in all, peak resident 2.9 GB (2.74 GiB; one BLAS thread,
+``ulimit -v 8000000``, nice 10 on a machine loaded 2-3; 39.6 min of wall
+time), F_A 1.998e-6 and work 1.946e-9 (``benchmarks/large_brush.py --child
+316 pillars 0.01 0.5 3``, the child of ``--sizes 316 --sigma 0.5
+--exact-max 0``).  Before, the first 11500 states took about 1570 CPU-s
+against 1235 here (0.135 against 0.107 a state, two runs of different
+load).  By CG with
 the circulant a partial set's solves took 21 iterations on average, 42 at
 most (64 x 64, sigma~ = 0.5, every solve by CG: loading 16.6 s), with the
 near field 10 and 18 (9.1 s).
