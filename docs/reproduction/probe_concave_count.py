@@ -7,36 +7,56 @@ n x n pillars has offsets ~ n^1/2.  The homogenised estimate says where a stiff 
 maximum should sit whatever n: the half-space feels the pillars' stress smeared over the
 brush, phi_R p_c (phi_R = N r^2 / R^2, R the outermost pillar centre, the profile's radius),
 so every pillar sees the same displacement at h~ = phi_R (`theory.concave_reference_stress`).
+Chapter 7's identified unit p_c = Sigma_c (the BEM's critical stress, Fig. 7-4's unit) turns
+h~ of the runs' unit into h~ F_K / (pi r^2 Sigma_c): the column ``amplification_sigma_c``.
 
 This runs the circle form at phi = 0.06 (or 0.15), k~ = 10 and 6e-4, on 8 x 8, 12 x 12 and
 24 x 24 lattices (N = 512, phi = 0.06: 8.8, 5.9 and 2.9 elements per pillar radius; pressed to
-2 n^2 F_K like the shipped sweeps) at h~ around each maximum, and prints per lattice phi_R, the
-h~ of the largest F~_A and F~_A there, beside the committed 16 x 16 rows:
+2 n^2 F_K like the shipped sweeps, the exact event path) at h~ (runs' unit) around each maximum,
+k~ = 10 first.  It writes every finished case to ``probe_concave_count.csv`` beside this file
+(atomically, after each case; a rerun skips the cases already there, so a stopped run resumes)
+and prints per lattice phi_R, the h~ of the largest F~_A (both units) and F~_A there, and F~_A at
+h~ = 0.04 and 0.05 with p_c = Sigma_c (linear between sampled h~), beside the committed 16 x 16 rows
+(``concave/stiffness.csv``).  At k~ = 10, phi = 0.06 the grid has every 0.002 from 0.052 to 0.068; at
+phi = 0.15 only h~ = 0.1, 0.16 and 0.25 of the 8 x 8 lattice at k~ = 6e-4 are
+committed (40 CPU-s a case at 14 elements a radius; the run was stopped there).  Run from the repository
+root:
 
-    python docs/reproduction/probe_concave_count.py                      # about 25 minutes on one core
-    python docs/reproduction/probe_concave_count.py --phi 0.15 --lattices 8
+    python docs/reproduction/probe_concave_count.py                      # 465 CPU-s on one core
+    python docs/reproduction/probe_concave_count.py --phi 0.15 --lattices 8 --stiffness 6e-4   # 126 CPU-s to 0.25
+
+``--report`` prints the summary of the committed CSV without running anything.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 import brushbem
-from brushbem.studies import SWEEPS_DIR
+from brushbem.io import atomic_path
+from brushbem.physics.adhesion import critical_stress
 from brushbem.physics.structure import square_lattice
+from brushbem.physics.theory import concave_reference_stress
+from brushbem.studies import SWEEPS_DIR
 from brushbem.sweep import load_sweep
 
 TABLE = Path(__file__).resolve().parent / "concave" / "stiffness.csv"
+OUTPUT = Path(__file__).with_suffix(".csv")
 RADIUS_16 = {0.06: 0.00863735, 0.15: 0.0136569}  # the shipped sweeps' 16 x 16 radii
-H_GRID = {0.06: {10.0: (0.03, 0.04, 0.05, 0.055, 0.06, 0.065, 0.07, 0.075, 0.08, 0.09),
+#: h~ (runs' unit) a lattice runs; at k~ = 10, phi = 0.06 every 0.002 from 0.052 to 0.068 like the committed
+#: 16 x 16 rows, so that each count's optimum is read to the same resolution.
+H_GRID = {0.06: {10.0: (0.03, 0.04, 0.05, 0.052, 0.054, 0.055, 0.056, 0.058, 0.06, 0.062, 0.064, 0.065, 0.066,
+                        0.068, 0.07, 0.075, 0.08, 0.09),
                  6e-4: (0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.7)},
           0.15: {10.0: (0.08, 0.1, 0.12, 0.14, 0.15, 0.16, 0.17, 0.18, 0.2, 0.22),
                  6e-4: (0.1, 0.16, 0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0)}}
+KEYS = ["phi", "pillars_per_side", "stiffness_ratio", "amplification"]
 
 
 def circle_brush(n: int, radius: float) -> tuple[int, float]:
@@ -47,45 +67,93 @@ def circle_brush(n: int, radius: float) -> tuple[int, float]:
     return len(kept), len(kept) * radius**2 / kept.max() ** 2
 
 
+def _done(frame: pd.DataFrame, phi: float, n: int, k: float, h: float) -> bool:
+    if not len(frame):
+        return False
+    return bool((np.isclose(frame["phi"], phi) & (frame["pillars_per_side"] == n)
+                 & np.isclose(frame["stiffness_ratio"], k) & np.isclose(frame["amplification"], h)).any())
+
+
+def summary(frame: pd.DataFrame, phi: float) -> None:
+    """Prints per lattice and k~ the largest F~_A over h~ and where it lies, the committed 16 x 16 beside."""
+    table = pd.read_csv(TABLE)
+    table = table[np.isclose(table["indenter.pillar_radius"], RADIUS_16[phi]) & (table["status"] == "finished")]
+    rows = frame[np.isclose(frame["phi"], phi) & frame["converged"]] if len(frame) else frame
+    for k in H_GRID[phi]:
+        for n in sorted({16, *rows["pillars_per_side"].astype(int)}) if len(rows) else (16,):
+            radius = math.sqrt(phi / math.pi) / n
+            count, phi_r = circle_brush(n, radius)
+            if n == 16:
+                sub = table[np.isclose(table["indenter.stiffness_ratio"], k)]
+                forces = sub.groupby("indenter.profile.amplification")["normalized.force_by_ideal_sharing"].mean()
+            else:
+                sub = rows[(rows["pillars_per_side"] == n) & np.isclose(rows["stiffness_ratio"], k)]
+                forces = sub.set_index("amplification")["force_by_ideal_sharing"].sort_index()
+            if not len(forces):
+                continue
+            unit = float(concave_reference_stress(radius, contact_modulus=1.0, work_of_adhesion=1e-4)
+                         / critical_stress(1.0, 1e-4, 1.0 / 512))
+            best, near = forces.idxmax(), forces[forces >= 0.98 * forces.max()].index
+            print(f"phi = {phi:g}, k~ = {k:g}: {n:>2} x {n:<2} ({count} pillars, {radius * 512:.1f} elements per "
+                  f"radius), phi_R = {phi_r:.4f}: max F~_A = {forces.max():.4f} at h~ = {best:g} (h~ / phi_R = "
+                  f"{best / phi_r:.2f}; p_c = Sigma_c: {best * unit:.4g}); within 2 %: h~ = {near.min():g}-"
+                  f"{near.max():g}", flush=True)
+            at = {h: np.interp(h / unit, forces.index.to_numpy(float), forces.to_numpy(float), left=np.nan,
+                               right=np.nan) for h in (0.04, 0.05)}
+            print(f"    F~_A at h~ = 0.04 and 0.05 with p_c = Sigma_c (linear between sampled h~): "
+                  f"{at[0.04]:.4f}, {at[0.05]:.4f}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--phi", type=float, choices=sorted(RADIUS_16), default=0.06)
     parser.add_argument("--lattices", type=int, nargs="+", default=[8, 12, 24], help="pillars per side")
+    parser.add_argument("--stiffness", type=float, nargs="+", default=[10.0, 6e-4], help="k~ (of H_GRID)")
+    parser.add_argument("--out", type=Path, default=OUTPUT, help="the table written (default: beside this file)")
+    parser.add_argument("--report", action="store_true", help="print the summary of --out; run nothing")
     args = parser.parse_args()
+    frame = pd.read_csv(args.out) if args.out.exists() else pd.DataFrame(columns=KEYS)
+    if args.report:
+        summary(frame, args.phi)
+        return
     base = next(c for c in load_sweep(SWEEPS_DIR / "concave.stiffness.toml").cases
                 if c.values["indenter.region"] == "circle" and c.values["indenter.stiffness_ratio"] == 10.0
                 and math.isclose(c.values["indenter.pillar_radius"], 0.00863735)
                 and c.values["indenter.profile.amplification"] == 0.0)
     config = base.config.model_dump(mode="json", exclude_unset=True)
     e_star, gamma = config["halfspace"]["contact_modulus"], config["halfspace"]["work_of_adhesion"]
-    table = pd.read_csv(TABLE)
-    table = table[np.isclose(table["indenter.pillar_radius"], RADIUS_16[args.phi]) & (table["status"] == "finished")]
-    for n in (16, *args.lattices):
-        radius = math.sqrt(args.phi / math.pi) / n
-        count, phi_r = circle_brush(n, radius)
-        for k, hs in H_GRID[args.phi].items():
-            if n == 16:  # the committed rows
-                rows = table[np.isclose(table["indenter.stiffness_ratio"], k)]
-                forces = rows.groupby("indenter.profile.amplification")["normalized.force_by_ideal_sharing"].mean()
-            else:
-                values = {}
-                for h in hs:
-                    c = {**config, "indenter": {**config["indenter"], "pillars_per_side": n, "pillar_radius": radius,
-                                                 "stiffness_ratio": k, "profile": {"amplification": h}},
-                         "protocol": {**config["protocol"], "preload_force": 2 * n * n * math.sqrt(
-                             8 * math.pi * e_star * gamma * radius**3)}}
-                    result = brushbem.run(c)
-                    if not result.converged:
-                        print(f"  {n} x {n}, k~ = {k:g}, h~ = {h:g}: not converged ({result.summary.get('reason')})")
-                        continue
-                    values[h] = result.summary["normalized"]["force_by_ideal_sharing"]
-                forces = pd.Series(values)
-            best = forces.idxmax()
-            print(f"{n:>2} x {n:<2} ({count} pillars, {radius * 512:.1f} elements per radius), phi_R = {phi_r:.4f}, "
-                  f"k~ = {k:g}: max F~_A = {forces.max():.4f} at h~ = {best:g} "
-                  f"(h~ / phi_R = {best / phi_r:.2f}); within 2 %: h~ = "
-                  f"{forces[forces >= 0.98 * forces.max()].index.min():g}-"
-                  f"{forces[forces >= 0.98 * forces.max()].index.max():g}", flush=True)
+    elements, size = config["grid"]["elements"], config["grid"]["size"]
+    sigma_c = critical_stress(e_star, gamma, size / elements)
+    for k in args.stiffness:
+        for n in args.lattices:
+            radius = math.sqrt(args.phi / math.pi) / n
+            count, phi_r = circle_brush(n, radius)
+            p_run = float(concave_reference_stress(radius, contact_modulus=e_star, work_of_adhesion=gamma))
+            for h in H_GRID[args.phi][k]:
+                if _done(frame, args.phi, n, k, h):
+                    continue
+                c = {**config, "indenter": {**config["indenter"], "pillars_per_side": n, "pillar_radius": radius,
+                                             "stiffness_ratio": k, "profile": {"amplification": h}},
+                     "protocol": {**config["protocol"], "preload_force": 2 * n * n * math.sqrt(
+                         8 * math.pi * e_star * gamma * radius**3)}}
+                start = time.process_time()
+                result = brushbem.run(c)
+                cpu = time.process_time() - start
+                row = {"phi": args.phi, "pillars_per_side": n, "stiffness_ratio": k, "amplification": h,
+                       "pillars": count, "pillar_radius": radius, "elements_per_radius": radius * elements / size,
+                       "phi_R": phi_r, "reference_stress": p_run, "critical_stress": sigma_c,
+                       "amplification_sigma_c": h * p_run / sigma_c, "converged": bool(result.converged),
+                       "reason": result.summary.get("reason", ""),
+                       "force_by_ideal_sharing": result.summary["normalized"]["force_by_ideal_sharing"]
+                       if result.converged else math.nan,
+                       "attached_pillars_at_pull_off": result.summary.get("attached_pillars_at_pull_off", math.nan),
+                       "cpu_s": cpu}
+                print(f"  {n} x {n}, k~ = {k:g}, h~ = {h:g}: F~_A = {row['force_by_ideal_sharing']:.4f} "
+                      f"({'converged' if row['converged'] else row['reason']}), {cpu:.0f} CPU-s", flush=True)
+                frame = pd.concat([frame, pd.DataFrame([row])], ignore_index=True) if len(frame) else pd.DataFrame([row])
+                with atomic_path(args.out) as path:
+                    frame.to_csv(path, index=False)
+    summary(frame, args.phi)
 
 
 if __name__ == "__main__":

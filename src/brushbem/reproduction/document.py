@@ -18,6 +18,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
+
 from brushbem.studies.verdicts import (
     PRECISE_WITHIN,
     REPRODUCED,
@@ -286,6 +288,9 @@ def identifications(tables_root: str | Path, studies: Iterable[str]) -> dict[str
     for name in studies:
         study = get_study(name)
         if study.identification is not None and (root / name / PROVENANCE_FILE).is_file():
-            found[name] = study.identification(load_tables(root / name)[1])
+            tables = load_tables(root / name)[1]
+            tables.update({Path(probe).stem: pd.read_csv(root / probe) for probe in study.probes
+                           if (root / probe).is_file()})
+            found[name] = study.identification(tables)
     return found
 

@@ -107,6 +107,10 @@ class Study:
         identification from the committed tables (the candidates tried for the
         parameters the thesis leaves open, and their score on the rows used to
         identify them), printed after the study's rows.
+    probes : tuple of str
+        Committed probe outputs (CSV file names beside the study folders, e.g.
+        ``"probe_concave_count.csv"``) that ``identification`` also reads: they
+        reach it in ``tables`` under the file's stem, where the file exists.
     tables : callable, optional
         ``tables(run_folder) -> {part: DataFrame}``: the tables a study computes without a sweep
         (read from its run folder), which `brushbem.reproduction.export_tables` commits as parts
@@ -122,6 +126,7 @@ class Study:
     notes: str = ""
     draw_tables: Callable[[Mapping[str, pd.DataFrame], Path], list[Path]] | None = None
     identification: Callable[[Mapping[str, pd.DataFrame]], str] | None = None
+    probes: tuple[str, ...] = ()
     tables: Callable[[Path], Mapping[str, pd.DataFrame]] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 

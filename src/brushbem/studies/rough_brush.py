@@ -533,8 +533,8 @@ SENSITIVITY = [
                  STATED_CHOICE, "N = 512 (ours): the k~ = 10 plateau falls 4.4 % at N = 1024, extrapolated 1.025 "
                  "(not committed: probe_plateau_mesh.py)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ -> 0", "Fig. 5-4 d, text", 2.0, _plateau(0.001, 0.01),
-                 STATED_CHOICE, "N = 512 (ours): N = 1024 gives -3.7 %, extrapolated 2.108 (+5.4 %; not committed: "
-                 "probe_plateau_mesh.py)"),
+                 STATED_CHOICE, "N = 512 (ours): the seed-0 case gives 2.2774 at N = 512 and 2.1927 at N = 1024 "
+                 "(-3.7 %; nominal F_c; probe_plateau_mesh.csv), extrapolated 2.108 (+5.4 %)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ = 2.1", "Fig. 5-4 d, text", 1.5, _plateau(0.001, 2.1),
                  CONTRADICTED, "the same pillars without half-space coupling (independent-pillar limit, F~_P = 20, "
                  "40 draws) give 1.262 +- 0.006, and coupling only lowers F~_A (coupled/limit <= 1.04 on every "
