@@ -56,7 +56,8 @@ class Switches:
         iterations a solve instead of 8-9 (64 x 64 chapter-5 brush, sigma~ = 0.5, 978 attached at the
         preload; its loading 60 CPU s by CG, 10 s kept; 9.1 s with the near-field preconditioner,
         `near_preconditioner`).  The 316 x 316 brush (sigma~ = 0.5, 4270 attached at the preload) loaded in
-        179 CPU s kept up to 16384 (peak 6.4 GB: the dense blocks of a join of 9618 pillars), in 359-376
+        179 CPU s kept up to 16384 (peak 6.4 GB: the dense blocks of a join of 9618 pillars; 133 CPU s and
+        6.8 GB measured again with the switch held, `brushbem.pillars`), in 359-376
         CPU s kept up to 4096 (CG beyond, peak 2.8 GB), whose pull-off by CG took 1.07 CPU s a state; the
         budget keeps its 4270 (1.3 GB estimated), so that its pull-off runs on the kept inverse: 15575 states,
         pull-off 1572 CPU s, 1917 in all, peak 2.9 GB (`brushbem.pillars`).

@@ -165,7 +165,11 @@ two cores): ten presses, the preload search's seven reaching F_c at 4270
 pillars attached, the fourth 93 s of it (9618 pillars joining at once, one
 Schur complement of that size), peak memory 6.4 GB (the model 2.2 GB, the
 rest that join's dense blocks: about five n^2 numbers at n = 10312); its
-pull-off was not run.  With the default and the rounds cut it took the same
+pull-off was not run.  Measured again with the switch held for the run
+(the benchmark's ``--kept-partial`` had dropped its `settings.using` block,
+fixed since; ``--kept-partial 16384``'s child, stopped at the preload): the
+loading 133 CPU-s (4270 attached), peak resident 6.8 GB (6.5 GiB), within
+``ulimit -v 8000000``.  With the default and the rounds cut it took the same
 rounds (26 and 20 in the fourth and fifth presses) at 203 s and 185 s
 against 93 s and 13 s kept, and was ten rounds into the sixth press at
 655 CPU-s when stopped (15 min of wall time), in 2.2 GB.  With the near
