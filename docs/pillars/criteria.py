@@ -100,10 +100,11 @@ def pull_off(case, preload: float, criterion: str, factor: int = 1) -> tuple[flo
     return summary["adhesive_force"], time.process_time() - start
 
 
-def canonical_case(family: str, stiffness: float, pitch: int, centring: str):
-    """The family's 8 x 8 brush on the grid of ``pitch`` elements between pillars, every centre moved onto the
-    nearest element centre (``element``) or corner (``corner``): every tip on the same raster."""
-    elements = 8 * pitch
+def canonical_case(family: str, stiffness: float, pitch: int, centring: str, per_side: int = 8):
+    """The family's ``per_side`` x ``per_side`` brush on the grid of ``pitch`` elements between pillars, every
+    centre moved onto the nearest element centre (``element``) or corner (``corner``): every tip on the same
+    raster."""
+    elements = per_side * pitch
     h = 1.0 / elements
     original, grid = builders.square_lattice, validation.Grid
 
@@ -115,7 +116,7 @@ def canonical_case(family: str, stiffness: float, pitch: int, centring: str):
 
     with mock.patch.object(builders, "square_lattice", snapped), \
             mock.patch.object(validation, "Grid", lambda size, _elements: grid(size, elements)):
-        case, _ = validation.problem(family, 8, stiffness)
+        case, _ = validation.problem(family, per_side, stiffness)
     return case
 
 

@@ -44,17 +44,21 @@ on the families' raster, pitch 16 corner, and its tips 2, 4, 8 times finer
 as ``LoadPath.pillar_tip_resolution`` gives them), ``canonical`` (the cell on
 every raster of ``criteria.py``'s canonical part, pitch 13 to 18, corner and
 element), ``array`` (the 2 x 2 array at tips 1, 2, 4 times the families'),
-``array_canonical`` (the 2 x 2 array on every canonical raster):
+``array_canonical`` (the 2 x 2 array on every canonical raster),
+``proxy_canonical`` (the pillar model's 4 x 4 flat proxy on every canonical
+raster at k~ = 10 and 1e-5, plain, against the proxy's 28.9-elements F_A of
+``proxy.csv``: the layout that ``proxy.py`` uses, on the other rasters):
 the footprint, the lone tip's F_R / F_K - 1, the first event's F and the
 number of events, F_A plain and calibrated, and the factors: ``ratio`` =
 F_A(the part's finest tips, calibrated) / F_A(this raster, plain),
 ``lone_ratio`` = F_K / F_R, ``proxy_ratio`` the pillar model's (the 4 x 4
 proxy's beside the cell, the 2 x 2 proxy's beside the array, flat, k~ = 10,
 ``proxy.csv``), and, where the 8 x 8 flat brush (k~ = 10) on this raster has
-a reference (``criteria.csv``'s canonical rows), the factor that brush
-needs, F_ref / F_plain.  About 60 CPU-s: the 28.9-elements cell 11 to 36 (a
-shared machine), the array at 14.4 elements per radius 5, every other row
-about 1.
+a reference (``criteria.csv``'s canonical rows; k~ = 10 for the cell and
+the rigid array, the proxy's own k~ for the proxy), the factor that brush
+needs, F_ref / F_plain; ``stiffness_ratio`` the proxy's k~ (``inf``: the
+rigid array; empty: the cell, whose tips all carry one force).  About 25 CPU-s (55 on a busy machine): the 28.9-elements cell 13 to 36,
+the array at 14.4 elements per radius 7 to 9, every other row under 0.1.
 
     nice python docs/pillars/periodic.py
 """
@@ -78,10 +82,11 @@ from brushbem.pillars.modes import MODES, Bases
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import calibration  # noqa: E402
+import criteria  # noqa: E402
 import validation  # noqa: E402
 
 TABLE = HERE / "periodic.csv"
-FIELDS = ("part", "tips", "pitch_elements", "centring", "tip_factor", "tip_elements_per_radius",
+FIELDS = ("part", "tips", "stiffness_ratio", "pitch_elements", "centring", "tip_factor", "tip_elements_per_radius",
           "footprint_elements", "lone_error", "first_event_force", "events", "adhesive_force_plain",
           "adhesive_force_calibrated", "lone_ratio", "ratio", "proxy_ratio", "brush_needed_ratio", "cpu_seconds")
 #: The 8 x 8 families' pitch (the domain of side 1) and tip radius.
@@ -208,27 +213,47 @@ def array(pitch: int, centring: str = "corner", per_side: int = 2) -> dict:
     return {"pitch_elements": pitch, "centring": centring, **row, "cpu_seconds": round(time.process_time() - start, 2)}
 
 
-def proxy_ratios() -> dict[int, float]:
-    """The flat family's proxy factor F(28.9, calibrated) / F(3.6) at k~ = 10 per proxy size (``proxy.csv``)."""
+def proxy_fine() -> dict[tuple[float, int], float]:
+    """The flat family's proxy at 28.9 elements per radius (calibrated), F_A per (k~, pillars per side), and its
+    factor F(28.9, calibrated) / F(3.6) (``proxy.csv``)."""
+    fine, ratio = {}, {}
     with (HERE / "proxy.csv").open(newline="") as stream:
-        return {int(line["proxy_pillars_per_side"]): float(line["proxy_fine_adhesive_force"])
-                / float(line["proxy_coarse_adhesive_force"]) for line in csv.DictReader(stream)
-                if line["family"] == "flat" and float(line["stiffness_ratio"]) == 10.0}
+        for line in csv.DictReader(stream):
+            if line["family"] == "flat":
+                key = (float(line["stiffness_ratio"]), int(line["proxy_pillars_per_side"]))
+                fine[key] = float(line["proxy_fine_adhesive_force"])
+                ratio[key] = fine[key] / float(line["proxy_coarse_adhesive_force"])
+    return fine, ratio
 
 
-def needed() -> dict[tuple[int, str], float]:
-    """F_ref / F_plain of the 8 x 8 flat brush (k~ = 10) on each canonical raster (``criteria.csv``)."""
+def needed() -> dict[tuple[float, int, str], float]:
+    """F_ref / F_plain of the 8 x 8 flat brush on each canonical raster per k~ (``criteria.csv``)."""
     out = {}
     with (HERE / "criteria.csv").open(newline="") as stream:
         for line in csv.DictReader(stream):
-            if line["part"] == "canonical" and line["criterion"] == "plain" and line["family"] == "flat" \
-                    and float(line["stiffness_ratio"]) == 10.0:
-                out[(int(line["pitch_elements"]), line["centring"])] = 1.0 / (1.0 + float(line["error"]))
+            if line["part"] == "canonical" and line["criterion"] == "plain" and line["family"] == "flat":
+                out[(float(line["stiffness_ratio"]), int(line["pitch_elements"]), line["centring"])] = \
+                    1.0 / (1.0 + float(line["error"]))
     return out
 
 
+def proxy_canonical(stiffness: float, pitch: int, centring: str, fine: float, per_side: int = 4) -> dict:
+    """The pillar model's 4 x 4 flat proxy on a canonical raster (``criteria.canonical_case``'s snapping on the
+    grid of ``pitch`` elements between pillars) at the grid's tips, plain, and its factor against the proxy's
+    28.9-elements F_A ``fine`` (the same physical brush: the snapping moves every pillar alike)."""
+    start = time.process_time()
+    _, preload = validation.problem("flat", per_side, stiffness)
+    case = criteria.canonical_case("flat", stiffness, pitch, centring, per_side)
+    h = case.grid.element_size
+    force = criteria.pull_off(case, preload, "plain")[0]
+    return {"tips": per_side**2, "stiffness_ratio": stiffness, "pitch_elements": pitch, "centring": centring,
+            "tip_elements_per_radius": round(float(case.indenter.description.pillar_radius) / h, 3),
+            "footprint_elements": footprint(pitch, centring).shape[0], "adhesive_force_plain": force / per_side**2,
+            "ratio": fine / force, "cpu_seconds": round(time.process_time() - start, 2)}
+
+
 def rows() -> list[dict]:
-    proxies, targets = proxy_ratios(), needed()
+    (fine, proxies), targets = proxy_fine(), needed()
     family = [{"part": "family", "tip_factor": f, **raster(FAMILY_PITCH * f, "corner")} for f in FACTORS]
     canonical = [{"part": "canonical", "tip_factor": 1, **raster(p, c)} for p in PITCHES for c in CENTRINGS]
     pairs = [{"part": "array", "tip_factor": f, **array(FAMILY_PITCH * f)} for f in ARRAY_FACTORS]
@@ -237,13 +262,21 @@ def rows() -> list[dict]:
     for part, finest in ((family + canonical, family[-1]), (pairs, pairs[len(ARRAY_FACTORS) - 1])):
         for line in part:
             line["ratio"] = finest["adhesive_force_calibrated"] / line["adhesive_force_plain"]
-    for line in family + canonical + pairs:
+    brushes = [{"part": "proxy_canonical", "tip_factor": 1, **proxy_canonical(k, p, c, fine[(k, 4)])}
+               for k in (10.0, 1e-5) for p in PITCHES for c in CENTRINGS]
+    out = family + canonical + pairs + brushes
+    for line in out:
         coarse = line["tip_factor"] == 1
-        line["proxy_ratio"] = proxies[{1: 4, 4: 2}[line["tips"]]] if coarse and line["pitch_elements"] == 16 \
-            and line["centring"] == "corner" else ""
-        line["brush_needed_ratio"] = targets.get((line["pitch_elements"], line["centring"]), "") \
-            if line["part"] in ("canonical", "array_canonical") else ""
-    return family + canonical + pairs
+        line.setdefault("stiffness_ratio", "inf" if line["tips"] == 4 else "")
+        line["proxy_ratio"] = proxies[(10.0, {1: 4, 4: 2}[line["tips"]])] if coarse and line["tips"] < 16 \
+            and line["pitch_elements"] == 16 and line["centring"] == "corner" else ""
+        # The cell and the rigid array against the brush at k~ = 10, the proxy at its own k~.
+        stiffness = line["stiffness_ratio"] if line["part"] == "proxy_canonical" else 10.0
+        line["brush_needed_ratio"] = targets.get((stiffness, line["pitch_elements"], line["centring"]), "") \
+            if line["part"] in ("canonical", "array_canonical", "proxy_canonical") else ""
+        for name in FIELDS:
+            line.setdefault(name, "")
+    return out
 
 
 if __name__ == "__main__":
