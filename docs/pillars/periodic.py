@@ -53,12 +53,13 @@ number of events, F_A plain and calibrated, and the factors: ``ratio`` =
 F_A(the part's finest tips, calibrated) / F_A(this raster, plain),
 ``lone_ratio`` = F_K / F_R, ``proxy_ratio`` the pillar model's (the 4 x 4
 proxy's beside the cell, the 2 x 2 proxy's beside the array, flat, k~ = 10,
-``proxy.csv``), and, where the 8 x 8 flat brush (k~ = 10) on this raster has
-a reference (``criteria.csv``'s canonical rows; k~ = 10 for the cell and
-the rigid array, the proxy's own k~ for the proxy), the factor that brush
+``proxy.csv``), and, where the 8 x 8 flat brush on this raster has a
+reference (``criteria.csv``'s canonical rows; k~ = 10 for the cell and the
+rigid array, the proxy's own k~ for the proxy), the factor that brush
 needs, F_ref / F_plain; ``stiffness_ratio`` the proxy's k~ (``inf``: the
-rigid array; empty: the cell, whose tips all carry one force).  About 25 CPU-s (55 on a busy machine): the 28.9-elements cell 13 to 36,
-the array at 14.4 elements per radius 7 to 9, every other row under 0.1.
+rigid array; empty: the cell, whose tips all carry one force).  About 25
+CPU-s (55 on a busy machine): the 28.9-elements cell 13 to 36, the array
+at 14.4 elements per radius 7 to 9, every other row under 0.1.
 
     nice python docs/pillars/periodic.py
 """
