@@ -206,7 +206,20 @@ time), F_A 1.998e-6 and work 1.946e-9 (``benchmarks/large_brush.py --child
 316 pillars 0.01 0.5 3``, the child of ``--sizes 316 --sigma 0.5
 --exact-max 0``).  Before, the first 11500 states took about 1570 CPU-s
 against 1235 here (0.135 against 0.107 a state, two runs of different
-load).  By CG with
+load).  The ``size`` study's sigma~ = 0.1 brush (phi = 0.12, k~ = 1e-2,
+seed 0, pressed to F_c) attaches half to two thirds of its pillars (2751 of 4096,
+4818 of 10^4), beyond what the inverse is kept for at 10^5 pillars: its
+solves there are CG on the lattice, and each CG product is a far field of
+0.10 CPU-s (24 transforms over 640 x 640).  Measured at 316 x 316 (stopped
+at 615 CPU-s of the model, one BLAS thread, peak 2.2 GB): the loading's
+preload search had not ended its first press, 206 CG solves at 20.5
+iterations each (2.8 CPU-s a solve; the solves 94 % of the time, the far
+field 77 %).  At 10^4 pillars it takes 137 CPU-s (loading 61, 1052
+pull-off states at 73 ms, the inverse kept); with the pull-off's states
+growing as n^1.4, about 5300 states of 1.1 CG solves each would take some
+4.5 CPU-hours at 10^5, so that part of the study stops at 10^4 pillars:
+an hour needs a solve of at most about four far fields (or a far field
+five times cheaper).  By CG with
 the circulant a partial set's solves took 21 iterations on average, 42 at
 most (64 x 64, sigma~ = 0.5, every solve by CG: loading 16.6 s), with the
 near field 10 and 18 (9.1 s).
