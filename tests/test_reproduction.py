@@ -382,10 +382,10 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 COMPARISON_STAMP = {
     "concave": "2bb1127c6641",
     "flat_brush": "527ddd41ed6f",
-    "hierarchy": "814c243e6887",
+    "hierarchy": "18bba2f45dca",
     "nested_vs_convolution": "3fbc4344dc8b",
     "punch_spring": "19b169a4cb27",
-    "rough_brush": "8a27bc5d9318",
+    "rough_brush": "eff12b1bba1a",
     "sphere_spring": "fc25748ea5b7",
 }
 
@@ -1177,6 +1177,18 @@ def test_every_chapter_has_its_counted_rows_and_identification_rows_name_it():
     assert set(named) == {5, 6, 7} and all(len(texts) == 1 for texts in named.values()), named
     counted = [row for row in _committed_rows() if row["study"] == "nested_vs_convolution" and not row["outside"]]
     assert len(counted) == len(get_study("nested_vs_convolution").numbers) >= 6
+
+
+@pytest.mark.docs
+def test_every_probe_a_row_cites_has_its_output_committed():
+    """A row's evidence rests on committed tables only: no row says its evidence is not committed, and every
+    probe a row names (``probe_X.py`` or its output) has its output, ``probe_X.csv`` or ``.json``, beside it."""
+    for row in _committed_rows():
+        quantity = row.get("quantity", row.get("quantity outside the counts"))
+        assert "not committed" not in row["verdict"], quantity
+        for probe in re.findall(r"probe_\w+(?=\.(?:py|csv|json))", row["verdict"]):
+            assert any((DOCS / "reproduction" / f"{probe}{suffix}").is_file() for suffix in (".csv", ".json")), (
+                probe, quantity)
 
 
 def test_a_study_without_a_sweep_exports_its_own_table(tmp_path):

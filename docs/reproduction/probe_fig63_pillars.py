@@ -7,6 +7,8 @@ seeds), and prints F_A of both, their ratio and the CPU seconds of the model (th
 is the exact path's, on a shared core).  Output: ``probe_fig63_pillars.json`` beside this file.
 
     python docs/reproduction/probe_fig63_pillars.py [SEEDS] [LEVELS]   # default: 2 seeds, one,two,three
+
+The committed output holds ``python docs/reproduction/probe_fig63_pillars.py 1`` (16-20 CPU-s a case).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from pathlib import Path
 import pandas as pd
 
 import brushbem
+from brushbem.io import atomic_path
 
 HERE = Path(__file__).resolve().parent
 SWEEPS = HERE.parents[1] / "src" / "brushbem" / "studies" / "sweeps"
@@ -51,7 +54,8 @@ def main() -> None:
                           "exact_adhesive_force": exact, "pillars_adhesive_force": result.adhesive_force,
                           "ratio": result.adhesive_force / exact, "pillars_cpu_s": round(seconds, 1),
                           "exact_wall_s": round(float(row["wall_time_s"]), 1)})
-            out.write_text(json.dumps(found, indent=1) + "\n")
+            with atomic_path(out) as path:  # after each case: a stopped run resumes
+                path.write_text(json.dumps(found, indent=1) + "\n")
             print(f"{level} seed {int(row['seed'])}: exact {exact:.6g}, pillars {result.adhesive_force:.6g} "
                   f"({100 * (result.adhesive_force / exact - 1):+.2f} %), {seconds:.0f} CPU-s", flush=True)
     worst = max((abs(r["ratio"] - 1) for r in found), default=math.nan)

@@ -15,6 +15,9 @@ four to five times longer; a 32 x 32 brush needs N >= 288 for its 2 elements a r
 holds the subset
 
     python docs/reproduction/probe_plateau_mesh.py --cases 1 --elements 512 1024     # 30 + 90 CPU-s
+    python docs/reproduction/probe_plateau_mesh.py --cases 0 2 --elements 1024       # 229 and 801 CPU-s
+
+The stiff brush's loss of adhesion (cases 3 and 4) is not in it.
 """
 
 from __future__ import annotations

@@ -496,13 +496,13 @@ STUDY = Study(
         ThesisNumber("plateau F~_A of three levels, sigma~ = 0.04", "Fig. 6-5, text (L1197)", 1.9,
                      _plateau("three", 0.04), STATED_CHOICE,
                      "the cluster counts (the thesis states N1, N2, N3 nowhere): 4 x 4 level-3 clusters (N1 = 25, N2 = 4, "
-                     "N3 = 16; docs/reproduction/probe_level3_count.py, three seeds) give 1.851 +- 0.010 (-2.6 %); "
+                     "N3 = 16; docs/reproduction/probe_level3_count.csv, three seeds) give 1.851 +- 0.010 (-2.6 %); "
                      "with 2 x 2 (N3 = 4) the level-3 clusters are equal by symmetry, their springs shift them alike, "
                      "and three levels equal two: 1.729 clustered, 1.775 on this uniform lattice"),
         ThesisNumber("plateau F~_A, three levels over one level, sigma~ = 0.04 (1.9 / 1.6: more levels, "
                      "stronger)", "Fig. 6-5, text (L1197)", 1.9 / 1.6, _plateau_ratio("three", "one", 0.04), OPEN,
                      "three experiments fail to give 1.19: this uniform lattice 1.026, the clustered layout with "
-                     "N3 = 4 1.060 and with N3 = 16 1.067 (probe_level3_count.py: one level 1.735, three 1.851); more "
+                     "N3 = 4 1.060 and with N3 = 16 1.067 (probe_level3_count.csv: one level 1.735, three 1.851); more "
                      "levels are stronger, as the thesis says, by 3-7 %, not 19 %"),
         ThesisNumber("F~_A at sigma~ = 2.5, F~_P = 20, three levels less one level ('all curves go close to "
                      "each other' for sigma~ > 2)", "Fig. 6-6 b, text (L1201)", 0.0,
@@ -562,11 +562,11 @@ STUDY = Study(
                      1.9, _plateau("clustered_three", 0.04), STATED_CHOICE,
                      "the cluster counts: with 2 x 2 level-3 clusters (this row, N3 = 4) three levels equal two "
                      "(1.729 both: equal clusters on equal springs share nothing); 4 x 4 level-3 clusters (N3 = 16, "
-                     "probe_level3_count.py) give 1.851 +- 0.010 (-2.6 %)"),
+                     "probe_level3_count.csv) give 1.851 +- 0.010 (-2.6 %)"),
         ThesisNumber("plateau F~_A, three levels over one level, sigma~ = 0.04, clustered (Fig. 6-3)",
                      "Fig. 6-5, text (L1197)", 1.9 / 1.6, _plateau_ratio("clustered_three", "clustered_one", 0.04),
                      OPEN, "three experiments fail to give 1.19: 1.060 here (N3 = 4), 1.067 with N3 = 16 "
-                     "(probe_level3_count.py), 1.026 on the uniform lattice"),
+                     "(probe_level3_count.csv), 1.026 on the uniform lattice"),
         ThesisNumber("plateau F~_A, two levels over one level, sigma~ = 0.04, clustered (Fig. 6-3)",
                      "Fig. 6-5, text (L1197)", 1.65 / 1.6, _plateau_ratio("clustered_two", "clustered_one", 0.04)),
     )), key=lambda n: (bool(n.outside), not n.where.startswith(("eq. 6.2", "text after eq. 6.28"))))),

@@ -526,19 +526,21 @@ SENSITIVITY = [
                  1.0, _ratio(_coefficient(0.55, 0.01), _coefficient(10.0, 0.01))),
     ThesisNumber("plateau F~_A, k~ = 10, sigma~ = 0.07 ('approaches one')", "Fig. 5-3, text", 1.0,
                  _plateau(10.0, 0.07), STATED_CHOICE,
-                 "N = 512 (ours): at N = 1024 the seed-0 case falls 4.4 %, extrapolated 1.025 (not committed: probe_plateau_mesh.py)"),
+                 "N = 512 (ours): the seed-0 case gives 1.1227 at N = 512 (preload.csv) and 1.0738 at N = 1024 (-4.4 %; "
+                 "nominal F_c; probe_plateau_mesh.csv), extrapolated 1.025"),
     ThesisNumber("plateau F~_A, k~ = 0.55 over k~ = 10, sigma~ = 0.07 (collapse for k~ >= 0.55)",
                  "Fig. 5-4, text", 1.0, _ratio(_plateau(0.55, 0.07), _plateau(10.0, 0.07))),
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 0.07", "Fig. 5-4 a, text", 1.0, _plateau(1.0, 0.07),
-                 STATED_CHOICE, "N = 512 (ours): the k~ = 10 plateau falls 4.4 % at N = 1024, extrapolated 1.025 "
-                 "(not committed: probe_plateau_mesh.py)"),
+                 STATED_CHOICE, "N = 512 (ours): the k~ = 10 plateau's seed-0 case falls 4.4 % at N = 1024, "
+                 "extrapolated 1.025 (probe_plateau_mesh.csv; k~ = 1 itself not refined)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ -> 0", "Fig. 5-4 d, text", 2.0, _plateau(0.001, 0.01),
                  STATED_CHOICE, "N = 512 (ours): the seed-0 case gives 2.2774 at N = 512 and 2.1927 at N = 1024 "
                  "(-3.7 %; nominal F_c; probe_plateau_mesh.csv), extrapolated 2.108 (+5.4 %)"),
     ThesisNumber("plateau F~_A, k~ = 0.001, sigma~ = 2.1", "Fig. 5-4 d, text", 1.5, _plateau(0.001, 2.1),
                  CONTRADICTED, "the same pillars without half-space coupling (independent-pillar limit, F~_P = 20, "
                  "40 draws) give 1.262 +- 0.006, and coupling only lowers F~_A (coupled/limit <= 1.04 on every "
-                 "committed point); N = 1024 lowers ours further (1.136, not committed: probe_plateau_mesh.py)"),
+                 "committed point); N = 1024 lowers ours further (seed 0: 1.1931 at N = 512, preload.csv, 1.1359 at "
+                 "N = 1024, probe_plateau_mesh.csv)"),
     ThesisNumber("F~_A at the roughest over the smoothest sigma~ of Fig. 5-2 (k~ = 10, F~_P = 6.5: 'the adhesive "
                  "force decreases with roughness', L883)", "Fig. 5-2, text (L883)", 1.0, _curve_ratio, claim="<"),
     ThesisNumber("plateau F~_A at sigma~ = 2.1 over sigma~ = 0.01-0.07: k~ = 0.001 over k~ = 1 ('very soft structure "
