@@ -13,7 +13,9 @@ and prints against the committed table:
 * the row's number with eq. 4.18's dropped factor 2/sqrt(pi) restored and the
   brush's measured share put in, beside the committed row.
 
-    python docs/reproduction/probe_lone_pillar.py        # about a minute
+Every lattice's line is written atomically to ``probe_lone_pillar.csv`` beside this file.
+
+    python docs/reproduction/probe_lone_pillar.py        # seconds
 """
 
 from __future__ import annotations
@@ -24,18 +26,20 @@ from pathlib import Path
 import pandas as pd
 
 import brushbem
+from brushbem.io import atomic_path
 from brushbem.studies import SWEEPS_DIR
 from brushbem.sweep import load_sweep
 
 TABLE = Path(__file__).resolve().parent / "flat_brush" / "regular.csv"
 SOFTEST = 1e-6
+OUTPUT = Path(__file__).with_suffix(".csv")
 
 
 def main() -> None:
     table = pd.read_csv(TABLE)
     brushes = table[(table["indenter.stiffness_ratio"] == SOFTEST) & (table["status"] == "finished")]
     sweep = load_sweep(SWEEPS_DIR / "flat_brush.regular.toml")
-    shares, rows = [], []
+    shares, rows, records = [], [], []
     for case in sweep.cases:
         if case.values["indenter.stiffness_ratio"] != SOFTEST:
             continue
@@ -52,12 +56,22 @@ def main() -> None:
         brush = brushes[brushes["indenter.pillars_per_side"] == per_side].iloc[0]
         share = brush["work_of_separation"] / (per_side**2 * work)
         shares.append(share)
+        records.append({"pillars_per_side": per_side, "pillar_radius": radius,
+                        "lone_force_over_kendall": force / kendall,
+                        "lone_work_over_spring_energy": work / (kendall**2 / (2 * k)), "brush_work_share": share,
+                        "brush_work_over_spring_energy":
+                            brush["work_of_separation"] / (per_side**2 * kendall**2 / (2 * k)),
+                        "row_predicted": math.nan})
         rows.append(f"{per_side:>2} x {per_side:<2} r = {radius:.6f}: lone F_A / F_a = {force / kendall:.4f}, "
                     f"lone W / (F_a^2/2k) = {work / (kendall**2 / (2 * k)):.4f}, "
                     f"brush W / (N W_lone) = {share:.4f}, brush W / (N F_a^2/2k) = "
                     f"{brush['work_of_separation'] / (per_side**2 * kendall**2 / (2 * k)):.4f}")
     print("\n".join(rows))
     mean_share = sum(shares) / len(shares)
+    for record in records:
+        record["row_predicted"] = 2 / math.sqrt(math.pi) * mean_share
+    with atomic_path(OUTPUT) as path:
+        pd.DataFrame(records).to_csv(path, index=False)
     print(f"mean share {mean_share:.4f}; eq. 4.18 with 2/sqrt(pi) restored and this share predicts the row "
           f"{2 / math.sqrt(math.pi) * mean_share:.4f}")
 

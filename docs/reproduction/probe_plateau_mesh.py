@@ -17,7 +17,9 @@ holds the subset
     python docs/reproduction/probe_plateau_mesh.py --cases 1 --elements 512 1024     # 30 + 90 CPU-s
     python docs/reproduction/probe_plateau_mesh.py --cases 0 2 --elements 1024       # 229 and 801 CPU-s
 
-The stiff brush's loss of adhesion (cases 3 and 4) is not in it.
+The stiff brush's loss of adhesion (cases 3 and 4) is not in it.  ``--step D`` pulls off by fixed steps of
+d_c / D (ours: the thesis states none) instead of the exact path, and writes only to a table named by ``--out``
+(the committed table holds the exact path alone).
 """
 
 from __future__ import annotations
@@ -46,7 +48,12 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=OUTPUT, help="the table written (default: beside this file)")
     parser.add_argument("--cases", type=int, nargs="+", default=list(range(len(CASES))),
                         help="indices into CASES (k~, sigma~, F~_P)")
+    parser.add_argument("--step", type=float, default=None,
+                        help="fixed steps of d_c / STEP instead of the exact event path (needs --out)")
     args = parser.parse_args()
+    if args.step is not None and args.out == OUTPUT:
+        parser.error(f"--step {args.step:g} needs --out: {OUTPUT.name} holds the exact event path only")
+    protocol = {"method": "events"} if args.step is None else {"method": "fixed", "step": D_C / args.step}
     rows = pd.read_csv(args.out).to_dict("records") if args.out.exists() else []
     done = {(r["stiffness_ratio"], r["sigma_tilde"], r["preload_tilde"], r["elements"]) for r in rows}
     print("| k~ | sigma~ | F~_P | N | F~_A | solves | CPU s |")
@@ -61,7 +68,7 @@ def main() -> None:
                              roughness=sigma * D_C, seed=SEED)
             start = time.process_time()
             result = pull_off(grid, indenter, contact_modulus=E, work_of_adhesion=DGAMMA,
-                              preload_force=preload * F_C, method="events")
+                              preload_force=preload * F_C, **protocol)
             cpu = time.process_time() - start
             rows.append({"stiffness_ratio": k, "sigma_tilde": sigma, "preload_tilde": preload, "elements": elements,
                          "adhesive_force_tilde": result.adhesive_force / F_C, "n_solves": result.summary["n_solves"],
