@@ -380,7 +380,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 # tables by the slow test above.  New tables or new rows change it: run that test, then record the new
 # value here.
 COMPARISON_STAMP = {
-    "concave": "2bb1127c6641",
+    "concave": "e59c2701d075",
     "flat_brush": "527ddd41ed6f",
     "hierarchy": "18bba2f45dca",
     "nested_vs_convolution": "3fbc4344dc8b",
@@ -532,13 +532,20 @@ def test_the_chapter_7_sweeps_are_the_coarse_grid_then_the_refinement():
     """concave.amplification and .stiffness: the coarse h~ grid first (13 and 17 values from 0
     to 2; its indices, hence the recorded case ids, unchanged), then, for the circle only, the
     h~ of refine_concave.FINE between each maximum's coarse neighbours, and (stiffness) the
-    softer k~ of refine_concave.SOFTER.  Every (form, phi, k~, h~) point once."""
+    softer k~ of refine_concave.SOFTER.  Every (form, phi, k~, h~) point once on N = 512; then
+    (make_concave_grid.py) every one of them again, in the same order, on chapter 7's identified N = 320."""
     from brushbem.studies.base import SWEEPS_DIR
+    from brushbem.studies.concave import RECORDED_GRID, ROWS_GRID
 
     keys = ("indenter.pillar_radius", "indenter.stiffness_ratio", "indenter.region", "indenter.profile.amplification")
     for part, coarse, ks in (("amplification", 52, {6e-4}), ("stiffness", 204, {10.0, 1.0, 0.1, 0.01, 1e-3, 6e-4})):
         spec, _ = _points(SWEEPS_DIR / f"concave.{part}.toml")
-        rows = list(zip(*(spec["sweep"][key] for key in keys)))
+        every = list(zip(*(spec["sweep"][key] for key in keys)))
+        grids = spec["sweep"]["grid.elements"]
+        recorded = grids.count(RECORDED_GRID)
+        assert grids == [RECORDED_GRID] * recorded + [ROWS_GRID] * recorded, part
+        rows = every[:recorded]
+        assert every[recorded:] == rows, part
         first, added = rows[:coarse], rows[coarse:]
         assert len(set(rows)) == len(rows), part
         h_coarse = {h for *_, h in first}
@@ -925,7 +932,7 @@ def test_a_maximum_is_recomputed_with_its_runners_up(row_tables):
     _, tables = load_tables(DOCS / "reproduction" / "concave")
     frame = tables["amplification"]
     frame = frame[(frame["status"] == "finished") & (frame["indenter.stiffness_ratio"] == 6e-4)
-                  & (frame["indenter.region"] == "circle")]
+                  & (frame["indenter.region"] == "circle") & (frame["grid.elements"].fillna(512) == 320)]
 
     def force(point):
         return float(frame.loc[(frame[H] == point[H]) & (frame["indenter.pillar_radius"] == point[
@@ -1177,6 +1184,45 @@ def test_every_chapter_has_its_counted_rows_and_identification_rows_name_it():
     assert set(named) == {5, 6, 7} and all(len(texts) == 1 for texts in named.values()), named
     counted = [row for row in _committed_rows() if row["study"] == "nested_vs_convolution" and not row["outside"]]
     assert len(counted) == len(get_study("nested_vs_convolution").numbers) >= 6
+
+
+@pytest.mark.docs
+def test_chapter_7s_counted_rows_are_computed_at_the_candidate_its_identification_picks():
+    """The declared rule (`brushbem.studies._ch7_identify`) on the committed probe and tables picks p_c = Sigma_c
+    with 16 x 16 pillars on N = 320, the grid the study's rows read; every counted chapter-7 row is a function
+    of the points on that grid alone (the same number from them alone, none without them).  Before the points
+    on N = 320 the rule picked 16 x 16 on N = 320 while the rows read N = 512."""
+    from brushbem.studies import concave
+
+    root = DOCS / "reproduction"
+    _, tables = load_tables(root / "concave")
+    probes = {Path(probe).stem: pd.read_csv(root / probe) for probe in concave.STUDY.probes}
+    pick = concave.identified({**tables, **probes})
+    assert (pick.unit, pick.side, pick.elements) == (concave.PC_IDENTIFIED, concave.ROWS_SIDE, concave.ROWS_GRID)
+    assert f"16 x 16 pillars on N = {concave.ROWS_GRID}" in concave.IDENTIFICATION
+
+    def on(grid_is_rows: bool) -> dict[str, pd.DataFrame]:
+        return {part: frame[(frame[concave.GRID].fillna(concave.RECORDED_GRID) == concave.ROWS_GRID) == grid_is_rows]
+                for part, frame in tables.items()}
+
+    counted = [number for number in concave.STUDY.numbers if not number.outside]
+    assert len(counted) >= 20
+    for number in counted:
+        value = number.compute(tables)
+        assert math.isfinite(value), number.quantity
+        assert number.compute(on(True)) == value, number.quantity
+        assert not math.isfinite(number.compute(on(False))), number.quantity
+
+
+def test_a_column_swept_after_cases_were_recorded_plans_the_values_the_sweep_file_writes():
+    """grid.elements swept after the first concave cases: the table reads 320.0 (NaN for the earlier cases, which
+    ran the base's 512); a row's plan gives the integers the sweep file lists, so its cases validate."""
+    from brushbem.reproduction.rows import _as_swept
+
+    spec = {"base": {"grid": {"elements": 512}}, "sweep": {"grid.elements": [512, 320], "x": [0.5, 1.0]}}
+    assert type(_as_swept(spec, "grid.elements", 320.0)) is int and _as_swept(spec, "grid.elements", 320.0) == 320
+    assert _as_swept(spec, "grid.elements", float("nan")) == 512
+    assert _as_swept(spec, "x", np.float64(1.0)) == 1.0 and type(_as_swept(spec, "x", np.float64(1.0))) is float
 
 
 @pytest.mark.docs

@@ -26,6 +26,24 @@ root:
     python docs/reproduction/probe_concave_count.py --phi 0.15 --lattices 8 --stiffness 6e-4   # 126 CPU-s to 0.25
 
 ``--report`` prints the summary of the committed CSV without running anything.
+
+The grid.  With p_c = Sigma_c the unit of h~ goes as (r / Delta)^-1/2 (eq. 2.14: Sigma_c ~ Delta^-1/2,
+F_K / (pi r^2) ~ r^-1/2), so the stiff optimum in that unit moves with the elements per pillar radius as
+much as with the count, and the thesis states neither (ch. 7, L1263-1363, names no grid and no count;
+the 512 x 512 of L736 is chapter 4's).  ``--elements`` runs a lattice on other grids N (any N from 8 to
+8192 the grid accepts; the column ``elements``, 512 where a row has none).  Chapter 7's identification
+takes the candidates (pillars per side, N) of this table and the shipped 16 x 16 at N = 512, by the rule
+declared before the 16 x 16 points at N = 288, 320, 352 were run and before any held-out row was read
+at them:
+
+* score = |h~ at the largest F~_A / 0.04 - 1|, k~ = 10, phi = 0.06, circle, h~ with p_c = Sigma_c of
+  that N; the identification row only;
+* its error: half the sampled h~ step on each side of the maximum, in that unit, over 0.04 (the
+  runs are deterministic, one layout: the reading is the only error);
+* the best score wins; candidates whose score interval (score +- error) overlaps the best's tie with
+  it, and of those the cheapest wins: the least mean CPU-s a case of this table at k~ = 10.
+
+    python docs/reproduction/probe_concave_count.py --lattices 16 --stiffness 10 --elements 288 320 352
 """
 
 from __future__ import annotations
@@ -56,7 +74,9 @@ H_GRID = {0.06: {10.0: (0.03, 0.04, 0.05, 0.052, 0.054, 0.055, 0.056, 0.058, 0.0
                  6e-4: (0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.7)},
           0.15: {10.0: (0.08, 0.1, 0.12, 0.14, 0.15, 0.16, 0.17, 0.18, 0.2, 0.22),
                  6e-4: (0.1, 0.16, 0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0)}}
-KEYS = ["phi", "pillars_per_side", "stiffness_ratio", "amplification"]
+KEYS = ["phi", "pillars_per_side", "elements", "stiffness_ratio", "amplification"]
+#: The grid of the rows written before the table had the column ``elements``.
+BASE_ELEMENTS = 512
 
 
 def circle_brush(n: int, radius: float) -> tuple[int, float]:
@@ -67,37 +87,50 @@ def circle_brush(n: int, radius: float) -> tuple[int, float]:
     return len(kept), len(kept) * radius**2 / kept.max() ** 2
 
 
-def _done(frame: pd.DataFrame, phi: float, n: int, k: float, h: float) -> bool:
+def with_elements(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with its grid N in ``elements`` (`BASE_ELEMENTS` where a row has none)."""
+    column = frame["elements"] if "elements" in frame.columns else pd.Series(np.nan, frame.index)
+    return frame.assign(elements=column.fillna(BASE_ELEMENTS).astype(int))
+
+
+def _done(frame: pd.DataFrame, phi: float, n: int, elements: int, k: float, h: float) -> bool:
     if not len(frame):
         return False
-    return bool((np.isclose(frame["phi"], phi) & (frame["pillars_per_side"] == n)
+    frame = with_elements(frame)
+    return bool((np.isclose(frame["phi"], phi) & (frame["pillars_per_side"] == n) & (frame["elements"] == elements)
                  & np.isclose(frame["stiffness_ratio"], k) & np.isclose(frame["amplification"], h)).any())
 
 
 def summary(frame: pd.DataFrame, phi: float) -> None:
-    """Prints per lattice and k~ the largest F~_A over h~ and where it lies, the committed 16 x 16 beside."""
+    """Prints per lattice, grid and k~ the largest F~_A over h~ and where it lies, the committed 16 x 16
+    (N = 512) beside."""
     table = pd.read_csv(TABLE)
     table = table[np.isclose(table["indenter.pillar_radius"], RADIUS_16[phi]) & (table["status"] == "finished")]
-    rows = frame[np.isclose(frame["phi"], phi) & frame["converged"]] if len(frame) else frame
+    if "grid.elements" in table.columns:
+        table = table[table["grid.elements"].fillna(BASE_ELEMENTS) == BASE_ELEMENTS]
+    rows = with_elements(frame[np.isclose(frame["phi"], phi) & frame["converged"].astype(bool)]) if len(frame) else frame
+    grids = sorted({(16, BASE_ELEMENTS), *zip(rows["pillars_per_side"].astype(int), rows["elements"])}) if len(rows) \
+        else [(16, BASE_ELEMENTS)]
     for k in H_GRID[phi]:
-        for n in sorted({16, *rows["pillars_per_side"].astype(int)}) if len(rows) else (16,):
+        for n, elements in grids:
             radius = math.sqrt(phi / math.pi) / n
             count, phi_r = circle_brush(n, radius)
-            if n == 16:
+            if (n, elements) == (16, BASE_ELEMENTS):
                 sub = table[np.isclose(table["indenter.stiffness_ratio"], k)]
                 forces = sub.groupby("indenter.profile.amplification")["normalized.force_by_ideal_sharing"].mean()
             else:
-                sub = rows[(rows["pillars_per_side"] == n) & np.isclose(rows["stiffness_ratio"], k)]
+                sub = rows[(rows["pillars_per_side"] == n) & (rows["elements"] == elements)
+                           & np.isclose(rows["stiffness_ratio"], k)]
                 forces = sub.set_index("amplification")["force_by_ideal_sharing"].sort_index()
             if not len(forces):
                 continue
             unit = float(concave_reference_stress(radius, contact_modulus=1.0, work_of_adhesion=1e-4)
-                         / critical_stress(1.0, 1e-4, 1.0 / 512))
+                         / critical_stress(1.0, 1e-4, 1.0 / elements))
             best, near = forces.idxmax(), forces[forces >= 0.98 * forces.max()].index
-            print(f"phi = {phi:g}, k~ = {k:g}: {n:>2} x {n:<2} ({count} pillars, {radius * 512:.1f} elements per "
-                  f"radius), phi_R = {phi_r:.4f}: max F~_A = {forces.max():.4f} at h~ = {best:g} (h~ / phi_R = "
-                  f"{best / phi_r:.2f}; p_c = Sigma_c: {best * unit:.4g}); within 2 %: h~ = {near.min():g}-"
-                  f"{near.max():g}", flush=True)
+            print(f"phi = {phi:g}, k~ = {k:g}: {n:>2} x {n:<2} on N = {elements} ({count} pillars, "
+                  f"{radius * elements:.2f} elements per radius), phi_R = {phi_r:.4f}: max F~_A = {forces.max():.4f} "
+                  f"at h~ = {best:g} (h~ / phi_R = {best / phi_r:.2f}; p_c = Sigma_c: {best * unit:.4g}); within 2 %: "
+                  f"h~ = {near.min():g}-{near.max():g}", flush=True)
             at = {h: np.interp(h / unit, forces.index.to_numpy(float), forces.to_numpy(float), left=np.nan,
                                right=np.nan) for h in (0.04, 0.05)}
             print(f"    F~_A at h~ = 0.04 and 0.05 with p_c = Sigma_c (linear between sampled h~): "
@@ -109,6 +142,7 @@ def main() -> None:
     parser.add_argument("--phi", type=float, choices=sorted(RADIUS_16), default=0.06)
     parser.add_argument("--lattices", type=int, nargs="+", default=[8, 12, 24], help="pillars per side")
     parser.add_argument("--stiffness", type=float, nargs="+", default=[10.0, 6e-4], help="k~ (of H_GRID)")
+    parser.add_argument("--elements", type=int, nargs="+", default=[BASE_ELEMENTS], help="grids N")
     parser.add_argument("--out", type=Path, default=OUTPUT, help="the table written (default: beside this file)")
     parser.add_argument("--report", action="store_true", help="print the summary of --out; run nothing")
     args = parser.parse_args()
@@ -122,37 +156,40 @@ def main() -> None:
                 and c.values["indenter.profile.amplification"] == 0.0)
     config = base.config.model_dump(mode="json", exclude_unset=True)
     e_star, gamma = config["halfspace"]["contact_modulus"], config["halfspace"]["work_of_adhesion"]
-    elements, size = config["grid"]["elements"], config["grid"]["size"]
-    sigma_c = critical_stress(e_star, gamma, size / elements)
-    for k in args.stiffness:
-        for n in args.lattices:
-            radius = math.sqrt(args.phi / math.pi) / n
-            count, phi_r = circle_brush(n, radius)
-            p_run = float(concave_reference_stress(radius, contact_modulus=e_star, work_of_adhesion=gamma))
-            for h in H_GRID[args.phi][k]:
-                if _done(frame, args.phi, n, k, h):
-                    continue
-                c = {**config, "indenter": {**config["indenter"], "pillars_per_side": n, "pillar_radius": radius,
-                                             "stiffness_ratio": k, "profile": {"amplification": h}},
-                     "protocol": {**config["protocol"], "preload_force": 2 * n * n * math.sqrt(
-                         8 * math.pi * e_star * gamma * radius**3)}}
-                start = time.process_time()
-                result = brushbem.run(c)
-                cpu = time.process_time() - start
-                row = {"phi": args.phi, "pillars_per_side": n, "stiffness_ratio": k, "amplification": h,
-                       "pillars": count, "pillar_radius": radius, "elements_per_radius": radius * elements / size,
-                       "phi_R": phi_r, "reference_stress": p_run, "critical_stress": sigma_c,
-                       "amplification_sigma_c": h * p_run / sigma_c, "converged": bool(result.converged),
-                       "reason": result.summary.get("reason", ""),
-                       "force_by_ideal_sharing": result.summary["normalized"]["force_by_ideal_sharing"]
-                       if result.converged else math.nan,
-                       "attached_pillars_at_pull_off": result.summary.get("attached_pillars_at_pull_off", math.nan),
-                       "cpu_s": cpu}
-                print(f"  {n} x {n}, k~ = {k:g}, h~ = {h:g}: F~_A = {row['force_by_ideal_sharing']:.4f} "
-                      f"({'converged' if row['converged'] else row['reason']}), {cpu:.0f} CPU-s", flush=True)
-                frame = pd.concat([frame, pd.DataFrame([row])], ignore_index=True) if len(frame) else pd.DataFrame([row])
-                with atomic_path(args.out) as path:
-                    frame.to_csv(path, index=False)
+    size = config["grid"]["size"]
+    for k, elements, n in ((k, e, n) for k in args.stiffness for e in args.elements for n in args.lattices):
+        sigma_c = critical_stress(e_star, gamma, size / elements)
+        radius = math.sqrt(args.phi / math.pi) / n
+        count, phi_r = circle_brush(n, radius)
+        p_run = float(concave_reference_stress(radius, contact_modulus=e_star, work_of_adhesion=gamma))
+        for h in H_GRID[args.phi][k]:
+            if _done(frame, args.phi, n, elements, k, h):
+                continue
+            c = {**config, "grid": {**config["grid"], "elements": elements},
+                 "indenter": {**config["indenter"], "pillars_per_side": n, "pillar_radius": radius,
+                              "stiffness_ratio": k, "profile": {"amplification": h}},
+                 "protocol": {**config["protocol"], "preload_force": 2 * n * n * math.sqrt(
+                     8 * math.pi * e_star * gamma * radius**3)}}
+            start = time.process_time()
+            result = brushbem.run(c)
+            cpu = time.process_time() - start
+            row = {"phi": args.phi, "pillars_per_side": n, "elements": elements, "stiffness_ratio": k,
+                   "amplification": h,
+                   "pillars": count, "pillar_radius": radius, "elements_per_radius": radius * elements / size,
+                   "phi_R": phi_r, "reference_stress": p_run, "critical_stress": sigma_c,
+                   "amplification_sigma_c": h * p_run / sigma_c, "converged": bool(result.converged),
+                   "reason": result.summary.get("reason", ""),
+                   "force_by_ideal_sharing": result.summary["normalized"]["force_by_ideal_sharing"]
+                   if result.converged else math.nan,
+                   "attached_pillars_at_pull_off": result.summary.get("attached_pillars_at_pull_off", math.nan),
+                   "cpu_s": cpu}
+            print(f"  {n} x {n}, N = {elements}, k~ = {k:g}, h~ = {h:g}: "
+                  f"F~_A = {row['force_by_ideal_sharing']:.4f} "
+                  f"({'converged' if row['converged'] else row['reason']}), {cpu:.0f} CPU-s", flush=True)
+            frame = (pd.concat([with_elements(frame), pd.DataFrame([row])], ignore_index=True) if len(frame)
+                     else pd.DataFrame([row]))
+            with atomic_path(args.out) as path:
+                frame.to_csv(path, index=False)
     summary(frame, args.phi)
 
 

@@ -153,6 +153,20 @@ def _file_with(points: list[dict[str, Any]], files: list[Path]) -> Path:
     return files[0]
 
 
+def _as_swept(spec: dict[str, Any], key: str, value: Any) -> Any:
+    """A table cell of the swept column ``key`` as the sweep file ``spec`` writes it.  A key swept after
+    some cases were recorded leaves those cells empty (NaN): they ran the base's value.  A column with
+    such gaps reads as floats; where the file sweeps integers, a whole number is an integer again."""
+    if isinstance(value, float) and math.isnan(value):
+        value = spec.get("base", {})
+        for name in key.split("."):
+            value = value.get(name, math.nan) if isinstance(value, dict) else math.nan
+    values = spec.get("sweep", {}).get(key, [])
+    if values and all(type(v) is int for v in values) and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return _plain(value)
+
+
 def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizations: int | None = None,
              rivals: int = RIVALS) -> RowPlan:
     """The cases that recompute one row of the comparison: the parameter points its number reads.
@@ -209,11 +223,12 @@ def plan_row(tables_root: str | Path, study_name: str, quantity: str, realizatio
         if not len(done):
             continue
         paths[part] = SWEEPS_DIR / provenance["parts"][part]["sweep_file"]
-        keys = sorted(tomllib.loads(paths[part].read_text(encoding="utf-8")).get("sweep", {}))
+        spec = tomllib.loads(paths[part].read_text(encoding="utf-8"))
+        keys = sorted(spec.get("sweep", {}))
         missing = [key for key in keys if key not in done.columns]
         if missing:
             raise ReproduceError(f"the table of part {part!r} lacks the swept column(s) {', '.join(missing)}")
-        point_of[part] = {case_id: tuple((key, _plain(value)) for key, value in zip(keys, values))
+        point_of[part] = {case_id: tuple((key, _as_swept(spec, key, value)) for key, value in zip(keys, values))
                           for case_id, *values in done[["case_id", *keys]].itertuples(index=False)}
 
     def restricted(keep: set[tuple[str, tuple]]) -> dict[str, pd.DataFrame]:

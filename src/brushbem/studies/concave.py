@@ -28,12 +28,13 @@ from brushbem.studies._ch5_7 import (
     case_path,
     empty_note,
     figure,
-    finished,
     has,
     read_curve,
     save,
     value,
 )
+from brushbem.studies._ch5_7 import finished as _all_finished
+from brushbem.studies._ch7_identify import Candidate, choose, read_maximum
 from brushbem.studies._common import safe
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.physics.theory import concave_reference_stress
@@ -41,10 +42,23 @@ from brushbem.studies.verdicts import CONTRADICTED, OPEN, STATED_CHOICE, USED_TO
 from brushbem.results.columns import summary_column
 
 PHI = "phi"
+#: Chapter 7's identified grid (`identification`): every row and figure reads the parts' points on it
+#: (set n320); the points recorded first ran the sweeps' base grid, `RECORDED_GRID`, and have no column.
+ROWS_GRID, RECORDED_GRID, ROWS_SIDE = 320, 512, 16
+GRID = "grid.elements"
 DISP = summary_column("normalized.displacement_by_rigid_brush")
 #: Mathtext of the chapter's quantities (eq. 7.1-7.5).
 H_TEXT = r"$\tilde h$"
 SHARING = r"$N_\mathrm{p} F_\mathrm{K}$"
+
+
+def finished(results: Mapping[str, pd.DataFrame], part: str, grid: int = ROWS_GRID) -> pd.DataFrame:
+    """The finished cases of ``part`` on the grid N = ``grid``.  A table without the column `GRID` holds one
+    grid, its sweep's (a quick run), and is read whole."""
+    frame = _all_finished(results, part)
+    if GRID not in frame.columns:
+        return frame
+    return frame[frame[GRID].fillna(RECORDED_GRID).to_numpy(float) == grid].reset_index(drop=True)
 
 
 def _with_phi(frame: pd.DataFrame) -> pd.DataFrame:
@@ -248,10 +262,10 @@ PC_CANDIDATES = {
 }
 #: The identified candidate: chapter 7's one identification.
 PC_IDENTIFIED = "Sigma_c, the BEM's critical stress (Fig. 7-4's unit)"
-IDENTIFICATION = ("chapter 7's identification: p_c = Sigma_c (Fig. 7-4's unit; the thesis states no p_c for h~, eq. 7.3), "
-                  "from the stiff optimum h~ = 0.04 (k~ = 10, phi = 0.06, Fig. 7-6 a) among the candidates of the table "
-                  "after the rows; 16 x 16 pillars (ours: the thesis states no count; on the same row 24 x 24 scores "
-                  "better, 7 % against 19 %, and is not recomputed: table after the rows)")
+IDENTIFICATION = ("chapter 7's identification: p_c = Sigma_c (Fig. 7-4's unit) with 16 x 16 pillars on N = 320 "
+                  "(2.76 elements a pillar radius; the thesis states no p_c for h~, eq. 7.3, no count and no grid for "
+                  "chapter 7), from the stiff optimum h~ = 0.04 (k~ = 10, phi = 0.06, Fig. 7-6 a) by the declared rule "
+                  "among the candidates of the table after the rows")
 SENSITIVITY_PC = "sensitivity: h~ with p_c = F_K / (pi r^2), the candidate the identification did not choose"
 
 
@@ -295,50 +309,89 @@ def _max_in_unit(part: str, phi: float, what: str, k: float | None = None, candi
 COUNT_PROBE = "probe_concave_count.csv"
 
 
-def _count_maxima(probe: pd.DataFrame, phi: float, k: float) -> dict[int, tuple[int, float, float, float]]:
-    """Pillars per side -> (pillars in the circle, elements per radius, h~ at max F~_A in the runs' unit and
-    with p_c = Sigma_c) of the probe's converged cases at (phi, k~)."""
+def _probe_candidates(probe: pd.DataFrame, unit: int) -> list[Candidate]:
+    """The candidates (pillars per side, N) of the probe's converged cases at k~ = 10, phi = 0.06 (and phi = 0.15
+    beside), h~ in the runs' unit (``unit`` 0) or with p_c = Sigma_c (1); cost: the mean CPU-s a case."""
     if not has(probe, "phi", "pillars_per_side", "stiffness_ratio", "amplification", "force_by_ideal_sharing"):
-        return {}
-    rows = probe[np.isclose(probe["phi"], phi) & np.isclose(probe["stiffness_ratio"], k)
-                 & probe["converged"].astype(bool)]
-    found = {}
-    for side, g in rows.groupby("pillars_per_side"):
-        best = g.loc[g["force_by_ideal_sharing"].idxmax()]
-        found[int(side)] = (int(best["pillars"]), float(best["elements_per_radius"]), float(best["amplification"]),
-                            float(best["amplification_sigma_c"]))
+        return []
+    grid = probe["elements"].fillna(RECORDED_GRID) if "elements" in probe.columns else RECORDED_GRID
+    probe = probe.assign(elements=grid)[probe["converged"].astype(bool) & np.isclose(probe["stiffness_ratio"], 10.0)]
+    column = ("amplification", "amplification_sigma_c")[unit]
+    found = []
+    for (side, elements), g in probe[np.isclose(probe["phi"], 0.06)].groupby(["pillars_per_side", "elements"]):
+        h, low, high = read_maximum(g.set_index(column)["force_by_ideal_sharing"])
+        wide = probe[np.isclose(probe["phi"], 0.15) & (probe["pillars_per_side"] == side) & (probe["elements"] == elements)]
+        found.append(Candidate(list(PC_CANDIDATES)[unit], int(side), int(elements), int(g["pillars"].iloc[0]),
+                               float(g["elements_per_radius"].iloc[0]), h, low, high, float(g["cpu_s"].mean()),
+                               read_maximum(wide.set_index(column)["force_by_ideal_sharing"])[0]))
     return found
 
 
-def identification(results: Mapping[str, pd.DataFrame]) -> str:
-    """The Markdown of chapter 7's identification: each candidate (p_c, pillar count)'s stiff optimum and its
-    score; the counts other than the shipped 16 x 16 from the committed probe output (`COUNT_PROBE`)."""
-    lines = ["Chapter 7's identification (the row *used to identify*): the reference stress p_c of h~ (eq. 7.3) "
-             "and the pillar count, from the stiff optimum; score = |h~ at the maximum / 0.04 - 1| (smaller "
-             "wins).  The 16 x 16 rows from the part `stiffness`, the others from `probe_concave_count.csv` "
-             "(`python docs/reproduction/probe_concave_count.py`), all N = 512, the circle.", "",
-             "| candidate p_c | pillars | h~ at max F~_A, k~ = 10, phi = 0.06 (thesis 0.04) "
-             "| h~ at max, k~ = 10, phi = 0.15 | score |", "| --- | --- | --- | --- | --- |"]
+def _part_candidate(results: Mapping[str, pd.DataFrame], name: str, elements: int) -> Candidate:
+    """The candidate of the part ``stiffness`` on N = ``elements`` (16 x 16), h~ in the unit of ``name``;
+    cost: the mean wall time of its cases at k~ = 10 (the part records no CPU time)."""
+    reads = {}
+    for phi in (0.06, 0.15):
+        frame = _in_unit(_with_phi(finished(results, "stiffness", elements)), name)
+        frame = frame[np.isclose(frame[PHI], phi) & np.isclose(frame[K], 10.0)] if has(frame, PHI, K) else frame
+        reads[phi] = (read_maximum(frame.groupby(H)[FIS].mean()) if len(frame) else (math.nan,) * 3,
+                      float(frame["wall_time_s"].mean()) if has(frame, "wall_time_s") and len(frame) else math.nan)
+    (h, low, high), cost = reads[0.06]
+    return Candidate(name, ROWS_SIDE, elements, 192, RADIUS_16 * elements, h, low, high, cost, reads[0.15][0][0])
+
+
+#: The 16 x 16 lattice's pillar radius at phi = 0.06 (the shipped sweeps; L = 1).
+RADIUS_16 = 0.00863735
+
+
+def candidates(results: Mapping[str, pd.DataFrame]) -> list[Candidate]:
+    """Every candidate (p_c, pillars per side, N) of the identification: the probe's and the part's 16 x 16 on
+    `RECORDED_GRID` (the probe does not run it)."""
     probe = results.get(Path(COUNT_PROBE).stem, pd.DataFrame())
-    counts = {0.06: _count_maxima(probe, 0.06, 10.0), 0.15: _count_maxima(probe, 0.15, 10.0)}
-    scores = []
-    for index, name in enumerate(PC_CANDIDATES):
-        at = _max_in_unit("stiffness", 0.06, "h_at_max", 10.0, name)(results)
-        wide = _max_in_unit("stiffness", 0.15, "h_at_max", 10.0, name)(results)
-        rows = {16: ("16 x 16 (192 in the circle, 4.4 elements a radius; the shipped sweeps)", at, wide)}
-        for side, (count, per_radius, run_unit, sigma_unit) in counts[0.06].items():
-            other = counts[0.15].get(side)
-            rows[side] = (f"{side} x {side} ({count} in the circle, {per_radius:.1f} elements a radius)",
-                          (run_unit, sigma_unit)[index], (other[2], other[3])[index] if other else math.nan)
-        for side in sorted(rows):
-            label, h06, h15 = rows[side]
-            wide_cell = f"{h15:.4g}" if math.isfinite(h15) else "—"
-            lines.append(f"| {name} | {label} | {h06:.4g} | {wide_cell} | {100 * abs(h06 / 0.04 - 1):.1f} % |")
-            scores.append((abs(h06 / 0.04 - 1), side, name.split(",")[0]))
-    score, side, name = min((c for c in scores if math.isfinite(c[0])), default=(math.nan, 16, ""))
-    lines += ["", f"Best on the identification row: p_c = {name} with {side} x {side} pillars ({100 * score:.1f} %)."
-              + ("" if side == 16 else "  The rows above stay on the shipped 16 x 16 (not recomputed at the better "
-                 "count: the notes give why and what it would cost).")]
+    found = []
+    for unit, name in enumerate(PC_CANDIDATES):
+        from_probe = _probe_candidates(probe, unit)
+        found += [_part_candidate(results, name, RECORDED_GRID)] + from_probe
+    return sorted(found, key=lambda c: (list(PC_CANDIDATES).index(c.unit), c.side, c.elements))
+
+
+def identified(results: Mapping[str, pd.DataFrame]) -> Candidate | None:
+    """The candidate the rule (`brushbem.studies._ch7_identify`) picks."""
+    return choose(candidates(results))[0]
+
+
+def identification(results: Mapping[str, pd.DataFrame]) -> str:
+    """The Markdown of chapter 7's identification: each candidate (p_c, pillar count, grid)'s stiff optimum, its
+    score and cost, and the candidate the rule picks."""
+    lines = ["Chapter 7's identification (the row *used to identify*): the reference stress p_c of h~ (eq. 7.3), "
+             "the pillar count and the grid N (the thesis states none of them for chapter 7), from the stiff "
+             "optimum, k~ = 10, phi = 0.06, the circle.  Score = |h~ at the maximum / 0.04 - 1|; its range is the "
+             "reading, half the sampled h~ step on each side of the maximum.  Rule (declared before the grids other "
+             "than 512 were run): the best score wins; a candidate whose range overlaps the best's ties with it, "
+             "and the cheapest of the tied wins.  The 16 x 16 on N = 512 from the part `stiffness` (cost: wall "
+             "time a case), the others from `probe_concave_count.csv` (`python "
+             "docs/reproduction/probe_concave_count.py`; cost: CPU-s a case).", "",
+             "| candidate p_c | pillars | N (elements a radius) | h~ at max F~_A, k~ = 10, phi = 0.06 (thesis 0.04) "
+             "| h~ at max, k~ = 10, phi = 0.15 | score (range) | s a case |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    found = candidates(results)
+    pick, tied = choose(found)
+    for c in found:
+        wide = f"{c.wide:.4g}" if math.isfinite(c.wide) else "—"
+        low, high = c.score_range
+        mark = " **identified**" if c is pick else (" (ties)" if c in tied else "")
+        lines.append(f"| {c.unit} | {c.side} x {c.side} ({c.pillars} in the circle) | {c.elements} "
+                     f"({c.per_radius:.2f}) | {c.h_at_max:.4g} | {wide} | {100 * c.score:.1f} % ({100 * low:.1f}-"
+                     f"{100 * high:.1f} %){mark} | {c.cost_s:.2f} |")
+    if pick is None:
+        return "\n".join(lines)
+    best = min(tied, key=lambda c: c.score)
+    at_rows = (pick.side, pick.elements) == (ROWS_SIDE, ROWS_GRID) and pick.unit == PC_IDENTIFIED
+    lines += ["", f"Identified: p_c = {pick.unit.split(',')[0]} with {pick.side} x {pick.side} pillars on N = "
+              f"{pick.elements} ({100 * pick.score:.1f} %"
+              + ("" if best is pick else f"; it ties with the best, {best.side} x {best.side} on N = {best.elements} "
+                 f"at {100 * best.score:.1f} %, and costs {pick.cost_s:.2f} s a case against {best.cost_s:.2f}")
+              + ")." + ("  Every row above is computed on it (the parts' points on N = 320, set `n320`)." if at_rows
+                        else "  The rows above are NOT computed on it.")]
     return "\n".join(lines)
 
 
@@ -436,8 +489,8 @@ NUMBERS = (
                  safe(_form_ratio(0.06))),
     ThesisNumber("max F~_A over h~, square over circle, k~ = 6e-4, phi = 0.15 ('the geometry form ... [has] a very "
                  "slight influence on the maximal adhesive force', L1357)", "Fig. 7-5, 7-7, text (L1357)", 1.0,
-                 safe(_form_ratio(0.15)), evidence="'very slight' states no tolerance: the square's maximum lies 5.0 % "
-                 "below the circle's (0.812 against 0.855, one layout each), at the rule's edge"),
+                 safe(_form_ratio(0.15)), evidence="'very slight' states no tolerance: the square's maximum lies 6.0 % "
+                 "below the circle's (0.808 against 0.859, one layout each; 5.0 % on N = 512), near the rule's edge"),
     ThesisNumber("max F~_A over h~ over F~_A of the flat brush (h~ = 0), k~ = 10, circle, phi = 0.06 ('the stronger "
                  "adhesive force can be obtained compared with it of flat profile', L1361)",
                  "Fig. 7-6, text (L1361)", 1.0, safe(_best_over_flat(10.0, 10.0)), claim=">"),
@@ -445,7 +498,7 @@ NUMBERS = (
                  "circle, phi = 0.06 ('the adhesion enhancement can be achieved by setting a proper factor h~ "
                  "instead of decreasing pillar stiffness', L1361)", "Fig. 7-6, text (L1361)", 1.0,
                  safe(_best_over_flat(10.0, 1.5e-4)), claim=">",
-                 evidence="one layout, no standard error: 0.923 against 0.898"),
+                 evidence="one layout, no standard error: 0.958 against 0.928"),
 )
 
 
@@ -476,19 +529,19 @@ STUDY = Study(
                      "pillars: at k~ = 0.1 the pillars are rigid against their contacts (k / 2 E* r = 5), and the rigid-"
                      "brush closed form (eq. 4.5, 7.4), F_c / (N F_K) = sqrt(R_app / (N r)), puts the 16 x 16 square "
                      "(256 pillars, R_app = L / sqrt(pi)) 8.0 % below its inscribed circle (192 pillars, R_app = L / 2); "
-                     "ours is 10.8 % below, and the circle (0.628) meets the thesis's 0.65 within 3.5 %"),
+                     "ours is 10.9 % below, and the circle (0.641) meets the thesis's 0.65 within 1.3 %"),
         ThesisNumber("F~_A at h~ = 0.04, k~ = 0.1, phi = 0.06, circle", "Fig. 7-3, text", 0.95, _curve_value(0.04, "circle"),
                      CONTRADICTED, "h~ = 0.04 is on the steep flank below the stiff optimum, which the closed form of equal "
                      "load sharing (theory.concave_reference_stress) puts at h~ = phi_R = 0.061 for this brush; ours "
-                     "peaks at 0.062-0.064 (0.92), and the stiff optimum (k~ = 10) of every pillar count from 52 to 448 "
-                     "lies at 0.85-1.02 phi_R (probe_concave_count.csv): the thesis's 0.04 is 0.66 "
-                     "phi_R"),
+                     "peaks at 0.068 (0.960; 0.064 and 0.926 on N = 512), and the stiff optimum (k~ = 10) of every "
+                     "pillar count from 52 to 448 lies at 0.85-1.02 phi_R on N = 512, 1.09 phi_R on N = 320 "
+                     "(probe_concave_count.csv): the thesis's 0.04 is 0.66 phi_R"),
         ThesisNumber("F~_A at h~ = 0.8, k~ = 0.1 (almost vanishes)", "Fig. 7-3, text", 0.0, _curve_value(0.8, "circle"),
-                     evidence="'almost vanishes': 3.5 % of the equal-load-sharing force N F_K"),
+                     evidence="'almost vanishes': 3.8 % of the equal-load-sharing force N F_K"),
         ThesisNumber("max F~_A, phi = 0.15, k~ = 6e-4", "Fig. 7-5, text", 0.88, _max_of("amplification", 0.15, "max")),
         ThesisNumber("h~ at max F~_A, phi = 0.15", "Fig. 7-5, text", 0.16, _max_of("amplification", 0.15, "h_at_max"),
-                     OPEN, "a soft brush's maximum is a plateau, within 2 % from h~ = 0.8 to 1.1 on the shipped 16 x 16 "
-                     "circle, where h~ = 0.16 gives 0.791, 7.5 % below its maximum; an 8 x 8 lattice (44 pillars) "
+                     OPEN, "a soft brush's maximum is a plateau, within 2 % from h~ = 0.7 to 1 on the 16 x 16 circle (N = "
+                     "320), where h~ = 0.16 gives 0.797, 7.2 % below its maximum; an 8 x 8 lattice (44 pillars) "
                      "still rises past 0.16 (0.830, 0.832, 0.835 at h~ = 0.1, 0.16, 0.25; probe_concave_count.csv, "
                      "no larger h~ run): neither pillar count (the thesis states none) puts the "
                      "maximum at 0.16"),
@@ -496,26 +549,26 @@ STUDY = Study(
         ThesisNumber("h~ at max F~_A, phi = 0.06", "Fig. 7-5, text", 0.5, _max_of("amplification", 0.06, "h_at_max"),
                      STATED_CHOICE, "the pillar count (the thesis states none): an 8 x 8 lattice (52 pillars in the circle) "
                      "gives 0.953 at h~ = 0.5, the thesis's 0.95 at 0.5, within 2 % from 0.15 to 0.7 "
-                     "(probe_concave_count.csv); this row's 16 x 16 (192 pillars) peaks at 0.2 "
-                     "(within 2 % from 0.12 to 0.25), 12 x 12 at 0.2, 24 x 24 at 0.1"),
+                     "(probe_concave_count.csv); this row's 16 x 16 (192 pillars, N = 320) peaks at 0.22 "
+                     "(within 2 % from 0.13 to 0.25; 0.2 on N = 512), 12 x 12 at 0.2, 24 x 24 at 0.1 (N = 512)"),
         ThesisNumber("F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06", "Fig. 7-6 a, text", 0.94, _stiff_value(10.0, 0.04),
                      CONTRADICTED, "the stiff optimum is the closed form of equal load sharing, h~ = phi_R = 0.061 "
-                     "(theory.concave_reference_stress); ours peaks at 0.062 (0.923, the thesis's 0.94 within 2 %), "
-                     "the thesis at 0.04 = 0.66 phi_R, which no pillar count from 52 to 448 reaches (0.85-1.02 phi_R, "
-                     "probe_concave_count.csv)"),
+                     "(theory.concave_reference_stress); ours peaks at 0.066 (0.958, the thesis's 0.94 within 2 %; 0.062 "
+                     "and 0.923 on N = 512), the thesis at 0.04 = 0.66 phi_R, which no pillar count from 52 to 448 "
+                     "reaches (0.85-1.02 phi_R on N = 512, probe_concave_count.csv)"),
         ThesisNumber("F~_A at k~ = 10, h~ = 0.05, circle, phi = 0.06", "Fig. 7-6 a, text", 0.77, _stiff_value(10.0, 0.05),
-                     CONTRADICTED, "the same shift of the stiff optimum (closed form h~ = phi_R = 0.061, ours 0.062, the "
-                     "thesis 0.04): our curve has the thesis's shape, a steep rise then a drop, 1.55 x further out"),
+                     CONTRADICTED, "the same shift of the stiff optimum (closed form h~ = phi_R = 0.061, ours 0.066, the "
+                     "thesis 0.04): our curve has the thesis's shape, a steep rise then a drop, 1.65 x further out"),
         ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06 ('almost same for all "
                      "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.06, 6e-4), (0.06, 10.0))),
         ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15 ('almost same for all "
                      "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.15, 6e-4), (0.15, 10.0))),
         ThesisNumber("h~ at max F~_A, k~ = 6e-4 over k~ = 10, phi = 0.06 (grows as k~ falls; thesis "
                      "0.5 / 0.04)", "Fig. 7-5, 7-6 a, text", 0.5 / 0.04, _max_ratio("h_at_max", (0.06, 6e-4), (0.06, 10.0)),
-                     OPEN, "p_c cancels in the ratio, so no choice of it moves the row: the soft optimum lies 3.2 times "
-                     "further out than the stiff one on our 16 x 16 circle (the thesis 12.5); the pillar count moves "
-                     "it, 8.6, 3.3 and 1.7 on 8 x 8, 12 x 12 and 24 x 24 (probe_concave_count.csv): "
-                     "the 24 x 24 the identification row prefers takes it further from 12.5"),
+                     OPEN, "p_c cancels in the ratio, so no choice of it moves the row: the soft optimum lies 3.3 times "
+                     "further out than the stiff one on our 16 x 16 circle (N = 320; 3.2 on N = 512; the thesis 12.5); "
+                     "the pillar count moves it, 8.6, 3.3 and 1.7 on 8 x 8, 12 x 12 and 24 x 24 at N = 512 "
+                     "(probe_concave_count.csv)"),
         ThesisNumber("max F~_A over h~, phi = 0.06 over phi = 0.15, k~ = 6e-4, circle (smaller phi, better "
                      "load sharing; thesis 0.95 / 0.88)", "Fig. 7-5, 7-7, text", 0.95 / 0.88,
                      _max_ratio("max", (0.06, 6e-4), (0.15, 6e-4))),
