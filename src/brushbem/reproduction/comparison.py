@@ -18,7 +18,7 @@ from typing import Any
 
 import pandas as pd
 
-from brushbem.studies.verdicts import REPRODUCED, judgement
+from brushbem.studies.verdicts import REPRODUCED, held_out, judgement
 from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["ComparisonRow", "compare"]
@@ -181,12 +181,22 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                     error, _ = _compute(_Own(number.error), _of_realizations(tables, counted))
             judged = judgement(float(number.thesis), ours, error, number.verdict, number.claim, realizations,
                                 number.tie)
+            if number.tied is not None and math.isfinite(ours):  # the row at the identification's tied candidates
+                identified, tied = number.tied(_with_probes(tables, study, folder.parent))
+                judged = held_out(judged, float(number.thesis), ours, tied, number.verdict, number.claim, number.tie,
+                                  identified)
             verdict = judged.verdict
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note, verdict,
                                       number.evidence if number.verdict is None or verdict != REPRODUCED else "", number.claim,
                                       judged.reason, judged.qualitative, number.outside))
     return rows, provenances
+
+
+def _with_probes(tables: Mapping[str, pd.DataFrame], study, root: Path) -> dict[str, pd.DataFrame]:
+    """``tables`` and the study's committed probe outputs under ``root`` (by file stem), as its identification reads them."""
+    return {**tables, **{Path(probe).stem: pd.read_csv(root / probe) for probe in study.probes
+                         if (root / probe).is_file()}}
 
 
 @dataclass(frozen=True)

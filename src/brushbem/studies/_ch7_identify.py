@@ -7,10 +7,31 @@ before any held-out row was read at them:
 
 * score = |h~ at the largest F~_A / 0.04 - 1| on the identification row only (k~ = 10, phi = 0.06,
   the circle; Fig. 7-6 a's 0.04), h~ in the candidate's unit of p_c;
-* its error is the reading: half the sampled h~ step on each side of the maximum (the runs are
-  deterministic, one layout), so a score is a range;
+* its error: a range of scores (below);
 * the best score wins; a candidate whose score range overlaps the best's ties with it, and of the
   tied the cheapest wins (the least mean time a case at k~ = 10).
+
+The candidates are the grids declared with the rule (`CANDIDATE_GRIDS`, and the part's 16 x 16 on
+N = 512).  Grids run later, within `NEIGHBOURS_WITHIN` of a candidate's N, measure its discretisation
+scatter and are not candidates: the score moves by more between neighbouring grids than its
+reading error (24 x 24: 4.1, 0.1, 8.9, 12.5, 8.3 % on N = 464, 488, 512, 536, 560), so the best of
+them would be picked for its noise.
+
+Two error definitions (`choose`'s ``scatter``), both reported in the document:
+
+* strict (the rule as first declared): the reading alone, half the sampled h~ step on each side
+  of the maximum, on the premise that the runs are deterministic;
+* with scatter (widened after the scatter was measured, and the one the identification uses): the
+  envelope of the reading intervals of h~ at the maximum over the candidate's grid and its
+  neighbours; a candidate with no neighbour run keeps its reading.  The discretisation scatter
+  stated beside it is the spread (largest - smallest) of h~ at the maximum over those grids, over
+  0.04.
+
+Why widened: the premise of the strict error is refuted by measurement.  A grid 5 to 10 % finer or
+coarser moves the score by 10 to 30 times the reading error (16 x 16: 18.2, 10.6, 10.2 % on
+N = 288, 320, 352 at steps of 0.001), and the strict pick moves with the h~ step (16 x 16 on N = 320
+at steps of 0.002, on N = 352 at 0.001): a pick that sampling decides is not an identification.
+`identification_table` prints both picks.
 """
 
 from __future__ import annotations
@@ -21,10 +42,27 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-__all__ = ["THESIS_H", "Candidate", "choose", "read_maximum"]
+__all__ = ["CANDIDATE_GRIDS", "NEIGHBOURS_WITHIN", "THESIS_H", "Candidate", "choose", "identification_table",
+           "interpolated", "neighbours", "probe_candidates", "probe_curve", "read_maximum", "score_interval"]
 
 #: The thesis's stiff optimum (Fig. 7-6 a, text), the identification row.
 THESIS_H = 0.04
+#: Pillars per side -> the grids N of the probe that are candidates (declared with the rule).
+CANDIDATE_GRIDS = {8: (512,), 12: (512,), 16: (288, 320, 352), 24: (512,)}
+#: A grid within this share of a candidate's N (same pillars) is its neighbour (16 x 16 on N = 320:
+#: 288 to 352).
+NEIGHBOURS_WITHIN = 0.1
+
+
+def score_interval(low: float, high: float) -> tuple[float, float]:
+    """The scores over an interval [low, high] of h~ at the maximum."""
+    ends = [abs(h / THESIS_H - 1) for h in (low, high)]
+    return (0.0 if low <= THESIS_H <= high else min(ends)), max(ends)
+
+
+def neighbours(elements: int, grids) -> list[int]:
+    """The grids of ``grids`` within `NEIGHBOURS_WITHIN` of ``elements`` (itself included)."""
+    return sorted(int(g) for g in grids if abs(g / elements - 1) <= NEIGHBOURS_WITHIN * (1 + 1e-12))
 
 
 @dataclass(frozen=True)
@@ -41,6 +79,11 @@ class Candidate:
     high: float
     cost_s: float
     wide: float = math.nan
+    #: The score range with scatter (the envelope over `neighbours`; NaNs: no neighbour run) and the
+    #: spread of h~ at the maximum over those grids, over 0.04; the grids.
+    scattered: tuple[float, float] = (math.nan, math.nan)
+    spread: float = math.nan
+    grids: tuple[int, ...] = ()
 
     @property
     def score(self) -> float:
@@ -49,8 +92,15 @@ class Candidate:
     @property
     def score_range(self) -> tuple[float, float]:
         """The scores over the reading interval [low, high] of h~ at the maximum."""
-        ends = [abs(h / THESIS_H - 1) for h in (self.low, self.high)]
-        return (0.0 if self.low <= THESIS_H <= self.high else min(ends)), max(ends)
+        return score_interval(self.low, self.high)
+
+    def error_range(self, scatter: bool) -> tuple[float, float]:
+        """The score range strict (the reading) or, with ``scatter``, over the neighbouring grids too."""
+        return self.scattered if scatter and math.isfinite(self.scattered[0]) else self.score_range
+
+    @property
+    def name(self) -> str:
+        return f"{self.side} x {self.side} on N = {self.elements}"
 
 
 def read_maximum(forces: pd.Series) -> tuple[float, float, float]:
@@ -66,12 +116,120 @@ def read_maximum(forces: pd.Series) -> tuple[float, float, float]:
     return float(h[i]), float(low), float(high)
 
 
-def choose(candidates: list[Candidate]) -> tuple[Candidate | None, list[Candidate]]:
-    """The identified candidate by the rule (module docstring) and the candidates that tie with the best."""
+def choose(candidates: list[Candidate], scatter: bool = False) -> tuple[Candidate | None, list[Candidate]]:
+    """The candidate the rule (module docstring) picks and the candidates that tie with the best: the
+    error strict (the reading) or, with ``scatter``, widened by the discretisation scatter."""
     scored = [c for c in candidates if math.isfinite(c.score)]
     if not scored:
         return None, []
     best = min(scored, key=lambda c: c.score)
-    low, high = best.score_range
-    tied = [c for c in scored if c.score_range[0] <= high and low <= c.score_range[1]]
+    low, high = best.error_range(scatter)
+    tied = [c for c in scored if c.error_range(scatter)[0] <= high and low <= c.error_range(scatter)[1]]
     return min(tied, key=lambda c: (c.cost_s, c.score)), tied
+
+
+def _converged(probe: pd.DataFrame, recorded_grid: int) -> pd.DataFrame:
+    """The probe's converged cases with the grid N of every row (``recorded_grid`` where it has none)."""
+    if not len(probe) or "force_by_ideal_sharing" not in probe.columns:
+        return probe.iloc[0:0]
+    grid = probe["elements"].fillna(recorded_grid) if "elements" in probe.columns else recorded_grid
+    return probe.assign(elements=grid)[probe["converged"].astype(bool)]
+
+
+def probe_curve(probe: pd.DataFrame, side: int, elements: int, k: float, phi: float, column: str,
+                recorded_grid: int = 512) -> pd.Series:
+    """F~_A by h~ (``column``: the runs' unit ``amplification`` or ``amplification_sigma_c``) of the probe's
+    circle, ``side`` pillars a side on N = ``elements`` at (k~, phi); empty where not run."""
+    frame = _converged(probe, recorded_grid)
+    if not len(frame):
+        return pd.Series(dtype=float)
+    frame = frame[np.isclose(frame["phi"], phi) & (frame["pillars_per_side"] == side)
+                  & (frame["elements"] == elements) & np.isclose(frame["stiffness_ratio"], k)]
+    return frame.groupby(column)["force_by_ideal_sharing"].mean().sort_index()
+
+
+def probe_candidates(probe: pd.DataFrame, unit: str, column: str, recorded_grid: int = 512) -> list[Candidate]:
+    """The candidates (`CANDIDATE_GRIDS`) of the probe's converged cases at k~ = 10, phi = 0.06 (phi = 0.15
+    beside), h~ in ``column`` (the unit ``unit``), with their scatter over the neighbouring grids run;
+    cost: the mean CPU-s a case at k~ = 10, phi = 0.06."""
+    frame = _converged(probe, recorded_grid)
+    if not len(frame):
+        return []
+    stiff = frame[np.isclose(frame["stiffness_ratio"], 10.0) & np.isclose(frame["phi"], 0.06)]
+    found = []
+    for side, elements in sorted({(int(s), int(e)) for s, e in zip(stiff["pillars_per_side"], stiff["elements"])}):
+        if elements not in CANDIDATE_GRIDS.get(side, ()):
+            continue
+        g = stiff[(stiff["pillars_per_side"] == side) & (stiff["elements"] == elements)]
+        h, low, high = read_maximum(g.groupby(column)["force_by_ideal_sharing"].mean())
+        grids = neighbours(elements, set(stiff.loc[stiff["pillars_per_side"] == side, "elements"]))
+        reads = [read_maximum(probe_curve(frame, side, n, 10.0, 0.06, column)) for n in grids]
+        scattered = score_interval(min(r[1] for r in reads), max(r[2] for r in reads)) if len(grids) > 1 \
+            else (math.nan, math.nan)
+        spread = (max(r[0] for r in reads) - min(r[0] for r in reads)) / THESIS_H if len(grids) > 1 else math.nan
+        wide = read_maximum(probe_curve(frame, side, elements, 10.0, 0.15, column))[0]
+        found.append(Candidate(unit, side, elements, int(g["pillars"].iloc[0]), float(g["elements_per_radius"].iloc[0]),
+                               h, low, high, float(g["cpu_s"].mean()), wide, scattered, spread, tuple(grids)))
+    return found
+
+
+def interpolated(curve: pd.Series, h: float) -> float:
+    """``curve`` (F~_A by h~) at ``h``, linear between its sampled h~; NaN outside them or where empty."""
+    if not len(curve) or not curve.index.min() <= h <= curve.index.max():
+        return math.nan
+    return float(np.interp(h, curve.index.to_numpy(float), curve.to_numpy(float)))
+
+
+def _range(pair: tuple[float, float]) -> str:
+    return f"{100 * pair[0]:.1f}-{100 * pair[1]:.1f} %" if math.isfinite(pair[0]) else "—"
+
+
+def identification_table(found: list[Candidate], at_rows: bool) -> str:
+    """The Markdown of chapter 7's identification: each candidate's stiff optimum, its score with the reading
+    error (strict) and with the discretisation scatter, its cost, and each definition's pick.  ``at_rows``:
+    the rows are computed on the pick (with scatter, the identification's)."""
+    pick, tied = choose(found, scatter=True)
+    strict, strict_tied = choose(found)
+    lines = ["Chapter 7's identification (the row *used to identify*): the reference stress p_c of h~ (eq. 7.3), "
+             "the pillar count and the grid N (the thesis states none of them for chapter 7), from the stiff "
+             "optimum, k~ = 10, phi = 0.06, the circle.  Score = |h~ at the maximum / 0.04 - 1|.  Rule (declared "
+             "before the grids other than 512 were run): the best score wins; a candidate whose score range "
+             "overlaps the best's ties with it, and the cheapest of the tied wins.  Two error definitions for the "
+             "range: *strict* (as first declared), the reading, half the sampled h~ step on each side of the "
+             "maximum; *with scatter* (widened after the scatter was measured; the identification uses it), the "
+             "envelope of the readings over the candidate's grid and its neighbours within "
+             f"{100 * NEIGHBOURS_WITHIN:.0f} % of its N (grids run to measure the scatter, not candidates).  The "
+             "scatter column is the spread of h~ at the maximum over those grids, over 0.04: 10 to 30 times the "
+             "reading error, which is why the range is widened.  The 16 x 16 on N = 512 from the part `stiffness` "
+             "(cost: wall time a case), the others from `probe_concave_count.csv` (`python "
+             "docs/reproduction/probe_concave_count.py`; cost: CPU-s a case at k~ = 10).", "",
+             "| candidate p_c | pillars | N (elements a radius) | h~ at max F~_A, k~ = 10, phi = 0.06 (thesis 0.04) "
+             "| h~ at max, k~ = 10, phi = 0.15 | score | strict range | scatter (grids) | range with scatter "
+             "| s a case |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for c in found:
+        wide = f"{c.wide:.4g}" if math.isfinite(c.wide) else "—"
+        marks = [m for m, on in (("**identified**", c is pick), ("ties", c in tied and c is not pick),
+                                 ("strict pick", c is strict), ("ties strictly", c in strict_tied and c is not strict))
+                 if on]
+        scatter = (f"{100 * c.spread:.1f} % ({', '.join(map(str, c.grids))})" if math.isfinite(c.spread)
+                   else "not measured")
+        lines.append(f"| {c.unit} | {c.side} x {c.side} ({c.pillars} in the circle) | {c.elements} "
+                     f"({c.per_radius:.2f}) | {c.h_at_max:.4g} | {wide} | {100 * c.score:.1f} %"
+                     f"{' ' + ', '.join(marks) if marks else ''} | {_range(c.score_range)} | {scatter} | "
+                     f"{_range(c.error_range(True))} | {c.cost_s:.2f} |")
+    if pick is None or strict is None:
+        return "\n".join(lines)
+
+    def said(chosen: Candidate, among: list[Candidate]) -> str:
+        best = min(among, key=lambda c: c.score)
+        others = ", ".join(c.name for c in among if c is not chosen)
+        return (f"{chosen.name} ({100 * chosen.score:.1f} %, {chosen.cost_s:.2f} s a case"
+                + ("" if best is chosen else f"; the best is {best.name} at {100 * best.score:.1f} %")
+                + (f"; tied: {others}" if others else "; no tie") + ")")
+
+    lines += ["", f"Identified (with scatter): p_c = {pick.unit.split(',')[0]} with {said(pick, tied)}.  Strict: "
+              f"{said(strict, strict_tied)}" + (" — the same pick." if strict is pick else
+                                                 " — a different pick, which the rows are not computed on.")
+              + ("  Every row above is computed on the identified candidate (the parts' points on N = 320, set "
+                 "`n320`)." if at_rows else "  The rows above are NOT computed on it.")]
+    return "\n".join(lines)

@@ -60,6 +60,12 @@ class ThesisNumber:
         the compared numbers (named in ``evidence``); such a row is open, a
         tie, however many seeds (`brushbem.studies.verdicts.judgement`).  0:
         none stated.
+    tied : callable, optional
+        ``tied(tables) -> (identified, {candidate: value})``: for a held-out row of a chapter whose
+        identification has tied candidates, the identified candidate's name and the row's value at
+        each other tied candidate (NaN where not computed), from the tables and the study's probes;
+        the row is judged at each (`brushbem.studies.verdicts.held_out`).  None: the row is judged
+        at the identified candidate only.
     """
 
     quantity: str
@@ -72,6 +78,7 @@ class ThesisNumber:
     error: Callable[[Mapping[str, pd.DataFrame]], float] | None = None
     outside: str = ""
     tie: float = 0.0
+    tied: Callable[[Mapping[str, pd.DataFrame]], tuple[str, Mapping[str, float]]] | None = None
 
 
 @dataclass(frozen=True)

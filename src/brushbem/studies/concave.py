@@ -34,7 +34,8 @@ from brushbem.studies._ch5_7 import (
     value,
 )
 from brushbem.studies._ch5_7 import finished as _all_finished
-from brushbem.studies._ch7_identify import Candidate, choose, read_maximum
+from brushbem.studies._ch7_identify import (Candidate, choose, identification_table, interpolated, probe_candidates,
+                                            probe_curve, read_maximum)
 from brushbem.studies._common import safe
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.physics.theory import concave_reference_stress
@@ -285,10 +286,7 @@ def _interpolated(part: str, k: float, h: float, phi: float = 0.06, region: str 
         if not has(frame, PHI, REGION, K):
             return math.nan
         frame = frame[np.isclose(frame[PHI], phi) & (frame[REGION] == region) & np.isclose(frame[K], k)]
-        mean = frame.groupby(H)[FIS].mean()
-        if not len(mean) or not mean.index.min() <= h <= mean.index.max():
-            return math.nan
-        return float(np.interp(h, mean.index.to_numpy(float), mean.to_numpy(float)))
+        return interpolated(frame.groupby(H)[FIS].mean().sort_index(), h)
     return compute
 
 
@@ -310,21 +308,10 @@ COUNT_PROBE = "probe_concave_count.csv"
 
 
 def _probe_candidates(probe: pd.DataFrame, unit: int) -> list[Candidate]:
-    """The candidates (pillars per side, N) of the probe's converged cases at k~ = 10, phi = 0.06 (and phi = 0.15
-    beside), h~ in the runs' unit (``unit`` 0) or with p_c = Sigma_c (1); cost: the mean CPU-s a case."""
-    if not has(probe, "phi", "pillars_per_side", "stiffness_ratio", "amplification", "force_by_ideal_sharing"):
-        return []
-    grid = probe["elements"].fillna(RECORDED_GRID) if "elements" in probe.columns else RECORDED_GRID
-    probe = probe.assign(elements=grid)[probe["converged"].astype(bool) & np.isclose(probe["stiffness_ratio"], 10.0)]
-    column = ("amplification", "amplification_sigma_c")[unit]
-    found = []
-    for (side, elements), g in probe[np.isclose(probe["phi"], 0.06)].groupby(["pillars_per_side", "elements"]):
-        h, low, high = read_maximum(g.set_index(column)["force_by_ideal_sharing"])
-        wide = probe[np.isclose(probe["phi"], 0.15) & (probe["pillars_per_side"] == side) & (probe["elements"] == elements)]
-        found.append(Candidate(list(PC_CANDIDATES)[unit], int(side), int(elements), int(g["pillars"].iloc[0]),
-                               float(g["elements_per_radius"].iloc[0]), h, low, high, float(g["cpu_s"].mean()),
-                               read_maximum(wide.set_index(column)["force_by_ideal_sharing"])[0]))
-    return found
+    """The probe's candidates (`brushbem.studies._ch7_identify.probe_candidates`), h~ in the runs' unit (``unit``
+    0) or with p_c = Sigma_c (1)."""
+    return probe_candidates(probe, list(PC_CANDIDATES)[unit], ("amplification", "amplification_sigma_c")[unit],
+                            RECORDED_GRID)
 
 
 def _part_candidate(results: Mapping[str, pd.DataFrame], name: str, elements: int) -> Candidate:
@@ -356,43 +343,15 @@ def candidates(results: Mapping[str, pd.DataFrame]) -> list[Candidate]:
 
 
 def identified(results: Mapping[str, pd.DataFrame]) -> Candidate | None:
-    """The candidate the rule (`brushbem.studies._ch7_identify`) picks."""
-    return choose(candidates(results))[0]
+    """The candidate the rule (`brushbem.studies._ch7_identify`) picks, its error with the scatter."""
+    return choose(candidates(results), scatter=True)[0]
 
 
 def identification(results: Mapping[str, pd.DataFrame]) -> str:
-    """The Markdown of chapter 7's identification: each candidate (p_c, pillar count, grid)'s stiff optimum, its
-    score and cost, and the candidate the rule picks."""
-    lines = ["Chapter 7's identification (the row *used to identify*): the reference stress p_c of h~ (eq. 7.3), "
-             "the pillar count and the grid N (the thesis states none of them for chapter 7), from the stiff "
-             "optimum, k~ = 10, phi = 0.06, the circle.  Score = |h~ at the maximum / 0.04 - 1|; its range is the "
-             "reading, half the sampled h~ step on each side of the maximum.  Rule (declared before the grids other "
-             "than 512 were run): the best score wins; a candidate whose range overlaps the best's ties with it, "
-             "and the cheapest of the tied wins.  The 16 x 16 on N = 512 from the part `stiffness` (cost: wall "
-             "time a case), the others from `probe_concave_count.csv` (`python "
-             "docs/reproduction/probe_concave_count.py`; cost: CPU-s a case).", "",
-             "| candidate p_c | pillars | N (elements a radius) | h~ at max F~_A, k~ = 10, phi = 0.06 (thesis 0.04) "
-             "| h~ at max, k~ = 10, phi = 0.15 | score (range) | s a case |", "| --- | --- | --- | --- | --- | --- | --- |"]
-    found = candidates(results)
-    pick, tied = choose(found)
-    for c in found:
-        wide = f"{c.wide:.4g}" if math.isfinite(c.wide) else "—"
-        low, high = c.score_range
-        mark = " **identified**" if c is pick else (" (ties)" if c in tied else "")
-        lines.append(f"| {c.unit} | {c.side} x {c.side} ({c.pillars} in the circle) | {c.elements} "
-                     f"({c.per_radius:.2f}) | {c.h_at_max:.4g} | {wide} | {100 * c.score:.1f} % ({100 * low:.1f}-"
-                     f"{100 * high:.1f} %){mark} | {c.cost_s:.2f} |")
-    if pick is None:
-        return "\n".join(lines)
-    best = min(tied, key=lambda c: c.score)
-    at_rows = (pick.side, pick.elements) == (ROWS_SIDE, ROWS_GRID) and pick.unit == PC_IDENTIFIED
-    lines += ["", f"Identified: p_c = {pick.unit.split(',')[0]} with {pick.side} x {pick.side} pillars on N = "
-              f"{pick.elements} ({100 * pick.score:.1f} %"
-              + ("" if best is pick else f"; it ties with the best, {best.side} x {best.side} on N = {best.elements} "
-                 f"at {100 * best.score:.1f} %, and costs {pick.cost_s:.2f} s a case against {best.cost_s:.2f}")
-              + ")." + ("  Every row above is computed on it (the parts' points on N = 320, set `n320`)." if at_rows
-                        else "  The rows above are NOT computed on it.")]
-    return "\n".join(lines)
+    """The Markdown of chapter 7's identification (`brushbem.studies._ch7_identify.identification_table`)."""
+    pick = identified(results)
+    at_rows = pick is not None and (pick.unit, pick.side, pick.elements) == (PC_IDENTIFIED, ROWS_SIDE, ROWS_GRID)
+    return identification_table(candidates(results), at_rows)
 
 
 def _by_h(results: Mapping[str, pd.DataFrame], k: float, phi: float = 0.06) -> pd.DataFrame:
@@ -506,6 +465,60 @@ NUMBERS = (
 _READS_H = ("F~_A at h~ = 0.04", "F~_A at h~ = 0.8", "h~ at max F~_A, phi", "F~_A at k~ = 10, h~")
 
 
+def _top(curve: pd.Series) -> float:
+    return float(curve.max()) if len(curve) else math.nan
+
+
+#: A counted row's value at a tied candidate of the probe (`_tied`), by the row's quantity's start:
+#: ``read(curve)`` with ``curve(k~, phi)`` the candidate's F~_A by h~ (its unit).  The probe runs the circle at
+#: k~ = 10 and 6e-4 only, with no flat brush (h~ = 0): every other row is NaN there.
+_AT_TIED = {
+    "F~_A at k~ = 10, h~ = 0.04, circle": lambda c: interpolated(c(10.0, 0.06), 0.04),
+    "F~_A at k~ = 10, h~ = 0.05, circle": lambda c: interpolated(c(10.0, 0.06), 0.05),
+    "F~_A at h~ = 0.04, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.04),
+    "F~_A at h~ = 0.8, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.8),
+    "h~ at max F~_A, phi = 0.15, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.15))[0],
+    "h~ at max F~_A, phi = 0.06, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.06))[0],
+    "h~ at max F~_A, k~ = 6e-4 over k~ = 10": lambda c: read_maximum(c(6e-4, 0.06))[0] / read_maximum(c(10.0, 0.06))[0],
+    "max F~_A, phi = 0.15, k~ = 6e-4": lambda c: _top(c(6e-4, 0.15)),
+    "max F~_A, phi = 0.06, k~ = 6e-4": lambda c: _top(c(6e-4, 0.06)),
+    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06": lambda c: _top(c(6e-4, 0.06)) / _top(c(10.0, 0.06)),
+    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15": lambda c: _top(c(6e-4, 0.15)) / _top(c(10.0, 0.15)),
+    "max F~_A over h~, phi = 0.06 over phi = 0.15": lambda c: _top(c(6e-4, 0.06)) / _top(c(6e-4, 0.15)),
+}
+
+
+def _tied(quantity: str):
+    """``tied(tables)`` of a counted row (`ThesisNumber.tied`): the identified candidate's name and the row at each
+    other candidate that ties with the best under the rule (`choose`, its error with the scatter), from the probe; NaN where the probe
+    has no such point (a candidate of the part: its rows are not read at other grids)."""
+    read = next((r for start, r in _AT_TIED.items() if quantity.startswith(start)), None)
+
+    def compute(results):
+        pick, tied = choose(candidates(results), scatter=True)
+        probe = results.get(Path(COUNT_PROBE).stem, pd.DataFrame())
+        values = {}
+        for c in tied:
+            if c is pick:
+                continue
+            column = "amplification_sigma_c" if c.unit == PC_IDENTIFIED else "amplification"
+            curve = lambda k, phi, c=c, column=column: probe_curve(probe, c.side, c.elements, k, phi, column,  # noqa: E731
+                                                                     RECORDED_GRID)
+            with np.errstate(all="ignore"):
+                values[c.name] = float(read(curve)) if read is not None else math.nan
+        return (pick.name if pick is not None else "the identified candidate"), values
+    return compute
+
+
+def _with_tied(number: ThesisNumber) -> ThesisNumber:
+    """A counted held-out row judged at the identification's tied candidates too (`verdicts.held_out`)."""
+    import dataclasses
+
+    if number.outside or number.verdict == USED_TO_IDENTIFY:
+        return number
+    return dataclasses.replace(number, tied=_tied(number.quantity))
+
+
 def _counted_or_outside(number: ThesisNumber) -> ThesisNumber:
     """A row of the runs' unit: counted where it reads no h~ (p_c cancels), else a sensitivity."""
     import dataclasses
@@ -522,7 +535,7 @@ STUDY = Study(
     parts=("curves", "amplification", "stiffness"),
     draw=draw,
     draw_tables=draw_tables,
-    numbers=NUMBERS + tuple(_counted_or_outside(n) for n in (
+    numbers=tuple(_with_tied(n) for n in NUMBERS + tuple(_counted_or_outside(n) for n in (
         ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, circle", "Fig. 7-3, text", 0.65, _curve_value(0.0, "circle")),
         ThesisNumber("F~_A at h~ = 0 (flat), k~ = 0.1, phi = 0.06, square", "Fig. 7-3, text", 0.65, _curve_value(0.0, "square"),
                      CONTRADICTED, "'no obvious difference between the circular and square form' cannot hold for the same "
@@ -572,7 +585,7 @@ STUDY = Study(
         ThesisNumber("max F~_A over h~, phi = 0.06 over phi = 0.15, k~ = 6e-4, circle (smaller phi, better "
                      "load sharing; thesis 0.95 / 0.88)", "Fig. 7-5, 7-7, text", 0.95 / 0.88,
                      _max_ratio("max", (0.06, 6e-4), (0.15, 6e-4))),
-    )),
+    ))),
     identification=identification,
     probes=(COUNT_PROBE,),
     notes="Pressed to 2 N F_K rather than to 'complete contact'; phi is the nominal square-lattice value.",

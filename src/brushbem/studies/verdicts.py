@@ -32,16 +32,24 @@ The rule, which no declaration bends:
 * A row that a chapter's one identification uses (*used to identify*) keeps
   that verdict whatever its numbers: it decided a parameter, so it cannot also
   test it.
+* A held-out row of a chapter whose identification has tied candidates (the
+  rule's tie-break, not its score, chose among them) is judged at each tied
+  candidate where that candidate's value exists (`held_out`): it is
+  *reproduced* or *reproduced with a stated choice* only if its verdict is the
+  same at every one of them; otherwise it is *open* ("the identification's
+  tied candidates disagree", with the values).  Where no tied candidate's
+  value exists, the row says "checked at the identified candidate only".
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 __all__ = [
     "CHAPTERS",
+    "CHECKED_AT_IDENTIFIED",
     "CONTRADICTED",
     "DECLARABLE",
     "OPEN",
@@ -50,11 +58,13 @@ __all__ = [
     "REPRODUCED_WITHIN",
     "STANDARD_ERRORS",
     "STATED_CHOICE",
+    "TIED_DISAGREE",
     "USED_TO_IDENTIFY",
     "VANISHES_BELOW",
     "VERDICTS",
     "Judgement",
     "count_by_chapter",
+    "held_out",
     "judge",
     "judgement",
 ]
@@ -159,6 +169,37 @@ def judge(thesis: float, ours: float, standard_error: float, declared: str | Non
           claim: str | None = None, realizations: int = 0, tie: float = 0.0) -> str:
     """The verdict of one row (`judgement`'s, without its reason)."""
     return judgement(thesis, ours, standard_error, declared, claim, realizations, tie).verdict
+
+
+#: The reasons `held_out` gives.
+TIED_DISAGREE = "the identification's tied candidates disagree"
+CHECKED_AT_IDENTIFIED = "checked at the identified candidate only"
+
+
+def held_out(judged: Judgement, thesis: float, ours: float, tied: Mapping[str, float], declared: str | None,
+             claim: str | None = None, tie: float = 0.0, identified: str = "the identified candidate") -> Judgement:
+    """``judged`` (the row's `judgement` at the identified candidate, value ``ours``) checked at the
+    identification's other tied candidates (module docstring).
+
+    ``tied``: tied candidate -> the row's value there (NaN: not computed there); each is one
+    deterministic layout, judged without a standard error, with the row's ``declared``, ``claim``
+    and ``tie``.  A *reproduced* (with or without a stated choice) row whose verdict differs at a
+    tied candidate becomes *open*; every other verdict stands.  The reason names every tied value
+    (or says none was computed).
+    """
+    computed = {name: float(v) for name, v in tied.items() if math.isfinite(v)}
+    missing = [name for name, v in tied.items() if not math.isfinite(v)]
+    if not tied:
+        return judged
+    at = {name: judgement(thesis, v, math.nan, declared, claim, tie=tie).verdict for name, v in computed.items()}
+    shown = "; ".join(f"{v:.4g} at {name} ({at[name]})" for name, v in computed.items())
+    unchecked = (f"not computed at {', '.join(missing)}" if computed else CHECKED_AT_IDENTIFIED) if missing else ""
+    decided = judged.verdict in (REPRODUCED, STATED_CHOICE)
+    if decided and any(v != judged.verdict for v in at.values()):
+        reason = f"{TIED_DISAGREE} ({ours:.4g} at {identified}; {shown})"
+        return Judgement(OPEN, "; ".join(p for p in (reason, unchecked) if p), judged.qualitative)
+    beside = (f"the same at the tied {shown}" if decided else f"at the tied {shown}") if computed else ""
+    return Judgement(judged.verdict, "; ".join(p for p in (judged.reason, beside, unchecked) if p), judged.qualitative)
 
 
 def count_by_chapter(rows: Iterable[tuple[str, str]]) -> dict[int, dict[str, int]]:
