@@ -21,12 +21,23 @@ to a temporary folder) and prints the ratio of that run's CPU times
 (loading, pull-off, all) to this tree's, and the relative differences of F_A
 and the work: before and after in one run.  ``--repeat R`` runs the model
 (and the revision's) R times, alternating, and reports the median CPU times.
+``--brush size`` takes the ``size`` study's brush instead (phi = 0.12, 3.1
+elements' radius, sigma = sigma~ d_c, its sweep files' numbers with
+``--seed 0``), ``--pillar-solve`` the load path's ``pillar_solve``, and
+``--states K`` or ``--solves K`` stop every run after K states or K CG
+solves (a partial run: its CPU time per CG solve and iterations per solve;
+with ``--before`` their ratios).  Every run reports its CG solves and
+iterations.
 
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
     nice python benchmarks/large_brush.py --sizes 64 100 --sigma 0 --exact-max 0 --kept-baseline
     nice python benchmarks/large_brush.py --sizes 32 100 316 --sigma 0.5 --limit 3600   # rough
     nice python benchmarks/large_brush.py --sizes 100 --sigma 0.5 --exact-max 0 --before main~3
+    nice python benchmarks/large_brush.py --sizes 100 --brush size --sigma 0.1 --seed 0 --exact-max 0 \
+        --pillar-solve cg --before main                  # the size study's sigma~ = 0.1 brush, CG throughout
+    nice python benchmarks/large_brush.py --sizes 316 --brush size --sigma 0.1 --seed 0 --exact-max 0 \
+        --solves 40 --before main                        # its first 40 CG solves at 10^5 pillars
 
 Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 --before c48c002 --repeat 3``, a machine loaded 5-6 on two cores) loading
@@ -70,8 +81,60 @@ ROOT = Path(__file__).resolve().parents[1]
 _HELD: list = []
 
 
+def _size_problem(per_side: int, ratio: float, sigma: float, seed: int):
+    """The ``size`` study's brush (``docs/studies/make_size_sweeps.py``): phi = 0.12, 3.1 elements' radius,
+    N = 16 n, sigma = sigma~ d_c, and its preload F_c."""
+    import math
+
+    from brushbem.physics.structure import Grid, brush
+    from brushbem.protocol import ContactProblem
+    from brushbem.runs.case import brush_scales
+
+    grid = Grid(1.0, 16 * per_side)
+
+    def build(roughness: float):
+        indenter = brush(grid, layout="square", pillars_per_side=per_side,
+                         pillar_radius=round(math.sqrt(0.12 / math.pi) / per_side, 9), contact_modulus=1.0,
+                         work_of_adhesion=1e-4, stiffness=ratio, roughness=roughness, seed=seed)
+        return ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=1e-4)
+
+    scales = brush_scales(build(0.0))
+    # Rounded as the sweep files write them.
+    return (build(round(sigma * abs(scales["rigid_brush_displacement"]), 10)),
+            round(scales["rigid_brush_force"], 9))
+
+
+class _Enough(Exception):
+    """A partial run reached its CG solves (``LARGE_BRUSH_SOLVES``)."""
+
+
+def _count_solves(counts: dict, most: int) -> None:
+    """Count the pillar model's CG solves and iterations into ``counts`` (a revision without CG counts none);
+    after ``most`` solves (0: no limit) stop the run (`_Enough`)."""
+    try:
+        from brushbem.pillars import cg
+    except ImportError:
+        return
+    solve = cg.LatticeCG.solve
+
+    def counted(self, *args, **kwargs):
+        start = self.iterations
+        out = solve(self, *args, **kwargs)
+        counts["cg_solves"] += 1
+        counts["cg_iterations"] += self.iterations - start
+        if most and counts["cg_solves"] >= most:
+            raise _Enough
+        return out
+
+    cg.LatticeCG.solve = counted
+
+
 def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) -> None:
-    """One pull-off in this process: a JSON line every 500 states (its progress) and a last one with the results."""
+    """One pull-off in this process: a JSON line every 500 states (its progress) and a last one with the results.
+
+    ``LARGE_BRUSH_BRUSH = size``: the ``size`` study's brush (`_size_problem`); ``LARGE_BRUSH_SOLVE``: the load
+    path's ``pillar_solve``; ``LARGE_BRUSH_STATES`` or ``LARGE_BRUSH_SOLVES``: stop after that many states or CG
+    solves (a partial run: its CPU time per state and per CG solve)."""
     # The brush of `benchmarks/pillars.py` beside the sources run (``--before``: the revision's own).
     sys.path.insert(0, os.environ.get("LARGE_BRUSH_HELPERS", str(ROOT / "benchmarks")))
     from pillars import _problem
@@ -79,6 +142,13 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
     from brushbem.pillars import solver as pillar_solver
     from brushbem.protocol import LoadPath
     from brushbem.protocol.paths import pull_off
+
+    if os.environ.get("LARGE_BRUSH_BRUSH") == "size":
+        _problem = _size_problem  # noqa: F811
+    extra = {"pillar_solve": os.environ["LARGE_BRUSH_SOLVE"]} if os.environ.get("LARGE_BRUSH_SOLVE") else {}
+    most_states = int(os.environ.get("LARGE_BRUSH_STATES") or 0)
+    counts = {"cg_solves": 0, "cg_iterations": 0}
+    _count_solves(counts, int(os.environ.get("LARGE_BRUSH_SOLVES") or 0))
 
     if method == "pillars-kept":
         method = "pillars"
@@ -98,24 +168,44 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
     problem, preload = _problem(per_side, ratio, sigma, seed)
     built = time.process_time() - start
     states, force, work, previous, attached, loaded = 0, 0.0, 0.0, None, 0, None
-    for state in pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**8)):
-        states += 1
-        if state.loading:
-            attached = state.attached_pillars  # the last loading state's: at the preload
-        else:
-            if loaded is None:  # the loading's CPU time, the model's build included
-                loaded = time.process_time() - start
-                print(json.dumps({"loading_cpu_seconds": round(loaded, 2), "attached_at_preload": attached}),
+    wall = time.perf_counter()
+
+    def partial(states: int, attached: int) -> None:
+        total = time.process_time() - start
+        print(json.dumps({"partial": True, "states": states, "cpu_seconds": round(total, 2),
+                          "wall_seconds_child": round(time.perf_counter() - wall, 2), "attached": attached, **counts,
+                          "cpu_seconds_per_cg_solve": round(total / max(counts["cg_solves"], 1), 3),
+                          "cg_iterations_per_solve": round(counts["cg_iterations"] / max(counts["cg_solves"], 1),
+                                                           2)}), flush=True)
+
+    path = LoadPath(method=method, preload_force=preload, max_steps=10**8, **extra)
+    try:
+        for state in pull_off(problem, path):
+            states += 1
+            if most_states and states > most_states:
+                partial(states - 1, state.attached_pillars)
+                return
+            if state.loading:
+                attached = state.attached_pillars  # the last loading state's: at the preload
+            else:
+                if loaded is None:  # the loading's CPU time, the model's build included
+                    loaded = time.process_time() - start
+                    print(json.dumps({"loading_cpu_seconds": round(loaded, 2), "attached_at_preload": attached,
+                                      "loading_states": states - 1, "loading_cg_solves": counts["cg_solves"],
+                                      "loading_cg_iterations": counts["cg_iterations"]}), flush=True)
+                force = max(force, -state.force)
+                if previous is not None:  # the tensile force's integral over the pull (trapezoids)
+                    work += 0.5 * (max(-state.force, 0.0) + max(-previous.force, 0.0)) * abs(
+                        state.displacement - previous.displacement)
+                previous = state
+            if states % (20 if most_states else 500) == 0:
+                print(json.dumps({"states": states, "cpu_seconds": round(time.process_time() - start, 2), **counts}),
                       flush=True)
-            force = max(force, -state.force)
-            if previous is not None:  # the tensile force's integral over the pull (trapezoids)
-                work += 0.5 * (max(-state.force, 0.0) + max(-previous.force, 0.0)) * abs(
-                    state.displacement - previous.displacement)
-            previous = state
-        if states % 500 == 0:
-            print(json.dumps({"states": states, "cpu_seconds": round(time.process_time() - start, 2)}), flush=True)
+    except _Enough:
+        partial(states, attached)
+        return
     total = time.process_time() - start
-    print(json.dumps({"done": True, "states": states, "build_cpu_seconds": round(built, 2),
+    print(json.dumps({"done": True, "states": states, "build_cpu_seconds": round(built, 2), **counts,
                       "cpu_seconds": round(total, 2), "loading_cpu_seconds": round(loaded or total, 2),
                       "pull_off_cpu_seconds": round(total - (loaded or total), 2), "attached_at_preload": attached,
                       "adhesive_force": force,
@@ -134,6 +224,10 @@ def _measure(per_side: int, method: str, args, sources: Path | None = None) -> d
     environment["LARGE_BRUSH_HELPERS"] = str((sources or ROOT) / "benchmarks")
     if args.kept_partial is not None:
         environment["LARGE_BRUSH_KEPT_PARTIAL"] = str(args.kept_partial)
+    environment["LARGE_BRUSH_BRUSH"] = args.brush
+    environment["LARGE_BRUSH_SOLVE"] = args.pillar_solve or ""
+    environment["LARGE_BRUSH_STATES"] = str(args.states or "")
+    environment["LARGE_BRUSH_SOLVES"] = str(args.solves or "")
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     start = time.perf_counter()
     try:
@@ -169,12 +263,14 @@ def _against(model: dict, reference: dict, ratio_key: str, prefix: str) -> dict:
 
 def _median(runs: list[dict]) -> dict:
     """The first run's report with the median of every CPU time over ``runs`` (and each run's total)."""
-    done = [run for run in runs if "done" in run]
+    done = [run for run in runs if "done" in run or "partial" in run]
     if len(done) < len(runs) or len(runs) == 1:
         return runs[0] if len(runs) == 1 or not done else {**runs[0], "runs_done": len(done)}
     out = dict(done[0])
-    for key in ("cpu_seconds", "loading_cpu_seconds", "pull_off_cpu_seconds", "build_cpu_seconds"):
-        out[key] = statistics.median(run[key] for run in done)
+    for key in ("cpu_seconds", "loading_cpu_seconds", "pull_off_cpu_seconds", "build_cpu_seconds",
+                "cpu_seconds_per_cg_solve", "wall_seconds"):
+        if all(key in run for run in done):
+            out[key] = statistics.median(run[key] for run in done)
     out["peak_memory_gb"] = max((run["peak_memory_gb"] for run in done if isinstance(run["peak_memory_gb"], float)),
                                 default=done[0]["peak_memory_gb"])
     out["cpu_seconds_runs"] = [run["cpu_seconds"] for run in done]
@@ -191,6 +287,11 @@ def _export(revision: str, folder: Path) -> Path:
 
 def _before_after(now: dict, before: dict) -> dict:
     """The CPU times of ``before`` over ``now`` (loading, pull-off, all) and now's differences of F_A and work."""
+    if "partial" in now and "partial" in before:  # the same states on both
+        return {"cpu_ratio_before_over_now": round(before["cpu_seconds"] / now["cpu_seconds"], 3),
+                "cpu_per_cg_solve_ratio_before_over_now": round(before["cpu_seconds_per_cg_solve"]
+                                                                / now["cpu_seconds_per_cg_solve"], 3),
+                "wall_ratio_before_over_now": round(before["wall_seconds"] / now["wall_seconds"], 3)}
     if "done" not in now or "done" not in before:
         return {}
     ratios = {f"cpu_ratio_before_over_now_{key}": round(before[f"{key}cpu_seconds"] / now[f"{key}cpu_seconds"], 3)
@@ -219,6 +320,15 @@ def main() -> None:
                              "many attached pillars, in place of the memory budget Switches.kept_partial_bytes)")
     parser.add_argument("--repeat", type=int, default=1,
                         help="runs of the model (and of --before's) per size; their median CPU times")
+    parser.add_argument("--brush", choices=("chapter5", "size"), default="chapter5",
+                        help="the brush: benchmarks/pillars.py's chapter-5 family (phi = 0.16) or the size study's "
+                             "(phi = 0.12, seed 0 with --seed 0)")
+    parser.add_argument("--pillar-solve", choices=("auto", "kept", "cg"), default=None,
+                        help="LoadPath.pillar_solve of the model's runs")
+    parser.add_argument("--states", type=int, default=None,
+                        help="stop every run after this many states (a partial run: CPU per state and per CG solve)")
+    parser.add_argument("--solves", type=int, default=None,
+                        help="stop every run after this many CG solves of the pillar model (a partial run)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="large_brush_before_") as folder:
         sources = _export(args.before, Path(folder)) if args.before else None

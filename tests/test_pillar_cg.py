@@ -103,6 +103,58 @@ def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch
     assert loaded.force == pytest.approx(reference.force, rel=1e-9)
 
 
+def test_the_preconditioner_follows_the_sets_boundary():
+    """`boundary_share` (attached pillars with a detached neighbour) decides the preconditioner, not the set's
+    share of the lattice: the full lattice (0) and a disk (0.36) take the circulant, a checkerboard (1.0) and
+    a random 70 % of the lattice (0.93, more than half of it attached) the near field's LU; CG gives the dense
+    solve on each to 1e-9 (its tolerance is 1e-11 on the residual).  Measured on the ``size`` study's systems
+    (`brushbem.pillars.cg`): shares of 0.23 or less on a level brush's peel, where the circulant took 5-6
+    iterations and the near field 9-13, and 0.93 or more on the sigma~ = 0.1 brush, where the near field took
+    12-25 and the circulant 19-52."""
+    problem, _ = _problem(16, 1e-2)
+    model = pillars.PillarModel(problem)
+    iy, ix = model.lattice.index.T
+    sets = {"all": (np.ones(model.M, dtype=bool), 0.0),
+            "disk": (np.hypot(iy - 7.5, ix - 7.5) < 6.4, 0.355),
+            "checkerboard": ((iy + ix) % 2 == 0, 1.0),
+            "random": (np.random.default_rng(1).random(model.M) < 0.7, 0.928)}
+    rhs = np.stack([model.force, model.force * np.linspace(-1.0, 1.0, model.M)], axis=1)
+    for name, (attached, share) in sets.items():
+        assert pillar_cg.boundary_share(model, attached) == pytest.approx(share, abs=1e-3), name
+        solver = pillar_cg.LatticeCG(model)
+        assert (solver.near_factor(attached) is not None) == (share > pillar_cg.BOUNDARY_SHARE), name
+        x, _ = solver.solve(attached, rhs)
+        S = np.flatnonzero(attached)
+        dense = np.linalg.solve(model.uniform_block(S, S) + model.spring_matrix(S), rhs[S])
+        assert np.abs(x[S] - dense).max() < 1e-9 * np.abs(dense).max(), name
+    assert pillar_cg.boundary_share(model, np.zeros(model.M, dtype=bool)) == 0.0
+
+
+def test_a_level_brushs_peel_is_preconditioned_by_the_circulant(monkeypatch):
+    """A level 24 x 24 brush pulled off by CG throughout peels from its edges: its attached sets are compact
+    (`boundary_share` at most ``BOUNDARY_SHARE``) down to well below half of the lattice, and the circulant
+    serves them; only its last remnant (24 pillars, share 0.83) is scattered and takes the near field.  The
+    pull-off is the kept inverse's (F_A and the work to 1e-9: every solve reaches 1e-11)."""
+    problem, force = _problem(24, 1e-2)
+    shares, solve = [], pillar_cg.LatticeCG.solve
+
+    def recorded(self, attached, *args, **kwargs):
+        shares.append((pillar_cg.boundary_share(self.model, attached), self.near_factor(attached) is None,
+                       int(attached.sum())))
+        return solve(self, attached, *args, **kwargs)
+
+    monkeypatch.setattr(pillar_cg.LatticeCG, "solve", recorded)
+    path = LoadPath(method="pillars", preload_force=force, max_steps=10**6, pillar_solve="cg")
+    iterative = record_pull_off(problem, path).summary
+    kept = record_pull_off(problem, LoadPath(method="pillars", preload_force=force, max_steps=10**6,
+                                             pillar_solve="kept")).summary
+    assert all(circulant == (share <= pillar_cg.BOUNDARY_SHARE) for share, circulant, _ in shares)
+    compact = [count for share, circulant, count in shares if circulant]
+    assert len(compact) >= len(shares) - 2 and min(compact) < problem.indenter.n_pillars // 4
+    assert iterative["adhesive_force"] == pytest.approx(kept["adhesive_force"], rel=1e-9)
+    assert iterative["work_of_separation"] == pytest.approx(kept["work_of_separation"], rel=1e-9)
+
+
 def test_a_solve_that_does_not_converge_says_so(monkeypatch, switches):
     problem, _ = _problem(6, 10.0)
     model = pillars.PillarModel(problem)

@@ -432,6 +432,32 @@ def test_lattice_far_field_on_periods_longer_than_twice_the_lattice():
     assert np.abs(field - pairs @ x).max() < 1e-12 * np.abs(pairs @ x).max()
 
 
+@pytest.mark.parametrize("holes", [False, True])
+@pytest.mark.parametrize("modes", [1, 3])
+def test_lattice_far_field_of_one_or_more_modes_with_or_without_holes(holes, modes):
+    """The far field on the uniform modes alone (the CG's product: the six sums weighted in place) and on
+    several, on a full lattice and on one with holes (scattered into the grid and gathered back), is the
+    pair-by-pair sum of the same multipoles to rounding (1e-12)."""
+    from brushbem.pillars.lattice import Lattice
+
+    shape = (12, 10)
+    index = np.stack(np.divmod(np.arange(shape[0] * shape[1]), shape[1]), axis=1)
+    if holes:
+        index = index[np.random.default_rng(2).random(index.shape[0]) < 0.8]
+    lattice = Lattice(index, shape, np.zeros(2), np.array([9.0, 7.0]), 20.0, 0.3)
+    rng = np.random.default_rng(1)
+    M = index.shape[0]
+    sources = (rng.random(M), rng.normal(size=(M, 2)), rng.normal(size=(M, 2, 2)))
+    targets = (rng.random((M, modes)), rng.normal(size=(M, modes, 2)), rng.normal(size=(M, modes, 2, 2)))
+    x = rng.normal(size=(M, 2))
+    everyone = np.arange(M)
+    field = lattice.far_field(x, sources, targets)
+    assert field.shape == (modes, M, 2)
+    for k in range(modes):
+        pairs = lattice.pair_couplings(everyone, everyone, sources, tuple(a[:, k] for a in targets))
+        assert np.abs(field[k] - pairs @ x).max() < 1e-12 * np.abs(pairs @ x).max()
+
+
 def test_lattice_detection():
     """A square lattice is found with its shape; a random layout is not a lattice."""
     problem, _ = _brush(96, 6, 1e-2)

@@ -64,9 +64,10 @@ class Switches:
     pillar_cg_iterations : int
         Iterations of the pillar model's CG before its solve is declared not converged.
     near_preconditioner : bool
-        Whether the pillar model's CG preconditions a partial contact set (at most half of the lattice) by
-        its near field (`brushbem.pillars.cg.LatticeCG.near_factor`) instead of the circulant: the 64 x 64
-        chapter-5 brush at sigma~ = 0.5 loaded by CG in 10 iterations a solve on average instead of 21.
+        Whether the pillar model's CG preconditions a scattered contact set (most attached pillars with a
+        detached neighbour, `brushbem.pillars.cg.boundary_share`) by its near field
+        (`brushbem.pillars.cg.LatticeCG.near_factor`) instead of the circulant: the 64 x 64 chapter-5 brush at
+        sigma~ = 0.5 loaded by CG in 10 iterations a solve on average instead of 21.
     radiate_uniform : bool
         Whether the pillar model's uniform amplitudes answer the higher modes' near field too (one global
         solve a round).  Without it the concave 16 x 16 brush of ``tests/test_pillars_method.py`` keeps its

@@ -39,7 +39,8 @@ Equilibrium
     leave or change shape (checked by its residual, refactorised when it
     drifts); on a lattice with more than
     `brushbem.settings.Switches.kept_pillars` attached, by CG on the
-    lattice's FFT product with a circulant preconditioner
+    lattice's FFT product, preconditioned by a circulant on compact sets and
+    by the near field's sparse factor on scattered ones
     (`brushbem.pillars.cg`), to a relative residual of 1e-11.  The
     higher modes follow locally from the field that the
     others' uniform modes cause across the tip (``coupling="local"``);
@@ -207,22 +208,29 @@ time), F_A 1.998e-6 and work 1.946e-9 (``benchmarks/large_brush.py --child
 --exact-max 0``).  Before, the first 11500 states took about 1570 CPU-s
 against 1235 here (0.135 against 0.107 a state, two runs of different
 load).  The ``size`` study's sigma~ = 0.1 brush (phi = 0.12, k~ = 1e-2,
-seed 0, pressed to F_c) attaches half to two thirds of its pillars (2751 of 4096,
-4818 of 10^4), beyond what the inverse is kept for at 10^5 pillars: its
-solves there are CG on the lattice, and each CG product is a far field of
-0.10 CPU-s (24 transforms over 640 x 640).  Measured at 316 x 316 (stopped
-at 615 CPU-s of the model, one BLAS thread, peak 2.2 GB): the loading's
-preload search had not ended its first press, 206 CG solves at 20.5
-iterations each (2.8 CPU-s a solve; the solves 94 % of the time, the far
-field 77 %).  At 10^4 pillars it takes 137 CPU-s (loading 61, 1052
-pull-off states at 73 ms, the inverse kept); with the pull-off's states
-growing as n^1.4, about 5300 states of 1.1 CG solves each would take some
-4.5 CPU-hours at 10^5, so that part of the study stops at 10^4 pillars:
-an hour needs a solve of at most about four far fields (or a far field
-five times cheaper).  By CG with
-the circulant a partial set's solves took 21 iterations on average, 42 at
-most (64 x 64, sigma~ = 0.5, every solve by CG: loading 16.6 s), with the
-near field 10 and 18 (9.1 s).
+seed 0, pressed to F_c) attaches 4818 of 10^4 pillars and 18179 of 10^5
+(18 %), beyond what the inverse is kept for at 10^5: its solves there are
+CG on the lattice, each product a far field of 60-75 ms (24 transforms over
+640 x 640).  Measured at 316 x 316 (``benchmarks/large_brush.py --sizes 316
+--brush size --sigma 0.1 --seed 0 --exact-max 0 --states 110``, load 1-2):
+loading 584 CPU-s (361 CG solves at 19.2 iterations), then the pull-off's
+first 105 states in 91 CPU-s (0.87 a state: 0.50 solves a state at 22.3
+iterations, 1.72 CPU-s a solve), peak 2.15 GB.  At 10^4 pillars by CG
+throughout (``--sizes 100 ... --pillar-solve cg``) the pull-off's 1052
+states took 0.064 CPU-s a state over its first 400, 0.143 on average (its
+solves a state rise from 0.50 to about 1.25 as it detaches, at 19
+iterations throughout); scaled so, the 10^5 pull-off's 4000-5500 states
+(growing as n^1.2-1.4) would take 7600-10500 CPU-s, about 2.3-3.1
+CPU-hours with the loading, so that part of the study stops at 10^4
+pillars.  Its sets are scattered: every attached pillar's neighbours are
+mostly off (`brushbem.pillars.cg.boundary_share` 0.93-1.0), where the near
+field preconditions (12-25 iterations a solve at 10^4, 22 at 10^5) and the
+circulant takes twice as many; a level brush's peel keeps compact sets, where
+the circulant takes 5-6 and the near field 9-13, whatever their share of
+the lattice (`brushbem.pillars.cg`).  By CG with the circulant a partial
+set's solves took 21 iterations on average, 42 at most (64 x 64, sigma~ =
+0.5, every solve by CG: loading 16.6 s), with the near field 10 and 18
+(9.1 s).
 
 Tip resolution
     By default a tip is held on the global grid's elements, so its

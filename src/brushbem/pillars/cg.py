@@ -19,18 +19,30 @@ pillars are off (a disk of them attached, or one in ten missing at random),
 measured on the ``size`` study's level lattices (phi = 0.12, k~ = 10);
 `tests/test_pillar_cg.py` holds a 16 x 16 lattice to at most 10.
 
-On a partial set (a rough brush's contact: at most `NEAR_SHARE` of the
-lattice attached, scattered) the circulant fits poorly: 21 iterations a
-solve on average, 42 at most, in the loading of the 64 x 64 chapter-5 brush
-at sigma~ = 0.5 by CG throughout.  There the preconditioner is the near
-field itself: A_S, the exact near couplings G00 between attached pillars
-closer than ``near`` (a sparse matrix of the lattice's few neighbours), the
-diagonal and the springs' diagonal, factorised by sparse LU (symmetric
-ordering, diagonal pivots: in effect a Cholesky factorisation) and kept while
-the set and its rasters stand.  The same loading took 10 iterations a solve
-on average, 18 at most, and 9.1 CPU s instead of 16.6 (the 32 x 32 brush at
-sigma~ = 1: 6.9 against 13.1).  Where A_S is not positive definite (a pivot
-<= 0) the circulant serves.
+Where the attached set is scattered (a rough brush's contact: most attached
+pillars have a detached neighbour, whatever their share of the lattice) the
+circulant fits poorly: 21 iterations a solve on average, 42 at most, in the
+loading of the 64 x 64 chapter-5 brush at sigma~ = 0.5 by CG throughout.
+There the preconditioner is the near field itself: A_S, the exact near
+couplings G00 between attached pillars closer than ``near`` (a sparse matrix
+of the lattice's few neighbours), the diagonal and the springs' diagonal,
+factorised by sparse LU (symmetric ordering, diagonal pivots: in effect a
+Cholesky factorisation) and kept while the set and its rasters stand.  The
+same loading took 10 iterations a solve on average, 18 at most, and 9.1 CPU s
+instead of 16.6 (the 32 x 32 brush at sigma~ = 1: 6.9 against 13.1).  Where
+A_S is not positive definite (a pivot <= 0) the circulant serves.
+
+Which of the two serves is decided by the set's boundary share (`boundary_share`:
+the attached pillars with a detached neighbour within ``near``, over all
+attached), not by its share of the lattice: measured on the same systems
+(the ``size`` study's brushes, phi = 0.12, k~ = 1e-2, warm starts as the
+path gives them), the circulant took 5-6 iterations where the near field took
+9-13 on a level 48 x 48 brush peeling from its edges (boundary shares 0.02-0.23,
+332 to 2264 of 2304 attached), and 19-52 where the near field took 12-25 on
+the sigma~ = 0.1 brush at 100 x 100 (boundary shares 0.93-1.0, 915 to 5693 of
+10^4 attached: more than half of the lattice at 5693, 52 against 25); at
+316 x 316 (11606 attached, share 1.0) 47 against 22.  The near field serves
+above `BOUNDARY_SHARE`.
 """
 
 from __future__ import annotations
@@ -42,12 +54,12 @@ import scipy.sparse.linalg
 
 from brushbem import settings
 
-__all__ = ["LatticeCG", "NotConverged", "TOLERANCE"]
+__all__ = ["LatticeCG", "NotConverged", "TOLERANCE", "boundary_share"]
 
-#: The near-field preconditioner (`LatticeCG.near_factor`) serves attached sets of at most this share of the
-#: lattice (those for which the solver keeps its inverse within ``Switches.kept_partial_bytes``); the circulant
-#: larger ones, which it fits.
-NEAR_SHARE = 0.5
+#: The near-field preconditioner (`LatticeCG.near_factor`) serves attached sets whose `boundary_share` is above
+#: this; the circulant the others (compact sets, which it fits; the measurements in the module docstring fall
+#: at 0.23 or below and 0.93 or above).
+BOUNDARY_SHARE = 0.5
 
 #: Relative residual ||b - A x|| / ||b|| of every right-hand side at which the CG stops (the kept inverse's
 #: own check, `brushbem.pillars.solver`, refactorises above 1e-10).
@@ -82,6 +94,8 @@ class LatticeCG:
         self.iterations = 0  # all solves together
         self._near_key: tuple | None = None
         self._near_lu = None
+        self._set_key: bytes | None = None  # the set whose `boundary_share` ``_scattered`` holds
+        self._scattered = False
         self.products = 0
 
     def _kernel(self) -> np.ndarray:
@@ -116,12 +130,16 @@ class LatticeCG:
         return kernel
 
     def near_factor(self, attached: np.ndarray):
-        """The preconditioner on a partial set (at most ``NEAR_SHARE`` of the lattice attached): the sparse LU
-        of the near-field part A_S of (G00 + H)_SS (`_near_factor`), kept while S and its rasters stand; None
-        on a larger set (the circulant's) or where A_S is not positive definite."""
+        """The preconditioner on a scattered set (`boundary_share` above ``BOUNDARY_SHARE``): the sparse LU of
+        the near-field part A_S of (G00 + H)_SS (`_near_factor`), kept while S and its rasters stand; None on
+        a compact set (the circulant's) or where A_S is not positive definite."""
         model = self.model
+        if not settings.switches().near_preconditioner:
+            return None
         S = np.flatnonzero(attached)
-        if S.size > NEAR_SHARE * model.M or not settings.switches().near_preconditioner:
+        if S.tobytes() != self._set_key:
+            self._set_key, self._scattered = S.tobytes(), boundary_share(model, attached) > BOUNDARY_SHARE
+        if not self._scattered:
             return None
         serials = np.fromiter((model.basis[p].serial for p in S), dtype=np.int64, count=S.size)
         key = (S.tobytes(), serials.tobytes(), model.origin[S].tobytes())
@@ -208,6 +226,16 @@ class LatticeCG:
         raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not {tolerance:g}, "
                            f"in {most} iterations ({int(attached.sum())} pillars attached, "
                            f"{k} right-hand sides)")
+
+
+def boundary_share(model, attached: np.ndarray) -> float:
+    """The share of the attached pillars that have a detached neighbour (``model.near_index``: the pillars
+    within ``near``); 0 on an empty set."""
+    if not attached.any():
+        return 0.0
+    rows = np.flatnonzero(attached)
+    detached = model.near_valid[rows] & ~attached[model.near_index[rows]]
+    return float(np.count_nonzero(detached.any(axis=1))) / rows.size
 
 
 def _near_factor(model, S: np.ndarray):
