@@ -256,7 +256,8 @@ def draw_tables(results: Mapping[str, pd.DataFrame], figures_dir: Path) -> list[
         out = table.copy()
         out["thesis_alpha"] = [TABLE_1.get(_nearest(k), (math.nan, math.nan))[0] for k in out["stiffness_ratio"]]
         out["thesis_critical_roughness"] = [TABLE_1.get(_nearest(k), (math.nan, math.nan))[1] for k in out["stiffness_ratio"]]
-        out.to_csv(temporary, index=False)
+        # 12 significant digits: the fit's last bit moves with the LAPACK build, the file should not.
+        out.to_csv(temporary, index=False, float_format="%.12g")
     fig, ax = figure(1, 1)
     tk = sorted(TABLE_1)
     ax[0, 0].semilogx(tk, [TABLE_1[k][1] for k in tk], "s--", color="0.5",
