@@ -53,7 +53,12 @@ _MARGIN = 1.1
 # indenter's maps and the recorded snapshots, per pillar its bases and couplings (N = 16 n in the
 # measured families, so both scale alike).  Measured peaks (benchmarks/large_brush.py, the size study):
 # 0.36 GB (level, 10^4 pillars, N = 1600), 0.66 GB (rough, 10^4), 3.1-3.2 GB (level, 10^5, N = 5056),
-# 3.5 GB (rough, 10^5; 5.8 GB sampled in a sweep's worker); 6.7 GB estimated at 10^5.  Off a lattice it
+# 3.5 GB (rough, 10^5; 5.8 GB sampled in a sweep's worker); 6.7 GB estimated at 10^5.  The size study's
+# sigma~ = 0.1 brush: at 10^4 0.89 GB unrecorded (benchmarks/large_brush.py, inverse kept on 4818 attached)
+# and 0.97 GB recorded (`brushbem run`: five snapshots of the N x N pressure and contact, about 30 bytes an
+# element more), 2.9 GB estimated; at 10^5 2.15 GB unrecorded through its loading and first 105 pull-off
+# states (18179 attached, by CG: no kept inverse), so about 3 GB recorded, 9.1 GB estimated (the kept
+# inverse of 5461 pillars that a rough brush may keep counted).  Off a lattice it
 # keeps dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
 _PILLARS_BYTES_PER_ELEMENT = 230.0
 _PILLAR_MODES = 6
