@@ -443,7 +443,7 @@ def test_the_committed_figures_are_those_the_committed_tables_draw(tmp_path):
 # tables by the slow test above.  New tables or new rows change it: run that test, then record the new
 # value here.
 COMPARISON_STAMP = {
-    "concave": "274263c2eb4f",
+    "concave": "6a7508ba2c28",
     "flat_brush": "527ddd41ed6f",
     "hierarchy": "18bba2f45dca",
     "nested_vs_convolution": "3fbc4344dc8b",
@@ -1281,6 +1281,34 @@ def test_chapter_7s_counted_rows_are_computed_at_the_candidate_its_identificatio
         assert math.isfinite(value), number.quantity
         assert number.compute(on(True)) == value, number.quantity
         assert not math.isfinite(number.compute(on(False))), number.quantity
+
+
+@pytest.mark.docs
+def test_chapter_7s_text_states_the_numbers_of_its_identification_table():
+    """The identification row and the notes quote the identified candidate as the identification table reads it
+    (the probe at steps of 0.001): its h~ at the maximum, its score and its CPU-s a case, and the tied
+    candidates' costs; the row says its own value is read from the part's points instead.  The part's
+    candidate, which records no CPU time, shows its cost as wall time."""
+    from brushbem.studies import concave
+    from brushbem.studies._ch7_identify import choose
+
+    root = DOCS / "reproduction"
+    _, tables = load_tables(root / "concave")
+    results = {**tables, **{Path(probe).stem: pd.read_csv(root / probe) for probe in concave.STUDY.probes}}
+    found = concave.candidates(results)
+    pick, tied = choose(found, scatter=True)
+    row = next(n for n in concave.STUDY.numbers if n.quantity.startswith("h~ at max F~_A, k~ = 10, circle, phi = 0.06"))
+    assert f"{pick.h_at_max:.4g} (+{100 * pick.score:.1f} %)" in row.evidence
+    assert f"{row.compute(tables):.4g}" != f"{pick.h_at_max:.4g}" and "every 0.002" in row.evidence
+    notes = (root / "notes.md").read_text(encoding="utf-8")
+    chapter_7 = notes[notes.index("**Chapter 7: the score's errors, measured**"):]
+    assert f"16 × 16 on N = 320 {100 * pick.score:.1f} %" in chapter_7
+    assert f"16 × 16 on N = 320 ({pick.cost_s:.2f} CPU-s a case" in chapter_7
+    assert all(f"{c.cost_s:.2f}" in chapter_7 for c in tied)
+    assert [c.name for c in tied if c is not pick] == ["16 x 16 on N = 288", "16 x 16 on N = 352", "24 x 24 on N = 512"]
+    assert all(c.wall == (c.elements == concave.RECORDED_GRID and c.side == concave.ROWS_SIDE) for c in found)
+    part = next(c for c in found if c.wall)
+    assert f"{part.cost_s:.2f} wall time |" in concave.identification(results)
 
 
 def test_a_column_swept_after_cases_were_recorded_plans_the_values_the_sweep_file_writes():

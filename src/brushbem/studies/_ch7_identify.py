@@ -84,6 +84,8 @@ class Candidate:
     scattered: tuple[float, float] = (math.nan, math.nan)
     spread: float = math.nan
     grids: tuple[int, ...] = ()
+    #: ``cost_s`` is wall time (a part's cases record no CPU time), not CPU-s.
+    wall: bool = False
 
     @property
     def score(self) -> float:
@@ -101,6 +103,11 @@ class Candidate:
     @property
     def name(self) -> str:
         return f"{self.side} x {self.side} on N = {self.elements}"
+
+    @property
+    def cost(self) -> str:
+        """``cost_s`` with its kind: "0.77 CPU-s" or "5.22 s wall time"."""
+        return f"{self.cost_s:.2f} " + ("s wall time" if self.wall else "CPU-s")
 
 
 def read_maximum(forces: pd.Series) -> tuple[float, float, float]:
@@ -205,7 +212,7 @@ def identification_table(found: list[Candidate], at_rows: bool) -> str:
              "docs/reproduction/probe_concave_count.py`; cost: CPU-s a case at k~ = 10).", "",
              "| candidate p_c | pillars | N (elements a radius) | h~ at max F~_A, k~ = 10, phi = 0.06 (thesis 0.04) "
              "| h~ at max, k~ = 10, phi = 0.15 | score | strict range | scatter (grids) | range with scatter "
-             "| s a case |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "| s a case (CPU-s; wall time where marked) |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for c in found:
         wide = f"{c.wide:.4g}" if math.isfinite(c.wide) else "—"
         marks = [m for m, on in (("**identified**", c is pick), ("ties", c in tied and c is not pick),
@@ -216,14 +223,14 @@ def identification_table(found: list[Candidate], at_rows: bool) -> str:
         lines.append(f"| {c.unit} | {c.side} x {c.side} ({c.pillars} in the circle) | {c.elements} "
                      f"({c.per_radius:.2f}) | {c.h_at_max:.4g} | {wide} | {100 * c.score:.1f} %"
                      f"{' ' + ', '.join(marks) if marks else ''} | {_range(c.score_range)} | {scatter} | "
-                     f"{_range(c.error_range(True))} | {c.cost_s:.2f} |")
+                     f"{_range(c.error_range(True))} | {c.cost_s:.2f}{' wall time' if c.wall else ''} |")
     if pick is None or strict is None:
         return "\n".join(lines)
 
     def said(chosen: Candidate, among: list[Candidate]) -> str:
         best = min(among, key=lambda c: c.score)
         others = ", ".join(c.name for c in among if c is not chosen)
-        return (f"{chosen.name} ({100 * chosen.score:.1f} %, {chosen.cost_s:.2f} s a case"
+        return (f"{chosen.name} ({100 * chosen.score:.1f} %, {chosen.cost} a case"
                 + ("" if best is chosen else f"; the best is {best.name} at {100 * best.score:.1f} %")
                 + (f"; tied: {others}" if others else "; no tie") + ")")
 
