@@ -14,7 +14,7 @@ before any held-out row was read at them:
 The candidates are the grids declared with the rule (`CANDIDATE_GRIDS`, and the part's 16 x 16 on
 N = 512).  Grids run later, within `NEIGHBOURS_WITHIN` of a candidate's N, measure its discretisation
 scatter and are not candidates: the score moves by more between neighbouring grids than its
-reading error (24 x 24: 4.1, 0.1, 8.9, 12.5, 8.3 % on N = 464, 488, 512, 536, 560), so the best of
+reading error (24 x 24: 4.1, 0.1, 8.9, 9.4, 6.8 % on N = 464, 488, 512, 536, 560), so the best of
 them would be picked for its noise.
 
 Two error definitions (`choose`'s ``scatter``), both reported in the document:
@@ -28,9 +28,9 @@ Two error definitions (`choose`'s ``scatter``), both reported in the document:
   0.04.
 
 Why widened: the premise of the strict error is refuted by measurement.  A grid 5 to 10 % finer or
-coarser moves the score by 10 to 30 times the reading error (16 x 16: 18.2, 10.6, 10.2 % on
-N = 288, 320, 352 at steps of 0.001), and the strict pick moves with the h~ step (16 x 16 on N = 320
-at steps of 0.002, on N = 352 at 0.001): a pick that sampling decides is not an identification.
+coarser moves the score by 10 to 30 times the reading error (16 x 16: 18.2, 10.6, 13.3 % on
+N = 288, 320, 352 at steps of 0.001), and the strict pick moves with the h~ step (16 x 16 on N = 320,
+tied with 24 x 24 and cheaper, at steps of 0.002; 24 x 24 on N = 512 alone at 0.001): a pick that sampling decides is not an identification.
 `identification_table` prints both picks.
 """
 
