@@ -56,6 +56,15 @@ neighbouring grids within 10 % of the candidate's N (grids run to measure it, no
     python docs/reproduction/probe_concave_count.py --lattices 16 --stiffness 10 \
         --elements 288 304 320 336 352 --amplifications $(seq 0.040 0.001 0.075)
 
+and the other candidates on N = 512 the same way (the part's 16 x 16 takes these as its neighbours):
+
+    python docs/reproduction/probe_concave_count.py --lattices 16 --stiffness 10 \
+        --elements 464 488 536 560 --amplifications $(seq 0.052 0.001 0.072)                 # 275 CPU-s
+    python docs/reproduction/probe_concave_count.py --lattices 8 --stiffness 10 \
+        --elements 464 488 536 560 --amplifications $(seq 0.052 0.001 0.064)
+    python docs/reproduction/probe_concave_count.py --lattices 12 --stiffness 10 \
+        --elements 464 488 536 560 --amplifications $(seq 0.054 0.001 0.066)
+
 The scatter is 10 to 30 times the reading error, so the identification widens the score's range to
 the envelope of the readings over those grids (``brushbem.studies._ch7_identify``, "with scatter"),
 and prints the strict pick beside it.
