@@ -34,8 +34,8 @@ from brushbem.studies._ch5_7 import (
     value,
 )
 from brushbem.studies._ch5_7 import finished as _all_finished
-from brushbem.studies._ch7_identify import (Candidate, choose, identification_table, interpolated, probe_candidates,
-                                            probe_curve, read_maximum)
+from brushbem.studies._ch7_identify import (AT_TIED, Candidate, choose, identification_table, interpolated,
+                                            probe_candidates, probe_curve, read_maximum, with_scatter)
 from brushbem.studies._common import safe
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.physics.theory import concave_reference_stress
@@ -320,9 +320,10 @@ def _probe_candidates(probe: pd.DataFrame, unit: int) -> list[Candidate]:
                             RECORDED_GRID)
 
 
-def _part_candidate(results: Mapping[str, pd.DataFrame], name: str, elements: int) -> Candidate:
-    """The candidate of the part ``stiffness`` on N = ``elements`` (16 x 16), h~ in the unit of ``name``;
-    cost: the mean wall time of its cases at k~ = 10 (the part records no CPU time)."""
+def _part_candidate(results: Mapping[str, pd.DataFrame], name: str, elements: int, probe: pd.DataFrame) -> Candidate:
+    """The candidate of the part ``stiffness`` on N = ``elements`` (16 x 16), h~ in the unit of ``name``, its scatter
+    over the probe's 16 x 16 grids near ``elements``; cost: the mean wall time of its cases at k~ = 10 (the part
+    records no CPU time)."""
     reads = {}
     for phi in (0.06, 0.15):
         frame = _in_unit(_with_phi(finished(results, "stiffness", elements)), name)
@@ -330,8 +331,9 @@ def _part_candidate(results: Mapping[str, pd.DataFrame], name: str, elements: in
         reads[phi] = (read_maximum(frame.groupby(H)[FIS].mean()) if len(frame) else (math.nan,) * 3,
                       float(frame["wall_time_s"].mean()) if has(frame, "wall_time_s") and len(frame) else math.nan)
     (h, low, high), cost = reads[0.06]
-    return Candidate(name, ROWS_SIDE, elements, 192, RADIUS_16 * elements, h, low, high, cost, reads[0.15][0][0],
-                     wall=True)
+    return with_scatter(Candidate(name, ROWS_SIDE, elements, 192, RADIUS_16 * elements, h, low, high, cost,
+                                  reads[0.15][0][0], wall=True),
+                        probe, "amplification_sigma_c" if name == PC_IDENTIFIED else "amplification", RECORDED_GRID)
 
 
 #: The 16 x 16 lattice's pillar radius at phi = 0.06 (the shipped sweeps; L = 1).
@@ -345,7 +347,7 @@ def candidates(results: Mapping[str, pd.DataFrame]) -> list[Candidate]:
     found = []
     for unit, name in enumerate(PC_CANDIDATES):
         from_probe = _probe_candidates(probe, unit)
-        found += [_part_candidate(results, name, RECORDED_GRID)] + from_probe
+        found += [_part_candidate(results, name, RECORDED_GRID, probe)] + from_probe
     return sorted(found, key=lambda c: (list(PC_CANDIDATES).index(c.unit), c.side, c.elements))
 
 
@@ -472,34 +474,11 @@ NUMBERS = (
 _READS_H = ("F~_A at h~ = 0.04", "F~_A at h~ = 0.8", "h~ at max F~_A, phi", "F~_A at k~ = 10, h~")
 
 
-def _top(curve: pd.Series) -> float:
-    return float(curve.max()) if len(curve) else math.nan
-
-
-#: A counted row's value at a tied candidate of the probe (`_tied`), by the row's quantity's start:
-#: ``read(curve)`` with ``curve(k~, phi)`` the candidate's F~_A by h~ (its unit).  The probe runs the circle at
-#: k~ = 10 and 6e-4 only, with no flat brush (h~ = 0): every other row is NaN there.
-_AT_TIED = {
-    "F~_A at k~ = 10, h~ = 0.04, circle": lambda c: interpolated(c(10.0, 0.06), 0.04),
-    "F~_A at k~ = 10, h~ = 0.05, circle": lambda c: interpolated(c(10.0, 0.06), 0.05),
-    "F~_A at h~ = 0.04, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.04),
-    "F~_A at h~ = 0.8, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.8),
-    "h~ at max F~_A, phi = 0.15, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.15))[0],
-    "h~ at max F~_A, phi = 0.06, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.06))[0],
-    "h~ at max F~_A, k~ = 6e-4 over k~ = 10": lambda c: read_maximum(c(6e-4, 0.06))[0] / read_maximum(c(10.0, 0.06))[0],
-    "max F~_A, phi = 0.15, k~ = 6e-4": lambda c: _top(c(6e-4, 0.15)),
-    "max F~_A, phi = 0.06, k~ = 6e-4": lambda c: _top(c(6e-4, 0.06)),
-    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06": lambda c: _top(c(6e-4, 0.06)) / _top(c(10.0, 0.06)),
-    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15": lambda c: _top(c(6e-4, 0.15)) / _top(c(10.0, 0.15)),
-    "max F~_A over h~, phi = 0.06 over phi = 0.15": lambda c: _top(c(6e-4, 0.06)) / _top(c(6e-4, 0.15)),
-}
-
-
 def _tied(quantity: str):
     """``tied(tables)`` of a counted row (`ThesisNumber.tied`): the identified candidate's name and the row at each
     other candidate that ties with the best under the rule (`choose`, its error with the scatter), from the probe; NaN where the probe
     has no such point (a candidate of the part: its rows are not read at other grids)."""
-    read = next((r for start, r in _AT_TIED.items() if quantity.startswith(start)), None)
+    read = next((r for start, r in AT_TIED.items() if quantity.startswith(start)), None)
 
     def compute(results):
         pick, tied = choose(candidates(results), scatter=True)
