@@ -8,9 +8,7 @@ The proxy's factor on the lattice families (a 4 x 4 brush at 28.9 over 3.6 eleme
 
 from __future__ import annotations
 
-import csv
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,12 +18,12 @@ from brushbem.physics.theory.punch import kendall_force
 from brushbem.pillars.calibration import lone_pull_off
 from brushbem.pillars.modes import MODES, Bases
 
-FOLDER = Path(__file__).resolve().parents[1] / "docs" / "pillars"
 
 
 def _rows(name: str) -> list[dict]:
-    with (FOLDER / name).open(newline="") as stream:
-        return list(csv.DictReader(stream))
+    from test_pillar_tips import _pillars_table
+
+    return _pillars_table(name)
 
 
 @pytest.fixture(scope="module")

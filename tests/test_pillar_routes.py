@@ -7,18 +7,15 @@ committed table; one coarse row is run again (the fine ones take 15-118 CPU-s).
 
 from __future__ import annotations
 
-import csv
-from pathlib import Path
-
 import pytest
 
-FOLDER = Path(__file__).resolve().parents[1] / "docs" / "pillars"
 ROUTES = ("proxy", "own", "own_debiased", "inv_2_4", "inv_3_4", "edge_3_4")
 
 
 def _rows(name: str) -> list[dict]:
-    with (FOLDER / name).open(newline="") as stream:
-        return list(csv.DictReader(stream))
+    from test_pillar_tips import _pillars_table
+
+    return _pillars_table(name)
 
 
 @pytest.fixture(scope="module")

@@ -292,3 +292,11 @@ def test_the_extrapolated_tips_table_is_that_of_the_tips_table():
     for row, again in zip(written, computed, strict=True):
         for name in ("extrapolated_adhesive_force", "observed_order", "grid_tips_error", "tips_14_error"):
             assert float(row[name]) == pytest.approx(again[name], rel=1e-5, abs=1e-9, nan_ok=True), name
+
+
+def _pillars_table(name: str) -> list[dict]:
+    """The rows of ``docs/pillars/<name>`` (a committed CSV), as strings."""
+    from pathlib import Path
+
+    with (Path(__file__).resolve().parents[1] / "docs" / "pillars" / name).open(newline="") as stream:
+        return list(csv.DictReader(stream))
