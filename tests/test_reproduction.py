@@ -595,20 +595,44 @@ def test_the_chapter_7_sweeps_are_the_coarse_grid_then_the_refinement():
     """concave.amplification and .stiffness: the coarse h~ grid first (13 and 17 values from 0
     to 2; its indices, hence the recorded case ids, unchanged), then, for the circle only, the
     h~ of refine_concave.FINE between each maximum's coarse neighbours, and (stiffness) the
-    softer k~ of refine_concave.SOFTER.  Every (form, phi, k~, h~) point once on N = 512; then
-    (make_concave_grid.py) every one of them again, in the same order, on chapter 7's identified N = 320."""
-    from brushbem.studies.base import SWEEPS_DIR
-    from brushbem.studies.concave import RECORDED_GRID, ROWS_GRID
+    softer k~ of refine_concave.SOFTER.  Every (form, phi, k~, h~) point once on 16 x 16, N = 512; then
+    (make_concave_grid.py) every one of them again, in the same order, on 16 x 16, N = 320, and on 24 x 24
+    pillars, N = 512 (radius sqrt(phi / pi) / 24, preload 2 N F_K of that lattice, h~ unchanged); the named set
+    n512x24 holds the last ones, the counted rows' points first."""
+    import importlib.util
 
+    from brushbem.studies.base import SWEEPS_DIR
+
+    spec_ = importlib.util.spec_from_file_location("make_concave_grid", DOCS / "reproduction" / "make_concave_grid.py")
+    grid = importlib.util.module_from_spec(spec_)
+    spec_.loader.exec_module(grid)
     keys = ("indenter.pillar_radius", "indenter.stiffness_ratio", "indenter.region", "indenter.profile.amplification")
     for part, coarse, ks in (("amplification", 52, {6e-4}), ("stiffness", 204, {10.0, 1.0, 0.1, 0.01, 1e-3, 6e-4})):
         spec, _ = _points(SWEEPS_DIR / f"concave.{part}.toml")
-        every = list(zip(*(spec["sweep"][key] for key in keys)))
-        grids = spec["sweep"]["grid.elements"]
-        recorded = grids.count(RECORDED_GRID)
-        assert grids == [RECORDED_GRID] * recorded + [ROWS_GRID] * recorded, part
+        sweep = spec["sweep"]
+        every = list(zip(*(sweep[key] for key in keys)))
+        recorded = len(every) // 3
+        assert sweep["grid.elements"] == [512] * recorded + [320] * recorded + [512] * recorded, part
+        assert sweep["indenter.pillars_per_side"] == [16] * (2 * recorded) + [24] * recorded, part
         rows = every[:recorded]
-        assert every[recorded:] == rows, part
+        assert every[recorded:2 * recorded] == rows, part
+        on_24 = [dict(zip((*keys, "protocol.preload_force"), p)) for p in zip(*(sweep[k][2 * recorded:] for k in (
+            *keys, "protocol.preload_force")))]
+        for point, row in zip(on_24, rows):
+            phi = grid.PHI_BY_RADIUS[row[0]]
+            assert math.isclose(point["indenter.pillar_radius"], math.sqrt(phi / math.pi) / 24, rel_tol=1e-12)
+            assert point["indenter.profile.amplification"] == row[3] and point["indenter.stiffness_ratio"] == row[1]
+            # 2 N F_K of the lattice: n^2 r^3/2 grows as n^1/2 at one phi (the 16 x 16 preloads are rounded to 6 digits)
+            assert math.isclose(point["protocol.preload_force"], sweep["protocol.preload_force"][rows.index(row)]
+                                * math.sqrt(24 / 16), rel_tol=1e-5)
+        sampled, _ = _points(SWEEPS_DIR / f"concave.{part}.n512x24.sampled.toml")
+        listed = [dict(zip(keys, p)) for p in zip(*(sampled["sweep"][k] for k in keys))]
+        flags = [grid.counted(part, {**p, "indenter.pillar_radius": r[0]}) for p, r in zip(listed, [
+            next(r for r in rows if r[1:] == (p[keys[1]], p[keys[2]], p[keys[3]]) and math.isclose(
+                grid.PHI_BY_RADIUS[r[0]], math.pi * (24 * p[keys[0]]) ** 2)) for p in listed])]
+        assert sorted(map(tuple, (p.values() for p in listed))) == sorted(map(tuple, (
+            {k: v for k, v in p.items() if k in keys}.values() for p in on_24))), part
+        assert flags == sorted(flags, reverse=True) and any(flags), part  # the counted rows' points first
         first, added = rows[:coarse], rows[coarse:]
         assert len(set(rows)) == len(rows), part
         h_coarse = {h for *_, h in first}

@@ -14,12 +14,25 @@ runs with
 
 A rerun leaves a sweep that already has ``grid.elements`` alone (the files are then up to date).
 
+Chapter 7's identification rule as first declared (the reading error alone, `brushbem.studies._ch7_identify`)
+picks 24 x 24 pillars on N = 512 (2.95 elements a pillar radius).  `write_count` appends every point once more
+on that candidate, after the N = 320 points: ``indenter.pillars_per_side`` = `COUNT_SIDE`, the pillar radius
+sqrt(phi / pi) / 24 and the preload 2 n^2 F_K (F_K = sqrt(8 pi E* dgamma r^3), eq. 7.4) of the new lattice, as
+``probe_concave_count.py`` runs them, h~ (runs' unit) unchanged; the recorded points get
+``indenter.pillars_per_side`` = 16, their base's value, so their case ids are unchanged.  The named set
+`COUNT_SET` lists the same points with the counted chapter-7 rows' points first (`counted_first`), so that a
+stopped run has them:
+
+    brushbem study concave --sampled-set n512x24 --parts curves,amplification,stiffness \
+        --out out/concave-n512x24 --workers 1
+
     python docs/reproduction/make_concave_grid.py
 """
 
 from __future__ import annotations
 
 import json
+import math
 import tomllib
 from pathlib import Path
 
@@ -65,6 +78,77 @@ def write(part: str) -> None:
         "\n".join([*header, *settings, "", *_sweep_lines(sampled)]) + "\n", encoding="utf-8")
 
 
+#: The strict pick of chapter 7's identification: pillars per side, grid N; its named set.
+COUNT_SIDE, COUNT_GRID, RECORDED_SIDE = 24, 512, 16
+COUNT_SET = f"n{COUNT_GRID}x{COUNT_SIDE}"
+#: The shipped 16 x 16 radii by phi (pillar radius sqrt(phi / pi) / 16).
+PHI_BY_RADIUS = {0.00863735: 0.06, 0.0136569: 0.15}
+#: (phi, k~) of the part ``stiffness`` that a counted chapter-7 row reads (``brushbem.studies.concave``): the
+#: stiff optimum and its neighbours, Fig. 7-3's k~ = 0.1, the soft maxima and their ratios; k~ = 1.5e-4 only flat.
+COUNTED_STIFFNESS = {(0.06, 10.0), (0.06, 0.1), (0.06, 6e-4), (0.15, 10.0), (0.15, 6e-4)}
+
+
+def counted(part: str, point: dict) -> bool:
+    """Whether a counted chapter-7 row reads ``point`` (every point of ``curves`` and ``amplification``)."""
+    if part != "stiffness":
+        return True
+    phi, k = PHI_BY_RADIUS[point["indenter.pillar_radius"]], point["indenter.stiffness_ratio"]
+    return (phi, k) in COUNTED_STIFFNESS or (phi, k, point["indenter.profile.amplification"]) == (0.06, 1.5e-4, 0.0)
+
+
+def counted_first(part: str, points: list[dict]) -> list[dict]:
+    """``points`` with those of the counted rows first, each group in its sweep order."""
+    return [p for p in points if counted(part, p)] + [p for p in points if not counted(part, p)]
+
+
+def on_count(point: dict) -> dict:
+    """``point`` on `COUNT_SIDE` pillars a side and N = `COUNT_GRID`: its phi's radius and 2 n^2 F_K."""
+    phi = PHI_BY_RADIUS[point["indenter.pillar_radius"]]
+    radius = math.sqrt(phi / math.pi) / COUNT_SIDE
+    preload = 2 * COUNT_SIDE**2 * math.sqrt(8 * math.pi * 1.0 * 1e-4 * radius**3)
+    return {**point, "indenter.pillar_radius": radius, "protocol.preload_force": preload,
+            "grid.elements": COUNT_GRID, "indenter.pillars_per_side": COUNT_SIDE}
+
+
+def write_count(part: str) -> None:
+    """Appends to ``concave.<part>.toml`` its points on `COUNT_SIDE` x `COUNT_SIDE`, N = `COUNT_GRID`, and writes
+    the named set `COUNT_SET` (counted rows' points first).  A sweep that has ``indenter.pillars_per_side``
+    is left alone."""
+    path = SWEEPS_DIR / f"concave.{part}.toml"
+    text = path.read_text(encoding="utf-8")
+    spec = tomllib.loads(text)
+    head = text[:text.index("[sweep]")].rstrip("\n").split("\n")
+    comment = [line for line in head if line.startswith("#")]
+    settings = [line for line in head if line and not line.startswith("#")]
+    sweep = spec["sweep"]
+    if "indenter.pillars_per_side" in sweep or "grid.elements" not in sweep:
+        return
+    n = len(sweep["grid.elements"]) // 2
+    first = [{key: values[i] for key, values in sweep.items()} for i in range(n)]
+    new = [on_count(p) for p in first]
+    note = (f"# Added after those: every point again on {COUNT_SIDE} x {COUNT_SIDE} pillars, N = {COUNT_GRID} "
+            "(pillar radius and preload 2 N F_K of that lattice), the strict pick of chapter 7's identification "
+            "(docs/reproduction/make_concave_grid.py); the points before it have 16 x 16.")
+    full = {key: values + [p[key] for p in new] for key, values in sweep.items()}
+    full["indenter.pillars_per_side"] = [RECORDED_SIDE] * (2 * n) + [COUNT_SIDE] * n
+    path.write_text("\n".join([*comment, note, *settings, "", *_sweep_lines(full)]) + "\n", encoding="utf-8")
+    ordered = [on_count(p) for p in counted_first(part, first)]
+    sampled = {key: [p[key] for p in ordered] for key in full}
+    header = [f"# Named set '{COUNT_SET}' of concave.{part}.toml (docs/reproduction/make_concave_grid.py writes this "
+              f"file): its {n} points on {COUNT_SIDE} x {COUNT_SIDE} pillars, N = {COUNT_GRID},",
+              "# the strict pick of chapter 7's identification (2.95 elements a pillar radius; the thesis states "
+              "neither); the points of the counted rows first.", *comment[:1]]
+    (SWEEPS_DIR / f"concave.{part}.{COUNT_SET}.sampled.toml").write_text(
+        "\n".join([*header, *settings, "", *_sweep_lines(sampled)]) + "\n", encoding="utf-8")
+    # The set n320 lists every key of the full sweep, its pillars per side (16) too: its case ids are unchanged.
+    grid_set = SWEEPS_DIR / f"concave.{part}.{SET}.sampled.toml"
+    grid_text = grid_set.read_text(encoding="utf-8")
+    if "indenter.pillars_per_side" not in grid_text:
+        grid_set.write_text(grid_text.rstrip("\n") + f"\n\"indenter.pillars_per_side\" = [{', '.join(['16'] * n)}]\n",
+                            encoding="utf-8")
+
+
 if __name__ == "__main__":
     for name in PARTS:
         write(name)
+        write_count(name)
