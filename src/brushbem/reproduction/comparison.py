@@ -9,6 +9,7 @@ standard error over them (`_standard_error`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import statistics
 from collections.abc import Collection, Mapping
@@ -18,7 +19,7 @@ from typing import Any
 
 import pandas as pd
 
-from brushbem.studies.verdicts import REPRODUCED, held_out, judgement
+from brushbem.studies.verdicts import REPRODUCED, Judgement, derived, held_out, judgement
 from brushbem.reproduction.tables import PROVENANCE_FILE, load_tables
 
 __all__ = ["ComparisonRow", "compare"]
@@ -169,6 +170,8 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
         provenances[study.name] = provenance
         keys = _swept_keys(provenance)
         points = _points(tables, keys) if any(keys.values()) else None
+        judged_by: dict[str, Judgement] = {}
+        start = len(rows)
         for number in study.numbers:
             ours, note = _compute(number, tables)
             error, realizations = math.nan, 0
@@ -180,17 +183,33 @@ def compare(tables_root: str | Path) -> tuple[list[ComparisonRow], dict[str, dic
                 if number.error is not None:  # the number's own estimator (a bootstrap of a fit)
                     error, _ = _compute(_Own(number.error), _of_realizations(tables, counted))
             judged = judgement(float(number.thesis), ours, error, number.verdict, number.claim, realizations,
-                                number.tie)
+                               number.tie, number.mesh, number.untested)
             if number.tied is not None and math.isfinite(ours):  # the row at the identification's tied candidates
                 identified, tied = number.tied(_with_probes(tables, study, folder.parent))
                 judged = held_out(judged, float(number.thesis), ours, tied, number.verdict, number.claim, number.tie,
-                                  identified)
+                                  identified, number.mesh)
+            judged_by[number.quantity] = judged
             verdict = judged.verdict
             rows.append(ComparisonRow(study.name, number.quantity, number.where, float(number.thesis), ours,
                                       error, realizations, note, verdict,
                                       number.evidence if number.verdict is None or verdict != REPRODUCED else "", number.claim,
                                       judged.reason, judged.qualitative, number.outside))
+        for i, number in enumerate(study.numbers):  # rows computed from other rows: their inputs' status
+            if number.inputs:
+                rows[start + i] = _derived(rows[start + i], judged_by, number)
     return rows, provenances
+
+
+def _derived(row: ComparisonRow, judged_by: Mapping[str, Judgement], number) -> ComparisonRow:
+    """``row`` with its inputs' held-out status (`brushbem.studies.verdicts.derived`)."""
+    missing = [q for q in number.inputs if q not in judged_by]
+    if missing:
+        raise ValueError(f"{number.quantity!r}: inputs {missing} are not rows of its study")
+    judged = derived(Judgement(row.verdict, row.reason, row.qualitative), {q: judged_by[q] for q in number.inputs})
+    if judged.verdict == row.verdict and judged.reason == row.reason:
+        return row
+    evidence = number.evidence if number.verdict is None or judged.verdict != REPRODUCED else ""
+    return dataclasses.replace(row, verdict=judged.verdict, reason=judged.reason, evidence=evidence)
 
 
 def _with_probes(tables: Mapping[str, pd.DataFrame], study, root: Path) -> dict[str, pd.DataFrame]:

@@ -117,6 +117,12 @@ def _fit_over_computed(k: float) -> Reader:
     return compute
 
 
+def identifying_row(k: float, sigma: float) -> str:
+    """The quantity of the chapter-5 row used to identify at (k~, sigma~): a row computed from it names it
+    (`ThesisNumber.inputs`)."""
+    return f"plateau F~_A, k~ = {k:g}, sigma~ = {sigma:g}, 16 x 16 pillars"
+
+
 def _divided(first: Reader, second: Reader) -> Reader:
     @safe
     def compute(results) -> float:
@@ -168,10 +174,12 @@ def claims(plateau: Callable[[float, float, str], Reader], table_value: Callable
                      "(k~ = 1, sigma~ = 2.1), 16 x 16 pillars ('the large adhesive force exists in a very narrow "
                      "region, and it drops quickly to zero [as] roughness or stiffness becomes large', L958)",
                      "Fig. 5-7, text (L958)", 1.0, _divided(plateau(0.001, 0.01, "count"), plateau(1.0, 2.1, "count_rough")),
-                     claim=">", evidence=held_out("the map's two corners the committed 16 x 16 tables hold")),
+                     claim=">", evidence=held_out("the map's two corners the committed 16 x 16 tables hold"),
+                     inputs=(identifying_row(0.001, 0.01),)),
         ThesisNumber("plateau F~_A, k~ = 0.001 over k~ = 10 at the smallest roughnesses (sigma~ = 0.01 and 0.07), "
                      "16 x 16 pillars ('the maximum adhesive force in the plateau region increased with decreasing "
                      "stiffness', L964)", "Fig. 5-6, text (L964)", 1.0,
                      _divided(plateau(0.001, 0.01, "count"), plateau(10.0, 0.07, "count")), claim=">",
-                     evidence=held_out("part count holds the soft brush at sigma~ = 0.01 and the stiff at 0.07")),
+                     evidence=held_out("part count holds the soft brush at sigma~ = 0.01 and the stiff at 0.07"),
+                     inputs=(identifying_row(0.001, 0.01), identifying_row(10.0, 0.07))),
     ]

@@ -24,7 +24,7 @@ import pandas as pd
 
 from brushbem.studies._ch5_7 import FA, FP, PRELOAD, SIG, SIGMA, K, finished, has
 from brushbem.studies.base import ThesisNumber
-from brushbem.studies.verdicts import STATED_CHOICE, USED_TO_IDENTIFY
+from brushbem.studies.verdicts import RESOLUTIONS, STATED_CHOICE, USED_TO_IDENTIFY
 
 __all__ = ["FIG63_LEVELS", "FIG63_NUMBERS", "IDENTIFICATION", "IDENTIFY_GRID", "IDENTIFY_TIPS", "LEVEL_TIE",
            "N3_CANDIDATES", "N3_IDENTIFIED", "TIPS_PART", "TIPS_PARTS",
@@ -44,15 +44,10 @@ K3 = "indenter.levels.1.stiffness_ratio"
 PLATEAUS = {"one": 1.6, "two": 1.65, "three": 1.9}
 #: Fig. 6-4's small preload (a, c, e): ours, the thesis states none; one value for every row.
 SMALL_PRELOAD = 1.0
-#: The resolution of a ratio of two brushes' F~_A (`ThesisNumber.tie`): the pillar-level model against the exact
-#: path on the same brushes (N = 1024, 2.25 elements a radius, seed 803261128: the set mesh of fig63_* against
-#: clustered_*, all committed) is -0.76 % (one level), -1.47 % (two), -0.05 % (three) on F~_A, +1.44 % on three
-#: over two and +0.71 % on three over one; within the largest, rounded up to 1.5 %, the model cannot order them.
-#: Measured at 2.25 elements a radius, the only grid with both; the rows' 4.5 resolve the tips better.
-LEVEL_TIE = 0.015
-TIED = ("a ratio within 1.5 % of 1 is a tie: the pillar-level model against the exact path on the same brushes "
-        "(N = 1024, seed 803261128; set mesh of fig63_* against clustered_*) is -0.76 %, -1.47 %, -0.05 % for one, "
-        "two, three levels, +1.44 % on three over two")
+#: The resolution of a ratio of two brushes' F~_A (`ThesisNumber.tie`) and the mesh error a decided ratio must clear
+#: too (`ThesisNumber.mesh`): chapter 6's `RESOLUTIONS`, measured and sourced there.
+LEVEL_TIE, _LEVEL = RESOLUTIONS[6].relative, {"tie": RESOLUTIONS[6].relative, "mesh": RESOLUTIONS[6].mesh}
+TIED = RESOLUTIONS[6].stated
 IDENTIFICATION = (f"chapter 6's identification: N3 = {N3_IDENTIFIED} level-3 clusters ({N3_CANDIDATES[N3_IDENTIFIED][0]} x "
                   f"{N3_CANDIDATES[N3_IDENTIFIED][0]} sub-pillars; N1 = 25, N2 = 16, "
                   "ours: the thesis states none) from the three plateaus at sigma~ = 0.04 among N3 = 4, 9, 16, "
@@ -522,7 +517,9 @@ FIG63_NUMBERS = (
     ThesisNumber(f"plateau F~_A, three levels over one level, sigma~ = 0.04 (1.9 / 1.6), {_WHERE}",
                  "Fig. 6-5, text (L1197)", 1.9 / 1.6,
                  plateau_ratio(plateau("three", 0.04, 14.3), plateau("one", 0.04, 14.3)), USED_TO_IDENTIFY,
-                 IDENTIFICATION + " (the ratio of two rows used to identify)"),
+                 IDENTIFICATION + " (the ratio of two rows used to identify)", inputs=(
+                     f"plateau F~_A of three levels, sigma~ = 0.04, F~_P = 14.3, {_WHERE}",
+                     f"plateau F~_A of one level, sigma~ = 0.04, F~_P = 14.3, {_WHERE}")),
     ThesisNumber(f"separation displacement, three levels over one level, sigma~ = 0.04, F~_P = 14.3 ('a larger "
                  f"critical displacement appears in the case of the structure with more levels'), {_WHERE}",
                  "Fig. 6-4 b, text (L1185)", 1.0,
@@ -532,7 +529,7 @@ FIG63_NUMBERS = (
     *(ThesisNumber(f"F~_A at small preload F~_P = 1, sigma~ = {s:g}, three levels over the larger of one and two "
                    f"('the three-level structure attains the largest adhesive force'), {_WHERE}",
                    f"Fig. 6-4 {panel}, text (L1183)", 1.0, _most_of_the_others(s, SMALL_PRELOAD),
-                   evidence=f"{TIED}; {_by('rows')}", claim=">", tie=LEVEL_TIE)
+                   evidence=f"{TIED}; {_by('rows')}", claim=">", **_LEVEL)
       for s, panel in ((0.04, "a"), (0.8, "c"), (1.6, "e"))),
     ThesisNumber(f"three-level F~_A at sigma~ = 1.6, small preload (F~_P = 1), {_WHERE}", "Fig. 6-4 e, text (L1185)",
                  0.4, plateau("three", 1.6, SMALL_PRELOAD), STATED_CHOICE,
@@ -545,11 +542,12 @@ FIG63_NUMBERS = (
     ThesisNumber(f"F~_A at sigma~ = 1.6, F~_P = 1, three levels over two levels (more levels stronger: two levels "
                  f"do not beat three), {_WHERE}", "Fig. 6-4 e, text (L1183)", 1.0,
                  plateau_ratio(plateau("three", 1.6, SMALL_PRELOAD), plateau("two", 1.6, SMALL_PRELOAD)),
-                 evidence=f"{TIED}; {_by('rows')}", claim=">", tie=LEVEL_TIE),
+                 evidence=f"{TIED}; {_by('rows')}", claim=">", **_LEVEL, outside="a duplicate: two levels beat one at "
+                 "sigma~ = 1.6, so it equals the row three levels over the larger of one and two there (Fig. 6-4 e)"),
     ThesisNumber(f"c = F~_A / F~_P at sigma~ = 1.6, F~_P = 1, three levels over one level ('the structure with more "
                  f"levels determines a relatively larger adhesion coefficient'), {_WHERE}", "Fig. 6-6 a, text (L1199)",
                  1.0, plateau_ratio(plateau("three", 1.6, SMALL_PRELOAD), plateau("one", 1.6, SMALL_PRELOAD)),
-                 evidence=f"{TIED}; {_by('rows')}", claim=">", tie=LEVEL_TIE),
+                 evidence=f"{TIED}; {_by('rows')}", claim=">", **_LEVEL),
     ThesisNumber(f"three-level c = F~_A / F~_P at F~_P = 1, sigma~ = 0.04 over sigma~ = 1.6 ('for small roughness "
                  f"... the adhesive force increases rapidly with preload'), {_WHERE}", "Fig. 6-5, text (L1195)", 1.0,
                  plateau_ratio(plateau("three", 0.04, SMALL_PRELOAD), plateau("three", 1.6, SMALL_PRELOAD)),
@@ -580,11 +578,11 @@ FIG63_NUMBERS = (
                  f"smaller effective stiffness than stiffness k1'; one level's F~_A falls with k~1), {_WHERE}",
                  "Fig. 6-7 b, text (L1234)", 1.0,
                  plateau_ratio(plateau("three", 2.5, 20.0), plateau("one", 2.5, 20.0)),
-                 evidence=f"{TIED}; {_by('rows')}", claim=">", tie=LEVEL_TIE),
+                 evidence=f"{TIED}; {_by('rows')}", claim=">", **_LEVEL),
     ThesisNumber(f"F~_A at k~1 = 5e-4 (k~2 = 9 k~1, k~3 = 20 k~1), sigma~ = 0.04, F~_P = 14.3, three levels over one "
                  f"('a very limited enhancement ... when stiffness is small'), {_WHERE}", "Fig. 6-8 a, text (L1240)",
                  1.0, plateau_ratio(plateau("three", 0.04, 14.3, k1=5e-4), plateau("one", 0.04, 14.3, k1=5e-4)),
-                 evidence=f"{TIED}; {_by('stiffness')}", claim=">", tie=LEVEL_TIE),
+                 evidence=f"{TIED}; {_by('stiffness')}", claim=">", **_LEVEL),
     ThesisNumber(f"F~_A at k~1 = 5e-2 (k~2 = 9 k~1, k~3 = 20 k~1), sigma~ = 0.04, F~_P = 14.3, three levels less one "
                  f"('this enhancement even disappears when stiffness is large'), {_WHERE}", "Fig. 6-8 a, text (L1240)",
                  0.0, plateau_difference(plateau("three", 0.04, 14.3, k1=5e-2), plateau("one", 0.04, 14.3, k1=5e-2)),
@@ -592,7 +590,7 @@ FIG63_NUMBERS = (
     ThesisNumber(f"three-level F~_A at sigma~ = 0.04, F~_P = 14.3, k~3 = 2e-3 (0.1 k~3) over k~3 = 2e-2 ('a minor "
                  f"improvement for the structure with small k3'), {_WHERE}", "Fig. 6-8 b, text (L1249)", 1.0,
                  plateau_ratio(plateau("three", 0.04, 14.3, k3=2e-3), plateau("three", 0.04, 14.3)),
-                 evidence=f"{TIED}; {_by('identify', 'stiffness')}", claim=">", tie=LEVEL_TIE),
+                 evidence=f"{TIED}; {_by('identify', 'stiffness')}", claim=">", **_LEVEL),
     ThesisNumber(f"three-level F~_A at k~3 = 2e-3 (0.1 k~3), sigma~ = 0.2 over sigma~ = 0.04, F~_P = 14.3 "
                  f"('roughness has little effect ... when sigma~ < 0.3'), {_WHERE}", "Fig. 6-8 b, text (L1249)", 1.0,
                  plateau_ratio(plateau("three", 0.2, 14.3, k3=2e-3), plateau("three", 0.04, 14.3, k3=2e-3)),

@@ -66,6 +66,14 @@ class ThesisNumber:
         each other tied candidate (NaN where not computed), from the tables and the study's probes;
         the row is judged at each (`brushbem.studies.verdicts.held_out`).  None: the row is judged
         at the identified candidate only.
+    mesh : float
+        For a trend: a further error of the compared numbers (the chapter's
+        `brushbem.studies.verdicts.RESOLUTIONS` mesh error) a decided row must clear.
+    untested : str
+        Non-empty: why the row's evidence does not test its qualitative claim (the row is open).
+    inputs : tuple of str
+        The quantities of the study's rows whose values this row is computed from: it inherits
+        their held-out status (`brushbem.studies.verdicts.derived`).
     """
 
     quantity: str
@@ -79,6 +87,9 @@ class ThesisNumber:
     outside: str = ""
     tie: float = 0.0
     tied: Callable[[Mapping[str, pd.DataFrame]], tuple[str, Mapping[str, float]]] | None = None
+    mesh: float = 0.0
+    untested: str = ""
+    inputs: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

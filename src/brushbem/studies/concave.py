@@ -39,7 +39,7 @@ from brushbem.studies._ch7_identify import (AT_TIED, Candidate, choose, identifi
 from brushbem.studies._common import safe
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.physics.theory import concave_reference_stress
-from brushbem.studies.verdicts import CONTRADICTED, OPEN, STATED_CHOICE, USED_TO_IDENTIFY
+from brushbem.studies.verdicts import CONTRADICTED, OPEN, RESOLUTIONS, STATED_CHOICE, USED_TO_IDENTIFY
 from brushbem.results.columns import summary_column
 
 PHI = "phi"
@@ -421,8 +421,15 @@ def _held_out(text: str = "") -> str:
     return IDENTIFICATION + (f"; {text}" if text else "")
 
 
+#: A comparative row's tie: chapter 7's measured grid error (`RESOLUTIONS`), named in the row.
+_COMPARED, _STATED = {"tie": RESOLUTIONS[7].tie()}, RESOLUTIONS[7].stated
+#: The quantity of the row used to identify: a row computed from its value names it (`ThesisNumber.inputs`).
+IDENTIFYING_ROW = "h~ at max F~_A, k~ = 10, circle, phi = 0.06 (p_c = Sigma_c)"
+_MAX_6 = {phi: f"max F~_A, phi = {phi:g}, k~ = 6e-4" for phi in (0.06, 0.15)}
+
+
 NUMBERS = (
-    ThesisNumber("h~ at max F~_A, k~ = 10, circle, phi = 0.06 (p_c = Sigma_c)", "Fig. 7-6 a, text", 0.04,
+    ThesisNumber(IDENTIFYING_ROW, "Fig. 7-6 a, text", 0.04,
                  _max_in_unit("stiffness", 0.06, "h_at_max", 10.0), USED_TO_IDENTIFY, IDENTIFICATION_ROW),
     ThesisNumber("F~_A at k~ = 10, h~ = 0.04, circle, phi = 0.06 (p_c = Sigma_c)", "Fig. 7-6 a, text", 0.94,
                  _interpolated("stiffness", 10.0, 0.04), STATED_CHOICE, _held_out("linear between sampled h~")),
@@ -440,18 +447,20 @@ NUMBERS = (
     ThesisNumber("pillars attached at the pull-off, best h~ over flat (h~ = 0), k~ = 10, circle, phi = 0.06 ('in "
                  "the case of optimized (concave) structure, almost all pillars detach at the same time', L1324)",
                  "Fig. 7-4, text (L1324)", 1.0, safe(_attached_at_max_over_flat(10.0)), claim=">",
-                 evidence="192 of 192 pillars attached at the best h~ against 188 flat; the stress cross-sections of "
-                 "Fig. 7-4 are in the case files, not in the tables"),
+                 untested="the tables hold how many pillars are attached at the pull-off (all of them at the best h~, "
+                 "nearly all flat), not when they leave: a flat stiff brush that detaches by propagation can have as "
+                 "many attached at its pull-off; the order of detachment and the stress cross-sections of Fig. 7-4 "
+                 "are in the case files, which the committed tables do not hold"),
     ThesisNumber("h~ at max F~_A, k~ = 6e-4 over k~ = 10, circle, phi = 0.06 ('the maximum adhesive force in smaller "
                  "stiffness cases appears at a larger factor h~', L1341)", "Fig. 7-6, text (L1341)", 1.0,
-                 _max_ratio("h_at_max", (0.06, 6e-4), (0.06, 10.0)), claim=">",
-                 evidence="p_c cancels in the ratio; the thesis's own ratio (0.5 / 0.04 = 12.5) is the row of that "
-                 "number"),
+                 _max_ratio("h_at_max", (0.06, 6e-4), (0.06, 10.0)), claim=">", **_COMPARED,
+                 evidence=_held_out("p_c cancels in the ratio; the thesis's own ratio (0.5 / 0.04 = 12.5) is the row "
+                 f"of that number; {_STATED}"), inputs=(IDENTIFYING_ROW,)),
     ThesisNumber("width of the h~ range where F~_A exceeds the flat brush's, k~ = 6e-4 over k~ = 10, circle, phi = "
                  "0.06 ('the smaller stiffness case has a much wider range of adhesion enhancement ... for stiff "
                  "cases, the change of adhesive forces is sensitively dependent on the factor h~', L1341)",
                  "Fig. 7-6, text (L1341)", 1.0, safe(_quotient(_enhanced_width(6e-4), _enhanced_width(10.0))), claim=">",
-                 evidence="p_c cancels in the ratio (one pillar radius); read on the sampled h~"),
+                 **_COMPARED, evidence=f"p_c cancels in the ratio (one pillar radius); read on the sampled h~; {_STATED}"),
     ThesisNumber("max F~_A over h~, square over circle, k~ = 6e-4, phi = 0.06 ('the geometry form ... [has] a very "
                  "slight influence on the maximal adhesive force', L1357)", "Fig. 7-5, 7-7, text (L1357)", 1.0,
                  safe(_form_ratio(0.06))),
@@ -461,12 +470,13 @@ NUMBERS = (
                  "below the circle's (0.808 against 0.859, one layout each; 5.0 % on N = 512), near the rule's edge"),
     ThesisNumber("max F~_A over h~ over F~_A of the flat brush (h~ = 0), k~ = 10, circle, phi = 0.06 ('the stronger "
                  "adhesive force can be obtained compared with it of flat profile', L1361)",
-                 "Fig. 7-6, text (L1361)", 1.0, safe(_best_over_flat(10.0, 10.0)), claim=">"),
+                 "Fig. 7-6, text (L1361)", 1.0, safe(_best_over_flat(10.0, 10.0)), claim=">", **_COMPARED,
+                 evidence=_STATED),
     ThesisNumber("max F~_A over h~ of the stiffest brush (k~ = 10) over the flat softest one (k~ = 1.5e-4, h~ = 0), "
                  "circle, phi = 0.06 ('the adhesion enhancement can be achieved by setting a proper factor h~ "
                  "instead of decreasing pillar stiffness', L1361)", "Fig. 7-6, text (L1361)", 1.0,
-                 safe(_best_over_flat(10.0, 1.5e-4)), claim=">",
-                 evidence="one layout, no standard error: 0.958 against 0.928"),
+                 safe(_best_over_flat(10.0, 1.5e-4)), claim=">", **_COMPARED,
+                 evidence=f"one layout, no standard error; {_STATED}"),
 )
 
 
@@ -559,18 +569,21 @@ STUDY = Study(
                      CONTRADICTED, "the same shift of the stiff optimum (closed form h~ = phi_R = 0.061, ours 0.066, the "
                      "thesis 0.04): our curve has the thesis's shape, a steep rise then a drop, 1.65 x further out"),
         ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06 ('almost same for all "
-                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.06, 6e-4), (0.06, 10.0))),
+                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.06, 6e-4), (0.06, 10.0)),
+                     inputs=(_MAX_6[0.06],)),
         ThesisNumber("max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15 ('almost same for all "
-                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.15, 6e-4), (0.15, 10.0))),
+                     "stiffnesses')", "Fig. 7-6, text", 1.0, _max_ratio("max", (0.15, 6e-4), (0.15, 10.0)),
+                     inputs=(_MAX_6[0.15],)),
         ThesisNumber("h~ at max F~_A, k~ = 6e-4 over k~ = 10, phi = 0.06 (grows as k~ falls; thesis "
                      "0.5 / 0.04)", "Fig. 7-5, 7-6 a, text", 0.5 / 0.04, _max_ratio("h_at_max", (0.06, 6e-4), (0.06, 10.0)),
-                     OPEN, "p_c cancels in the ratio, so no choice of it moves the row: the soft optimum lies 3.3 times "
+                     OPEN, IDENTIFICATION + "; p_c cancels in the ratio, so no choice of it moves the row: the soft "
+                     "optimum lies 3.3 times "
                      "further out than the stiff one on our 16 x 16 circle (N = 320; 3.2 on N = 512; the thesis 12.5); "
                      "the pillar count moves it, 8.6, 3.3 and 1.7 on 8 x 8, 12 x 12 and 24 x 24 at N = 512 "
-                     "(probe_concave_count.csv)"),
+                     "(probe_concave_count.csv)", inputs=(IDENTIFYING_ROW,)),
         ThesisNumber("max F~_A over h~, phi = 0.06 over phi = 0.15, k~ = 6e-4, circle (smaller phi, better "
                      "load sharing; thesis 0.95 / 0.88)", "Fig. 7-5, 7-7, text", 0.95 / 0.88,
-                     _max_ratio("max", (0.06, 6e-4), (0.15, 6e-4))),
+                     _max_ratio("max", (0.06, 6e-4), (0.15, 6e-4)), inputs=tuple(_MAX_6.values())),
     ))),
     identification=identification,
     probes=(COUNT_PROBE,),

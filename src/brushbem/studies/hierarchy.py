@@ -485,7 +485,9 @@ STUDY = Study(
                      "eq. 6.21 with phi1 = 0.12 (L1163) gives k~1 / phi1 = 8.33e-3; 9e-3 would need phi1 = 0.111"),
         ThesisNumber("k~3 = k~2/phi2 (eq. 6.26)", "eq. 6.26", 2e-2, lambda r: 1e-3 / 0.12 / 0.45,
                      CONTRADICTED, "eq. 6.21 gives k~2 / phi2 = 8.33e-3 / 0.45 = 1.85e-2; the thesis's 2e-2 divides its "
-                     "own rounded 9e-3 by 0.45"),
+                     "own rounded 9e-3 by 0.45",
+                     outside="a duplicate: it restates the row k~2 = k~1/phi1 (the thesis's 2e-2 is its rounded 9e-3 "
+                     "over 0.45, so it is off by the same -7.4 %)"),
         ThesisNumber("plateau F~_A of one level, sigma~ = 0.04", "Fig. 6-5, text (L1197)", 1.6,
                      _plateau("one", 0.04), STATED_CHOICE,
                      "the layout: on the clustered layout of Fig. 6-3 (its gaps follow from phi1, phi2, phi3; N1 = 25, "

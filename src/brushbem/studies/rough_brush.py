@@ -41,7 +41,7 @@ from brushbem.studies._ch5_7 import (
     read_curve,
     save,
 )
-from brushbem.studies._ch5_claims import claims
+from brushbem.studies._ch5_claims import claims, identifying_row
 from brushbem.studies.base import Study, ThesisNumber
 from brushbem.studies.verdicts import CONTRADICTED, OPEN, STATED_CHOICE, USED_TO_IDENTIFY
 from brushbem.physics.theory import adhesion_coefficient
@@ -427,15 +427,14 @@ def _held_out(text: str = "") -> str:
 
 
 NUMBERS = [
-    ThesisNumber(f"plateau F~_A, k~ = {k:g}, sigma~ = {s:g}, 16 x 16 pillars", where, t, _plateau(k, s, "count"),
-                 USED_TO_IDENTIFY, IDENTIFICATION)
+    ThesisNumber(identifying_row(k, s), where, t, _plateau(k, s, "count"), USED_TO_IDENTIFY, IDENTIFICATION)
     for k, s, t, where in IDENTIFYING
 ] + [
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 0.07, 16 x 16 pillars", "Fig. 5-4 a, text", 1.0,
                  _plateau(1.0, 0.07, "count"), STATED_CHOICE, _held_out()),
     ThesisNumber("plateau F~_A, k~ = 0.55 over k~ = 10, sigma~ = 0.07, 16 x 16 pillars (collapse for k~ >= 0.55)",
                  "Fig. 5-4, text", 1.0, _ratio(_plateau(0.55, 0.07, "count"), _plateau(10.0, 0.07, "count")),
-                 STATED_CHOICE, _held_out()),
+                 STATED_CHOICE, _held_out(), inputs=(identifying_row(10.0, 0.07),)),
     ThesisNumber("plateau F~_A, k~ = 1, sigma~ = 2.1, 16 x 16 pillars (almost vanishes)", "Fig. 5-4 a, text", 0.0,
                  _plateau(1.0, 2.1, "count_rough"), evidence=_held_out("'almost vanishes' read as below 5 % of F_c; "
                                                                         "one seed")),
@@ -443,7 +442,7 @@ NUMBERS = [
                  "('very soft structure lets roughness' effect reduce', L944)", "Fig. 5-6 b, text (L944)", 1.0,
                  _ratio(_ratio(_plateau(0.001, 2.1, "count"), _plateau(0.001, 0.01, "count")),
                         _ratio(_plateau(1.0, 2.1, "count_rough"), _plateau(1.0, 0.07, "count"))), claim=">",
-                 evidence=_held_out()),
+                 evidence=_held_out(), inputs=(identifying_row(0.001, 2.1), identifying_row(0.001, 0.01))),
 ] + [
     ThesisNumber(f"alpha of eq. 5.8 at k~ = {k:g}, 16 x 16 pillars", "Table 1", a, _table_value("alpha", k, "table1"),
                  STATED_CHOICE, _held_out(), error=_table_error("alpha", k, "table1"))
