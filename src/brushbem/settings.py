@@ -68,6 +68,12 @@ class Switches:
         detached neighbour, `brushbem.pillars.cg.boundary_share`) by its near field
         (`brushbem.pillars.cg.LatticeCG.near_factor`) instead of the circulant: the 64 x 64 chapter-5 brush at
         sigma~ = 0.5 loaded by CG in 10 iterations a solve on average instead of 21.
+    recycled_vectors : int
+        Most Ritz vectors the pillar model's CG keeps from solve to solve for its two-level preconditioner
+        on scattered sets (`brushbem.pillars.recycle`); 0: none (the near field alone).
+    recycled_stale : float
+        The share of the attached pillars that may leave, join or peel after the kept vectors' products were
+        made before they are made afresh (`brushbem.pillars.recycle.Recycler.refresh`, k columns of products).
     radiate_uniform : bool
         Whether the pillar model's uniform amplitudes answer the higher modes' near field too (one global
         solve a round).  Without it the concave 16 x 16 brush of ``tests/test_pillars_method.py`` keeps its
@@ -116,6 +122,8 @@ class Switches:
     kept_partial_bytes: int = 2 * 2**30
     pillar_cg_iterations: int = 2000
     near_preconditioner: bool = True
+    recycled_vectors: int = 40
+    recycled_stale: float = 0.02
     radiate_uniform: bool = True
     radiate_while_pressing: bool = True
     press_local_release: bool = True

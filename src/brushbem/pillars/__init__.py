@@ -538,10 +538,12 @@ The package's modules:
 * `solver` - the pillar-level solve (the kept inverse, the full coupling)
   and the higher modes' near field fed back (`radiate`).
 * `cg` - the solve without a kept inverse (CG on the lattice's FFT).
+* `recycle` - the Ritz vectors that CG keeps from solve to solve (its
+  two-level preconditioner on scattered sets).
 * `checks` - the refusals (`check_applicable`).
 * `domain` - where it is accurate: the warning beyond `VALIDATED_FILLING`.
 
-Imports run one way: tips, modes, lattice < calibration < basis, cg < solver < state < loading <
+Imports run one way: tips, modes, lattice < calibration < basis, recycle < cg < solver < state < loading <
 events < path.
 """
 
