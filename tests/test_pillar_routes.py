@@ -1,8 +1,9 @@
 """What ``docs/pillars/routes.csv`` (``docs/pillars/routes.py``) claims: no small-brush correction holds 1 % on every raster.
 
 The 8 x 8 flat brush on the twelve canonical rasters of ``criteria.py`` at k~ = 10 and 1e-5 (24 cases), corrected
-by the routes of ``routes.py``, against the exact path's extrapolated value.  The claims are recomputed from the
-committed table; one coarse row is run again (the fine ones take 15-118 CPU-s).
+by the routes of ``routes.py``, against `routes.references` (the continuum limit at k~ = 1e-5, the exact path's
+extrapolated value at 10).  The claims are recomputed from the committed table; one coarse row is run again (the
+fine ones take 15-118 CPU-s).
 """
 
 from __future__ import annotations
@@ -41,14 +42,41 @@ def test_the_summary_is_the_tables(script):
 
 def test_no_route_holds_one_percent_on_every_raster():
     """Every route misses 1 % somewhere; the best, the proxy's fine side on each raster's own tips divided by its
-    bias on the families, is -0.71 .. +1.81 % (18 of 24), and the proxy itself is within 1 % on 11."""
+    bias on the families, is -1.65 .. +2.09 % (14 of 24, 6 of the 12 at k~ = 1e-5), and the proxy itself is within
+    1 % on 8; at k~ = 1e-5 no route holds it on more than half the rasters."""
     lines = _rows("routes_summary.csv")
     within = {name: sum(abs(float(line[name])) < 0.01 for line in lines) for name in ROUTES}
     assert all(count < 24 for count in within.values())
-    assert within["proxy"] == 11 and within["own_debiased"] == 18
+    assert within["proxy"] == 8 and within["own_debiased"] == 14
     assert max(within.values()) == within["own_debiased"]
+    soft = [line for line in lines if line["stiffness_ratio"] == "1e-05"]
+    assert max(sum(abs(float(line[name])) < 0.01 for line in soft) for name in ROUTES) == 6
     debiased = [float(line["own_debiased"]) for line in lines]
-    assert min(debiased) == pytest.approx(-0.0071, abs=5e-5) and max(debiased) == pytest.approx(0.0181, abs=5e-5)
+    assert min(debiased) == pytest.approx(-0.0165, abs=5e-5) and max(debiased) == pytest.approx(0.0209, abs=5e-5)
+
+
+def test_the_reference_at_soft_springs_is_the_continuum_limit_within_its_stated_error(script):
+    """At k~ = 1e-5 the routes are judged against ``continuum_limit.csv``: `tilted.limit` of ``tilted_brush.csv``
+    (to its seven digits), between the continuum's first point (``continuum_reference.csv``) and the weakest tip's
+    capacity at 40 elements per radius; its error column is the half-width and no more than the 0.68 % it claims,
+    and the exact path's first-order extrapolation lies above its upper bound."""
+    from test_pillar_tips import _pillars_script
+
+    tilted = _pillars_script("tilted.py", "pillar_routes_tilted")
+    (mine,) = tilted.limit(_rows("tilted_brush.csv"))
+    (theirs,) = _rows("continuum_limit.csv")
+    for name in ("first_point_adhesive_force", "tip_adhesive_force", "adhesive_force", "error"):
+        assert mine[name] == pytest.approx(float(theirs[name]), rel=1e-6)
+    lower, upper = float(theirs["first_point_adhesive_force"]), float(theirs["tip_adhesive_force"])
+    (first,) = [r for r in _rows("continuum_reference.csv") if r["pillars_per_side"] == "8"
+                and r["stiffness_ratio"] == "1e-05"]
+    assert lower == pytest.approx(float(first["adhesive_force"]), rel=1e-7) and lower < upper
+    middle = float(theirs["adhesive_force"])
+    assert middle == pytest.approx((lower + upper) / 2, rel=1e-6)  # seven digits written
+    assert float(theirs["error"]) == pytest.approx((upper - lower) / 2 / middle, abs=1e-6)  # of written bounds
+    assert float(theirs["error"]) <= 0.0068
+    assert float(theirs["extrapolated_exact"]) > upper
+    assert script.references()[("flat", 1e-5)] == pytest.approx(middle, rel=1e-12)
 
 
 def test_the_miss_has_two_parts_of_about_one_percent():
