@@ -511,7 +511,9 @@ Why no correction holds 1 % on every raster (``docs/pillars/routes.py`` -> ``rou
     at 1e-5); the coarse error extrapolated to 8 x 8 from 2 x 2 and 4 x 4
     proxies in 1 / n -1.5 .. +3.1 % (9), from 3 x 3 and 4 x 4 in 1 / n or
     in the edge pillars' count worse; the default -4.4 .. +17.1 % (5; +9.4 %
-    on the families' own raster at 1e-5).  Two parts of about 1 % each,
+    on the families' own raster at 1e-5).  On the families' own raster the
+    debiased proxy is -0.9 .. +0.6 % on the lattices (its bias fitted
+    there) and -2.1 % on the random brush.  Two parts of about 1 % each,
     measured apart from the reference, bound every such route: the coarse
     brush's F(8 x 8) / F(4 x 4) moves with the raster by 2.1 % (k~ = 10)
     and 2.9 % (1e-5), the 8 x 8 brush's coarse error over the proxy's, each
