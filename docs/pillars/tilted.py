@@ -25,7 +25,7 @@ placements, two directions): F_A(eps) / F_A(0) is above 1 / (1 + eps) by
 events.  So a flat tip does hold beyond its first point on a raster, and
 the gain falls slowly with h.
 
-The brush's tips (``--brush`` -> ``tilted_brush.csv``; 607 CPU-s): the
+The brush's tips (``--brush`` -> ``tilted_brush.csv``; 652 CPU-s): the
 8 x 8 flat brush at k~ = 1e-5, each of its four weakest tips alone in the
 other tips' continuum deflection (`continuum.Brush.external`, the tips'
 loads equal), on four placements at 7.2, 14.4, 28.9 and 40 elements per
@@ -59,7 +59,7 @@ estimate 1.3 %) lies 1.56 % above it and 0.87 % above the upper bound.
 Rows go to ``tilted.csv`` and ``tilted_brush.csv`` as each completes
 (atomically; a rerun skips the rows already there).
 
-    nice python docs/pillars/tilted.py             # the single tilt, resuming (about 150 CPU-s)
+    nice python docs/pillars/tilted.py             # the single tilt, resuming (about 100 CPU-s)
     nice python docs/pillars/tilted.py --brush     # the brush's tips, resuming, then continuum_limit.csv
     python docs/pillars/tilted.py --limit          # only rewrite continuum_limit.csv
 """
