@@ -77,6 +77,11 @@ EXPECTED_NAN = {
                   "rapidly with roughness, and then gradually tends to k1'; the limit, its value at sigma~ = 0.8 "
                   "is not stated)"},
 }
+# Chapter 7's counted rows again on 16 x 16, N = 320 (outside the counts): a quick table has one candidate, so
+# they read it too, with the same gaps.
+EXPECTED_NAN["concave"] |= {n.quantity for n in get_study("concave").numbers
+                            if n.quantity.endswith(" [16 x 16, N = 320]")
+                            and n.quantity.removesuffix(" [16 x 16, N = 320]") in EXPECTED_NAN["concave"]}
 # The uniform-lattice rows of chapter 6 carry that in their name (outside the counts).
 EXPECTED_NAN["hierarchy"] = {q if "clustered" in q else q + ", uniform lattice" for q in EXPECTED_NAN["hierarchy"]}
 # The quick fig63 parts run 20 x 20 sub-pillars (N3 = 1): no candidate N3 of the identification, so every

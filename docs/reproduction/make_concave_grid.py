@@ -1,14 +1,14 @@
-"""Chapter 7 at its identified grid: the concave sweeps' points again on N = `GRID`.
+"""Chapter 7's candidates: the concave sweeps' points again on N = `GRID` and on the identified 24 x 24, N = 512.
 
-Chapter 7's one identification (`brushbem.studies.concave`, the rule in the docstring of
-``probe_concave_count.py``) picks 16 x 16 pillars on N = 320 (2.76 elements a pillar radius; the
-thesis states neither count nor grid for chapter 7).  This script appends to each full concave sweep
-(``concave.curves``, ``.amplification``, ``.stiffness``) its own points once more with
-``grid.elements`` = `GRID`, after the recorded ones: the recorded points get ``grid.elements`` =
-512, their base's value, so their configurations, indices and case ids are unchanged (the case hash
-is over the resolved configuration).  It writes the appended points as the named sampled set
-``concave.<part>.n320.sampled.toml`` (same base, seed and case hashes as the full sweep), which
-runs with
+Chapter 7's one identification (`brushbem.studies._ch7_identify`, the rule declared in the docstring of
+``probe_concave_count.py``, its error the reading alone) picks 24 x 24 pillars on N = 512; with the error
+widened after that was known (a sensitivity) it picks 16 x 16 pillars on N = 320 (2.76 elements a pillar radius;
+the thesis states neither count nor grid for chapter 7).  `write` appends to each full concave sweep
+(``concave.curves``, ``.amplification``, ``.stiffness``) its own points once more with ``grid.elements`` = `GRID`,
+after the recorded ones: the recorded points get ``grid.elements`` = 512, their base's value, so their
+configurations, indices and case ids are unchanged (the case hash is over the resolved configuration).  It writes
+the appended points as the named set ``concave.<part>.n320.sampled.toml`` (same base, seed and case hashes as the
+full sweep), which runs with
 
     brushbem study concave --sampled-set n320 --parts stiffness --out out/concave_n320 --workers 1
 
@@ -38,7 +38,7 @@ from pathlib import Path
 
 from brushbem.studies import SWEEPS_DIR
 
-#: The identified grid of chapter 7 and the grid of the recorded points (the sweeps' base).
+#: The grid of set n320 (16 x 16, chapter 7's count and grid sensitivity) and of the recorded points (the base).
 GRID, RECORDED_GRID = 320, 512
 SET = f"n{GRID}"
 PARTS = ("curves", "amplification", "stiffness")
@@ -64,16 +64,18 @@ def write(part: str) -> None:
     if "grid.elements" in sweep:
         return
     n = len(next(iter(sweep.values())))
-    note = (f"# Added after those: every point again on N = {GRID}, chapter 7's identified grid "
-            f"(docs/reproduction/make_concave_grid.py); the points before it are on N = {RECORDED_GRID}.")
+    note = (f"# Added after those: every point again on N = {GRID}, the pick of chapter 7's identification with its "
+            f"error widened, now its grid sensitivity (docs/reproduction/make_concave_grid.py); the points before it "
+            f"are on N = {RECORDED_GRID}.")
     full = {key: values + values for key, values in sweep.items()}
     full["grid.elements"] = [RECORDED_GRID] * n + [GRID] * n
     path.write_text("\n".join([*comment, note, *settings, "", *_sweep_lines(full)]) + "\n", encoding="utf-8")
     sampled = {key: list(values) for key, values in sweep.items()}
     sampled["grid.elements"] = [GRID] * n
     header = [f"# Named set '{SET}' of concave.{part}.toml (docs/reproduction/make_concave_grid.py writes this file): "
-              f"its {n} points on N = {GRID},", "# chapter 7's identified grid (16 x 16 pillars, 2.76 elements a "
-              "pillar radius; the thesis states neither).", *comment[:1]]
+              f"its {n} points on N = {GRID},", "# the pick of chapter 7's identification with its error widened, now "
+              "its count and grid sensitivity (16 x 16 pillars, 2.76 elements a pillar radius; the thesis states "
+              "neither).", *comment[:1]]
     (SWEEPS_DIR / f"concave.{part}.{SET}.sampled.toml").write_text(
         "\n".join([*header, *settings, "", *_sweep_lines(sampled)]) + "\n", encoding="utf-8")
 

@@ -65,9 +65,10 @@ and the other candidates on N = 512 the same way (the part's 16 x 16 takes these
     python docs/reproduction/probe_concave_count.py --lattices 12 --stiffness 10 \
         --elements 464 488 536 560 --amplifications $(seq 0.054 0.001 0.066)
 
-The scatter is 10 to 30 times the reading error, so the identification widens the score's range to
-the envelope of the readings over those grids (``brushbem.studies._ch7_identify``, "with scatter"),
-and prints the strict pick beside it.
+The scatter is 10 to 30 times the reading error.  The identification keeps the rule as declared (the
+reading error alone, ``brushbem.studies._ch7_identify``): 24 x 24 on N = 512.  The score's range widened to
+the envelope of the readings over those grids ("with scatter", adopted after the strict reading was known)
+is printed beside it as a sensitivity only (it picks 16 x 16 on N = 320).
 """
 
 from __future__ import annotations
