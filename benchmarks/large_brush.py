@@ -57,7 +57,13 @@ its whole pull-off ran (``--sizes 316 --sigma 0.5 --exact-max 0 --limit
 (0.101 s a state), 1917 CPU s in all, peak 2.9 GB.  The 100 x 100 rough
 brush (``--sizes 100 --sigma 0.5 --exact-max 0 --before c48c002 --repeat 2``,
 load 4-7) 58.9 s, loading 12.5 s against 18.4 s, pull-off 46.3 s, F_A the
-same to 1e-14.  The numbers of every size are in the docstring of
+same to 1e-14.  The ``size`` study's sigma~ = 0.1 brush with the CG's
+recycled Ritz vectors (``--sizes 316 --brush size --sigma 0.1 --seed 0
+--exact-max 0 --states 200 --before 499ac23``, load 5-7): loading 510
+against 558 CPU-s, the pull-off's first 195 states 118 against 162 (1.37x),
+iterations a solve 13.4 against 19.8; at 100 (``--pillar-solve cg``, whole
+run) 155 against 181 CPU-s (pull-off 1.22x), F_A and the work the same to
+5e-12.  The numbers of every size are in the docstring of
 `brushbem.pillars`.
 """
 

@@ -222,7 +222,19 @@ solves a state rise from 0.50 to about 1.25 as it detaches, at 19
 iterations throughout); scaled so, the 10^5 pull-off's 4000-5500 states
 (growing as n^1.2-1.4) would take 7600-10500 CPU-s, about 2.3-3.1
 CPU-hours with the loading, so that part of the study stops at 10^4
-pillars.  Its sets are scattered: every attached pillar's neighbours are
+pillars.  With the Ritz vectors kept from solve to solve (recycled
+deflation, `brushbem.pillars.recycle`, 40 vectors; ``--before 499ac23``,
+before and after in one run, machine loaded 5-7): at 316 x 316 the loading
+took 510 CPU-s against 558 (13.2 iterations a solve against 19.2) and the
+pull-off's first 195 states 118 CPU-s against 162 (1.37x; 13.9 iterations
+a solve against 21.9), peak 2.23 GB; at 10^4 by CG throughout the whole
+run took 155 CPU-s against 181 (pull-off 113 against 138, 1.22x; 14600
+iterations against 25193), F_A and the work the same to 5e-12.  The
+products fall with the iterations, but not the per-state costs besides
+them (the kept vectors' products made afresh, the two-level steps); so the
+10^5 part projects to 510 CPU-s of loading and 4000-5500 states at
+1.9 / (1.22-1.37) CPU-s, 6100-9100 CPU-s in all (1.7-2.5 h): still
+beyond an hour.  Its sets are scattered: every attached pillar's neighbours are
 mostly off (`brushbem.pillars.cg.boundary_share` 0.93-1.0), where the near
 field preconditions (12-25 iterations a solve at 10^4, 22 at 10^5) and the
 circulant takes twice as many; a level brush's peel keeps compact sets, where
