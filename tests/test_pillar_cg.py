@@ -75,8 +75,9 @@ def test_circulant_preconditioner_is_near_exact_on_the_full_lattice():
 
 def test_near_field_preconditioner_on_a_rough_brushs_partial_contact(monkeypatch, switches):
     """The loading of a rough 24 x 24 brush (sigma~ = 1) by CG throughout: its partial contact sets (at most
-    half of the lattice) preconditioned by their near field take 833 iterations in all, at most 11 a solve,
-    against the circulant's 1301 and 24 (measured); held to two thirds and 14 (the circulant's 24 is
+    half of the lattice) preconditioned by their near field take 833 iterations in all, at most 11 a solve
+    (632 and 10 with the Ritz vectors kept, `brushbem.pillars.recycle`, as by default), against the
+    circulant's 1301 and 24 (measured); held to two thirds and 14 (the circulant's 24 is
     farther off as the brush grows: 42 at 64 x 64), with the same contact and force at the preload."""
     problem, force = _problem(24, 1e-2, 1.0)
     path = LoadPath(method="pillars", preload_force=force, max_steps=10**6, pillar_solve="cg")
