@@ -35,8 +35,15 @@ iterations grow without bound: 12 to 1603 a solve within 20 solves of a
 32 x 32 pull-off).  At most ``Switches.recycled_vectors`` are kept.  Ours:
 the thesis states no solver.
 
-Measured on the ``size`` study's sigma~ = 0.1 brush (10^4 pillars, CG
-throughout, ``benchmarks/large_brush.py``): see `brushbem.pillars`.
+Measured on the ``size`` study's sigma~ = 0.1 brush (``benchmarks/large_brush.py``,
+before and after in one run): see `brushbem.pillars`.  How many to keep
+(separate runs, so within the machine's load): at 10^4 pillars (CG
+throughout, first 700 states) 80 vectors took 10.7 iterations a solve as 40
+did, and the loading more CPU time; at 10^5 (the pull-off's first 195
+states) 100 took 12.0 against 13.9 with 40, 108 CPU-s against 118.  Kept
+vectors given up at a refresh (W from the new solve's directions alone, on
+N alone) took 14.8 iterations a solve in the pull-off at 10^4 against
+10.9, and given up only beyond 20 % of the set changed 13.2.
 """
 
 from __future__ import annotations
