@@ -1013,23 +1013,29 @@ def test_a_maximum_is_recomputed_with_its_runners_up(row_tables):
     from brushbem.reproduction import RIVAL_STEPS, load_tables, plan_row
     from brushbem.studies.concave import FIS, H
 
-    plan = plan_row(row_tables, "concave", "h~ at max F~_A, phi = 0.06 (p_c = F_K / (pi r^2))")
+    # phi = 0.15 on chapter 7's identified candidate has a runner-up within 2 %; phi = 0.06's maximum has none there.
+    QUANTITY = "h~ at max F~_A, phi = 0.15 (p_c = F_K / (pi r^2))"
+    plan = plan_row(row_tables, "concave", QUANTITY)
     points, rivals = plan.points["amplification"], plan.rivals["amplification"]
     read = [point for point in points if point not in rivals]
-    assert len(read) == 1 and read[0][H] == plan.committed and 1 <= len(rivals) <= 2
+    maximum = [point for point in read if point[H] == plan.committed]  # besides, the unit's square point
+    assert len(maximum) == 1 and 1 <= len(rivals) <= 2
     _, tables = load_tables(DOCS / "reproduction" / "concave")
     frame = tables["amplification"]
+    # The rivals are read on the identified candidate's grid and lattice, as the maximum is.
     frame = frame[(frame["status"] == "finished") & (frame["indenter.stiffness_ratio"] == 6e-4)
-                  & (frame["indenter.region"] == "circle") & (frame["grid.elements"].fillna(512) == 320)]
+                  & (frame["indenter.region"] == "circle")
+                  & (frame["grid.elements"].fillna(512) == maximum[0]["grid.elements"])
+                  & (frame["indenter.pillars_per_side"] == maximum[0]["indenter.pillars_per_side"])]
 
     def force(point):
         return float(frame.loc[(frame[H] == point[H]) & (frame["indenter.pillar_radius"] == point[
             "indenter.pillar_radius"]), FIS].iloc[0])
 
     for rival in rivals:
-        assert 0 < 1 - force(rival) / force(read[0]) <= RIVAL_STEPS[-1]
+        assert 0 < 1 - force(rival) / force(maximum[0]) <= RIVAL_STEPS[-1]
     assert plan.cases == len(points)
-    alone = plan_row(row_tables, "concave", "h~ at max F~_A, phi = 0.06 (p_c = F_K / (pi r^2))", rivals=0)
+    alone = plan_row(row_tables, "concave", QUANTITY, rivals=0)
     assert alone.points["amplification"] == read and alone.rivals == {"amplification": []}
 
 
