@@ -178,9 +178,17 @@ def test_resolution_reads_the_measured_table():
     document = fibril_brush()  # r = 5 on h = 160 / 128 = 1.25: 4 elements per radius
     found = advice.resolution(parse_config(document))
     assert (found.length, found.key, found.elements) == ("pillar radius", "indenter.pillar_radius", 4.0)
+    # A brush's F_A error is the brush's own (brush_resolution_error.csv, against the continuum limit), between
+    # its rows at 3.6 and 7.2 per radius; the work's the punch's (resolution_error.csv).
+    low, high = advice._table(advice.BRUSH_TABLE)[:2]
+    assert low["elements_per_radius"] < 4.0 < high["elements_per_radius"]
+    t = math.log(4.0 / low["elements_per_radius"]) / math.log(high["elements_per_radius"] / low["elements_per_radius"])
+    for got, column in ((found.force_error_estimate, "force_error_mean"), (found.force_error_range[0], "force_error_min"),
+                        (found.force_error_range[1], "force_error_max")):
+        assert got == pytest.approx((1 - t) * low[column] + t * high[column], rel=1e-12)
     row = next(r for r in advice._table() if r["elements_per_radius"] == 4.0)
-    assert found.force_error_estimate == row["force_error_mean"]
-    assert found.force_error_range == [row["force_error_min"], row["force_error_max"]]
+    assert found.work_error_estimate == row["work_error_mean"]
+    assert "continuum limit" in found.basis
     assert isinstance(found, ResolutionRecord) and not found.resolved  # the summary's record itself
     (warning,) = advice.resolution_warnings(parse_config(document))
     assert "spans 4 elements" in warning and "raise grid.elements to 256" in warning and "--refine" in warning

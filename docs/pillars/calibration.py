@@ -15,6 +15,10 @@ relative errors of F_A and the work against
 * the exact path extrapolated from N = 128, 256 and 512 (first order,
   ``tips_extrapolated.csv``; the work the same way, where it is monotone
   with shrinking steps): none where it is outside its asymptotic range.
+  This is the old reference: at k~ = 1e-5 it lies 1.56 % above the
+  continuum limit's middle (``continuum_limit.csv``), and the flat,
+  hierarchical and concave brushes' F_A against that limit are in
+  ``rereferenced.csv`` (``limit.py``).
 
 Rows are written to ``calibration.csv`` atomically at the end (a run takes
 about three CPU minutes).

@@ -26,6 +26,7 @@ reference").
 
     nice python docs/pillars/placement.py
     nice python docs/pillars/placement.py --exact    # the moved placements of CHECKS by the exact path
+    nice python docs/pillars/placement.py --finer    # the flat brush at k~ = 1e-5 at 39.7 per radius (FINER)
 """
 
 from __future__ import annotations
@@ -64,6 +65,9 @@ FACTORS = (1, 2, 4)
 #: 28.9 elements per radius (the tips' factor 8; 90-110 CPU-s a flat pull-off, 30 s a rough one): the flat
 #: brushes' first four placements.
 FINEST = (8, SHIFTS[:4])
+#: 39.7 elements per radius (the tips' factor 11; ``--finer``): the flat brush at k~ = 1e-5, where the continuum
+#: reference is pinned (``continuum_limit.csv``), on the first four placements.
+FINER = (11, SHIFTS[:4], ("flat", 8, 1e-5))
 
 
 def placements(family: str, factor: int) -> tuple[tuple[float, float], ...]:
@@ -157,7 +161,10 @@ def main() -> None:
         return
     rows = load()
     done = {_key(line) for line in rows}
-    for case, factor, shift in plan():
+    todo = plan()
+    if "--finer" in sys.argv[1:]:
+        todo = [(FINER[2], FINER[0], shift) for shift in FINER[1]]
+    for case, factor, shift in todo:
         if (*case, factor, *shift) in done:
             continue
         rows.append(row(*case, factor, shift))

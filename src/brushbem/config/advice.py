@@ -14,7 +14,9 @@ records them in ``summary.json`` (``warnings``), and every run records its `Reso
   and the work at that resolution, read from the measured table ``brushbem/data/resolution_error.csv``
   (`benchmarks/resolution_error.py`: a flat punch on a spring against Kendall, at the radius typed), and
   for a sphere or a spherical cap from ``sphere_resolution_error.csv`` (a rigid JKR sphere against JKR; it
-  converges at first order, +20 % at 8 and +6.4 % at 24 elements across a_JKR).
+  converges at first order, +20 % at 8 and +6.4 % at 24 elements across a_JKR); a brush's F_A from
+  ``brush_resolution_error.csv`` (the flat 8 x 8 brush against the continuum limit, ``docs/pillars/limit.py``:
+  +5.5 % at 3.6, +3.5 % at 14.4, +3.2 % at 28.9 elements per radius, where a lone punch is +1 %).
   Below `MIN_ELEMENTS_PER_RADIUS` `resolution_warnings` warns with the estimate and the fix.
 """
 
@@ -57,6 +59,11 @@ Resolution = ResolutionRecord
 
 #: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
 PUNCH_TABLE, SPHERE_TABLE = "resolution_error.csv", "sphere_resolution_error.csv"
+#: A brush's own F_A error (``brush_resolution_error.csv``, ``docs/pillars/limit.py``): the flat 8 x 8 brush at
+#: k~ = 1e-5 against the continuum limit, where it is known (``docs/pillars/continuum_limit.csv``).  A brush's
+#: F_A converges more slowly than a lone punch's (its tips peel in their neighbours' field): at 28.9 elements per
+#: radius +3.2 % (the punch's +1 %), so a brush's F_A error is read from it.
+BRUSH_TABLE = "brush_resolution_error.csv"
 
 
 @functools.cache
@@ -67,13 +74,14 @@ def _table(name: str = PUNCH_TABLE) -> tuple[dict[str, float], ...]:
 
 
 def _interpolated(elements: float, column: str, name: str = PUNCH_TABLE) -> float:
-    """The table's ``column`` at ``elements`` per radius: linear in log q inside, first order in h beyond."""
+    """The table's ``column`` at ``elements`` per radius: linear in log q inside, first order in h beyond (the
+    brush's table: its last row beyond, its error falling with no order established)."""
     rows = _table(name)
     first, last = rows[0], rows[-1]
     if elements <= first["elements_per_radius"]:
         return first[column]
     if elements >= last["elements_per_radius"]:
-        return last[column] * last["elements_per_radius"] / elements
+        return last[column] if name == BRUSH_TABLE else last[column] * last["elements_per_radius"] / elements
     for low, high in zip(rows, rows[1:], strict=False):
         if low["elements_per_radius"] <= elements <= high["elements_per_radius"]:
             t = (math.log(elements / low["elements_per_radius"])
@@ -170,8 +178,18 @@ def resolution(config: RunConfig) -> ResolutionRecord | None:
                        None if work is None else (work, work),
                        "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
                        "benchmarks/resolution_error.py --sphere)")
-    force = _interpolated(elements, "force_error_mean")
     work = _interpolated(elements, "work_error_mean")
+    if what == "pillar radius":
+        return _record(
+            what, key, value, elements, _interpolated(elements, "force_error_mean", BRUSH_TABLE),
+            (_interpolated(elements, "force_error_min", BRUSH_TABLE),
+             _interpolated(elements, "force_error_max", BRUSH_TABLE)), work,
+            (_interpolated(elements, "work_error_min"), _interpolated(elements, "work_error_max")),
+            "F_A: the flat 8 x 8 brush at k~ = 1e-5 at this many elements per pillar radius against the continuum "
+            "limit (its middle; the range: every placement of the lattice on the raster between the limit's bounds; "
+            "docs/pillars/limit.py); the work: a flat punch on a spring against eq. 2.18-2.19 "
+            "(benchmarks/resolution_error.py)")
+    force = _interpolated(elements, "force_error_mean")
     return _record(
         what, key, value, elements, force,
         (_interpolated(elements, "force_error_min"), _interpolated(elements, "force_error_max")), work,
