@@ -137,7 +137,7 @@ def test_the_calibration_table_holds_what_the_docs_say():
     """``docs/pillars/calibration.csv``: against the extrapolated exact path (six cases) the default is +2.8 ..
     +7.8 % on F_A, calibrated +2.5 .. +3.5 % (above the 1 % target everywhere: not the default), with tips at
     7.2 per radius +1.1 .. +4.2 % and calibrated +0.4 .. +1.5 %; the work at k~ = 10 (two cases) +15.6 ..
-    +16.3 % and calibrated +6.5 .. +7.1 % (`brushbem.pillars`, "Calibrated tips"; to the quoted digits)."""
+    +16.3 % and calibrated +6.5 .. +7.1 % (`docs/pillars/accuracy.md`, "Calibrated tips"; to the quoted digits)."""
     rows = _calibration_script().load()
     quoted = {("3.611", "False"): (0.028, 0.078), ("3.611", "True"): (0.025, 0.035),
               ("7.222", "False"): (0.011, 0.042), ("7.222", "True"): (0.004, 0.015)}

@@ -57,7 +57,7 @@ def test_the_reference_table_is_what_its_script_computes():
 
 
 def test_the_raw_sequence_is_outside_its_asymptotic_range_and_the_corrected_one_at_stiff_springs_only():
-    """``reference.csv`` (`brushbem.pillars`, "The reference"): on both stiffnesses the exact path's F_A rises
+    """``reference.csv`` (`docs/pillars/accuracy.md`, "The reference"): on both stiffnesses the exact path's F_A rises
     from 14.4 to 28.9 elements per radius, with the lone tip's raster error (+0.25 % to +0.92 %).  F / (1 + e_R)
     falls at every refinement with shrinking steps at k~ = 10, but rises from 14.4 to 28.9 at 1e-5."""
     rows = _reference_script().load()
@@ -98,7 +98,7 @@ def test_a_moved_lattice_is_the_same_brush_on_another_raster():
 
 
 def test_the_placement_table_holds_what_the_docs_say():
-    """``placement.csv`` (`brushbem.pillars`, "The reference"): the spread of the calibrated F_A over the
+    """``placement.csv`` (`docs/pillars/accuracy.md`, "The reference"): the spread of the calibrated F_A over the
     placements shrinks with the tips' resolution (3.4 / 2.7 / 0.9 / 0.5 % at k~ = 10, 3.0 / 1.6 / 0.8 / 0.6 % at
     1e-5, at 3.6 / 7.2 / 14.4 / 28.9 per radius); the means fall by 1.2, 1.3 and 0.7 % (k~ = 10) and 0.4, 0.8 and
     0.5 % (1e-5) per doubling; their first-order extrapolation from 14.4 and 28.9 lies 0.14 % and 0.53 % above
@@ -139,7 +139,7 @@ def test_the_placement_table_is_what_its_script_computes():
 
 
 def test_the_rough_brushs_placements_give_no_reference_at_stiff_springs():
-    """``placement.csv``, the rough 8 x 8 brush at k~ = 10 (`brushbem.pillars`, "The reference"): twelve
+    """``placement.csv``, the rough 8 x 8 brush at k~ = 10 (`docs/pillars/accuracy.md`, "The reference"): twelve
     placements at 3.6 / 7.2 / 14.4 / 28.9 per radius spread by 37 / 29 / 21 / 16 %; their means fall by 2.4, 3.2
     and 8.3 % per doubling, steps growing, so neither they nor the exact path (``tips_extrapolated.csv``: no
     value) extrapolate.  The family's own raster stays within 1 % at every resolution, the exact path on N = 512

@@ -21,7 +21,7 @@ grid whose elements are the tips' and by the pillar model beside it
 rasters as on the families' own.
 
 Rows go to ``placement.csv`` as each completes (atomically; a rerun skips
-the rows already there).  The summary is in `brushbem.pillars` ("The
+the rows already there).  The summary is in `docs/pillars/accuracy.md` ("The
 reference").
 
     nice python docs/pillars/placement.py

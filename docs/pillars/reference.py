@@ -24,7 +24,7 @@ table gives the exact path's F_A and CPU time, e_R, that corrected F_A, and
 the pillar model's F_A with the same tips, plain and calibrated.
 
 Rows go to ``reference.csv`` as each completes (atomically; a rerun skips
-the rows already there); the verdict is in `brushbem.pillars` ("The
+the rows already there); the verdict is in `docs/pillars/accuracy.md` ("The
 reference").
 
     nice python docs/pillars/reference.py

@@ -330,289 +330,34 @@ Tip resolution
     the tips ran at the factor 9, 32.5 per radius) puts the flat 8 x 8 brush
     at 0.0083952 (k~ = 10) and 0.0122299 (1e-5), 1.1 % and 0.4 % above the
     exact path's first-order extrapolation (0.0082899, 0.0120796).  What that
-    gap means is settled below ("The reference").
+    gap means is settled in `docs/pillars/accuracy.md` ("The reference").
 
-The reference: the continuum limit, 0.68 % at k~ = 1e-5; the extrapolated exact path is 1.6 % high there
-    The exact path at N = 1024 on the 8 x 8 brushes would cost about
-    1000-3000 CPU-s a case (29-35 times N = 512); it was not run.  Two
-    cheaper runs came first.
-    * The 4 x 4 flat brush with the same footprints, by the exact path at
-      3.6, 7.2, 14.4 and 28.9 elements per radius (``docs/pillars/reference.py``
-      -> ``reference.csv``, 236 CPU-s).  F_A rises from 14.4 to 28.9: +0.22 %
-      at k~ = 10 and +1.06 % at 1e-5.  The lone tip's raster error rises
-      there too (+0.25 % to +0.92 %): one brush's sequence over h carries
-      the staircase of its circles, and a first-order extrapolation of it is
-      only as good as that staircase happens to be smooth.  A level brush's
-      F_A is proportional to Sigma_c (``tests/test_pillar_reference.py``), so
-      F / (1 + e_R) is the exact path with calibrated tips; it falls with
-      shrinking steps at k~ = 10, but still rises 0.38 % from 14.4 to 28.9 at
-      1e-5: the brush keeps a raster error of its own.
-    * The 8 x 8 flat lattice moved by fractions of an element
-      (``docs/pillars/placement.py`` -> ``placement.csv``: six placements at
-      3.6, 7.2 and 14.4 elements per radius, four at 28.9; 1080 CPU-s).  It
-      uses the pillar model with calibrated tips, which follows the exact
-      path on moved rasters to 0.3 % (four placements, ``--exact``).  F_A spreads
-      over the placements by 3.4, 2.7, 0.9 and 0.5 % (k~ = 10) and 3.0, 1.6,
-      0.8 and 0.6 % (1e-5).  The families' own raster (centres on grid
-      vertices) lies 1.9 % below the mean at 7.2 (k~ = 10).  The placement
-      means fall by 1.2, 1.2 and 0.7 % (k~ = 10) and 0.4, 0.8 and 0.5 % (1e-5)
-      per doubling: not asymptotic below 14.4, shrinking from 14.4 to 28.9
-      (observed order 0.87 and 0.86).  Their first-order extrapolation from
-      14.4 and 28.9, 0.0083015 (k~ = 10) and 0.0121437 (1e-5), lies 0.14 %
-      and 0.53 % above the exact path's (at the observed order 0.00 % and
-      0.42 %).
-    Neither settles the limit, which the flat brush's continuum problem
-    gives without a grid (``docs/pillars/continuum.py``: rigid circular
-    tips on springs, a spectral Galerkin solution exact to 2e-9).  Its
-    first point, where the first tip's largest stress intensity reaches
-    K_c, is 0.0118133 (k~ = 1e-5) and 0.0081111 (10), 2.25 % and 2.20 %
-    below the extrapolated exact path, and a lower bound only: a flat tip
-    whose K varies along its edge peels stably where K peaks before the
-    peel runs away.  One tip at a time in its continuum field, on rasters
-    of 7.2 to 40 elements per radius (``docs/pillars/tilted.py``), the
-    four weakest tips of the 8 x 8 brush at k~ = 1e-5 hold 0.5-2.9 % beyond
-    their first points at 40 per radius, still falling with h.  So at
-    k~ = 1e-5 the flat (and hierarchical, concave) brush's F_A lies between
-    0.0118133 and 0.0119750; the reference is the middle, 0.0118942 +-
-    0.68 % (``continuum_limit.csv``), and the extrapolated exact path
-    (0.0120796) is 1.56 % above it, 0.87-2.25 % above the bounds: neither
-    its stated 1.3 % nor the "about 0.5 %" from the placements is shown
-    (every placement's tips keep their raster's peel gain).  At k~ = 10 the
-    reference stays the extrapolated exact path, between the first point
-    2.2 % below and an unknown peel's gain, so not pinned to 1 %.
-    Against the placement means' limit, the calibrated brush on a generic
-    raster (the placements' mean) is +3.9 / +2.7 / +1.4 / +0.7 % (k~ = 10)
-    and +2.2 / +1.8 / +0.9 / +0.5 % (1e-5) at 3.6 / 7.2 / 14.4 / 28.9
-    elements per radius; the default (uncalibrated, the families' own
-    raster) +7.6 % and +7.1 %.  The brush's error after the lone tip's is
-    removed falls about 1 % per doubling from 3.6 to 14.4, with no order a
-    two-resolution extrapolation could use: a tip resolution within 1 % on
-    any raster is about 14-29 elements per radius.
-    The rough brush at k~ = 10 (the same script, twelve placements at each
-    of the four resolutions, 660 CPU-s), where F_A is a small difference of a
-    few pillars in partial contact: ``tips_extrapolated.csv`` gives it no
-    value (the exact path's F_A not monotone), and the placements confirm
-    that none can be had below 28.9 elements per radius.  F_A spreads over
-    the placements by 37 / 29 / 21 / 16 % at 3.6 / 7.2 / 14.4 / 28.9 per
-    radius; the means (0.0009969, 0.0009726, 0.0009410, 0.0008632, standard
-    error 1.6 % at 28.9) fall by 2.4, 3.2 and 8.3 % per doubling, the steps
-    growing: outside the asymptotic range, no order to extrapolate with (at
-    first order 0.000785, 4.3 % below the exact path on N = 512).  The
-    family's own raster with the lone tip's error removed is 0.000808 ..
-    0.000815 at every resolution (within 0.9 %), and the exact path on
-    N = 512 (0.0008204) lies 1.1 % above it; the exact path's -12 % from
-    N = 256 follows its lone tip's error (4.2, 2.7, 0.25 % at N = 128, 256,
-    512) magnified 3.6-5.4 times in the small difference.  The generic
-    placements fall towards it: their mean at 28.9 lies 5.2 % above the
-    exact path on N = 512.  So the rough brush at k~ = 10 has a reference
-    to about 5 % (the exact path on N = 512 between the placements'
-    first-order extrapolation and their mean at 28.9), not 1 %: there the
-    model is checked against the exact path on the same raster
-    (``tips.csv``), not against a limit.
-    The stated upper bound is not shown by the brush itself
-    (``docs/pillars/limit.py`` -> ``limit_tips.csv``): the calibrated brush
-    at 14.4 and 28.9 elements per radius (placement means) equals its edge
-    tips' capacity alone in their continuum field within 0.3 % and lies
-    2.0 and 1.6 % above the corner's, the one the bound takes; bounded by
-    the edge tips' capacity at 40 per radius instead (0.0121523), the limit
-    spans 0.0118133 .. 0.0121523, 2.9 % (below, "Tips of 3-4 elements per
-    radius").
-
-Calibrated tips (``LoadPath.pillar_tip_calibration``, off by default)
-    Every tip's critical stress is scaled by F_K / F_R, F_R the pull-off
-    force of the tip alone on its raster (`brushbem.pillars.calibration`; a
-    lone rigid tip's F_R is proportional to Sigma_c, so the calibrated lone
-    tip gives Kendall's F_K exactly, one lone pull-off per footprint shape).
-    It removes the lone tip's error, not the brush's: in a brush the
-    neighbours' field tilts and bends every tip's pressure, and a factor
-    fixed on a lone tip's uniform pull does not carry over to those modes
-    (a brush at 3.6 elements per radius keeps half its error).  Measured
-    (``docs/pillars/calibration.csv``, written by
-    ``docs/pillars/calibration.py``: the 8 x 8 families at k~ = 10, 1e-2 and
-    1e-5): against the extrapolated exact path (six cases, the old reference
-    ``tips_extrapolated.csv``) the default is
-    +2.8 .. +7.8 % (F_A), calibrated +2.5 .. +3.5 %, and with tips at 7.2
-    per radius +1.1 .. +4.2 % and calibrated +0.4 .. +1.5 % (against the
-    continuum limit's middle, the flat, hierarchical and concave brushes at
-    k~ = 1e-5, ``docs/pillars/rereferenced.csv``: +9.4, +5.0, +5.9 and
-    +3.1 %); the work at
-    k~ = 10 (two cases) +15.6 .. +16.3 % by default, +6.5 .. +7.1 % calibrated, +1.9 ..
-    +2.2 % calibrated at 7.2 per radius.  The 1 % target is missed by 1.5 to
-    2.5 points at the grid's 3.6 elements per radius (by 4 on the continuum
-    limit at k~ = 1e-5), so it is not the default.  Where F_A is a small difference (rough and concave brushes on
-    stiff springs, k~ = 10, a few pillars in partial contact) the
-    calibration's 4 % on the tips' strength moves F_A by 13-19 %, as the
-    resolution itself does there (the exact path moves -12 % from N = 256 to
-    512): against the exact path on N = 512 calibrated -1.6 % and -4.1 %
-    (default +14 % and +19 %).  Its cost: one lone pull-off per footprint
-    shape (a lattice: one), the same run time otherwise (``benchmarks/pillars.py
-    --tips 4 --tip-brush 100 --tip-grid 1.109 --exact-elements 0 --calibrate``:
-    10^4 rough pillars, 4.0 elements per radius, 45.0 s against 41.3 s;
-    F_A 9.446e-6 against 1.0363e-5, the tips at 16 per radius 9.502e-6).
-
-Criteria at coarse tips (``docs/pillars/criteria.py`` -> ``criteria.csv``)
-    Whether any criterion on a tip of 3-4 elements per radius is within 1 %
-    of the reference, on the 8 x 8 validation families.  Besides the
-    raster's Sigma_c and the calibrated one, a per-element criterion
-    (`brushbem.pillars.calibration`, ``per_element``: each element's critical
-    stress in proportion to its pressure under the lone tip's uniform pull,
-    the lone tip at F_K with every element at its criterion at once).  On the
-    flat brush's six placements (k~ = 10 / 1e-5) it removes most of the
-    placement spread at 3.6 per radius (1.9 / 2.2 % against 3.6 / 3.1 %
-    calibrated; mean -0.9 / -0.3 %), but its error falls with the tips'
-    resolution, to -1.6 / -1.1 % at 7.2 and -2.1 / -1.6 % at 14.4 (every
-    placement below the reference) and -2.4 / -1.9 % at 28.9 on the own
-    raster, where the calibrated one is +0.6 / +0.7 % (these against the old
-    reference, ``tips_extrapolated.csv``; against the continuum limit at
-    k~ = 1e-5, ``rereferenced.csv``, the per-element criterion is -0.3 ..
-    +1.1 % at 7.2, -0.2 .. +0.6 % at 14.4 and -0.4 % at 28.9, inside the
-    limit's bounds, and the calibrated one +2.3 % at 28.9): it takes a tip off
-    where the continuum starts its peel, and the peel that follows carries
-    load, so its limit is the continuum's first point, not the brush's peel
-    (``limit.csv``, below) (it costs 4.8 CPU-s at 28.9
-    per radius against 107 calibrated: the peel is what fine tips cost).  Every tip on one raster centred on its pillar (an
-    element's centre or corner: a tip's own raster with the global grid only
-    placing the pillars; on a lattice of a whole number of elements every
-    pillar has that raster), on grids of 2.9-4.1 elements per radius
-    (five cases with a reference, ``tips_extrapolated.csv``): the error
-    ranges over -5.9 .. +15.3 % with the raster's Sigma_c, -2.0 .. +19.0 %
-    calibrated and -4.3 .. +3.3 % per element (the three at k~ = 1e-5 against
-    the continuum limit's middle, ``rereferenced.csv``: -4.4 .. +17.1 %,
-    -0.0 .. +13.5 % and -0.3 .. +4.2 %).  The raster's size sets it: the per-element error follows
-    the raster's area over the circle's (about -0.19 per unit of that ratio
-    off 1, correlation -0.89), the raster's Sigma_c the other way (+0.64),
-    and a raster with one element standing out on each axis (25, 29 and 49
-    elements) is worst calibrated (+8 .. +19 %).  Two rasters are within
-    0.5 % calibrated on all five cases (37 elements at 3.4 and 45 at 3.6 per
-    radius, centred on an element) and the same 45-element raster at 3.8 per
-    radius is +2.7 .. +3.4 %: two errors cancelling, not a converged tip.
-    On the six cases with a reference, each on its own raster: at 3.6 per
-    radius +2.8 .. +7.8 % plain (the default), +2.5 .. +3.5 % calibrated,
-    -2.4 .. -1.5 % per element; at 7.2 +1.1 .. +4.3 %, +0.4 .. +1.5 % and
-    -4.6 .. -0.5 % (the three at k~ = 1e-5 on the continuum limit: +9.4,
-    +5.0 and -0.3 % at 3.6; +5.9, +3.1 and +1.1 % at 7.2).  So centring the
-    tips removes the placement spread but not the error, and no criterion
-    measured brings 3-4 elements per radius within 1 % on every raster;
-    calibrated tips reached it at about 29 per radius against the old
-    reference (``placement.csv``), not against the continuum limit (+2.6 %
-    at 28.9 on the placements' mean, ``limit.csv``).
-
-A small brush's correction (``docs/pillars/proxy.py`` -> ``proxy.csv``)
-    The coarse tips' error is each tip's, set by its raster, its neighbours
-    and its spring, and hardly by the brush's size: the same family at
-    n x n pillars (the same raster, pitch and k~), run at the grid's tips
-    and at tips of 28.9 elements per radius calibrated (+0.6 / +0.7 % on the
-    flat 8 x 8 brush), gives a ratio that carries over.  The 8 x 8 default
-    (+2.8 .. +7.8 %) times a 4 x 4 proxy's ratio is within 1 % on the six
-    cases with a reference (-0.5 .. +0.8 %), times a 3 x 3 one's too (four
-    cases, +0.6 .. +0.9 %), times a 2 x 2 one's not (up to +3.0 %, the random
-    layout); all against the old reference, ``tips_extrapolated.csv``.
-    Against the continuum limit's middle (the three at k~ = 1e-5,
-    ``rereferenced.csv``) the default is +9.4 % and corrected by the 4 x 4,
-    3 x 3 and 2 x 2 proxies +2.2, +2.3 and +2.7 %: the proxy's fine side,
-    calibrated tips at 28.9 per radius, is itself not converged (+2.6 %
-    above it on the 8 x 8 brush's placements, ``limit.csv``).  The ratio is the tips' rasters': 0.9348 for every lattice
-    family at both stiffnesses (to 1.5e-4), 0.968 for the random layout,
-    whose pillars each sit on a raster of their own; the flat lattice's ratio
-    on the random brush gives -3.9 %, so a proxy must hold the brush's
-    rasters.  The 4 x 4 proxy's fine run costs 23-65 CPU-s whatever the
-    brush (`benchmarks/pillars.py --proxy 4`: 1.50 times the 10^4-pillar
-    brush's time, 200 times an 8 x 8 one's); measured, not the path's default.
-
-A tip in an infinite lattice (``docs/pillars/periodic.py`` -> ``periodic.csv``)
-    Not the proxy's correction.  A periodic cell of one tip (the Love kernel
-    summed over the lattice's images, every tip at one force: the exact
-    event path of identical tips that all pull alike) gives on the families'
-    raster F(28.9, calibrated) / F(3.6) = 0.9648 against the 4 x 4 proxy's
-    0.9348 (3.2 % apart) and the lone tip's F_K / F_R = 0.9598 (the lone tip
-    there +4.19 %): neighbours that pull alike hardly change a tip's raster
-    error (the cell's factor is the lone tip's to 1.1 % on all twelve
-    canonical rasters), and the five lattice cases stay +3.8 .. +4.0 % with
-    it (against the old reference, ``tips_extrapolated.csv``, as every
-    factor this paragraph judges; at k~ = 1e-5 the factor the brush needs is
-    0.985 times that on the continuum limit, ``rereferenced.csv``).  A rigid 2 x 2 array of the same tips by the exact event path of its
-    elements (no pillar model, every tip at the array's edge) does give the
-    2 x 2 proxy's factor (0.9358 against 0.9387; its F_A at 3.6 per radius
-    the proxy's +0.13 %): the correction is the finite brush's, whose edge
-    tips peel under a one-sided field.  That array's factor brings the five
-    lattice cases to +0.7 .. +0.9 % on the families' raster, but on the
-    other canonical rasters it misses what the 8 x 8 brush needs by -0.7 ..
-    +10 %: neither layout is a calibration independent of the raster.  The
-    4 x 4 proxy itself, run on each of those rasters against its one
-    28.9-elements F_A, gives the 8 x 8 brush's need to -0.6 .. +2.3 %
-    (k~ = 10 and 1e-5; within 1 % on 11 of 24): a brush transfers, a cell
-    or a lone tip does not, and on rasters other than the families' the
-    proxy is good to about 2.3 %, not 1 %.
-
-Why no correction holds 1 % on every raster (``docs/pillars/routes.py`` -> ``routes.csv``)
-    On those 24 cases, against the continuum limit at k~ = 1e-5 and the
-    extrapolated exact path at 10: the proxy's fine side run on each
-    raster's own tips refined (28.4-30.7 per radius) and divided by its
-    bias on the families (1.0166) -1.65 .. +2.09 % (14 within 1 %, 6 of 12
-    at 1e-5); the coarse error extrapolated to 8 x 8 from 2 x 2 and 4 x 4
-    proxies in 1 / n -1.5 .. +3.1 % (9), from 3 x 3 and 4 x 4 in 1 / n or
-    in the edge pillars' count worse; the default -4.4 .. +17.1 % (5; +9.4 %
-    on the families' own raster at 1e-5).  On the families' own raster the
-    debiased proxy is -0.9 .. +0.6 % on the lattices (its bias fitted
-    there) and -2.1 % on the random brush.  Two parts of about 1 % each,
-    measured apart from the reference, bound every such route: the coarse
-    brush's F(8 x 8) / F(4 x 4) moves with the raster by 2.1 % (k~ = 10)
-    and 2.9 % (1e-5), the 8 x 8 brush's coarse error over the proxy's, each
-    against its own fine tips, 0.9895 .. 1.0113 on four rasters; and the
-    fine side is not converged to 1 %: the 4 x 4 proxy on its twelve own
-    fine rasters spreads by 1.8 % and 2.3 %, the 8 x 8 brush at its own fine
-    tips is +1.2 .. +3.3 % from the reference at about 29 per radius, which
-    at 1e-5 is the tips' own peel on a raster (2.2-3.3 % for one edge tip
-    in its field at 28.9 per radius, 1.7-2.9 % at 40).  A 1 % answer needs
-    the brush's tips converged beyond 40 per radius, so the default is
-    unchanged and its error is stated (`brushbem.config.advice`).
-
-Tips of 3-4 elements per radius within 1 % of the limit: not shown (``docs/pillars/limit.py`` -> ``limit.csv``)
-    The route tried: the raster's noise taken out of fine tips by averaging
-    F_A over placements of the lattice on the tips' own raster
-    (``placement.csv``, the flat 8 x 8 brush), then extrapolated in the tips'
-    elements per radius with the order the means show, first order (a lone
-    punch's) or 1/2; it would succeed where the answer lies within 1 % of
-    both ends of the continuum limit's interval.  At k~ = 1e-5 the plain
-    means lie +6.2 / +5.4 / +4.2 / +3.9 % above the first point (0.0118133)
-    at 3.6 / 7.2 / 14.4 / 28.9 per radius, their placements within 4.8 /
-    2.0 / 0.9 / 0.17 % of each other (the noise goes, the error stays), the
-    calibrated ones +5.0 / +4.6 / +3.7 / +3.3 %; their steps give no order
-    (none over 3.6-14.4; 1.70 plain and 0.86 calibrated over 7.2-28.9), and
-    every extrapolation (observed, first and half order) stays +2.1 ..
-    +3.7 % above the first point and +0.7 .. +2.3 % above the stated upper
-    bound (0.0119750): none of the 14 within 1 % of both.  At k~ = 10 the
-    extrapolations lie +1.3 .. +3.3 % above the first point, with no upper
-    bound known.  Nor is the cost within reach: four placements at 28.9 per
-    radius took 379-389 CPU-s on the 8 x 8 brush against the default's
-    0.3 s, and one placement at 16 per radius costs 7.4 times the grid's
-    tips at 10^4 pillars (above, "Tip resolution"), so no averaged
-    fine-tip route stays within 2x of the default's time at 10^4 pillars; a
-    4 x 4 proxy's fine side is the same fine tips on fewer pillars, with the
-    same gap (``proxy.csv``: +2.2 .. +2.7 % on the continuum limit).
-    What blocks it is the limit, not only the routes.  The brush follows its
-    edge tips' peel (``limit_tips.csv``, above), whose gain over the first
-    point is 1.7-2.9 % at 40 per radius and still falls with no order
-    (``tilted.py``), so the limit is known to 2.9 % (0.0118133 ..
-    0.0121523), wider than 1 % on either side of any answer; at k~ = 10 no
-    upper bound is known at all.  The two ends are the two candidates: the
-    per-element criterion (`brushbem.pillars.calibration`,
-    ``per_element``) tends to the first point (placement means +2.0 / +1.1
-    / +0.6 % above it at 3.6 / 7.2 / 14.4 per radius, +0.3 % at 28.9 on the
-    own raster; at k~ = 10 +1.2 / +0.6 / +0.1 / -0.2 %) and on the families'
-    raster at 3.6 per radius lies within 0.4 % of it at both k~ at the
-    default's cost (over placements it spreads by 2.0-2.2 %); plain and
-    calibrated tips tend to a value above it, the peel's gain.  If the
-    continuum's peel gain vanishes the per-element criterion is the route;
-    if it does not, none measured is; these resolutions do not decide which
-    (ours, the thesis states none).  So the default is unchanged, and a
-    brush's F_A error in every run (`brushbem.config.advice`) is the
-    brush's own against the continuum limit
-    (``src/brushbem/data/brush_resolution_error.csv``, written by
-    ``docs/pillars/limit.py``): +5.5 % at 3.6 per radius (+2.1 .. +10 % over
-    the placements and the limit's bounds), +4.6 % at 7.2, +3.5 % at 14.4,
-    +3.2 % at 28.9 (+0.9 .. +3.9 %), the last row beyond, where a lone
-    punch is +1 %.
+Against the limit (`docs/pillars/accuracy.md`: the reference, calibrated tips, criteria at coarse tips, a
+small brush's correction, a periodic cell, the routes, and whether tips of 3-4 elements per radius can be shown
+within 1 %)
+    The reference is the flat brush's continuum problem (``docs/pillars/continuum.py``, rigid circular tips on
+    springs, exact to 2e-9): at k~ = 1e-5 its first point (the first tip at K_c) 0.0118133 is a lower bound,
+    and the stated upper bound 0.0119750 (``continuum_limit.csv``: the weakest tip's capacity alone in its
+    continuum field at 40 elements per radius, ``tilted.py``) gives 0.0118942 +- 0.68 %; the exact path's
+    first-order extrapolation (``tips_extrapolated.csv``, the old reference) is 1.56 % above it.  The brush
+    itself does not show that bound (``docs/pillars/limit.py`` -> ``limit_tips.csv``): at 14.4 and 28.9
+    elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.6-2.0 % above the corner's,
+    the one the bound takes; bounded by the edge tips (0.0121523) the limit is known to 2.9 %.  At k~ = 10
+    only the first point (0.0081111) is known.  Errors quoted against the old reference are labelled so; on
+    the continuum limit (``rereferenced.csv``) the default at 3.6 elements per radius is +9.4 % on the
+    families' raster (+5.5 % the mean over placements), calibrated +5.0 %, the per-element criterion -0.3 %,
+    the 4 x 4 proxy's correction +2.2 %.
+    Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): fine tips
+    averaged over placements of the lattice on their raster and extrapolated in their elements per radius
+    (the observed order, first order, 1/2) stay +2.1 .. +3.7 % above the first point and +0.7 .. +2.3 %
+    above the stated upper bound at k~ = 1e-5 (0 of 14 within 1 % of both; at 28.9 per radius the placements
+    agree to 0.17 %, the error stays +3.9 %), cost many times the default (one placement at 16 per radius
+    7.4 times the grid's tips at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all
+    at 10.  The per-element criterion tends to the first point (+0.3 % at 28.9 per radius), plain and
+    calibrated tips above it (the peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no
+    order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
+    brush's F_A error in every run is the brush's own against the continuum limit
+    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9 per radius).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
