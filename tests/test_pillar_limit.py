@@ -121,3 +121,22 @@ def test_the_other_tables_on_the_continuum_limit(script):
         # Seven digits of F_A and the errors; calibration.csv's reference is its own extrapolation of the same
         # three runs, 4e-6 relative from tips_extrapolated.csv's written value.
         assert float(r["error_middle"]) == pytest.approx(moved, abs=1e-5)
+
+
+def test_the_plain_mean_is_the_calibrated_one_times_the_lone_tips_error():
+    """``limit.py`` reads the plain criterion's F_A as the calibrated one times 1 + e_R of that placement (a level
+    brush's F_A is proportional to Sigma_c, and on a lattice every tip has one footprint, so calibrating scales
+    every Sigma_c alike).  One moved placement at the grid's tips run plain, k~ = 1e-5: equal to the table's
+    seven digits (1e-6 relative)."""
+    from test_pillar_tips import _pillars_script
+
+    from brushbem.protocol import LoadPath, record_pull_off
+
+    placement = _pillars_script("placement.py", "pillar_limit_placement")
+    (written,) = [row for row in placement.load() if (row["family"], row["stiffness_ratio"], row["tip_factor"],
+                                                     row["shift_y"]) == ("flat", "1e-05", "1", "0.13")]
+    case = placement.shifted("flat", 8, 1e-5, 1, (0.13, 0.37))
+    _, preload = placement.problem("flat", 8, 1e-5)
+    plain = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7)).summary
+    expected = float(written["calibrated_adhesive_force"]) * (1 + float(written["lone_tip_error"]))
+    assert plain["adhesive_force"] == pytest.approx(expected, rel=1e-6)

@@ -39,6 +39,13 @@ k~ = 1e-5), its error as quoted (against ``tips_extrapolated.csv``) and
 against the limit's middle and ends; and the factor ``periodic.csv``'s
 proxies were judged by (F_ref / F_plain) on the new reference.
 
+Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
+elements per radius"): at k~ = 1e-5 none of the 14 placement means and
+extrapolations is within 1 % of both ends (+2.1 .. +3.7 % above the first
+point for the extrapolations); the brush follows its edge tips, not the
+corner the stated upper bound takes, so the limit is known to 2.9 %; the
+per-element criterion tends to the first point.
+
 No pull-off runs here: ``nice python docs/pillars/placement.py --finer``
 adds the 39.7 rows (about 3-6 CPU-min each); this script only reads.
 
