@@ -40,9 +40,10 @@ against the limit's middle and ends; and the factor ``periodic.csv``'s
 proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
-elements per radius"): at k~ = 1e-5 none of the 14 placement means and
-extrapolations is within 1 % of both ends (+2.1 .. +3.7 % above the first
-point for the extrapolations); the brush follows its edge tips, not the
+elements per radius"): at k~ = 1e-5 no placement mean is within 1 % of
+both ends; the extrapolations spread over +0.8 .. +3.8 % above the first
+point, the one within (order 0.24) the rule's noise; the brush follows
+its edge tips, not the
 corner the stated upper bound takes, so the limit is known to 2.9 %; the
 per-element criterion tends to the first point.
 
@@ -102,22 +103,41 @@ def interval(stiffness: float) -> tuple[float, float | None, float]:
     return FIRST[10.0], None, float(old["extrapolated_adhesive_force"])
 
 
-def placement_means() -> dict[tuple[float, str], dict[float, tuple[float, float, int, float]]]:
-    """{(k~, criterion): {q: (mean, spread, placements, CPU-s)}} of the flat 8 x 8 brush (``placement.csv``)."""
-    forces, seconds = defaultdict(list), defaultdict(float)
+def placement_forces() -> dict[tuple[float, str], dict[float, dict[tuple[str, str], float]]]:
+    """{(k~, criterion): {q: {shift: F_A}}} of the flat 8 x 8 brush (``placement.csv``), plain and calibrated."""
+    out: dict = defaultdict(lambda: defaultdict(dict))
     for row in _rows("placement.csv"):
         if row["family"] != "flat":
             continue
         stiffness, q = float(row["stiffness_ratio"]), float(row["tip_elements_per_radius"])
+        shift = (row["shift_y"], row["shift_x"])
         calibrated = float(row["calibrated_adhesive_force"])
-        forces[(stiffness, "calibrated", q)].append(calibrated)
-        forces[(stiffness, "plain", q)].append(calibrated * (1 + float(row["lone_tip_error"])))
-        seconds[(stiffness, q)] += float(row["cpu_seconds"])
-    out: dict = defaultdict(dict)
-    for (stiffness, criterion, q), values in forces.items():
-        mean = statistics.fmean(values)
-        out[(stiffness, criterion)][q] = (mean, (max(values) - min(values)) / mean, len(values), seconds[(stiffness, q)])
+        out[(stiffness, "calibrated")][q][shift] = calibrated
+        out[(stiffness, "plain")][q][shift] = calibrated * (1 + float(row["lone_tip_error"]))
     return out
+
+
+def placement_means() -> dict[tuple[float, str], dict[float, tuple[float, float, int, float]]]:
+    """{(k~, criterion): {q: (mean, spread, placements, CPU-s)}} of the flat 8 x 8 brush (``placement.csv``)."""
+    seconds = defaultdict(float)
+    for row in _rows("placement.csv"):
+        if row["family"] == "flat":
+            seconds[(float(row["stiffness_ratio"]), float(row["tip_elements_per_radius"]))] += float(row["cpu_seconds"])
+    out: dict = defaultdict(dict)
+    for (stiffness, criterion), table in placement_forces().items():
+        for q, by_shift in table.items():
+            values = list(by_shift.values())
+            mean = statistics.fmean(values)
+            out[(stiffness, criterion)][q] = (mean, (max(values) - min(values)) / mean, len(values),
+                                              seconds[(stiffness, q)])
+    return out
+
+
+def matched(by_q: dict[float, dict], qs: list[float]) -> tuple[list[float], int]:
+    """The means at ``qs`` over the placements that every one of them holds (an extrapolation compares like with
+    like: the finest resolutions hold the first placements only), and their number."""
+    common = set.intersection(*(set(by_q[q]) for q in qs))
+    return [statistics.fmean(by_q[q][shift] for shift in common) for q in qs], len(common)
 
 
 def extrapolated(q: list[float], f: list[float], order: float) -> float:
@@ -215,17 +235,18 @@ def routes() -> list[dict]:
                 out.append({"stiffness_ratio": stiffness, "route": "placement mean", "criterion": criterion,
                             "tips": each, "order": "", "placements": count, "adhesive_force": mean,
                             "spread": spread, **_errors(mean, stiffness), "cpu_seconds": cpu})
-            f = [table[each][0] for each in q]
-            cpu = sum(table[each][3] for each in q[-2:])
-            for finest in range(3, len(q) + 1):  # the extrapolations from every three successive resolutions
-                qs, fs = q[:finest], f[:finest]
-                observed = observed_order(qs, fs)
-                for name, order in (("observed", observed), ("first", 1.0), ("half", 0.5)):
-                    if name != "observed" and finest < len(q):
-                        continue
+            forces = placement_forces()[(stiffness, criterion)]
+            for finest in range(3, len(q) + 1):  # every three successive resolutions, and their last two
+                qs = q[finest - 3:finest]
+                cpu = sum(table[each][3] for each in qs[-2:])
+                three, _ = matched(forces, qs)
+                two, count = matched(forces, qs[-2:])
+                for name, order in (("observed", observed_order(qs, three)), ("first", 1.0), ("half", 0.5)):
+                    fs = three if name == "observed" else two
                     force = extrapolated(qs, fs, order) if math.isfinite(order) else math.nan
                     row = {"stiffness_ratio": stiffness, "route": f"extrapolated ({name} order)",
-                           "criterion": criterion, "tips": qs[-1], "order": order, "placements": "",
+                           "criterion": criterion, "tips": qs[-1], "order": order,
+                           "placements": matched(forces, qs)[1] if name == "observed" else count,
                            "adhesive_force": force, "spread": "", "cpu_seconds": cpu}
                     row.update(_errors(force, stiffness) if math.isfinite(force) else
                                {"error_lower": "", "error_middle": "", "error_upper": "", "error_edge": "",

@@ -341,23 +341,24 @@ within 1 %)
     continuum field at 40 elements per radius, ``tilted.py``) gives 0.0118942 +- 0.68 %; the exact path's
     first-order extrapolation (``tips_extrapolated.csv``, the old reference) is 1.56 % above it.  The brush
     itself does not show that bound (``docs/pillars/limit.py`` -> ``limit_tips.csv``): at 14.4 and 28.9
-    elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.6-2.0 % above the corner's,
-    the one the bound takes; bounded by the edge tips (0.0121523) the limit is known to 2.9 %.  At k~ = 10
-    only the first point (0.0081111) is known.  Errors quoted against the old reference are labelled so; on
+    (and 39.7) elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.4-2.0 % above the
+    corner's, the one the bound takes; bounded by the edge tips (0.0121523) the limit is known to 2.9 %.  At
+    k~ = 10 only the first point (0.0081111) is known.  Errors quoted against the old reference are labelled so; on
     the continuum limit (``rereferenced.csv``) the default at 3.6 elements per radius is +9.4 % on the
     families' raster (+5.5 % the mean over placements), calibrated +5.0 %, the per-element criterion -0.3 %,
     the 4 x 4 proxy's correction +2.2 %.
     Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): fine tips
     averaged over placements of the lattice on their raster and extrapolated in their elements per radius
-    (the observed order, first order, 1/2) stay +2.1 .. +3.7 % above the first point and +0.7 .. +2.3 %
-    above the stated upper bound at k~ = 1e-5 (0 of 14 within 1 % of both; at 28.9 per radius the placements
-    agree to 0.17 %, the error stays +3.9 %), cost many times the default (one placement at 16 per radius
-    7.4 times the grid's tips at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all
-    at 10.  The per-element criterion tends to the first point (+0.3 % at 28.9 per radius), plain and
-    calibrated tips above it (the peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no
-    order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
+    (the observed order, first order, 1/2) spread from +0.8 to +3.8 % above the first point at k~ = 1e-5 (at
+    28.9 per radius the placements agree to 0.17 %, the error stays +3.9 %; the one extrapolation within 1 %
+    of both ends has an order of 0.24, which multiplies the raster's noise 12.6 times, and calibrated the same
+    data give +2.4 %), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
+    at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all at 10.  The per-element
+    criterion tends to the first point (+0.3 % at 28.9 per radius), plain and calibrated tips above it (the
+    peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
     brush's F_A error in every run is the brush's own against the continuum limit
-    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9 per radius).
+    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9, +3.0 % at 39.7 per
+    radius).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
