@@ -60,10 +60,9 @@ def test_no_route_is_within_one_percent_of_the_limit_at_soft_springs(script):
     of both ends of the stated interval: the finest four-placement mean (28.9, plain) is still +3.9 % above the
     first point, its placements within 0.2 % of each other (the raster's noise averaged out, not the error).  The
     extrapolations of the same means (the observed order over three successive resolutions, first order, 1/2;
-    each over the placements its resolutions share) spread over more than 2.5 % (+0.8 .. +3.8 % above the first
-    point): a rule, not an answer.  The one within 1 % of both ends has an order under 0.3, which multiplies the
-    last step more than ten times (one placement at 39.7: its raster noise, 0.2 % between placements at 28.9,
-    becomes 2 % or more), and the same placement calibrated is not within."""
+    each over the placements its resolutions share) spread over more than 2.5 % (+0.7 .. +3.8 % above the first
+    point): a rule, not an answer.  Where one lands within 1 % of both ends, the same rule on the same placements
+    with the other criterion (plain or calibrated, whose limits are one) does not."""
     rows = [r for r in _rows("limit.csv") if r["stiffness_ratio"] == "1e-05" and r["criterion"] != "per_element"
             and r["error_lower"] != ""]
     assert len(rows) >= 15  # the default, 8 placement means (and 2 at 39.7), 6 extrapolations (and more)
@@ -77,8 +76,6 @@ def test_no_route_is_within_one_percent_of_the_limit_at_soft_springs(script):
     assert max(errors) - min(errors) > 0.025
     for r in extrapolated:
         if r["within"] == "True":
-            order, ratio = float(r["order"]), 39.719 / 28.887
-            assert order < 0.3 and 1 / (ratio ** order - 1) > 10
             (twin,) = [t for t in extrapolated if (t["route"], t["tips"]) == (r["route"], r["tips"])
                        and t["criterion"] != r["criterion"]]
             assert twin["within"] == "False"

@@ -3,10 +3,11 @@
 The route tried: take the raster's noise out of the fine tips by averaging
 the pillar model's F_A over placements of the lattice on the tips' own
 raster (``placement.csv``: six placements at 3.6, 7.2 and 14.4 elements per
-radius, four at 28.9 and at 39.7), then extrapolate the means in the tips'
-elements per radius q with an order: the one the means show over their
-three finest resolutions, the first order a lone punch shows
-(``brushbem/data/resolution_error.csv``) and 1/2.  The means are of the
+radius, four at 28.9, up to four at 39.7 as ``placement.py --finer`` adds
+them), then extrapolate the means in the tips' elements per radius q with
+an order: the one the means show over three successive resolutions, the
+first order a lone punch shows (``brushbem/data/resolution_error.csv``) and
+1/2, each over the placements its resolutions share.  The means are of the
 plain criterion (the raster's Sigma_c: the calibrated F_A times the lone
 tip's 1 + e_R of that placement, exact for a brush of level tips whose F_A
 is proportional to Sigma_c, ``tests/test_pillar_reference.py``) and of the
@@ -41,8 +42,9 @@ proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
 elements per radius"): at k~ = 1e-5 no placement mean is within 1 % of
-both ends; the extrapolations spread over +0.8 .. +3.8 % above the first
-point, the one within (order 0.24) the rule's noise; the brush follows
+both ends; the extrapolations spread over +0.7 .. +3.8 % above the first
+point, the one within (calibrated, order 1/2 assumed) +2.1 % with plain
+tips on the same placements; the brush follows
 its edge tips, not the
 corner the stated upper bound takes, so the limit is known to 2.9 %; the
 per-element criterion tends to the first point.

@@ -349,15 +349,15 @@ within 1 %)
     the 4 x 4 proxy's correction +2.2 %.
     Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): fine tips
     averaged over placements of the lattice on their raster and extrapolated in their elements per radius
-    (the observed order, first order, 1/2) spread from +0.8 to +3.8 % above the first point at k~ = 1e-5 (at
+    (the observed order, first order, 1/2) spread from +0.7 to +3.8 % above the first point at k~ = 1e-5 (at
     28.9 per radius the placements agree to 0.17 %, the error stays +3.9 %; the one extrapolation within 1 %
-    of both ends has an order of 0.24, which multiplies the raster's noise 12.6 times, and calibrated the same
-    data give +2.4 %), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
+    of both ends, calibrated tips at an assumed order 1/2, is +2.1 % with plain tips on the same placements,
+    whose limit is the same), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
     at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all at 10.  The per-element
     criterion tends to the first point (+0.3 % at 28.9 per radius), plain and calibrated tips above it (the
     peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
     brush's F_A error in every run is the brush's own against the continuum limit
-    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9, +3.0 % at 39.7 per
+    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9, +2.9 % at 39.7 per
     radius).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
