@@ -150,7 +150,66 @@ def write_count(part: str) -> None:
                             encoding="utf-8")
 
 
+#: The soft maxima (k~ = 6e-4) of the identified 24 x 24 on N = 512, refined in h~ (runs' unit) between the
+#: recorded neighbours of each maximum: (phi, region) -> h~ added; the recorded maximum (F~_A at h~) and its
+#: neighbours in the comment.  The set `PEAK_SET` runs them (part ``amplification`` both forms, ``stiffness``
+#: the circle: each part's rows read its own points).
+PEAK_H = {
+    # 0.8171 at 0.08 (0.8074 at 0.06, 0.7969 at 0.12)
+    (0.06, "circle"): (0.065, 0.07, 0.075, 0.085, 0.09, 0.095, 0.1, 0.11),
+    (0.15, "circle"): (0.4, 0.45, 0.475, 0.525, 0.55, 0.6),  # 0.8358 at 0.5 (0.8247 at 0.35, 0.7867 at 0.7)
+    (0.06, "square"): (0.05, 0.06, 0.07, 0.09, 0.1, 0.11),  # 0.8140 at 0.08 (0.8087 at 0.04, 0.8107 at 0.12)
+    (0.15, "square"): (0.55, 0.6, 0.65, 0.75, 0.8, 0.85),  # 0.7838 at 0.7 (0.7688 at 0.5, 0.7276 at 1.0)
+}
+PEAK_SET, SOFT = f"{COUNT_SET}peaks", 6e-4
+
+
+def write_peaks(part: str) -> None:
+    """Appends to ``concave.<part>.toml`` the `PEAK_H` points on `COUNT_SIDE` x `COUNT_SIDE`, N = `COUNT_GRID`
+    (those of its forms; each from its recorded h~ = 0 point, ``protocol.step`` times 1 + 2 h~ as the sweep's
+    rule), and writes the named set `PEAK_SET` with them.  Points already in the sweep are not added again."""
+    path = SWEEPS_DIR / f"concave.{part}.toml"
+    text = path.read_text(encoding="utf-8")
+    spec = tomllib.loads(text)
+    sweep = spec["sweep"]
+    if "indenter.pillars_per_side" not in sweep:
+        return
+    points = [dict(zip(sweep, values)) for values in zip(*sweep.values())]
+    ours = [p for p in points if p["indenter.pillars_per_side"] == COUNT_SIDE and p["indenter.stiffness_ratio"] == SOFT]
+    have = {(p["indenter.pillar_radius"], p["indenter.region"], p["indenter.profile.amplification"]) for p in ours}
+    peaks = []
+    for (phi, region), hs in PEAK_H.items():
+        flat = [p for p in ours if p["indenter.region"] == region and p["indenter.profile.amplification"] == 0.0
+                and math.isclose(p["indenter.pillar_radius"], math.sqrt(phi / math.pi) / COUNT_SIDE)]
+        if not flat:
+            continue
+        for h in hs:
+            peaks.append({**flat[0], "indenter.profile.amplification": h,
+                          "protocol.step": float(f"{flat[0]['protocol.step'] * (1 + 2 * h):.6g}")})
+    added = [p for p in peaks if (p["indenter.pillar_radius"], p["indenter.region"],
+                                  p["indenter.profile.amplification"]) not in have]
+    if added:
+        head = text[:text.index("[sweep]")].rstrip("\n").split("\n")
+        note = ("# Added after those: the soft maxima (k~ = 6e-4) of the 24 x 24 lattice on N = 512 refined in h~ "
+                "(docs/reproduction/make_concave_grid.py, PEAK_H).")
+        comment = [line for line in head if line.startswith("#")]
+        settings = [line for line in head if line and not line.startswith("#")]
+        full = {key: values + [p[key] for p in added] for key, values in sweep.items()}
+        path.write_text("\n".join([*comment, *([note] if note not in comment else []), *settings, "",
+                                   *_sweep_lines(full)]) + "\n", encoding="utf-8")
+    if not peaks:
+        return
+    settings = [line for line in text[:text.index("[sweep]")].split("\n") if line and not line.startswith("#")]
+    header = [f"# Named set '{PEAK_SET}' of concave.{part}.toml (docs/reproduction/make_concave_grid.py writes this "
+              f"file): its {len(peaks)} points that refine in h~ the soft maxima (k~ = 6e-4) of {COUNT_SIDE} x "
+              f"{COUNT_SIDE} pillars on N = {COUNT_GRID},", "# chapter 7's identified candidate."]
+    (SWEEPS_DIR / f"concave.{part}.{PEAK_SET}.sampled.toml").write_text(
+        "\n".join([*header, *settings, "", *_sweep_lines({key: [p[key] for p in peaks] for key in sweep})]) + "\n",
+        encoding="utf-8")
+
+
 if __name__ == "__main__":
     for name in PARTS:
         write(name)
         write_count(name)
+        write_peaks(name)

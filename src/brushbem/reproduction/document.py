@@ -154,7 +154,8 @@ def render(rows: list[ComparisonRow], provenances: Mapping[str, Mapping[str, Any
         "it does not also test it).  A held-out row of a chapter whose identification ties candidates is",
         "checked at each of them (`brushbem.studies.verdicts.held_out`): it stays *reproduced* (with or without a",
         "stated choice) only if its verdict is the same at every tied candidate whose value exists, else it is",
-        "*open*; the check applies to reproduced rows only.  Qualitative claims (a trend the text asserts, and a thesis 0 read as",
+        "*open*; the check applies to reproduced rows only (no identification ties candidates now).  "
+        "Qualitative claims (a trend the text asserts, and a thesis 0 read as",
         f"|ours| < {VANISHES_BELOW:g}) are judged both ways alike: reproduced or contradicted when ours lies on",
         f"one side of the threshold by more than {STANDARD_ERRORS:g} standard errors, open in between, and open (a tie)",
         "within the resolution a row states, the model's measured error on the compared numbers.  Fitted quantities",

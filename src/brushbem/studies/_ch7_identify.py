@@ -50,9 +50,10 @@ import pandas as pd
 from brushbem.physics.theory import concave_reference_stress
 from brushbem.studies._ch5_7 import RADIUS, H, has
 
-__all__ = ["AT_TIED", "PC_CANDIDATES", "PC_IDENTIFIED", "in_unit", "CANDIDATE_GRIDS", "NEIGHBOURS_WITHIN", "THESIS_H", "Candidate", "choose", "identification_table",
+__all__ = ["PC_CANDIDATES", "PC_IDENTIFIED", "in_unit", "CANDIDATE_GRIDS", "NEIGHBOURS_WITHIN", "THESIS_H", "Candidate",
+           "choose", "identification_table",
            "interpolated", "neighbours", "probe_candidates", "probe_curve", "read_maximum", "score_interval",
-           "top", "with_scatter"]
+           "with_scatter"]
 
 #: The thesis's stiff optimum (Fig. 7-6 a, text), the identification row.
 THESIS_H = 0.04
@@ -285,28 +286,7 @@ def identification_table(found: list[Candidate], at_rows: bool) -> str:
                  "sensitivity (its rows outside the counts).")
               + (f"  Every counted row above is computed on the identified candidate (the parts' points on "
                  f"{pick.side} x {pick.side} pillars, N = {pick.elements}, set `n{pick.elements}x{pick.side}`)."
-                 if at_rows else "  The rows above are NOT computed on it.")]
+                 if at_rows else "  The rows above are NOT computed on it.")
+              + ("" if len(tied) < 2 else "  The strict rule ties candidates here, and the parts run only the pick: "
+                 "no row above is checked at the others, so none of its reproduced rows decides the thesis's number.")]
     return "\n".join(lines)
-
-
-def top(curve: pd.Series) -> float:
-    return float(curve.max()) if len(curve) else math.nan
-
-
-#: A counted row's value at a tied candidate of the probe (`concave._tied`), by the row's quantity's start:
-#: ``read(curve)`` with ``curve(k~, phi)`` the candidate's F~_A by h~ (its unit).  The probe runs the circle at
-#: k~ = 10 and 6e-4 only, with no flat brush (h~ = 0): every other row is NaN there.
-AT_TIED = {
-    "F~_A at k~ = 10, h~ = 0.04, circle": lambda c: interpolated(c(10.0, 0.06), 0.04),
-    "F~_A at k~ = 10, h~ = 0.05, circle": lambda c: interpolated(c(10.0, 0.06), 0.05),
-    "F~_A at h~ = 0.04, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.04),
-    "F~_A at h~ = 0.8, k~ = 0.1": lambda c: interpolated(c(0.1, 0.06), 0.8),
-    "h~ at max F~_A, phi = 0.15, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.15))[0],
-    "h~ at max F~_A, phi = 0.06, k~ = 6e-4": lambda c: read_maximum(c(6e-4, 0.06))[0],
-    "h~ at max F~_A, k~ = 6e-4 over k~ = 10": lambda c: read_maximum(c(6e-4, 0.06))[0] / read_maximum(c(10.0, 0.06))[0],
-    "max F~_A, phi = 0.15, k~ = 6e-4": lambda c: top(c(6e-4, 0.15)),
-    "max F~_A, phi = 0.06, k~ = 6e-4": lambda c: top(c(6e-4, 0.06)),
-    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.06": lambda c: top(c(6e-4, 0.06)) / top(c(10.0, 0.06)),
-    "max F~_A over h~, k~ = 6e-4 over k~ = 10, circle, phi = 0.15": lambda c: top(c(6e-4, 0.15)) / top(c(10.0, 0.15)),
-    "max F~_A over h~, phi = 0.06 over phi = 0.15": lambda c: top(c(6e-4, 0.06)) / top(c(6e-4, 0.15)),
-}
