@@ -60,7 +60,7 @@ def test_no_route_is_within_one_percent_of_the_limit_at_soft_springs(script):
     of both ends of the stated interval: the finest four-placement mean (28.9, plain) is still +3.9 % above the
     first point, its placements within 0.2 % of each other (the raster's noise averaged out, not the error).  The
     extrapolations of the same means (the observed order over three successive resolutions, first order, 1/2;
-    each over the placements its resolutions share) spread over more than 2.5 % (+0.7 .. +3.8 % above the first
+    each over the placements its resolutions share) spread over more than 2 % (+1.5 .. +3.8 % above the first
     point): a rule, not an answer.  Where one lands within 1 % of both ends, the same rule on the same placements
     with the other criterion (plain or calibrated, whose limits are one) does not."""
     rows = [r for r in _rows("limit.csv") if r["stiffness_ratio"] == "1e-05" and r["criterion"] != "per_element"
@@ -73,7 +73,7 @@ def test_no_route_is_within_one_percent_of_the_limit_at_soft_springs(script):
     assert float(finest["spread"]) < 0.002
     extrapolated = [r for r in rows if r["route"].startswith("extrapolated")]
     errors = [float(r["error_lower"]) for r in extrapolated]
-    assert max(errors) - min(errors) > 0.025
+    assert max(errors) - min(errors) > 0.02
     for r in extrapolated:
         if r["within"] == "True":
             (twin,) = [t for t in extrapolated if (t["route"], t["tips"]) == (r["route"], r["tips"])
@@ -82,11 +82,11 @@ def test_no_route_is_within_one_percent_of_the_limit_at_soft_springs(script):
 
 
 def test_the_brush_follows_its_edge_tips_not_the_corner():
-    """The calibrated brush at 14.4 and 28.9 per radius is its edge tips' capacity alone in their continuum field
-    (within 0.3 %) and 1.6-2.0 % above the corner's, which the stated upper bound takes: the corner does not
+    """The calibrated brush at 14.4, 28.9 and 39.7 per radius is its edge tips' capacity alone in their continuum
+    field (within 0.3 %; the tips' at 40 for 39.7) and 1.6-2.0 % above the corner's, which the stated upper bound takes: the corner does not
     limit the brush on the grid, so the stated upper bound (0.0119750) is not shown to bound it."""
     rows = _rows("limit_tips.csv")
-    for q in ("14.443", "28.887"):
+    for q in ("14.443", "28.887", "39.719"):
         at = {r["tip"]: float(r["brush_over_tip"]) for r in rows if r["elements_per_radius"] == q}
         assert all(abs(at[tip]) < 0.003 for tip in ("0-1", "0-2", "0-3"))
         assert 0.015 < at["0-0"] < 0.021

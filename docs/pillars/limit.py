@@ -42,9 +42,8 @@ proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
 elements per radius"): at k~ = 1e-5 no placement mean is within 1 % of
-both ends; the extrapolations spread over +0.7 .. +3.8 % above the first
-point, the one within (calibrated, order 1/2 assumed) +2.1 % with plain
-tips on the same placements; the brush follows
+both ends, and none of the 15 extrapolations (+1.5 .. +3.8 % above the
+first point); the brush follows
 its edge tips, not the
 corner the stated upper bound takes, so the limit is known to 2.9 %; the
 per-element criterion tends to the first point.

@@ -341,7 +341,7 @@ within 1 %)
     continuum field at 40 elements per radius, ``tilted.py``) gives 0.0118942 +- 0.68 %; the exact path's
     first-order extrapolation (``tips_extrapolated.csv``, the old reference) is 1.56 % above it.  The brush
     itself does not show that bound (``docs/pillars/limit.py`` -> ``limit_tips.csv``): at 14.4 and 28.9
-    (and 39.7) elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.4-2.0 % above the
+    (and 39.7) elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.6-2.0 % above the
     corner's, the one the bound takes; bounded by the edge tips (0.0121523) the limit is known to 2.9 %.  At
     k~ = 10 only the first point (0.0081111) is known.  Errors quoted against the old reference are labelled so; on
     the continuum limit (``rereferenced.csv``) the default at 3.6 elements per radius is +9.4 % on the
@@ -349,10 +349,10 @@ within 1 %)
     the 4 x 4 proxy's correction +2.2 %.
     Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): fine tips
     averaged over placements of the lattice on their raster and extrapolated in their elements per radius
-    (the observed order, first order, 1/2) spread from +0.7 to +3.8 % above the first point at k~ = 1e-5 (at
-    28.9 per radius the placements agree to 0.17 %, the error stays +3.9 %; the one extrapolation within 1 %
-    of both ends, calibrated tips at an assumed order 1/2, is +2.1 % with plain tips on the same placements,
-    whose limit is the same), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
+    (the observed order, first order, 1/2) stay +1.5 .. +3.8 % above the first point and +0.1 .. +2.4 %
+    above the stated upper bound at k~ = 1e-5, none of the 15 within 1 % of both (at 39.7 per radius four
+    placements agree to 0.11 %, the error stays +3.6 %; the extrapolations move with the placements by more
+    than 1 %), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
     at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all at 10.  The per-element
     criterion tends to the first point (+0.3 % at 28.9 per radius), plain and calibrated tips above it (the
     peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
