@@ -63,7 +63,10 @@ recycled Ritz vectors (``--sizes 316 --brush size --sigma 0.1 --seed 0
 against 558 CPU-s, the pull-off's first 195 states 118 against 162 (1.37x),
 iterations a solve 13.4 against 19.8; at 100 (``--pillar-solve cg``, whole
 run) 155 against 181 CPU-s (pull-off 1.22x), F_A and the work the same to
-5e-12.  The numbers of every size are in the docstring of
+5e-12.  With the late iterations' far fields in single precision
+(``--solves 40 --before 7791b03 --repeat 3``, load about 3): the first 40
+CG solves at 316 x 316, the model's build included, 46.1 against 59.8
+CPU-s (1.30x, medians).  The numbers of every size are in the docstring of
 `brushbem.pillars`.
 """
 

@@ -89,9 +89,10 @@ def test_stale_kept_products_cost_iterations_not_accuracy(switches):
 
 def test_the_kept_vectors_follow_the_set_once_pillars_detach(switches):
     """After more than ``Switches.recycled_stale`` (2 %) of the attached pillars leave, the next solve restricts the kept vectors to
-    the new set and makes their products afresh: W is zero off the set and Y = A_S W there (to 1e-9 of Y:
-    rounding of the FFT's product against the dense block).  Without the refresh Y would keep the columns of
-    the pillars that left (about 5 % of A W here), and this fails."""
+    the new set and makes their products afresh: W is zero off the set and Y = A_S W there (to 1e-5 of Y:
+    the products take the far field in single precision, of relative error at most
+    `brushbem.pillars.cg.SINGLE_ERROR` = 3e-7 a product; 1e-9 in double).  Without the refresh Y would keep
+    the columns of the pillars that left (about 5 % of A W here), and this fails."""
     switches(recycled_vectors=40)
     model, attached, rhs = _scattered()
     solver = pillar_cg.LatticeCG(model)
@@ -106,7 +107,7 @@ def test_the_kept_vectors_follow_the_set_once_pillars_detach(switches):
     assert np.array_equal(recycler.serials, solver.serials(attached))
     assert not recycler.W[~attached].any() and not recycler.Y[~attached].any()
     S, A = _dense(model, attached, rhs)
-    assert np.abs(A @ recycler.W[S] - recycler.Y[S]).max() < 1e-9 * np.abs(recycler.Y).max()
+    assert np.abs(A @ recycler.W[S] - recycler.Y[S]).max() < 1e-5 * np.abs(recycler.Y).max()
     stale = np.abs(A @ before[S] - before_products[S])  # the old vectors' products, restricted: not A_S W
     assert stale.max() > 1e-3 * np.abs(before_products).max()
 

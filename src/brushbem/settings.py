@@ -74,6 +74,10 @@ class Switches:
     recycled_stale : float
         The share of the attached pillars that may leave, join or peel after the kept vectors' products were
         made before they are made afresh (`brushbem.pillars.recycle.Recycler.refresh`, k columns of products).
+    single_pillar_products : bool
+        Whether the pillar model's CG on a lattice takes the far field of its late iterations' products in
+        single precision (`brushbem.pillars.cg.LatticeCG.solve`: while the error that adds stays within half
+        its tolerance; the true residual is checked at the end).
     radiate_uniform : bool
         Whether the pillar model's uniform amplitudes answer the higher modes' near field too (one global
         solve a round).  Without it the concave 16 x 16 brush of ``tests/test_pillars_method.py`` keeps its
@@ -124,6 +128,7 @@ class Switches:
     near_preconditioner: bool = True
     recycled_vectors: int = 40
     recycled_stale: float = 0.02
+    single_pillar_products: bool = True
     radiate_uniform: bool = True
     radiate_while_pressing: bool = True
     press_local_release: bool = True

@@ -30,6 +30,7 @@ __all__ = [
     "memory_problem",
     "parse_bytes",
     "pillar_kept_bytes",
+    "pillar_recycled_bytes",
     "result_size_estimate",
 ]
 
@@ -57,8 +58,10 @@ _MARGIN = 1.1
 # sigma~ = 0.1 brush: at 10^4 0.89 GB unrecorded (benchmarks/large_brush.py, inverse kept on 4818 attached)
 # and 0.97 GB recorded (`brushbem run`: five snapshots of the N x N pressure and contact, about 30 bytes an
 # element more), 2.9 GB estimated; at 10^5 2.15 GB unrecorded through its loading and first 105 pull-off
-# states (18179 attached, by CG: no kept inverse), so about 3 GB recorded, 9.1 GB estimated (the kept
-# inverse of 5461 pillars that a rough brush may keep counted).  Off a lattice it
+# states (18179 attached, by CG: no kept inverse; 2.32 GB through 100 states), so about 3 GB recorded, 9.2 GB
+# estimated (the kept inverse of 5461 pillars that a rough brush may keep counted, 2.4 GB with the margin:
+# this brush's measured peaks leave no room for it, but a brush whose contact grows through that size keeps
+# it, as the 10^4 brush keeps 4818; and the CG's 40 kept Ritz vectors, 0.14 GB).  Off a lattice it
 # keeps dense couplings of every mode and the inverse, (m + 2) M^2 numbers for M pillars (m = 6 modes).
 _PILLARS_BYTES_PER_ELEMENT = 230.0
 _PILLAR_MODES = 6
@@ -107,12 +110,30 @@ def memory_estimate(config: RunConfig) -> int:
 def _pillar_matrices(config: RunConfig) -> float:
     """Bytes of the pillar model's dense matrices: the kept inverse on a lattice (`pillar_kept_bytes` of at most
     ``Switches.kept_pillars`` attached, or on a brush of unequal tips, whose contact may be partial, of
-    `kept_partial_count` up to half of the lattice), every mode's couplings and the inverse off it."""
+    `kept_partial_count` up to half of the lattice) and, on such a brush where more pillars may attach than that,
+    the CG's kept Ritz vectors (`pillar_recycled_bytes`); every mode's couplings and the inverse off a lattice."""
     indenter = config.indenter
     if indenter.layout == "random":
         pillars = indenter.pillar_count or 0
         return 8.0 * (_PILLAR_MODES + 2) * pillars**2
-    return pillar_kept_bytes(kept_pillar_count(config))
+    kept = kept_pillar_count(config)
+    pillars = (indenter.pillars_per_side or 0) ** 2
+    # The Ritz vectors serve scattered contact sets only (the near-field preconditioner): tips of unequal lengths.
+    scattered = _unequal_tips(indenter) and pillars > kept
+    return pillar_kept_bytes(kept) + (pillar_recycled_bytes(pillars) if scattered else 0.0)
+
+
+def _unequal_tips(indenter) -> bool:
+    """Whether the brush's tips may differ in length (its contact may be partial and scattered)."""
+    return (indenter.roughness is not None and indenter.roughness.sigma > 0) or indenter.profile is not None \
+        or indenter.lengths_file is not None
+
+
+def pillar_recycled_bytes(pillars: int) -> float:
+    """Peak bytes of the Ritz vectors that the pillar model's CG keeps on a lattice of ``pillars``
+    (`brushbem.pillars.recycle`: W and A W, ``Switches.recycled_vectors`` columns over every pillar, and their
+    copies while they are made afresh: 4 k M numbers; 128 MB at 10^5 pillars and 40 vectors)."""
+    return 8.0 * 4 * settings.switches().recycled_vectors * pillars
 
 
 def kept_pillar_count(config: RunConfig) -> int:
@@ -123,9 +144,7 @@ def kept_pillar_count(config: RunConfig) -> int:
     if switches.kept_pillars is None:
         return pillars
     kept = min(pillars, switches.kept_pillars)
-    unequal = (indenter.roughness is not None and indenter.roughness.sigma > 0) or indenter.profile is not None \
-        or indenter.lengths_file is not None
-    return max(kept, min(pillars // 2, kept_partial_count(switches))) if unequal else kept
+    return max(kept, min(pillars // 2, kept_partial_count(switches))) if _unequal_tips(indenter) else kept
 
 
 def kept_partial_count(switches: settings.Switches) -> int:

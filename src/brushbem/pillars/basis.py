@@ -246,24 +246,25 @@ class PillarModel:
         near = np.take(xh, self.near_index, axis=0).reshape(M, width * (m - 1), -1)
         return np.matmul(blocks, near).transpose(1, 0, 2)
 
-
-    def fields(self, x0: np.ndarray, uniform: bool = False) -> np.ndarray:
+    def fields(self, x0: np.ndarray, uniform: bool = False, single: bool = False, rows=None) -> np.ndarray:
         """Gs x0 for the uniform amplitudes ``x0`` (M, k): (m, M, k), the projection of their field on every mode.
 
         ``uniform``: on the uniform modes only, (1, M, k) = G00 x0 (the pillar-level system's product,
         `brushbem.pillars.cg`): the near blocks and the far sums' weights of the other modes are
-        left out.
+        left out.  ``single``: the far field in single precision; ``rows`` (uniform): these pillars' only, 0 elsewhere.
         """
         modes = slice(0, 1) if uniform else slice(None)
         if self.lattice is None:
             m = 1 if uniform else self.m
             return (self.Gs[modes].reshape(m * self.M, self.M) @ x0).reshape(m, self.M, x0.shape[1])
         # Pillar by pillar (M, m, k) and transposed once: near blocks, the pillar's own uniform mode, far field.
-        out = np.matmul(self._near_uniform[:, modes], np.take(x0, self.near_index, axis=0))
-        out[:, 0] += self.gram[:, :1] * x0
-        sources, targets = self._weights
-        out += self.lattice.far_by_pillar(x0, sources, targets[:, modes])
-        return _swap_leading(out)
+        on = rows if rows is not None and uniform else slice(None)
+        out = np.matmul(self._near_uniform[on, modes], np.take(x0, self.near_index[on], axis=0))
+        out[:, 0] += self.gram[on, :1] * x0[on]
+        far = self.lattice.far_by_pillar(x0, self._weights[0], self._weights[1][:, modes], single=single)
+        whole = far if isinstance(on, slice) else np.zeros_like(far)
+        whole[on] = far[on] + out
+        return _swap_leading(whole)
 
     def amplitudes(self, x0: np.ndarray, field: np.ndarray, attached: np.ndarray) -> np.ndarray:
         """All modes' amplitudes (M, m) from the uniform ones and their ``fields`` (``coupling = 'local'``)."""

@@ -43,6 +43,33 @@ the sigma~ = 0.1 brush at 100 x 100 (boundary shares 0.93-1.0, 915 to 5693 of
 10^4 attached: more than half of the lattice at 5693, 52 against 25); at
 316 x 316 (11606 attached, share 1.0) 47 against 22.  The near field serves
 above `BOUNDARY_SHARE`.
+
+Single-precision products: nearly all of a solve's time is its products'
+far field (at 316 x 316 pillars, the pull-off's first 100 states: 74 % of
+the CPU time, its transforms 46 %).  A warm-started solve starts at a
+relative residual of about 3e-4 and falls about fivefold an iteration; the
+products of its late iterations only refine what the early ones found, so
+they may be inexact in proportion to how small the residual already is
+(relaxed inexact Krylov methods: Simoncini and Szyld, SIAM J. Sci. Comput.
+25, 2003, 454-477).  An iteration takes the far field in single precision
+(`brushbem.pillars.lattice.Lattice.far_by_pillar`, of relative error at
+most `SINGLE_ERROR`) when the error that adds to the recursive residual,
+predicted as 2 `SINGLE_ERROR` ||r||, keeps the error of all its single
+products within `SINGLE_SHARE` of the tolerance; the true residual, from
+the solution's fields (which the solve returns anyway), is checked at the
+end, and a solve that misses goes on from it in double precision
+(``Switches.single_pillar_products``).  The products also take the near
+blocks of the attached pillars only.  Profile of that pull-off (cProfile,
+before both): the solves 96 % of the time, their products 82 %, the far
+field 74 % (its transforms 46 %, its spectral products and copies 28 %),
+the two-level preconditioner 4 %, the near factor 1.5 %.  Measured, before
+and after in one run (``benchmarks/large_brush.py --sizes 316 --brush size
+--sigma 0.1 --seed 0 --exact-max 0 --solves 40 --before 7791b03 --repeat
+3``, load about 3): the loading's first 40 solves at 316 x 316, the model's
+build included, 46.1 CPU-s against 59.8 (1.30x; 508 iterations against
+507); a solve on a random 18 % of that lattice that loses 3 pillars a solve
+1.28 against 1.56 CPU-s with two thirds of its products single
+(`benchmarks/pillar_cg_single.py`).
 """
 
 from __future__ import annotations
@@ -55,7 +82,7 @@ import scipy.sparse.linalg
 from brushbem import settings
 from brushbem.pillars.recycle import Recycler
 
-__all__ = ["LatticeCG", "NotConverged", "TOLERANCE", "boundary_share"]
+__all__ = ["LatticeCG", "NotConverged", "SINGLE_ERROR", "TOLERANCE", "boundary_share"]
 
 #: The near-field preconditioner (`LatticeCG.near_factor`) serves attached sets whose `boundary_share` is above
 #: this; the circulant the others (compact sets, which it fits; the measurements in the module docstring fall
@@ -65,6 +92,16 @@ BOUNDARY_SHARE = 0.5
 #: Relative residual ||b - A x|| / ||b|| of every right-hand side at which the CG stops (the kept inverse's
 #: own check, `brushbem.pillars.solver`, refactorises above 1e-10).
 TOLERANCE = 1e-11
+
+#: Bound on the relative error of a product (G00 + H) p whose far field is in single precision (against the
+#: double one; 2-norms).  Measured: 1.4e-8 - 8.3e-8 for scattered, smooth and positive p on a random 18 % of
+#: a 100 x 100 lattice, 1.3e-8 - 4.5e-8 on 40 % of 32 x 32 with peeled rasters; the far field alone 1.5e-7 of
+#: its norm at 100 x 100 and 316 x 316.  The bound leaves a factor 3.6 (`tests/test_pillar_cg.py` checks it).
+SINGLE_ERROR = 3e-7
+
+#: Share of the tolerance that the single-precision products of a solve may add to its residual, together
+#: (the relaxed inexact CG, `LatticeCG.solve`; the true residual is checked at the end).
+SINGLE_SHARE = 0.5
 
 
 class NotConverged(RuntimeError):
@@ -100,6 +137,9 @@ class LatticeCG:
         self._set_key: bytes | None = None  # the set whose `boundary_share` ``_scattered`` holds
         self._scattered = False
         self.products = 0
+        self.single_products = 0  # of ``products``, those with the far field in single precision
+        self.single_error = SINGLE_ERROR  # the bound `solve` takes for their relative error
+        self.restarts = 0  # solves whose true residual missed the tolerance after single products (`solve`)
 
     def _kernel(self) -> np.ndarray:
         """G00 of full rasters against the lattice offset, as a periodic array of ``period``."""
@@ -197,18 +237,22 @@ class LatticeCG:
         for start in range(0, V.shape[1], 2):
             full = np.zeros((self.model.M, V[:, start:start + 2].shape[1]))
             full[S] = V[:, start:start + 2]
-            out[:, start:start + 2] = self._product(full, attached, np.ones(full.shape[1], dtype=bool))[S]
+            out[:, start:start + 2] = self._product(full, attached, np.ones(full.shape[1], dtype=bool),
+                                                    single=self._single_allowed())[S]
         return out
 
-    def _product(self, x: np.ndarray, attached: np.ndarray, columns: np.ndarray) -> np.ndarray:
-        """(G00 + H) x on S for x (M, k) zero off S: the uniform modes' field of the ``columns`` only."""
+    def _product(self, x: np.ndarray, attached: np.ndarray, columns: np.ndarray, single: bool = False) -> np.ndarray:
+        """(G00 + H) x on S for x (M, k) zero off S: the uniform modes' field of the ``columns`` only;
+        ``single``: its far field in single precision (`brushbem.pillars.lattice.Lattice.far_by_pillar`)."""
         model = self.model
         self.products += 1
+        self.single_products += bool(single)
         out = np.zeros_like(x)
         if not columns.any():
             return out
         part = x[:, columns]
-        product = model.fields(part, uniform=True)[0]
+        rows = None if attached.all() else np.flatnonzero(attached)  # the near blocks of the set only
+        product = model.fields(part, uniform=True, single=single, rows=rows)[0]
         for c in range(part.shape[1]):
             product[:, c] += model.spring_product(part[:, c], attached)
         out[:, columns] = product
@@ -221,7 +265,11 @@ class LatticeCG:
         Every column runs its own CG (its own steps) and the columns still short of ``tolerance`` (relative
         residual) share the product of each iteration: the uniform modes' field only
         (`PillarModel.fields` with ``uniform``); the fields of every mode are those of the solution, one
-        product more.  ``start``: a warm start (restricted to S here).
+        product more.  ``start``: a warm start (restricted to S here).  The late products take the far field in
+        single precision while their error fits the budget of `SINGLE_SHARE` (module docstring).
+
+        Why one function: the iteration, the single products' budget and the check of the true residual at the
+        end share x, r, z, p and every column's residual norms; split, each piece would take and return them all.
         """
         rhs = np.where(attached[:, None], rhs, 0.0)
         k = rhs.shape[1]
@@ -250,8 +298,18 @@ class LatticeCG:
         p = z.copy()
         rz = np.sum(r * z, axis=0)
         most = settings.switches().pillar_cg_iterations
+        # The error the single-precision products have added to each column's recursive residual (at most
+        # SINGLE_ERROR |step| ||A p|| a product), and the most it may add: SINGLE_SHARE of the tolerance.
+        inexact = self._single_allowed()
+        carried = np.zeros(k)
+        took_single = False
+        budget = SINGLE_SHARE * tolerance * norms
         for iteration in range(1, most + 1):
-            ap = self._product(p, attached, active)
+            # A single product adds about 2 SINGLE_ERROR ||r|| (the residual's fall is ||step A p||, at most
+            # about twice ||r||); it is taken when that fits every active column's budget.
+            single = inexact and bool(np.all((carried + 2.0 * self.single_error * residual <= budget)[active]))
+            ap = self._product(p, attached, active, single=single)
+            took_single |= single
             if fresh:
                 directions.append(p[np.ix_(S, active)])
                 products.append(ap[np.ix_(S, active)])
@@ -262,21 +320,52 @@ class LatticeCG:
             step = np.where(active, rz / np.where(active, curvature, 1.0), 0.0)
             x += step * p
             r -= step * ap
+            if single:
+                carried += self.single_error * np.abs(step) * np.linalg.norm(ap, axis=0)
             self.iterations += 1
             residual = np.linalg.norm(r, axis=0)
             active = residual > tolerance * norms
             if not active.any():
-                if fresh:
-                    recycler.absorb(S, serials, space, directions, products, self._near_matrix)
-                return x, self.model.fields(x)
+                fields = self.model.fields(x)
+                if not took_single:
+                    break
+                r = self._true_residual(rhs, x, fields, attached)
+                residual = np.linalg.norm(r, axis=0)
+                active = residual > tolerance * norms
+                if not active.any():
+                    break
+                # Missed (rare): on from the true residual, in double precision, CG restarted.
+                self.restarts += 1
+                inexact = took_single = False
+                z = self.precondition(r, attached, near, space)
+                p = z.copy()
+                rz = np.sum(r * z, axis=0)
+                continue
             z = self.precondition(r, attached, near, space)
             rz_next = np.sum(r * z, axis=0)
             p = z + np.where(active, rz_next / np.where(active, rz, 1.0), 0.0) * p
             rz = rz_next
-        worst = float(np.max(residual / np.where(norms > 0, norms, 1.0)))
-        raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not {tolerance:g}, "
-                           f"in {most} iterations ({int(attached.sum())} pillars attached, "
-                           f"{k} right-hand sides)")
+        else:
+            worst = float(np.max(residual / np.where(norms > 0, norms, 1.0)))
+            raise NotConverged(f"the pillar-level CG reached a relative residual of {worst:.3g}, not "
+                               f"{tolerance:g}, in {most} iterations ({int(attached.sum())} pillars attached, "
+                               f"{k} right-hand sides)")
+        if fresh:
+            recycler.absorb(S, serials, space, directions, products, self._near_matrix)
+        return x, fields
+
+    def _true_residual(self, rhs: np.ndarray, x: np.ndarray, fields: np.ndarray, attached: np.ndarray) -> np.ndarray:
+        """rhs - (G00 + H) x on S from the fields of x (`PillarModel.fields`, in double precision): the residual
+        that single-precision products leave unchecked, at no product more."""
+        r = rhs - fields[0]
+        for c in range(rhs.shape[1]):
+            r[:, c] -= self.model.spring_product(x[:, c], attached)
+        return np.where(attached[:, None], r, 0.0)
+
+    def _single_allowed(self) -> bool:
+        """Whether products may take the far field in single precision (``Switches.single_pillar_products``,
+        on a lattice)."""
+        return settings.switches().single_pillar_products and self.model.lattice is not None
 
 
 def boundary_share(model, attached: np.ndarray) -> float:
