@@ -235,9 +235,10 @@ them (the kept vectors' products made afresh, the two-level steps); so the
 10^5 part projects to 510 CPU-s of loading and 4000-5500 states at
 1.9 / (1.22-1.37) CPU-s, 6100-9100 CPU-s in all (1.7-2.5 h).  With the
 late iterations' far fields in single precision (`brushbem.pillars.cg`:
-1.30x on the loading's first 40 solves at 316 x 316, the pull-off's solves
-taken to gain as much) it projects to 390 CPU-s of loading and 1.07-1.20
-CPU-s a state, 4700-7000 CPU-s (1.3-1.9 h): still beyond an hour.  Its
+1.30x on the loading's first 40 solves at 316 x 316; at 10^4 by CG
+throughout the pull-off 1.24x, the whole run 132 CPU-s against 165) it
+projects to 390 CPU-s of loading and 1.07-1.26 CPU-s a state, 4700-7300
+CPU-s (1.3-2.0 h): still beyond an hour.  Its
 sets are scattered: every attached pillar's neighbours are
 mostly off (`brushbem.pillars.cg.boundary_share` 0.93-1.0), where the near
 field preconditions (12-25 iterations a solve at 10^4, 22 at 10^5) and the
