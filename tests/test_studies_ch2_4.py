@@ -39,7 +39,16 @@ def test_quick_study_draws_every_figure(name, request):
     assert figures and all(path.exists() and path.stat().st_size > 1000 for path in figures)
     assert all(path.suffix == ".png" for path in figures)
     for number in study.numbers:
-        assert math.isfinite(number.compute(results)), number.quantity
+        value = number.compute(results)
+        if "n/a where a pillar holds on past F_A" in number.evidence:
+            # L761's share is n/a by design where F_A's state is not the last with contact; the quick grid's
+            # curve may hold on past F_A, so n/a is allowed exactly there and nowhere else.
+            curves = results["curves"]  # the curve the number reads: nearest k~ = 0.001, as _leave_at_pull_off
+            row = curves.iloc[int(np.argmin(np.abs(np.log(curves["indenter.stiffness_ratio"] / 1e-3))))]
+            holds_on = row["separation_displacement"] != row["pull_off_displacement"]
+            assert math.isfinite(value) != holds_on, number.quantity
+            continue
+        assert math.isfinite(value), number.quantity
 
 
 def test_punch_work_follows_eq_2_19(punch):
