@@ -13,10 +13,10 @@ tip's 1 + e_R of that placement, exact for a brush of level tips whose F_A
 is proportional to Sigma_c, ``tests/test_pillar_reference.py``) and of the
 calibrated one (the lone tip's raster error removed).  The route succeeds
 where the extrapolated mean lies within 1 % of the limit's whole interval
-(``continuum_limit.csv``: the first point, a lower bound exact to 2e-9, to
-the upper bound) at k~ = 1e-5; at k~ = 10 no interval narrower than 2 %
-is known (the first point 2.2 % below the old extrapolation), so there the
-errors are only quoted against both.
+(`interval`: at k~ = 1e-5 from the brush with every tip's first-order
+continuum peel, ``front_brush.csv``, to the edge tips' capacity alone in
+their field at 40 elements per radius, `edge_bound`; at k~ = 10 the lower
+end only, the errors quoted against it and the old extrapolation).
 
 Rows (``limit.csv``): ``stiffness_ratio``, ``route``, ``plain`` or
 ``calibrated``, ``tips`` (elements per radius; the finest the extrapolation
@@ -30,8 +30,8 @@ brush, separate runs).
 The brush against its tips (``limit_tips.csv``): the calibrated placement
 mean over 64 F_K against each of the four weakest tips' capacity alone in
 its continuum field at the same resolution (``tilted_brush.csv``: first
-point times 1 + gain), which the upper bound takes the smallest of (the
-corner's).
+point times 1 + gain), whose least among the tips the brush follows (the
+edge tips; not the corner) is the upper end.
 
 The other tables on the new reference (``rereferenced.csv``): every F_A of
 ``criteria.csv``, ``proxy.csv`` and ``calibration.csv`` on a case that the
@@ -41,12 +41,12 @@ against the limit's middle and ends; and the factor ``periodic.csv``'s
 proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
-elements per radius"): at k~ = 1e-5 no placement mean is within 1 % of
-both ends, and none of the 15 extrapolations (+1.5 .. +3.8 % above the
-first point); the brush follows
-its edge tips, not the
-corner the stated upper bound takes, so the limit is known to 2.9 %; the
-per-element criterion tends to the first point.
+elements per radius" and "The peel survives the continuum"): at k~ = 1e-5
+the limit is known to 0.9 % (0.0120385 .. 0.0121523); no placement mean is
+within 1 % of both ends; 8 of the 15 extrapolations are (mostly of
+calibrated tips, 14.4-39.7 per radius); the brush follows its edge tips, not
+the corner; the per-element criterion tends to the first point, 1.9 % below
+the lower end.
 
 No pull-off runs here: ``nice python docs/pillars/placement.py --finer``
 adds the 39.7 rows (about 3-6 CPU-min each); this script only reads.
@@ -95,13 +95,20 @@ def _rows(name: str) -> list[dict]:
 
 
 def interval(stiffness: float) -> tuple[float, float | None, float]:
-    """(lower, upper or None, middle) of the flat brush's F_A at ``stiffness``: ``continuum_limit.csv`` at k~ = 1e-5;
-    at 10 the first point, no upper bound, the old extrapolation (``tips_extrapolated.csv``) as the middle."""
+    """(lower, upper or None, middle) of the flat brush's F_A at ``stiffness``.  Below: the brush with every tip
+    leaving at its first-order continuum capacity (``front_brush.csv``, ``front.py``: the first point plus the
+    tips' stable peel; the raster's gains lie above the first-order ones at every resolution, ``fine_tip.csv``).
+    Above, at k~ = 1e-5: the edge tips' capacity alone in their continuum field at 40 elements per radius
+    (`edge_bound`, the raster's gains still falling).  The middle at 1e-5 is the two's; at 10, where no upper
+    end is known, the old extrapolation of the exact path (``tips_extrapolated.csv``, 0.07 % above the
+    lower end)."""
+    (row,) = [r for r in _rows("front_brush.csv") if float(r["stiffness_ratio"]) == stiffness]
+    lower = float(row["adhesive_force"])
     if stiffness == 1e-5:
-        (row,) = _rows("continuum_limit.csv")
-        return float(row["first_point_adhesive_force"]), float(row["tip_adhesive_force"]), float(row["adhesive_force"])
+        upper = edge_bound()
+        return lower, upper, (lower + upper) / 2
     old = next(r for r in _rows("tips_extrapolated.csv") if r["family"] == "flat" and float(r["stiffness_ratio"]) == 10)
-    return FIRST[10.0], None, float(old["extrapolated_adhesive_force"])
+    return lower, None, float(old["extrapolated_adhesive_force"])
 
 
 def placement_forces() -> dict[tuple[float, str], dict[float, dict[tuple[str, str], float]]]:

@@ -341,29 +341,26 @@ Against the limit (`docs/pillars/accuracy.md`: the reference, calibrated tips, c
 small brush's correction, a periodic cell, the routes, and whether tips of 3-4 elements per radius can be shown
 within 1 %)
     The reference is the flat brush's continuum problem (``docs/pillars/continuum.py``, rigid circular tips on
-    springs, exact to 2e-9): at k~ = 1e-5 its first point (the first tip at K_c) 0.0118133 is a lower bound,
-    and the stated upper bound 0.0119750 (``continuum_limit.csv``: the weakest tip's capacity alone in its
-    continuum field at 40 elements per radius, ``tilted.py``) gives 0.0118942 +- 0.68 %; the exact path's
-    first-order extrapolation (``tips_extrapolated.csv``, the old reference) is 1.56 % above it.  The brush
-    itself does not show that bound (``docs/pillars/limit.py`` -> ``limit_tips.csv``): at 14.4 and 28.9
-    (and 39.7) elements per radius it equals its edge tips' capacity within 0.3 % and lies 1.6-2.0 % above the
-    corner's, the one the bound takes; bounded by the edge tips (0.0121523) the limit is known to 2.9 %.  At
-    k~ = 10 only the first point (0.0081111) is known.  Errors quoted against the old reference are labelled so; on
-    the continuum limit (``rereferenced.csv``) the default at 3.6 elements per radius is +9.4 % on the
-    families' raster (+5.5 % the mean over placements), calibrated +5.0 %, the per-element criterion -0.3 %,
-    the 4 x 4 proxy's correction +2.2 %.
-    Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): fine tips
-    averaged over placements of the lattice on their raster and extrapolated in their elements per radius
-    (the observed order, first order, 1/2) stay +1.5 .. +3.8 % above the first point and +0.1 .. +2.4 %
-    above the stated upper bound at k~ = 1e-5, none of the 15 within 1 % of both (at 39.7 per radius four
-    placements agree to 0.11 %, the error stays +3.6 %; the extrapolations move with the placements by more
-    than 1 %), cost many times the default (one placement at 16 per radius 7.4 times the grid's tips
-    at 10^4 pillars), and the limit itself is known to 2.9 % at 1e-5 and not at all at 10.  The per-element
-    criterion tends to the first point (+0.3 % at 28.9 per radius), plain and calibrated tips above it (the
-    peel's gain, 1.7-2.9 % on the edge tips at 40 per radius, falling with no order): which the continuum holds these resolutions do not decide, so the default is unchanged, and a
-    brush's F_A error in every run is the brush's own against the continuum limit
-    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +5.5 % at 3.6, +3.2 % at 28.9, +2.9 % at 39.7 per
-    radius).
+    springs, exact to 2e-9) with its tips' peel: a flat tip whose K varies along its edge peels stably before it
+    runs away, in the continuum (``docs/pillars/front.py``: the first-order perturbation of its edge, 1.19 %
+    beyond the first point at eps = 0.2, over 88 degrees of the edge, 0.044 a deep) as on the raster
+    (``fine_tip.py``: the exact path of one tip to 115.5 elements per radius peels the same region, its gain
+    1.8-2.0 % from 57.8 on).  So the first point (the first tip at K_c; 0.0118133 at k~ = 1e-5, 0.0081111 at
+    10) is not the limit, and the per-element criterion, which tends to it, is not the route.  With every
+    tip's first-order peel the flat 8 x 8 brush holds 0.0120385 at k~ = 1e-5 (+1.9 %) and 0.0082839 at 10
+    (+2.1 %) (``front_brush.csv``), the exact path's old first-order extrapolation within 0.34 % and 0.07 % of
+    them; the raster's gains lie above the first-order ones at every resolution, and the edge tips' capacity
+    at 40 elements per radius (0.0121523) bounds the brush above: at k~ = 1e-5 the limit is known to 0.9 %
+    (``docs/pillars/limit.py``, middle 0.0120954).
+    Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): the default on the
+    families' raster is +7.1 .. +8.1 % at k~ = 1e-5 and +7.8 % over the lower end at 10, plain tips averaged
+    over placements of the lattice on their raster +3.7 % (3.6 per radius) .. +1.2 % (39.7) on the middle;
+    8 of the 15 extrapolations of fine tips' placement means land within 1 % of both ends (every calibrated
+    one over 14.4-39.7 per radius but the half order at 14.4, and the plain half order at 39.7), at hundreds
+    to thousands of CPU-s on 8 x 8 pillars; the per-element criterion's mean at 3.6 per radius does too, on its
+    way to the first point (-1.3 % below the lower end at 14.4).  The default is unchanged, and a brush's
+    F_A error in every run is the brush's own against the continuum limit (`brushbem.config.advice`,
+    ``brush_resolution_error.csv``: +3.7 % at 3.6, +1.5 % at 28.9, +1.2 % at 39.7 per radius).
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
