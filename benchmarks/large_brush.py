@@ -27,7 +27,16 @@ elements' radius, sigma = sigma~ d_c, its sweep files' numbers with
 ``--states K`` or ``--solves K`` stop every run after K states or K CG
 solves (a partial run: its CPU time per CG solve and iterations per solve;
 with ``--before`` their ratios).  Every run reports its CG solves and
-iterations.
+iterations (and, where the revision counts them, its products and how many
+took the far field in single precision).  ``--pull-off K`` loads once and
+times the next K pull-off states (after the first) by every variant of
+``--variants`` (a JSON list of `brushbem.settings.Switches` fields, each
+with optional ``"env"`` variables, e.g. ``BRUSHBEM_FFT_WORKERS``), each in a
+child forked at that state, ``--repeat`` rounds alternating: the median CPU
+and wall seconds a state, and each variant's ratios to the first within a
+round and the largest difference of a state's force from the first's, the
+pull-off states at 10^5 pillars without a loading each (``--profile
+FOLDER``: each child's cProfile statistics).
 
     nice python benchmarks/large_brush.py                       # 32, 64, 100
     nice python benchmarks/large_brush.py --sizes 32 64 100 316 --limit 3600
@@ -38,6 +47,8 @@ iterations.
         --pillar-solve cg --before main                  # the size study's sigma~ = 0.1 brush, CG throughout
     nice python benchmarks/large_brush.py --sizes 316 --brush size --sigma 0.1 --seed 0 --exact-max 0 \
         --solves 40 --before main                        # its first 40 CG solves at 10^5 pillars
+    nice python benchmarks/large_brush.py --sizes 316 --brush size --sigma 0.1 --seed 0 --pull-off 200 \
+        --variants '[{"env": {"BRUSHBEM_FFT_WORKERS": "1"}}, {}]' --repeat 2   # its pull-off, 1 or 2 threads
 
 Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 --before c48c002 --repeat 3``, a machine loaded 5-6 on two cores) loading
@@ -127,10 +138,13 @@ def _count_solves(counts: dict, most: int) -> None:
     solve = cg.LatticeCG.solve
 
     def counted(self, *args, **kwargs):
-        start = self.iterations
+        start, products, single = self.iterations, getattr(self, "products", 0), getattr(self, "single_products", 0)
         out = solve(self, *args, **kwargs)
         counts["cg_solves"] += 1
         counts["cg_iterations"] += self.iterations - start
+        counts["cg_products"] = counts.get("cg_products", 0) + getattr(self, "products", 0) - products
+        counts["cg_single_products"] = (counts.get("cg_single_products", 0) + getattr(self, "single_products", 0)
+                                        - single)
         if most and counts["cg_solves"] >= most:
             raise _Enough
         return out
@@ -188,9 +202,17 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
                                                            2)}), flush=True)
 
     path = LoadPath(method=method, preload_force=preload, max_steps=10**8, **extra)
+    fork = int(os.environ.get("LARGE_BRUSH_FORK") or 0)
+    states_left = pull_off(problem, path)
     try:
-        for state in pull_off(problem, path):
+        for state in states_left:
             states += 1
+            if fork and not state.loading:  # the first pull-off state: its next ``fork`` by every variant
+                print(json.dumps({"loading_cpu_seconds": round(time.process_time() - start, 2),
+                                  "attached_at_preload": attached, "loading_states": states - 1, **counts}),
+                      flush=True)
+                _variants(states_left, state, fork, counts)
+                return
             if most_states and states > most_states:
                 partial(states - 1, state.attached_pillars)
                 return
@@ -219,6 +241,108 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
                       "pull_off_cpu_seconds": round(total - (loaded or total), 2), "attached_at_preload": attached,
                       "adhesive_force": force,
                       "work_of_separation": work}), flush=True)
+
+
+def _variants(states_left, first, most: int, counts: dict) -> None:
+    """``--pull-off``: the next ``most`` pull-off states after ``first``, once per variant and repeat, each in a
+    child forked here (the same loaded model for all); a JSON line per child.
+
+    ``LARGE_BRUSH_VARIANTS``: a JSON list of variants, each a dict of `brushbem.settings.Switches` fields and
+    optionally ``"env"`` (environment variables set in the child, e.g. ``BRUSHBEM_FFT_WORKERS``);
+    ``LARGE_BRUSH_REPEAT``: the rounds (alternating the variants); ``LARGE_BRUSH_PROFILE``: a folder where each
+    child writes its cProfile statistics."""
+    variants = json.loads(os.environ.get("LARGE_BRUSH_VARIANTS") or "[{}]")
+    profile = os.environ.get("LARGE_BRUSH_PROFILE")
+    for rep in range(int(os.environ.get("LARGE_BRUSH_REPEAT") or 1)):
+        for number, variant in enumerate(variants):
+            pid = os.fork()
+            if pid:
+                os.waitpid(pid, 0)
+                continue
+            try:
+                variant = dict(variant)
+                os.environ.update(variant.pop("env", {}))
+                from brushbem import settings
+
+                _HELD.append(settings.using(**variant))
+                _HELD[-1].__enter__()
+                profiler = None
+                if profile:
+                    import cProfile
+
+                    profiler = cProfile.Profile()
+                    profiler.enable()
+                solves, iterations = counts["cg_solves"], counts["cg_iterations"]
+                products, single = counts.get("cg_products", 0), counts.get("cg_single_products", 0)
+                cpu, wall = time.process_time(), time.perf_counter()
+                forces, previous, work = [], first, 0.0
+                for state in states_left:
+                    forces.append(state.force)
+                    work += 0.5 * (max(-state.force, 0.0) + max(-previous.force, 0.0)) * abs(
+                        state.displacement - previous.displacement)
+                    previous = state
+                    if len(forces) >= most:
+                        break
+                cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+                if profiler is not None:
+                    profiler.disable()
+                    profiler.dump_stats(os.path.join(profile, f"variant{number}_round{rep}.prof"))
+                print(json.dumps({"variant": number, "round": rep, "states": len(forces), "cpu_seconds": cpu,
+                                  "wall_seconds": wall, "cg_solves": counts["cg_solves"] - solves,
+                                  "cg_iterations": counts["cg_iterations"] - iterations,
+                                  "cg_products": counts.get("cg_products", 0) - products,
+                                  "cg_single_products": counts.get("cg_single_products", 0) - single,
+                                  "adhesive_force": max(0.0, -first.force, *(-f for f in forces)),
+                                  "work_of_separation": work, "forces": forces}), flush=True)
+            finally:
+                sys.stdout.flush()
+                os._exit(0)
+
+
+def _pull_off_variants(per_side: int, args) -> None:
+    """``--pull-off K``: one loading, then K pull-off states by every variant in forked children (`_variants`):
+    the median CPU and wall seconds a state, iterations a solve, each variant's ratios to the first (its CPU and
+    wall over theirs) and the largest relative difference of a state's force from the first variant's."""
+    command = [sys.executable, __file__, "--child", str(per_side), "pillars", str(args.stiffness_ratio),
+               str(args.sigma), str(args.seed)]
+    environment = dict(os.environ)
+    environment["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), environment.get("PYTHONPATH", "")])
+    environment["LARGE_BRUSH_HELPERS"] = str(ROOT / "benchmarks")
+    environment.update({"LARGE_BRUSH_BRUSH": args.brush, "LARGE_BRUSH_SOLVE": args.pillar_solve or "",
+                        "LARGE_BRUSH_FORK": str(args.pull_off), "LARGE_BRUSH_VARIANTS": args.variants,
+                        "LARGE_BRUSH_REPEAT": str(args.repeat), "LARGE_BRUSH_PROFILE": args.profile or ""})
+    completed = subprocess.run(command, capture_output=True, text=True, env=environment)
+    lines = [json.loads(line) for line in completed.stdout.splitlines() if line.startswith("{")]
+    if completed.returncode != 0 or not lines:
+        print(json.dumps({"failed": completed.stderr.strip().splitlines()[-3:]}), flush=True)
+        return
+    runs = [line for line in lines if "variant" in line]
+    out = {"pillars": per_side**2, "pull_off_states": args.pull_off, "loading": lines[0], "variants": []}
+    first = [run for run in runs if run["variant"] == 0]
+    for number, variant in enumerate(json.loads(args.variants)):
+        mine = [run for run in runs if run["variant"] == number]
+        if not mine:
+            continue
+        entry = {"variant": variant, "rounds": len(mine),
+                 "cpu_seconds_per_state": statistics.median(run["cpu_seconds"] / run["states"] for run in mine),
+                 "wall_seconds_per_state": statistics.median(run["wall_seconds"] / run["states"] for run in mine),
+                 "cg_iterations_per_solve": round(mine[0]["cg_iterations"] / max(mine[0]["cg_solves"], 1), 2),
+                 "cg_solves_per_state": round(mine[0]["cg_solves"] / max(mine[0]["states"], 1), 2),
+                 "cg_products": mine[0]["cg_products"], "cg_single_products": mine[0]["cg_single_products"],
+                 "adhesive_force": mine[0]["adhesive_force"], "work_of_separation": mine[0]["work_of_separation"]}
+        if number and first:
+            # Ratios within a round (the same machine load on both), their median.
+            pairs = [(a, b) for a in first for b in mine if a["round"] == b["round"]]
+            entry["cpu_ratio_first_over_this"] = round(statistics.median(a["cpu_seconds"] / b["cpu_seconds"]
+                                                                         for a, b in pairs), 3)
+            entry["wall_ratio_first_over_this"] = round(statistics.median(a["wall_seconds"] / b["wall_seconds"]
+                                                                          for a, b in pairs), 3)
+            n = min(len(first[0]["forces"]), len(mine[0]["forces"]))
+            scale = max(abs(f) for f in first[0]["forces"][:n]) or 1.0
+            entry["force_max_rel_diff"] = max(abs(a - b) for a, b in zip(first[0]["forces"][:n],
+                                                                         mine[0]["forces"][:n])) / scale
+        out["variants"].append(entry)
+    print(json.dumps(out), flush=True)
 
 
 def _measure(per_side: int, method: str, args, sources: Path | None = None) -> dict:
@@ -338,7 +462,19 @@ def main() -> None:
                         help="stop every run after this many states (a partial run: CPU per state and per CG solve)")
     parser.add_argument("--solves", type=int, default=None,
                         help="stop every run after this many CG solves of the pillar model (a partial run)")
+    parser.add_argument("--pull-off", type=int, default=None, metavar="K",
+                        help="load once, then time the next K pull-off states by every --variants in forked "
+                             "children (the same loaded state for all)")
+    parser.add_argument("--variants", default="[{}]",
+                        help="with --pull-off: a JSON list of variants, each a dict of Switches fields and "
+                             "optionally \"env\" (environment variables)")
+    parser.add_argument("--profile", metavar="FOLDER", default=None,
+                        help="with --pull-off: write each child's cProfile statistics to FOLDER")
     args = parser.parse_args()
+    if args.pull_off:
+        for per_side in args.sizes:
+            _pull_off_variants(per_side, args)
+        return
     with tempfile.TemporaryDirectory(prefix="large_brush_before_") as folder:
         sources = _export(args.before, Path(folder)) if args.before else None
         for per_side in args.sizes:
