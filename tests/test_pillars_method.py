@@ -458,6 +458,37 @@ def test_lattice_far_field_of_one_or_more_modes_with_or_without_holes(holes, mod
         assert np.abs(field[k] - pairs @ x).max() < 1e-12 * np.abs(pairs @ x).max()
 
 
+@pytest.mark.parametrize("single", [False, True])
+@pytest.mark.parametrize("holes", [False, True])
+def test_lattice_far_field_by_slabs_and_threads_is_the_same(monkeypatch, holes, single):
+    """The far field by slabs of the spectrum's columns (`brushbem.pillars.lattice._SLAB`, here 3 of the 13
+    columns of a 24-point period), on one thread or two, is the far field of the whole spectrum at once: the
+    same numbers, bit for bit (every column's transforms along y and products are the same operations)."""
+    from brushbem.pillars import lattice as lattice_module
+    from brushbem.pillars.lattice import Lattice
+
+    shape = (13, 11)
+    index = np.stack(np.divmod(np.arange(shape[0] * shape[1]), shape[1]), axis=1)
+    if holes:
+        index = index[np.random.default_rng(2).random(index.shape[0]) < 0.8]
+    rng = np.random.default_rng(1)
+    M = index.shape[0]
+    sources = rng.normal(size=(6, M))
+    targets = rng.normal(size=(M, 3, 6))
+    x = rng.normal(size=(M, 2))
+    whole = Lattice(index, shape, np.zeros(2), np.array([9.0, 7.0]), 20.0, 0.3)
+    assert len(whole._slabs(single)) == 1  # a small transform: one slab
+    monkeypatch.setattr(lattice_module, "_SLABBED_POINTS", 0)
+    monkeypatch.setattr(lattice_module, "_SLAB", 3)
+    slabbed = Lattice(index, shape, np.zeros(2), np.array([9.0, 7.0]), 20.0, 0.3)
+    assert len(slabbed._slabs(single)) == (5 if not single else 3)
+    for m in (1, 3):
+        reference = whole.far_by_pillar(x, sources, targets[:, :m], single=single, workers=1)
+        for workers in (1, 2):
+            assert np.array_equal(slabbed.far_by_pillar(x, sources, targets[:, :m], single=single,
+                                                         workers=workers), reference)
+
+
 def test_lattice_detection():
     """A square lattice is found with its shape; a random layout is not a lattice."""
     problem, _ = _brush(96, 6, 1e-2)

@@ -25,11 +25,48 @@ the same terms as `brushbem.pillars.basis._far`.  Pairs closer than
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.fft
 
-__all__ = ["Lattice"]
+__all__ = ["Lattice", "far_workers"]
+
+#: Columns of the half spectrum a slab of `Lattice.far_by_pillar` takes along y in double precision (twice as
+#: many in single).  At 316 x 316 pillars, two columns, one thread (CPU time, a loaded machine): 16 or 32
+#: took 52 ms in double precision, 8 took 54, 64 took 67 and the whole spectrum at once 76; in single
+#: precision 32 or 64 took 26-28 ms against 31.5 at once.
+_SLAB = 16
+
+#: Smaller padded transforms take the whole spectrum as one slab (at 100 x 100 and 200 x 200 pillars, padded to
+#: 208 x 208 and 400 x 400, slabs of 8-64 columns were no faster than one).
+_SLABBED_POINTS = 512 * 512
+
+#: The far fields' thread pool and the process that made it (a forked child makes its own).
+_POOLS: dict[int, tuple[int, ThreadPoolExecutor]] = {}
+
+
+def far_workers() -> int:
+    """The threads of a far field: ``BRUSHBEM_FFT_WORKERS`` where set, else one.
+
+    One by default, as the pillar model's BLAS (`brushbem.pillars.path`): on a loaded machine threads lose.
+    Measured at 316 x 316 pillars (the ``size`` study's sigma~ = 0.1 brush, 200 pull-off states from the same
+    loaded state, ``benchmarks/large_brush.py --pull-off``, two cores shared with two to three other
+    processes): two threads 0.429 wall-s and 0.384 CPU-s a state against 0.364 and 0.353 on one, though a
+    far field of two columns alone (load 3-4) took 74 ms of wall time on two threads against 98 in double
+    precision and 49 against 62 in single, at the same CPU time.
+    """
+    value = os.environ.get("BRUSHBEM_FFT_WORKERS")
+    return max(1, int(value)) if value else 1
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """A pool of ``workers`` threads, made once in this process."""
+    held = _POOLS.get(workers)
+    if held is None or held[0] != os.getpid():
+        held = _POOLS[workers] = (os.getpid(), ThreadPoolExecutor(workers, thread_name_prefix="far-field"))
+    return held[1]
 
 
 class Lattice:
@@ -67,7 +104,9 @@ class Lattice:
         kernels = [f1, -ry * f3, -rx * f3, 3.0 * ry * ry * f5 - f3, 3.0 * ry * rx * f5, 3.0 * rx * rx * f5 - f3]
         #: Spectra of f, grad f (y, x) and hess f (yy, xy, xx) over the lattice offsets, near ones zero.
         self.spectra = scipy.fft.rfft2(np.stack(kernels), s=self.padded)
-        self._single: np.ndarray | None = None  # `spectra` in single precision, once asked for
+        # `spectra` by slabs of columns (`_slabs`), in single and double precision, once asked for.
+        self._single: list | None = None
+        self._double: list | None = None
         #: Every pillar's lattice site in row-major order, and whether the pillars are the sites in that order
         #: (a full lattice: its grids are the pillars' values reshaped, no scatter or gather).
         self._site = index[:, 0] * shape[1] + index[:, 1]
@@ -151,24 +190,33 @@ class Lattice:
         return self.far_by_pillar(x0, sources, targets).transpose(1, 0, 2)
 
     def far_by_pillar(self, x0: np.ndarray, sources: np.ndarray, targets: np.ndarray,
-                      single: bool = False) -> np.ndarray:
+                      single: bool = False, workers: int | None = None) -> np.ndarray:
         """`weighted_far_field` pillar by pillar: (M, m, c), contiguous.
 
         ``single``: the grids, transforms and spectral products in single precision (float32,
         complex64; the sums weighted and returned in float64): 14.7 ms against 35.5 at 316 x 316
         pillars, 1.0 against 4.0 at 100 x 100 (one column, idle machine), with an error of 1.5e-7 of
         the far field's norm (`brushbem.pillars.cg.SINGLE_ERROR`), for the late iterations of a CG
-        whose residual is already small (`brushbem.pillars.cg.LatticeCG.solve`).
+        whose residual is already small (`brushbem.pillars.cg.LatticeCG.solve`).  ``workers``: the
+        threads (default `far_workers`).
         """
+        if x0.shape[1] > 1 and not single:
+            # Column by column in double precision: the arrays of one stay in the cache (at 316 x 316 pillars
+            # two columns together took 1.09-1.23 times the CPU time of each alone, on one thread or two; in
+            # single precision 0.94-1.00).
+            return np.concatenate([self.far_by_pillar(x0[:, j:j + 1], sources, targets, single, workers)
+                                   for j in range(x0.shape[1])], axis=2)
         ny, nx = self.shape
         real = np.float32 if single else np.float64
         M = x0.shape[0]
         c = x0.shape[1]
         m = targets.shape[1]
         # The 2-D transforms of the zero-padded grids axis by axis: the rows of padding need no transform
-        # along x, and only the rows of the lattice come back along x.  On one thread: two (``workers = 2``)
-        # made a far field at 316 x 316 pillars no faster in wall time on two idle cores (65-85 ms against
-        # 61-78) and cost 20-40 % more CPU time.
+        # along x, and only the rows of the lattice come back along x.  Along y, the transforms, the spectral
+        # products and the inverse transforms go by slabs of ``_SLAB`` columns of the spectrum (`_spectral_slab`),
+        # whose arrays stay in the cache: at 316 x 316 pillars, two columns, 55 ms against 78 in double
+        # precision, the same numbers.  The slabs are shared among the ``workers`` threads, and the transforms
+        # along x are threaded by scipy.
         py, px = self.padded
         # x0 transposed into a contiguous array first: the broadcast product over its strided columns took 40 us
         # of the far field's 450 at 32 x 32 pillars, and 5 us so (the same numbers).
@@ -179,35 +227,18 @@ class Lattice:
             grid = np.zeros((6, c, ny * nx), dtype=real)
             grid[:, :, self._site] = values
             grid = grid.reshape(6, c, ny, nx)
+        workers = far_workers() if workers is None else workers
         # The transforms pad with zeros themselves (the same numbers as a padded copy, without it).
-        half = scipy.fft.rfft(grid, n=px, axis=-1)
-        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(half, n=py, axis=-2, overwrite_x=True)
-        f, gy, gx, hyy, hxy, hxx = self._spectra_single() if single else self.spectra
-        # The six sums' spectra, written in place (the temporaries of the products cost as much as the
-        # products): f s0 - gy s1y - gx s1x + (hyy s2yy + hxx s2xx) / 2 + hxy s2xy, gy s0 - hyy s1y - hxy s1x,
-        # gx s0 - hxy s1y - hxx s1x, hyy s0, hxy s0, hxx s0.  (The kernels' spectra are real or imaginary, but
-        # products of real pairs on numpy's views took 12.4 ms at 316 x 316 pillars against these 4.1.)
-        sums = np.empty((6,) + s0.shape, dtype=s0.dtype)
-        term = np.empty_like(s0)
-        potential, along_y, along_x = sums[0], sums[1], sums[2]
-        np.multiply(f, s0, out=potential)
-        potential -= np.multiply(gy, s1y, out=term)
-        potential -= np.multiply(gx, s1x, out=term)
-        np.multiply(hyy, s2yy, out=term)
-        term += np.multiply(hxx, s2xx, out=along_y)
-        term *= 0.5
-        potential += term
-        potential += np.multiply(hxy, s2xy, out=term)
-        np.multiply(gy, s0, out=along_y)
-        along_y -= np.multiply(hyy, s1y, out=term)
-        along_y -= np.multiply(hxy, s1x, out=term)
-        np.multiply(gx, s0, out=along_x)
-        along_x -= np.multiply(hxy, s1y, out=term)
-        along_x -= np.multiply(hxx, s1x, out=term)
-        for k, kernel in ((3, hyy), (4, hxy), (5, hxx)):
-            np.multiply(kernel, s0, out=sums[k])
-        sums = scipy.fft.ifft(sums, axis=-2, overwrite_x=True)[..., :ny, :]
-        sums = scipy.fft.irfft(sums, n=px, axis=-1)[..., :nx]  # (6, c, ny, nx)
+        half = scipy.fft.rfft(grid, n=px, axis=-1, workers=workers)
+        sums = np.empty(half.shape, dtype=half.dtype)  # the six sums' spectra, rows of the lattice only
+        slabs = self._slabs(single)
+        if workers > 1:
+            parts = [slabs[i::workers] for i in range(workers)]
+            list(_pool(workers).map(lambda part: [self._spectral_slab(half, sums, *slab) for slab in part], parts))
+        else:
+            for slab in slabs:
+                self._spectral_slab(half, sums, *slab)
+        sums = scipy.fft.irfft(sums, n=px, axis=-1, workers=workers)[..., :nx]  # (6, c, ny, nx)
         if single:
             sums = sums.astype(np.float64)
         if m == 1 and self._in_order:
@@ -225,11 +256,52 @@ class Lattice:
         field *= self.scale
         return field
 
-    def _spectra_single(self) -> np.ndarray:
-        """`spectra` in single precision (complex64), made once."""
-        if self._single is None:
-            self._single = self.spectra.astype(np.complex64)
-        return self._single
+    def _slabs(self, single: bool) -> list[tuple[int, int, np.ndarray]]:
+        """The slabs of `far_by_pillar`: first and last column of the half spectrum and `spectra` on them as one
+        contiguous array, ``_SLAB`` columns in double precision and twice as many in single (the same bytes),
+        made once for each precision."""
+        if (self._single if single else self._double) is None:
+            spectra = self.spectra.astype(np.complex64) if single else self.spectra
+            width = (2 * _SLAB if single else _SLAB) if self.padded[0] * self.padded[1] >= _SLABBED_POINTS else \
+                spectra.shape[-1]
+            slabs = [(a, min(a + width, spectra.shape[-1]), np.ascontiguousarray(spectra[..., a:a + width]))
+                     for a in range(0, spectra.shape[-1], width)]
+            if single:
+                self._single = slabs
+            else:
+                self._double = slabs
+        return self._single if single else self._double
+
+    def _spectral_slab(self, half: np.ndarray, sums: np.ndarray, a: int, b: int, kernels: np.ndarray) -> None:
+        """Columns a:b of the six sums' spectra (``sums``, the lattice's rows) from those of the sources'
+        transforms along x (``half``): along y forth, the products with the kernels' spectra, back."""
+        ny = self.shape[0]
+        s0, s1y, s1x, s2yy, s2xy, s2xx = scipy.fft.fft(half[..., a:b], n=self.padded[0], axis=-2)
+        f, gy, gx, hyy, hxy, hxx = kernels
+        # The six sums' spectra, written in place (the temporaries of the products cost as much as the
+        # products): f s0 - gy s1y - gx s1x + (hyy s2yy + hxx s2xx) / 2 + hxy s2xy, gy s0 - hyy s1y - hxy s1x,
+        # gx s0 - hxy s1y - hxx s1x, hyy s0, hxy s0, hxx s0.  (The kernels' spectra are real or imaginary, but
+        # products of real pairs on numpy's views took 12.4 ms at 316 x 316 pillars against these 4.1.)
+        out = np.empty((6,) + s0.shape, dtype=s0.dtype)
+        term = np.empty_like(s0)
+        potential, along_y, along_x = out[0], out[1], out[2]
+        np.multiply(f, s0, out=potential)
+        potential -= np.multiply(gy, s1y, out=term)
+        potential -= np.multiply(gx, s1x, out=term)
+        np.multiply(hyy, s2yy, out=term)
+        term += np.multiply(hxx, s2xx, out=along_y)
+        term *= 0.5
+        potential += term
+        potential += np.multiply(hxy, s2xy, out=term)
+        np.multiply(gy, s0, out=along_y)
+        along_y -= np.multiply(hyy, s1y, out=term)
+        along_y -= np.multiply(hxy, s1x, out=term)
+        np.multiply(gx, s0, out=along_x)
+        along_x -= np.multiply(hxy, s1y, out=term)
+        along_x -= np.multiply(hxx, s1x, out=term)
+        for k, kernel in ((3, hyy), (4, hxy), (5, hxx)):
+            np.multiply(kernel, s0, out=out[k])
+        sums[..., a:b] = scipy.fft.ifft(out, axis=-2, overwrite_x=True)[..., :ny, :]
 
     def pair_couplings(self, rows: np.ndarray, cols: np.ndarray, sources: tuple[np.ndarray, np.ndarray, np.ndarray],
                        targets: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
