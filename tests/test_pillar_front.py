@@ -114,3 +114,17 @@ def test_the_brush_without_peel_is_the_continuum_first_point(front):
     assert out["adhesive_force"] == pytest.approx(float(committed["adhesive_force"]), rel=1e-6)
     assert math.isclose(out["adhesive_force"] / reference - 1, float(committed["gain_over_first_point"]),
                         rel_tol=1e-4)
+
+
+def test_the_matrix_free_brush_tips_are_the_dense_ones(fine_tip):
+    """``fine_tip.run_brush`` (the brush's four weakest tips, each alone in the others' continuum field) gives
+    ``tilted.py``'s dense rows (``tilted_brush.csv``) on the same raster to their seven written digits."""
+    from test_pillar_tips import _pillars_script
+
+    tilted = _pillars_script("tilted.py", "pillar_front_tilted")
+    dense = {r["tip"]: float(r["adhesive_force_by_kendall"]) for r in _rows("tilted_brush.csv")
+             if r["elements_per_radius"] == "7.222" and r["placement"] == "1"}
+    rows = fine_tip.run_brush(7.222, 1, tilted.brush_fields(8, 1e-5))
+    assert {row["tip"] for row in rows} == set(dense)
+    for row in rows:
+        assert row["adhesive_force_by_kendall"] == pytest.approx(dense[row["tip"]], rel=2e-6)

@@ -28,8 +28,17 @@ growing with the area: the continuum's peel (``front.py``: 88 degrees,
 ``tilted.py``'s dense ones to seven digits.  160 per radius (about 25 CPU-min
 a placement) is the next row the script runs.
 
+``--brush`` (``fine_tip_brush.csv``, 286 CPU-s): the 8 x 8 flat brush's four
+weakest tips at k~ = 1e-5, each alone in the others' continuum deflection
+(``tilted.py --brush`` on this path), at 57.8 and 80 elements per radius,
+four placements each: beyond their first points the middle of an edge holds
+2.54 / 2.57 %, the next 2.32 / 2.33 %, the next 1.59 / 1.66 %, the corner
+0.08 / 0.12 % - the edge tips' gains no longer falling; their least capacity
+at 80 is the upper end of the brush's limit (``limit.py``).
+
     nice python docs/pillars/fine_tip.py              # resumes; rows to fine_tip.csv as each completes
     nice python docs/pillars/fine_tip.py --check      # the dense tilted.py's rows at 14.4 reproduced
+    nice python docs/pillars/fine_tip.py --brush      # the 8 x 8 brush's four weakest tips (fine_tip_brush.csv)
 
 The tip: radius a = 1, E* = 1, dgamma = 0.5 (K_c = 1, F_K = 2 sqrt(pi)).
 """
@@ -225,7 +234,48 @@ CASES = tuple((res, p) for res in (14.443, 28.887, 40.0, 57.774, 80.0, 115.548) 
 TILT = 0.2
 
 
+BRUSH_TABLE = HERE / "fine_tip_brush.csv"
+#: The brush's tips at the resolutions beyond ``tilted.py``'s (its 40 per radius): four placements each.
+BRUSH_CASES = tuple((res, p) for res in (57.774, 80.0) for p in range(4))
+
+
+def run_brush(per_radius: float, placement: int, fields: dict) -> list[dict]:
+    """``tilted.run_brush`` on the matrix-free tip: each of the 8 x 8 brush's four weakest tips (k~ = 1e-5) alone
+    in the other tips' continuum deflection (`tilted.brush_fields`)."""
+    import tilted
+
+    start = time.process_time()
+    tip = FineTip(per_radius, PLACEMENTS[placement])
+    level = tip.pull_off_in(np.zeros_like(tip.x))["force"]
+    rows = []
+    points = np.stack([tip.x, tip.y], axis=1)
+    for name, (first, deflection) in fields.items():
+        field = np.concatenate([deflection(chunk) for chunk in np.array_split(points, max(1, len(points) // 4000))])
+        out = tip.pull_off_in(field)
+        rows.append({"pillars_per_side": 8, "stiffness_ratio": 1e-5, "tip": f"{name[0]}-{name[1]}",
+                     "elements_per_radius": per_radius, "placement": placement,
+                     "adhesive_force_by_kendall": out["force"], "level_adhesive_force_by_kendall": level,
+                     "ratio": out["force"] / level, "first_point_ratio": first,
+                     "gain": out["force"] / level / first - 1, "events": out["events"], "cpu_seconds": 0.0})
+    for row in rows:
+        row["cpu_seconds"] = round((time.process_time() - start) / len(rows), 2)
+    assert tuple(rows[0]) == tilted.BRUSH_FIELDS
+    return rows
+
+
 def main() -> None:
+    if "--brush" in sys.argv:
+        import tilted
+
+        rows = reference.load(BRUSH_TABLE)
+        done = {(float(r["elements_per_radius"]), int(r["placement"])) for r in rows}
+        fields = tilted.brush_fields(8, 1e-5)
+        for per_radius, placement in BRUSH_CASES:
+            if (per_radius, placement) not in done:
+                rows += run_brush(per_radius, placement, fields)
+                calibration.write(rows, BRUSH_TABLE, tilted.BRUSH_FIELDS, digits=7)
+                print(rows[-4:], flush=True)
+        return
     if "--check" in sys.argv:
         for row in run(14.443, 0, TILT):
             print(row, flush=True)

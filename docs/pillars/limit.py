@@ -15,7 +15,7 @@ calibrated one (the lone tip's raster error removed).  The route succeeds
 where the extrapolated mean lies within 1 % of the limit's whole interval
 (`interval`: at k~ = 1e-5 from the brush with every tip's first-order
 continuum peel, ``front_brush.csv``, to the edge tips' capacity alone in
-their field at 40 elements per radius, `edge_bound`; at k~ = 10 the lower
+their field at the finest resolution measured, 80 elements per radius, `edge_bound`; at k~ = 10 the lower
 end only, the errors quoted against it and the old extrapolation).
 
 Rows (``limit.csv``): ``stiffness_ratio``, ``route``, ``plain`` or
@@ -42,8 +42,8 @@ proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
 elements per radius" and "The peel survives the continuum"): at k~ = 1e-5
-the limit is known to 0.9 % (0.0120385 .. 0.0121523); no placement mean is
-within 1 % of both ends; 8 of the 15 extrapolations are (mostly of
+the limit is known to 0.65 % (0.0120385 .. 0.0121169); no placement mean is
+within 1 % of both ends; 9 of the 15 extrapolations are (mostly of
 calibrated tips, 14.4-39.7 per radius); the brush follows its edge tips, not
 the corner; the per-element criterion tends to the first point, 1.9 % below
 the lower end.
@@ -186,9 +186,11 @@ def _errors(force: float, stiffness: float) -> dict:
 
 
 def capacities() -> dict[tuple[str, float], float]:
-    """{(tip, q): the tip's capacity alone in its continuum field, over n^2 F_K (mean over the placements)}."""
+    """{(tip, q): the tip's capacity alone in its continuum field, over n^2 F_K (mean over the placements;
+    ``tilted_brush.csv`` to 40 elements per radius, ``fine_tip_brush.csv`` beyond)}."""
     capacity = defaultdict(list)
-    for row in _rows("tilted_brush.csv"):
+    finer = HERE / "fine_tip_brush.csv"  # the same tips on the matrix-free path, beyond 40 per radius
+    for row in _rows("tilted_brush.csv") + (_rows("fine_tip_brush.csv") if finer.exists() else []):
         capacity[(row["tip"], float(row["elements_per_radius"]))].append(
             float(row["first_point_ratio"]) * (1 + float(row["gain"])))
     return {key: statistics.fmean(values) for key, values in capacity.items()}

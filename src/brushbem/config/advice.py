@@ -16,7 +16,7 @@ records them in ``summary.json`` (``warnings``), and every run records its `Reso
   for a sphere or a spherical cap from ``sphere_resolution_error.csv`` (a rigid JKR sphere against JKR; it
   converges at first order, +20 % at 8 and +6.4 % at 24 elements across a_JKR); a brush's F_A from
   ``brush_resolution_error.csv`` (the flat 8 x 8 brush against the continuum limit, ``docs/pillars/limit.py``:
-  +3.7 % at 3.6, +1.8 % at 14.4, +1.5 % at 28.9, +1.2 % at 39.7 elements per radius, where a lone punch is
+  +3.9 % at 3.6, +1.9 % at 14.4, +1.6 % at 28.9, +1.4 % at 39.7 elements per radius, where a lone punch is
   +1 % at 32; beyond its finest row, that row's).
   Below `MIN_ELEMENTS_PER_RADIUS` `resolution_warnings` warns with the estimate and the fix.
 """
@@ -61,10 +61,10 @@ Resolution = ResolutionRecord
 #: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
 PUNCH_TABLE, SPHERE_TABLE = "resolution_error.csv", "sphere_resolution_error.csv"
 #: A brush's own F_A error (``brush_resolution_error.csv``, ``docs/pillars/limit.py``): the flat 8 x 8 brush at
-#: k~ = 1e-5 against the continuum limit, where it is known to 0.9 % (``docs/pillars/limit.py``: the tips' first-order
-#: continuum peel below, ``front_brush.csv``, the edge tips' capacity at 40 elements per radius above).  A brush's
+#: k~ = 1e-5 against the continuum limit, where it is known to 0.65 % (``docs/pillars/limit.py``: the tips' first-order
+#: continuum peel below, ``front_brush.csv``, the edge tips' capacity at 80 elements per radius above).  A brush's
 #: F_A converges more slowly than a lone punch's (its tips peel in their neighbours' field): at 28.9 elements per
-#: radius +1.5 % (the punch's +1 %), so a brush's F_A error is read from it.
+#: radius +1.6 % (the punch's +1 %), so a brush's F_A error is read from it.
 BRUSH_TABLE = "brush_resolution_error.csv"
 
 
