@@ -48,7 +48,7 @@ FOLDER``: each child's cProfile statistics).
     nice python benchmarks/large_brush.py --sizes 316 --brush size --sigma 0.1 --seed 0 --exact-max 0 \
         --solves 40 --before main                        # its first 40 CG solves at 10^5 pillars
     nice python benchmarks/large_brush.py --sizes 316 --brush size --sigma 0.1 --seed 0 --pull-off 200 \
-        --variants '[{"env": {"BRUSHBEM_FFT_WORKERS": "1"}}, {}]' --repeat 2   # its pull-off, 1 or 2 threads
+        --variants '[{}, {"env": {"BRUSHBEM_FFT_WORKERS": "2"}}]' --repeat 2   # its pull-off, 1 or 2 threads
 
 Measured (CPU seconds, medians): the chapter-5 brush (``--sizes 32 --sigma 1
 --before c48c002 --repeat 3``, a machine loaded 5-6 on two cores) loading
@@ -77,7 +77,18 @@ run) 155 against 181 CPU-s (pull-off 1.22x), F_A and the work the same to
 5e-12.  With the late iterations' far fields in single precision
 (``--solves 40 --before 7791b03 --repeat 3``, load about 3): the first 40
 CG solves at 316 x 316, the model's build included, 46.1 against 59.8
-CPU-s (1.30x, medians).  The numbers of every size are in the docstring of
+CPU-s (1.30x, medians).  With the far field by slabs of the spectrum and
+the CG's vectors on the attached rows (``--states 205 --before 0ffb9c6``,
+one core busy with another process): loading 282 against 332 CPU-s
+(1.18x), the pull-off's first 200 states 68.5 against 91.1 (1.33x), the
+same iterations; at 100 (``--pillar-solve cg``, whole run) 111 against 127
+CPU-s, F_A and the work the same to 1.1e-13 and 3.6e-13.  Two threads for
+the far field (``--pull-off 200 --variants '[{"env":
+{"BRUSHBEM_FFT_WORKERS": "1"}}, {"env": {"BRUSHBEM_FFT_WORKERS": "2"}}]'
+--repeat 2``, two cores shared with two or three other processes): 0.429
+wall-s and 0.384 CPU-s a state against 0.364 and 0.353 on one (medians),
+the same forces.  The 10^5 part projects to 3500-5500 CPU-s (1.0-1.5 h)
+on one thread.  The numbers of every size are in the docstring of
 `brushbem.pillars`.
 """
 

@@ -238,7 +238,29 @@ late iterations' far fields in single precision (`brushbem.pillars.cg`:
 1.30x on the loading's first 40 solves at 316 x 316; at 10^4 by CG
 throughout the pull-off 1.24x, the whole run 132 CPU-s against 165) it
 projects to 390 CPU-s of loading and 1.07-1.26 CPU-s a state, 4700-7300
-CPU-s (1.3-2.0 h): still beyond an hour.  Its
+CPU-s (1.3-2.0 h): still beyond an hour.  With the far field by slabs of
+the spectrum (`brushbem.pillars.lattice`: the transforms along y, the
+spectral products and the transforms back 16 columns at a time, in the
+cache; double-precision columns one at a time) and the CG's vectors on the
+attached rows only (``--states 205 --before 0ffb9c6``, one of the two cores
+busy with another process): loading 282 CPU-s against 332 (1.18x), the
+pull-off's first 200 states 68.5 against 91.1 (1.33x), the same 6187
+iterations and 7081 products (5050 single); at 10^4 by CG throughout the
+whole run 111 against 127 CPU-s (pull-off 1.15x: below 512 x 512 points the
+far field takes no slabs), F_A and the work the same to 1.1e-13 and
+3.6e-13.  So the 10^5 part projects to 282 CPU-s of loading and 4000-5500
+states at (1.07-1.26) / 1.33 = 0.80-0.95 CPU-s, 3500-5500 CPU-s (1.0-1.5
+h) on one thread, which is its wall time on a core of its own: an hour at
+the most favourable end only, not run.  A second core did not shorten it:
+two threads for the far field (``BRUSHBEM_FFT_WORKERS = 2``,
+`brushbem.pillars.lattice.far_workers`; 200 pull-off states from one
+loaded state, ``--pull-off 200``, both cores shared with two or three
+other processes) took 0.429 wall-s a state against 0.364 on one; on two
+idle cores it was not measured.  At 10^4 pillars 96.7-97.9 % of all the
+pillars share one set of moments along the pull-off (the full rasters; the
+peeled ones make 183-281 other sets), so the far field of one kernel (a
+transform each way) for them and a correction for the others might cut
+the transforms up to sixfold; not tried.  Its
 sets are scattered: every attached pillar's neighbours are
 mostly off (`brushbem.pillars.cg.boundary_share` 0.93-1.0), where the near
 field preconditions (12-25 iterations a solve at 10^4, 22 at 10^5) and the
