@@ -21,12 +21,12 @@ continuum peel keeps a depth and a span that converge in units of a.
 
 Measured (``fine_tip.csv``, eps = 0.2, four placements and two directions a
 resolution): the gain over the first point 2.67 / 2.65 / 2.20 / 1.94 / 1.97 /
-1.79 % at 14.4 / 28.9 / 40 / 57.8 / 80 / 115.5 elements per radius; from 57.8
-on the peel spans 84-90 degrees and recedes 0.043-0.055 a, its elements
+1.79 / 1.65 % at 14.4 / 28.9 / 40 / 57.8 / 80 / 115.5 / 160 elements per radius
+(160: one placement); from 57.8 on the peel spans 84-93 degrees and recedes 0.043-0.055 a, its elements
 growing with the area: the continuum's peel (``front.py``: 88 degrees,
 0.044 a, a first-order gain of 1.19 %).  The rows at 14.4 and 28.9 equal
-``tilted.py``'s dense ones to seven digits.  160 per radius (about 25 CPU-min
-a placement) is the next row the script runs.
+``tilted.py``'s dense ones to seven digits.  160 per radius takes about 12
+CPU-min a placement; its second placement is the next row the script runs.
 
 ``--brush`` (``fine_tip_brush.csv``, 286 CPU-s): the 8 x 8 flat brush's four
 weakest tips at k~ = 1e-5, each alone in the others' continuum deflection

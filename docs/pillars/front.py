@@ -41,11 +41,11 @@ g = 1 + eps cos(theta) (``tilted.py``'s tilt) holds 0.34 / 0.64 / 1.19 /
 1.65 % beyond its first point at eps = 0.05 / 0.1 / 0.2 / 0.3, the peel
 spanning 88-90 degrees of the edge and receding by 0.044 a at eps = 0.2.
 The raster's exact path (``fine_tip.csv``) peels the same region: a span of
-83-88 degrees and a depth of 0.04-0.055 a at 57.8-115.5 elements per radius,
+83-93 degrees and a depth of 0.04-0.055 a at 57.8-160 elements per radius,
 the peeled elements growing with the area (h^-2), so its stable peel is the
-continuum's, not a staircase's; its gain is 1.9-2.0 % there, above the
-first-order 1.19 % by about eps times the depth (0.2 x 0.044 = 0.9 %, the
-order of what the model leaves out).
+continuum's, not a staircase's; its gain falls from 1.9-2.0 % there to 1.65 %
+at 160, above the first-order 1.19 % by less than eps times the depth
+(0.2 x 0.044 = 0.9 %, the order of what the model leaves out).
 
     python docs/pillars/front.py          # front.csv (about 2 CPU-min)
     python docs/pillars/front.py --brush  # front_brush.csv (about 2.5 CPU-min)

@@ -366,8 +366,8 @@ within 1 %)
     springs, exact to 2e-9) with its tips' peel: a flat tip whose K varies along its edge peels stably before it
     runs away, in the continuum (``docs/pillars/front.py``: the first-order perturbation of its edge, 1.19 %
     beyond the first point at eps = 0.2, over 88 degrees of the edge, 0.044 a deep) as on the raster
-    (``fine_tip.py``: the exact path of one tip to 115.5 elements per radius peels the same region, its gain
-    1.8-2.0 % from 57.8 on).  So the first point (the first tip at K_c; 0.0118133 at k~ = 1e-5, 0.0081111 at
+    (``fine_tip.py``: the exact path of one tip to 160 elements per radius peels the same region, its gain
+    2.0 % at 57.8 falling to 1.65 % at 160).  So the first point (the first tip at K_c; 0.0118133 at k~ = 1e-5, 0.0081111 at
     10) is not the limit, and the per-element criterion, which tends to it, is not the route.  With every
     tip's first-order peel the flat 8 x 8 brush holds 0.0120385 at k~ = 1e-5 (+1.9 %) and 0.0082839 at 10
     (+2.1 %) (``front_brush.csv``), the exact path's old first-order extrapolation within 0.34 % and 0.07 % of
