@@ -33,8 +33,8 @@ weakest tips at k~ = 1e-5, each alone in the others' continuum deflection
 (``tilted.py --brush`` on this path), at 57.8 and 80 elements per radius,
 four placements each: beyond their first points the middle of an edge holds
 2.54 / 2.57 %, the next 2.32 / 2.33 %, the next 1.59 / 1.66 %, the corner
-0.08 / 0.12 % - the edge tips' gains no longer falling; their least capacity
-at 80 is the upper end of the brush's limit (``limit.py``).
+0.08 / 0.12 % - the edge tips' gains level from 57.8 to 80 (the tilt's were
+too, then fell 0.3 % by 160); their least capacity at 80 is the upper end of the brush's limit (``limit.py``).
 
     nice python docs/pillars/fine_tip.py              # resumes; rows to fine_tip.csv as each completes
     nice python docs/pillars/fine_tip.py --check      # the dense tilted.py's rows at 14.4 reproduced

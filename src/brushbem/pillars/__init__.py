@@ -371,9 +371,9 @@ within 1 %)
     10) is not the limit, and the per-element criterion, which tends to it, is not the route.  With every
     tip's first-order peel the flat 8 x 8 brush holds 0.0120385 at k~ = 1e-5 (+1.9 %) and 0.0082839 at 10
     (+2.1 %) (``front_brush.csv``), the exact path's old first-order extrapolation within 0.34 % and 0.07 % of
-    them; the edge tips' raster gains lie above the first-order ones at every resolution and hold from 57.8 to
-    80 elements per radius (2.54 / 2.57 % on the middle of an edge, ``fine_tip_brush.csv``), and their capacity
-    at 80 (0.0121169) bounds the brush above: at k~ = 1e-5 the limit is known to 0.65 %
+    them; the edge tips' raster gains lie above the first-order ones at every resolution and fall with h (2.54 / 2.57 % on
+    the middle of an edge at 57.8 / 80 elements per radius, ``fine_tip_brush.csv``), so their capacity at 80
+    (0.0121169) bounds the brush above: at k~ = 1e-5 the limit is known to 0.65 %
     (``docs/pillars/limit.py``, middle 0.0120777).
     Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): the default on the
     families' raster is +7.4 .. +8.1 % at k~ = 1e-5 and +7.8 % over the lower end at 10, plain tips averaged
