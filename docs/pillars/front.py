@@ -54,11 +54,15 @@ at 160, above the first-order 1.19 % by less than eps times the depth
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import calibration  # noqa: E402
+import continuum  # noqa: E402
 TABLE = HERE / "front.csv"
 FIELDS = ("profile", "tilt_ratio", "angles", "load_control", "gain", "span_degrees", "depth")
 
@@ -113,11 +117,6 @@ BRUSH_FIELDS = ("pillars_per_side", "stiffness_ratio", "angles", "load_control",
 
 
 def _write(rows: list[dict], table: Path, fields: tuple[str, ...]) -> None:
-    import sys
-
-    sys.path.insert(0, str(HERE))
-    import calibration
-
     calibration.write(rows, table, fields, digits=7)
 
 
@@ -141,8 +140,6 @@ def brush_rows() -> list[dict]:
 
 
 def main() -> None:
-    import sys
-
     if "--brush" in sys.argv:
         _write(brush_rows(), BRUSH_TABLE, BRUSH_FIELDS)
         return
@@ -163,11 +160,6 @@ def brush_pull_off(per_side: int, stiffness: float, angles: int = 128, degree: i
     (its first point times 1 + its peel's gain from `capacity` on its own K(theta)) instead of its first point:
     the events until ``last`` tips are gone, F_A the largest total force at one (in units of the brush's
     n^2 F_K and absolute, as ``continuum_reference.csv``)."""
-    import sys
-
-    sys.path.insert(0, str(HERE))
-    import continuum
-
     a = math.sqrt(continuum.PHI / math.pi) / per_side
     brush = continuum.Brush(per_side, 1 / per_side / a, degree, 12, 48)
     spring = 2 * math.pi * continuum.MODULUS * a / (stiffness * continuum.MODULUS)
