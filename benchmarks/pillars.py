@@ -22,7 +22,9 @@ per radius (the grid subdivided f times; Q <= 3.6 x ``--tip-grid``: the grid's o
 CPU time, F_A and work, and the exact path's beside it on the grid f N, the same brush (the same absolute
 tip heights), where f N <= ``--exact-elements``, with their differences.  The first line is the pillar model
 with the grid's own tips (today's default).  ``--calibrate``: every resolution also with the tips' criterion
-calibrated to Kendall's force (``protocol.pillar_tip_calibration``), its time and F_A beside.
+calibrated to Kendall's force (``protocol.pillar_tip_calibration``), its time and F_A beside; ``--peel``: also
+with whole tips leaving at their continuum capacity (``protocol.pillar_tip_peel``), its time and its ratio to
+the default's in the same run.
 
 Measured (CPU seconds of one core on a shared machine, sigma~ = 1, k~ = 0.01 unless named; 4.0 elements per
 radius on the grid, ``--tip-grid 1.109``):
@@ -119,12 +121,15 @@ def _problem(per_side: int, ratio: float, sigma: float, seed: int, tip_grid: flo
 
 
 def _run(problem: ContactProblem, method: str, preload: float, tips: float | None = None,
-         calibrate: bool = False) -> tuple[float, dict]:
+         calibrate: bool = False, peel: bool = False) -> tuple[float, dict]:
     """The CPU time of a pull-off (``time.process_time``: other processes on a shared machine do not count) and
-    its summary; ``calibrate``: the tips' criterion calibrated to Kendall's force."""
+    its summary; ``calibrate``: the tips' criterion calibrated to Kendall's force; ``peel``: whole tips leaving
+    at their continuum capacity."""
     extra = {} if tips is None else {"pillar_tip_resolution": tips}
     if calibrate:
         extra["pillar_tip_calibration"] = True
+    if peel:
+        extra["pillar_tip_peel"] = True
     start = time.process_time()
     record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**7, **extra))
     return time.process_time() - start, record.summary
@@ -152,6 +157,8 @@ def main() -> None:
     parser.add_argument("--tip-grid", type=float, default=1.0,
                         help="the grid of --tips: this times 16 elements per pitch (3.6 per radius)")
     parser.add_argument("--exact-elements", type=int, default=600, help="largest grid of the exact path in --tips")
+    parser.add_argument("--peel", action="store_true",
+                        help="--tips: every resolution also with whole tips leaving at their continuum capacity")
     parser.add_argument("--calibrate", action="store_true",
                         help="--tips: every resolution also with the tips' criterion calibrated to Kendall's force")
     parser.add_argument("--proxy", type=int, default=0,
@@ -222,6 +229,11 @@ def _tip_resolutions(args: argparse.Namespace) -> None:
             line.update({"calibrated_cpu_seconds": round(seconds, 2),
                          "calibrated_adhesive_force": calibrated["adhesive_force"],
                          "calibrated_work": calibrated["work_of_separation"]})
+        if args.peel:
+            seconds, peeled = _run(problem, "pillars", preload, tip, peel=True)
+            line.update({"peel_cpu_seconds": round(seconds, 2), "peel_time_ratio": round(seconds / line[
+                "pillars_cpu_seconds"], 3), "peel_adhesive_force": peeled["adhesive_force"],
+                "peel_work": peeled["work_of_separation"]})
         if factor * problem.grid.elements <= args.exact_elements and tip is not None:
             fine, _ = _problem(args.tip_brush, args.stiffness_ratio, args.sigma, args.seed, args.tip_grid, factor)
             t_exact, exact = _run(fine, "events", preload)

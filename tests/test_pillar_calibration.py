@@ -83,7 +83,7 @@ def test_the_calibration_scales_each_footprint_by_its_own_factor():
     indenter = brush(grid, layout="random", pillar_count=6, pillar_radius=0.05, min_gap=2 / 64, contact_modulus=1.0,
                      work_of_adhesion=DGAMMA, stiffness=1e-2, seed=5)
     problem = ContactProblem(grid, indenter, contact_modulus=1.0, work_of_adhesion=DGAMMA)
-    model = PillarModel(problem, calibrate=True)
+    model = PillarModel(problem, criterion="calibrated")
     plain = PillarModel(problem)
     kendall = float(kendall_force(0.05, contact_modulus=1.0, work_of_adhesion=DGAMMA))
     shapes = {}
@@ -189,7 +189,7 @@ def test_per_element_criteria_take_every_element_of_a_lone_tip_at_kendalls_force
     as well (to 1e-6, the stiff spring)."""
     from unittest import mock
 
-    import brushbem.pillars.basis
+    import brushbem.pillars.calibration
     from brushbem.pillars.calibration import tip_criteria
 
     problem = _lone()
@@ -207,6 +207,6 @@ def test_per_element_criteria_take_every_element_of_a_lone_tip_at_kendalls_force
     def per_element(model, problem, critical, calibrate):
         return tip_criteria(model, problem, critical, calibrate, per_element=True)
 
-    with mock.patch.object(brushbem.pillars.basis, "tip_criteria", per_element):
+    with mock.patch.object(brushbem.pillars.calibration, "tip_criteria", per_element):
         assert _adhesive_force(problem, "pillars", pillar_tip_calibration=True) == pytest.approx(_kendall(problem),
                                                                                                  rel=1e-6)

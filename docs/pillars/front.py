@@ -49,6 +49,7 @@ at 160, above the first-order 1.19 % by less than eps times the depth
 
     python docs/pillars/front.py          # front.csv (about 2 CPU-min)
     python docs/pillars/front.py --brush  # front_brush.csv (about 2.5 CPU-min)
+    python docs/pillars/front.py --table  # src/brushbem/data/peel_gain.csv (the criterion's gains)
 """
 
 from __future__ import annotations
@@ -63,51 +64,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import calibration  # noqa: E402
 import continuum  # noqa: E402
+from brushbem.pillars.peel import AXES, TABLE_ANGLES, capacity, response, shape  # noqa: E402,F401
 TABLE = HERE / "front.csv"
+#: The gains `brushbem.pillars.peel.gain` interpolates (``--table``).
+GAIN_TABLE = HERE.parents[1] / "src" / "brushbem" / "data" / "peel_gain.csv"
 FIELDS = ("profile", "tilt_ratio", "angles", "load_control", "gain", "span_degrees", "depth")
-
-
-def response(angles: int, load_control: float = 1.5) -> np.ndarray:
-    """The circulant M with (M A)(theta_i) = sum_n f(n) A_n cos(n theta_i) on ``angles`` equal points."""
-    n = np.fft.rfftfreq(angles, 1.0 / angles)
-    f = np.where(n == 0, load_control, -(n - 1) / 2)
-    column = np.fft.irfft(f, angles)
-    index = (np.arange(angles)[:, None] - np.arange(angles)[None, :]) % angles
-    return column[index]
-
-
-def _equilibrium(s: float, g: np.ndarray, m: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, bool]:
-    """A >= 0 with w = 1 / s - g - M A >= 0 and A w = 0 (primal-dual active sets from ``start``)."""
-    q = 1 / s - g
-    a = start.copy()
-    for _ in range(200):
-        w = q - m @ a
-        active = (a - w) > 0
-        if not active.any():
-            return np.zeros_like(a), bool((q >= -1e-12).all())
-        new = np.zeros_like(a)
-        new[active] = np.linalg.solve(m[np.ix_(active, active)], q[active])
-        w = q - m @ new
-        if np.array_equal(active, (new - w) > 0):
-            return new, bool((new >= -1e-12).all() and (w[~active] >= -1e-12).all())
-        a = new
-    return a, False
-
-
-def capacity(g: np.ndarray, load_control: float = 1.5) -> dict:
-    """The tip's capacity beyond its first point: gain (load at the last equilibrium over the first point's,
-    minus 1), the receded edge's span in degrees and its largest depth in units of a."""
-    m = response(g.size, load_control)
-    first = 1 / g.max()
-    s, step, a = first, 2e-3 * first, np.zeros(g.size)
-    while step > 1e-8 * first:
-        trial, ok = _equilibrium(s + step, g, m, a)
-        if ok and trial.max() < 0.5:  # first order: an advance of half the radius is far outside its domain
-            s, a = s + step, trial
-        else:
-            step /= 2
-    return {"gain": s / first - 1, "span_degrees": float(np.count_nonzero(a > 0) / g.size * 360),
-            "depth": float(a.max())}
 
 
 BRUSH_TABLE = HERE / "front_brush.csv"
@@ -139,7 +100,25 @@ def brush_rows() -> list[dict]:
     return rows
 
 
+def gain_rows() -> list[dict]:
+    """The continuum gain of g = 1 + tilt cos(theta) + bend cos(2 theta + phase) over `peel.AXES`
+    (``data/peel_gain.csv``), on `peel.TABLE_ANGLES` edge points to a precision of 1e-6."""
+    rows = []
+    for control in AXES["load_control"]:
+        for tilt in AXES["tilt"]:
+            for bend in AXES["bend"]:
+                for phase in AXES["phase"]:
+                    out = capacity(shape(tilt, bend, phase), control, precision=1e-6)
+                    rows.append({"tilt": tilt, "bend": bend, "phase": round(phase, 9), "load_control": control,
+                                 "gain": out["gain"], "span_degrees": out["span_degrees"], "depth": out["depth"]})
+        print(f"load_control {control}: {len(rows)} gains", flush=True)
+    return rows
+
+
 def main() -> None:
+    if "--table" in sys.argv:
+        _write(gain_rows(), GAIN_TABLE, ("tilt", "bend", "phase", "load_control", "gain", "span_degrees", "depth"))
+        return
     if "--brush" in sys.argv:
         _write(brush_rows(), BRUSH_TABLE, BRUSH_FIELDS)
         return

@@ -66,6 +66,10 @@ PUNCH_TABLE, SPHERE_TABLE = "resolution_error.csv", "sphere_resolution_error.csv
 #: F_A converges more slowly than a lone punch's (its tips peel in their neighbours' field): at 28.9 elements per
 #: radius +1.6 % (the punch's +1 %), so a brush's F_A error is read from it.
 BRUSH_TABLE = "brush_resolution_error.csv"
+#: The same brush with its tips leaving at their continuum capacity (``protocol.pillar_tip_peel``,
+#: ``brush_peel_error.csv``, ``docs/pillars/peel.py``), and the coarsest tips it was measured at: within 1 % of
+#: the limit's bounds there, so no warning at or above it.
+PEEL_TABLE, PEEL_MIN_ELEMENTS = "brush_peel_error.csv", 3.6
 
 
 @functools.cache
@@ -159,8 +163,9 @@ def fibril_radius(config: RunConfig) -> float | None:
 
 
 def _record(what: str, key: str, value: float, elements: float, force: float, force_range: tuple[float, float],
-            work: float | None, work_range: tuple[float, float] | None, basis: str) -> ResolutionRecord:
-    return ResolutionRecord(length=what, key=key, value=value, elements=elements, minimum_elements=MIN_ELEMENTS_PER_RADIUS,
+            work: float | None, work_range: tuple[float, float] | None, basis: str,
+            minimum: float = MIN_ELEMENTS_PER_RADIUS) -> ResolutionRecord:
+    return ResolutionRecord(length=what, key=key, value=value, elements=elements, minimum_elements=minimum,
                             force_error_estimate=force, force_error_range=list(force_range), work_error_estimate=work,
                             work_error_range=None if work_range is None else list(work_range), basis=basis)
 
@@ -180,6 +185,17 @@ def resolution(config: RunConfig) -> ResolutionRecord | None:
                        None if work is None else (work, work),
                        "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
                        "benchmarks/resolution_error.py --sphere)")
+    if what == "pillar radius" and _tips_peel(config):
+        return _record(
+            what, key, value, elements, _interpolated(elements, "force_error_mean", PEEL_TABLE),
+            (_interpolated(elements, "force_error_min", PEEL_TABLE), _interpolated(elements, "force_error_max", PEEL_TABLE)),
+            _interpolated(elements, "work_error_mean", PEEL_TABLE),
+            (_interpolated(elements, "work_error_min", PEEL_TABLE), _interpolated(elements, "work_error_max", PEEL_TABLE)),
+            "F_A: the flat 8 x 8 brush at k~ = 1e-5, its tips leaving at their continuum capacity, at this many "
+            "elements per pillar radius against the continuum limit (its middle; the range: every placement of the "
+            "lattice on the raster between the limit's bounds; at k~ = 10 -0.75 .. +1.04 % at 3.6; a random layout "
+            "-1.8 %: docs/pillars/peel.py); the work: its placements against their mean at 14.4 elements per radius",
+            minimum=PEEL_MIN_ELEMENTS)
     work = _interpolated(elements, "work_error_mean")
     if what == "pillar radius":
         return _record(
@@ -198,6 +214,11 @@ def resolution(config: RunConfig) -> ResolutionRecord | None:
         (_interpolated(elements, "work_error_min"), _interpolated(elements, "work_error_max")),
         "a flat punch on a spring at this many elements per radius against Kendall (eq. 2.4, 2.18-2.19), "
         "mean and range over radii within 10 % (benchmarks/resolution_error.py)")
+
+
+def _tips_peel(config: RunConfig) -> bool:
+    """Whether the tips leave at their continuum capacity (``protocol.pillar_tip_peel``)."""
+    return config.protocol.method == "pillars" and config.protocol.pillar_tip_peel
 
 
 def _tip_factor(config: RunConfig, length: float) -> int:
@@ -219,9 +240,14 @@ def resolution_warnings(config: RunConfig) -> list[str]:
     if found is None or found.resolved:
         return []
     needed = math.ceil(config.grid.elements * MIN_ELEMENTS_PER_RADIUS / found.elements)
-    if config.protocol.method == "pillars":
+    if _tips_peel(config):
+        fix = (f"set protocol.pillar_tip_resolution = {PEEL_MIN_ELEMENTS:g} or more (the tips on a raster of their "
+               "own, measured there)")
+    elif config.protocol.method == "pillars":
         # The pillar model resolves its tips apart from the grid.
-        fix = (f"set protocol.pillar_tip_resolution = {2 * MIN_ELEMENTS_PER_RADIUS:g} or more (the tips on a raster "
+        fix = ("set protocol.pillar_tip_peel = true (the tips leave at their continuum capacity: the flat brush "
+               "within 1 % of its limit at 3.6 elements per radius, docs/pillars/peel.py), or "
+               f"protocol.pillar_tip_resolution = {2 * MIN_ELEMENTS_PER_RADIUS:g} or more (the tips on a raster "
                "of their own; the grid only places the pillars), or run with --refine 3 for an extrapolated F_A "
                "with its error bar (the tips alone refined)")
     else:

@@ -124,6 +124,10 @@ def parse_config(mapping: Mapping[str, Any], base_dir: str | Path | None = None,
                 stated = getattr(model, "REQUIRED_TEXT", "")
                 named = set(one_of) | {key for key in model.model_fields if key in stated.replace(",", " ").split()}
                 optional = [key for key in model.model_fields if key not in required and key not in named]
+                if sum(key.startswith("pillar_") for key in optional) > 1:
+                    # The pillar model's options, one family: named once.
+                    optional = [key for key in optional if not key.startswith("pillar_")] + \
+                        ["pillar_* (method = 'pillars')"]
                 needs = ([", ".join(required)] if required else []) + (
                     [f"exactly one of {' and '.join(one_of)}"] if one_of else []) + ([stated] if stated else [])
                 others = (f" (optional: {', '.join(optional)})" if len(optional) <= 10 else
@@ -411,4 +415,4 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
 #: Protocol keys that arrived after sweeps were first recorded: omitted while at their schema default,
 #: so the case hashes of the recorded sweeps stay what they were.
 _LATER_PROTOCOL_KEYS = ("speed", "event_window", "pillar_modes", "pillar_near", "pillar_solve",
-                        "pillar_tip_resolution", "pillar_tip_calibration")
+                        "pillar_tip_resolution", "pillar_tip_calibration", "pillar_tip_peel")

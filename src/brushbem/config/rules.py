@@ -77,6 +77,7 @@ PARAMETER_KEYS: dict[tuple[str, str], str] = {
     ("LoadPath", "pillar_solve"): "protocol.pillar_solve",
     ("LoadPath", "pillar_tip_resolution"): "protocol.pillar_tip_resolution",
     ("LoadPath", "pillar_tip_calibration"): "protocol.pillar_tip_calibration",
+    ("LoadPath", "pillar_tip_peel"): "protocol.pillar_tip_peel",
     ("LoadPath", "tolerance"): "solver.tolerance",
     ("LoadPath", "max_iterations"): "solver.max_iterations",
     ("LoadPath", "cascade"): "solver.cascade",

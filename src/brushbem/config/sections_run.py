@@ -74,6 +74,10 @@ class ProtocolConfig(_Section):
         the tip alone on its raster comes off at Kendall's force (removes a
         lone tip's discretisation error, not a brush's; measured in
         ``docs/pillars/calibration.csv``); false: the raster's own.
+    pillar_tip_peel : bool
+        ``method = "pillars"`` only: every whole tip leaves at its continuum
+        capacity (the per-element criterion raised by the gain of its stable
+        peel, `brushbem.pillars.peel`); not with ``pillar_tip_calibration``.
     """
 
     model_config = _MODEL_CONFIG
@@ -92,6 +96,7 @@ class ProtocolConfig(_Section):
     pillar_solve: Literal["auto", "kept", "cg"] = "auto"
     pillar_tip_resolution: float | None = Field(None, ge=2, allow_inf_nan=False)
     pillar_tip_calibration: bool = False
+    pillar_tip_peel: bool = False
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):

@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from brushbem.physics.halfspace import influence_coefficients
-from brushbem.pillars.calibration import tip_criteria
+from brushbem.pillars.calibration import CRITERIA, install_criterion
 from brushbem.pillars.lattice import Lattice
 from brushbem.pillars.modes import MODES, SCHUR_ELEMENTS, Bases, Basis
 from brushbem.pillars.tips import TipRaster
@@ -37,9 +37,11 @@ class PillarModel:
 
     def __init__(self, problem: ContactProblem, modes: str = "quadratic", coupling: str = "local",
                  peel: bool = True, near: float | None = None, lattice: bool = True, tips: int = 1,
-                 calibrate: bool = False):
+                 criterion: str = "raster"):
         if modes not in MODES:
             raise ValueError(f"modes = {modes!r} must be one of {', '.join(map(repr, MODES))}")
+        if criterion not in CRITERIA:
+            raise ValueError(f"criterion = {criterion!r} must be one of {', '.join(map(repr, CRITERIA))}")
         if coupling not in ("local", "full"):
             raise ValueError(f"coupling = {coupling!r} must be 'local' or 'full'")
         indenter = problem.indenter
@@ -78,9 +80,7 @@ class PillarModel:
         self.ktab = influence_coefficients(i[:, None], i[None, :], h, problem.contact_modulus)
         self.scale = h / (math.pi * problem.contact_modulus)
         self.bases = Bases(self.ktab, self.powers)
-        #: Every pillar's critical stress, (M, 1) over its slots (or (M, width), `calibration.tip_criteria`): the
-        #: tips' raster's Sigma_c, or calibrated to Kendall's force per footprint shape (``calibrate``).
-        self.critical = tip_criteria(self, problem, raster.critical_stress, calibrate)
+        install_criterion(self, problem, criterion, raster.critical_stress, sizes, h)
         #: Footprints of `SCHUR_ELEMENTS` or more (fine tips): the others' modes' fields across them, kept
         #: (`_exact`), and every pillar's footprint (row-major offsets from its first row and column).
         self.large = int(sizes.max()) >= SCHUR_ELEMENTS

@@ -34,8 +34,13 @@ import numpy as np
 
 from brushbem.physics.theory.punch import kendall_force
 from brushbem.pillars.modes import Bases
+from brushbem.pillars.peel import load_control
 
-__all__ = ["calibrated_criteria", "lone_pull_off", "tip_criteria"]
+__all__ = ["CRITERIA", "calibrated_criteria", "install_criterion", "lone_pull_off", "tip_criteria"]
+
+#: The tips' criteria: the raster's Sigma_c, calibrated to Kendall's force (``LoadPath.pillar_tip_calibration``),
+#: and whole tips leaving at their continuum capacity (``LoadPath.pillar_tip_peel``).
+CRITERIA = ("raster", "calibrated", "peel")
 
 
 def lone_pull_off(bases: Bases, footprint: np.ndarray, critical: float | np.ndarray,
@@ -114,3 +119,25 @@ def tip_criteria(model, problem, critical: float, calibrate: bool, per_element: 
         out[p, :sizes[p]] = values
         out[p, sizes[p]:] = values.max()
     return out if per_element else out[:, :1].copy()
+
+
+def install_criterion(model, problem, criterion: str, critical: float,
+                       sizes: np.ndarray, h: float) -> None:
+    """The tips' criterion (``criterion``, `CRITERIA`): every pillar's critical stress, ``model.critical``, (M, 1)
+    over its slots (or (M, width), `calibration.tip_criteria`): the tips' raster's Sigma_c, calibrated to
+    Kendall's force per footprint shape, or per element where whole tips leave at their continuum capacity
+    (``continuum_peel``, `brushbem.pillars.peel`), with what that needs: every tip's circle radius (elements of
+    the tips' raster), Kendall's force of the circles and f(0) of each edge's response
+    (`brushbem.pillars.peel.load_control`: the contact's share of the tip's compliance)."""
+    model.continuum_peel = criterion == "peel"
+    model.critical = (tip_criteria(model, problem, critical, True, per_element=True) if model.continuum_peel
+                      else tip_criteria(model, problem, critical, criterion == "calibrated"))
+    described = getattr(problem.indenter.description, "pillar_radius", None)
+    model.tip_radius = np.full(model.M, float(described) / h) if described else np.sqrt(sizes / math.pi)
+    model.kendall = float(kendall_force(model.tip_radius[0] * h, contact_modulus=problem.contact_modulus,
+                                        work_of_adhesion=problem.work_of_adhesion))
+    compliance = np.zeros(model.M)
+    for level in problem.indenter.elastic_levels:
+        compliance += 1.0 / np.asarray(level.stiffnesses, dtype=np.float64)[np.asarray(level.cluster)]
+    contact = 1.0 / (2.0 * problem.contact_modulus * model.tip_radius * h)
+    model.peel_control = load_control(contact / (contact + compliance))

@@ -13,7 +13,7 @@ import numpy as np
 from brushbem.pillars.loading import press_rough
 from brushbem.pillars.state import (PillarState, RasterCache, amplitudes, attached_together, cascade,
                                     element_penetration, force, force_rate, installed, on, peel_all, pressures,
-                                    pressures_at, record, solved, touch_candidates)
+                                    pressures_at, record, solved, tip_strengths, touch_candidates)
 from brushbem.protocol.problem import LoadPath, State, detachment_slack, event_tie
 
 __all__ = ["events"]
@@ -106,7 +106,37 @@ def _detachment_times(cache: RasterCache, state: PillarState, path: LoadPath, d:
     grows = np.take(state.raster, rows, axis=0) & (rate < 0)
     critical = model.critical[rows]
     t_detach = np.where(grows, (p + critical) / np.where(grows, -rate, 1.0), np.inf)
-    return np.maximum(t_detach, 0.0), detachment_slack(path, critical, grows, rate)
+    slack = detachment_slack(path, critical, grows, rate)
+    if model.continuum_peel:
+        _whole_tip_times(cache, state, d, direction, rows, t_detach, slack, path)
+    return np.maximum(t_detach, 0.0), slack
+
+
+def _whole_tip_times(cache: RasterCache, state: PillarState, d: float, direction: float, rows: np.ndarray,
+                     t_detach: np.ndarray, slack: np.ndarray, path: LoadPath) -> None:
+    """Where whole tips leave at their continuum capacity: their rows of ``t_detach`` and ``slack`` (in place)
+    from their force against their strength (`brushbem.pillars.state.tip_strengths`), in their first slot.
+    A strength moves with d: it is read again at the first detachment found."""
+    model = cache.model
+    force = model.h2 * model.force[rows] * (d * state.alpha[rows, 0] - state.beta[rows, 0])
+    rate = direction * model.h2 * model.force[rows] * state.alpha[rows, 0]
+    pulled = rate < 0
+    t_event = d
+    for _ in range(2):
+        strength = tip_strengths(cache, state, t_event)[rows]
+        tip = np.isfinite(strength)
+        if not tip.any():
+            return
+        t_tip = np.where(tip & pulled, (force + strength) / np.where(pulled, -rate, 1.0), np.inf)
+        t_detach[tip] = np.inf
+        t_detach[tip, 0] = t_tip[tip]
+        first = float(t_detach.min(initial=math.inf))
+        if not math.isfinite(first):
+            break
+        t_event = d + direction * max(first, 0.0)
+    slack[tip] = 0.0
+    slack[tip, 0] = np.where(pulled[tip], path.event_window * strength[tip] / np.where(pulled[tip], -rate[tip], 1.0),
+                             0.0)
 
 
 def _preload_distance(cache: RasterCache, state: PillarState, path: LoadPath, d: float) -> float:

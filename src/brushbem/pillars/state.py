@@ -32,12 +32,14 @@ from typing import Any
 
 import numpy as np
 
+from brushbem.pillars import peel
 from brushbem.pillars.basis import Basis, PillarModel
+from brushbem.pillars.modes import MODES
 from brushbem.pillars.solver import Solver, full_solve, radiate
 from brushbem.protocol.problem import LoadPath, State
 
 __all__ = ["PillarState", "RasterCache", "attached_together", "begin", "cascade", "installed", "peel_all",
-           "record", "solved"]
+           "record", "solved", "tip_strengths"]
 
 
 #: At most this many attached pillars that change their raster at once are updated in the kept inverse one by
@@ -153,6 +155,44 @@ def force_rate(cache: RasterCache, state: PillarState) -> float:
 def on(state: PillarState) -> np.ndarray:
     """The attached pillars (indices)."""
     return _remember(state, ("on",), lambda: np.flatnonzero(state.attached))
+
+
+def tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
+    """Where the tips leave at their continuum capacity (``PillarModel.continuum_peel``): every whole tip's
+    strength at d, the tensile force at which it leaves, F_K (1 + G) / max g (`brushbem.pillars.peel`); NaN for
+    the pillars that are off, hold part of their footprint (their elements' criterion serves) or carry no
+    defined K(theta).  (M,).
+
+    The amplitudes a of a tip's modes are the pressure of the displacement polynomial c = fit (gram a) across
+    it (`Basis.fit`: the modes are K-orthogonal, so their projections of the tip's own displacement are
+    gram a); K(theta) of a rigid circle under it is `peel.tip_intensity`'s closed form, g = K / K_P with
+    K_P = P / (2 a sqrt(pi a)) of the circle's own load P under it.
+    """
+    return _remember(state, ("strengths", float(d)), lambda: _tip_strengths(cache, state, d))
+
+
+def _tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
+    _follow(cache, state)
+    model = cache.model
+    out = np.full(model.M, np.nan)
+    rows = np.flatnonzero(state.attached & np.all(state.raster == model.full, axis=1))
+    if rows.size == 0:
+        return out
+    x = d * np.take(state.alpha, rows, axis=0) - np.take(state.beta, rows, axis=0)
+    serials = np.array([model.basis[p].serial for p in rows])
+    coefficients = np.zeros((rows.size, len(MODES["quadratic"])))
+    columns = [MODES["quadratic"].index(power) for power in model.powers]
+    sizes = np.zeros(rows.size)
+    for serial in np.unique(serials):
+        members = np.flatnonzero(serials == serial)
+        basis = model.basis[rows[members[0]]]
+        coefficients[np.ix_(members, columns)] = (x[members] * basis.gram) @ basis.fit.T
+        sizes[members] = basis.size
+    radius = model.tip_radius[rows]
+    intensity = peel.tip_intensity(coefficients, sizes, radius)
+    out[rows] = peel.strength(intensity, peel.circle_load(coefficients, sizes, radius), model.peel_control[rows],
+                              model.kendall)
+    return out
 
 
 def pressures_at(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
@@ -289,6 +329,12 @@ def cascade(cache: RasterCache, state: PillarState, d: float, loading: bool) -> 
         p = pressures_at(cache, state, d)
         rows = on(state)
         tense = np.take(state.raster, rows, axis=0) & (p < -model.critical[rows] * (1 + 1e-10))
+        if model.continuum_peel:
+            # A whole tip leaves whole at its strength; its elements' criterion does not serve.
+            strength = tip_strengths(cache, state, d)[rows]
+            tip = np.isfinite(strength)
+            tense[tip] = False
+            tense[tip, 0] = model.h2 * model.force[rows[tip]] * x[rows[tip], 0] < -strength[tip] * (1 + 1e-10)
         hit = np.flatnonzero(tense.any(axis=1))
         if hit.size:
             state = peel_all(cache, state, [(int(rows[i]), tense[i]) for i in hit], x, d)
@@ -489,7 +535,8 @@ def peeled(cache: RasterCache, state: PillarState, p: int, leave: np.ndarray, fr
     """
     model = cache.model
     mask = state.raster[p] & ~leave
-    if not model.peel:
+    if not model.peel or (model.continuum_peel and np.array_equal(state.raster[p], model.full[p])):
+        # A whole tip at its continuum capacity has no equilibrium left: it leaves whole.
         return np.zeros_like(mask)
     while mask.any():
         cache.check_stop()

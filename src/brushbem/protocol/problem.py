@@ -145,6 +145,13 @@ class LoadPath:
         Method "pillars" only: every tip's critical stress scaled so that the
         tip alone on its raster comes off at Kendall's force
         (`brushbem.pillars.calibration`); False: the raster's own Sigma_c.
+    pillar_tip_peel : bool
+        Method "pillars" only: every whole tip leaves at its continuum
+        capacity: the per-element criterion (`brushbem.pillars.calibration`)
+        raised by the gain of the tip's stable peel in the continuum, read
+        off its modes (`brushbem.pillars.peel`); False: the tips peel on
+        their rasters.  Carries its own calibration (not with
+        ``pillar_tip_calibration``).
     """
 
     method: str = "events"
@@ -163,6 +170,7 @@ class LoadPath:
     pillar_solve: str = "auto"
     pillar_tip_resolution: float | None = None
     pillar_tip_calibration: bool = False
+    pillar_tip_peel: bool = False
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -201,9 +209,14 @@ class LoadPath:
         if self.pillar_solve not in PILLAR_SOLVES:
             raise ParameterError("LoadPath", "pillar_solve", f"LoadPath.pillar_solve = {self.pillar_solve!r} must "
                                  f"be one of {', '.join(map(repr, PILLAR_SOLVES))}")
+        if self.pillar_tip_peel and self.pillar_tip_calibration:
+            raise ParameterError("LoadPath", "pillar_tip_calibration", "LoadPath.pillar_tip_calibration = True with "
+                                 "pillar_tip_peel = True: the continuum peel carries its own (per-element) "
+                                 "calibration; remove pillar_tip_calibration")
         if self.method != "pillars":
             for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto"),
-                                  ("pillar_tip_resolution", None), ("pillar_tip_calibration", False)):
+                                  ("pillar_tip_resolution", None), ("pillar_tip_calibration", False),
+                                  ("pillar_tip_peel", False)):
                 if getattr(self, name) != default:
                     raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
                                          f"method = 'pillars' only (method = {self.method!r}); remove it")

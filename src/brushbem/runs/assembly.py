@@ -448,6 +448,7 @@ def build_path(config: RunConfig) -> LoadPath:
             pillar_solve=p.pillar_solve,
             pillar_tip_resolution=p.pillar_tip_resolution,
             pillar_tip_calibration=p.pillar_tip_calibration,
+            pillar_tip_peel=p.pillar_tip_peel,
             tolerance=config.solver.tolerance,
             max_iterations=config.solver.max_iterations,
             cascade=config.solver.cascade,
