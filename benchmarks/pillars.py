@@ -48,6 +48,16 @@ Measured again with ``--calibrate`` (the tips' criterion calibrated to Kendall's
     1024     16.0          43.3     1.3038e-3   45.6     1.3551e-3
     10^4     4.0 (grid)    41.3     1.0363e-5   45.0     9.4463e-6
 
+With ``--peel`` (whole tips leaving at their continuum capacity, ``protocol.pillar_tip_peel``; ``--tips 4
+--tip-brush 100 --exact-elements 0 --peel``, ``--sigma 0`` and ``--sigma 1``, k~ = 0.01, one run each, the
+machine's other core busy): CPU s and F_A of the default and the option, and the option's time over the default's:
+
+    pillars  sigma~  tips/radius   default: CPU s, F_A      peel: CPU s, F_A, time ratio
+    10^4     0       3.6 (grid)    20.1    1.0869e-2        13.5    9.9701e-3   0.67
+    10^4     0       7.2           45.8    1.0523e-2        21.8    1.0104e-2   0.48
+    10^4     1       3.6 (grid)    19.4    9.7373e-6        16.8    9.0607e-6   0.86
+    10^4     1       7.2           27.8    9.6328e-6        32.4    9.1962e-6   1.16
+
 The 10^4-pillar brush at sigma~ = 0.5 on the chapter-5 grid (3.6 elements per radius; ``--tips 7.2 --tip-brush
 100 --sigma 0.5 --exact-elements 0``, one run, 131 CPU-s in all): the grid's tips 58.0 s (F_A 2.9422e-4), tips at
 7.2 per radius 74.4 s (2.8745e-4, -2.3 %), 1.28 times the grid tips' time.
