@@ -9,6 +9,7 @@ families' raster against its decided continuum limit (``docs/pillars/limit.py``)
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -227,3 +228,21 @@ def test_a_run_with_the_option_reports_its_own_measured_error():
     assert resolution_warnings(peeled) == []
     (warning,) = resolution_warnings(parse_config(base))
     assert "protocol.pillar_tip_peel = true" in warning
+
+
+def test_tips_whose_intensity_varies_beyond_the_measured_warn(validation):
+    """The first-order peel's domain (`brushbem.pillars.domain.PEEL_TILT`): the random layout's closest tips
+    (their K's relative n = 1 amplitude up to 0.53) warn, naming the amplitude; the flat lattice's (0.30) do
+    not."""
+    from brushbem.pillars.domain import PillarDomainWarning
+
+    for family, warns in (("random", True), ("flat", False)):
+        case, preload = validation.problem(family, 8, 1e-5)
+        path = LoadPath(method="pillars", preload_force=preload, max_steps=10**7, pillar_tip_peel=True)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            record_pull_off(case, path)
+        found = [w for w in caught if issubclass(w.category, PillarDomainWarning)]
+        assert bool(found) == warns, family
+        if warns:
+            assert "0.5" in str(found[0].message) and "pillar_tip_peel" in str(found[0].message)

@@ -20,7 +20,8 @@ import scipy.spatial
 
 from brushbem.protocol.problem import ContactProblem
 
-__all__ = ["MEASURED", "VALIDATED_FILLING", "PillarDomainWarning", "domain_warning", "smallest_gap"]
+__all__ = ["MEASURED", "PEEL_TILT", "VALIDATED_FILLING", "PillarDomainWarning", "domain_warning", "peel_warning",
+           "smallest_gap"]
 
 
 def smallest_gap(problem: ContactProblem) -> float:
@@ -79,3 +80,23 @@ def domain_warning(problem: ContactProblem) -> str | None:
             f"footprints {gap:.2g} elements): beyond phi = {VALIDATED_FILLING:g} the model "
             f"is not within 1 % (F_A) / 3 % (work) of the exact path; measured ({measured}; "
             "docs/pillars/validation.md); check with method = 'events'")
+
+
+#: The largest relative n = 1 amplitude of a tip's K along its edge (`brushbem.pillars.peel.shape_parameters`) at
+#: which ``LoadPath.pillar_tip_peel`` was measured within 1 % of the limit: the lattice families reach 0.31 along
+#: their paths; a random layout whose closest tips reach 0.53 was -1.8 % (``docs/pillars/peel.csv``).  The
+#: limit between is ours.
+PEEL_TILT = 0.35
+
+
+def peel_warning(largest_tilt: float) -> str | None:
+    """The warning for tips leaving at their continuum capacity (``LoadPath.pillar_tip_peel``) whose K varied
+    along their edges by more than `PEEL_TILT` (the first-order peel's gain is a lower end there), or None."""
+    if not largest_tilt > PEEL_TILT:
+        return None
+    return (f"LoadPath.pillar_tip_peel: a tip's stress intensity varied along its edge by {largest_tilt:.2f} of its "
+            f"mean (relative n = 1 amplitude), beyond {PEEL_TILT:g}: the first-order peel's gain is a lower end "
+            "there (its neglected terms grow as that amplitude times the gain); measured on a random layout whose "
+            "tips reach 0.53: F_A -1.8 % of the exact path's extrapolation (docs/pillars/peel.csv); check with "
+            "pillar_tip_peel = false and finer tips (pillar_tip_resolution)")
+

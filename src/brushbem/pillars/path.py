@@ -15,7 +15,7 @@ from brushbem.errors import ParameterError
 from brushbem.pillars.basis import PillarModel
 from brushbem.pillars.cg import NotConverged
 from brushbem.pillars.checks import check_applicable
-from brushbem.pillars.domain import PillarDomainWarning, domain_warning
+from brushbem.pillars.domain import PillarDomainWarning, domain_warning, peel_warning
 from brushbem.pillars.events import events
 from brushbem.pillars.state import Interrupted, begin, record
 from brushbem.pillars.tips import tip_factor
@@ -57,7 +57,12 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str | None = Non
         cache, start = begin(model, path, stop)
         last = None
         try:
+            warned = not model.continuum_peel
             for _, last in events(cache, start, path):
+                if not warned and peel_warning(cache.largest_tilt) is not None:
+                    # Once, when a tip first varies beyond the first-order peel's measured domain.
+                    warned = True
+                    warnings.warn(peel_warning(cache.largest_tilt), PillarDomainWarning, stacklevel=2)
                 yield last
         except Interrupted:
             return  # the caller asked to stop: the last state yielded stands

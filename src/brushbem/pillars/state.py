@@ -118,6 +118,9 @@ class RasterCache:
         self.solves = 0
         self.reported = 0  # solves already reported with a state
         self.radiation_rounds = 0
+        #: The largest relative n = 1 amplitude of a whole tip's K along its edge met by `tip_strengths` (the
+        #: first-order peel's domain, `brushbem.pillars.domain.peel_warning`).
+        self.largest_tilt = 0.0
 
     def check_stop(self) -> None:
         """Raise `Interrupted` when ``stop()`` asks to stop (one flag read: asked in every round)."""
@@ -190,6 +193,9 @@ def _tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarr
         sizes[members] = basis.size
     radius = model.tip_radius[rows]
     intensity = peel.tip_intensity(coefficients, sizes, radius)
+    tilt = peel.shape_parameters(intensity)[:, 0]
+    if np.isfinite(tilt).any():
+        cache.largest_tilt = max(cache.largest_tilt, float(np.nanmax(tilt)))
     out[rows] = peel.strength(intensity, peel.circle_load(coefficients, sizes, radius), model.peel_control[rows],
                               model.kendall)
     return out
