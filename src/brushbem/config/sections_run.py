@@ -76,8 +76,9 @@ class ProtocolConfig(_Section):
         ``docs/pillars/calibration.csv``); false: the raster's own.
     pillar_tip_peel : bool
         ``method = "pillars"`` only: every whole tip leaves at its continuum
-        capacity (the per-element criterion raised by the gain of its stable
-        peel, `brushbem.pillars.peel`); not with ``pillar_tip_calibration``.
+        capacity (its first point raised by its stable peel's gain, from its
+        K(theta) read off its modes, `brushbem.pillars.peel`); not with
+        ``pillar_tip_calibration``.
     """
 
     model_config = _MODEL_CONFIG

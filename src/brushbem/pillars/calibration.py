@@ -124,14 +124,14 @@ def tip_criteria(model, problem, critical: float, calibrate: bool, per_element: 
 def install_criterion(model, problem, criterion: str, critical: float,
                        sizes: np.ndarray, h: float) -> None:
     """The tips' criterion (``criterion``, `CRITERIA`): every pillar's critical stress, ``model.critical``, (M, 1)
-    over its slots (or (M, width), `calibration.tip_criteria`): the tips' raster's Sigma_c, calibrated to
-    Kendall's force per footprint shape, or per element where whole tips leave at their continuum capacity
-    (``continuum_peel``, `brushbem.pillars.peel`), with what that needs: every tip's circle radius (elements of
+    over its slots: the tips' raster's Sigma_c or calibrated to Kendall's force per footprint shape; and, where
+    whole tips leave at their continuum capacity (``continuum_peel``, `brushbem.pillars.peel`), what that needs: every tip's circle radius (elements of
     the tips' raster), Kendall's force of the circles and f(0) of each edge's response
     (`brushbem.pillars.peel.load_control`: the contact's share of the tip's compliance)."""
     model.continuum_peel = criterion == "peel"
-    model.critical = (tip_criteria(model, problem, critical, True, per_element=True) if model.continuum_peel
-                      else tip_criteria(model, problem, critical, criterion == "calibrated"))
+    # Whole tips leaving at their continuum capacity do not read their elements' criterion; a tip in part
+    # contact (a rough brush's) peels by the raster's Sigma_c, as the exact path's elements do.
+    model.critical = tip_criteria(model, problem, critical, criterion == "calibrated")
     described = getattr(problem.indenter.description, "pillar_radius", None)
     model.tip_radius = np.full(model.M, float(described) / h) if described else np.sqrt(sizes / math.pi)
     model.kendall = float(kendall_force(model.tip_radius[0] * h, contact_modulus=problem.contact_modulus,

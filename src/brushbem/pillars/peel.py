@@ -33,16 +33,16 @@ Measured in ``docs/pillars/front.py`` and ``docs/pillars/accuracy.md``
 
 The criterion (``LoadPath.pillar_tip_peel``).  On a coarse raster a tip's
 own peel is the raster's (a staircase of a few elements), not the
-continuum's, and the tips' first points are what a raster gets right: the
-per-element criterion (`brushbem.pillars.calibration`, every element at its
-criterion at once under a uniform pull at Kendall's force) starts each
-tip's peel where the continuum's largest K reaches K_c.  With this option
-every element's critical stress of a whole tip is raised by the tip's
-continuum gain, 1 + `gain` of its K(theta), and a whole tip whose element
-reaches it leaves whole: it leaves at its continuum capacity.  K(theta)
-comes from the tip's modes (`tip_intensity`): the pressure of a rigid
-circle under the displacement polynomial the modes carry has a closed form
-(Galin; `INTENSITY`).  Its n = 0, 1, 2 parts are what the quadratic modes
+continuum's, and where its edge elements fall decides where it starts.
+With this option a whole tip leaves, whole, when its tensile force reaches
+its strength (`strength`): Kendall's force F_K (a lone tip's first point)
+over the largest g = K / K_P along its edge (its first point in its field)
+times 1 + `gain` (its stable peel).  K(theta) comes from the tip's modes
+(`tip_intensity`): the pressure of a rigid circle under the displacement
+polynomial the modes carry has a closed form (Galin; `INTENSITY`); the
+raster enters through that polynomial and the tip's force only.  A tip in
+part contact (a rough brush pressed into partial contact) peels by its
+elements' criterion, the raster's Sigma_c, as the exact path's do.  Its n = 0, 1, 2 parts are what the quadratic modes
 hold: on the flat 8 x 8 brush's continuum solution (``docs/pillars/
 continuum.py``) the gains of its edge tips from K's n <= 2 parts are within
 0.05 % (absolute) of those from its whole K(theta); interior tips, whose

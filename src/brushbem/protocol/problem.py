@@ -146,12 +146,12 @@ class LoadPath:
         tip alone on its raster comes off at Kendall's force
         (`brushbem.pillars.calibration`); False: the raster's own Sigma_c.
     pillar_tip_peel : bool
-        Method "pillars" only: every whole tip leaves at its continuum
-        capacity: the per-element criterion (`brushbem.pillars.calibration`)
-        raised by the gain of the tip's stable peel in the continuum, read
-        off its modes (`brushbem.pillars.peel`); False: the tips peel on
-        their rasters.  Carries its own calibration (not with
-        ``pillar_tip_calibration``).
+        Method "pillars" only: every whole tip leaves, whole, at its
+        continuum capacity - its first point raised by its stable peel's
+        gain, both from its K(theta) read off its modes
+        (`brushbem.pillars.peel`); False: the tips peel on their rasters.
+        Not with ``pillar_tip_calibration`` (a whole tip's criterion is its
+        own; tips in part contact keep the raster's Sigma_c).
     """
 
     method: str = "events"
