@@ -50,9 +50,11 @@ K varies by 2-4 %, lose 0.2-0.3 % (absolute) of a gain of 0.4 %.
 
 `gain` reads a table (``data/peel_gain.csv``, written by
 ``docs/pillars/front.py --table``) over K's relative n = 1 and n = 2
-amplitudes, their phase and ``load_control``, linearly interpolated; K's
-of larger variation than the table (n = 1 beyond `TABLE_LIMITS`) take its
-edge's gain (ours: the first-order model is outside its domain there).
+amplitudes, their phase and ``load_control``, linearly interpolated
+(within 0.0013 of the capacity afresh over its range, median 0.0002); K's
+of larger variation than the table (beyond `TABLE_LIMITS`) take its edge's
+gain (ours: the first-order model is outside its domain there, and a run
+whose tips vary by more than `brushbem.pillars.domain.PEEL_TILT` warns).
 """
 
 from __future__ import annotations
@@ -63,8 +65,8 @@ from importlib import resources
 
 import numpy as np
 
-__all__ = ["INTENSITY", "TABLE_LIMITS", "capacity", "circle_load", "gain", "load_control", "response", "shape_parameters",
-           "strength", "tip_intensity"]
+__all__ = ["AXES", "INTENSITY", "TABLE_LIMITS", "capacity", "circle_load", "gain", "load_control", "response", "shape",
+           "shape_parameters", "strength", "tip_intensity"]
 
 #: K(theta) of a rigid circle (radius a, contact modulus E*) pressed by the displacement r^n cos(n theta):
 #: p = (E* / pi) kappa_n r^n cos(n theta) / sqrt(a^2 - r^2) with kappa_n = (2^n n!)^2 / (2n)! (Galin), so
