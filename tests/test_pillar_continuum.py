@@ -95,3 +95,27 @@ def test_a_cascade_past_a_quarter_of_the_tip_takes_all_of_it(tilted):
         tip = tilted.Tip(7.222, placement)
         for direction in tilted.DIRECTIONS:
             assert tip.pull_off(0.2, direction) == tip.pull_off(0.2, direction, gone=1.0)
+
+
+def test_tips_at_any_centres_are_the_lattice_when_placed_on_it(continuum):
+    """`Brush` with ``centres`` (one block per ordered pair, the basis' norms exact) on the 3 x 3 lattice of the
+    families' pitch is the lattice construction: the same blocks, coefficients and events to 1e-12 (rounding; at
+    degree 4 the lattice's 12 x 48 points hold the norms exactly too)."""
+    pitch = math.sqrt(math.pi / continuum.PHI)
+    lattice = continuum.Brush(3, pitch, 4, 12, 48)
+    anywhere = continuum.Brush(0, 0.0, 4, 12, 48, centres=lattice.centres)
+    for i in range(9):
+        for j in range(9):
+            if i != j:
+                expected = lattice.blocks[tuple(lattice.grid[i] - lattice.grid[j])]
+                assert np.abs(anywhere.blocks[(i, j)] - expected).max() < 1e-12 * np.abs(expected).max()
+    attached = np.ones(9, bool)
+    attached[4] = False
+    for tips in (np.ones(9, bool), attached):
+        c, expected = anywhere.solve(tips, 10.0), lattice.solve(tips, 10.0)
+        assert np.abs(c - expected).max() < 1e-12 * np.abs(expected).max()
+    mine, theirs = anywhere.pull_off(10.0, last=5), lattice.pull_off(10.0, last=5)
+    assert [e[1:] for e in mine] == [e[1:] for e in theirs]
+    assert [e[0] for e in mine] == pytest.approx([e[0] for e in theirs], rel=1e-12)
+    with pytest.raises(ValueError, match="centres"):
+        continuum.Brush(0, 0.0, 4, 12, 48, centres=[[0.0, 0.0], [1.5, 0.0]])

@@ -54,6 +54,8 @@ detachment).  So the first point is a lower bound of the brush's limit, not
 the limit: a flat tip whose K varies along its edge peels stably where K
 peaks before the peel runs away.  How much that adds is measured on one tip
 at a time in its continuum field by ``tilted.py``, which gives the limit.
+`Brush` also takes tips at any centres (the random family's brush,
+``front.py --random``).
 
 Rows go to ``continuum.csv`` as each completes (atomically; a rerun skips
 the rows already there): per brush, k~ and resolution (``degree``,
@@ -143,19 +145,29 @@ def quadrature(nodes: int, angles: int) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 class Brush:
-    """The Galerkin operator of n x n unit disks at ``pitch`` (in radii) and its solutions."""
+    """The Galerkin operator of n x n unit disks at ``pitch`` (in radii) and its solutions; or, with ``centres``
+    (shape (tips, 2), in radii; ``per_side`` and ``pitch`` then unused), of unit disks at any centres that keep
+    them apart: one block per ordered pair of tips (i, j), those of pairs closer than ``near[0]`` (centres'
+    distance in radii) on the finer quadrature of ``near[1]`` x ``near[2]`` points a disk, the basis' norms exact.
+    The lattice's blocks are keyed by the pair's offset (target - source) and computed once per offset."""
 
-    def __init__(self, per_side: int, pitch: float, degree: int, nodes: int, angles: int) -> None:
+    def __init__(self, per_side: int, pitch: float, degree: int, nodes: int, angles: int,
+                 centres: np.ndarray | None = None, near: tuple[float, int, int] | None = None) -> None:
         self.basis = modes(degree)
         r, theta, weights = quadrature(nodes, angles)
         phi = polynomial(self.basis, r, theta)
         self.own = np.array([math.pi * eigenvalue(m, n) for m, n, _ in self.basis])
         self.norm = np.einsum("q,qb,qb->b", weights, phi, phi)
+        self.edge_angles = 2 * np.pi * np.arange(4096) / 4096
+        self.edge = polynomial(self.basis, np.ones(4096), self.edge_angles)
+        self.blocks: dict[tuple[int, int], np.ndarray] = {}
+        if centres is not None:
+            self._pairs(np.asarray(centres, float), (r, theta, weights, phi), near)
+            return
         grid = np.array([(i, j) for i in range(per_side) for j in range(per_side)])
         self.centres = pitch * grid.astype(float)
         x, y = r * np.cos(theta), r * np.sin(theta)
         weighted = phi * weights[:, None]
-        self.blocks: dict[tuple[int, int], np.ndarray] = {}
         for dx in range(-(per_side - 1), per_side):
             for dy in range(-(per_side - 1), per_side):
                 if (dx, dy) == (0, 0) or (dx, dy) in self.blocks:
@@ -165,14 +177,44 @@ class Brush:
                 self.blocks[(dx, dy)] = block
                 self.blocks[(-dx, -dy)] = block.T
         self.grid = grid
-        self.edge_angles = 2 * np.pi * np.arange(4096) / 4096
-        self.edge = polynomial(self.basis, np.ones(4096), self.edge_angles)
+
+    def _pairs(self, centres: np.ndarray, points: tuple, near: tuple[float, int, int] | None) -> None:
+        """The blocks of tips at arbitrary ``centres`` (radii), keyed (target, source); ``self.grid`` is None."""
+        if centres.ndim != 2 or centres.shape[1] != 2:
+            raise ValueError(f"centres: shape {centres.shape}, must be (tips, 2)")
+        distance = np.hypot(*(centres[:, None, :] - centres[None, :, :]).transpose(2, 0, 1))
+        np.fill_diagonal(distance, np.inf)
+        if distance.min() <= 2:
+            raise ValueError(f"centres: two tips {distance.min():g} radii apart, must be more than 2 (no overlap)")
+        rules = [points]
+        if near is not None:
+            r, theta, weights = quadrature(near[1], near[2])
+            rules.append((r, theta, weights, polynomial(self.basis, r, theta)))
+        quadratures = [(r * np.cos(theta), r * np.sin(theta), phi * weights[:, None])
+                       for r, theta, weights, phi in rules]
+        self.centres, self.grid = centres, None
+        # The basis' norms exactly (p_b^2 is a polynomial of degree 2 ``degree`` in s and below 2 ``degree`` + 1
+        # in theta), whatever the blocks' quadrature: the own-disk part is then the exact Galerkin operator.
+        degree = max(m + 2 * n for m, n, _ in self.basis)
+        r, theta, weights = quadrature(degree + 1, 2 * degree + 2)
+        phi = polynomial(self.basis, r, theta)
+        self.norm = np.einsum("q,qb,qb->b", weights, phi, phi)
+        for i in range(len(centres)):
+            for j in range(i + 1, len(centres)):
+                x, y, weighted = quadratures[int(near is not None and distance[i, j] < near[0])]
+                dx, dy = centres[i] - centres[j]
+                kernel = 1 / np.hypot(dx + x[:, None] - x[None, :], dy + y[:, None] - y[None, :])
+                block = weighted.T @ kernel @ weighted
+                self.blocks[(i, j)] = block
+                self.blocks[(j, i)] = block.T
 
     def solve(self, attached: np.ndarray, spring: float) -> np.ndarray:
         """Coefficients c (attached tips x basis) at d = 1 on the unit disks: (1 / pi) [own c_i + sum_j B_ij c_j]
         + 2 pi spring c_i00 e_00 = 2 pi e_00 (``spring`` = 2 pi E* a / k, everything in E* = 1, a = 1)."""
         index = np.flatnonzero(attached)
         nb = len(self.basis)
+        if self.grid is None:
+            return self._solve_dense(index, spring)
         pairs: dict[tuple[int, int], tuple[list[int], list[int]]] = {}
         for p, i in enumerate(index):
             for q, j in enumerate(index):
@@ -204,6 +246,30 @@ class Brush:
         out[index] = solution.reshape(len(index), nb)
         return out
 
+    def _solve_dense(self, index: np.ndarray, spring: float) -> np.ndarray:
+        """`solve` for tips at arbitrary centres: the same system, assembled for the attached tips ``index``."""
+        nb = len(self.basis)
+        diagonal = np.tile(self.own * self.norm / math.pi, (len(index), 1))
+        diagonal[:, 0] += spring * self.norm[0]
+        matrix = np.zeros((len(index) * nb, len(index) * nb))
+        for p, i in enumerate(index):
+            for q, j in enumerate(index):
+                if p != q:
+                    matrix[p * nb:(p + 1) * nb, q * nb:(q + 1) * nb] = self.blocks[(int(i), int(j))] / math.pi
+        matrix[np.diag_indices_from(matrix)] += diagonal.ravel()
+        rhs = np.zeros((len(index), nb))
+        rhs[:, 0] = self.norm[0]
+        size = rhs.size
+        operator = scipy.sparse.linalg.aslinearoperator(matrix)
+        preconditioner = scipy.sparse.linalg.LinearOperator((size, size), matvec=lambda v: v / diagonal.ravel())
+        solution, info = scipy.sparse.linalg.gmres(operator, rhs.ravel(), M=preconditioner, rtol=1e-13,
+                                                   atol=0.0, restart=200, maxiter=2000)
+        if info != 0:
+            raise RuntimeError(f"gmres did not converge (info {info})")
+        out = np.zeros((len(self.centres), nb))
+        out[index] = solution.reshape(len(index), nb)
+        return out
+
     def external(self, c: np.ndarray, tip: int, points: np.ndarray, nodes: int = 16, angles: int = 64) -> np.ndarray:
         """The other tips' deflection at ``points`` (unit-disk coordinates of ``tip``, shape (q, 2)) per unit load on
         ``tip``, E* = 1, a = 1, from the coefficients ``c`` of `solve` (all tips' loads in proportion)."""
@@ -211,7 +277,7 @@ class Brush:
         density = weights[:, None] * polynomial(self.basis, r, theta)  # (nodes, basis)
         x, y = r * np.cos(theta), r * np.sin(theta)
         out = np.zeros(len(points))
-        for j in range(len(self.grid)):
+        for j in range(len(self.centres)):
             if j == tip or not c[j].any():
                 continue
             dx, dy = self.centres[j] - self.centres[tip]
@@ -223,7 +289,7 @@ class Brush:
     def pull_off(self, spring: float, last: int = 0) -> list[tuple[float, int, int]]:
         """The events (total force at the event on unit disks, E* = 1, K_c = 1; tips attached before it; the tip
         that comes off), in order, until ``last`` tips are left."""
-        attached = np.ones(len(self.grid), bool)
+        attached = np.ones(len(self.centres), bool)
         events = []
         while attached.sum() > last:
             c = self.solve(attached, spring)
