@@ -129,3 +129,18 @@ def test_the_matrix_free_brush_tips_are_the_dense_ones(fine_tip):
     assert {row["tip"] for row in rows} == set(dense)
     for row in rows:
         assert row["adhesive_force_by_kendall"] == pytest.approx(dense[row["tip"]], rel=2e-6)
+
+
+def test_the_random_brush_table_is_converged_and_consistent():
+    """``front_random.csv`` (the random family's continuum brush, ``front.py --random``): its two degrees (12 and 16,
+    the pairs closer than 5 radii on 24 x 96 points) agree in F_A, the first point and the deciding gain to their
+    seven written digits (1e-6); F_A is the first event's (the deciding tip leaves while all 64 are attached) and
+    the first point raised by the deciding tip's gain."""
+    rows = _rows("front_random.csv")
+    assert [r["degree"] for r in rows] == ["12", "16"]
+    for name in ("first_point_adhesive_force", "adhesive_force", "deciding_gain"):
+        assert float(rows[1][name]) == pytest.approx(float(rows[0][name]), rel=1e-6), name
+    for row in rows:
+        assert row["events_at_pull_off"] == "1" and row["attached_at_pull_off"] == "64"
+        assert float(row["adhesive_force"]) == pytest.approx(
+            float(row["first_point_adhesive_force"]) * (1 + float(row["deciding_gain"])), rel=1e-6)

@@ -47,8 +47,30 @@ continuum's, not a staircase's; its gain falls from 1.9-2.0 % there to 1.65 %
 at 160, above the first-order 1.19 % by less than eps times the depth
 (0.2 x 0.044 = 0.9 %, the order of what the model leaves out).
 
+The ``random`` family's brush (``--random`` -> ``front_random.csv``; its 64
+centres from `validation.problem`, the closest two 2.561 radii apart, a gap
+of 0.561 a or 2.03 elements at N = 128; k~ = 1e-5): the first point
+0.01042651 (tip 15 first, its centre 1.4 radii from the domain's side);
+every tip at its capacity 0.0106793 = 0.7025 n^2 F_K, again at the first
+event (tip 15, gain 2.42 %).  Twelve events hold F_A: the 13th to 32nd stay
+12 % below it with the peel, the 13th to 63rd 11 % below on the first
+point's path.  Degrees 12 and 16 give the same F_A to 1e-9 and the same
+first point to 2e-8; the close pairs on 12 x 48 instead of 24 x 96 points
+(and the norms on them) the same first event to 5e-10.  K's relative n = 1
+amplitude reaches 0.54 (tip 58; 0.48 on tip 15, 25 tips above 0.3): the
+gains are first-order estimates beyond the range checked (eps <= 0.3),
+their error of the order of eps times themselves (1.2 % of F_A on tip 15),
+and at eps = 0.2 the raster's converged gain was above the first-order one,
+so this F_A is the random brush's lower end.  Against it the pillar model
+with ``pillar_tip_peel`` (``peel.csv``) is +0.33 % (3.6 elements per
+radius) and -0.19 % (7.2); the exact path (``tips_extrapolated.csv``)
++5.0 / +3.4 / +2.8 % at N = 128 / 256 / 512 and its first-order
+extrapolation +2.21 % (the flat brush's N = 512: +2.45 % above its lower
+end).
+
     python docs/pillars/front.py          # front.csv (about 2 CPU-min)
     python docs/pillars/front.py --brush  # front_brush.csv (about 2.5 CPU-min)
+    python docs/pillars/front.py --random # front_random.csv (the random family's brush; about 8 CPU-min)
     python docs/pillars/front.py --table  # src/brushbem/data/peel_gain.csv (the criterion's gains)
 """
 
@@ -75,6 +97,44 @@ BRUSH_TABLE = HERE / "front_brush.csv"
 BRUSH_FIELDS = ("pillars_per_side", "stiffness_ratio", "angles", "load_control", "first_point_adhesive_force",
                 "adhesive_force", "force_by_ideal_sharing", "gain_over_first_point", "attached_at_pull_off",
                 "deciding_tip", "deciding_gain")
+
+#: The ``random`` family's brush (``--random``): per resolution (degree, nodes x angles a disk, and the pairs
+#: closer than 5 radii on 24 x 96 points) the first point and the capacity rule's F_A at k~ = 1e-5.
+RANDOM_TABLE = HERE / "front_random.csv"
+RANDOM_FIELDS = ("family", "pillars", "stiffness_ratio", "degree", "nodes", "disk_angles", "near_distance",
+                 "near_nodes", "near_angles", "angles", "load_control", "first_point_adhesive_force",
+                 "adhesive_force", "force_by_ideal_sharing", "gain_over_first_point", "attached_at_pull_off",
+                 "deciding_tip", "deciding_gain", "events_at_pull_off", "events", "largest_tilt")
+RANDOM_RESOLUTIONS = ((12, 12, 48, (5.0, 24, 96)), (16, 12, 48, (5.0, 24, 96)))
+
+
+def random_row(resolution: tuple, first: dict, out: dict, stiffness: float = 1e-5) -> dict:
+    """One row of ``front_random.csv`` from `brush_pull_off`'s first point (``peel=False``) and capacity runs."""
+    degree, nodes, points, near = resolution
+    top = [event[0] for event in out["events"]].index(out["adhesive_force"])
+    return {"family": "random", "pillars": out["events"][0][1], "stiffness_ratio": stiffness,
+            "degree": degree, "nodes": nodes, "disk_angles": points, "near_distance": near[0],
+            "near_nodes": near[1], "near_angles": near[2], "angles": 128, "load_control": float(out["load_control"]),
+            "first_point_adhesive_force": float(first["adhesive_force"]),
+            "adhesive_force": float(out["adhesive_force"]),
+            "force_by_ideal_sharing": float(out["force_by_ideal_sharing"]),
+            "gain_over_first_point": float(out["adhesive_force"] / first["adhesive_force"] - 1),
+            "attached_at_pull_off": out["attached_at_pull_off"], "deciding_tip": int(out["deciding_tip"][0]),
+            "deciding_gain": float(out["deciding_gain"]), "events_at_pull_off": top + 1,
+            "events": len(out["events"]), "largest_tilt": float(out["tilt"])}
+
+
+def random_rows(last: int = 12) -> list[dict]:
+    """The ``random`` family's 8 x 8 brush at k~ = 1e-5 (`random_centres`) at each of ``RANDOM_RESOLUTIONS``."""
+    centres, rows = random_centres(), []
+    a = math.sqrt(continuum.PHI / math.pi) / 8
+    for resolution in RANDOM_RESOLUTIONS:
+        degree, nodes, points, near = resolution
+        brush = continuum.Brush(8, 1 / 8 / a, degree, nodes, points, centres=centres, near=near)
+        first = brush_pull_off(8, 1e-5, last=last, peel=False, brush=brush)
+        rows.append(random_row(resolution, first, brush_pull_off(8, 1e-5, last=last, brush=brush)))
+        print(rows[-1], flush=True)
+    return rows
 
 
 def _write(rows: list[dict], table: Path, fields: tuple[str, ...]) -> None:
@@ -119,6 +179,9 @@ def main() -> None:
     if "--table" in sys.argv:
         _write(gain_rows(), GAIN_TABLE, ("tilt", "bend", "phase", "load_control", "gain", "span_degrees", "depth"))
         return
+    if "--random" in sys.argv:
+        _write(random_rows(), RANDOM_TABLE, RANDOM_FIELDS)
+        return
     if "--brush" in sys.argv:
         _write(brush_rows(), BRUSH_TABLE, BRUSH_FIELDS)
         return
@@ -133,42 +196,64 @@ def main() -> None:
 
 
 
+def random_centres(per_side: int = 8) -> np.ndarray:
+    """The ``random`` family's n^2 pillar centres (`validation.problem`, seed 3, footprints at least two elements
+    apart on N = 16 n) in units of the pillar radius a = sqrt(phi / pi) / n."""
+    from validation import problem
+
+    case, _ = problem("random", per_side, 1e-5)
+    geometry = case.indenter.description
+    return np.asarray(geometry.centres, float) / float(geometry.pillar_radius)
+
+
 def brush_pull_off(per_side: int, stiffness: float, angles: int = 128, degree: int = 12, last: int = 12,
-                   peel: bool = True) -> dict:
+                   peel: bool = True, centres: np.ndarray | None = None, nodes: int = 12, points: int = 48,
+                   near: tuple[float, int, int] | None = None, brush: "continuum.Brush | None" = None) -> dict:
     """The families' flat n x n brush (``continuum.Brush``) pulled off with every tip leaving at its capacity
     (its first point times 1 + its peel's gain from `capacity` on its own K(theta)) instead of its first point:
     the events until ``last`` tips are gone, F_A the largest total force at one (in units of the brush's
-    n^2 F_K and absolute, as ``continuum_reference.csv``)."""
+    n^2 F_K and absolute, as ``continuum_reference.csv``).  With ``centres`` (in radii, e.g. `random_centres`)
+    the same for n^2 tips of the same radius and springs there (``nodes`` x ``points`` a disk, ``near`` as
+    `continuum.Brush`); the deciding tip is then its index.  Also returned: every event (force, tips attached
+    before it, the tip leaving, its gain) and the largest relative n = 1 amplitude of K / K_0 on an attached
+    tip up to F_A (``tilt``; the first-order model's gains are checked to 0.3).  ``brush``: one already built
+    for these arguments (the other resolution arguments are then unused)."""
     a = math.sqrt(continuum.PHI / math.pi) / per_side
-    brush = continuum.Brush(per_side, 1 / per_side / a, degree, 12, 48)
+    if brush is None:
+        brush = continuum.Brush(per_side, 1 / per_side / a, degree, nodes, points, centres=centres, near=near)
+    count = len(brush.centres)
     spring = 2 * math.pi * continuum.MODULUS * a / (stiffness * continuum.MODULUS)
     # The tip's own contact compliance 1 / (2 E* a) against the spring's 1 / k, in the units of `Brush.solve`:
     # the contact's share of the compliance sets how far K_0 rises as the contact recedes at a fixed base.
     contact_share = 1 / (1 + spring / math.pi) if stiffness > 0 else 0.0
     load_control = 1.5 - contact_share
     stride = brush.edge.shape[0] // angles
-    attached = np.ones(per_side**2, bool)
-    events = []
-    while attached.sum() > per_side**2 - last:
+    attached = np.ones(count, bool)
+    events, tilts = [], []
+    while attached.sum() > count - last:
         c = brush.solve(attached, spring)
         intensity = (c @ brush.edge[::stride].T)  # K / sqrt(pi) at d = 1, per tip and angle
-        best, leaving, gain_of = np.inf, -1, 0.0
+        best, leaving, gain_of, tilt = np.inf, -1, 0.0, 0.0
         for i in np.flatnonzero(attached):
             g = intensity[i] / c[i, 0]  # K over its uniform part sqrt(pi) c_00
+            tilt = max(tilt, 2 * abs(np.fft.rfft(g)[1]) / g.size)
             gain = capacity(g, load_control)["gain"] if peel else 0.0
             d = (1 + gain) / (math.sqrt(math.pi) * intensity[i].max())
             if d < best:
                 best, leaving, gain_of = d, int(i), gain
         force = 2 * math.pi * c[:, 0].sum() * best
         events.append((force, int(attached.sum()), leaving, gain_of))
+        tilts.append(tilt)
         attached[leaving] = False
     k_c = math.sqrt(2 * continuum.MODULUS * continuum.DGAMMA)
     kendall = math.sqrt(8 * math.pi * continuum.MODULUS * continuum.DGAMMA * a**3)
     forces = [force * k_c * a**1.5 for force, *_ in events]
     top = int(np.argmax(forces))
-    return {"adhesive_force": forces[top], "force_by_ideal_sharing": forces[top] / (per_side**2 * kendall),
-            "attached_at_pull_off": events[top][1], "deciding_tip": divmod(events[top][2], per_side),
-            "deciding_gain": events[top][3], "load_control": load_control}
+    deciding = divmod(events[top][2], per_side) if brush.grid is not None else (events[top][2],)
+    return {"adhesive_force": forces[top], "force_by_ideal_sharing": forces[top] / (count * kendall),
+            "attached_at_pull_off": events[top][1], "deciding_tip": deciding,
+            "deciding_gain": events[top][3], "load_control": load_control,
+            "events": [(f, *rest) for f, (_, *rest) in zip(forces, events)], "tilt": max(tilts[:top + 1])}
 
 
 if __name__ == "__main__":
