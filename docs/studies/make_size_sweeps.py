@@ -13,7 +13,7 @@ part per brush, its sizes zipped with the grid, the radius and the preload:
   sigma~ = 0.1 and 1 (sigma = sigma~ d_c, d_c of the same n).
 
 Full: n = 8, 16, 32, 48, 64, 80, 100 (64 to 10^4 pillars), and for the level
-parts and ``rough_large`` also n = 316 (10^5 pillars; a level brush attaches
+parts and both rough ones also n = 316 (10^5 pillars; a level brush attaches
 all of them, solved by CG on the lattice's FFT product instead of a kept
 inverse, `brushbem.pillars.cg`); quick: n = 4, 6, 8.  Run from the repository root:
 
@@ -33,7 +33,7 @@ SWEEPS = Path(__file__).resolve().parents[2] / "src" / "brushbem" / "studies" / 
 DGAMMA, PHI = 1e-4, 0.12
 SIZES = {"full": [8, 16, 32, 48, 64, 80, 100], "quick": [4, 6, 8]}
 #: Sizes of the full grid beyond 10^4 pillars, by part.
-BEYOND = {"stiff": [316], "soft": [316], "softer": [316], "rough_large": [316]}
+BEYOND = {"stiff": [316], "soft": [316], "softer": [316], "rough_small": [316], "rough_large": [316]}
 PARTS = {
     "stiff": (10.0, 0.0),
     "soft": (1e-2, 0.0),

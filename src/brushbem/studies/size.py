@@ -1,7 +1,7 @@
 """Beyond the thesis (its ch. 4 question past 2304 pillars): F~_A and the work against the number of pillars.
 
 The ``size`` study runs square lattices of 64 to 10^4 flat pillars (the
-level brushes and the sigma~ = 1 brush also 316 x 316, 10^5) at the ch. 4 filling factor
+level and rough brushes also 316 x 316, 10^5) at the ch. 4 filling factor
 phi = 0.12 (sweep files written by ``docs/studies/make_size_sweeps.py``) by the pillar-level model
 (``protocol.method = "pillars"``, validated against the exact event path in
 ``docs/pillars/validation.md``): stiff (k~ = 10), soft (k~ = 1e-2) and softer
