@@ -87,8 +87,9 @@ the far field (``--pull-off 200 --variants '[{"env":
 {"BRUSHBEM_FFT_WORKERS": "1"}}, {"env": {"BRUSHBEM_FFT_WORKERS": "2"}}]'
 --repeat 2``, two cores shared with two or three other processes): 0.429
 wall-s and 0.384 CPU-s a state against 0.364 and 0.353 on one (medians),
-the same forces.  The 10^5 part projects to 3500-5500 CPU-s (1.0-1.5 h)
-on one thread.  The numbers of every size are in the docstring of
+the same forces.  The 10^5 part projected to 3500-5500 CPU-s (1.0-1.5 h)
+on one thread; run by the study (one worker, the other core busy) it took
+3105 s of wall time, 2.46 GB resident (``docs/beyond/size``).  The numbers of every size are in the docstring of
 `brushbem.pillars`.
 """
 

@@ -250,8 +250,12 @@ whole run 111 against 127 CPU-s (pull-off 1.15x: below 512 x 512 points the
 far field takes no slabs), F_A and the work the same to 1.1e-13 and
 3.6e-13.  So the 10^5 part projects to 282 CPU-s of loading and 4000-5500
 states at (1.07-1.26) / 1.33 = 0.80-0.95 CPU-s, 3500-5500 CPU-s (1.0-1.5
-h) on one thread, which is its wall time on a core of its own: an hour at
-the most favourable end only, not run.  A second core did not shorten it:
+h) on one thread.  Run (``brushbem study size --parts rough_small
+--skip-recorded docs/beyond --workers 1``, one worker, the machine's other
+core busy throughout): 3105 s of wall time (52 min), 2.46 GB resident,
+14630 states and 4209 solves, F_A / F_c = 0.461 (``docs/beyond/size``):
+the states cost 0.2 s each on average, less than the first 200's (the
+attached set shrinks as the brush peels).  A second core did not shorten it:
 two threads for the far field (``BRUSHBEM_FFT_WORKERS = 2``,
 `brushbem.pillars.lattice.far_workers`; 200 pull-off states from one
 loaded state, ``--pull-off 200``, both cores shared with two or three
