@@ -167,6 +167,21 @@ def test_the_flat_brush_at_the_families_raster_is_within_one_per_cent_of_its_lim
         assert abs(summary["adhesive_force"] / end - 1) < 0.01, end
 
 
+def test_the_random_layout_is_within_one_per_cent_of_its_own_continuum_brush(validation):
+    """The random family (8 x 8 at k~ = 1e-5, tips 3.6 elements per radius) against the same layout in the exact
+    continuum, every tip at its first-order capacity (``docs/pillars/front.py --random`` -> ``front_random.csv``,
+    0.0106793): within 1 % (measured +0.33 %; the exact path's extrapolation lies +2.2 % above it)."""
+    from test_pillar_tips import _pillars_table
+
+    (row, *_) = _pillars_table("front_random.csv")
+    case, preload = validation.problem("random", 8, 1e-5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # its closest tips leave the first-order domain: the warning's own test
+        summary = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
+                                                 pillar_tip_peel=True)).summary
+    assert summary["adhesive_force"] == pytest.approx(float(row["adhesive_force"]), rel=0.01)
+
+
 def test_the_placements_converge_to_the_limit():
     """``docs/pillars/peel.csv`` (``docs/pillars/peel.py``): the mean over six placements of the lattice on the
     raster approaches the decided limit as the tips refine (3.6, 7.2, 14.4 elements per radius), within 0.5 %
@@ -232,8 +247,8 @@ def test_a_run_with_the_option_reports_its_own_measured_error():
 
 def test_tips_whose_intensity_varies_beyond_the_measured_warn(validation):
     """The first-order peel's domain (`brushbem.pillars.domain.PEEL_TILT`): the random layout's closest tips
-    (their K's relative n = 1 amplitude up to 0.53) warn, naming the amplitude; the flat lattice's (0.30) do
-    not."""
+    (their K's relative n = 1 amplitude up to 0.52-0.55) warn, naming the amplitude; the flat lattice's (0.30)
+    do not."""
     from brushbem.pillars.domain import PillarDomainWarning
 
     for family, warns in (("random", True), ("flat", False)):

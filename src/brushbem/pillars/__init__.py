@@ -391,8 +391,9 @@ within 1 %)
     With ``LoadPath.pillar_tip_peel`` (`peel`, off by default) every whole tip leaves at its continuum
     capacity, its K(theta) read off its modes: the flat 8 x 8 brush at 3.6 elements per radius -0.75 % at
     k~ = 10 and -0.54 % at 1e-5 of its limit (placements -0.75 .. +1.04 %), the flat, hierarchical and concave
-    families within 0.8 % of the exact path's extrapolation, the random one -1.8 % (``docs/pillars/peel.csv``);
-    a run with it reports that error.
+    families within 0.8 % of the exact path's extrapolation, the random one +0.33 % of its own continuum brush
+    (``docs/pillars/peel.csv``, ``front_random.csv``); a run with it reports that error.  Not the default: a
+    stiff rough brush's tips vary along their edges far beyond the first-order peel's checked domain.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic
