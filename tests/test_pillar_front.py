@@ -144,3 +144,33 @@ def test_the_random_brush_table_is_converged_and_consistent():
         assert row["events_at_pull_off"] == "1" and row["attached_at_pull_off"] == "64"
         assert float(row["adhesive_force"]) == pytest.approx(
             float(row["first_point_adhesive_force"]) * (1 + float(row["deciding_gain"])), rel=1e-6)
+
+
+def test_a_tip_in_its_neighbours_field_peels_where_the_continuum_k_peaks(front):
+    """The sign ``front.random_tip_rows`` gives the neighbours' deflection on a raster tip: two unit tips 2.6 radii
+    apart on soft springs, the first one's K peaks away from the other (180 degrees); its raster at 14.4 elements
+    per radius in the field -`Brush.external` first loses an element within 45 degrees of it (the staircase's
+    scatter, 27 here), in +`Brush.external` near 0 degrees, the mirror image."""
+    from test_pillar_tips import _pillars_script
+
+    tilted = _pillars_script("tilted.py", "pillar_front_sign_tilted")
+    brush = front.continuum.Brush(0, 0.0, 6, 12, 48, centres=[[0.0, 0.0], [2.6, 0.0]])
+    c = brush.solve(np.ones(2, bool), 1e4)
+    assert math.degrees(brush.edge_angles[np.argmax(c[0] @ brush.edge.T)]) == pytest.approx(180.0)
+    tip = tilted.Tip(14.444, tilted.PLACEMENTS[2])
+    keep = np.ones(tip.x.size, bool)
+    field = brush.external(c, 0, np.stack([tip.x, tip.y], axis=1))
+    for sign, expected in ((-1, 180.0), (1, 0.0)):
+        j = np.argmax(tip.tension_per_load(keep, sign * field))
+        angle = math.degrees(math.atan2(tip.y[j], tip.x[j]))
+        assert abs((angle - expected + 180) % 360 - 180) < 45, (sign, angle)
+
+
+def test_the_random_brush_tips_table_is_its_rows():
+    """``front_random_tips.csv``: the four weakest tips at three resolutions and four placements, each capacity the
+    tip's continuum first point raised by its raster gain (to the written digits)."""
+    rows = _rows("front_random_tips.csv")
+    assert len(rows) == 48 and len({r["tip"] for r in rows}) == 4
+    for row in rows:
+        assert float(row["capacity_adhesive_force"]) == pytest.approx(
+            float(row["first_point_adhesive_force"]) * (1 + float(row["gain"])), rel=1e-6)

@@ -68,9 +68,20 @@ radius) and -0.19 % (7.2); the exact path (``tips_extrapolated.csv``)
 extrapolation +2.21 % (the flat brush's N = 512: +2.45 % above its lower
 end).
 
+Those gains are half the rasters' (``--random-tips`` ->
+``front_random_tips.csv``: the four weakest tips, 15, 58, 44 and 40, each
+on `tilted.Tip` alone in the others' continuum deflection, four
+placements): 6.3 / 4.9 / 5.8 / 5.6 % at 7.2 elements per radius, 4.8 / 4.1 /
+4.5 / 4.6 % at 14.4, 4.8 / 3.7 / 4.3 / 4.3 % at 28.9, against first-order
+2.4 / 1.9 / 2.1 / 2.2 %.  The least capacity, tip 58's, puts the brush at
+0.0109980 / 0.0109185 / 0.0108703: 0.41 % below the exact path's
+extrapolation at 28.9 per radius, and an upper end if these gains fall
+toward the limit from above as the flat tips' do.
+
     python docs/pillars/front.py          # front.csv (about 2 CPU-min)
     python docs/pillars/front.py --brush  # front_brush.csv (about 2.5 CPU-min)
     python docs/pillars/front.py --random # front_random.csv (the random family's brush; about 8 CPU-min)
+    python docs/pillars/front.py --random-tips  # front_random_tips.csv (its weakest tips' rasters; 7 CPU-min)
     python docs/pillars/front.py --table  # src/brushbem/data/peel_gain.csv (the criterion's gains)
 """
 
@@ -137,6 +148,62 @@ def random_rows(last: int = 12) -> list[dict]:
     return rows
 
 
+#: The random brush's weakest tips on rasters, each alone in the others' continuum field (``--random-tips``).
+RANDOM_TIPS_TABLE = HERE / "front_random_tips.csv"
+RANDOM_TIPS_FIELDS = ("tip", "elements_per_radius", "placement", "first_point_adhesive_force", "first_point_ratio",
+                      "first_order_gain", "tilt", "gain", "capacity_adhesive_force", "events")
+
+
+def random_tip_rows(weakest: int = 4, resolutions: tuple[float, ...] = (7.222, 14.444, 28.887)) -> list[dict]:
+    """The ``weakest`` tips of the random brush at k~ = 1e-5 (by first-order capacity, all 64 attached) on
+    `tilted.Tip` rasters at ``resolutions`` (its four placements), each alone in the other tips' continuum
+    deflection with the tips' loads in proportion: the raster's gain over the tip's continuum first point (F_A
+    over the lone tip's raster F_A over the first-point ratio, minus 1) and the brush's force at that capacity.
+
+    The field's sign: a rigid tip's own pressure makes up its displacement less the others' deflection
+    (`continuum.Brush.solve`), so it enters `tilted.Tip` (whose load makes the displacement delta + field)
+    negated; so placed, the raster's first detached element lies where the continuum's K peaks (checked at
+    14.4-40 elements per radius, within 25 degrees)."""
+    import tilted
+
+    centres = random_centres()
+    a = math.sqrt(continuum.PHI / math.pi) / 8
+    brush = continuum.Brush(8, 1 / 8 / a, 12, 12, 48, centres=centres, near=(5.0, 24, 96))
+    spring = 2 * math.pi * continuum.MODULUS * a / (1e-5 * continuum.MODULUS)
+    control = 1.5 - 1 / (1 + spring / math.pi)
+    c = brush.solve(np.ones(len(centres), bool), spring)
+    intensity = c @ brush.edge[::32].T
+    scale = 2 * math.pi * c[:, 0].sum() * math.sqrt(2 * continuum.MODULUS * continuum.DGAMMA) * a**1.5
+    tips = []
+    for i in range(len(centres)):
+        g = intensity[i] / c[i, 0]
+        first = scale / (math.sqrt(math.pi) * intensity[i].max())
+        gain = capacity(g, control)["gain"]
+        tips.append({"tip": i, "first_point_adhesive_force": first, "first_point_ratio": c[i, 0] / intensity[i].max(),
+                     "first_order_gain": gain, "tilt": 2 * abs(np.fft.rfft(g)[1]) / g.size,
+                     "capacity": first * (1 + gain)})
+    tips = sorted(tips, key=lambda tip: tip["capacity"])[:weakest]
+    fields = {(tip["tip"], 0): (tip["first_point_ratio"], lambda points, i=tip["tip"]: -brush.external(c, i, points))
+              for tip in tips}
+    rows = []
+    for per_radius in resolutions:
+        for placement in range(len(tilted.PLACEMENTS)):
+            for raster in tilted.run_brush(8, 1e-5, per_radius, placement, fields):
+                rows.append(random_tip_row(next(t for t in tips if f"{t['tip']}-0" == raster["tip"]), raster))
+                print(rows[-1], flush=True)
+    return rows
+
+
+def random_tip_row(tip: dict, raster: dict) -> dict:
+    """One row of ``front_random_tips.csv``: the continuum tip and its raster row from `tilted.run_brush`."""
+    return {"tip": tip["tip"], "elements_per_radius": raster["elements_per_radius"], "placement": raster["placement"],
+            "first_point_adhesive_force": float(tip["first_point_adhesive_force"]),
+            "first_point_ratio": float(tip["first_point_ratio"]), "first_order_gain": float(tip["first_order_gain"]),
+            "tilt": float(tip["tilt"]), "gain": float(raster["gain"]),
+            "capacity_adhesive_force": float(tip["first_point_adhesive_force"] * (1 + raster["gain"])),
+            "events": raster["events"]}
+
+
 def _write(rows: list[dict], table: Path, fields: tuple[str, ...]) -> None:
     calibration.write(rows, table, fields, digits=7)
 
@@ -178,6 +245,9 @@ def gain_rows() -> list[dict]:
 def main() -> None:
     if "--table" in sys.argv:
         _write(gain_rows(), GAIN_TABLE, ("tilt", "bend", "phase", "load_control", "gain", "span_degrees", "depth"))
+        return
+    if "--random-tips" in sys.argv:
+        _write(random_tip_rows(), RANDOM_TIPS_TABLE, RANDOM_TIPS_FIELDS)
         return
     if "--random" in sys.argv:
         _write(random_rows(), RANDOM_TABLE, RANDOM_FIELDS)
