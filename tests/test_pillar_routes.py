@@ -42,39 +42,39 @@ def test_the_summary_is_the_tables(script):
 
 def test_no_route_holds_one_percent_on_every_raster():
     """Every route misses 1 % somewhere; the best, the proxy's fine side on each raster's own tips divided by its
-    bias on the families, is -1.65 .. +2.09 % (14 of 24, 6 of the 12 at k~ = 1e-5), and the proxy itself is within
-    1 % on 8; at k~ = 1e-5 no route holds it on more than half the rasters."""
+    bias on the families, is -1.10 .. +1.72 % (17 of 24, 8 of the 12 at k~ = 1e-5), and the proxy itself is within
+    1 % on 10 (against ``continuum_limit.csv``'s middle at 1e-5, the neighbours' field of the right sign)."""
     lines = _rows("routes_summary.csv")
     within = {name: sum(abs(float(line[name])) < 0.01 for line in lines) for name in ROUTES}
     assert all(count < 24 for count in within.values())
-    assert within["proxy"] == 8 and within["own_debiased"] == 14
+    assert within["proxy"] == 10 and within["own_debiased"] == 17
     assert max(within.values()) == within["own_debiased"]
     soft = [line for line in lines if line["stiffness_ratio"] == "1e-05"]
-    assert max(sum(abs(float(line[name])) < 0.01 for line in soft) for name in ROUTES) == 6
+    assert max(sum(abs(float(line[name])) < 0.01 for line in soft) for name in ROUTES) == 8
     debiased = [float(line["own_debiased"]) for line in lines]
-    assert min(debiased) == pytest.approx(-0.0165, abs=5e-5) and max(debiased) == pytest.approx(0.0209, abs=5e-5)
+    assert min(debiased) == pytest.approx(-0.0110, abs=5e-5) and max(debiased) == pytest.approx(0.01715, abs=5e-5)
 
 
 def test_no_route_holds_one_percent_on_the_families_own_raster(script):
-    """On the families' own raster (``proxy.csv``): the default +2.8 .. +9.4 %, the proxy +2.2 % on the lattices at
-    k~ = 1e-5, and the debiased proxy (its bias fitted on those lattices) -0.9 .. +0.6 % there but -2.1 % on the
+    """On the families' own raster (``proxy.csv``): the default +2.8 .. +8.4 %, the proxy +1.3 % on the lattices at
+    k~ = 1e-5, and the debiased proxy (its bias fitted on those lattices) -0.4 .. +0.2 % there but -1.5 % on the
     random brush: every route misses 1 % on some family."""
     lines = script.families()
     assert len(lines) == 6
     for name in ("plain", "proxy", "own_debiased"):
         assert max(abs(line[name]) for line in lines) > 0.01
     plain = [line["plain"] for line in lines]
-    assert min(plain) == pytest.approx(0.0283, abs=5e-4) and max(plain) == pytest.approx(0.0938, abs=5e-4)
+    assert min(plain) == pytest.approx(0.0283, abs=5e-4) and max(plain) == pytest.approx(0.0837, abs=5e-4)
     debiased = {(line["family"], line["stiffness_ratio"]): line["own_debiased"] for line in lines}
-    assert debiased[("random", 1e-5)] == pytest.approx(-0.0208, abs=5e-4)
+    assert debiased[("random", 1e-5)] == pytest.approx(-0.0154, abs=5e-4)
     assert all(abs(value) < 0.01 for key, value in debiased.items() if key[0] != "random")
 
 
 def test_the_reference_at_soft_springs_is_the_continuum_limit_within_its_stated_error(script):
     """At k~ = 1e-5 the routes are judged against ``continuum_limit.csv``: `tilted.limit` of ``tilted_brush.csv``
     (to its seven digits), between the continuum's first point (``continuum_reference.csv``) and the weakest tip's
-    capacity at 40 elements per radius; its error column is the half-width and no more than the 0.68 % it claims,
-    and the exact path's first-order extrapolation lies above its upper bound."""
+    capacity at 40 elements per radius (the middle of an edge, 0-3, in the neighbours' field of the right sign);
+    its error column is the half-width, 1.6 %, and the exact path's first-order extrapolation lies inside."""
     from test_pillar_tips import _pillars_script
 
     tilted = _pillars_script("tilted.py", "pillar_routes_tilted")
@@ -89,8 +89,8 @@ def test_the_reference_at_soft_springs_is_the_continuum_limit_within_its_stated_
     middle = float(theirs["adhesive_force"])
     assert middle == pytest.approx((lower + upper) / 2, rel=1e-6)  # seven digits written
     assert float(theirs["error"]) == pytest.approx((upper - lower) / 2 / middle, abs=1e-6)  # of written bounds
-    assert float(theirs["error"]) <= 0.0068
-    assert float(theirs["extrapolated_exact"]) > upper
+    assert float(theirs["error"]) == pytest.approx(0.0159, abs=2e-4)
+    assert lower < float(theirs["extrapolated_exact"]) < upper
     assert script.references()[("flat", 1e-5)] == pytest.approx(middle, rel=1e-12)
 
 

@@ -42,11 +42,11 @@ proxies were judged by (F_ref / F_plain) on the new reference.
 
 Measured (the verdict in ``docs/pillars/accuracy.md``, "Tips of 3-4
 elements per radius" and "The peel survives the continuum"): at k~ = 1e-5
-the limit is known to 0.65 % (0.0120385 .. 0.0121169); no placement mean is
-within 1 % of both ends; 9 of the 15 extrapolations are (mostly of
-calibrated tips, 14.4-39.7 per radius); the brush follows its edge tips, not
-the corner; the per-element criterion tends to the first point, 1.9 % below
-the lower end.
+the limit is known to 1.0 % (0.0120385 .. 0.0121588, the neighbours' field
+entering the raster tips negated: "The neighbours' field's sign"); no plain
+placement mean is within 1 % of both ends; 8 of the 18 extrapolations are;
+the brush follows its weakest tip (the middle of an edge); the per-element
+criterion tends to the first point, 1.9 % below the lower end.
 
 No pull-off runs here: ``nice python docs/pillars/placement.py --finer``
 adds the 39.7 rows (about 3-6 CPU-min each); this script only reads.

@@ -8,7 +8,7 @@ Every F_A here is the pillar model's with ``pillar_tip_peel = true`` on the
   its own raster, the tips at 3.6 and 7.2 elements per radius (the tips'
   factors 1 and 2): the error against that reference, and for the flat
   brush against the decided limit (``limit.py::interval``: the lower end
-  at k~ = 10, the middle of 0.0120385 .. 0.0121169 at 1e-5).
+  at k~ = 10, the middle of 0.0120385 .. 0.0121588 at 1e-5).
 * ``placement``: the flat brush (k~ = 10 and 1e-5) moved by the fractions of
   the tips' element of ``placement.SHIFTS`` at 3.6, 7.2 and 14.4 elements per
   radius: how much of the answer is where the circles fall on the raster,

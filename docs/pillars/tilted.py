@@ -204,7 +204,9 @@ def brush_fields(per_side: int, stiffness: float):
     for tip in BRUSH_TIPS:
         i = tip[0] * per_side + tip[1]
         first = math.sqrt(math.pi) * c[i, 0] / intensity[i].max()
-        out[tip] = (first, lambda points, i=i: brush.external(c, i, points))
+        # The tip's own pressure makes up its displacement less the others' deflection: the field enters
+        # negated (`tests/test_pillar_front.py`: the raster then first peels where the continuum's K peaks).
+        out[tip] = (first, lambda points, i=i: -brush.external(c, i, points))
     return out
 
 

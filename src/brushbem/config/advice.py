@@ -61,14 +61,15 @@ Resolution = ResolutionRecord
 #: The measured tables: a flat punch's (``resolution_error.csv``) and a JKR sphere's.
 PUNCH_TABLE, SPHERE_TABLE = "resolution_error.csv", "sphere_resolution_error.csv"
 #: A brush's own F_A error (``brush_resolution_error.csv``, ``docs/pillars/limit.py``): the flat 8 x 8 brush at
-#: k~ = 1e-5 against the continuum limit, where it is known to 0.65 % (``docs/pillars/limit.py``: the tips' first-order
+#: k~ = 1e-5 against the continuum limit, where it is known to 1.0 % (``docs/pillars/limit.py``: the tips' first-order
 #: continuum peel below, ``front_brush.csv``, the edge tips' capacity at 80 elements per radius above).  A brush's
 #: F_A converges more slowly than a lone punch's (its tips peel in their neighbours' field): at 28.9 elements per
 #: radius +1.6 % (the punch's +1 %), so a brush's F_A error is read from it.
 BRUSH_TABLE = "brush_resolution_error.csv"
 #: The same brush with its tips leaving at their continuum capacity (``protocol.pillar_tip_peel``,
-#: ``brush_peel_error.csv``, ``docs/pillars/peel.py``), and the coarsest tips it was measured at: within 1 % of
-#: the limit's bounds there, so no warning at or above it.
+#: ``brush_peel_error.csv``, ``docs/pillars/peel.py``), and the coarsest tips it was measured at: there its
+#: placements' mean is the limit's middle (0.0 %), every placement within -1.2 .. +0.7 % between the limit's bounds
+#: (1.0 % apart), so no warning at or above it.
 PEEL_TABLE, PEEL_MIN_ELEMENTS = "brush_peel_error.csv", 3.6
 
 
@@ -194,8 +195,8 @@ def resolution(config: RunConfig) -> ResolutionRecord | None:
             "F_A: the flat 8 x 8 brush at k~ = 1e-5, its tips leaving at their continuum capacity, at this many "
             "elements per pillar radius against the continuum limit (its middle; the range: every placement of the "
             "lattice on the raster between the limit's bounds; at k~ = 10 -0.75 .. +1.04 % at 3.6; a random layout "
-            "+0.33 % of its own continuum brush: docs/pillars/peel.py); the work: its placements against their mean "
-            "at 14.4 elements per radius",
+            "inside its own continuum interval, +0.33 % above its lower end: docs/pillars/peel.py); the work: its "
+            "placements against their mean at 14.4 elements per radius",
             minimum=PEEL_MIN_ELEMENTS)
     work = _interpolated(elements, "work_error_mean")
     if what == "pillar radius":

@@ -375,24 +375,24 @@ within 1 %)
     10) is not the limit, and the per-element criterion, which tends to it, is not the route.  With every
     tip's first-order peel the flat 8 x 8 brush holds 0.0120385 at k~ = 1e-5 (+1.9 %) and 0.0082839 at 10
     (+2.1 %) (``front_brush.csv``), the exact path's old first-order extrapolation within 0.34 % and 0.07 % of
-    them; the edge tips' raster gains lie above the first-order ones at every resolution and fall with h (2.54 / 2.57 % on
+    them; the edge tips' raster gains lie above the first-order ones at every resolution and fall with h (2.98 / 2.96 % on
     the middle of an edge at 57.8 / 80 elements per radius, ``fine_tip_brush.csv``), so their capacity at 80
-    (0.0121169) bounds the brush above: at k~ = 1e-5 the limit is known to 0.65 %
-    (``docs/pillars/limit.py``, middle 0.0120777).
+    (0.0121588, the neighbours' deflection entering negated: `tilted.brush_fields`) bounds the brush above: at
+    k~ = 1e-5 the limit is known to 1.0 % (``docs/pillars/limit.py``, middle 0.0120986).
     Tips of 3-4 elements per radius within 1 % of the limit are not shown (``limit.csv``): the default on the
-    families' raster is +7.4 .. +8.1 % at k~ = 1e-5 and +7.8 % over the lower end at 10, plain tips averaged
-    over placements of the lattice on their raster +3.9 % (3.6 per radius) .. +1.4 % (39.7) on the middle;
-    9 of the 15 extrapolations of fine tips' placement means land within 1 % of both ends (every calibrated
-    one of a finite order over 14.4-39.7 per radius, and the plain half order at 39.7), at hundreds
-    to thousands of CPU-s on 8 x 8 pillars; the per-element criterion's mean at 3.6 per radius does too, on its
+    families' raster is +7.0 .. +8.1 % at k~ = 1e-5 and +7.8 % over the lower end at 10, plain tips averaged
+    over placements of the lattice on their raster +3.7 % (3.6 per radius) .. +1.2 % (39.7) on the middle;
+    8 of the 18 extrapolations of fine tips' placement means at k~ = 1e-5 land within 1 % of both ends
+    (``limit.csv``), at hundreds to thousands of CPU-s on 8 x 8 pillars; the per-element criterion's mean at 3.6 per radius does too, on its
     way to the first point (-1.3 % below the lower end at 14.4).  The default is unchanged, and a brush's
     F_A error in every run is the brush's own against the continuum limit (`brushbem.config.advice`,
-    ``brush_resolution_error.csv``: +3.9 % at 3.6, +1.6 % at 28.9, +1.4 % at 39.7 per radius).
+    ``brush_resolution_error.csv``: +3.7 % at 3.6, +1.4 % at 28.9, +1.2 % at 39.7 per radius).
     With ``LoadPath.pillar_tip_peel`` (`peel`, off by default) every whole tip leaves at its continuum
     capacity, its K(theta) read off its modes: the flat 8 x 8 brush at 3.6 elements per radius -0.75 % at
-    k~ = 10 and -0.54 % at 1e-5 of its limit (placements -0.75 .. +1.04 %), the flat, hierarchical and concave
-    families within 0.8 % of the exact path's extrapolation, the random one +0.33 % of its own continuum brush
-    (``docs/pillars/peel.csv``, ``front_random.csv``); a run with it reports that error.  Not the default: a
+    k~ = 10 and -0.71 % at 1e-5 of its limit (placements -0.75 .. +1.04 % at 10), the flat, hierarchical and
+    concave families within 0.8 % of the exact path's extrapolation, the random one inside its own continuum
+    interval (``docs/pillars/peel.csv``, ``front_random.csv``, ``front_random_tips.csv``); a run with it
+    reports that error.  Not the default: a
     stiff rough brush's tips vary along their edges far beyond the first-order peel's checked domain.
 
 Where it does not apply it refuses, naming the key: tips that are not flat

@@ -84,9 +84,10 @@ def domain_warning(problem: ContactProblem) -> str | None:
 
 #: The largest relative n = 1 amplitude of a tip's K along its edge (`brushbem.pillars.peel.shape_parameters`) at
 #: which ``LoadPath.pillar_tip_peel`` was measured within 1 % of the limit: the lattice families reach 0.31 along
-#: their paths; a random layout whose closest tips reach 0.52-0.55 was +0.33 % of its own first-order continuum
-#: brush (``docs/pillars/front_random.csv``), a first-order estimate there; a stiff rough brush's tips reach 0.8
-#: and beyond, where nothing was measured.  The limit between is ours.
+#: their paths; a random layout whose closest tips reach 0.52-0.55 lies inside its own continuum interval but
+#: -1.43 % below its upper end (``docs/pillars/front_random_tips.csv``: the raster's gains there twice the
+#: first-order ones); a stiff rough brush's tips reach 0.8 and beyond, where nothing was measured.  The limit
+#: between is ours.
 PEEL_TILT = 0.35
 
 
@@ -98,7 +99,7 @@ def peel_warning(largest_tilt: float) -> str | None:
     return (f"LoadPath.pillar_tip_peel: a tip's stress intensity varied along its edge by {largest_tilt:.2f} of its "
             f"mean (relative n = 1 amplitude), beyond {PEEL_TILT:g}: the first-order peel's gain is a lower end "
             "there (its neglected terms grow as that amplitude times the gain); measured on a random layout whose "
-            "tips reach 0.52-0.55: F_A +0.33 % of that layout's own first-order continuum brush (docs/pillars/"
-            "front_random.csv), itself an estimate there; check with pillar_tip_peel = false and finer tips "
-            "(pillar_tip_resolution)")
+            "tips reach 0.52-0.55: F_A +0.33 % above its continuum first-order brush and -1.43 % below its raster "
+            "tips' capacity (docs/pillars/front_random.csv, front_random_tips.csv); check with pillar_tip_peel = "
+            "false and finer tips (pillar_tip_resolution)")
 
