@@ -16,7 +16,7 @@ records them in ``summary.json`` (``warnings``), and every run records its `Reso
   for a sphere or a spherical cap from ``sphere_resolution_error.csv`` (a rigid JKR sphere against JKR; it
   converges at first order, +20 % at 8 and +6.4 % at 24 elements across a_JKR); a brush's F_A from
   ``brush_resolution_error.csv`` (the flat 8 x 8 brush against the continuum limit, ``docs/pillars/limit.py``:
-  +3.9 % at 3.6, +1.9 % at 14.4, +1.6 % at 28.9, +1.4 % at 39.7 elements per radius, where a lone punch is
+  +3.7 % at 3.6, +1.8 % at 14.4, +1.4 % at 28.9, +1.2 % at 39.7 elements per radius, where a lone punch is
   +1 % at 32; beyond its finest row, that row's).
   Below `MIN_ELEMENTS_PER_RADIUS` `resolution_warnings` warns with the estimate and the fix.
 """
