@@ -233,18 +233,9 @@ class Brush:
                 out[rows] += c[cols] @ self.blocks[key].T / math.pi  # one source per row at an offset
             return out.ravel()
 
-        rhs = np.zeros((len(index), nb))
-        rhs[:, 0] = self.norm[0]  # 2 pi d projected on the uniform mode, d = 1
-        size = rhs.size
-        operator = scipy.sparse.linalg.LinearOperator((size, size), matvec=apply)
-        preconditioner = scipy.sparse.linalg.LinearOperator((size, size), matvec=lambda v: v / diagonal.ravel())
-        solution, info = scipy.sparse.linalg.gmres(operator, rhs.ravel(), M=preconditioner, rtol=1e-13,
-                                                   atol=0.0, restart=200, maxiter=2000)
-        if info != 0:
-            raise RuntimeError(f"gmres did not converge (info {info})")
-        out = np.zeros((len(self.grid), nb))
-        out[index] = solution.reshape(len(index), nb)
-        return out
+        size = diagonal.size
+        return self._gmres(scipy.sparse.linalg.LinearOperator((size, size), matvec=apply), diagonal, index,
+                           len(self.grid))
 
     def _solve_dense(self, index: np.ndarray, spring: float) -> np.ndarray:
         """`solve` for tips at arbitrary centres: the same system, assembled for the attached tips ``index``."""
@@ -257,16 +248,21 @@ class Brush:
                 if p != q:
                     matrix[p * nb:(p + 1) * nb, q * nb:(q + 1) * nb] = self.blocks[(int(i), int(j))] / math.pi
         matrix[np.diag_indices_from(matrix)] += diagonal.ravel()
+        return self._gmres(scipy.sparse.linalg.aslinearoperator(matrix), diagonal, index, len(self.centres))
+
+    def _gmres(self, operator, diagonal: np.ndarray, index: np.ndarray, tips: int) -> np.ndarray:
+        """The coefficients (``tips`` x basis, 0 off ``index``) of the system ``operator`` at d = 1: its right-hand
+        side 2 pi d projected on the uniform mode, GMRES preconditioned by its ``diagonal``."""
+        nb = len(self.basis)
         rhs = np.zeros((len(index), nb))
-        rhs[:, 0] = self.norm[0]
+        rhs[:, 0] = self.norm[0]  # 2 pi d projected on the uniform mode, d = 1
         size = rhs.size
-        operator = scipy.sparse.linalg.aslinearoperator(matrix)
         preconditioner = scipy.sparse.linalg.LinearOperator((size, size), matvec=lambda v: v / diagonal.ravel())
         solution, info = scipy.sparse.linalg.gmres(operator, rhs.ravel(), M=preconditioner, rtol=1e-13,
                                                    atol=0.0, restart=200, maxiter=2000)
         if info != 0:
             raise RuntimeError(f"gmres did not converge (info {info})")
-        out = np.zeros((len(self.centres), nb))
+        out = np.zeros((tips, nb))
         out[index] = solution.reshape(len(index), nb)
         return out
 

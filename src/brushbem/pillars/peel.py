@@ -182,16 +182,18 @@ def circle_load(coefficients: np.ndarray, size: np.ndarray, radius: np.ndarray) 
 
 
 def strength(intensity: np.ndarray, load: np.ndarray, control: np.ndarray, kendall: float,
-             angles: int = TABLE_ANGLES) -> np.ndarray:
+             angles: int = TABLE_ANGLES, parameters: np.ndarray | None = None) -> np.ndarray:
     """The tensile force at which each tip leaves at its continuum capacity: Kendall's force ``kendall`` times
     (1 + `gain`) over the largest g = K / K_P along its edge (the first point of a lone tip is Kendall's);
     ``intensity`` and ``load`` as `tip_intensity` and `circle_load` give them.  NaN where K_P is 0 or g has
-    no positive part (no tension at the edge to lead a peel)."""
+    no positive part (no tension at the edge to lead a peel).  ``parameters``: `shape_parameters` of ``intensity``
+    where the caller has them."""
     theta = 2 * np.pi * np.arange(angles) / angles
     harmonics = np.stack([np.ones(angles), np.cos(theta), np.sin(theta), np.cos(2 * theta), np.sin(2 * theta)])
     with np.errstate(divide="ignore", invalid="ignore"):
         top = np.max((intensity @ harmonics) / load[:, None], axis=1)
-        out = kendall * (1 + gain(shape_parameters(intensity), control)) / top
+        shape_of = shape_parameters(intensity) if parameters is None else parameters
+        out = kendall * (1 + gain(shape_of, control)) / top
     return np.where(np.isfinite(out) & (top > 0), out, np.nan)
 
 

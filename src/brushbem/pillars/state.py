@@ -193,11 +193,11 @@ def _tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarr
         sizes[members] = basis.size
     radius = model.tip_radius[rows]
     intensity = peel.tip_intensity(coefficients, sizes, radius)
-    tilt = peel.shape_parameters(intensity)[:, 0]
-    if np.isfinite(tilt).any():
-        cache.largest_tilt = max(cache.largest_tilt, float(np.nanmax(tilt)))
+    parameters = peel.shape_parameters(intensity)
+    if np.isfinite(parameters[:, 0]).any():
+        cache.largest_tilt = max(cache.largest_tilt, float(np.nanmax(parameters[:, 0])))
     out[rows] = peel.strength(intensity, peel.circle_load(coefficients, sizes, radius), model.peel_control[rows],
-                              model.kendall)
+                              model.kendall, parameters=parameters)
     return out
 
 
