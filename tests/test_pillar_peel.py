@@ -262,3 +262,63 @@ def test_tips_whose_intensity_varies_beyond_the_measured_warn(validation):
         assert bool(found) == warns, family
         if warns:
             assert "0.5" in str(found[0].message) and "pillar_tip_peel" in str(found[0].message)
+
+
+def test_tips_beyond_the_gain_table_have_no_strength():
+    """K varying along the edge beyond the gain's table (`peel.TABLE_LIMITS`: relative n = 1 amplitude 0.6, n = 2
+    0.15) gives no strength (NaN: such a tip peels by its elements' criterion, `brushbem.pillars.state.peeled`);
+    inside it the strength is F_K (1 + G) / max g, here g = 1 + eps cos(theta) so max g = 1 + eps."""
+    kendall = 2.0
+    # Rows: K's parts k0, k1 cos, k1 sin, k2 cos, k2 sin; the load equal to k0 (K_P = k0, g = K / k0).
+    intensity = np.array([[1.0, 0.5, 0.0, 0.0, 0.0], [1.0, 0.61, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.16, 0.0]])
+    out = peel.strength(intensity, intensity[:, 0], np.full(3, 1.5), kendall)
+    expected = kendall * (1 + peel.gain(np.array([[0.5, 0.0, 0.0]]), np.array([1.5]))[0]) / 1.5
+    assert out[0] == pytest.approx(expected, rel=1e-12)
+    assert np.isnan(out[1]) and np.isnan(out[2])
+
+
+def test_a_stiff_rough_brushs_tips_leave_whole_inside_the_measured_domain(validation):
+    """The rough 8 x 8 family at k~ = 10 (``docs/pillars/rough.py``): the tips that leave whole vary along their
+    edges by at most 0.11 of their mean as they leave (rough.csv), inside `PEEL_TILT`, so the run does not warn;
+    those whose K varies beyond the table (up to 30 times its mean on a tip that barely carries load) peel by their
+    elements.  Its F_A at the families' 3.6 elements per radius is its own at 28.9 within 1 % (measured -0.26 %)."""
+    from test_pillar_tips import _pillars_table
+
+    from brushbem.pillars.domain import PillarDomainWarning
+
+    (fine,) = [r for r in _pillars_table("rough.csv") if r["stiffness_ratio"] == "10" and r["criterion"] == "peel"
+               and r["tip_factor"] == "8"]
+    case, preload = validation.problem("rough", 8, 10.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        summary = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
+                                                 pillar_tip_peel=True)).summary
+    assert not [w for w in caught if issubclass(w.category, PillarDomainWarning)]
+    assert summary["adhesive_force"] == pytest.approx(float(fine["adhesive_force"]), rel=0.01)
+
+
+def test_a_rough_brush_reports_the_rough_familys_range_and_is_not_resolved_at_the_families_raster():
+    """A brush with pillar lengths of its own (``[indenter.roughness]``) reports, beside the level brush's error,
+    the rough family's range at its resolution (``rough_error.csv``, written from ``docs/pillars/rough.csv``): with
+    the option at 3.6 elements per radius down to -9.3 % (k~ = 1, F_A a tenth of F_c: its own tips at 28.9 per
+    radius move it 3.9 %, the raster's 6 % above), so the run warns there and asks for finer tips; by default (the
+    raster) the range reaches +22 %."""
+    from brushbem.config import advice, parse_config
+
+    base = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA}, "grid": {"size": 1.0, "elements": 128},
+            "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 8,
+                         "pillar_radius": round(math.sqrt(0.16 / math.pi) / 8, 9), "stiffness_ratio": 1.0,
+                         "roughness": {"sigma": 1e-3}},
+            "protocol": {"method": "pillars", "preload_force": 1e-3, "pillar_tip_peel": True}}
+    rough = advice.resolution(parse_config(base))
+    (row, *_) = advice._table(advice.ROUGH_TABLE)
+    assert rough.force_error_range[0] == pytest.approx(row["peel_force_error_min"], rel=1e-9)
+    assert row["peel_force_error_min"] < -0.05
+    assert not rough.resolved and "docs/pillars/rough.py" in rough.basis
+    (warning,) = advice.resolution_warnings(parse_config(base))
+    assert "pillar_tip_resolution = 8 or more" in warning
+    level = advice.resolution(parse_config({**base, "indenter": {**base["indenter"], "roughness": None}}))
+    assert level.resolved and level.force_error_range[0] > -0.013
+    default = advice.resolution(parse_config({**base, "protocol": {"method": "pillars", "preload_force": 1e-3}}))
+    assert default.force_error_range[1] == pytest.approx(row["raster_force_error_max"], rel=1e-9)
+    assert row["raster_force_error_max"] > 0.2

@@ -71,6 +71,12 @@ BRUSH_TABLE = "brush_resolution_error.csv"
 #: placements' mean is the limit's middle (0.0 %), every placement within -1.2 .. +0.7 % between the limit's bounds
 #: (1.0 % apart), so no warning at or above it.
 PEEL_TABLE, PEEL_MIN_ELEMENTS = "brush_peel_error.csv", 3.6
+#: A rough brush's (``rough_error.csv``, ``docs/pillars/rough.py``): the rough 8 x 8 family at k~ = 10 .. 1e-5
+#: against the ends of its limit (the option's tips at 28.9 elements per radius below, the raster's finest above).
+#: Where F_A is a tenth to a quarter of F_c (k~ = 1, 0.1) the tips move it by several per cent at every
+#: resolution measured, so a rough brush's range is the union of the flat brush's and this one, and the option's
+#: 3.6 elements per radius do not resolve it (the warning stays below `MIN_ELEMENTS_PER_RADIUS`).
+ROUGH_TABLE = "rough_error.csv"
 
 
 @functools.cache
@@ -88,7 +94,8 @@ def _interpolated(elements: float, column: str, name: str = PUNCH_TABLE) -> floa
     if elements <= first["elements_per_radius"]:
         return first[column]
     if elements >= last["elements_per_radius"]:
-        return last[column] if name == BRUSH_TABLE else last[column] * last["elements_per_radius"] / elements
+        return last[column] if name in (BRUSH_TABLE, ROUGH_TABLE) else \
+            last[column] * last["elements_per_radius"] / elements
     for low, high in zip(rows, rows[1:], strict=False):
         if low["elements_per_radius"] <= elements <= high["elements_per_radius"]:
             t = (math.log(elements / low["elements_per_radius"])
@@ -186,6 +193,30 @@ def resolution(config: RunConfig) -> ResolutionRecord | None:
                        None if work is None else (work, work),
                        "a rigid JKR sphere at this many elements across a_JKR against JKR (eq. 2.20, 2.37; "
                        "benchmarks/resolution_error.py --sphere)")
+    if what == "pillar radius" and _rough(config):
+        smooth = _smooth_resolution(config, what, key, value, elements)
+        column = "peel" if _tips_peel(config) else "raster"
+        low = _interpolated(elements, f"{column}_force_error_min", ROUGH_TABLE)
+        high = _interpolated(elements, f"{column}_force_error_max", ROUGH_TABLE)
+        return _record(
+            what, key, value, elements, smooth.force_error_estimate,
+            (min(low, smooth.force_error_range[0]), max(high, smooth.force_error_range[1])),
+            smooth.work_error_estimate,
+            None if smooth.work_error_range is None else tuple(smooth.work_error_range),
+            f"{smooth.basis}; the range with a rough brush's: the rough 8 x 8 family (sigma~ = 1) at k~ = 10 .. 1e-5 "
+            f"between its limit's ends, {_percent(low)} .. {_percent(high)} at this resolution (docs/pillars/rough.py)")
+    return _smooth_resolution(config, what, key, value, elements)
+
+
+def _rough(config: RunConfig) -> bool:
+    """Whether the brush's pillars have lengths of their own (roughness, or a lengths file)."""
+    indenter = config.indenter
+    return indenter.shape == "brush" and (
+        (indenter.roughness is not None and indenter.roughness.sigma > 0) or indenter.lengths_file is not None)
+
+
+def _smooth_resolution(config: RunConfig, what: str, key: str, value: float, elements: float) -> ResolutionRecord:
+    """`resolution`'s record from the level brush's (or the lone punch's) tables."""
     if what == "pillar radius" and _tips_peel(config):
         return _record(
             what, key, value, elements, _interpolated(elements, "force_error_mean", PEEL_TABLE),
@@ -243,8 +274,8 @@ def resolution_warnings(config: RunConfig) -> list[str]:
         return []
     needed = math.ceil(config.grid.elements * MIN_ELEMENTS_PER_RADIUS / found.elements)
     if _tips_peel(config):
-        fix = (f"set protocol.pillar_tip_resolution = {PEEL_MIN_ELEMENTS:g} or more (the tips on a raster of their "
-               "own, measured there)")
+        fix = (f"set protocol.pillar_tip_resolution = {found.minimum_elements:g} or more (the tips on a raster of "
+               "their own, measured there)")
     elif config.protocol.method == "pillars":
         # The pillar model resolves its tips apart from the grid.
         fix = ("set protocol.pillar_tip_peel = true (the tips leave at their continuum capacity: the flat brush "

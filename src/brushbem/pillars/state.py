@@ -39,7 +39,7 @@ from brushbem.pillars.solver import Solver, full_solve, radiate
 from brushbem.protocol.problem import LoadPath, State
 
 __all__ = ["PillarState", "RasterCache", "attached_together", "begin", "cascade", "installed", "peel_all",
-           "record", "solved", "tip_strengths"]
+           "record", "solved", "tip_strengths", "tip_tilts"]
 
 
 #: At most this many attached pillars that change their raster at once are updated in the kept inverse one by
@@ -118,8 +118,8 @@ class RasterCache:
         self.solves = 0
         self.reported = 0  # solves already reported with a state
         self.radiation_rounds = 0
-        #: The largest relative n = 1 amplitude of a whole tip's K along its edge met by `tip_strengths` (the
-        #: first-order peel's domain, `brushbem.pillars.domain.peel_warning`).
+        #: The largest relative n = 1 amplitude of K along its edge of a tip that left whole at its continuum
+        #: capacity (`tip_tilts` as it left; the first-order peel's domain, `brushbem.pillars.domain.peel_warning`).
         self.largest_tilt = 0.0
 
     def check_stop(self) -> None:
@@ -163,24 +163,31 @@ def on(state: PillarState) -> np.ndarray:
 def tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
     """Where the tips leave at their continuum capacity (``PillarModel.continuum_peel``): every whole tip's
     strength at d, the tensile force at which it leaves, F_K (1 + G) / max g (`brushbem.pillars.peel`); NaN for
-    the pillars that are off, hold part of their footprint (their elements' criterion serves) or carry no
-    defined K(theta).  (M,).
+    the pillars that are off, hold part of their footprint, carry no defined K(theta) or one that varies along
+    their edge beyond the gain's table (`peel.strength`): their elements' criterion serves.  (M,).
 
     The amplitudes a of a tip's modes are the pressure of the displacement polynomial c = fit (gram a) across
     it (`Basis.fit`: the modes are K-orthogonal, so their projections of the tip's own displacement are
     gram a); K(theta) of a rigid circle under it is `peel.tip_intensity`'s closed form, g = K / K_P with
     K_P = P / (2 a sqrt(pi a)) of the circle's own load P under it.
     """
-    return _remember(state, ("strengths", float(d)), lambda: _tip_strengths(cache, state, d))
+    return _remember(state, ("peel", float(d)), lambda: _tip_peel(cache, state, d))[0]
 
 
-def _tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
+def tip_tilts(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
+    """The relative n = 1 amplitude of every whole tip's K along its edge at d (`peel.shape_parameters`; the
+    first-order peel's domain, `brushbem.pillars.domain.PEEL_TILT`); NaN where `tip_strengths` has no K.  (M,)."""
+    return _remember(state, ("peel", float(d)), lambda: _tip_peel(cache, state, d))[1]
+
+
+def _tip_peel(cache: RasterCache, state: PillarState, d: float) -> tuple[np.ndarray, np.ndarray]:
     _follow(cache, state)
     model = cache.model
     out = np.full(model.M, np.nan)
+    tilts = np.full(model.M, np.nan)
     rows = np.flatnonzero(state.attached & np.all(state.raster == model.full, axis=1))
     if rows.size == 0:
-        return out
+        return out, tilts
     x = d * np.take(state.alpha, rows, axis=0) - np.take(state.beta, rows, axis=0)
     serials = np.array([model.basis[p].serial for p in rows])
     coefficients = np.zeros((rows.size, len(MODES["quadratic"])))
@@ -194,11 +201,10 @@ def _tip_strengths(cache: RasterCache, state: PillarState, d: float) -> np.ndarr
     radius = model.tip_radius[rows]
     intensity = peel.tip_intensity(coefficients, sizes, radius)
     parameters = peel.shape_parameters(intensity)
-    if np.isfinite(parameters[:, 0]).any():
-        cache.largest_tilt = max(cache.largest_tilt, float(np.nanmax(parameters[:, 0])))
+    tilts[rows] = parameters[:, 0]
     out[rows] = peel.strength(intensity, peel.circle_load(coefficients, sizes, radius), model.peel_control[rows],
                               model.kendall, parameters=parameters)
-    return out
+    return out, tilts
 
 
 def pressures_at(cache: RasterCache, state: PillarState, d: float) -> np.ndarray:
@@ -541,8 +547,12 @@ def peeled(cache: RasterCache, state: PillarState, p: int, leave: np.ndarray, fr
     """
     model = cache.model
     mask = state.raster[p] & ~leave
-    if not model.peel or (model.continuum_peel and np.array_equal(state.raster[p], model.full[p])):
+    if not model.peel:
+        return np.zeros_like(mask)
+    if model.continuum_peel and np.array_equal(state.raster[p], model.full[p]) \
+            and np.isfinite(tip_strengths(cache, state, d)[p]):
         # A whole tip at its continuum capacity has no equilibrium left: it leaves whole.
+        cache.largest_tilt = max(cache.largest_tilt, float(tip_tilts(cache, state, d)[p]))
         return np.zeros_like(mask)
     while mask.any():
         cache.check_stop()
