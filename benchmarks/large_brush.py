@@ -213,7 +213,8 @@ def _child(per_side: int, method: str, ratio: float, sigma: float, seed: int) ->
                           "cg_iterations_per_solve": round(counts["cg_iterations"] / max(counts["cg_solves"], 1),
                                                            2)}), flush=True)
 
-    path = LoadPath(method=method, preload_force=preload, max_steps=10**8, **extra)
+    # The tips on their rasters: the model the exact path checks, which the recorded sizes ran.
+    path = LoadPath(method=method, preload_force=preload, max_steps=10**8, pillar_tip_peel=False, **extra)
     fork = int(os.environ.get("LARGE_BRUSH_FORK") or 0)
     states_left = pull_off(problem, path)
     try:

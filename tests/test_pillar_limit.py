@@ -152,6 +152,7 @@ def test_the_plain_mean_is_the_calibrated_one_times_the_lone_tips_error():
                                                      row["shift_y"]) == ("flat", "1e-05", "1", "0.13")]
     case = placement.shifted("flat", 8, 1e-5, 1, (0.13, 0.37))
     _, preload = placement.problem("flat", 8, 1e-5)
-    plain = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7)).summary
+    plain = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
+                                           pillar_tip_peel=False)).summary
     expected = float(written["calibrated_adhesive_force"]) * (1 + float(written["lone_tip_error"]))
     assert plain["adhesive_force"] == pytest.approx(expected, rel=1e-6)

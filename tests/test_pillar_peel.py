@@ -206,21 +206,32 @@ def test_the_option_is_refused_where_it_does_not_apply():
         LoadPath(method="pillars", preload_force=1.0, pillar_tip_peel=True, pillar_tip_calibration=True)
 
 
-def test_the_option_from_the_configuration_reaches_the_path_and_leaves_case_ids_alone():
-    """``protocol.pillar_tip_peel`` reaches the path; at its default (false) the resolved configuration that a
-    case id hashes is what it was; with the calibration it is a configuration error naming the key."""
-    from brushbem.config import ConfigError, config_to_dict, parse_config
+def test_the_default_reaches_the_path_and_recorded_case_ids_stay():
+    """Unset, ``protocol.pillar_tip_peel`` is the pillar model's default (tips at their continuum capacity) and the
+    exact path's (none); a case's identity (its hash) names it where a run takes it; ``false`` (the tips on their
+    rasters, which every recorded sweep ran) leaves the identity as it was recorded (no key), and the
+    configuration keeps what was typed (it re-parses to itself); with the calibration true is a configuration
+    error naming the key, unset gives way to it."""
+    from brushbem.config import ConfigError, case_identity, config_to_dict, parse_config
     from brushbem.runs.assembly import assemble
 
     base = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA}, "grid": {"size": 1.0, "elements": 64},
             "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 4, "pillar_radius": 0.056,
                          "stiffness_ratio": 1e-2, "seed": 3},
             "protocol": {"method": "pillars", "preload_force": 1e-3}}
-    tuned = {**base, "protocol": {**base["protocol"], "pillar_tip_peel": True}}
-    assert assemble(parse_config(tuned)).path.pillar_tip_peel is True
-    default = {**base, "protocol": {**base["protocol"], "pillar_tip_peel": False}}
-    assert config_to_dict(parse_config(default)) == config_to_dict(parse_config(base))
-    both = {**base, "protocol": {**tuned["protocol"], "pillar_tip_calibration": True}}
+    unset = parse_config(base)
+    assert assemble(unset).path.tip_peel is True and unset.protocol.tip_peel is True
+    assert case_identity(unset)["protocol"]["pillar_tip_peel"] is True
+    raster = parse_config({**base, "protocol": {**base["protocol"], "pillar_tip_peel": False}})
+    assert assemble(raster).path.tip_peel is False
+    recorded = config_to_dict(unset)
+    assert "pillar_tip_peel" not in recorded["protocol"] and case_identity(raster) == recorded
+    assert parse_config(config_to_dict(raster)) == raster and parse_config(config_to_dict(unset)) == unset
+    events = parse_config({**base, "protocol": {"method": "events", "preload_force": 1e-3}})
+    assert assemble(events).path.tip_peel is False and "pillar_tip_peel" not in case_identity(events)["protocol"]
+    calibrated = parse_config({**base, "protocol": {**base["protocol"], "pillar_tip_calibration": True}})
+    assert assemble(calibrated).path.tip_peel is False
+    both = {**base, "protocol": {**base["protocol"], "pillar_tip_peel": True, "pillar_tip_calibration": True}}
     with pytest.raises((ConfigError, ParameterError), match="pillar_tip_calibration"):
         assemble(parse_config(both))
 
@@ -229,7 +240,7 @@ def test_a_run_with_the_option_reports_its_own_measured_error():
     """The resolution record of a brush run with ``pillar_tip_peel`` reads ``brush_peel_error.csv`` (written from
     ``docs/pillars/peel.csv``): at the families' 3.6 elements per radius an F_A error of 0.0 % on the placements'
     mean, every placement within -1.2 .. +0.7 % between the limit's bounds (1.0 % apart), and no warning; the same
-    run without it warns and names the option as a fix."""
+    run with ``pillar_tip_peel = false`` warns and names the default as the fix."""
     from brushbem.config import parse_config
     from brushbem.config.advice import resolution, resolution_warnings
 
@@ -237,13 +248,13 @@ def test_a_run_with_the_option_reports_its_own_measured_error():
             "indenter": {"shape": "brush", "layout": "square", "pillars_per_side": 8,
                          "pillar_radius": round(math.sqrt(0.16 / math.pi) / 8, 9), "stiffness_ratio": 1e-5},
             "protocol": {"method": "pillars", "preload_force": 1e-3}}
-    peeled = parse_config({**base, "protocol": {**base["protocol"], "pillar_tip_peel": True}})
+    peeled = parse_config(base)  # the default
     record = resolution(peeled)
     assert record.elements == pytest.approx(3.61, abs=0.01) and record.resolved
     assert abs(record.force_error_estimate) < 0.005 and max(abs(e) for e in record.force_error_range) < 0.013
     assert resolution_warnings(peeled) == []
-    (warning,) = resolution_warnings(parse_config(base))
-    assert "protocol.pillar_tip_peel = true" in warning
+    (warning,) = resolution_warnings(parse_config({**base, "protocol": {**base["protocol"], "pillar_tip_peel": False}}))
+    assert "protocol.pillar_tip_peel unset or true" in warning
 
 
 def test_tips_whose_intensity_varies_beyond_the_measured_warn(validation):
@@ -301,8 +312,8 @@ def test_a_rough_brush_reports_the_rough_familys_range_and_is_not_resolved_at_th
     """A brush with pillar lengths of its own (``[indenter.roughness]``) reports, beside the level brush's error,
     the rough family's range at its resolution (``rough_error.csv``, written from ``docs/pillars/rough.csv``): with
     the option at 3.6 elements per radius down to -9.3 % (k~ = 1, F_A a tenth of F_c: its own tips at 28.9 per
-    radius move it 3.9 %, the raster's 6 % above), so the run warns there and asks for finer tips; by default (the
-    raster) the range reaches +22 %."""
+    radius move it 3.9 %, the raster's 6 % above), so the run warns there and asks for finer tips; with the tips on
+    their rasters (``pillar_tip_peel = false``) the range reaches +22 %."""
     from brushbem.config import advice, parse_config
 
     base = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA}, "grid": {"size": 1.0, "elements": 128},
@@ -319,6 +330,7 @@ def test_a_rough_brush_reports_the_rough_familys_range_and_is_not_resolved_at_th
     assert "pillar_tip_resolution = 8 or more" in warning
     level = advice.resolution(parse_config({**base, "indenter": {**base["indenter"], "roughness": None}}))
     assert level.resolved and level.force_error_range[0] > -0.013
-    default = advice.resolution(parse_config({**base, "protocol": {"method": "pillars", "preload_force": 1e-3}}))
-    assert default.force_error_range[1] == pytest.approx(row["raster_force_error_max"], rel=1e-9)
+    raster = advice.resolution(parse_config({**base, "protocol": {"method": "pillars", "preload_force": 1e-3,
+                                                                   "pillar_tip_peel": False}}))
+    assert raster.force_error_range[1] == pytest.approx(row["raster_force_error_max"], rel=1e-9)
     assert row["raster_force_error_max"] > 0.2

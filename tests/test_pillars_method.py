@@ -7,7 +7,10 @@ hierarchy, pressed to the rigid brush's force F_c and pulled off.  The model
 (`brushbem.pillars`) keeps six modes per tip and lets a tip peel
 element by element, so the pattern of detachments is the exact path's; its
 errors are those of fitting the neighbours' field across a tip by a quadratic,
-measured at 0.05-0.4 % on F_A and 0.1-1.2 % on the work here.
+measured at 0.05-0.4 % on F_A and 0.1-1.2 % on the work here.  Every path here
+names ``pillar_tip_peel = False`` (the tips on their rasters, the criterion the
+exact path has): the default, tips at their continuum capacity, is checked
+against the continuum limit (``tests/test_pillar_peel.py``).
 """
 
 from __future__ import annotations
@@ -55,7 +58,7 @@ def _brush(elements: int, per_side: int, stiffness: float, sigma: float = 0.0, s
 def _compare(problem: ContactProblem, preload: float) -> tuple[dict, dict]:
     summaries = []
     for method in ("events", "pillars"):
-        record = record_pull_off(problem, LoadPath(method=method, preload_force=preload, max_steps=10**6))
+        record = record_pull_off(problem, LoadPath(method=method, pillar_tip_peel=False, preload_force=preload, max_steps=10**6))
         assert record.summary["converged"], (method, record.summary["reason"])
         summaries.append(record.summary)
     return summaries[0], summaries[1]
@@ -134,7 +137,7 @@ def test_rough_loading_is_the_contact_problem():
     all-out give the same state.
     """
     problem, force = _brush(96, 6, 1e-2, 1.0)
-    path = LoadPath(preload_force=force)
+    path = LoadPath(pillar_tip_peel=False, preload_force=force)
 
     def preloaded(method: str):
         states = brushbem.protocol.pull_off(problem, dataclasses.replace(path, method=method))
@@ -190,7 +193,7 @@ def test_modes_matter():
     within 0.1 %.
     """
     problem, force = _brush(64, 4, 1e-2)
-    path = LoadPath(method="pillars", preload_force=force)
+    path = LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)
     reference = record_pull_off(problem, dataclasses.replace(path, method="events")).summary["adhesive_force"]
 
     def adhesive(**options) -> float:
@@ -222,7 +225,7 @@ def test_far_field_against_exact_coupling():
 def test_states_are_the_records_of_the_other_methods():
     """The states carry full-grid pressure and contact, the force is their sum, counts match the contact."""
     problem, force = _brush(64, 4, 1e-2)
-    states = list(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)))
+    states = list(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)))
     assert states[-1].kind == "separated" and states[-1].converged
     assert any(state.loading for state in states) and any(not state.loading for state in states)
     labels = problem.indenter.pillar
@@ -241,7 +244,7 @@ def test_states_hold_their_contact_by_element_and_build_the_grids_when_read():
     problem, force = _brush(64, 4, 1e-2)
     recorder = _Recorder(problem)
     checked = 0
-    for state in brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)):
+    for state in brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)):
         assert state.pressed is not None
         assert state.__dict__["_pressure"] is None and state.__dict__["_contact"] is None  # not built yet
         elements = state.pressed.elements
@@ -283,14 +286,14 @@ def test_refuses_tips_that_are_not_flat_and_level(extra, key):
     """Curved tips and a tilted base touch partly: refused, naming the parameter."""
     problem, force = _brush(64, 4, 1e-2, **extra)
     with pytest.raises(ValueError, match=key):
-        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)))
+        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)))
 
 
 def test_refuses_other_indenters_and_connections():
     """A punch (not a brush), viscoelastic connections and a pillar law are refused, naming the parameter."""
     grid = Grid(1.0, 64)
     punch = ContactProblem(grid, flat_punch(grid, 0.1), contact_modulus=1.0, work_of_adhesion=DGAMMA)
-    path = LoadPath(method="pillars", preload_force=0.01)
+    path = LoadPath(method="pillars", pillar_tip_peel=False, preload_force=0.01)
     with pytest.raises(ValueError, match="brush"):
         next(brushbem.protocol.pull_off(punch, path))
     problem, _ = _brush(64, 4, 1e-2)
@@ -308,7 +311,7 @@ def test_refuses_a_brush_without_adhesion():
     problem, force = _brush(64, 4, 1e-2, sigma=1.0)
     problem = dataclasses.replace(problem, work_of_adhesion=0.0)
     with pytest.raises(ValueError, match=r"work_of_adhesion = 0 must be > 0"):
-        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)))
+        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)))
 
 
 def test_the_domain_limits_are_those_measured():
@@ -346,9 +349,9 @@ def test_warns_outside_its_domain_naming_the_filling_factor_and_gap():
     problem = ContactProblem(grid, tips, contact_modulus=1.0, work_of_adhesion=DGAMMA)
     with pytest.warns(PillarDomainWarning, match=r"phi = 0\.4\d* \(smallest gap between footprints 4\.\d* elements\)"
                       r".*phi = 0\.44: F_A up to 2 %, work up to 2\.8 %"):
-        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=1e-3)))
+        next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=1e-3)))
     problem, force = _brush(64, 4, 1e-2)
-    next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", preload_force=force)))
+    next(brushbem.protocol.pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)))
 
 
 def test_validation_refuses_a_brush_outside_the_pillar_model_before_any_run():
@@ -546,7 +549,7 @@ def test_touch_bound_never_misses_a_touch():
     leaves out free pillars).
     """
     problem, force = _brush(96, 6, 1e-2, sigma=1.0, levels=(Level(cluster=2, stiffness=5e-3),))
-    path = LoadPath(method="pillars", preload_force=force)
+    path = LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)
     cache, start = pillar_state.begin(pillars.PillarModel(problem), path)
     heights = cache.model.g
     scales = brush_scales(problem)
@@ -589,7 +592,7 @@ def test_partial_contact_edges_need_the_higher_modes_near_field(monkeypatch, swi
     reference, model = _compare(problem, force)
     _assert_close(reference, model, attached_exact=True)
     switches(radiate_while_pressing=False)
-    path = LoadPath(method="pillars", preload_force=force, max_steps=10**6)
+    path = LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force, max_steps=10**6)
     without = record_pull_off(problem, path).summary
     assert without["adhesive_force"] / reference["adhesive_force"] - 1 > 0.05
 
@@ -613,7 +616,7 @@ def test_a_stop_request_ends_the_pillar_model_inside_its_cascade(monkeypatch):
 
     monkeypatch.setattr(pillar_events, "cascade", cascade_and_ask)
     monkeypatch.setattr(pillar_state, "solved", counted_solve)
-    record = record_pull_off(problem, LoadPath(method="pillars", preload_force=force), stop=lambda: bool(asked))
+    record = record_pull_off(problem, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force), stop=lambda: bool(asked))
     assert asked and not solves_after
     assert record.summary["interrupted"] and not record.summary["converged"]
 
@@ -625,7 +628,7 @@ def test_a_saved_pillar_state_is_a_frozen_value_the_path_returns_to():
     rasters first: the same equilibrium again (rough 4 x 4, N = 64, k~ = 1e-2)."""
     problem, force = _brush(64, 4, 1e-2, 1.0)
     model = pillars.PillarModel(problem)
-    cache, start = pillar_state.begin(model, LoadPath(method="pillars", preload_force=force))
+    cache, start = pillar_state.begin(model, LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force))
     lowest, spread = float(model.g.min()), float(np.ptp(model.g))
     touched = pillar_state.attached_together(cache, start, np.flatnonzero(model.g <= lowest + 1e-12))
     assert touched is not start and not start.attached.any() and touched.attached.any()
@@ -666,7 +669,7 @@ def test_a_solve_that_fails_ends_the_pillar_path_at_its_last_state(monkeypatch):
     from brushbem.pillars.cg import NotConverged
 
     problem, force = _brush(64, 4, 1e-2)
-    path = LoadPath(method="pillars", preload_force=force)
+    path = LoadPath(method="pillars", pillar_tip_peel=False, preload_force=force)
     reference = list(pillars.pull_off(problem, path))
     solve, calls = pillar_state.solved, []
 

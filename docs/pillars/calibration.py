@@ -116,7 +116,7 @@ def rows() -> list[dict]:
                     start = time.process_time()
                     summary = record_pull_off(case, LoadPath(
                         method="pillars", preload_force=preload, max_steps=10**7, pillar_tip_resolution=tips,
-                        pillar_tip_calibration=calibrated)).summary
+                        pillar_tip_calibration=calibrated, pillar_tip_peel=False)).summary
                     seconds = time.process_time() - start
                     force, work = summary["adhesive_force"], summary["work_of_separation"]
                     row = {"family": family, "pillars_per_side": 8, "stiffness_ratio": stiffness,

@@ -89,7 +89,7 @@ def pull_off(case, preload: float, criterion: str, factor: int = 1) -> tuple[flo
     per_radius = factor * float(case.indenter.description.pillar_radius) / case.grid.element_size
     path = LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
                     pillar_tip_resolution=per_radius if factor > 1 else None,
-                    pillar_tip_calibration=criterion != "plain")
+                    pillar_tip_calibration=criterion != "plain", pillar_tip_peel=False)
 
     def criteria(model, problem, critical, calibrate):
         return _TIP_CRITERIA(model, problem, critical, calibrate, per_element=criterion == "per_element")

@@ -55,7 +55,7 @@ def _force(case, preload: float, factor: int, calibrated: bool) -> tuple[float, 
     start = time.process_time()
     summary = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
                                              pillar_tip_resolution=per_radius if factor > 1 else None,
-                                             pillar_tip_calibration=calibrated)).summary
+                                             pillar_tip_calibration=calibrated, pillar_tip_peel=False)).summary
     if not summary["converged"]:
         raise RuntimeError(summary["reason"])
     return summary["adhesive_force"], time.process_time() - start

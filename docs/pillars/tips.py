@@ -79,7 +79,7 @@ def _pull_off(case, method: str, preload: float, tips: float | None = None) -> t
     extra = {} if tips is None else {"pillar_tip_resolution": tips}
     start = time.process_time()
     summary = record_pull_off(case, LoadPath(method=method, preload_force=preload, max_steps=10**7,
-                                             **extra)).summary
+                                             pillar_tip_peel=False, **extra)).summary
     return time.process_time() - start, summary
 
 

@@ -67,8 +67,9 @@ BASE_QUICK = ('{ halfspace = { contact_modulus = 1.0, work_of_adhesion = 0.0001 
               'pillar_radius = 0.056419, stiffness_ratio = 1.0, seed = 0 }, '
               'protocol = { method = "%s", preload_force = 1.0%s } }')
 #: The protocol's method and the rest of its table: the event path keeps the step of the other chapter-5
-#: sweeps (unused by it), the pillar-level model takes none.
-EVENTS, PILLARS = ("events", ", step = 1.0"), ("pillars", "")
+#: sweeps (unused by it), the pillar-level model its tips on their rasters (the criterion the sweeps were
+#: recorded with).
+EVENTS, PILLARS = ("events", ", step = 1.0"), ("pillars", ", pillar_tip_peel = false")
 
 
 def _list(values) -> str:

@@ -129,7 +129,8 @@ def text(level: str, points: list[dict], what: str, realizations: int = 10) -> s
     base = ('base = { halfspace = { contact_modulus = 1.0, work_of_adhesion = 0.0001 }, grid = { size = 1.0, '
             'elements = 2048 }, indenter = { shape = "brush", layout = "clustered", region = "square", '
             'pillars_per_side = 40, filling_factors = [0.12, 0.45, 0.45], stiffness_ratio = 0.001, seed = 0, '
-            f'levels = {_levels(level)} }}, protocol = {{ method = "pillars", preload_force = 1.0 }} }}')
+            f'levels = {_levels(level)} }}, protocol = {{ method = "pillars", preload_force = 1.0, '
+            'pillar_tip_peel = false } }')
     header = [f"# {what} (docs/reproduction/make_fig63.py writes this file; its docstring names the points).",
               f"# Thesis ch. 6 on the clustered layout of Fig. 6-3, {level} level{'s' if level != 'one' else ''}, by the "
               "pillar-level model (method = \"pillars\").",

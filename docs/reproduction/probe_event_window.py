@@ -34,7 +34,8 @@ def adhesive_force(indenter, method, preload, window, tolerance=1e-8):
         "halfspace": {"contact_modulus": 1.0, "work_of_adhesion": 1e-4},
         "grid": {"size": 1.0, "elements": 64},
         "indenter": copy.deepcopy(indenter),
-        "protocol": {"method": method, "preload_displacement": preload, "event_window": window},
+        "protocol": {"method": method, "preload_displacement": preload, "event_window": window,
+                     "pillar_tip_peel": False},
         **({"solver": {"tolerance": tolerance}} if method != "pillars" else {}),
     })
     summary = run_case(config).result.summary

@@ -57,6 +57,8 @@ def _scales(per_side: int) -> dict:
 def _toml(value) -> str:
     if isinstance(value, str):
         return f'"{value}"'
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, dict):
         return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }"
     if isinstance(value, list):
@@ -81,7 +83,8 @@ def main() -> None:
                                                      for n in sizes]
             base = {"halfspace": {"contact_modulus": 1.0, "work_of_adhesion": DGAMMA},
                     "grid": {"size": 1.0, "elements": 16 * sizes[0]}, "indenter": indenter,
-                    "protocol": {"method": "pillars", "preload_force": sweep["protocol.preload_force"][0]}}
+                    "protocol": {"method": "pillars", "preload_force": sweep["protocol.preload_force"][0],
+                                 "pillar_tip_peel": False}}
             brush_text = f"k~ = {ratio:g}" + (f", Gaussian lengths sigma~ = {sigma:g} (sigma = sigma~ d_c)"
                                               if sigma else ", level tips")
             header = [f"Size study, part {part}: n x n pillars for n = {sizes} ({sizes[0]**2} to {sizes[-1]**2}), "

@@ -51,7 +51,7 @@ from brushbem.config.limits import MAX_PRELOAD_DOMAIN_SIZES as MAX_PRELOAD_DOMAI
 from brushbem.config.limits import MAX_SWEEP_BYTES as MAX_SWEEP_BYTES
 from brushbem.config.limits import MAX_SWEEP_CASES as MAX_SWEEP_CASES
 from brushbem.config.limits import MAX_SWEEP_DEPTH as MAX_SWEEP_DEPTH
-from brushbem.config.loading import config_to_dict, load_config, nesting_depth, parse_config, read_toml
+from brushbem.config.loading import case_identity, config_to_dict, load_config, nesting_depth, parse_config, read_toml
 from brushbem.config.rules import SPHERE_MIN_PULL_OFF_ELEMENTS as SPHERE_MIN_PULL_OFF_ELEMENTS
 from brushbem.config.rules import Problem, StructureRules
 from brushbem.config.schema import (
@@ -89,6 +89,7 @@ __all__ = [
     "TiltConfig",
     "TipConfig",
     "ViscoelasticConfig",
+    "case_identity",
     "config_to_dict",
     "load_config",
     "nesting_depth",

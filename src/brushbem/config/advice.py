@@ -251,7 +251,7 @@ def _smooth_resolution(config: RunConfig, what: str, key: str, value: float, ele
 
 def _tips_peel(config: RunConfig) -> bool:
     """Whether the tips leave at their continuum capacity (``protocol.pillar_tip_peel``)."""
-    return config.protocol.method == "pillars" and config.protocol.pillar_tip_peel
+    return config.protocol.method == "pillars" and config.protocol.tip_peel
 
 
 def _tip_factor(config: RunConfig, length: float) -> int:
@@ -278,8 +278,8 @@ def resolution_warnings(config: RunConfig) -> list[str]:
                "their own, measured there)")
     elif config.protocol.method == "pillars":
         # The pillar model resolves its tips apart from the grid.
-        fix = ("set protocol.pillar_tip_peel = true (the tips leave at their continuum capacity: the flat brush "
-               "within 1 % of its limit at 3.6 elements per radius, docs/pillars/peel.py), or "
+        fix = ("leave protocol.pillar_tip_peel unset or true (the default: the tips leave at their continuum "
+               "capacity; the flat brush within 1 % of its limit at 3.6 elements per radius, docs/pillars/peel.py), or "
                f"protocol.pillar_tip_resolution = {2 * MIN_ELEMENTS_PER_RADIUS:g} or more (the tips on a raster "
                "of their own; the grid only places the pillars), or run with --refine 3 for an extrapolated F_A "
                "with its error bar (the tips alone refined)")

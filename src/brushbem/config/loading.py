@@ -27,7 +27,7 @@ from brushbem.config.limits import _MAX_DEPTH, MAX_CONFIG_BYTES
 from brushbem.config.rules import StructureRules, _cross_section_problems
 from brushbem.config.schema import _SECTIONS, HalfSpaceConfig, IndenterConfig, RunConfig, _Section
 
-__all__ = ["config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml"]
+__all__ = ["case_identity", "config_to_dict", "load_config", "nesting_depth", "parse_config", "read_toml"]
 
 
 def _skipped_rule_lines(
@@ -411,6 +411,28 @@ def config_to_dict(config: RunConfig) -> dict[str, Any]:
         data.pop("units", None)  # names only: the default (dimensionless) leaves case hashes as they were
     return to_json_safe(data)
 
+
+def case_identity(config: RunConfig) -> dict[str, Any]:
+    """`config_to_dict` as a case's identity (its hash, `brushbem.sweep.spec`) reads it: a key whose default
+    changed after sweeps were recorded (`_RECORDED_PROTOCOL`) is left out at the value those sweeps ran at, and
+    named otherwise, at the value the run takes.  So a sweep that names that value keeps its recorded case
+    hashes, and a configuration that leaves the key to today's default is a case of its own."""
+    data = config_to_dict(config)
+    for key, recorded in _RECORDED_PROTOCOL.items():
+        taken = getattr(config.protocol, _TAKEN[key])
+        if taken == recorded:
+            data["protocol"].pop(key, None)
+        else:
+            data["protocol"][key] = taken
+    return data
+
+
+#: Protocol keys whose default changed after sweeps were recorded, at the value those sweeps ran at
+#: (`case_identity`): ``pillar_tip_peel`` unset was false until the pillar model's tips left at their
+#: continuum capacity by default.
+_RECORDED_PROTOCOL = {"pillar_tip_peel": False}
+#: The attribute of `ProtocolConfig` that holds the value a run takes for each of them.
+_TAKEN = {"pillar_tip_peel": "tip_peel"}
 
 #: Protocol keys that arrived after sweeps were first recorded: omitted while at their schema default,
 #: so the case hashes of the recorded sweeps stay what they were.

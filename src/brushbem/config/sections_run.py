@@ -9,6 +9,7 @@ from pydantic import Field, field_validator
 from brushbem.config.errors import _show
 from brushbem.config.rules import Problem
 from brushbem.config.sections_base import _MODEL_CONFIG, _Model, _Section
+from brushbem.physics.pillar_model_domain import default_tip_peel
 
 
 class ProtocolConfig(_Section):
@@ -74,11 +75,16 @@ class ProtocolConfig(_Section):
         the tip alone on its raster comes off at Kendall's force (removes a
         lone tip's discretisation error, not a brush's; measured in
         ``docs/pillars/calibration.csv``); false: the raster's own.
-    pillar_tip_peel : bool
+    pillar_tip_peel : bool or None
         ``method = "pillars"`` only: every whole tip leaves at its continuum
         capacity (its first point raised by its stable peel's gain, from its
-        K(theta) read off its modes, `brushbem.pillars.peel`); not with
-        ``pillar_tip_calibration``.
+        K(theta) read off its modes, `brushbem.pillars.peel`); false: the
+        tips peel on their rasters element by element (the exact path's
+        criterion on the same raster; the thesis's studies pin it); not true
+        with ``pillar_tip_calibration``.  Unset (None): the default,
+        `brushbem.physics.pillar_model_domain.default_tip_peel` (true for
+        the pillar model unless its tips are calibrated); `tip_peel` is the
+        value the run takes.
     """
 
     model_config = _MODEL_CONFIG
@@ -97,7 +103,14 @@ class ProtocolConfig(_Section):
     pillar_solve: Literal["auto", "kept", "cg"] = "auto"
     pillar_tip_resolution: float | None = Field(None, ge=2, allow_inf_nan=False)
     pillar_tip_calibration: bool = False
-    pillar_tip_peel: bool = False
+    pillar_tip_peel: bool | None = None
+
+    @property
+    def tip_peel(self) -> bool:
+        """Whether the run's tips leave at their continuum capacity: ``pillar_tip_peel``, or its default where unset."""
+        if self.pillar_tip_peel is not None:
+            return self.pillar_tip_peel
+        return default_tip_peel(self.method, self.pillar_tip_calibration)
 
     def _rule_problems(self) -> list[Problem]:
         if (self.preload_displacement is None) == (self.preload_force is None):

@@ -17,9 +17,18 @@ import numpy as np
 from brushbem.errors import ParameterProblem
 from brushbem.physics.structure import BrushGeometry, Indenter
 
-__all__ = ["pillar_model_problems"]
+__all__ = ["default_tip_peel", "pillar_model_problems"]
 
 _WHERE = "LoadPath.method = 'pillars'"
+
+
+def default_tip_peel(method: str, calibration: bool = False) -> bool:
+    """The tips' criterion of a path that does not name one (``LoadPath.pillar_tip_peel`` None): whole tips at
+    their continuum capacity for the pillar model (the flat, hierarchical and concave 8 x 8 families within 1 % of
+    their limit at 3.6 elements per radius, the raster's own criterion +2.8 .. +8.1 %: ``docs/pillars/peel.py``,
+    ``docs/pillars/accuracy.md``), unless its tips are calibrated (``pillar_tip_calibration``, a criterion of its
+    own); no other method has tips of its own (False)."""
+    return method == "pillars" and not calibration
 
 
 def pillar_model_problems(indenter: Indenter, *, work_of_adhesion: float, speed: float | None = None,

@@ -384,16 +384,19 @@ within 1 %)
     over placements of the lattice on their raster +3.7 % (3.6 per radius) .. +1.2 % (39.7) on the middle;
     8 of the 18 extrapolations of fine tips' placement means at k~ = 1e-5 land within 1 % of both ends
     (``limit.csv``), at hundreds to thousands of CPU-s on 8 x 8 pillars; the per-element criterion's mean at 3.6 per radius does too, on its
-    way to the first point (-1.3 % below the lower end at 14.4).  The default is unchanged, and a brush's
-    F_A error in every run is the brush's own against the continuum limit (`brushbem.config.advice`,
-    ``brush_resolution_error.csv``: +3.7 % at 3.6, +1.4 % at 28.9, +1.2 % at 39.7 per radius).
-    With ``LoadPath.pillar_tip_peel`` (`peel`, off by default) every whole tip leaves at its continuum
+    way to the first point (-1.3 % below the lower end at 14.4).  With the tips on their rasters
+    (``pillar_tip_peel = False``) a brush's F_A error in every run is the brush's own against the continuum limit
+    (`brushbem.config.advice`, ``brush_resolution_error.csv``: +3.7 % at 3.6, +1.4 % at 28.9, +1.2 % at 39.7
+    per radius).
+    By default (``LoadPath.pillar_tip_peel`` unset, `peel`) every whole tip leaves at its continuum
     capacity, its K(theta) read off its modes: the flat 8 x 8 brush at 3.6 elements per radius -0.75 % at
     k~ = 10 and -0.71 % at 1e-5 of its limit (placements -0.75 .. +1.04 % at 10), the flat, hierarchical and
     concave families within 0.8 % of the exact path's extrapolation, the random one inside its own continuum
-    interval (``docs/pillars/peel.csv``, ``front_random.csv``, ``front_random_tips.csv``); a run with it
-    reports that error.  Not the default: a
-    stiff rough brush's tips vary along their edges far beyond the first-order peel's checked domain.
+    interval (``docs/pillars/peel.csv``, ``front_random.csv``, ``front_random_tips.csv``), the rough one within
+    0.3 % of its own tips at 28.9 per radius where F_A is not a small part of F_c and -3.9 .. -1.1 % where it
+    is a tenth to a quarter (``docs/pillars/rough.csv``); a run reports that error.  The thesis's studies
+    and the validation against the exact path on the same raster (``docs/pillars/validation.md``) name
+    ``pillar_tip_peel = False``: the tips peel on their rasters, element by element, as the exact path's.
 
 Where it does not apply it refuses, naming the key: tips that are not flat
 (``brush(tip=...)``), a tilted base (``brush(tilt=...)``), viscoelastic

@@ -49,7 +49,7 @@ def pull_off(problem: ContactProblem, path: LoadPath, *, modes: str | None = Non
         model = PillarModel(problem, modes=path.pillar_modes if modes is None else modes, coupling=coupling,
                             peel=peel, near=path.pillar_near if near is None else near,
                             tips=tip_factor(problem, path.pillar_tip_resolution),
-                            criterion="peel" if path.pillar_tip_peel else
+                            criterion="peel" if path.tip_peel else
                             "calibrated" if path.pillar_tip_calibration else "raster")
         if path.pillar_solve == "cg" and model.lattice is None:
             raise ParameterError("LoadPath", "pillar_solve", "LoadPath.pillar_solve = 'cg' solves on a lattice's "

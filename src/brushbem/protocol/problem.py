@@ -12,6 +12,7 @@ import numpy as np
 
 from brushbem.errors import ParameterError
 from brushbem.physics.adhesion import critical_stress
+from brushbem.physics.pillar_model_domain import default_tip_peel
 from brushbem.physics.structure import Grid, Indenter
 
 __all__ = ["ContactProblem", "LoadPath", "NotConvergedError", "PressedElements", "State", "check_preload",
@@ -145,13 +146,18 @@ class LoadPath:
         Method "pillars" only: every tip's critical stress scaled so that the
         tip alone on its raster comes off at Kendall's force
         (`brushbem.pillars.calibration`); False: the raster's own Sigma_c.
-    pillar_tip_peel : bool
+    pillar_tip_peel : bool or None
         Method "pillars" only: every whole tip leaves, whole, at its
         continuum capacity - its first point raised by its stable peel's
         gain, both from its K(theta) read off its modes
-        (`brushbem.pillars.peel`); False: the tips peel on their rasters.
-        Not with ``pillar_tip_calibration`` (a whole tip's criterion is its
-        own; tips in part contact keep the raster's Sigma_c).
+        (`brushbem.pillars.peel`); False: the tips peel on their rasters,
+        element by element (the exact path's criterion on the same raster,
+        which the thesis's studies use).  Not with
+        ``pillar_tip_calibration`` (a whole tip's criterion is its own; tips
+        in part contact keep the raster's Sigma_c).  None (the default):
+        `brushbem.physics.pillar_model_domain.default_tip_peel` - True for
+        the pillar model unless its tips are calibrated, False otherwise;
+        `tip_peel` is the value the path takes.
     """
 
     method: str = "events"
@@ -170,7 +176,7 @@ class LoadPath:
     pillar_solve: str = "auto"
     pillar_tip_resolution: float | None = None
     pillar_tip_calibration: bool = False
-    pillar_tip_peel: bool = False
+    pillar_tip_peel: bool | None = None
 
     def __post_init__(self):
         if self.method not in ("events", "element_events", "fixed", "pillars"):
@@ -193,6 +199,14 @@ class LoadPath:
         if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
             raise ParameterError("LoadPath", "speed", f"LoadPath.speed = {self.speed} must be finite and > 0")
         self._check_pillar_options()
+
+    @property
+    def tip_peel(self) -> bool:
+        """Whether the tips leave at their continuum capacity: ``pillar_tip_peel``, or `default_tip_peel` where it
+        is None (so that a path replaced with another method or calibration takes that one's default)."""
+        if self.pillar_tip_peel is not None:
+            return self.pillar_tip_peel
+        return default_tip_peel(self.method, self.pillar_tip_calibration)
 
     def _check_pillar_options(self) -> None:
         """The pillar model's options: their values, and none but the defaults with another method."""
@@ -217,7 +231,7 @@ class LoadPath:
             for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto"),
                                   ("pillar_tip_resolution", None), ("pillar_tip_calibration", False),
                                   ("pillar_tip_peel", False)):
-                if getattr(self, name) != default:
+                if getattr(self, name) != default and not (name == "pillar_tip_peel" and self.pillar_tip_peel is None):
                     raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
                                          f"method = 'pillars' only (method = {self.method!r}); remove it")
 

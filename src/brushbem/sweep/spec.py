@@ -38,6 +38,7 @@ from brushbem.config import (
     MAX_SWEEP_DEPTH,
     ConfigError,
     RunConfig,
+    case_identity,
     config_to_dict,
     nesting_depth,
     read_toml,
@@ -341,7 +342,7 @@ def _case_hash(config: RunConfig, seed: int) -> str:
     Files named by the configuration enter by their contents, not their paths;
     ``[units]`` does not enter (it names the units, the case is the same).
     """
-    resolved = config_to_dict(config)
+    resolved = case_identity(config)
     resolved.pop("units", None)
     text = json.dumps(
         {"config": _file_contents(resolved), "seed": seed},
