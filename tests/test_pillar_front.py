@@ -167,10 +167,11 @@ def test_a_tip_in_its_neighbours_field_peels_where_the_continuum_k_peaks(front):
 
 
 def test_the_random_brush_tips_table_is_its_rows():
-    """``front_random_tips.csv``: the four weakest tips at three resolutions and four placements, each capacity the
-    tip's continuum first point raised by its raster gain (to the written digits)."""
+    """``front_random_tips.csv``: the four weakest tips at five resolutions (7.2 to 80 elements per radius; from
+    57.8 on by the matrix-free path) and four placements, each capacity the tip's continuum first point raised by
+    its raster gain (to the written digits)."""
     rows = _rows("front_random_tips.csv")
-    assert len(rows) == 48 and len({r["tip"] for r in rows}) == 4
+    assert len(rows) == 80 and len({r["tip"] for r in rows}) == 4
     for row in rows:
         assert float(row["capacity_adhesive_force"]) == pytest.approx(
             float(row["first_point_adhesive_force"]) * (1 + float(row["gain"])), rel=1e-6)

@@ -166,12 +166,19 @@ def test_the_flat_brush_at_the_families_raster_is_within_one_per_cent_of_its_lim
     assert abs(summary["adhesive_force"] / reference - 1) < 0.01
 
 
-def test_the_random_layout_is_within_one_per_cent_of_its_own_continuum_brush(validation):
-    """The random family (8 x 8 at k~ = 1e-5, tips 3.6 elements per radius) against the same layout in the exact
-    continuum, every tip at its first-order capacity (``docs/pillars/front.py --random`` -> ``front_random.csv``,
-    0.0106793): within 1 % (measured +0.33 %; the exact path's extrapolation lies +2.2 % above it)."""
+def test_the_random_layout_is_within_one_per_cent_of_both_ends_of_its_limit(validation):
+    """The random family (8 x 8 at k~ = 1e-5, tips 3.6 elements per radius) against the two ends of its limit:
+    below, the same layout in the exact continuum, every tip at its first-order capacity (``docs/pillars/front.py
+    --random`` -> ``front_random.csv``, 0.0106793); above, its weakest tip's mean capacity over four placements
+    on the finest raster alone in the others' continuum field (``front_random_tips.csv``, 80 elements per
+    radius; raster gains fall toward the limit from above).  Within 1 % of both (measured +0.33 % above the lower
+    end)."""
     from test_pillar_tips import _pillars_table
 
+    tips = _pillars_table("front_random_tips.csv")
+    finest = max(float(r["elements_per_radius"]) for r in tips)
+    upper = min(np.mean([float(r["capacity_adhesive_force"]) for r in tips if r["tip"] == tip
+                         and float(r["elements_per_radius"]) == finest]) for tip in {r["tip"] for r in tips})
     (row, *_) = _pillars_table("front_random.csv")
     case, preload = validation.problem("random", 8, 1e-5)
     with warnings.catch_warnings():
@@ -179,6 +186,7 @@ def test_the_random_layout_is_within_one_per_cent_of_its_own_continuum_brush(val
         summary = record_pull_off(case, LoadPath(method="pillars", preload_force=preload, max_steps=10**7,
                                                  pillar_tip_peel=True)).summary
     assert summary["adhesive_force"] == pytest.approx(float(row["adhesive_force"]), rel=0.01)
+    assert summary["adhesive_force"] == pytest.approx(upper, rel=0.01)
 
 
 def test_the_placements_converge_to_the_limit():

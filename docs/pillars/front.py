@@ -76,12 +76,17 @@ placements): 6.3 / 4.9 / 5.8 / 5.6 % at 7.2 elements per radius, 4.8 / 4.1 /
 2.4 / 1.9 / 2.1 / 2.2 %.  The least capacity, tip 58's, puts the brush at
 0.0109980 / 0.0109185 / 0.0108703: 0.41 % below the exact path's
 extrapolation at 28.9 per radius, and an upper end if these gains fall
-toward the limit from above as the flat tips' do.
+toward the limit from above as the flat tips' do.  ``--random-tips-fine``
+takes them on ``fine_tip.py``'s matrix-free path at 57.8 and 80 per radius
+(about 25 CPU-min): gains 4.1 / 3.0 / 3.5 / 3.5 % and 4.1 / 3.1 / 3.6 /
+3.5 %, level from 57.8 as the flat brush's edge tips' are; the least,
+tip 58's, puts the upper end at 0.0108091 (the limit 1.2 % wide).
 
     python docs/pillars/front.py          # front.csv (about 2 CPU-min)
     python docs/pillars/front.py --brush  # front_brush.csv (about 2.5 CPU-min)
     python docs/pillars/front.py --random # front_random.csv (the random family's brush; about 8 CPU-min)
     python docs/pillars/front.py --random-tips  # front_random_tips.csv (its weakest tips' rasters; 7 CPU-min)
+    nice python docs/pillars/front.py --random-tips-fine  # the same at 57.8 and 80 per radius, matrix-free (resumes)
     python docs/pillars/front.py --table  # src/brushbem/data/peel_gain.csv (the criterion's gains)
 """
 
@@ -150,15 +155,21 @@ def random_rows(last: int = 12) -> list[dict]:
 
 #: The random brush's weakest tips on rasters, each alone in the others' continuum field (``--random-tips``).
 RANDOM_TIPS_TABLE = HERE / "front_random_tips.csv"
+#: The resolutions of ``--random-tips-fine`` (the flat brush's upper end's, ``fine_tip.py --brush``).
+RANDOM_FINE = (57.774, 80.0)
 RANDOM_TIPS_FIELDS = ("tip", "elements_per_radius", "placement", "first_point_adhesive_force", "first_point_ratio",
                       "first_order_gain", "tilt", "gain", "capacity_adhesive_force", "events")
 
 
-def random_tip_rows(weakest: int = 4, resolutions: tuple[float, ...] = (7.222, 14.444, 28.887)) -> list[dict]:
+def random_tip_rows(weakest: int = 4, resolutions: tuple[float, ...] = (7.222, 14.444, 28.887),
+                    done: frozenset = frozenset(), fine: bool = False, table: list[dict] | None = None) -> list[dict]:
     """The ``weakest`` tips of the random brush at k~ = 1e-5 (by first-order capacity, all 64 attached) on
     `tilted.Tip` rasters at ``resolutions`` (its four placements), each alone in the other tips' continuum
     deflection with the tips' loads in proportion: the raster's gain over the tip's continuum first point (F_A
     over the lone tip's raster F_A over the first-point ratio, minus 1) and the brush's force at that capacity.
+    ``fine``: on the matrix-free tip of ``fine_tip.py`` instead (its exact path on the same criterion, equal to
+    `tilted.Tip`'s to seven digits), skipping the (resolution, placement) pairs ``done`` and writing ``table``
+    (the rows so far) with the new ones after each pair.
 
     The field's sign: a rigid tip's own pressure makes up its displacement less the others' deflection
     (`continuum.Brush.solve`), so it enters `tilted.Tip` (whose load makes the displacement delta + field)
@@ -188,9 +199,19 @@ def random_tip_rows(weakest: int = 4, resolutions: tuple[float, ...] = (7.222, 1
     rows = []
     for per_radius in resolutions:
         for placement in range(len(tilted.PLACEMENTS)):
-            for raster in tilted.run_brush(8, 1e-5, per_radius, placement, fields):
+            if (per_radius, placement) in done:
+                continue
+            if fine:
+                import fine_tip
+
+                rasters = fine_tip.run_brush(per_radius, placement, fields)
+            else:
+                rasters = tilted.run_brush(8, 1e-5, per_radius, placement, fields)
+            for raster in rasters:
                 rows.append(random_tip_row(next(t for t in tips if f"{t['tip']}-0" == raster["tip"]), raster))
                 print(rows[-1], flush=True)
+            if table is not None:
+                _write(table + rows, RANDOM_TIPS_TABLE, RANDOM_TIPS_FIELDS)
     return rows
 
 
@@ -245,6 +266,13 @@ def gain_rows() -> list[dict]:
 def main() -> None:
     if "--table" in sys.argv:
         _write(gain_rows(), GAIN_TABLE, ("tilt", "bend", "phase", "load_control", "gain", "span_degrees", "depth"))
+        return
+    if "--random-tips-fine" in sys.argv:
+        import reference
+
+        table = reference.load(RANDOM_TIPS_TABLE)
+        done = frozenset((float(r["elements_per_radius"]), int(r["placement"])) for r in table)
+        random_tip_rows(resolutions=RANDOM_FINE, done=done, fine=True, table=table)
         return
     if "--random-tips" in sys.argv:
         _write(random_tip_rows(), RANDOM_TIPS_TABLE, RANDOM_TIPS_FIELDS)

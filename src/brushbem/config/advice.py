@@ -226,7 +226,7 @@ def _smooth_resolution(config: RunConfig, what: str, key: str, value: float, ele
             "F_A: the flat 8 x 8 brush at k~ = 1e-5, its tips leaving at their continuum capacity, at this many "
             "elements per pillar radius against the continuum limit (its middle; the range: every placement of the "
             "lattice on the raster between the limit's bounds; at k~ = 10 -0.75 .. +1.04 % at 3.6; a random layout "
-            "inside its own continuum interval, +0.33 % above its lower end: docs/pillars/peel.py); the work: its "
+            "within 1 % of both ends of its continuum limit, +0.33 / -0.87 %: docs/pillars/peel.py); the work: its "
             "placements against their mean at 14.4 elements per radius",
             minimum=PEEL_MIN_ELEMENTS)
     work = _interpolated(elements, "work_error_mean")

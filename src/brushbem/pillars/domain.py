@@ -85,8 +85,9 @@ def domain_warning(problem: ContactProblem) -> str | None:
 #: The largest relative n = 1 amplitude of K along its edge, as it leaves, of a tip that leaves whole at its
 #: continuum capacity (``LoadPath.pillar_tip_peel``; `brushbem.pillars.peel.shape_parameters`) at which the
 #: option was measured within 1 % of the limit: the lattice families' tips reach 0.31; a random layout whose
-#: closest tips reach 0.52-0.55 lies inside its own continuum interval but -1.43 % below its upper end
-#: (``docs/pillars/front_random_tips.csv``: the raster's gains there twice the first-order ones).  Tips beyond
+#: closest tips reach 0.52-0.55 lies within 1 % of both ends of its limit (+0.33 / -0.87 %), but its first-order
+#: gains there are half its raster tips' at 80 elements per radius (``docs/pillars/front_random_tips.csv``), so
+#: beyond 0.35 a tip's gain is a lower end.  Tips beyond
 #: the gain's table (0.6, `brushbem.pillars.peel.TABLE_LIMITS`) do not leave whole: they peel by their elements'
 #: criterion.  The rough 8 x 8 family's tips leave whole at 0.02-0.09 (median) and 0.13 at most
 #: (``docs/pillars/rough.csv``).  The limit between 0.31 and 0.52 is ours.
@@ -102,5 +103,5 @@ def peel_warning(largest_tilt: float) -> str | None:
             f"along its edge by {largest_tilt:.2f} of its mean (relative n = 1 amplitude), beyond {PEEL_TILT:g}: "
             "the first-order peel's gain is a lower end there (its neglected terms grow as that amplitude times the "
             "gain); measured on a random layout whose tips reach 0.52-0.55: F_A +0.33 % above its continuum "
-            "first-order brush and -1.43 % below its raster tips' capacity (docs/pillars/front_random.csv, "
-            "front_random_tips.csv); check with pillar_tip_peel = false and finer tips (pillar_tip_resolution)")
+            "first-order brush and -0.87 % below its raster tips' capacity at 80 elements per radius "
+            "(docs/pillars/front_random.csv, front_random_tips.csv); check with finer tips (pillar_tip_resolution)")
