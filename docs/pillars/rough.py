@@ -61,6 +61,8 @@ from brushbem.protocol import LoadPath, record_pull_off
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+import calibration  # noqa: E402
+import reference  # noqa: E402
 import validation  # noqa: E402
 
 TABLE = HERE / "rough.csv"
@@ -134,23 +136,12 @@ def _key(row: dict) -> tuple:
 
 
 def load() -> list[dict]:
-    if not TABLE.exists():
-        return []
-    with TABLE.open(newline="") as stream:
-        return list(csv.DictReader(stream))
+    return reference.load(TABLE)
 
 
 def write(rows: list[dict]) -> None:
     order = {case: i for i, case in enumerate(runs())}
-    rows = sorted(rows, key=lambda row: order.get(_key(row), len(order)))
-    temporary = TABLE.with_suffix(".csv.tmp")
-    with temporary.open("w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=FIELDS, lineterminator="\n")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({name: (f"{row[name]:.7g}" if isinstance(row[name], float) else row[name])
-                             for name in FIELDS})
-    os.replace(temporary, TABLE)
+    calibration.write(sorted(rows, key=lambda row: order.get(_key(row), len(order))), TABLE, FIELDS, digits=7)
 
 
 def error_rows(rows: list[dict]) -> list[dict]:

@@ -229,11 +229,13 @@ class LoadPath:
                                  "calibration; remove pillar_tip_calibration")
         if self.method != "pillars":
             for name, default in (("pillar_modes", "quadratic"), ("pillar_near", None), ("pillar_solve", "auto"),
-                                  ("pillar_tip_resolution", None), ("pillar_tip_calibration", False),
-                                  ("pillar_tip_peel", False)):
-                if getattr(self, name) != default and not (name == "pillar_tip_peel" and self.pillar_tip_peel is None):
+                                  ("pillar_tip_resolution", None), ("pillar_tip_calibration", False)):
+                if getattr(self, name) != default:
                     raise ParameterError("LoadPath", name, f"LoadPath.{name} = {getattr(self, name)!r} applies to "
                                          f"method = 'pillars' only (method = {self.method!r}); remove it")
+            if self.tip_peel:  # unset or False: no tips of its own to peel
+                raise ParameterError("LoadPath", "pillar_tip_peel", "LoadPath.pillar_tip_peel = True applies to "
+                                     f"method = 'pillars' only (method = {self.method!r}); remove it")
 
 
 @dataclass(frozen=True)
